@@ -1,0 +1,98 @@
+//! The camera (chapter 7): a pinhole with a field of view, placed by a view transform.
+
+use crate::math::{Point3, Ray, Transform};
+
+/// A pinhole camera looking down -z in its own space, with the canvas one unit in front of it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Camera {
+    hsize: usize,
+    vsize: usize,
+    field_of_view: f64,
+    transform: Transform,
+    half_width: f64,
+    half_height: f64,
+    pixel_size: f64,
+}
+
+impl Camera {
+    /// The book's `camera(hsize, vsize, field_of_view)`; the field of view spans the longer side.
+    pub fn new(hsize: usize, vsize: usize, field_of_view: f64) -> Self {
+        let half_view = (field_of_view / 2.0).tan();
+        let aspect = hsize as f64 / vsize as f64;
+        let (half_width, half_height) = if aspect >= 1.0 {
+            (half_view, half_view / aspect)
+        } else {
+            (half_view * aspect, half_view)
+        };
+        Self {
+            hsize,
+            vsize,
+            field_of_view,
+            transform: Transform::IDENTITY,
+            half_width,
+            half_height,
+            pixel_size: half_width * 2.0 / hsize as f64,
+        }
+    }
+
+    /// The same camera at another resolution, keeping its field of view and placement.
+    pub fn resized(&self, hsize: usize, vsize: usize) -> Self {
+        Self::new(hsize, vsize, self.field_of_view).with_transform_of(self.transform)
+    }
+
+    /// The same camera placed by a view transform (`camera_from_world`).
+    ///
+    /// # Panics
+    /// When the matrix is singular; use [`Camera::with_transform_of`] with a checked
+    /// [`Transform`] for user input.
+    pub fn with_transform(self, matrix: glam::DMat4) -> Self {
+        self.with_transform_of(Transform::new(matrix))
+    }
+
+    /// The same camera with a prepared view transform.
+    pub fn with_transform_of(mut self, transform: Transform) -> Self {
+        self.transform = transform;
+        self
+    }
+
+    /// Width in pixels.
+    pub fn hsize(&self) -> usize {
+        self.hsize
+    }
+
+    /// Height in pixels.
+    pub fn vsize(&self) -> usize {
+        self.vsize
+    }
+
+    /// Field of view in radians, across the longer side.
+    pub fn field_of_view(&self) -> f64 {
+        self.field_of_view
+    }
+
+    /// The view transform.
+    pub fn transform(&self) -> &Transform {
+        &self.transform
+    }
+
+    /// Size of one pixel on the canvas one unit in front of the eye.
+    pub fn pixel_size(&self) -> f64 {
+        self.pixel_size
+    }
+
+    /// The book's `ray_for_pixel(camera, px, py)`: through the centre of the pixel.
+    pub fn ray_for_pixel(&self, px: usize, py: usize) -> Ray {
+        self.ray_through(px as f64 + 0.5, py as f64 + 0.5)
+    }
+
+    /// The ray through a point of the canvas in pixel units (0,0 is the top-left corner).
+    pub fn ray_through(&self, x: f64, y: f64) -> Ray {
+        let world_x = self.half_width - x * self.pixel_size;
+        let world_y = self.half_height - y * self.pixel_size;
+        let pixel = self
+            .transform
+            .inverse_point(Point3::new(world_x, world_y, -1.0));
+        let origin = self.transform.inverse_point(Point3::ZERO);
+        Ray::new(origin, (pixel - origin).normalize())
+    }
+}

@@ -1,0 +1,30 @@
+//! rayforge: a Whitted ray tracer built on *The Ray Tracer Challenge* (Jamis Buck) and its companions.
+//!
+//! The crate is the renderer only: it knows nothing of scene files (see `rayforge-scene`) or of the
+//! command line (see `rayforge-cli`). Its API follows the book's names (`point`, `vector`,
+//! `prepare_computations`, `shade_hit`, `color_at`, …) so the book's scenarios read naturally as tests.
+//!
+//! The pipeline: a [`World`] of [`Object`]s and [`Light`]s is seen through a [`Camera`]; the
+//! [`render`](render::render) loop traces rays in parallel tiles into a [`Canvas`] of linear colours.
+#![deny(missing_docs)]
+#![forbid(unsafe_code)]
+
+pub mod camera;
+pub mod canvas;
+pub mod color;
+pub mod geometry;
+pub mod math;
+pub mod render;
+pub mod scene;
+pub mod shading;
+
+pub use camera::Camera;
+pub use canvas::Canvas;
+pub use color::Color;
+pub use geometry::Shape;
+pub use math::{point, vector, Matrix4, Point3, Ray, Transform, Vec3, EPSILON};
+pub use scene::{
+    default_world, hit, prepare_computations, schlick, Computations, Intersection, Object, Tracer,
+    World, DEFAULT_MAX_DEPTH,
+};
+pub use shading::{lighting, Light, Material, Pattern, PatternKind, PointLight};

@@ -1,0 +1,41 @@
+//! Rays (chapter 5).
+
+use super::{Point3, Transform, Vec3};
+
+/// A ray: an origin and a direction (not necessarily unit length: transformed rays keep the
+/// scale of their transform, which is what keeps `t` comparable between world and object space).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ray {
+    /// Where the ray starts.
+    pub origin: Point3,
+    /// Where it goes, per unit of `t`.
+    pub direction: Vec3,
+}
+
+impl Ray {
+    /// The book's `ray(origin, direction)`.
+    #[inline]
+    pub const fn new(origin: Point3, direction: Vec3) -> Self {
+        Self { origin, direction }
+    }
+
+    /// The book's `position(ray, t)`.
+    #[inline]
+    pub fn position(&self, t: f64) -> Point3 {
+        self.origin + self.direction * t
+    }
+
+    /// The book's `transform(ray, m)` for a matrix.
+    pub fn transform(&self, m: glam::DMat4) -> Self {
+        Self::new(m.transform_point3(self.origin), m.transform_vector3(self.direction))
+    }
+
+    /// The ray moved into the object space of `transform` (its inverse applied).
+    #[inline]
+    pub fn to_object(&self, transform: &Transform) -> Self {
+        Self::new(
+            transform.inverse_point(self.origin),
+            transform.inverse_vector(self.direction),
+        )
+    }
+}

@@ -1,0 +1,121 @@
+//! A transform with its inverse and normal matrix computed once, when it is set.
+//!
+//! Rays are moved into object space with the inverse on every intersection test, and normals back
+//! with the inverse transpose; computing those per ray would dominate the render, so they are baked.
+
+use glam::{DAffine3, DMat3, DMat4, DVec3};
+
+/// A matrix that cannot be inverted (determinant zero, or not finite), so cannot place an object.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("the transform is singular (determinant {determinant}) and cannot be inverted")]
+pub struct SingularTransform {
+    /// The offending determinant.
+    pub determinant: f64,
+}
+
+/// An invertible affine transform: `world_from_object`, its inverse and the normal matrix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Transform {
+    matrix: DMat4,
+    forward: DAffine3,
+    inverse: DAffine3,
+    /// Inverse transpose of the linear part: maps object-space normals to world space.
+    normal: DMat3,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+/// Determinants smaller than this are treated as singular: inverting them would produce
+/// coordinates so large that every later computation is noise.
+const MIN_DETERMINANT: f64 = 1e-12;
+
+impl Transform {
+    /// The identity transform.
+    pub const IDENTITY: Self = Self {
+        matrix: DMat4::IDENTITY,
+        forward: DAffine3::IDENTITY,
+        inverse: DAffine3::IDENTITY,
+        normal: DMat3::IDENTITY,
+    };
+
+    /// A transform from a matrix, or an error when it cannot be inverted.
+    ///
+    /// The bottom row is assumed to be `0 0 0 1` (every transform the book builds is affine).
+    pub fn try_new(matrix: DMat4) -> Result<Self, SingularTransform> {
+        let determinant = matrix.determinant();
+        if !determinant.is_finite() || determinant.abs() < MIN_DETERMINANT || !matrix.is_finite()
+        {
+            return Err(SingularTransform { determinant });
+        }
+        let forward = DAffine3::from_mat4(matrix);
+        let inverse = forward.inverse();
+        let normal = inverse.matrix3.transpose();
+        Ok(Self {
+            matrix,
+            forward,
+            inverse,
+            normal,
+        })
+    }
+
+    /// A transform from a matrix.
+    ///
+    /// # Panics
+    /// When the matrix is singular; use [`Transform::try_new`] for user input.
+    pub fn new(matrix: DMat4) -> Self {
+        match Self::try_new(matrix) {
+            Ok(t) => t,
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    /// The matrix as given.
+    pub fn matrix(&self) -> DMat4 {
+        self.matrix
+    }
+
+    /// The inverse matrix (`object_from_world`).
+    pub fn inverse_matrix(&self) -> DMat4 {
+        DMat4::from(self.inverse)
+    }
+
+    /// Transforms a point (translation applies).
+    #[inline]
+    pub fn point(&self, p: DVec3) -> DVec3 {
+        self.forward.transform_point3(p)
+    }
+
+    /// Transforms a vector (translation does not apply).
+    #[inline]
+    pub fn vector(&self, v: DVec3) -> DVec3 {
+        self.forward.transform_vector3(v)
+    }
+
+    /// Applies the inverse to a point: world space to object space.
+    #[inline]
+    pub fn inverse_point(&self, p: DVec3) -> DVec3 {
+        self.inverse.transform_point3(p)
+    }
+
+    /// Applies the inverse to a vector.
+    #[inline]
+    pub fn inverse_vector(&self, v: DVec3) -> DVec3 {
+        self.inverse.transform_vector3(v)
+    }
+
+    /// Maps an object-space normal to world space and normalises it (the book's inverse-transpose
+    /// trick, with `w` dropped by construction).
+    #[inline]
+    pub fn normal(&self, n: DVec3) -> DVec3 {
+        (self.normal * n).normalize()
+    }
+
+    /// `self` applied after `inner`: `self * inner` in matrix terms.
+    pub fn then_after(&self, inner: &Transform) -> Result<Self, SingularTransform> {
+        Self::try_new(self.matrix * inner.matrix)
+    }
+}

@@ -1,0 +1,73 @@
+//! The parallel render loop: rows of the image traced on every core into a [`Canvas`].
+//!
+//! Each pixel is a pure function of the scene, so the image is identical for any thread count
+//! and any order in which rows finish.
+
+use crate::{Camera, Canvas, Color, Tracer, World, DEFAULT_MAX_DEPTH};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// How to render: recursion depth and an optional progress callback.
+pub struct RenderOptions<'p> {
+    /// How many reflection/refraction bounces to follow.
+    pub max_depth: u32,
+    /// Called with the number of rows just finished (from any thread).
+    pub progress: Option<&'p (dyn Fn(usize) + Sync)>,
+}
+
+impl Default for RenderOptions<'_> {
+    fn default() -> Self {
+        Self {
+            max_depth: DEFAULT_MAX_DEPTH,
+            progress: None,
+        }
+    }
+}
+
+/// What a render produced besides the image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RenderStats {
+    /// Every ray cast: camera, reflected, refracted and shadow rays.
+    pub rays: u64,
+}
+
+/// Renders `world` through `camera` on the current rayon thread pool.
+pub fn render(camera: &Camera, world: &World, options: &RenderOptions<'_>) -> (Canvas, RenderStats) {
+    let (width, height) = (camera.hsize(), camera.vsize());
+    let mut canvas = Canvas::new(width, height);
+    let rays = AtomicU64::new(0);
+    canvas
+        .pixels_mut()
+        .par_chunks_mut(width.max(1))
+        .enumerate()
+        .for_each_init(
+            || Tracer::new(world),
+            |tracer, (y, row)| {
+                let before = tracer.rays_cast();
+                for (x, pixel) in row.iter_mut().enumerate() {
+                    let ray = camera.ray_for_pixel(x, y);
+                    *pixel = tracer.color_at(&ray, options.max_depth);
+                }
+                rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);
+                if let Some(progress) = options.progress {
+                    progress(1);
+                }
+            },
+        );
+    let stats = RenderStats {
+        rays: rays.into_inner(),
+    };
+    (canvas, stats)
+}
+
+impl Camera {
+    /// The book's `render(camera, world)`, with the default recursion depth.
+    pub fn render(&self, world: &World) -> Canvas {
+        render(self, world, &RenderOptions::default()).0
+    }
+}
+
+/// The colour of one pixel (for tests and tools that need a single sample).
+pub fn render_pixel(camera: &Camera, world: &World, x: usize, y: usize, max_depth: u32) -> Color {
+    Tracer::new(world).color_at(&camera.ray_for_pixel(x, y), max_depth)
+}

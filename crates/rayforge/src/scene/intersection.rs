@@ -1,0 +1,45 @@
+//! Intersections and hits (chapter 5).
+
+use crate::Object;
+
+/// A ray meeting an object at distance `t`. The object is referenced, so identity (which object,
+/// not which values) is available to refraction's container tracking.
+#[derive(Debug, Clone, Copy)]
+pub struct Intersection<'a> {
+    /// Distance along the ray, in units of the ray's direction.
+    pub t: f64,
+    /// The object that was hit.
+    pub object: &'a Object,
+}
+
+impl<'a> Intersection<'a> {
+    /// The book's `intersection(t, object)`.
+    #[inline]
+    pub fn new(t: f64, object: &'a Object) -> Self {
+        Self { t, object }
+    }
+
+    /// Whether two intersections are the same `t` on the same object (by identity).
+    pub fn same_as(&self, other: &Intersection<'_>) -> bool {
+        self.t == other.t && std::ptr::eq(self.object, other.object)
+    }
+}
+
+impl PartialEq for Intersection<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.same_as(other)
+    }
+}
+
+/// Sorts intersections by `t` (NaN, which no shape should produce, sorts last).
+pub fn sort_intersections(xs: &mut [Intersection<'_>]) {
+    xs.sort_unstable_by(|a, b| a.t.total_cmp(&b.t));
+}
+
+/// The book's `hit(xs)`: the intersection with the lowest non-negative `t`, in any order.
+pub fn hit<'a>(xs: &[Intersection<'a>]) -> Option<Intersection<'a>> {
+    xs.iter()
+        .filter(|i| i.t >= 0.0)
+        .min_by(|a, b| a.t.total_cmp(&b.t))
+        .copied()
+}

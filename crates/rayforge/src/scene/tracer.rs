@@ -1,0 +1,135 @@
+//! The Whitted tracer (chapters 7, 8 and 11): `color_at`, `shade_hit`, shadows, reflection and
+//! refraction, with per-thread scratch buffers so that tracing a ray allocates nothing.
+
+use super::computations::prepare_computations_with;
+use crate::math::{Point3, Ray};
+use crate::{hit, lighting, schlick, Color, Computations, Intersection, Light, Object, World};
+
+/// The recursion limit the book's tests use (and a sensible default for renders).
+pub const DEFAULT_MAX_DEPTH: u32 = 5;
+
+/// Traces rays through one world, reusing its buffers between rays. One per thread.
+#[derive(Debug)]
+pub struct Tracer<'w> {
+    world: &'w World,
+    xs: Vec<Intersection<'w>>,
+    containers: Vec<&'w Object>,
+    rays: u64,
+}
+
+impl<'w> Tracer<'w> {
+    /// A tracer for `world` with empty buffers.
+    pub fn new(world: &'w World) -> Self {
+        Self {
+            world,
+            xs: Vec::with_capacity(16),
+            containers: Vec::with_capacity(8),
+            rays: 0,
+        }
+    }
+
+    /// How many rays (camera, reflected, refracted and shadow) this tracer has cast.
+    pub fn rays_cast(&self) -> u64 {
+        self.rays
+    }
+
+    /// The colour seen along `ray`, following reflections and refractions `remaining` deep.
+    pub fn color_at(&mut self, ray: &Ray, remaining: u32) -> Color {
+        self.rays += 1;
+        self.world.intersect_into(ray, &mut self.xs);
+        let Some(hit) = hit(&self.xs) else {
+            return self.world.background;
+        };
+        let comps = prepare_computations_with(hit, ray, &self.xs, &mut self.containers);
+        self.shade_hit(&comps, remaining)
+    }
+
+    /// The colour at a prepared hit: every light's Phong term, plus reflection and refraction
+    /// (mixed by Schlick's Fresnel factor when the material has both).
+    pub fn shade_hit(&mut self, comps: &Computations<'_>, remaining: u32) -> Color {
+        let material = &comps.object.material;
+        let mut surface = Color::BLACK;
+        for light in &self.world.lights {
+            let fraction = self.intensity_at(light, comps.over_point);
+            surface += lighting(
+                material,
+                comps.object,
+                light,
+                comps.over_point,
+                comps.eyev,
+                comps.normalv,
+                fraction,
+            );
+        }
+        let reflected = self.reflected_color(comps, remaining);
+        let refracted = self.refracted_color(comps, remaining);
+        if material.reflective > 0.0 && material.transparency > 0.0 {
+            let reflectance = schlick(comps);
+            surface + reflected * reflectance + refracted * (1.0 - reflectance)
+        } else {
+            surface + reflected + refracted
+        }
+    }
+
+    /// How much of `light` reaches `point`: 1 when nothing blocks it, 0 when something does.
+    pub fn intensity_at(&mut self, light: &Light, point: Point3) -> f64 {
+        match light {
+            Light::Point(l) => {
+                if self.is_shadowed(l.position, point) {
+                    0.0
+                } else {
+                    1.0
+                }
+            }
+        }
+    }
+
+    /// Whether an object that casts shadows lies between `point` and `light_position`.
+    /// Stops at the first blocker found.
+    pub fn is_shadowed(&mut self, light_position: Point3, point: Point3) -> bool {
+        self.rays += 1;
+        let to_light = light_position - point;
+        let distance = to_light.length();
+        let ray = Ray::new(point, to_light / distance);
+        self.world.objects.iter().any(|object| {
+            if !object.casts_shadow {
+                return false;
+            }
+            let local = object.ray_to_object(&ray);
+            let mut blocked = false;
+            object.shape.intersect(&local, |t| {
+                blocked |= t >= 0.0 && t < distance;
+            });
+            blocked
+        })
+    }
+
+    /// The book's `reflected_color`: black for matte surfaces or when recursion is spent.
+    pub fn reflected_color(&mut self, comps: &Computations<'_>, remaining: u32) -> Color {
+        let reflective = comps.object.material.reflective;
+        if remaining == 0 || reflective == 0.0 {
+            return Color::BLACK;
+        }
+        let ray = Ray::new(comps.over_point, comps.reflectv);
+        self.color_at(&ray, remaining - 1) * reflective
+    }
+
+    /// The book's `refracted_color`: Snell's law from n1 into n2, black for opaque surfaces,
+    /// spent recursion or total internal reflection.
+    pub fn refracted_color(&mut self, comps: &Computations<'_>, remaining: u32) -> Color {
+        let transparency = comps.object.material.transparency;
+        if remaining == 0 || transparency == 0.0 {
+            return Color::BLACK;
+        }
+        let n_ratio = comps.n1 / comps.n2;
+        let cos_i = comps.eyev.dot(comps.normalv);
+        let sin2_t = n_ratio * n_ratio * (1.0 - cos_i * cos_i);
+        if sin2_t > 1.0 {
+            return Color::BLACK;
+        }
+        let cos_t = (1.0 - sin2_t).sqrt();
+        let direction = comps.normalv * (n_ratio * cos_i - cos_t) - comps.eyev * n_ratio;
+        let ray = Ray::new(comps.under_point, direction);
+        self.color_at(&ray, remaining - 1) * transparency
+    }
+}

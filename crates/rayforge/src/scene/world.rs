@@ -1,0 +1,80 @@
+//! The world (chapter 7): objects and lights, with the book's one-call entry points.
+
+use super::tracer::Tracer;
+use crate::math::{point, scaling, Point3, Ray};
+use crate::{Color, Computations, Intersection, Light, Material, Object};
+
+/// Everything in the scene that rays can meet or be lit by.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct World {
+    /// The objects, in the order they were added.
+    pub objects: Vec<Object>,
+    /// The light sources; each contributes its own diffuse and specular terms.
+    pub lights: Vec<Light>,
+    /// The colour of rays that hit nothing (black in the book).
+    pub background: Color,
+}
+
+impl World {
+    /// The book's `world()`: nothing in it.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The book's `intersect_world(world, ray)`: every intersection, sorted by `t`.
+    pub fn intersect(&self, ray: &Ray) -> Vec<Intersection<'_>> {
+        let mut xs = Vec::new();
+        self.intersect_into(ray, &mut xs);
+        xs
+    }
+
+    /// `intersect_world` into a caller's buffer (cleared first), sorted by `t`.
+    pub fn intersect_into<'a>(&'a self, ray: &Ray, xs: &mut Vec<Intersection<'a>>) {
+        xs.clear();
+        for object in &self.objects {
+            object.intersect(ray, xs);
+        }
+        super::sort_intersections(xs);
+    }
+
+    /// The book's `color_at(world, ray, remaining)`.
+    pub fn color_at(&self, ray: &Ray, remaining: u32) -> Color {
+        Tracer::new(self).color_at(ray, remaining)
+    }
+
+    /// The book's `shade_hit(world, comps, remaining)`.
+    pub fn shade_hit(&self, comps: &Computations<'_>, remaining: u32) -> Color {
+        Tracer::new(self).shade_hit(comps, remaining)
+    }
+
+    /// The book's `reflected_color(world, comps, remaining)`.
+    pub fn reflected_color(&self, comps: &Computations<'_>, remaining: u32) -> Color {
+        Tracer::new(self).reflected_color(comps, remaining)
+    }
+
+    /// The book's `refracted_color(world, comps, remaining)`.
+    pub fn refracted_color(&self, comps: &Computations<'_>, remaining: u32) -> Color {
+        Tracer::new(self).refracted_color(comps, remaining)
+    }
+
+    /// The book's `is_shadowed(world, light_position, point)`.
+    pub fn is_shadowed(&self, light_position: Point3, point: Point3) -> bool {
+        Tracer::new(self).is_shadowed(light_position, point)
+    }
+}
+
+/// The book's `default_world()`: a light at (-10, 10, -10) and two concentric spheres.
+pub fn default_world() -> World {
+    let outer = Object::sphere().with_material(Material {
+        color: Color::new(0.8, 1.0, 0.6),
+        diffuse: 0.7,
+        specular: 0.2,
+        ..Material::DEFAULT
+    });
+    let inner = Object::sphere().with_transform(scaling(0.5, 0.5, 0.5));
+    World {
+        objects: vec![outer, inner],
+        lights: vec![Light::point(point(-10.0, 10.0, -10.0), Color::WHITE)],
+        background: Color::BLACK,
+    }
+}

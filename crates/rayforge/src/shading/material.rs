@@ -1,0 +1,57 @@
+//! The Phong material (chapters 6, 10 and 11).
+
+use super::Pattern;
+use crate::Color;
+
+/// Surface properties: Phong coefficients, a colour or pattern, reflection and refraction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    /// Base colour, used when there is no pattern.
+    pub color: Color,
+    /// A pattern that replaces `color` when present.
+    pub pattern: Option<Pattern>,
+    /// Fraction of the light's colour reflected regardless of direction.
+    pub ambient: f64,
+    /// Weight of the Lambertian term.
+    pub diffuse: f64,
+    /// Weight of the specular highlight.
+    pub specular: f64,
+    /// Sharpness of the highlight (larger is smaller and tighter).
+    pub shininess: f64,
+    /// 0 for matte, 1 for a perfect mirror.
+    pub reflective: f64,
+    /// 0 for opaque, 1 for perfectly clear.
+    pub transparency: f64,
+    /// Index of refraction (1 for vacuum, 1.5 for glass).
+    pub refractive_index: f64,
+}
+
+impl Material {
+    /// The book's default material (SEED-NOTES.md lists the values).
+    pub const DEFAULT: Self = Self {
+        color: Color::WHITE,
+        pattern: None,
+        ambient: 0.1,
+        diffuse: 0.9,
+        specular: 0.9,
+        shininess: 200.0,
+        reflective: 0.0,
+        transparency: 0.0,
+        refractive_index: 1.0,
+    };
+
+    /// The book's `glass_sphere()` material: fully transparent, index 1.5.
+    pub fn glass() -> Self {
+        Self {
+            transparency: 1.0,
+            refractive_index: 1.5,
+            ..Self::DEFAULT
+        }
+    }
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
