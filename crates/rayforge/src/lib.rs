@@ -9,6 +9,7 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod accel;
 pub mod camera;
 pub mod canvas;
 pub mod color;

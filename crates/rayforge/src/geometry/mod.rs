@@ -4,14 +4,19 @@
 //! forwarding to the shape's own module. Rays arrive already in object space; transforms are the
 //! business of [`crate::Object`].
 
+mod cone;
 mod cube;
+mod cylinder;
 mod plane;
 mod sphere;
+mod triangle;
 
-use crate::math::{Point3, Ray, Vec3};
+pub use triangle::Triangle;
+
+use crate::math::{Aabb, Point3, Ray, Vec3};
 
 /// A primitive shape in its own object space.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
     /// The unit sphere at the origin (chapter 5).
     Sphere,
@@ -19,28 +24,127 @@ pub enum Shape {
     Plane,
     /// The axis-aligned cube from -1 to 1 on every axis (chapter 12).
     Cube,
+    /// The radius-1 cylinder around y between `minimum` and `maximum` (chapter 13).
+    Cylinder {
+        /// Lowest y of the side (exclusive); `-∞` for an infinite cylinder.
+        minimum: f64,
+        /// Highest y of the side (exclusive); `+∞` for an infinite cylinder.
+        maximum: f64,
+        /// Whether the ends are capped.
+        closed: bool,
+    },
+    /// A triangle, flat or smooth (chapter 15). Boxed: it is far larger than the other shapes.
+    Triangle(Box<Triangle>),
+    /// The double-napped cone x² + z² = y² between `minimum` and `maximum` (chapter 13).
+    Cone {
+        /// Lowest y (exclusive); `-∞` for an infinite cone.
+        minimum: f64,
+        /// Highest y (exclusive); `+∞` for an infinite cone.
+        maximum: f64,
+        /// Whether the ends are capped.
+        closed: bool,
+    },
 }
 
 impl Shape {
-    /// Calls `hit(t)` for every intersection of the object-space `ray` with the shape, in
-    /// increasing `t` (negative `t` included: refraction needs the whole list).
+    /// The infinite, open cylinder of chapter 13.
+    pub const CYLINDER: Shape = Shape::Cylinder {
+        minimum: f64::NEG_INFINITY,
+        maximum: f64::INFINITY,
+        closed: false,
+    };
+
+    /// The infinite, open double cone of chapter 13.
+    pub const CONE: Shape = Shape::Cone {
+        minimum: f64::NEG_INFINITY,
+        maximum: f64::INFINITY,
+        closed: false,
+    };
+
+    /// The book's `local_intersect`: calls `hit(t)` for every intersection of the object-space
+    /// `ray` with the shape, in no particular order (negative `t` included: refraction needs the
+    /// whole list).
     #[inline]
-    pub fn intersect(&self, ray: &Ray, hit: impl FnMut(f64)) {
+    pub fn intersect(&self, ray: &Ray, mut hit: impl FnMut(f64)) {
+        self.intersect_uv(ray, |t, _, _| hit(t));
+    }
+
+    /// Like [`Shape::intersect`], with the surface coordinates `u`, `v` of each hit (the
+    /// barycentric coordinates on triangles; 0 on shapes that have none yet).
+    #[inline]
+    pub fn intersect_uv(&self, ray: &Ray, mut hit: impl FnMut(f64, f64, f64)) {
         match self {
-            Shape::Sphere => sphere::intersect(ray, hit),
-            Shape::Plane => plane::intersect(ray, hit),
-            Shape::Cube => cube::intersect(ray, hit),
+            Shape::Sphere => sphere::intersect(ray, |t| hit(t, 0.0, 0.0)),
+            Shape::Plane => plane::intersect(ray, |t| hit(t, 0.0, 0.0)),
+            Shape::Cube => cube::intersect(ray, |t| hit(t, 0.0, 0.0)),
+            Shape::Triangle(triangle) => triangle.intersect(ray, hit),
+            Shape::Cylinder {
+                minimum,
+                maximum,
+                closed,
+            } => cylinder::intersect(ray, *minimum, *maximum, *closed, |t| hit(t, 0.0, 0.0)),
+            Shape::Cone {
+                minimum,
+                maximum,
+                closed,
+            } => cone::intersect(ray, *minimum, *maximum, *closed, |t| hit(t, 0.0, 0.0)),
         }
     }
 
-    /// The object-space normal at an object-space point on the surface (not normalised for
-    /// every shape: the caller normalises after the normal transform).
+    /// The book's `local_normal_at`: the object-space normal at an object-space point on the
+    /// surface (not normalised for every shape: the caller normalises after the normal
+    /// transform). Smooth triangles need the hit's `u`, `v`: see [`Shape::normal_at_uv`].
     #[inline]
     pub fn normal_at(&self, point: Point3) -> Vec3 {
+        self.normal_at_uv(point, 0.0, 0.0)
+    }
+
+    /// The object-space normal at a hit with surface coordinates `u`, `v`.
+    #[inline]
+    pub fn normal_at_uv(&self, point: Point3, u: f64, v: f64) -> Vec3 {
         match self {
+            Shape::Triangle(triangle) => triangle.normal_at(u, v),
             Shape::Sphere => sphere::normal_at(point),
             Shape::Plane => plane::normal_at(point),
             Shape::Cube => cube::normal_at(point),
+            Shape::Cylinder {
+                minimum, maximum, ..
+            } => cylinder::normal_at(point, *minimum, *maximum),
+            Shape::Cone {
+                minimum, maximum, ..
+            } => cone::normal_at(point, *minimum, *maximum),
+        }
+    }
+
+    /// The book's `bounds_of(shape)`: the object-space box around the shape (infinite along the
+    /// axes where the shape is unbounded).
+    pub fn bounds(&self) -> Aabb {
+        let unit = Aabb::new(Point3::splat(-1.0), Point3::ONE);
+        match self {
+            Shape::Sphere | Shape::Cube => unit,
+            Shape::Plane => Aabb::new(
+                Point3::new(f64::NEG_INFINITY, 0.0, f64::NEG_INFINITY),
+                Point3::new(f64::INFINITY, 0.0, f64::INFINITY),
+            ),
+            Shape::Cylinder {
+                minimum, maximum, ..
+            } => Aabb::new(
+                Point3::new(-1.0, *minimum, -1.0),
+                Point3::new(1.0, *maximum, 1.0),
+            ),
+            Shape::Cone {
+                minimum, maximum, ..
+            } => {
+                let r = minimum.abs().max(maximum.abs());
+                Aabb::new(Point3::new(-r, *minimum, -r), Point3::new(r, *maximum, r))
+            }
+            Shape::Triangle(t) => {
+                let mut b = Aabb::EMPTY;
+                for p in [t.p1, t.p2, t.p3] {
+                    b.add_point(p);
+                }
+                b
+            }
         }
     }
 }

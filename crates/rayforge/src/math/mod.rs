@@ -5,6 +5,7 @@
 //! ([`Transform::point`] applies translation, [`Transform::vector`] does not). The book's
 //! four-component [`Tuple`] exists for chapter 1's teaching API.
 
+mod aabb;
 mod matrix;
 mod ray;
 pub mod roots;
@@ -15,6 +16,7 @@ pub use matrix::{
     matrix2, matrix3, matrix4, rotation_x, rotation_y, rotation_z, scaling, shearing, translation,
     view_transform, BookMatrix,
 };
+pub use aabb::Aabb;
 pub use ray::Ray;
 pub use transform::{SingularTransform, Transform};
 pub use tuple::Tuple;

@@ -47,8 +47,7 @@ impl Transform {
     /// The bottom row is assumed to be `0 0 0 1` (every transform the book builds is affine).
     pub fn try_new(matrix: DMat4) -> Result<Self, SingularTransform> {
         let determinant = matrix.determinant();
-        if !determinant.is_finite() || determinant.abs() < MIN_DETERMINANT || !matrix.is_finite()
-        {
+        if !determinant.is_finite() || determinant.abs() < MIN_DETERMINANT || !matrix.is_finite() {
             return Err(SingularTransform { determinant });
         }
         let forward = DAffine3::from_mat4(matrix);
@@ -108,10 +107,11 @@ impl Transform {
     }
 
     /// Maps an object-space normal to world space and normalises it (the book's inverse-transpose
-    /// trick, with `w` dropped by construction).
+    /// trick, with `w` dropped by construction). A zero normal (a cone's apex) stays zero rather
+    /// than becoming NaN.
     #[inline]
     pub fn normal(&self, n: DVec3) -> DVec3 {
-        (self.normal * n).normalize()
+        (self.normal * n).normalize_or_zero()
     }
 
     /// `self` applied after `inner`: `self * inner` in matrix terms.

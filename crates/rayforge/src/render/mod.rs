@@ -3,6 +3,7 @@
 //! Each pixel is a pure function of the scene, so the image is identical for any thread count
 //! and any order in which rows finish.
 
+use crate::scene::WorldIndex;
 use crate::{Camera, Canvas, Color, Tracer, World, DEFAULT_MAX_DEPTH};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -32,16 +33,21 @@ pub struct RenderStats {
 }
 
 /// Renders `world` through `camera` on the current rayon thread pool.
-pub fn render(camera: &Camera, world: &World, options: &RenderOptions<'_>) -> (Canvas, RenderStats) {
+pub fn render(
+    camera: &Camera,
+    world: &World,
+    options: &RenderOptions<'_>,
+) -> (Canvas, RenderStats) {
     let (width, height) = (camera.hsize(), camera.vsize());
     let mut canvas = Canvas::new(width, height);
     let rays = AtomicU64::new(0);
+    let index = WorldIndex::build(world);
     canvas
         .pixels_mut()
         .par_chunks_mut(width.max(1))
         .enumerate()
         .for_each_init(
-            || Tracer::new(world),
+            || Tracer::new(world, &index),
             |tracer, (y, row)| {
                 let before = tracer.rays_cast();
                 for (x, pixel) in row.iter_mut().enumerate() {
@@ -69,5 +75,6 @@ impl Camera {
 
 /// The colour of one pixel (for tests and tools that need a single sample).
 pub fn render_pixel(camera: &Camera, world: &World, x: usize, y: usize, max_depth: u32) -> Color {
-    Tracer::new(world).color_at(&camera.ray_for_pixel(x, y), max_depth)
+    let index = WorldIndex::build(world);
+    Tracer::new(world, &index).color_at(&camera.ray_for_pixel(x, y), max_depth)
 }

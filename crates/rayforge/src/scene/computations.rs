@@ -58,7 +58,7 @@ pub fn prepare_computations_with<'a>(
 ) -> Computations<'a> {
     let point = ray.position(hit.t);
     let eyev = -ray.direction.normalize();
-    let mut normalv = hit.object.normal_at(point);
+    let mut normalv = hit.object.normal_at_hit(point, &hit);
     let inside = normalv.dot(eyev) < 0.0;
     if inside {
         normalv = -normalv;

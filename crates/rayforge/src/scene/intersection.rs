@@ -10,13 +10,23 @@ pub struct Intersection<'a> {
     pub t: f64,
     /// The object that was hit.
     pub object: &'a Object,
+    /// Surface coordinate u at the hit (barycentric on triangles, towards `p2`).
+    pub u: f64,
+    /// Surface coordinate v at the hit (barycentric on triangles, towards `p3`).
+    pub v: f64,
 }
 
 impl<'a> Intersection<'a> {
     /// The book's `intersection(t, object)`.
     #[inline]
     pub fn new(t: f64, object: &'a Object) -> Self {
-        Self { t, object }
+        Self::with_uv(t, object, 0.0, 0.0)
+    }
+
+    /// The book's `intersection_with_uv(t, object, u, v)`.
+    #[inline]
+    pub fn with_uv(t: f64, object: &'a Object, u: f64, v: f64) -> Self {
+        Self { t, object, u, v }
     }
 
     /// Whether two intersections are the same `t` on the same object (by identity).

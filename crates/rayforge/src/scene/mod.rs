@@ -1,12 +1,14 @@
 //! Objects in the world, intersections, and the Whitted tracer that shades them.
 
 mod computations;
+mod index;
 mod intersection;
 mod object;
 mod tracer;
 mod world;
 
 pub use computations::{prepare_computations, schlick, Computations};
+pub use index::WorldIndex;
 pub use intersection::{hit, sort_intersections, Intersection};
 pub use object::Object;
 pub use tracer::{Tracer, DEFAULT_MAX_DEPTH};

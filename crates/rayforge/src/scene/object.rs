@@ -1,6 +1,7 @@
 //! An object: a shape placed in the world by a transform, with a material (chapters 5–9).
 
-use crate::math::{Point3, Ray, Transform, Vec3};
+use crate::geometry::Triangle;
+use crate::math::{Aabb, Point3, Ray, Transform, Vec3};
 use crate::{Intersection, Material, Shape};
 
 /// A shape with its transform and material.
@@ -42,6 +43,35 @@ impl Object {
         Self::new(Shape::Cube)
     }
 
+    /// The book's `cylinder()`: infinite and open.
+    pub fn cylinder() -> Self {
+        Self::new(Shape::CYLINDER)
+    }
+
+    /// The book's `cone()`: infinite and open.
+    pub fn cone() -> Self {
+        Self::new(Shape::CONE)
+    }
+
+    /// The book's `triangle(p1, p2, p3)`.
+    pub fn triangle(p1: Point3, p2: Point3, p3: Point3) -> Self {
+        Self::new(Shape::Triangle(Box::new(Triangle::new(p1, p2, p3))))
+    }
+
+    /// The book's `smooth_triangle(p1, p2, p3, n1, n2, n3)`.
+    pub fn smooth_triangle(
+        p1: Point3,
+        p2: Point3,
+        p3: Point3,
+        n1: Vec3,
+        n2: Vec3,
+        n3: Vec3,
+    ) -> Self {
+        Self::new(Shape::Triangle(Box::new(Triangle::smooth(
+            p1, p2, p3, n1, n2, n3,
+        ))))
+    }
+
     /// The book's `glass_sphere()`.
     pub fn glass_sphere() -> Self {
         Self::sphere().with_material(Material::glass())
@@ -76,6 +106,11 @@ impl Object {
         self.transform = Transform::new(matrix);
     }
 
+    /// The book's `parent_space_bounds_of(shape)`: the shape's box in world space.
+    pub fn bounds(&self) -> Aabb {
+        self.shape.bounds().transform(&self.transform)
+    }
+
     /// The book's `world_to_object(shape, point)`.
     #[inline]
     pub fn world_to_object(&self, point: Point3) -> Point3 {
@@ -92,8 +127,9 @@ impl Object {
     #[inline]
     pub fn intersect<'a>(&'a self, ray: &Ray, out: &mut Vec<Intersection<'a>>) {
         let local = self.ray_to_object(ray);
-        self.shape
-            .intersect(&local, |t| out.push(Intersection::new(t, self)));
+        self.shape.intersect_uv(&local, |t, u, v| {
+            out.push(Intersection::with_uv(t, self, u, v))
+        });
     }
 
     /// The book's `intersect(shape, ray)` returning a fresh list (for tests and one-off queries).
@@ -107,6 +143,16 @@ impl Object {
     #[inline]
     pub fn normal_at(&self, world_point: Point3) -> Vec3 {
         let local = self.shape.normal_at(self.world_to_object(world_point));
+        self.transform.normal(local)
+    }
+
+    /// The book's `normal_at(shape, world_point, hit)`: the normal at an intersection, using its
+    /// `u`, `v` where the shape interpolates normals (smooth triangles).
+    #[inline]
+    pub fn normal_at_hit(&self, world_point: Point3, hit: &Intersection<'_>) -> Vec3 {
+        let local = self
+            .shape
+            .normal_at_uv(self.world_to_object(world_point), hit.u, hit.v);
         self.transform.normal(local)
     }
 }

@@ -2,8 +2,9 @@
 //! refraction, with per-thread scratch buffers so that tracing a ray allocates nothing.
 
 use super::computations::prepare_computations_with;
+use super::WorldIndex;
 use crate::math::{Point3, Ray};
-use crate::{hit, lighting, schlick, Color, Computations, Intersection, Light, Object, World};
+use crate::{lighting, schlick, Color, Computations, Intersection, Light, Object, World};
 
 /// The recursion limit the book's tests use (and a sensible default for renders).
 pub const DEFAULT_MAX_DEPTH: u32 = 5;
@@ -12,16 +13,18 @@ pub const DEFAULT_MAX_DEPTH: u32 = 5;
 #[derive(Debug)]
 pub struct Tracer<'w> {
     world: &'w World,
+    index: &'w WorldIndex,
     xs: Vec<Intersection<'w>>,
     containers: Vec<&'w Object>,
     rays: u64,
 }
 
 impl<'w> Tracer<'w> {
-    /// A tracer for `world` with empty buffers.
-    pub fn new(world: &'w World) -> Self {
+    /// A tracer for `world`, which `index` must have been built from.
+    pub fn new(world: &'w World, index: &'w WorldIndex) -> Self {
         Self {
             world,
+            index,
             xs: Vec::with_capacity(16),
             containers: Vec::with_capacity(8),
             rays: 0,
@@ -34,12 +37,21 @@ impl<'w> Tracer<'w> {
     }
 
     /// The colour seen along `ray`, following reflections and refractions `remaining` deep.
+    ///
+    /// Finds the nearest hit first; only when the hit surface is transparent does it gather the
+    /// intersections before it, which the refractive indices n1 and n2 depend on. (For opaque
+    /// surfaces n1 = n2 = 1 in the computations: nothing reads them there.)
     pub fn color_at(&mut self, ray: &Ray, remaining: u32) -> Color {
         self.rays += 1;
-        self.world.intersect_into(ray, &mut self.xs);
-        let Some(hit) = hit(&self.xs) else {
+        let Some(hit) = self.index.closest_hit(self.world, ray) else {
             return self.world.background;
         };
+        if hit.object.material.transparency > 0.0 {
+            self.index
+                .intersections_up_to(self.world, ray, hit.t, &mut self.xs);
+        } else {
+            self.xs.clear();
+        }
         let comps = prepare_computations_with(hit, ray, &self.xs, &mut self.containers);
         self.shade_hit(&comps, remaining)
     }
@@ -91,17 +103,7 @@ impl<'w> Tracer<'w> {
         let to_light = light_position - point;
         let distance = to_light.length();
         let ray = Ray::new(point, to_light / distance);
-        self.world.objects.iter().any(|object| {
-            if !object.casts_shadow {
-                return false;
-            }
-            let local = object.ray_to_object(&ray);
-            let mut blocked = false;
-            object.shape.intersect(&local, |t| {
-                blocked |= t >= 0.0 && t < distance;
-            });
-            blocked
-        })
+        self.index.occluded(self.world, &ray, distance)
     }
 
     /// The book's `reflected_color`: black for matte surfaces or when recursion is spent.

@@ -1,6 +1,7 @@
 //! The world (chapter 7): objects and lights, with the book's one-call entry points.
 
 use super::tracer::Tracer;
+use super::WorldIndex;
 use crate::math::{point, scaling, Point3, Ray};
 use crate::{Color, Computations, Intersection, Light, Material, Object};
 
@@ -39,27 +40,27 @@ impl World {
 
     /// The book's `color_at(world, ray, remaining)`.
     pub fn color_at(&self, ray: &Ray, remaining: u32) -> Color {
-        Tracer::new(self).color_at(ray, remaining)
+        Tracer::new(self, &WorldIndex::build(self)).color_at(ray, remaining)
     }
 
     /// The book's `shade_hit(world, comps, remaining)`.
     pub fn shade_hit(&self, comps: &Computations<'_>, remaining: u32) -> Color {
-        Tracer::new(self).shade_hit(comps, remaining)
+        Tracer::new(self, &WorldIndex::build(self)).shade_hit(comps, remaining)
     }
 
     /// The book's `reflected_color(world, comps, remaining)`.
     pub fn reflected_color(&self, comps: &Computations<'_>, remaining: u32) -> Color {
-        Tracer::new(self).reflected_color(comps, remaining)
+        Tracer::new(self, &WorldIndex::build(self)).reflected_color(comps, remaining)
     }
 
     /// The book's `refracted_color(world, comps, remaining)`.
     pub fn refracted_color(&self, comps: &Computations<'_>, remaining: u32) -> Color {
-        Tracer::new(self).refracted_color(comps, remaining)
+        Tracer::new(self, &WorldIndex::build(self)).refracted_color(comps, remaining)
     }
 
     /// The book's `is_shadowed(world, light_position, point)`.
     pub fn is_shadowed(&self, light_position: Point3, point: Point3) -> bool {
-        Tracer::new(self).is_shadowed(light_position, point)
+        Tracer::new(self, &WorldIndex::build(self)).is_shadowed(light_position, point)
     }
 }
 

@@ -1,0 +1,71 @@
+//! The cylinder of radius 1 around the y axis (chapter 13): infinite, truncated, or capped.
+
+use crate::math::{roots::solve_quadratic, Point3, Ray, Vec3, EPSILON};
+
+/// Side hits within `minimum < y < maximum` (exclusive, as the book has it), then cap hits.
+pub(super) fn intersect(
+    ray: &Ray,
+    minimum: f64,
+    maximum: f64,
+    closed: bool,
+    mut hit: impl FnMut(f64),
+) {
+    let (o, d) = (ray.origin, ray.direction);
+    let a = d.x * d.x + d.z * d.z;
+    // A ray parallel to the axis can only meet the caps.
+    if a.abs() >= EPSILON {
+        let b = 2.0 * (o.x * d.x + o.z * d.z);
+        let c = o.x * o.x + o.z * o.z - 1.0;
+        let Some((t0, t1)) = solve_quadratic(a, b, c) else {
+            return;
+        };
+        for t in [t0, t1] {
+            let y = o.y + t * d.y;
+            if minimum < y && y < maximum {
+                hit(t);
+            }
+        }
+    }
+    if closed {
+        caps(ray, minimum, maximum, |_| 1.0, hit);
+    }
+}
+
+/// Hits on the end caps at `minimum` and `maximum`, each a disc of radius `radius_at(y)`.
+/// Shared with the cone, whose caps grow with |y|.
+pub(super) fn caps(
+    ray: &Ray,
+    minimum: f64,
+    maximum: f64,
+    radius_at: impl Fn(f64) -> f64,
+    mut hit: impl FnMut(f64),
+) {
+    let (o, d) = (ray.origin, ray.direction);
+    if d.y.abs() < EPSILON {
+        return;
+    }
+    for y in [minimum, maximum] {
+        if !y.is_finite() {
+            continue;
+        }
+        let t = (y - o.y) / d.y;
+        let x = o.x + t * d.x;
+        let z = o.z + t * d.z;
+        let r = radius_at(y);
+        if x * x + z * z <= r * r {
+            hit(t);
+        }
+    }
+}
+
+/// Outward on the sides; ±y within `EPSILON` of a cap.
+pub(super) fn normal_at(point: Point3, minimum: f64, maximum: f64) -> Vec3 {
+    let dist = point.x * point.x + point.z * point.z;
+    if dist < 1.0 && point.y >= maximum - EPSILON {
+        Vec3::Y
+    } else if dist < 1.0 && point.y <= minimum + EPSILON {
+        Vec3::NEG_Y
+    } else {
+        Vec3::new(point.x, 0.0, point.z)
+    }
+}

@@ -1,0 +1,117 @@
+//! The world's acceleration index: a BVH over every bounded object, plus the unbounded ones
+//! (planes, infinite cylinders and cones) that are tested on every ray.
+
+use crate::accel::Bvh;
+use crate::math::{Aabb, Ray};
+use crate::{Intersection, World};
+use std::ops::ControlFlow;
+
+/// Spatial index over a [`World`]'s objects. Build it once per render; it borrows nothing, so
+/// it stays valid only while the world's object list is unchanged.
+#[derive(Debug, Clone, Default)]
+pub struct WorldIndex {
+    bvh: Bvh,
+    /// Objects whose bounds are infinite (never in the BVH).
+    unbounded: Vec<u32>,
+}
+
+impl WorldIndex {
+    /// Indexes the objects of `world`.
+    pub fn build(world: &World) -> Self {
+        let mut boxes: Vec<Aabb> = world.objects.iter().map(|o| o.bounds()).collect();
+        let mut unbounded = Vec::new();
+        for (i, b) in boxes.iter_mut().enumerate() {
+            let finite = b.min.is_finite() && b.max.is_finite();
+            if !finite && !b.is_empty() {
+                unbounded.push(i as u32);
+                *b = Aabb::EMPTY;
+            }
+        }
+        Self {
+            bvh: Bvh::build(&boxes),
+            unbounded,
+        }
+    }
+
+    /// Calls `visit` with every object that the ray might meet within `[t_min, t_max]`; the
+    /// visitor may lower `t_max` as it finds hits and stop early with `Break`.
+    #[inline]
+    pub fn candidates(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        mut t_max: f64,
+        mut visit: impl FnMut(usize, &mut f64) -> ControlFlow<()>,
+    ) {
+        for &i in &self.unbounded {
+            if visit(i as usize, &mut t_max).is_break() {
+                return;
+            }
+        }
+        self.bvh
+            .traverse(ray.origin, ray.direction, t_min, t_max, |i, t| {
+                visit(i as usize, t)
+            });
+    }
+
+    /// The nearest intersection with `t >= 0` (the book's `hit` of `intersect_world`).
+    pub fn closest_hit<'w>(&self, world: &'w World, ray: &Ray) -> Option<Intersection<'w>> {
+        let mut best: Option<Intersection<'w>> = None;
+        self.candidates(ray, 0.0, f64::INFINITY, |i, t_max| {
+            let object = &world.objects[i];
+            let local = object.ray_to_object(ray);
+            object.shape.intersect_uv(&local, |t, u, v| {
+                if t >= 0.0 && t < *t_max {
+                    *t_max = t;
+                    best = Some(Intersection::with_uv(t, object, u, v));
+                }
+            });
+            ControlFlow::Continue(())
+        });
+        best
+    }
+
+    /// Every intersection with `t <= t_max` (negative ones included), sorted: what refraction
+    /// needs to know which objects contain the hit.
+    pub fn intersections_up_to<'w>(
+        &self,
+        world: &'w World,
+        ray: &Ray,
+        t_max: f64,
+        out: &mut Vec<Intersection<'w>>,
+    ) {
+        out.clear();
+        self.candidates(ray, f64::NEG_INFINITY, t_max, |i, _| {
+            let object = &world.objects[i];
+            let local = object.ray_to_object(ray);
+            object.shape.intersect_uv(&local, |t, u, v| {
+                if t <= t_max {
+                    out.push(Intersection::with_uv(t, object, u, v));
+                }
+            });
+            ControlFlow::Continue(())
+        });
+        super::sort_intersections(out);
+    }
+
+    /// Whether any shadow-casting object meets the ray with `0 <= t < distance`; stops at the
+    /// first one found.
+    pub fn occluded(&self, world: &World, ray: &Ray, distance: f64) -> bool {
+        let mut blocked = false;
+        self.candidates(ray, 0.0, distance, |i, _| {
+            let object = &world.objects[i];
+            if object.casts_shadow {
+                let local = object.ray_to_object(ray);
+                object.shape.intersect(&local, |t| {
+                    blocked |= (0.0..distance).contains(&t);
+                });
+            }
+            if blocked {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+        blocked
+    }
+}
