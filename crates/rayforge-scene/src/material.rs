@@ -1,0 +1,222 @@
+//! Materials (`material:` as a mapping or a defined name) and their patterns.
+
+use crate::defines::{is_reference, merge, Defines, Trail};
+use crate::error::SceneError;
+use crate::source::{as_str, check_keys, describe, Entry, Node, Source};
+use crate::transform::transform_list;
+use rayforge::{Color, Material, Pattern, PatternKind, Transform};
+
+/// The keys a material may have.
+const MATERIAL_KEYS: &[&str] = &[
+    "color",
+    "ambient",
+    "diffuse",
+    "specular",
+    "shininess",
+    "reflective",
+    "transparency",
+    "refractive-index",
+    "pattern",
+];
+
+/// The pattern types, as scene files name them.
+const PATTERN_TYPES: &[&str] = &[
+    "stripes",
+    "gradient",
+    "rings",
+    "ring",
+    "checkers",
+    "radial-gradient",
+    "blended",
+    "perturbed",
+];
+
+/// Reads the entries of a `material:` value: a mapping, or the name of a defined one.
+pub fn material_entries<'n, 's>(
+    source: &Source<'s>,
+    defines: &Defines<'n, 's>,
+    node: &'n Node<'s>,
+) -> Result<Vec<Entry<'n, 's>>, SceneError> {
+    if is_reference(node) {
+        defines.mapping_entries(source, node, "material", &mut Vec::new())
+    } else {
+        source.entries(node, "material")
+    }
+}
+
+/// Builds a material from entries layered over `base` (the inherited or default material).
+pub fn material<'n, 's>(
+    source: &Source<'s>,
+    defines: &Defines<'n, 's>,
+    node: &'n Node<'s>,
+    base: &Material,
+) -> Result<Material, SceneError> {
+    let entries = material_entries(source, defines, node)?;
+    check_keys(source, &entries, "a material", MATERIAL_KEYS)?;
+    let mut m = base.clone();
+    for Entry { name, value, .. } in entries {
+        let number = || source.number(value, name);
+        match name {
+            "color" => m.color = color(source, value, name)?,
+            "ambient" => m.ambient = number()?,
+            "diffuse" => m.diffuse = number()?,
+            "specular" => m.specular = number()?,
+            "shininess" => m.shininess = number()?,
+            "reflective" => m.reflective = number()?,
+            "transparency" => m.transparency = number()?,
+            "refractive-index" => m.refractive_index = number()?,
+            _ => m.pattern = Some(pattern(source, defines, value)?),
+        }
+    }
+    Ok(m)
+}
+
+/// `[r, g, b]`.
+pub fn color(source: &Source<'_>, node: &Node<'_>, key: &str) -> Result<Color, SceneError> {
+    let [r, g, b] = source.triple(node, key)?;
+    Ok(Color::new(r, g, b))
+}
+
+/// A pattern mapping: `type`, `colors` (colours or nested patterns), `transform`, and the
+/// extras' keys (`patterns` for blends, `pattern` and `scale` for perturbation).
+pub fn pattern<'n, 's>(
+    source: &Source<'s>,
+    defines: &Defines<'n, 's>,
+    node: &'n Node<'s>,
+) -> Result<Pattern, SceneError> {
+    let mut entries = Vec::new();
+    if is_reference(node) {
+        entries = defines.mapping_entries(source, node, "pattern", &mut Trail::new())?;
+    } else {
+        for e in source.entries(node, "pattern")? {
+            merge(&mut entries, e);
+        }
+    }
+    let get = |k: &str| entries.iter().find(|e| e.name == k).map(|e| e.value);
+    let type_node = get("type")
+        .ok_or_else(|| source.error(node, "type", "a pattern needs a `type:`"))?;
+    let kind_name = source.string(type_node, "type")?;
+    let allowed: &[&str] = match kind_name {
+        "blended" => &["type", "patterns", "transform"],
+        "perturbed" => &["type", "pattern", "scale", "transform"],
+        _ => &["type", "colors", "transform"],
+    };
+    if !PATTERN_TYPES.contains(&kind_name) {
+        return Err(source.error(
+            type_node,
+            "type",
+            format!(
+                "unknown pattern type `{kind_name}`; expected one of: {}",
+                PATTERN_TYPES.join(", ")
+            ),
+        ));
+    }
+    check_keys(source, &entries, &format!("a {kind_name} pattern"), allowed)?;
+    let required = |k: &str| {
+        get(k).ok_or_else(|| {
+            source.error(
+                type_node,
+                k,
+                format!("a {kind_name} pattern needs `{k}:`"),
+            )
+        })
+    };
+    let kind = match kind_name {
+        "blended" => {
+            let list = required("patterns")?;
+            let parts = source
+                .sequence(list, "patterns")?
+                .iter()
+                .map(|p| pattern(source, defines, p))
+                .collect::<Result<Vec<_>, _>>()?;
+            if parts.is_empty() {
+                return Err(source.error(list, "patterns", "a blend needs at least one pattern"));
+            }
+            PatternKind::Blended(parts)
+        }
+        "perturbed" => PatternKind::Perturbed {
+            pattern: Box::new(pattern(source, defines, required("pattern")?)?),
+            scale: match get("scale") {
+                Some(s) => source.number(s, "scale")?,
+                None => DEFAULT_PERTURBATION,
+            },
+        },
+        _ => {
+            let list = required("colors")?;
+            let mut parts = source
+                .sequence(list, "colors")?
+                .iter()
+                .map(|c| color_or_pattern(source, defines, c))
+                .collect::<Result<Vec<_>, _>>()?;
+            let two = |parts: &mut Vec<Pattern>| -> Result<(Box<Pattern>, Box<Pattern>), SceneError> {
+                if parts.len() != 2 {
+                    return Err(source.error(
+                        list,
+                        "colors",
+                        format!("a {kind_name} pattern takes exactly 2 colors, found {}", parts.len()),
+                    ));
+                }
+                let b = parts.pop().expect("two parts");
+                let a = parts.pop().expect("two parts");
+                Ok((Box::new(a), Box::new(b)))
+            };
+            if parts.len() < 2 && kind_name != "gradient" && kind_name != "radial-gradient" {
+                return Err(source.error(
+                    list,
+                    "colors",
+                    format!("a {kind_name} pattern needs at least 2 colors, found {}", parts.len()),
+                ));
+            }
+            match kind_name {
+                "stripes" => PatternKind::Stripes(parts),
+                "rings" | "ring" => PatternKind::Rings(parts),
+                "checkers" => PatternKind::Checkers(parts),
+                "gradient" => {
+                    let (a, b) = two(&mut parts)?;
+                    PatternKind::Gradient(a, b)
+                }
+                _ => {
+                    let (a, b) = two(&mut parts)?;
+                    PatternKind::RadialGradient(a, b)
+                }
+            }
+        }
+    };
+    let transform = match get("transform") {
+        Some(t) => checked(source, t, transform_list(source, defines, t, &mut Trail::new())?)?,
+        None => Transform::IDENTITY,
+    };
+    Ok(Pattern::new(kind).with_transform(transform))
+}
+
+/// How far a perturbed pattern moves points when the file does not say (the book suggests
+/// 20 % or less of a pattern cell).
+const DEFAULT_PERTURBATION: f64 = 0.2;
+
+/// A `colors:` entry: `[r, g, b]` for a solid colour, or a nested pattern mapping.
+fn color_or_pattern<'n, 's>(
+    source: &Source<'s>,
+    defines: &Defines<'n, 's>,
+    node: &'n Node<'s>,
+) -> Result<Pattern, SceneError> {
+    if source.sequence(node, "colors").is_ok() {
+        return Ok(Pattern::solid(color(source, node, "colors")?));
+    }
+    if as_str(node).is_some() || source.entries(node, "colors").is_ok() {
+        return pattern(source, defines, node);
+    }
+    Err(source.error(
+        node,
+        "colors",
+        format!("expected a colour [r, g, b] or a pattern, found {}", describe(node)),
+    ))
+}
+
+/// A transform checked for invertibility, located at the list that produced it.
+pub fn checked(
+    source: &Source<'_>,
+    node: &Node<'_>,
+    matrix: glam::DMat4,
+) -> Result<Transform, SceneError> {
+    Transform::try_new(matrix).map_err(|e| source.error(node, "transform", e.to_string()))
+}

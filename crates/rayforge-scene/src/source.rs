@@ -1,0 +1,241 @@
+//! The YAML document with positions: typed access to nodes, every failure a located error.
+
+use crate::error::{SceneError, Span};
+use saphyr::{LoadableYamlNode, MarkedYaml, Scalar, YamlData};
+use std::path::Path;
+
+/// A parsed scene file: its text (for byte offsets) and its path (for messages).
+pub struct Source<'s> {
+    /// The file's name, as errors show it.
+    pub path: &'s Path,
+    text: &'s str,
+}
+
+/// A node of the document.
+pub type Node<'s> = MarkedYaml<'s>;
+
+impl<'s> Source<'s> {
+    /// Parses `text`; a syntax error carries the parser's own line and column.
+    pub fn parse(path: &'s Path, text: &'s str) -> Result<(Self, Vec<Node<'s>>), SceneError> {
+        let source = Self { path, text };
+        let docs = MarkedYaml::load_from_str(text).map_err(|e| {
+            let m = e.marker();
+            let span = source.span_at(m.index(), m.line(), m.col(), 0);
+            SceneError::new(path, format!("not valid YAML: {}", e.info())).at(span)
+        })?;
+        Ok((source, docs))
+    }
+
+    fn span_at(&self, char_index: usize, line: usize, col: usize, char_len: usize) -> Span {
+        let offset = self.byte_offset(char_index);
+        let end = self.byte_offset(char_index + char_len);
+        Span {
+            line: line.max(1),
+            column: col + 1,
+            offset,
+            len: end.saturating_sub(offset),
+        }
+    }
+
+    /// Byte offset of a character index (the parser counts characters).
+    fn byte_offset(&self, char_index: usize) -> usize {
+        self.text
+            .char_indices()
+            .nth(char_index)
+            .map_or(self.text.len(), |(b, _)| b)
+    }
+
+    /// The position of a node.
+    pub fn span(&self, node: &Node<'_>) -> Span {
+        let (start, end) = (node.span.start, node.span.end);
+        let len = end.index().saturating_sub(start.index());
+        // Collections span many lines; underline only their first line's worth.
+        let len = if matches!(node.data, YamlData::Value(_)) {
+            len
+        } else {
+            len.min(1)
+        };
+        self.span_at(start.index(), start.line(), start.col(), len)
+    }
+
+    /// An error located at `node`, about `key`.
+    pub fn error(&self, node: &Node<'_>, key: &str, message: impl Into<String>) -> SceneError {
+        let e = SceneError::new(self.path, message).at(self.span(node));
+        if key.is_empty() {
+            e
+        } else {
+            e.with_key(key)
+        }
+    }
+
+    /// A number: any YAML integer or float spelling, finite.
+    pub fn number(&self, node: &Node<'_>, key: &str) -> Result<f64, SceneError> {
+        let value = match &node.data {
+            YamlData::Value(Scalar::Integer(i)) => Some(*i as f64),
+            YamlData::Value(Scalar::FloatingPoint(f)) => Some(f.into_inner()),
+            // Spellings the core schema leaves as strings but a reader means as numbers
+            // (`+.5`, `1_000`) are not accepted: say what was found instead.
+            _ => None,
+        };
+        match value {
+            Some(v) if v.is_finite() => Ok(v),
+            Some(v) => Err(self.error(node, key, format!("expected a finite number, found {v}"))),
+            None => Err(self.error(
+                node,
+                key,
+                format!("expected a number, found {}", describe(node)),
+            )),
+        }
+    }
+
+    /// A whole number no smaller than `min`.
+    pub fn integer(&self, node: &Node<'_>, key: &str, min: u64) -> Result<u64, SceneError> {
+        let v = self.number(node, key)?;
+        if v.fract() != 0.0 || v < min as f64 || v > u32::MAX as f64 {
+            return Err(self.error(
+                node,
+                key,
+                format!("expected a whole number of at least {min}, found {v}"),
+            ));
+        }
+        Ok(v as u64)
+    }
+
+    /// A boolean.
+    pub fn boolean(&self, node: &Node<'_>, key: &str) -> Result<bool, SceneError> {
+        match &node.data {
+            YamlData::Value(Scalar::Boolean(b)) => Ok(*b),
+            _ => Err(self.error(
+                node,
+                key,
+                format!("expected true or false, found {}", describe(node)),
+            )),
+        }
+    }
+
+    /// A string.
+    pub fn string<'n>(&self, node: &'n Node<'_>, key: &str) -> Result<&'n str, SceneError> {
+        as_str(node).ok_or_else(|| {
+            self.error(
+                node,
+                key,
+                format!("expected a name, found {}", describe(node)),
+            )
+        })
+    }
+
+    /// A list.
+    pub fn sequence<'n>(
+        &self,
+        node: &'n Node<'s>,
+        key: &str,
+    ) -> Result<&'n [Node<'s>], SceneError> {
+        match &node.data {
+            YamlData::Sequence(items) => Ok(items),
+            _ => Err(self.error(
+                node,
+                key,
+                format!("expected a list, found {}", describe(node)),
+            )),
+        }
+    }
+
+    /// `[x, y, z]`.
+    pub fn triple(&self, node: &Node<'_>, key: &str) -> Result<[f64; 3], SceneError> {
+        let items = self.sequence(node, key)?;
+        if items.len() != 3 {
+            return Err(self.error(
+                node,
+                key,
+                format!("expected a list of 3 numbers, found {} items", items.len()),
+            ));
+        }
+        Ok([
+            self.number(&items[0], key)?,
+            self.number(&items[1], key)?,
+            self.number(&items[2], key)?,
+        ])
+    }
+
+    /// The entries of a mapping as (key name, key node, value node), in document order.
+    pub fn entries<'n>(
+        &self,
+        node: &'n Node<'s>,
+        key: &str,
+    ) -> Result<Vec<Entry<'n, 's>>, SceneError> {
+        match &node.data {
+            YamlData::Mapping(map) => map
+                .iter()
+                .map(|(k, v)| {
+                    let name = as_str(k)
+                        .ok_or_else(|| self.error(k, key, "keys must be names"))?;
+                    Ok(Entry {
+                        name,
+                        key: k,
+                        value: v,
+                    })
+                })
+                .collect(),
+            _ => Err(self.error(
+                node,
+                key,
+                format!("expected a mapping of keys to values, found {}", describe(node)),
+            )),
+        }
+    }
+}
+
+/// One `key: value` of a mapping.
+#[derive(Clone, Copy)]
+pub struct Entry<'n, 's> {
+    /// The key's name.
+    pub name: &'n str,
+    /// The key node (for positions).
+    pub key: &'n Node<'s>,
+    /// The value node.
+    pub value: &'n Node<'s>,
+}
+
+/// The node as a string, if it is one.
+pub fn as_str<'n>(node: &'n Node<'_>) -> Option<&'n str> {
+    match &node.data {
+        YamlData::Value(Scalar::String(s)) => Some(s.as_ref()),
+        _ => None,
+    }
+}
+
+/// What a node is, for messages: "a list", "the text `abc`", "the number 3".
+pub fn describe(node: &Node<'_>) -> String {
+    match &node.data {
+        YamlData::Value(Scalar::String(s)) => format!("the text `{s}`"),
+        YamlData::Value(Scalar::Integer(i)) => format!("the number {i}"),
+        YamlData::Value(Scalar::FloatingPoint(f)) => format!("the number {}", f.into_inner()),
+        YamlData::Value(Scalar::Boolean(b)) => format!("`{b}`"),
+        YamlData::Value(Scalar::Null) => "nothing".to_string(),
+        YamlData::Sequence(_) => "a list".to_string(),
+        YamlData::Mapping(_) => "a mapping".to_string(),
+        _ => "an unsupported YAML value".to_string(),
+    }
+}
+
+/// Rejects any key not in `allowed`, naming the ones that are.
+pub fn check_keys(
+    source: &Source<'_>,
+    entries: &[Entry<'_, '_>],
+    what: &str,
+    allowed: &[&str],
+) -> Result<(), SceneError> {
+    for e in entries {
+        if !allowed.contains(&e.name) {
+            return Err(source.error(
+                e.key,
+                e.name,
+                format!(
+                    "unknown key for {what}; expected one of: {}",
+                    allowed.join(", ")
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
