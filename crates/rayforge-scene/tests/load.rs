@@ -1,0 +1,271 @@
+//! Reading well-formed scene files: what ends up in the world and camera.
+use rayforge::color::color;
+use rayforge::math::{rotation_x, scaling, translation};
+use rayforge::{point, PatternKind, Shape};
+use rayforge_scene::load_str;
+use std::path::Path;
+
+const CAMERA: &str = "
+- add: camera
+  width: 40
+  height: 20
+  field-of-view: 1.0472
+  from: [0, 1.5, -5]
+  to: [0, 1, 0]
+  up: [0, 1, 0]
+";
+
+fn load(body: &str) -> rayforge_scene::Scene {
+    load_str(&format!("{CAMERA}{body}"), Path::new("test.yml")).expect("scene loads")
+}
+
+#[test]
+fn the_camera_takes_its_size_field_of_view_and_placement() {
+    let scene = load("");
+    assert_eq!((scene.camera.hsize(), scene.camera.vsize()), (40, 20));
+    assert_eq!(scene.camera.field_of_view(), 1.0472);
+    let expected = rayforge::math::view_transform(
+        point(0.0, 1.5, -5.0),
+        point(0.0, 1.0, 0.0),
+        rayforge::vector(0.0, 1.0, 0.0),
+    );
+    assert!(scene.camera.transform().matrix().abs_diff_eq(expected, 1e-12));
+}
+
+#[test]
+fn lights_take_position_and_intensity() {
+    let scene = load("- add: light\n  at: [1, 2, 3]\n  intensity: [0.5, 0.25, 1]\n- add: light\n  at: [0, 9, 0]\n  intensity: [1, 1, 1]\n");
+    assert_eq!(scene.world.lights.len(), 2);
+    assert_eq!(scene.world.lights[0].position(), point(1.0, 2.0, 3.0));
+    assert_eq!(scene.world.lights[0].intensity(), color(0.5, 0.25, 1.0));
+}
+
+#[test]
+fn transforms_apply_in_the_order_written() {
+    let scene = load(
+        "- add: sphere\n  transform:\n    - [translate, 1, 2, 3]\n    - [scale, 2, 2, 2]\n    - [rotate-x, 0.5]\n",
+    );
+    let expected = rotation_x(0.5) * scaling(2.0, 2.0, 2.0) * translation(1.0, 2.0, 3.0);
+    assert!(scene.world.objects[0]
+        .transform
+        .matrix()
+        .abs_diff_eq(expected, 1e-12));
+}
+
+#[test]
+fn numbers_may_be_written_in_any_yaml_spelling() {
+    let scene = load(
+        "- add: sphere\n  material:\n    ambient: .75\n    shininess: 1e3\n    diffuse: 1\n    specular: -0.0\n    reflective: +0.5\n",
+    );
+    let m = &scene.world.objects[0].material;
+    assert_eq!(m.ambient, 0.75);
+    assert_eq!(m.shininess, 1000.0);
+    assert_eq!(m.diffuse, 1.0);
+    assert_eq!(m.specular, 0.0);
+    assert_eq!(m.reflective, 0.5);
+}
+
+#[test]
+fn materials_extend_defines_and_override_their_keys() {
+    let scene = load(
+        "
+- define: white
+  value:
+    color: [1, 1, 1]
+    diffuse: 0.7
+    reflective: 0.1
+- define: blue
+  extend: white
+  value:
+    color: [0, 0, 1]
+- add: cube
+  material: blue
+",
+    );
+    let m = &scene.world.objects[0].material;
+    assert_eq!(scene.world.objects[0].shape, Shape::Cube);
+    assert_eq!(m.color, color(0.0, 0.0, 1.0));
+    assert_eq!(m.diffuse, 0.7);
+    assert_eq!(m.reflective, 0.1);
+    assert_eq!(m.ambient, 0.1, "unset keys keep the book's defaults");
+}
+
+#[test]
+fn transform_defines_expand_in_place_and_nest() {
+    let scene = load(
+        "
+- define: standard
+  value:
+    - [translate, 1, -1, 1]
+    - [scale, 0.5, 0.5, 0.5]
+- define: large
+  value:
+    - standard
+    - [scale, 3.5, 3.5, 3.5]
+- add: sphere
+  transform:
+    - large
+    - [translate, 4, 0, 0]
+",
+    );
+    let expected = translation(4.0, 0.0, 0.0)
+        * scaling(3.5, 3.5, 3.5)
+        * scaling(0.5, 0.5, 0.5)
+        * translation(1.0, -1.0, 1.0);
+    assert!(scene.world.objects[0]
+        .transform
+        .matrix()
+        .abs_diff_eq(expected, 1e-12));
+}
+
+#[test]
+fn patterns_take_colors_transforms_and_nested_patterns() {
+    let scene = load(
+        "
+- add: plane
+  material:
+    pattern:
+      type: checkers
+      colors:
+        - type: stripes
+          colors: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+          transform:
+            - [scale, 0.25, 0.25, 0.25]
+        - [0, 0, 0]
+      transform:
+        - [rotate-y, 0.5]
+",
+    );
+    let pattern = scene.world.objects[0]
+        .material
+        .pattern
+        .as_ref()
+        .expect("a pattern");
+    let PatternKind::Checkers(cells) = &pattern.kind else {
+        panic!("checkers, got {:?}", pattern.kind);
+    };
+    assert_eq!(cells.len(), 2);
+    let PatternKind::Stripes(stripes) = &cells[0].kind else {
+        panic!("nested stripes");
+    };
+    assert_eq!(stripes.len(), 3);
+    assert!(cells[0]
+        .transform
+        .matrix()
+        .abs_diff_eq(scaling(0.25, 0.25, 0.25), 1e-12));
+    assert_eq!(cells[1].kind, PatternKind::Solid(color(0.0, 0.0, 0.0)));
+}
+
+#[test]
+fn the_chapter_extras_read_as_patterns() {
+    let scene = load(
+        "
+- add: sphere
+  material:
+    pattern:
+      type: blended
+      patterns:
+        - type: stripes
+          colors: [[1, 1, 1], [0, 0, 0]]
+        - type: perturbed
+          scale: 0.1
+          pattern:
+            type: radial-gradient
+            colors: [[1, 0, 0], [0, 0, 1]]
+",
+    );
+    let p = scene.world.objects[0].material.pattern.as_ref().unwrap();
+    let PatternKind::Blended(parts) = &p.kind else {
+        panic!("blended");
+    };
+    let PatternKind::Perturbed { pattern, scale } = &parts[1].kind else {
+        panic!("perturbed");
+    };
+    assert_eq!(*scale, 0.1);
+    assert!(matches!(pattern.kind, PatternKind::RadialGradient(..)));
+}
+
+#[test]
+fn shadow_false_makes_an_object_cast_no_shadow() {
+    let scene = load("- add: sphere\n  shadow: false\n- add: sphere\n");
+    assert!(!scene.world.objects[0].casts_shadow);
+    assert!(scene.world.objects[1].casts_shadow);
+}
+
+#[test]
+fn cylinders_and_cones_take_min_max_and_closed() {
+    let scene = load("- add: cylinder\n  min: -1\n  max: 2\n  closed: true\n- add: cone\n");
+    assert_eq!(
+        scene.world.objects[0].shape,
+        Shape::Cylinder {
+            minimum: -1.0,
+            maximum: 2.0,
+            closed: true
+        }
+    );
+    assert_eq!(scene.world.objects[1].shape, Shape::CONE);
+}
+
+#[test]
+fn a_defined_object_is_instantiated_with_the_items_overrides() {
+    let scene = load(
+        "
+- define: ball
+  value:
+    add: sphere
+    material:
+      color: [1, 0, 0]
+    transform:
+      - [scale, 2, 2, 2]
+- add: ball
+  transform:
+    - [translate, 0, 1, 0]
+- add: ball
+  material:
+    color: [0, 1, 0]
+",
+    );
+    let [a, b] = &scene.world.objects[..] else {
+        panic!("two objects");
+    };
+    assert_eq!(a.shape, Shape::Sphere);
+    assert_eq!(a.material.color, color(1.0, 0.0, 0.0));
+    let expected = translation(0.0, 1.0, 0.0) * scaling(2.0, 2.0, 2.0);
+    assert!(a.transform.matrix().abs_diff_eq(expected, 1e-12));
+    assert_eq!(b.material.color, color(0.0, 1.0, 0.0));
+}
+
+/// The appendix's cover scene, repaired as SEED-NOTES.md says, has 30 items.
+#[test]
+fn the_repaired_cover_scene_loads_with_all_its_items() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/trtc/cover.yml");
+    let scene = rayforge_scene::load_file(&path).expect("cover loads");
+    assert_eq!(scene.world.lights.len(), 2);
+    let count = |s: Shape| scene.world.objects.iter().filter(|o| o.shape == s).count();
+    assert_eq!(count(Shape::Plane), 1);
+    assert_eq!(count(Shape::Sphere), 1);
+    assert_eq!(count(Shape::Cube), 17);
+    assert_eq!((scene.camera.hsize(), scene.camera.vsize()), (100, 100));
+}
+
+/// Every scene shipped in `scenes/` loads.
+#[test]
+fn every_shipped_scene_loads() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let mut count = 0;
+    let mut dirs = vec![root];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "yml") {
+                if let Err(e) = rayforge_scene::load_file(&path) {
+                    panic!("{e}");
+                }
+                count += 1;
+            }
+        }
+    }
+    assert!(count >= 7, "expected the chapter scenes, found {count}");
+}
