@@ -69,6 +69,10 @@ fn main() -> std::io::Result<()> {
     ));
     let canvas = camera.render(&world);
     std::fs::write("three_spheres.ppm", canvas.to_ppm())?;
-    println!("wrote three_spheres.ppm ({}×{})", canvas.width(), canvas.height());
+    println!(
+        "wrote three_spheres.ppm ({}×{})",
+        canvas.width(),
+        canvas.height()
+    );
     Ok(())
 }

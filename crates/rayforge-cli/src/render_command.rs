@@ -11,8 +11,8 @@ use std::time::Instant;
 
 /// Runs the render command.
 pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
-    let scene = rayforge_scene::load_file(&settings.scene)
-        .map_err(|e| Failure::Input(scene_report(e)))?;
+    let scene =
+        rayforge_scene::load_file(&settings.scene).map_err(|e| Failure::Input(scene_report(e)))?;
     let camera = sized_camera(&scene.camera, settings)?;
     let pool = {
         let mut builder = rayon::ThreadPoolBuilder::new();

@@ -113,12 +113,16 @@ fn width_and_height_override_the_camera() {
     let d = Dir::new();
     let scene = d.file("s.yml", RED_SPHERE);
     let out = d.path("out.png");
-    assert!(render(&scene, &out, &["-q", "--width", "20", "--height", "10"])
-        .status
-        .success());
+    assert!(
+        render(&scene, &out, &["-q", "--width", "20", "--height", "10"])
+            .status
+            .success()
+    );
     assert_eq!(image::open(&out).unwrap().to_rgb8().dimensions(), (20, 10));
     // One side alone keeps the camera's aspect ratio.
-    assert!(render(&scene, &out, &["-q", "--width", "18"]).status.success());
+    assert!(render(&scene, &out, &["-q", "--width", "18"])
+        .status
+        .success());
     assert_eq!(image::open(&out).unwrap().to_rgb8().dimensions(), (18, 18));
 }
 
@@ -127,11 +131,17 @@ fn the_image_is_the_same_for_any_thread_count() {
     let d = Dir::new();
     let scene = d.file(
         "s.yml",
-        &RED_SPHERE.replace("width: 9", "width: 40").replace("ambient: 1", "ambient: 0.1\n    reflective: 0.5"),
+        &RED_SPHERE
+            .replace("width: 9", "width: 40")
+            .replace("ambient: 1", "ambient: 0.1\n    reflective: 0.5"),
     );
     let (one, four) = (d.path("one.pfm"), d.path("four.pfm"));
-    assert!(render(&scene, &one, &["-q", "--threads", "1"]).status.success());
-    assert!(render(&scene, &four, &["-q", "--threads", "4"]).status.success());
+    assert!(render(&scene, &one, &["-q", "--threads", "1"])
+        .status
+        .success());
+    assert!(render(&scene, &four, &["-q", "--threads", "4"])
+        .status
+        .success());
     assert_eq!(std::fs::read(one).unwrap(), std::fs::read(four).unwrap());
 }
 
@@ -195,7 +205,11 @@ fn an_existing_output_survives_a_failed_render() {
 fn an_absurd_resolution_is_refused() {
     let d = Dir::new();
     let scene = d.file("s.yml", RED_SPHERE);
-    let o = render(&scene, &d.path("o.png"), &["--width", "100000", "--height", "100000"]);
+    let o = render(
+        &scene,
+        &d.path("o.png"),
+        &["--width", "100000", "--height", "100000"],
+    );
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--max-pixels"), "{}", stderr(&o));
 }

@@ -24,7 +24,9 @@ fn render_small(scene: &str) -> (usize, usize, Vec<u8>) {
     let path = repo().join("scenes/trtc").join(format!("{scene}.yml"));
     let scene = rayforge_scene::load_file(&path).expect("scene loads");
     let c = &scene.camera;
-    let height = ((WIDTH * c.vsize()) as f64 / c.hsize() as f64).round().max(1.0) as usize;
+    let height = ((WIDTH * c.vsize()) as f64 / c.hsize() as f64)
+        .round()
+        .max(1.0) as usize;
     let camera = c.resized(WIDTH, height);
     let (canvas, _) = render(&camera, &scene.world, &RenderOptions::default());
     (canvas.width(), canvas.height(), canvas.to_rgb8())
@@ -55,7 +57,10 @@ fn check(scene: &str) {
         .zip(expected.as_raw().chunks(3))
         .enumerate()
     {
-        if a.iter().zip(e).any(|(a, e)| a.abs_diff(*e) > CHANNEL_TOLERANCE) {
+        if a.iter()
+            .zip(e)
+            .any(|(a, e)| a.abs_diff(*e) > CHANNEL_TOLERANCE)
+        {
             outliers += 1;
             first.get_or_insert((i % w, i / w, a.to_vec(), e.to_vec()));
         }

@@ -31,13 +31,21 @@ pub type Trail<'n> = Vec<&'n str>;
 
 impl<'n, 's> Defines<'n, 's> {
     /// Records a `define:` item.
-    pub fn add(&mut self, source: &Source<'s>, entries: &[Entry<'n, 's>]) -> Result<(), SceneError> {
+    pub fn add(
+        &mut self,
+        source: &Source<'s>,
+        entries: &[Entry<'n, 's>],
+    ) -> Result<(), SceneError> {
         check_keys(source, entries, "a define", &["define", "extend", "value"])?;
         let get = |k: &str| entries.iter().find(|e| e.name == k);
         let define = get("define").expect("caller checked");
         let name = source.string(define.value, "define")?;
         let value = get("value").ok_or_else(|| {
-            source.error(define.value, "value", format!("define `{name}` has no `value:`"))
+            source.error(
+                define.value,
+                "value",
+                format!("define `{name}` has no `value:`"),
+            )
         })?;
         let extend = match get("extend") {
             Some(e) => Some((source.string(e.value, "extend")?, e.value)),
@@ -89,11 +97,7 @@ impl<'n, 's> Defines<'n, 's> {
         }
         if trail.contains(&name) {
             trail.push(name);
-            return Err(source.error(
-                at,
-                key,
-                format!("define cycle: {}", trail.join(" → ")),
-            ));
+            return Err(source.error(at, key, format!("define cycle: {}", trail.join(" → "))));
         }
         if trail.len() >= MAX_REFERENCE_DEPTH {
             return Err(source.error(

@@ -15,15 +15,35 @@ pub const SHAPE_KINDS: &[&str] = &["sphere", "plane", "cube", "cylinder", "cone"
 /// Keys every shape accepts.
 const SHAPE_KEYS: &[&str] = &["add", "material", "transform", "shadow"];
 /// Keys cylinders and cones accept besides those.
-const QUADRIC_KEYS: &[&str] = &["add", "material", "transform", "shadow", "min", "max", "closed"];
+const QUADRIC_KEYS: &[&str] = &[
+    "add",
+    "material",
+    "transform",
+    "shadow",
+    "min",
+    "max",
+    "closed",
+];
 
 /// The camera from `add: camera`.
-pub fn camera(source: &Source<'_>, entries: &[Entry<'_, '_>], item: &Node<'_>) -> Result<Camera, SceneError> {
+pub fn camera(
+    source: &Source<'_>,
+    entries: &[Entry<'_, '_>],
+    item: &Node<'_>,
+) -> Result<Camera, SceneError> {
     check_keys(
         source,
         entries,
         "a camera",
-        &["add", "width", "height", "field-of-view", "from", "to", "up"],
+        &[
+            "add",
+            "width",
+            "height",
+            "field-of-view",
+            "from",
+            "to",
+            "up",
+        ],
     )?;
     let get = |k: &str| {
         entries
@@ -65,7 +85,11 @@ pub fn camera(source: &Source<'_>, entries: &[Entry<'_, '_>], item: &Node<'_>) -
 }
 
 /// A point light from `add: light`.
-pub fn light(source: &Source<'_>, entries: &[Entry<'_, '_>], item: &Node<'_>) -> Result<Light, SceneError> {
+pub fn light(
+    source: &Source<'_>,
+    entries: &[Entry<'_, '_>],
+    item: &Node<'_>,
+) -> Result<Light, SceneError> {
     check_keys(source, entries, "a light", &["add", "at", "intensity"])?;
     let get = |k: &str| {
         entries
@@ -116,7 +140,11 @@ pub fn expand_template<'n, 's>(
                 ),
             )
         })?;
-    let template_without_transform: Vec<_> = template.iter().copied().filter(|e| e.name != "transform").collect();
+    let template_without_transform: Vec<_> = template
+        .iter()
+        .copied()
+        .filter(|e| e.name != "transform")
+        .collect();
     let (expanded, mut inner_transforms) = expand_template(
         source,
         defines,

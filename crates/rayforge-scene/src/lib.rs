@@ -54,11 +54,17 @@ pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
 /// Builds a scene from YAML text; `path` names the file in errors and anchors relative paths.
 pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
     if text.contains('\0') {
-        return Err(SceneError::new(path, "the scene file is binary, not YAML text"));
+        return Err(SceneError::new(
+            path,
+            "the scene file is binary, not YAML text",
+        ));
     }
     let (source, documents) = Source::parse(path, text)?;
     let Some(root) = documents.first() else {
-        return Err(SceneError::new(path, "the scene file is empty: expected a list of `- add:` and `- define:` items"));
+        return Err(SceneError::new(
+            path,
+            "the scene file is empty: expected a list of `- add:` and `- define:` items",
+        ));
     };
     let items = source.sequence(root, "").map_err(|e| SceneError {
         message: "the top level must be a list of `- add:` and `- define:` items".into(),

@@ -93,8 +93,8 @@ pub fn pattern<'n, 's>(
         }
     }
     let get = |k: &str| entries.iter().find(|e| e.name == k).map(|e| e.value);
-    let type_node = get("type")
-        .ok_or_else(|| source.error(node, "type", "a pattern needs a `type:`"))?;
+    let type_node =
+        get("type").ok_or_else(|| source.error(node, "type", "a pattern needs a `type:`"))?;
     let kind_name = source.string(type_node, "type")?;
     let allowed: &[&str] = match kind_name {
         "blended" => &["type", "patterns", "transform"],
@@ -114,11 +114,7 @@ pub fn pattern<'n, 's>(
     check_keys(source, &entries, &format!("a {kind_name} pattern"), allowed)?;
     let required = |k: &str| {
         get(k).ok_or_else(|| {
-            source.error(
-                type_node,
-                k,
-                format!("a {kind_name} pattern needs `{k}:`"),
-            )
+            source.error(type_node, k, format!("a {kind_name} pattern needs `{k}:`"))
         })
     };
     let kind = match kind_name {
@@ -148,23 +144,30 @@ pub fn pattern<'n, 's>(
                 .iter()
                 .map(|c| color_or_pattern(source, defines, c))
                 .collect::<Result<Vec<_>, _>>()?;
-            let two = |parts: &mut Vec<Pattern>| -> Result<(Box<Pattern>, Box<Pattern>), SceneError> {
-                if parts.len() != 2 {
-                    return Err(source.error(
-                        list,
-                        "colors",
-                        format!("a {kind_name} pattern takes exactly 2 colors, found {}", parts.len()),
-                    ));
-                }
-                let b = parts.pop().expect("two parts");
-                let a = parts.pop().expect("two parts");
-                Ok((Box::new(a), Box::new(b)))
-            };
+            let two =
+                |parts: &mut Vec<Pattern>| -> Result<(Box<Pattern>, Box<Pattern>), SceneError> {
+                    if parts.len() != 2 {
+                        return Err(source.error(
+                            list,
+                            "colors",
+                            format!(
+                                "a {kind_name} pattern takes exactly 2 colors, found {}",
+                                parts.len()
+                            ),
+                        ));
+                    }
+                    let b = parts.pop().expect("two parts");
+                    let a = parts.pop().expect("two parts");
+                    Ok((Box::new(a), Box::new(b)))
+                };
             if parts.len() < 2 && kind_name != "gradient" && kind_name != "radial-gradient" {
                 return Err(source.error(
                     list,
                     "colors",
-                    format!("a {kind_name} pattern needs at least 2 colors, found {}", parts.len()),
+                    format!(
+                        "a {kind_name} pattern needs at least 2 colors, found {}",
+                        parts.len()
+                    ),
                 ));
             }
             match kind_name {
@@ -183,7 +186,11 @@ pub fn pattern<'n, 's>(
         }
     };
     let transform = match get("transform") {
-        Some(t) => checked(source, t, transform_list(source, defines, t, &mut Trail::new())?)?,
+        Some(t) => checked(
+            source,
+            t,
+            transform_list(source, defines, t, &mut Trail::new())?,
+        )?,
         None => Transform::IDENTITY,
     };
     Ok(Pattern::new(kind).with_transform(transform))
@@ -208,7 +215,10 @@ fn color_or_pattern<'n, 's>(
     Err(source.error(
         node,
         "colors",
-        format!("expected a colour [r, g, b] or a pattern, found {}", describe(node)),
+        format!(
+            "expected a colour [r, g, b] or a pattern, found {}",
+            describe(node)
+        ),
     ))
 }
 

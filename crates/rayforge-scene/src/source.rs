@@ -167,8 +167,7 @@ impl<'s> Source<'s> {
             YamlData::Mapping(map) => map
                 .iter()
                 .map(|(k, v)| {
-                    let name = as_str(k)
-                        .ok_or_else(|| self.error(k, key, "keys must be names"))?;
+                    let name = as_str(k).ok_or_else(|| self.error(k, key, "keys must be names"))?;
                     Ok(Entry {
                         name,
                         key: k,
@@ -179,7 +178,10 @@ impl<'s> Source<'s> {
             _ => Err(self.error(
                 node,
                 key,
-                format!("expected a mapping of keys to values, found {}", describe(node)),
+                format!(
+                    "expected a mapping of keys to values, found {}",
+                    describe(node)
+                ),
             )),
         }
     }

@@ -23,7 +23,11 @@ fn assert_error(e: &SceneError, line: usize, column: usize, key: Option<&str>, w
     assert_eq!((span.line, span.column), (line, column), "{e}");
     assert_eq!(e.key.as_deref(), key, "{e}");
     assert!(e.message.contains(words), "{e}");
-    assert!(e.to_string().starts_with(&format!("scene.yml:{line}:{column}: ")), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with(&format!("scene.yml:{line}:{column}: ")),
+        "{e}"
+    );
 }
 
 #[test]
@@ -67,7 +71,13 @@ fn an_unknown_transform() {
 #[test]
 fn a_non_numeric_value() {
     let e = error("- add: sphere\n  material:\n    ambient: lots\n");
-    assert_error(&e, 10, 14, Some("ambient"), "expected a number, found the text `lots`");
+    assert_error(
+        &e,
+        10,
+        14,
+        Some("ambient"),
+        "expected a number, found the text `lots`",
+    );
 }
 
 #[test]
@@ -123,7 +133,8 @@ fn a_define_that_extends_itself_is_a_cycle() {
 
 #[test]
 fn a_transform_define_that_references_itself_is_a_cycle() {
-    let e = error("- define: loop\n  value:\n    - loop\n- add: sphere\n  transform:\n    - loop\n");
+    let e =
+        error("- define: loop\n  value:\n    - loop\n- add: sphere\n  transform:\n    - loop\n");
     assert!(e.message.contains("define cycle: loop → loop"), "{e}");
 }
 

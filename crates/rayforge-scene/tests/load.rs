@@ -9,7 +9,7 @@ const CAMERA: &str = "
 - add: camera
   width: 40
   height: 20
-  field-of-view: 1.0472
+  field-of-view: 1.2
   from: [0, 1.5, -5]
   to: [0, 1, 0]
   up: [0, 1, 0]
@@ -23,13 +23,17 @@ fn load(body: &str) -> rayforge_scene::Scene {
 fn the_camera_takes_its_size_field_of_view_and_placement() {
     let scene = load("");
     assert_eq!((scene.camera.hsize(), scene.camera.vsize()), (40, 20));
-    assert_eq!(scene.camera.field_of_view(), 1.0472);
+    assert_eq!(scene.camera.field_of_view(), 1.2);
     let expected = rayforge::math::view_transform(
         point(0.0, 1.5, -5.0),
         point(0.0, 1.0, 0.0),
         rayforge::vector(0.0, 1.0, 0.0),
     );
-    assert!(scene.camera.transform().matrix().abs_diff_eq(expected, 1e-12));
+    assert!(scene
+        .camera
+        .transform()
+        .matrix()
+        .abs_diff_eq(expected, 1e-12));
 }
 
 #[test]

@@ -17,8 +17,8 @@ fn intersections(c: &mut Criterion) {
         ("plane", Shape::Plane),
         ("cube", Shape::Cube),
     ] {
-        let object = Object::new(shape)
-            .with_transform(translation(0.1, 0.0, 0.0) * scaling(1.5, 1.0, 1.0));
+        let object =
+            Object::new(shape).with_transform(translation(0.1, 0.0, 0.0) * scaling(1.5, 1.0, 1.0));
         let mut xs = Vec::with_capacity(8);
         group.bench_function(BenchmarkId::from_parameter(name), |b| {
             b.iter(|| {

@@ -1,4 +1,6 @@
 //! Chapter 2: the canvas and its PPM encoding.
+// The book's expected values are kept exactly as printed (0.70711, not FRAC_1_SQRT_2).
+#![allow(clippy::approx_constant)]
 use rayforge::color::color;
 use rayforge::Canvas;
 

@@ -1,4 +1,6 @@
 //! Chapter 6: materials and the Phong lighting model (with chapter 8's shadowed case).
+// The book's expected values are kept exactly as printed (0.70711, not FRAC_1_SQRT_2).
+#![allow(clippy::approx_constant)]
 mod common;
 use common::*;
 use rayforge::color::color;
@@ -11,7 +13,15 @@ fn light_at(eyev: Vec3, light_position: Point3, fraction: f64) -> rayforge::Colo
     let position = point(0.0, 0.0, 0.0);
     let normalv = vector(0.0, 0.0, -1.0);
     let light = Light::point(light_position, color(1.0, 1.0, 1.0));
-    lighting(&m, &Object::sphere(), &light, position, eyev, normalv, fraction)
+    lighting(
+        &m,
+        &Object::sphere(),
+        &light,
+        position,
+        eyev,
+        normalv,
+        fraction,
+    )
 }
 
 #[test]
@@ -32,7 +42,11 @@ fn lighting_with_the_eye_between_the_light_and_the_surface() {
 
 #[test]
 fn lighting_with_the_eye_between_light_and_surface_eye_offset_45() {
-    let result = light_at(vector(0.0, HALF_SQRT2, -HALF_SQRT2), point(0.0, 0.0, -10.0), 1.0);
+    let result = light_at(
+        vector(0.0, HALF_SQRT2, -HALF_SQRT2),
+        point(0.0, 0.0, -10.0),
+        1.0,
+    );
     assert_color_approx(result, color(1.0, 1.0, 1.0));
 }
 
@@ -44,7 +58,11 @@ fn lighting_with_eye_opposite_surface_light_offset_45() {
 
 #[test]
 fn lighting_with_eye_in_the_path_of_the_reflection_vector() {
-    let result = light_at(vector(0.0, -HALF_SQRT2, -HALF_SQRT2), point(0.0, 10.0, -10.0), 1.0);
+    let result = light_at(
+        vector(0.0, -HALF_SQRT2, -HALF_SQRT2),
+        point(0.0, 10.0, -10.0),
+        1.0,
+    );
     assert_color_approx(result, color(1.6364, 1.6364, 1.6364));
 }
 

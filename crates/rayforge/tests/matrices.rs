@@ -1,4 +1,6 @@
 //! Chapter 3: matrices.
+// The book's expected values are kept exactly as printed (0.70711, not FRAC_1_SQRT_2).
+#![allow(clippy::approx_constant)]
 mod common;
 use common::*;
 use glam::{DMat2, DMat3, DMat4};

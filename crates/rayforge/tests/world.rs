@@ -1,11 +1,13 @@
 //! Chapter 7: the world, `prepare_computations`, `shade_hit` and `color_at`.
+// The book's expected values are kept exactly as printed (0.70711, not FRAC_1_SQRT_2).
+#![allow(clippy::approx_constant)]
 mod common;
 use common::*;
 use rayforge::color::color;
 use rayforge::math::scaling;
 use rayforge::{
-    default_world, point, prepare_computations, vector, Intersection, Light, Material, Object,
-    Ray, World, DEFAULT_MAX_DEPTH,
+    default_world, point, prepare_computations, vector, Intersection, Light, Material, Object, Ray,
+    World, DEFAULT_MAX_DEPTH,
 };
 
 #[test]

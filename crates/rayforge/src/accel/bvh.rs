@@ -198,7 +198,7 @@ fn choose_split(
     };
     let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, first bin on the right)
     for axis in 0..3 {
-        if !(extent[axis] > 0.0) || !extent[axis].is_finite() {
+        if extent[axis] <= 0.0 || !extent[axis].is_finite() {
             continue;
         }
         let mut counts = [0usize; BINS];

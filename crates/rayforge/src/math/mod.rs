@@ -12,11 +12,11 @@ pub mod roots;
 mod transform;
 mod tuple;
 
+pub use aabb::Aabb;
 pub use matrix::{
     matrix2, matrix3, matrix4, rotation_x, rotation_y, rotation_z, scaling, shearing, translation,
     view_transform, BookMatrix,
 };
-pub use aabb::Aabb;
 pub use ray::Ray;
 pub use transform::{SingularTransform, Transform};
 pub use tuple::Tuple;

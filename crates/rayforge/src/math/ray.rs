@@ -27,7 +27,10 @@ impl Ray {
 
     /// The book's `transform(ray, m)` for a matrix.
     pub fn transform(&self, m: glam::DMat4) -> Self {
-        Self::new(m.transform_point3(self.origin), m.transform_vector3(self.direction))
+        Self::new(
+            m.transform_point3(self.origin),
+            m.transform_vector3(self.direction),
+        )
     }
 
     /// The ray moved into the object space of `transform` (its inverse applied).

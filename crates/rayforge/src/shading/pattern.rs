@@ -109,9 +109,7 @@ impl Pattern {
         match &self.kind {
             PatternKind::Solid(c) => *c,
             PatternKind::Stripes(ps) => cycle(ps, p.x.floor(), p),
-            PatternKind::Gradient(a, b) => {
-                a.nested_at(p).lerp(b.nested_at(p), p.x - p.x.floor())
-            }
+            PatternKind::Gradient(a, b) => a.nested_at(p).lerp(b.nested_at(p), p.x - p.x.floor()),
             PatternKind::Rings(ps) => cycle(ps, p.x.hypot(p.z).floor(), p),
             PatternKind::Checkers(ps) => cycle(ps, p.x.floor() + p.y.floor() + p.z.floor(), p),
             PatternKind::RadialGradient(a, b) => {
