@@ -1,7 +1,7 @@
 //! Builds chapter 7's scene in Rust code with the book's API and renders it to `three_spheres.ppm`.
 //!
 //! Scene data from *The Ray Tracer Challenge* (Jamis Buck), chapter 7, "Putting It Together".
-//! Run with `cargo run --release --example three_spheres`.
+//! Run with `cargo run --release -p rayforge --example three_spheres`.
 
 use rayforge::math::{rotation_x, rotation_y, scaling, translation, view_transform};
 use rayforge::{point, vector, Camera, Color, Light, Material, Object, World};

@@ -10,10 +10,12 @@ use rayforge::math::{point, vector, view_transform};
 use rayforge::{Camera, Light, Material, Object, Shape};
 
 /// The shapes `add:` may name, for messages.
-pub const SHAPE_KINDS: &[&str] = &["sphere", "plane", "cube", "cylinder", "cone"];
+pub const SHAPE_KINDS: &[&str] = &["sphere", "plane", "cube", "cylinder", "cone", "group"];
 
 /// Keys every shape accepts.
 const SHAPE_KEYS: &[&str] = &["add", "material", "transform", "shadow"];
+/// Keys a group accepts.
+const GROUP_KEYS: &[&str] = &["add", "children", "material", "transform", "shadow"];
 /// Keys cylinders and cones accept besides those.
 const QUADRIC_KEYS: &[&str] = &[
     "add",
@@ -170,19 +172,131 @@ pub fn expand_template<'n, 's>(
     Ok((template, inner_transforms))
 }
 
-/// Builds a shape from its (expanded) entries and transform lists.
-pub fn shape<'n, 's>(
+/// What a shape inherits from the groups around it.
+#[derive(Debug, Clone)]
+pub struct Inherited {
+    /// `world_from_parent`: every enclosing group's transform, composed.
+    pub matrix: DMat4,
+    /// The nearest enclosing group's material, for children that set none.
+    pub material: Option<Material>,
+    /// False when an enclosing group has `shadow: false`.
+    pub casts_shadow: bool,
+    /// How many groups enclose this item.
+    pub depth: usize,
+}
+
+impl Inherited {
+    /// What a top-level item inherits: nothing.
+    pub const TOP: Self = Self {
+        matrix: DMat4::IDENTITY,
+        material: None,
+        casts_shadow: true,
+        depth: 0,
+    };
+}
+
+/// Groups may nest this deep; deeper nesting is certainly a generated or hostile file, and
+/// refusing it keeps the reader's recursion bounded.
+const MAX_GROUP_DEPTH: usize = 256;
+
+/// Builds the objects of one (expanded) `add:` item, a shape or a group, into `out`, with
+/// every enclosing group's transform baked in (the parent first: `parent * child`).
+pub fn add_objects<'n, 's>(
     source: &Source<'s>,
     defines: &Defines<'n, 's>,
     entries: &[Entry<'n, 's>],
     transforms: &[&'n Node<'s>],
-) -> Result<Object, SceneError> {
+    inherited: &Inherited,
+    out: &mut Vec<rayforge::Object>,
+) -> Result<(), SceneError> {
     let kind_node = entries
         .iter()
         .find(|e| e.name == "add")
         .expect("every item has `add`")
         .value;
     let kind = source.string(kind_node, "add")?;
+    let keys = match kind {
+        "group" => GROUP_KEYS,
+        "cylinder" | "cone" => QUADRIC_KEYS,
+        _ => SHAPE_KEYS,
+    };
+    let shape = match kind {
+        "group" => None,
+        _ => Some(shape(source, entries, kind_node, kind)?),
+    };
+    check_keys(source, entries, &format!("a {kind}"), keys)?;
+    let mut own = DMat4::IDENTITY;
+    for t in transforms {
+        own = transform_list(source, defines, t, &mut Trail::new())? * own;
+    }
+    let placed_at = transforms.last().copied().unwrap_or(kind_node);
+    checked(source, placed_at, own)?;
+    let world = checked(source, placed_at, inherited.matrix * own)?;
+    let mut material_here = None;
+    let mut casts_shadow = inherited.casts_shadow;
+    for e in entries {
+        match e.name {
+            "material" => {
+                material_here = Some(material(source, defines, e.value, &Material::DEFAULT)?)
+            }
+            "shadow" => casts_shadow &= source.boolean(e.value, "shadow")?,
+            _ => {}
+        }
+    }
+    let material = material_here.or_else(|| inherited.material.clone());
+    let Some(shape) = shape else {
+        let children_node = entries
+            .iter()
+            .find(|e| e.name == "children")
+            .map(|e| e.value)
+            .ok_or_else(|| source.error(kind_node, "children", "a group needs `children:`"))?;
+        if inherited.depth >= MAX_GROUP_DEPTH {
+            return Err(source.error(
+                kind_node,
+                "add",
+                format!("groups nest deeper than {MAX_GROUP_DEPTH} levels"),
+            ));
+        }
+        let inside = Inherited {
+            matrix: world.matrix(),
+            material,
+            casts_shadow,
+            depth: inherited.depth + 1,
+        };
+        for child in source.sequence(children_node, "children")? {
+            let child_entries = source.entries(child, "children")?;
+            let child_kind = child_entries
+                .iter()
+                .find(|e| e.name == "add")
+                .map(|e| e.value)
+                .ok_or_else(|| source.error(child, "children", "each child needs `add:`"))?;
+            let (child_entries, child_transforms) =
+                expand_template(source, defines, child_entries, child_kind, &mut Vec::new())?;
+            add_objects(
+                source,
+                defines,
+                &child_entries,
+                &child_transforms,
+                &inside,
+                out,
+            )?;
+        }
+        return Ok(());
+    };
+    let mut object = Object::new(shape).with_transform_of(world);
+    object.material = material.unwrap_or_default();
+    object.casts_shadow = casts_shadow;
+    out.push(object);
+    Ok(())
+}
+
+/// The shape an `add:` names, with its shape-specific keys.
+fn shape(
+    source: &Source<'_>,
+    entries: &[Entry<'_, '_>],
+    kind_node: &Node<'_>,
+    kind: &str,
+) -> Result<Shape, SceneError> {
     let quadric = |make: fn(f64, f64, bool) -> Shape| -> Result<Shape, SceneError> {
         let mut minimum = f64::NEG_INFINITY;
         let mut maximum = f64::INFINITY;
@@ -197,45 +311,22 @@ pub fn shape<'n, 's>(
         }
         Ok(make(minimum, maximum, closed))
     };
-    let (shape, keys) = match kind {
-        "sphere" => (Shape::Sphere, SHAPE_KEYS),
-        "plane" => (Shape::Plane, SHAPE_KEYS),
-        "cube" => (Shape::Cube, SHAPE_KEYS),
-        "cylinder" => (
-            quadric(|minimum, maximum, closed| Shape::Cylinder {
-                minimum,
-                maximum,
-                closed,
-            })?,
-            QUADRIC_KEYS,
-        ),
-        "cone" => (
-            quadric(|minimum, maximum, closed| Shape::Cone {
-                minimum,
-                maximum,
-                closed,
-            })?,
-            QUADRIC_KEYS,
-        ),
-        other => return Err(unknown_kind(source, kind_node, other)),
-    };
-    check_keys(source, entries, &format!("a {kind}"), keys)?;
-    let mut object = Object::new(shape);
-    let mut matrix = DMat4::IDENTITY;
-    for t in transforms {
-        matrix = transform_list(source, defines, t, &mut Trail::new())? * matrix;
+    match kind {
+        "sphere" => Ok(Shape::Sphere),
+        "plane" => Ok(Shape::Plane),
+        "cube" => Ok(Shape::Cube),
+        "cylinder" => quadric(|minimum, maximum, closed| Shape::Cylinder {
+            minimum,
+            maximum,
+            closed,
+        }),
+        "cone" => quadric(|minimum, maximum, closed| Shape::Cone {
+            minimum,
+            maximum,
+            closed,
+        }),
+        other => Err(unknown_kind(source, kind_node, other)),
     }
-    if let Some(last) = transforms.last() {
-        object.transform = checked(source, last, matrix)?;
-    }
-    for e in entries {
-        match e.name {
-            "material" => object.material = material(source, defines, e.value, &Material::DEFAULT)?,
-            "shadow" => object.casts_shadow = source.boolean(e.value, "shadow")?,
-            _ => {}
-        }
-    }
-    Ok(object)
 }
 
 /// The error for an `add:` that names neither a shape nor a defined object.

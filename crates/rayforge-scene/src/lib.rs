@@ -103,9 +103,14 @@ fn add_item<'n, 's>(
         _ => {
             let (entries, transforms) =
                 items::expand_template(source, defines, entries, kind, &mut Vec::new())?;
-            world
-                .objects
-                .push(items::shape(source, defines, &entries, &transforms)?);
+            items::add_objects(
+                source,
+                defines,
+                &entries,
+                &transforms,
+                &items::Inherited::TOP,
+                &mut world.objects,
+            )?;
         }
     }
     Ok(())

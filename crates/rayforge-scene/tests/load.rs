@@ -273,3 +273,90 @@ fn every_shipped_scene_loads() {
     }
     assert!(count >= 7, "expected the chapter scenes, found {count}");
 }
+
+#[test]
+fn groups_bake_their_transforms_into_their_children_parent_first() {
+    let scene = load(
+        "
+- add: group
+  transform:
+    - [scale, 2, 2, 2]
+  children:
+    - add: sphere
+      transform:
+        - [translate, 5, 0, 0]
+    - add: group
+      transform:
+        - [rotate-y, 1]
+      children:
+        - add: cube
+",
+    );
+    let [sphere, cube] = &scene.world.objects[..] else {
+        panic!("two shapes, got {}", scene.world.objects.len());
+    };
+    let expected = scaling(2.0, 2.0, 2.0) * translation(5.0, 0.0, 0.0);
+    assert!(sphere.transform.matrix().abs_diff_eq(expected, 1e-12));
+    let expected = scaling(2.0, 2.0, 2.0) * rayforge::math::rotation_y(1.0);
+    assert!(cube.transform.matrix().abs_diff_eq(expected, 1e-12));
+}
+
+#[test]
+fn a_groups_material_and_shadow_apply_to_children_that_set_none() {
+    let scene = load(
+        "
+- add: group
+  material:
+    color: [1, 0, 0]
+  shadow: false
+  children:
+    - add: sphere
+    - add: sphere
+      material:
+        color: [0, 0, 1]
+",
+    );
+    let [a, b] = &scene.world.objects[..] else {
+        panic!("two shapes");
+    };
+    assert_eq!(a.material.color, color(1.0, 0.0, 0.0));
+    assert_eq!(b.material.color, color(0.0, 0.0, 1.0));
+    assert!(!a.casts_shadow && !b.casts_shadow);
+}
+
+#[test]
+fn a_defined_group_can_be_reused() {
+    let scene = load(
+        "
+- define: pair
+  value:
+    add: group
+    children:
+      - add: sphere
+      - add: cube
+- add: pair
+  transform:
+    - [translate, 0, 3, 0]
+- add: pair
+",
+    );
+    assert_eq!(scene.world.objects.len(), 4);
+    assert!(scene.world.objects[0]
+        .transform
+        .matrix()
+        .abs_diff_eq(translation(0.0, 3.0, 0.0), 1e-12));
+}
+
+#[test]
+fn groups_nested_too_deeply_are_refused() {
+    let mut child = String::from("{add: sphere}");
+    for _ in 0..300 {
+        child = format!("{{add: group, children: [{child}]}}");
+    }
+    let e = load_str(&format!("{CAMERA}- {child}\n"), Path::new("test.yml")).unwrap_err();
+    // Either the YAML reader's own nesting limit or ours refuses it; neither overflows.
+    assert!(
+        e.message.contains("nest deeper") || e.message.contains("recursion limit"),
+        "{e}"
+    );
+}

@@ -1,6 +1,7 @@
 //! Objects in the world, intersections, and the Whitted tracer that shades them.
 
 mod computations;
+mod group;
 mod index;
 mod intersection;
 mod object;
@@ -8,6 +9,7 @@ mod tracer;
 mod world;
 
 pub use computations::{prepare_computations, schlick, Computations};
+pub use group::{Group, Node};
 pub use index::WorldIndex;
 pub use intersection::{hit, sort_intersections, Intersection};
 pub use object::Object;

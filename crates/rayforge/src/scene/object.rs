@@ -139,6 +139,13 @@ impl Object {
         out
     }
 
+    /// The book's `normal_to_world(shape, normal)`: an object-space normal in world space, unit
+    /// length.
+    #[inline]
+    pub fn normal_to_world(&self, normal: Vec3) -> Vec3 {
+        self.transform.normal(normal)
+    }
+
     /// The book's `normal_at(shape, world_point)`: the unit world-space normal.
     #[inline]
     pub fn normal_at(&self, world_point: Point3) -> Vec3 {

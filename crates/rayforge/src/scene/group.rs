@@ -1,0 +1,97 @@
+//! Groups (chapter 14): shapes that move together, flattened into world objects before
+//! rendering.
+//!
+//! The book gives every shape a parent pointer and walks up the chain to convert points and
+//! normals. rayforge bakes the chain instead: flattening a group multiplies each child's
+//! transform by its ancestors' (`parent * child`, the parent first, as the validation notebook
+//! warns), so the renderer sees flat objects with their full world transform and never walks a
+//! hierarchy per ray. The results are the same: `world_to_object` and `normal_to_world` of a
+//! flattened child equal the book's recursive versions.
+
+use crate::math::{SingularTransform, Transform};
+use crate::Object;
+
+/// A node of a scene tree: a shape, or a group of nodes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Node {
+    /// A shape with its own transform (relative to its parent).
+    Object(Object),
+    /// A group with its own transform (relative to its parent).
+    Group(Group),
+}
+
+/// The book's `group()`: children that share a transform.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Group {
+    /// `parent_from_group`.
+    pub transform: Transform,
+    /// The shapes and groups inside, each placed relative to the group.
+    pub children: Vec<Node>,
+}
+
+impl Group {
+    /// An empty group with the identity transform.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The same group placed by `matrix`.
+    ///
+    /// # Panics
+    /// When the matrix is singular; use [`Transform::try_new`] for user input.
+    pub fn with_transform(mut self, matrix: glam::DMat4) -> Self {
+        self.transform = Transform::new(matrix);
+        self
+    }
+
+    /// The book's `add_child(group, shape)`.
+    pub fn add_child(&mut self, child: impl Into<Node>) {
+        self.children.push(child.into());
+    }
+
+    /// The same group with one more child.
+    pub fn with_child(mut self, child: impl Into<Node>) -> Self {
+        self.add_child(child);
+        self
+    }
+
+    /// Every shape in the group, with its transform composed with all of its ancestors'
+    /// (this group's included), in depth-first order.
+    ///
+    /// Walks the tree with an explicit stack, so arbitrarily deep nesting cannot overflow.
+    pub fn flatten(&self) -> Result<Vec<Object>, SingularTransform> {
+        let mut out = Vec::new();
+        let mut stack: Vec<(&Node, Transform)> = self
+            .children
+            .iter()
+            .rev()
+            .map(|c| (c, self.transform))
+            .collect();
+        while let Some((node, parent)) = stack.pop() {
+            match node {
+                Node::Object(object) => {
+                    let mut placed = object.clone();
+                    placed.transform = parent.then_after(&object.transform)?;
+                    out.push(placed);
+                }
+                Node::Group(group) => {
+                    let world = parent.then_after(&group.transform)?;
+                    stack.extend(group.children.iter().rev().map(|c| (c, world)));
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+impl From<Object> for Node {
+    fn from(object: Object) -> Self {
+        Node::Object(object)
+    }
+}
+
+impl From<Group> for Node {
+    fn from(group: Group) -> Self {
+        Node::Group(group)
+    }
+}
