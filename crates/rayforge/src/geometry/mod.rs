@@ -7,11 +7,41 @@
 mod cone;
 mod cube;
 mod cylinder;
+mod mesh;
 mod plane;
 mod sphere;
 mod triangle;
 
+pub use mesh::{Mesh, MeshError, MeshFace};
 pub use triangle::Triangle;
+
+use std::sync::Arc;
+
+/// One intersection in object space: the distance and where on the surface it is.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LocalHit {
+    /// Distance along the object-space ray.
+    pub t: f64,
+    /// Surface coordinate u (barycentric on triangles, towards the second vertex).
+    pub u: f64,
+    /// Surface coordinate v (barycentric on triangles, towards the third vertex).
+    pub v: f64,
+    /// Which face of a mesh was hit (0 for other shapes).
+    pub face: u32,
+}
+
+impl LocalHit {
+    /// A hit at `t` with no surface coordinates.
+    #[inline]
+    pub const fn at(t: f64) -> Self {
+        Self {
+            t,
+            u: 0.0,
+            v: 0.0,
+            face: 0,
+        }
+    }
+}
 
 use crate::math::{Aabb, Point3, Ray, Vec3};
 
@@ -35,6 +65,8 @@ pub enum Shape {
     },
     /// A triangle, flat or smooth (chapter 15). Boxed: it is far larger than the other shapes.
     Triangle(Box<Triangle>),
+    /// A triangle mesh with its own BVH (an OBJ file's faces), shared between instances.
+    Mesh(Arc<Mesh>),
     /// The double-napped cone x² + z² = y² between `minimum` and `maximum` (chapter 13).
     Cone {
         /// Lowest y (exclusive); `-∞` for an infinite cone.
@@ -66,44 +98,49 @@ impl Shape {
     /// whole list).
     #[inline]
     pub fn intersect(&self, ray: &Ray, mut hit: impl FnMut(f64)) {
-        self.intersect_uv(ray, |t, _, _| hit(t));
+        self.intersect_hits(ray, |h| hit(h.t));
     }
 
-    /// Like [`Shape::intersect`], with the surface coordinates `u`, `v` of each hit (the
-    /// barycentric coordinates on triangles; 0 on shapes that have none yet).
+    /// Like [`Shape::intersect`], with where on the surface each hit is (barycentric `u`, `v`
+    /// on triangles, and the face of a mesh).
     #[inline]
-    pub fn intersect_uv(&self, ray: &Ray, mut hit: impl FnMut(f64, f64, f64)) {
+    pub fn intersect_hits(&self, ray: &Ray, mut hit: impl FnMut(LocalHit)) {
+        let mut hit_t = |t| hit(LocalHit::at(t));
         match self {
-            Shape::Sphere => sphere::intersect(ray, |t| hit(t, 0.0, 0.0)),
-            Shape::Plane => plane::intersect(ray, |t| hit(t, 0.0, 0.0)),
-            Shape::Cube => cube::intersect(ray, |t| hit(t, 0.0, 0.0)),
-            Shape::Triangle(triangle) => triangle.intersect(ray, hit),
+            Shape::Sphere => sphere::intersect(ray, &mut hit_t),
+            Shape::Plane => plane::intersect(ray, &mut hit_t),
+            Shape::Cube => cube::intersect(ray, &mut hit_t),
+            Shape::Triangle(triangle) => {
+                triangle.intersect(ray, |t, u, v| hit(LocalHit { t, u, v, face: 0 }))
+            }
+            Shape::Mesh(mesh) => mesh.intersect(ray, hit),
             Shape::Cylinder {
                 minimum,
                 maximum,
                 closed,
-            } => cylinder::intersect(ray, *minimum, *maximum, *closed, |t| hit(t, 0.0, 0.0)),
+            } => cylinder::intersect(ray, *minimum, *maximum, *closed, &mut hit_t),
             Shape::Cone {
                 minimum,
                 maximum,
                 closed,
-            } => cone::intersect(ray, *minimum, *maximum, *closed, |t| hit(t, 0.0, 0.0)),
+            } => cone::intersect(ray, *minimum, *maximum, *closed, &mut hit_t),
         }
     }
 
     /// The book's `local_normal_at`: the object-space normal at an object-space point on the
     /// surface (not normalised for every shape: the caller normalises after the normal
-    /// transform). Smooth triangles need the hit's `u`, `v`: see [`Shape::normal_at_uv`].
+    /// transform). Smooth triangles and meshes need the hit: see [`Shape::normal_at_hit`].
     #[inline]
     pub fn normal_at(&self, point: Point3) -> Vec3 {
-        self.normal_at_uv(point, 0.0, 0.0)
+        self.normal_at_hit(point, &LocalHit::default())
     }
 
-    /// The object-space normal at a hit with surface coordinates `u`, `v`.
+    /// The object-space normal at a hit (smooth triangles interpolate with its `u`, `v`).
     #[inline]
-    pub fn normal_at_uv(&self, point: Point3, u: f64, v: f64) -> Vec3 {
+    pub fn normal_at_hit(&self, point: Point3, hit: &LocalHit) -> Vec3 {
         match self {
-            Shape::Triangle(triangle) => triangle.normal_at(u, v),
+            Shape::Triangle(triangle) => triangle.normal_at(hit.u, hit.v),
+            Shape::Mesh(mesh) => mesh.normal_at(hit),
             Shape::Sphere => sphere::normal_at(point),
             Shape::Plane => plane::normal_at(point),
             Shape::Cube => cube::normal_at(point),
@@ -138,6 +175,7 @@ impl Shape {
                 let r = minimum.abs().max(maximum.abs());
                 Aabb::new(Point3::new(-r, *minimum, -r), Point3::new(r, *maximum, r))
             }
+            Shape::Mesh(mesh) => mesh.bounds(),
             Shape::Triangle(t) => {
                 let mut b = Aabb::EMPTY;
                 for p in [t.p1, t.p2, t.p3] {

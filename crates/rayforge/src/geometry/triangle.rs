@@ -51,26 +51,9 @@ impl Triangle {
     /// Möller–Trumbore: one hit with its barycentric `u` (towards `p2`) and `v` (towards `p3`).
     #[inline]
     pub fn intersect(&self, ray: &Ray, mut hit: impl FnMut(f64, f64, f64)) {
-        let dir_cross_e2 = ray.direction.cross(self.e2);
-        let det = self.e1.dot(dir_cross_e2);
-        if det == 0.0 || !det.is_finite() {
-            // The ray is parallel to the triangle's plane. (The book tests |det| < EPSILON, but
-            // det scales with the triangle's area: that would reject every hit on the tiny
-            // triangles of a detailed mesh. Near-parallel rays fail the u/v tests below.)
-            return;
+        if let Some((t, u, v)) = moller_trumbore(ray, self.p1, self.e1, self.e2) {
+            hit(t, u, v);
         }
-        let f = 1.0 / det;
-        let p1_to_origin = ray.origin - self.p1;
-        let u = f * p1_to_origin.dot(dir_cross_e2);
-        if !(0.0..=1.0).contains(&u) {
-            return;
-        }
-        let origin_cross_e1 = p1_to_origin.cross(self.e1);
-        let v = f * ray.direction.dot(origin_cross_e1);
-        if v < 0.0 || u + v > 1.0 {
-            return;
-        }
-        hit(f * self.e2.dot(origin_cross_e1), u, v);
     }
 
     /// The face normal, or for a smooth triangle the vertex normals blended by `u` and `v`.
@@ -81,4 +64,35 @@ impl Triangle {
             None => self.normal,
         }
     }
+}
+
+/// The Möller–Trumbore test against the triangle `p1`, `p1 + e1`, `p1 + e2`: the hit's `t` and
+/// barycentric `u`, `v`, or `None`. Shared by standalone triangles and mesh faces.
+#[inline]
+pub(super) fn moller_trumbore(
+    ray: &Ray,
+    p1: Point3,
+    e1: Vec3,
+    e2: Vec3,
+) -> Option<(f64, f64, f64)> {
+    let dir_cross_e2 = ray.direction.cross(e2);
+    let det = e1.dot(dir_cross_e2);
+    if det == 0.0 || !det.is_finite() {
+        // The ray is parallel to the triangle's plane. (The book tests |det| < EPSILON, but
+        // det scales with the triangle's area: that would reject every hit on the tiny
+        // triangles of a detailed mesh. Near-parallel rays fail the u/v tests below.)
+        return None;
+    }
+    let f = 1.0 / det;
+    let p1_to_origin = ray.origin - p1;
+    let u = f * p1_to_origin.dot(dir_cross_e2);
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let origin_cross_e1 = p1_to_origin.cross(e1);
+    let v = f * ray.direction.dot(origin_cross_e1);
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    Some((f * e2.dot(origin_cross_e1), u, v))
 }

@@ -60,10 +60,10 @@ impl WorldIndex {
         self.candidates(ray, 0.0, f64::INFINITY, |i, t_max| {
             let object = &world.objects[i];
             let local = object.ray_to_object(ray);
-            object.shape.intersect_uv(&local, |t, u, v| {
-                if t >= 0.0 && t < *t_max {
-                    *t_max = t;
-                    best = Some(Intersection::with_uv(t, object, u, v));
+            object.shape.intersect_hits(&local, |h| {
+                if h.t >= 0.0 && h.t < *t_max {
+                    *t_max = h.t;
+                    best = Some(Intersection::from_local(object, h));
                 }
             });
             ControlFlow::Continue(())
@@ -84,9 +84,9 @@ impl WorldIndex {
         self.candidates(ray, f64::NEG_INFINITY, t_max, |i, _| {
             let object = &world.objects[i];
             let local = object.ray_to_object(ray);
-            object.shape.intersect_uv(&local, |t, u, v| {
-                if t <= t_max {
-                    out.push(Intersection::with_uv(t, object, u, v));
+            object.shape.intersect_hits(&local, |h| {
+                if h.t <= t_max {
+                    out.push(Intersection::from_local(object, h));
                 }
             });
             ControlFlow::Continue(())

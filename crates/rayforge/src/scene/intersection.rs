@@ -1,5 +1,6 @@
 //! Intersections and hits (chapter 5).
 
+use crate::geometry::LocalHit;
 use crate::Object;
 
 /// A ray meeting an object at distance `t`. The object is referenced, so identity (which object,
@@ -14,6 +15,8 @@ pub struct Intersection<'a> {
     pub u: f64,
     /// Surface coordinate v at the hit (barycentric on triangles, towards `p3`).
     pub v: f64,
+    /// The face of a mesh that was hit (0 for other shapes).
+    pub face: u32,
 }
 
 impl<'a> Intersection<'a> {
@@ -26,7 +29,30 @@ impl<'a> Intersection<'a> {
     /// The book's `intersection_with_uv(t, object, u, v)`.
     #[inline]
     pub fn with_uv(t: f64, object: &'a Object, u: f64, v: f64) -> Self {
-        Self { t, object, u, v }
+        Self::from_local(object, LocalHit { t, u, v, face: 0 })
+    }
+
+    /// An intersection from a shape's object-space hit.
+    #[inline]
+    pub fn from_local(object: &'a Object, hit: LocalHit) -> Self {
+        Self {
+            t: hit.t,
+            object,
+            u: hit.u,
+            v: hit.v,
+            face: hit.face,
+        }
+    }
+
+    /// Where on the surface the hit is, in the shape's terms.
+    #[inline]
+    pub fn local(&self) -> LocalHit {
+        LocalHit {
+            t: self.t,
+            u: self.u,
+            v: self.v,
+            face: self.face,
+        }
     }
 
     /// Whether two intersections are the same `t` on the same object (by identity).

@@ -72,6 +72,11 @@ impl Object {
         ))))
     }
 
+    /// A mesh object (an OBJ model), sharing the mesh with any other instances.
+    pub fn mesh(mesh: std::sync::Arc<crate::geometry::Mesh>) -> Self {
+        Self::new(Shape::Mesh(mesh))
+    }
+
     /// The book's `glass_sphere()`.
     pub fn glass_sphere() -> Self {
         Self::sphere().with_material(Material::glass())
@@ -127,9 +132,8 @@ impl Object {
     #[inline]
     pub fn intersect<'a>(&'a self, ray: &Ray, out: &mut Vec<Intersection<'a>>) {
         let local = self.ray_to_object(ray);
-        self.shape.intersect_uv(&local, |t, u, v| {
-            out.push(Intersection::with_uv(t, self, u, v))
-        });
+        self.shape
+            .intersect_hits(&local, |h| out.push(Intersection::from_local(self, h)));
     }
 
     /// The book's `intersect(shape, ray)` returning a fresh list (for tests and one-off queries).
@@ -159,7 +163,7 @@ impl Object {
     pub fn normal_at_hit(&self, world_point: Point3, hit: &Intersection<'_>) -> Vec3 {
         let local = self
             .shape
-            .normal_at_uv(self.world_to_object(world_point), hit.u, hit.v);
+            .normal_at_hit(self.world_to_object(world_point), &hit.local());
         self.transform.normal(local)
     }
 }
