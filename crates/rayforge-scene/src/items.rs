@@ -1,5 +1,6 @@
 //! The items of a scene file: `add: camera`, `add: light`, shapes, and defined object templates.
 
+use crate::assets::Assets;
 use crate::defines::{is_reference, merge, Defines, Trail};
 use crate::error::SceneError;
 use crate::material::{checked, color, material};
@@ -10,12 +11,16 @@ use rayforge::math::{point, vector, view_transform};
 use rayforge::{Camera, Light, Material, Object, Shape};
 
 /// The shapes `add:` may name, for messages.
-pub const SHAPE_KINDS: &[&str] = &["sphere", "plane", "cube", "cylinder", "cone", "group"];
+pub const SHAPE_KINDS: &[&str] = &[
+    "sphere", "plane", "cube", "cylinder", "cone", "group", "obj",
+];
 
 /// Keys every shape accepts.
 const SHAPE_KEYS: &[&str] = &["add", "material", "transform", "shadow"];
 /// Keys a group accepts.
 const GROUP_KEYS: &[&str] = &["add", "children", "material", "transform", "shadow"];
+/// Keys an OBJ model accepts.
+const OBJ_KEYS: &[&str] = &["add", "file", "material", "transform", "shadow"];
 /// Keys cylinders and cones accept besides those.
 const QUADRIC_KEYS: &[&str] = &[
     "add",
@@ -204,6 +209,7 @@ const MAX_GROUP_DEPTH: usize = 256;
 pub fn add_objects<'n, 's>(
     source: &Source<'s>,
     defines: &Defines<'n, 's>,
+    assets: &mut Assets,
     entries: &[Entry<'n, 's>],
     transforms: &[&'n Node<'s>],
     inherited: &Inherited,
@@ -217,11 +223,12 @@ pub fn add_objects<'n, 's>(
     let kind = source.string(kind_node, "add")?;
     let keys = match kind {
         "group" => GROUP_KEYS,
+        "obj" => OBJ_KEYS,
         "cylinder" | "cone" => QUADRIC_KEYS,
         _ => SHAPE_KEYS,
     };
     let shape = match kind {
-        "group" => None,
+        "group" | "obj" => None,
         _ => Some(shape(source, entries, kind_node, kind)?),
     };
     check_keys(source, entries, &format!("a {kind}"), keys)?;
@@ -243,7 +250,35 @@ pub fn add_objects<'n, 's>(
             _ => {}
         }
     }
+    let material_explicit = material_here.is_some();
     let material = material_here.or_else(|| inherited.material.clone());
+    if kind == "obj" {
+        let file = entries
+            .iter()
+            .find(|e| e.name == "file")
+            .map(|e| e.value)
+            .ok_or_else(|| source.error(kind_node, "file", "an obj needs `file:`"))?;
+        let path = assets.resolve(source.string(file, "file")?);
+        let meshes = assets.obj(&path).map_err(|e| {
+            if e.path == path && e.span.is_none() {
+                // The file itself could not be read: point at the `file:` that names it.
+                source.error(file, "file", e.message)
+            } else {
+                e
+            }
+        })?;
+        for (mesh, own_material) in meshes.iter() {
+            let mut object = Object::mesh(mesh.clone()).with_transform_of(world);
+            // An explicit `material:` wins; then the file's own; then the group's.
+            object.material = match (material_explicit, own_material) {
+                (false, Some(m)) => m.clone(),
+                _ => material.clone().unwrap_or_default(),
+            };
+            object.casts_shadow = casts_shadow;
+            out.push(object);
+        }
+        return Ok(());
+    }
     let Some(shape) = shape else {
         let children_node = entries
             .iter()
@@ -275,6 +310,7 @@ pub fn add_objects<'n, 's>(
             add_objects(
                 source,
                 defines,
+                assets,
                 &child_entries,
                 &child_transforms,
                 &inside,

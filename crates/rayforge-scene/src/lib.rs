@@ -7,10 +7,12 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod assets;
 mod defines;
 mod error;
 mod items;
 mod material;
+pub mod obj;
 mod source;
 mod transform;
 
@@ -71,10 +73,18 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
         ..e
     })?;
     let mut defines = Defines::default();
+    let mut assets = assets::Assets::new(path);
     let mut world = rayforge::World::new();
     let mut camera = None;
     for item in items {
-        add_item(&source, &mut defines, item, &mut world, &mut camera)?;
+        add_item(
+            &source,
+            &mut defines,
+            &mut assets,
+            item,
+            &mut world,
+            &mut camera,
+        )?;
     }
     let camera = camera.ok_or_else(|| {
         SceneError::new(path, "the scene has no camera: add an item `- add: camera`")
@@ -86,6 +96,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
 fn add_item<'n, 's>(
     source: &Source<'s>,
     defines: &mut Defines<'n, 's>,
+    assets: &mut assets::Assets,
     item: &'n Node<'s>,
     world: &mut rayforge::World,
     camera: &mut Option<rayforge::Camera>,
@@ -106,6 +117,7 @@ fn add_item<'n, 's>(
             items::add_objects(
                 source,
                 defines,
+                assets,
                 &entries,
                 &transforms,
                 &items::Inherited::TOP,

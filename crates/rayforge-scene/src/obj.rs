@@ -1,0 +1,426 @@
+//! Wavefront OBJ files (chapter 15) and their MTL material libraries.
+//!
+//! Reads vertices (`v`), normals (`vn`), texture coordinates (`vt`), faces (`f` in every form:
+//! `1 2 3`, `1/2/3`, `1//3`, `1/2`, negative indices counting back from the end), polygons
+//! fan-triangulated, named groups (`g`), and `mtllib`/`usemtl`. Lines it does not understand are
+//! counted, as the book's parser counts them. Errors name the file, line, column and keyword.
+
+use crate::error::{SceneError, Span};
+use rayforge::{Color, Material, Point3, Vec3};
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::Arc;
+
+/// One triangle of a face: indices (0-based) into the file's lists.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ObjTriangle {
+    /// Corners, in [`ObjFile::vertices`].
+    pub vertices: [u32; 3],
+    /// Corner normals, in [`ObjFile::normals`], when every corner has one.
+    pub normals: Option<[u32; 3]>,
+    /// Corner texture coordinates, in [`ObjFile::texcoords`], when every corner has valid ones.
+    pub texcoords: Option<[u32; 3]>,
+    /// The material in force (`usemtl`), in [`ObjFile::material_names`].
+    pub material: Option<u32>,
+}
+
+/// A named group of triangles (`g name`); the first group is the default, unnamed one.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ObjGroup {
+    /// The name after `g` (empty for the default group).
+    pub name: String,
+    /// Its triangles.
+    pub triangles: Vec<ObjTriangle>,
+}
+
+/// A parsed OBJ file.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ObjFile {
+    /// Vertex positions (the book's 1-based `vertices[1]` is `vertices[0]` here).
+    pub vertices: Vec<Point3>,
+    /// Vertex normals.
+    pub normals: Vec<Vec3>,
+    /// Texture coordinates (u, v).
+    pub texcoords: Vec<[f64; 2]>,
+    /// The default group first, then each named group in order of first appearance.
+    pub groups: Vec<ObjGroup>,
+    /// Lines that were not understood (the book's `parser.ignored`).
+    pub ignored_lines: usize,
+    /// Material names used by `usemtl`, indexed by [`ObjTriangle::material`].
+    pub material_names: Vec<String>,
+    /// The `mtllib` statements: which files, and where they were named.
+    pub material_libraries: Vec<(String, Span)>,
+    /// Materials read from the `mtllib` files, by name.
+    pub materials: HashMap<String, Material>,
+}
+
+impl ObjFile {
+    /// The book's `parser.default_group`.
+    pub fn default_group(&self) -> &ObjGroup {
+        &self.groups[0]
+    }
+
+    /// A named group.
+    pub fn group(&self, name: &str) -> Option<&ObjGroup> {
+        self.groups.iter().find(|g| g.name == name)
+    }
+}
+
+/// Reads an OBJ file, and the MTL files it names (relative to it).
+pub fn read_obj_file(path: &Path) -> Result<ObjFile, SceneError> {
+    let text = read_text(path)?;
+    let mut obj = parse_obj(&text, path)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    for (name, span) in obj.material_libraries.clone() {
+        let mtl_path = dir.join(&name);
+        let mtl_text = read_text(&mtl_path).map_err(|e| {
+            SceneError::new(path, e.to_string())
+                .at(span)
+                .with_key("mtllib")
+        })?;
+        obj.materials.extend(parse_mtl(&mtl_text, &mtl_path)?);
+    }
+    Ok(obj)
+}
+
+fn read_text(path: &Path) -> Result<String, SceneError> {
+    let bytes = std::fs::read(path)
+        .map_err(|e| SceneError::new(path, format!("cannot read `{}`: {e}", path.display())))?;
+    String::from_utf8(bytes).map_err(|_| SceneError::new(path, "not a UTF-8 text file"))
+}
+
+/// A line being read: its words with their columns, for located errors.
+struct Line<'t> {
+    path: &'t Path,
+    number: usize,
+    offset: usize,
+    text: &'t str,
+}
+
+impl<'t> Line<'t> {
+    fn words(&self) -> impl Iterator<Item = (usize, &'t str)> + 't {
+        let text = self.text;
+        text.split_ascii_whitespace()
+            .map(move |w| (w.as_ptr() as usize - text.as_ptr() as usize, w))
+    }
+
+    fn error(&self, column: usize, len: usize, key: &str, message: String) -> SceneError {
+        SceneError::new(self.path, message)
+            .at(Span {
+                line: self.number,
+                column: column + 1,
+                offset: self.offset + column,
+                len,
+            })
+            .with_key(key)
+    }
+
+    /// The numbers after the keyword: at least `min`, at most `max`, all finite.
+    fn numbers<const N: usize>(&self, key: &str, min: usize) -> Result<[f64; N], SceneError> {
+        let mut out = [0.0; N];
+        let mut count = 0;
+        for (col, word) in self.words().skip(1) {
+            let value: f64 = word.parse().map_err(|_| {
+                self.error(
+                    col,
+                    word.len(),
+                    key,
+                    format!("expected a number, found `{word}`"),
+                )
+            })?;
+            if !value.is_finite() {
+                return Err(self.error(col, word.len(), key, format!("`{word}` is not finite")));
+            }
+            if count == N {
+                return Err(self.error(
+                    col,
+                    word.len(),
+                    key,
+                    format!("`{key}` takes at most {N} numbers"),
+                ));
+            }
+            out[count] = value;
+            count += 1;
+        }
+        if count < min {
+            return Err(self.error(
+                0,
+                key.len(),
+                key,
+                format!("`{key}` needs {min} numbers, found {count}"),
+            ));
+        }
+        Ok(out)
+    }
+}
+
+/// Parses OBJ text; `path` names the file in errors.
+pub fn parse_obj(text: &str, path: &Path) -> Result<ObjFile, SceneError> {
+    let mut obj = ObjFile {
+        groups: vec![ObjGroup::default()],
+        ..ObjFile::default()
+    };
+    let mut current_group = 0;
+    let mut current_material = None;
+    let mut corners: Vec<Corner> = Vec::with_capacity(8);
+    let mut offset = 0;
+    for (index, raw) in text.split_inclusive('\n').enumerate() {
+        let line = Line {
+            path,
+            number: index + 1,
+            offset,
+            text: raw.trim_end_matches(['\n', '\r']),
+        };
+        offset += raw.len();
+        let Some((_, keyword)) = line.words().next() else {
+            continue;
+        };
+        match keyword {
+            "v" => {
+                let [x, y, z, _w] = line.numbers::<4>("v", 3)?;
+                obj.vertices.push(Point3::new(x, y, z));
+            }
+            "vn" => {
+                let [x, y, z] = line.numbers::<3>("vn", 3)?;
+                obj.normals.push(Vec3::new(x, y, z));
+            }
+            "vt" => {
+                let [u, v, _w] = line.numbers::<3>("vt", 1)?;
+                obj.texcoords.push([u, v]);
+            }
+            "f" => {
+                corners.clear();
+                for (col, word) in line.words().skip(1) {
+                    corners.push(corner(&line, &obj, col, word)?);
+                }
+                if corners.len() < 3 {
+                    return Err(line.error(
+                        0,
+                        1,
+                        "f",
+                        format!("a face needs at least 3 corners, found {}", corners.len()),
+                    ));
+                }
+                // Fan triangulation: (1, 2, 3), (1, 3, 4), … as the book does.
+                for k in 1..corners.len() - 1 {
+                    let tri = [corners[0], corners[k], corners[k + 1]];
+                    let all = |f: fn(&Corner) -> Option<u32>| -> Option<[u32; 3]> {
+                        Some([f(&tri[0])?, f(&tri[1])?, f(&tri[2])?])
+                    };
+                    obj.groups[current_group].triangles.push(ObjTriangle {
+                        vertices: tri.map(|c| c.vertex),
+                        normals: all(|c| c.normal),
+                        texcoords: all(|c| c.texcoord),
+                        material: current_material,
+                    });
+                }
+            }
+            "g" => {
+                let name = line.text.trim_start()[1..].trim().to_string();
+                current_group = match obj.groups.iter().position(|g| g.name == name) {
+                    Some(i) => i,
+                    None => {
+                        obj.groups.push(ObjGroup {
+                            name,
+                            triangles: Vec::new(),
+                        });
+                        obj.groups.len() - 1
+                    }
+                };
+            }
+            "usemtl" => {
+                let name = line.text.trim_start()["usemtl".len()..].trim().to_string();
+                current_material = Some(match obj.material_names.iter().position(|n| *n == name) {
+                    Some(i) => i as u32,
+                    None => {
+                        obj.material_names.push(name);
+                        (obj.material_names.len() - 1) as u32
+                    }
+                });
+            }
+            "mtllib" => {
+                for (col, word) in line.words().skip(1) {
+                    obj.material_libraries.push((
+                        word.to_string(),
+                        Span {
+                            line: line.number,
+                            column: col + 1,
+                            offset: line.offset + col,
+                            len: word.len(),
+                        },
+                    ));
+                }
+            }
+            // Understood, and not needed for rendering: comments, object names, smoothing
+            // groups, parameter-space vertices, lines and points.
+            k if k.starts_with('#') => {}
+            "o" | "s" | "vp" | "l" | "p" => {}
+            _ => obj.ignored_lines += 1,
+        }
+    }
+    Ok(obj)
+}
+
+/// One corner of a face: `v`, `v/vt`, `v//vn` or `v/vt/vn`, resolved to 0-based indices.
+#[derive(Debug, Clone, Copy)]
+struct Corner {
+    vertex: u32,
+    normal: Option<u32>,
+    texcoord: Option<u32>,
+}
+
+fn corner(line: &Line<'_>, obj: &ObjFile, col: usize, word: &str) -> Result<Corner, SceneError> {
+    let mut parts = word.split('/');
+    let resolve = |part: &str, count: usize, what: &str| -> Result<u32, SceneError> {
+        let err = |message: String| line.error(col, word.len(), "f", message);
+        let n: i64 = part
+            .parse()
+            .map_err(|_| err(format!("expected a {what} index, found `{part}`")))?;
+        // 1-based from the start, or negative counting back from the latest.
+        let index = if n > 0 { n - 1 } else { count as i64 + n };
+        if n == 0 || index < 0 || index >= count as i64 {
+            return Err(err(format!(
+                "{what} index {n} is out of range (there are {count} {what}s so far)"
+            )));
+        }
+        Ok(index as u32)
+    };
+    let vertex = resolve(parts.next().unwrap_or(""), obj.vertices.len(), "vertex")?;
+    // Texture indices that name no texture coordinate are ignored, as the book's parser
+    // ignores texture indices altogether (its "faces with normals" file uses 0 and 102).
+    let texcoord = match parts.next() {
+        Some("") | None => None,
+        Some(t) => resolve(t, obj.texcoords.len(), "texture coordinate").ok(),
+    };
+    let normal = match parts.next() {
+        Some("") | None => None,
+        Some(n) => Some(resolve(n, obj.normals.len(), "normal")?),
+    };
+    if parts.next().is_some() {
+        return Err(line.error(
+            col,
+            word.len(),
+            "f",
+            format!("`{word}` has more than three parts"),
+        ));
+    }
+    Ok(Corner {
+        vertex,
+        normal,
+        texcoord,
+    })
+}
+
+/// Parses an MTL material library into rayforge materials.
+///
+/// `Kd` becomes the colour, `Ks` (averaged) the specular weight, `Ns` the shininess, `d` (or
+/// `1 - Tr`) the opacity, `Ni` the refractive index; `illum` 3 and above (ray-traced
+/// reflection) makes the surface reflective by its specular weight. Texture maps (`map_Kd`)
+/// need image textures, which rayforge does not read yet: they are counted as ignored.
+pub fn parse_mtl(text: &str, path: &Path) -> Result<HashMap<String, Material>, SceneError> {
+    let mut out = HashMap::new();
+    // The material being read, and whether `illum` asked for ray-traced reflection (applied
+    // when the material ends, so it sees `Ks` wherever it was written).
+    let mut current: Option<(String, Material, bool)> = None;
+    let finish = |out: &mut HashMap<String, Material>,
+                  (name, mut m, reflect): (String, Material, bool)| {
+        if reflect {
+            m.reflective = m.specular;
+        }
+        out.insert(name, m);
+    };
+    let mut offset = 0;
+    for (index, raw) in text.split_inclusive('\n').enumerate() {
+        let line = Line {
+            path,
+            number: index + 1,
+            offset,
+            text: raw.trim_end_matches(['\n', '\r']),
+        };
+        offset += raw.len();
+        let Some((_, keyword)) = line.words().next() else {
+            continue;
+        };
+        if keyword == "newmtl" {
+            if let Some(done) = current.take() {
+                finish(&mut out, done);
+            }
+            let name = line.text.trim_start()["newmtl".len()..].trim().to_string();
+            current = Some((name, Material::default(), false));
+            continue;
+        }
+        let Some((_, m, reflect)) = current.as_mut() else {
+            continue;
+        };
+        let mean = |[a, b, c]: [f64; 3]| (a + b + c) / 3.0;
+        match keyword {
+            "Kd" => {
+                let [r, g, b] = line.numbers::<3>("Kd", 3)?;
+                m.color = Color::new(r, g, b);
+            }
+            "Ks" => m.specular = mean(line.numbers::<3>("Ks", 3)?),
+            "Ns" => m.shininess = line.numbers::<1>("Ns", 1)?[0],
+            "d" => m.transparency = 1.0 - line.numbers::<1>("d", 1)?[0],
+            "Tr" => m.transparency = line.numbers::<1>("Tr", 1)?[0],
+            "Ni" => m.refractive_index = line.numbers::<1>("Ni", 1)?[0],
+            "illum" => *reflect = line.numbers::<1>("illum", 1)?[0] >= 3.0,
+            _ => {}
+        }
+    }
+    if let Some(done) = current {
+        finish(&mut out, done);
+    }
+    Ok(out)
+}
+
+/// The file's triangles as meshes, one per group and material (faces that share a material
+/// render as one object), each with only the vertices it uses. The material is the one named
+/// by `usemtl` and found in the libraries, or `None`.
+pub fn to_meshes(obj: &ObjFile) -> Vec<(Arc<rayforge::geometry::Mesh>, Option<Material>)> {
+    use rayforge::geometry::{Mesh, MeshFace};
+    let mut out = Vec::new();
+    for group in &obj.groups {
+        let mut materials: Vec<Option<u32>> = group.triangles.iter().map(|t| t.material).collect();
+        materials.sort_unstable();
+        materials.dedup();
+        for material in materials {
+            let mut positions = Vec::new();
+            let mut normals = Vec::new();
+            let mut vertex_map = HashMap::new();
+            let mut normal_map = HashMap::new();
+            let remap =
+                |map: &mut HashMap<u32, u32>, list: &mut Vec<Vec3>, source: &[Vec3], i: u32| {
+                    *map.entry(i).or_insert_with(|| {
+                        list.push(source[i as usize]);
+                        (list.len() - 1) as u32
+                    })
+                };
+            let faces: Vec<MeshFace> = group
+                .triangles
+                .iter()
+                .filter(|t| t.material == material)
+                .map(|t| MeshFace {
+                    vertices: t
+                        .vertices
+                        .map(|i| remap(&mut vertex_map, &mut positions, &obj.vertices, i)),
+                    normals: t
+                        .normals
+                        .map(|n| n.map(|i| remap(&mut normal_map, &mut normals, &obj.normals, i))),
+                })
+                .collect();
+            if faces.is_empty() {
+                continue;
+            }
+            // Indices were checked while parsing and remapped into range, so this cannot fail.
+            let Ok(mesh) = Mesh::new(positions, normals, faces) else {
+                continue;
+            };
+            let material = material
+                .and_then(|m| obj.material_names.get(m as usize))
+                .and_then(|name| obj.materials.get(name))
+                .cloned();
+            out.push((Arc::new(mesh), material));
+        }
+    }
+    out
+}
