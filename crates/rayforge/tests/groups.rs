@@ -20,7 +20,7 @@ fn adding_a_child_to_a_group() {
     let mut g = Group::new();
     let s = Object::sphere();
     g.add_child(s.clone());
-    assert_eq!(g.children, [Node::Object(s)]);
+    assert_eq!(g.children, [Node::Object(Box::new(s))]);
 }
 
 #[test]

@@ -14,10 +14,11 @@ use crate::Object;
 /// A node of a scene tree: a shape, or a group of nodes.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Node {
-    /// A shape with its own transform (relative to its parent).
-    Object(Object),
+    /// A shape with its own transform (relative to its parent). Boxed: an object is far larger
+    /// than a group header.
+    Object(Box<Object>),
     /// A group with its own transform (relative to its parent).
-    Group(Group),
+    Group(Box<Group>),
 }
 
 /// The book's `group()`: children that share a transform.
@@ -70,7 +71,7 @@ impl Group {
         while let Some((node, parent)) = stack.pop() {
             match node {
                 Node::Object(object) => {
-                    let mut placed = object.clone();
+                    let mut placed = Object::clone(object);
                     placed.transform = parent.then_after(&object.transform)?;
                     out.push(placed);
                 }
@@ -86,12 +87,12 @@ impl Group {
 
 impl From<Object> for Node {
     fn from(object: Object) -> Self {
-        Node::Object(object)
+        Node::Object(Box::new(object))
     }
 }
 
 impl From<Group> for Node {
     fn from(group: Group) -> Self {
-        Node::Group(group)
+        Node::Group(Box::new(group))
     }
 }
