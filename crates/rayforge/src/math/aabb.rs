@@ -124,9 +124,13 @@ impl Aabb {
     ) -> Option<f64> {
         let t0 = (self.min - origin) * inv_direction;
         let t1 = (self.max - origin) * inv_direction;
-        // A NaN (origin exactly on an infinite face) compares false in min/max and is dropped.
-        let near = t0.min(t1).max_element().max(t_min);
-        let far = t0.max(t1).min_element().min(t_max);
+        // A NaN comes from 0 · ∞: the ray runs parallel to a slab with its origin exactly on
+        // one of the slab's faces, so it is inside that slab for every t.
+        let on_face = t0.is_nan_mask() | t1.is_nan_mask();
+        let lo = DVec3::select(on_face, DVec3::NEG_INFINITY, t0.min(t1));
+        let hi = DVec3::select(on_face, DVec3::INFINITY, t0.max(t1));
+        let near = lo.max_element().max(t_min);
+        let far = hi.min_element().min(t_max);
         (near <= far).then_some(near)
     }
 

@@ -1,0 +1,119 @@
+//! The BVH: queries agree with a linear scan, and degenerate input builds and answers.
+use proptest::prelude::*;
+use rayforge::accel::Bvh;
+use rayforge::math::{scaling, translation, Aabb};
+use rayforge::scene::WorldIndex;
+use rayforge::{hit, point, vector, Object, Ray, Shape, World};
+use std::ops::ControlFlow;
+
+fn world_of(objects: &[(u8, (f64, f64, f64), f64)]) -> World {
+    let mut w = World::new();
+    for &(kind, (x, y, z), size) in objects {
+        let shape = match kind % 4 {
+            0 => Shape::Sphere,
+            1 => Shape::Cube,
+            2 => Shape::Cylinder {
+                minimum: -1.0,
+                maximum: 1.0,
+                closed: true,
+            },
+            _ => Shape::Plane,
+        };
+        w.objects.push(
+            Object::new(shape).with_transform(translation(x, y, z) * scaling(size, size, size)),
+        );
+    }
+    w
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The index finds the same nearest hit as testing every object.
+    #[test]
+    fn the_closest_hit_matches_a_linear_scan(
+        objects in prop::collection::vec(
+            (0u8..4, (-10.0..10.0f64, -10.0..10.0f64, -10.0..10.0f64), 0.1..3.0f64), 1..60),
+        origin in (-15.0..15.0f64, -15.0..15.0f64, -15.0..15.0f64),
+        direction in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64),
+    ) {
+        let d = vector(direction.0, direction.1, direction.2);
+        prop_assume!(d.length() > 1e-3);
+        let w = world_of(&objects);
+        let index = WorldIndex::build(&w);
+        let ray = Ray::new(point(origin.0, origin.1, origin.2), d.normalize());
+        let expected = hit(&w.intersect(&ray)).map(|i| i.t);
+        let actual = index.closest_hit(&w, &ray).map(|i| i.t);
+        prop_assert_eq!(actual, expected);
+    }
+}
+
+fn visit_all(bvh: &Bvh, ray: &Ray) -> Vec<u32> {
+    let mut seen = Vec::new();
+    bvh.traverse(
+        ray.origin,
+        ray.direction,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        |i, _| {
+            seen.push(i);
+            ControlFlow::Continue(())
+        },
+    );
+    seen.sort_unstable();
+    seen
+}
+
+#[test]
+fn identical_boxes_build_a_leaf_and_are_all_found() {
+    let boxes = vec![Aabb::new(point(-1.0, -1.0, -1.0), point(1.0, 1.0, 1.0)); 10_000];
+    let bvh = Bvh::build(&boxes);
+    let ray = Ray::new(point(0.0, 0.0, -5.0), vector(0.0, 0.0, 1.0));
+    assert_eq!(visit_all(&bvh, &ray).len(), 10_000);
+}
+
+#[test]
+fn flat_boxes_are_found_by_rays_that_cross_their_plane() {
+    // A grid of boxes with no thickness in z (the faces of a flat mesh).
+    let boxes: Vec<Aabb> = (0..1000)
+        .map(|i| {
+            let (x, y) = ((i % 40) as f64, (i / 40) as f64);
+            Aabb::new(point(x, y, 0.0), point(x + 1.0, y + 1.0, 0.0))
+        })
+        .collect();
+    let bvh = Bvh::build(&boxes);
+    let ray = Ray::new(point(10.5, 7.5, -3.0), vector(0.0, 0.0, 1.0));
+    let seen = visit_all(&bvh, &ray);
+    // The box under the ray is found; only its leaf's neighbours come along with it.
+    assert!(seen.contains(&(7 * 40 + 10)), "{seen:?}");
+    assert!(seen.len() <= 16, "{seen:?}");
+}
+
+#[test]
+fn a_ray_parallel_to_an_axis_and_on_a_box_face_produces_no_nan_misses() {
+    let boxes = vec![Aabb::new(point(0.0, 0.0, 0.0), point(1.0, 1.0, 1.0))];
+    let bvh = Bvh::build(&boxes);
+    // Origin exactly on the x = 0 face, moving along z.
+    let ray = Ray::new(point(0.0, 0.5, -5.0), vector(0.0, 0.0, 1.0));
+    assert_eq!(visit_all(&bvh, &ray), [0]);
+}
+
+#[test]
+fn shadow_queries_stop_at_the_first_blocker() {
+    let w = world_of(&[(0, (0.0, 0.0, 0.0), 1.0), (0, (0.0, 0.0, 5.0), 1.0)]);
+    assert!(w.is_shadowed(point(0.0, 0.0, -10.0), point(0.0, 0.0, 10.0)));
+    assert!(!w.is_shadowed(point(0.0, 5.0, -10.0), point(0.0, 5.0, 10.0)));
+}
+
+#[test]
+fn a_million_boxes_in_a_line_build_without_deep_recursion() {
+    let boxes: Vec<Aabb> = (0..200_000)
+        .map(|i| {
+            let x = (i as f64).powf(1.5);
+            Aabb::new(point(x, 0.0, 0.0), point(x + 0.5, 1.0, 1.0))
+        })
+        .collect();
+    let bvh = Bvh::build(&boxes);
+    let ray = Ray::new(point(-1.0, 0.5, 0.5), vector(1.0, 0.0, 0.0));
+    assert_eq!(visit_all(&bvh, &ray).len(), 200_000);
+}
