@@ -25,7 +25,7 @@ pub use color::Color;
 pub use geometry::Shape;
 pub use math::{point, vector, Matrix4, Point3, Ray, Transform, Vec3, EPSILON};
 pub use scene::{
-    default_world, hit, prepare_computations, schlick, Computations, Group, Intersection, Node,
-    Object, Tracer, World, DEFAULT_MAX_DEPTH,
+    default_world, hit, intersection_allowed, prepare_computations, schlick, Computations, Csg,
+    CsgOperation, Group, Intersection, Node, Object, Tracer, World, DEFAULT_MAX_DEPTH,
 };
 pub use shading::{lighting, Light, Material, Pattern, PatternKind, PointLight};

@@ -131,6 +131,7 @@ impl Mesh {
                         u,
                         v,
                         face: index,
+                        leaf: 0,
                     });
                 }
                 ControlFlow::Continue(())

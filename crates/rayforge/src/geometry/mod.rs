@@ -28,6 +28,8 @@ pub struct LocalHit {
     pub v: f64,
     /// Which face of a mesh was hit (0 for other shapes).
     pub face: u32,
+    /// Which primitive of a CSG solid was hit (0 for other shapes).
+    pub leaf: u32,
 }
 
 impl LocalHit {
@@ -39,6 +41,7 @@ impl LocalHit {
             u: 0.0,
             v: 0.0,
             face: 0,
+            leaf: 0,
         }
     }
 }
@@ -67,6 +70,8 @@ pub enum Shape {
     Triangle(Box<Triangle>),
     /// A triangle mesh with its own BVH (an OBJ file's faces), shared between instances.
     Mesh(Arc<Mesh>),
+    /// A constructive solid geometry solid (chapter 16), shared between instances.
+    Csg(Arc<crate::scene::Csg>),
     /// The double-napped cone x² + z² = y² between `minimum` and `maximum` (chapter 13).
     Cone {
         /// Lowest y (exclusive); `-∞` for an infinite cone.
@@ -110,10 +115,16 @@ impl Shape {
             Shape::Sphere => sphere::intersect(ray, &mut hit_t),
             Shape::Plane => plane::intersect(ray, &mut hit_t),
             Shape::Cube => cube::intersect(ray, &mut hit_t),
-            Shape::Triangle(triangle) => {
-                triangle.intersect(ray, |t, u, v| hit(LocalHit { t, u, v, face: 0 }))
-            }
+            Shape::Triangle(triangle) => triangle.intersect(ray, |t, u, v| {
+                hit(LocalHit {
+                    t,
+                    u,
+                    v,
+                    ..LocalHit::default()
+                })
+            }),
             Shape::Mesh(mesh) => mesh.intersect(ray, hit),
+            Shape::Csg(csg) => csg.intersect(ray, &mut hit),
             Shape::Cylinder {
                 minimum,
                 maximum,
@@ -141,6 +152,7 @@ impl Shape {
         match self {
             Shape::Triangle(triangle) => triangle.normal_at(hit.u, hit.v),
             Shape::Mesh(mesh) => mesh.normal_at(hit),
+            Shape::Csg(csg) => csg.normal_at(point, hit),
             Shape::Sphere => sphere::normal_at(point),
             Shape::Plane => plane::normal_at(point),
             Shape::Cube => cube::normal_at(point),
@@ -176,6 +188,7 @@ impl Shape {
                 Aabb::new(Point3::new(-r, *minimum, -r), Point3::new(r, *maximum, r))
             }
             Shape::Mesh(mesh) => mesh.bounds(),
+            Shape::Csg(csg) => csg.bounds(),
             Shape::Triangle(t) => {
                 let mut b = Aabb::EMPTY;
                 for p in [t.p1, t.p2, t.p3] {

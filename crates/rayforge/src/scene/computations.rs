@@ -13,8 +13,11 @@ use crate::{Intersection, Object};
 pub struct Computations<'a> {
     /// Distance along the ray.
     pub t: f64,
-    /// The object hit.
+    /// The object hit (for a CSG solid, the solid: refraction tracks containers by it).
     pub object: &'a Object,
+    /// The object whose surface was hit, which shades it: the object itself, or the primitive
+    /// of a CSG solid.
+    pub surface: &'a Object,
     /// The hit point on the surface.
     pub point: Point3,
     /// The hit point nudged along the normal, so shadow and reflection rays do not re-hit the
@@ -54,7 +57,7 @@ pub fn prepare_computations_with<'a>(
     hit: Intersection<'a>,
     ray: &Ray,
     xs: &[Intersection<'a>],
-    containers: &mut Vec<&'a Object>,
+    containers: &mut Vec<(&'a Object, f64)>,
 ) -> Computations<'a> {
     let point = ray.position(hit.t);
     let eyev = -ray.direction.normalize();
@@ -67,6 +70,7 @@ pub fn prepare_computations_with<'a>(
     Computations {
         t: hit.t,
         object: hit.object,
+        surface: hit.object.surface(hit.leaf),
         point,
         over_point: point + normalv * EPSILON,
         under_point: point - normalv * EPSILON,
@@ -82,12 +86,15 @@ pub fn prepare_computations_with<'a>(
 /// The chapter 11 algorithm: walk the sorted intersections, keeping the list of objects the ray
 /// is inside (by identity, so two equal spheres stay distinct); at the hit, n1 is the index of the
 /// innermost container before it and n2 the innermost after it. Empty space has index 1.
+///
+/// Each container is kept with the refractive index of the surface the ray entered through (the
+/// primitive of a CSG solid carries the material, the solid the identity).
 fn refractive_indices<'a>(
     hit: Intersection<'a>,
     xs: &[Intersection<'a>],
-    containers: &mut Vec<&'a Object>,
+    containers: &mut Vec<(&'a Object, f64)>,
 ) -> (f64, f64) {
-    let index_of = |c: &[&Object]| c.last().map_or(1.0, |o| o.material.refractive_index);
+    let index_of = |c: &[(&Object, f64)]| c.last().map_or(1.0, |(_, index)| *index);
     containers.clear();
     let mut n1 = 1.0;
     for i in xs {
@@ -95,11 +102,14 @@ fn refractive_indices<'a>(
         if is_hit {
             n1 = index_of(containers);
         }
-        match containers.iter().position(|o| std::ptr::eq(*o, i.object)) {
+        match containers
+            .iter()
+            .position(|(o, _)| std::ptr::eq(*o, i.object))
+        {
             Some(at) => {
                 containers.remove(at);
             }
-            None => containers.push(i.object),
+            None => containers.push((i.object, i.object.surface(i.leaf).material.refractive_index)),
         }
         if is_hit {
             return (n1, index_of(containers));

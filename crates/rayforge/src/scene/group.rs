@@ -70,11 +70,7 @@ impl Group {
             .collect();
         while let Some((node, parent)) = stack.pop() {
             match node {
-                Node::Object(object) => {
-                    let mut placed = Object::clone(object);
-                    placed.transform = parent.then_after(&object.transform)?;
-                    out.push(placed);
-                }
+                Node::Object(object) => out.push(object.placed_by(&parent)?),
                 Node::Group(group) => {
                     let world = parent.then_after(&group.transform)?;
                     stack.extend(group.children.iter().rev().map(|c| (c, world)));

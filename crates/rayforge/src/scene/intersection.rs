@@ -17,6 +17,8 @@ pub struct Intersection<'a> {
     pub v: f64,
     /// The face of a mesh that was hit (0 for other shapes).
     pub face: u32,
+    /// The primitive of a CSG solid that was hit (0 for other shapes).
+    pub leaf: u32,
 }
 
 impl<'a> Intersection<'a> {
@@ -29,7 +31,15 @@ impl<'a> Intersection<'a> {
     /// The book's `intersection_with_uv(t, object, u, v)`.
     #[inline]
     pub fn with_uv(t: f64, object: &'a Object, u: f64, v: f64) -> Self {
-        Self::from_local(object, LocalHit { t, u, v, face: 0 })
+        Self::from_local(
+            object,
+            LocalHit {
+                t,
+                u,
+                v,
+                ..LocalHit::default()
+            },
+        )
     }
 
     /// An intersection from a shape's object-space hit.
@@ -41,6 +51,7 @@ impl<'a> Intersection<'a> {
             u: hit.u,
             v: hit.v,
             face: hit.face,
+            leaf: hit.leaf,
         }
     }
 
@@ -52,6 +63,7 @@ impl<'a> Intersection<'a> {
             u: self.u,
             v: self.v,
             face: self.face,
+            leaf: self.leaf,
         }
     }
 

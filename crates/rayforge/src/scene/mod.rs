@@ -1,6 +1,7 @@
 //! Objects in the world, intersections, and the Whitted tracer that shades them.
 
 mod computations;
+mod csg;
 mod group;
 mod index;
 mod intersection;
@@ -9,6 +10,7 @@ mod tracer;
 mod world;
 
 pub use computations::{prepare_computations, schlick, Computations};
+pub use csg::{intersection_allowed, Csg, CsgOperation};
 pub use group::{Group, Node};
 pub use index::WorldIndex;
 pub use intersection::{hit, sort_intersections, Intersection};

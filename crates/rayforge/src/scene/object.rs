@@ -1,7 +1,8 @@
 //! An object: a shape placed in the world by a transform, with a material (chapters 5–9).
 
+use crate::geometry::LocalHit;
 use crate::geometry::Triangle;
-use crate::math::{Aabb, Point3, Ray, Transform, Vec3};
+use crate::math::{Aabb, Point3, Ray, SingularTransform, Transform, Vec3};
 use crate::{Intersection, Material, Shape};
 
 /// A shape with its transform and material.
@@ -91,8 +92,16 @@ impl Object {
         self.with_transform_of(Transform::new(matrix))
     }
 
-    /// The same object with a prepared transform.
+    /// The same object with a prepared transform. A CSG solid's primitives are moved instead
+    /// (see [`Object::placed_by`]).
     pub fn with_transform_of(mut self, transform: Transform) -> Self {
+        if let Shape::Csg(_) = self.shape {
+            // A product of two invertible transforms is invertible; should rounding say
+            // otherwise, keep the transform on the solid itself (its geometry stays right).
+            if let Ok(placed) = self.placed_by(&transform) {
+                return placed;
+            }
+        }
         self.transform = transform;
         self
     }
@@ -161,9 +170,40 @@ impl Object {
     /// `u`, `v` where the shape interpolates normals (smooth triangles).
     #[inline]
     pub fn normal_at_hit(&self, world_point: Point3, hit: &Intersection<'_>) -> Vec3 {
+        self.normal_at_local_hit(world_point, &hit.local())
+    }
+
+    /// The unit world-space normal at a hit given in the shape's own terms.
+    #[inline]
+    pub fn normal_at_local_hit(&self, world_point: Point3, hit: &LocalHit) -> Vec3 {
         let local = self
             .shape
-            .normal_at_hit(self.world_to_object(world_point), &hit.local());
+            .normal_at_hit(self.world_to_object(world_point), hit);
         self.transform.normal(local)
+    }
+
+    /// The object whose surface a hit is on: the hit primitive of a CSG solid, or itself.
+    #[inline]
+    pub fn surface(&self, leaf: u32) -> &Object {
+        match &self.shape {
+            Shape::Csg(csg) => csg.leaves().get(leaf as usize).unwrap_or(self),
+            _ => self,
+        }
+    }
+
+    /// The same object placed by `parent` (applied after its own transform). A CSG solid keeps
+    /// the identity and moves its primitives instead, so each primitive always knows its full
+    /// world transform (which its normals and patterns need).
+    pub fn placed_by(&self, parent: &Transform) -> Result<Object, SingularTransform> {
+        let placement = parent.then_after(&self.transform)?;
+        let mut placed = self.clone();
+        match &self.shape {
+            Shape::Csg(csg) => {
+                placed.shape = Shape::Csg(std::sync::Arc::new(csg.placed_by(&placement)?));
+                placed.transform = Transform::IDENTITY;
+            }
+            _ => placed.transform = placement,
+        }
+        Ok(placed)
     }
 }

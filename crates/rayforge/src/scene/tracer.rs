@@ -15,7 +15,7 @@ pub struct Tracer<'w> {
     world: &'w World,
     index: &'w WorldIndex,
     xs: Vec<Intersection<'w>>,
-    containers: Vec<&'w Object>,
+    containers: Vec<(&'w Object, f64)>,
     rays: u64,
 }
 
@@ -46,7 +46,7 @@ impl<'w> Tracer<'w> {
         let Some(hit) = self.index.closest_hit(self.world, ray) else {
             return self.world.background;
         };
-        if hit.object.material.transparency > 0.0 {
+        if hit.object.surface(hit.leaf).material.transparency > 0.0 {
             self.index
                 .intersections_up_to(self.world, ray, hit.t, &mut self.xs);
         } else {
@@ -59,13 +59,13 @@ impl<'w> Tracer<'w> {
     /// The colour at a prepared hit: every light's Phong term, plus reflection and refraction
     /// (mixed by Schlick's Fresnel factor when the material has both).
     pub fn shade_hit(&mut self, comps: &Computations<'_>, remaining: u32) -> Color {
-        let material = &comps.object.material;
+        let material = &comps.surface.material;
         let mut surface = Color::BLACK;
         for light in &self.world.lights {
             let fraction = self.intensity_at(light, comps.over_point);
             surface += lighting(
                 material,
-                comps.object,
+                comps.surface,
                 light,
                 comps.over_point,
                 comps.eyev,
@@ -108,7 +108,7 @@ impl<'w> Tracer<'w> {
 
     /// The book's `reflected_color`: black for matte surfaces or when recursion is spent.
     pub fn reflected_color(&mut self, comps: &Computations<'_>, remaining: u32) -> Color {
-        let reflective = comps.object.material.reflective;
+        let reflective = comps.surface.material.reflective;
         if remaining == 0 || reflective == 0.0 {
             return Color::BLACK;
         }
@@ -119,7 +119,7 @@ impl<'w> Tracer<'w> {
     /// The book's `refracted_color`: Snell's law from n1 into n2, black for opaque surfaces,
     /// spent recursion or total internal reflection.
     pub fn refracted_color(&mut self, comps: &Computations<'_>, remaining: u32) -> Color {
-        let transparency = comps.object.material.transparency;
+        let transparency = comps.surface.material.transparency;
         if remaining == 0 || transparency == 0.0 {
             return Color::BLACK;
         }

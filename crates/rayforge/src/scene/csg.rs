@@ -1,0 +1,225 @@
+//! Constructive solid geometry (chapter 16): union, intersection and difference of solids.
+//!
+//! A CSG object keeps every primitive below it (through nested CSGs and groups) in one flat
+//! list of *leaves*, numbered depth first so that each operation covers a contiguous range:
+//! its left operand's leaves, then its right's. Operations are stored in post-order. A ray
+//! collects every leaf's hits, sorts them once, then each operation, innermost first, filters
+//! the surviving hits in its range with the book's `intersection_allowed` rule — exactly the
+//! book's recursive filtering, without recursion or per-level lists.
+//!
+//! Leaves carry their full world transform (a CSG object itself always has the identity), so a
+//! leaf is the object that shades a hit: its normal, material and pattern.
+
+use crate::geometry::LocalHit;
+use crate::math::{Aabb, Point3, Ray, SingularTransform, Transform, Vec3};
+use crate::{Node, Object, Shape};
+use smallvec::SmallVec;
+use std::sync::Arc;
+
+/// The set operation of a CSG node.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CsgOperation {
+    /// Everything in either operand.
+    Union,
+    /// Only what is in both operands.
+    Intersection,
+    /// What is in the left operand and not in the right.
+    Difference,
+}
+
+/// The book's `intersection_allowed(op, lhit, inl, inr)`: whether a hit on the left (`lhit`)
+/// or right operand survives, given whether it lies inside the left (`inl`) and right (`inr`).
+pub fn intersection_allowed(operation: CsgOperation, lhit: bool, inl: bool, inr: bool) -> bool {
+    match operation {
+        CsgOperation::Union => (lhit && !inr) || (!lhit && !inl),
+        CsgOperation::Intersection => (lhit && inr) || (!lhit && inl),
+        CsgOperation::Difference => (lhit && !inr) || (!lhit && inl),
+    }
+}
+
+/// One operation over the leaves `start..end`, of which `start..split` are its left operand.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct CsgNode {
+    operation: CsgOperation,
+    start: u32,
+    split: u32,
+    end: u32,
+}
+
+/// A CSG solid: its primitives (in world space) and its operations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Csg {
+    leaves: Vec<Object>,
+    /// Operations in post-order: the last is the root.
+    nodes: Vec<CsgNode>,
+    bounds: Aabb,
+}
+
+impl Csg {
+    /// The book's `csg(operation, left, right)`. Operands may be shapes, groups or CSG objects.
+    pub fn new(
+        operation: CsgOperation,
+        left: impl Into<Node>,
+        right: impl Into<Node>,
+    ) -> Result<Self, SingularTransform> {
+        let mut csg = Csg {
+            leaves: Vec::new(),
+            nodes: Vec::new(),
+            bounds: Aabb::EMPTY,
+        };
+        csg.add_operand(&left.into())?;
+        let split = csg.leaves.len() as u32;
+        csg.add_operand(&right.into())?;
+        csg.nodes.push(CsgNode {
+            operation,
+            start: 0,
+            split,
+            end: csg.leaves.len() as u32,
+        });
+        csg.bounds = csg
+            .leaves
+            .iter()
+            .fold(Aabb::EMPTY, |b, leaf| b.union(&leaf.bounds()));
+        Ok(csg)
+    }
+
+    /// Appends an operand's leaves (and, for a nested CSG, its operations, re-based).
+    fn add_operand(&mut self, node: &Node) -> Result<(), SingularTransform> {
+        let objects = match node {
+            Node::Object(object) => vec![Object::clone(object)],
+            Node::Group(group) => group.flatten()?,
+        };
+        for object in objects {
+            match &object.shape {
+                Shape::Csg(inner) => {
+                    let base = self.leaves.len() as u32;
+                    let placed = inner.placed_by(&object.transform)?;
+                    self.leaves.extend(placed.leaves);
+                    self.nodes.extend(placed.nodes.iter().map(|n| CsgNode {
+                        start: n.start + base,
+                        split: n.split + base,
+                        end: n.end + base,
+                        ..*n
+                    }));
+                }
+                _ => self.leaves.push(object),
+            }
+        }
+        Ok(())
+    }
+
+    /// The same solid moved by `transform` (applied after its leaves' own transforms).
+    pub fn placed_by(&self, transform: &Transform) -> Result<Self, SingularTransform> {
+        let leaves = self
+            .leaves
+            .iter()
+            .map(|leaf| leaf.placed_by(transform))
+            .collect::<Result<Vec<_>, _>>()?;
+        let bounds = leaves
+            .iter()
+            .fold(Aabb::EMPTY, |b, leaf| b.union(&leaf.bounds()));
+        Ok(Self {
+            leaves,
+            nodes: self.nodes.clone(),
+            bounds,
+        })
+    }
+
+    /// The root operation.
+    pub fn operation(&self) -> CsgOperation {
+        self.nodes
+            .last()
+            .map_or(CsgOperation::Union, |n| n.operation)
+    }
+
+    /// The primitives, depth first: left operand's first.
+    pub fn leaves(&self) -> &[Object] {
+        &self.leaves
+    }
+
+    /// The primitives of the root's left operand.
+    pub fn left(&self) -> &[Object] {
+        let root = self.nodes.last().map_or(0, |n| n.split as usize);
+        &self.leaves[..root]
+    }
+
+    /// The primitives of the root's right operand.
+    pub fn right(&self) -> &[Object] {
+        let root = self.nodes.last().map_or(0, |n| n.split as usize);
+        &self.leaves[root..]
+    }
+
+    /// The box around every leaf.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    /// The book's `includes(a, b)` for the root's operands: whether `object` is (by identity) a
+    /// leaf of the left operand.
+    pub fn left_includes(&self, object: &Object) -> bool {
+        self.left().iter().any(|o| std::ptr::eq(o, object))
+    }
+
+    /// The book's `filter_intersections(csg, xs)` over leaf indices: `hits` sorted by `t`,
+    /// each tagged with the leaf it is on; keeps the hits every operation allows.
+    pub fn filter(&self, hits: &mut SmallVec<[LocalHit; 16]>) {
+        for node in &self.nodes {
+            let (mut inl, mut inr) = (false, false);
+            hits.retain(|h| {
+                if h.leaf < node.start || h.leaf >= node.end {
+                    return true;
+                }
+                let lhit = h.leaf < node.split;
+                let allowed = intersection_allowed(node.operation, lhit, inl, inr);
+                if lhit {
+                    inl = !inl;
+                } else {
+                    inr = !inr;
+                }
+                allowed
+            });
+        }
+    }
+
+    /// Every hit on the solid's surface, each tagged with its leaf (`LocalHit::leaf`).
+    ///
+    /// Takes the visitor as a trait object: leaves may be CSG solids themselves, and a generic
+    /// visitor would make the compiler instantiate one copy per nesting level, forever.
+    pub fn intersect(&self, ray: &Ray, hit: &mut dyn FnMut(LocalHit)) {
+        let mut hits: SmallVec<[LocalHit; 16]> = SmallVec::new();
+        for (i, leaf) in self.leaves.iter().enumerate() {
+            let local = leaf.ray_to_object(ray);
+            let mut push = |mut h: LocalHit| {
+                h.leaf = i as u32;
+                hits.push(h);
+            };
+            leaf.shape
+                .intersect_hits(&local, &mut push as &mut dyn FnMut(LocalHit));
+        }
+        hits.sort_unstable_by(|a, b| a.t.total_cmp(&b.t));
+        self.filter(&mut hits);
+        for h in hits {
+            hit(h);
+        }
+    }
+
+    /// The unit normal at a hit, from the leaf it is on.
+    pub fn normal_at(&self, point: Point3, hit: &LocalHit) -> Vec3 {
+        self.leaves
+            .get(hit.leaf as usize)
+            .map_or(Vec3::ZERO, |leaf| leaf.normal_at_local_hit(point, hit))
+    }
+}
+
+impl Object {
+    /// The book's `csg(operation, left, right)` as an object.
+    pub fn csg(
+        operation: CsgOperation,
+        left: impl Into<Node>,
+        right: impl Into<Node>,
+    ) -> Result<Self, SingularTransform> {
+        Ok(Self::new(Shape::Csg(Arc::new(Csg::new(
+            operation, left, right,
+        )?))))
+    }
+}
