@@ -104,3 +104,13 @@ fn golden_ch11_reflection_refraction() {
 fn golden_ch12_cubes() {
     check("ch12-cubes");
 }
+
+#[test]
+fn golden_ch14_groups() {
+    check("ch14-groups");
+}
+
+#[test]
+fn golden_ch16_csg() {
+    check("ch16-csg");
+}

@@ -360,3 +360,64 @@ fn groups_nested_too_deeply_are_refused() {
         "{e}"
     );
 }
+
+#[test]
+fn a_csg_takes_an_operation_and_two_operands_in_either_spelling() {
+    let scene = load(
+        "
+- define: hole
+  value:
+    add: cylinder
+    min: -2
+    max: 2
+    closed: true
+    transform:
+      - [scale, 0.5, 1, 0.5]
+- add: csg
+  operation: difference
+  material:
+    color: [1, 0, 0]
+  left:
+    type: cube
+  right:
+    add: csg
+    operation: intersect
+    left: hole
+    right:
+      type: group
+      children:
+        - add: sphere
+          material:
+            color: [0, 0, 1]
+  transform:
+    - [translate, 0, 1, 0]
+",
+    );
+    let [csg] = &scene.world.objects[..] else {
+        panic!("one csg");
+    };
+    let Shape::Csg(c) = &csg.shape else {
+        panic!("a csg, got {:?}", csg.shape);
+    };
+    assert_eq!(c.operation(), rayforge::CsgOperation::Difference);
+    assert_eq!(c.leaves().len(), 3);
+    // The CSG's material reaches leaves that set none; a leaf's own material wins.
+    assert_eq!(c.leaves()[0].material.color, color(1.0, 0.0, 0.0));
+    assert_eq!(c.leaves()[2].material.color, color(0.0, 0.0, 1.0));
+    // The CSG's transform moves its leaves.
+    assert!(c.leaves()[0]
+        .transform
+        .matrix()
+        .abs_diff_eq(translation(0.0, 1.0, 0.0), 1e-12));
+}
+
+#[test]
+fn a_csg_with_an_unknown_operation_is_refused() {
+    let e = load_str(
+        &format!("{CAMERA}- add: csg\n  operation: xor\n  left: {{type: cube}}\n  right: {{type: sphere}}\n"),
+        Path::new("test.yml"),
+    )
+    .unwrap_err();
+    assert!(e.message.contains("unknown operation `xor`"), "{e}");
+    assert_eq!(e.key.as_deref(), Some("operation"));
+}
