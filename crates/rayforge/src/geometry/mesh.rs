@@ -139,6 +139,31 @@ impl Mesh {
         );
     }
 
+    /// The nearest hit with `t_min <= t < t_max`: the BVH walk skips boxes beyond the nearest
+    /// hit found so far, so a ray costs a few dozen boxes and triangles even on a large model.
+    #[inline]
+    pub fn closest_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<LocalHit> {
+        let mut best = None;
+        self.bvh
+            .traverse(ray.origin, ray.direction, t_min, t_max, |index, limit| {
+                let [p1, p2, p3] = self.corners(&self.faces[index as usize]);
+                if let Some((t, u, v)) = moller_trumbore(ray, p1, p2 - p1, p3 - p1) {
+                    if t >= t_min && t < *limit {
+                        *limit = t;
+                        best = Some(LocalHit {
+                            t,
+                            u,
+                            v,
+                            face: index,
+                            leaf: 0,
+                        });
+                    }
+                }
+                ControlFlow::Continue(())
+            });
+        best
+    }
+
     /// The normal at a hit: the vertex normals blended by `u`, `v` on smooth faces, the face
     /// normal otherwise.
     #[inline]

@@ -138,6 +138,35 @@ impl Shape {
         }
     }
 
+    /// The nearest hit with `t_min <= t < t_max`. Meshes prune their BVH as hits are found;
+    /// other shapes pick from their few hits.
+    #[inline]
+    pub fn closest_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<LocalHit> {
+        if let Shape::Mesh(mesh) = self {
+            return mesh.closest_hit(ray, t_min, t_max);
+        }
+        let mut best = None;
+        let mut limit = t_max;
+        self.intersect_hits(ray, |h| {
+            if h.t >= t_min && h.t < limit {
+                limit = h.t;
+                best = Some(h);
+            }
+        });
+        best
+    }
+
+    /// Whether any hit lies in `t_min <= t < t_max` (shadow rays); meshes stop at the first.
+    #[inline]
+    pub fn any_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        if let Shape::Mesh(mesh) = self {
+            return mesh.closest_hit(ray, t_min, t_max).is_some();
+        }
+        let mut found = false;
+        self.intersect_hits(ray, |h| found |= h.t >= t_min && h.t < t_max);
+        found
+    }
+
     /// The book's `local_normal_at`: the object-space normal at an object-space point on the
     /// surface (not normalised for every shape: the caller normalises after the normal
     /// transform). Smooth triangles and meshes need the hit: see [`Shape::normal_at_hit`].

@@ -60,12 +60,10 @@ impl WorldIndex {
         self.candidates(ray, 0.0, f64::INFINITY, |i, t_max| {
             let object = &world.objects[i];
             let local = object.ray_to_object(ray);
-            object.shape.intersect_hits(&local, |h| {
-                if h.t >= 0.0 && h.t < *t_max {
-                    *t_max = h.t;
-                    best = Some(Intersection::from_local(object, h));
-                }
-            });
+            if let Some(h) = object.shape.closest_hit(&local, 0.0, *t_max) {
+                *t_max = h.t;
+                best = Some(Intersection::from_local(object, h));
+            }
             ControlFlow::Continue(())
         });
         best
@@ -102,9 +100,7 @@ impl WorldIndex {
             let object = &world.objects[i];
             if object.casts_shadow {
                 let local = object.ray_to_object(ray);
-                object.shape.intersect(&local, |t| {
-                    blocked |= (0.0..distance).contains(&t);
-                });
+                blocked = object.shape.any_hit(&local, 0.0, distance);
             }
             if blocked {
                 ControlFlow::Break(())
