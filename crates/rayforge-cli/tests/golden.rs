@@ -114,3 +114,13 @@ fn golden_ch14_groups() {
 fn golden_ch16_csg() {
     check("ch16-csg");
 }
+
+#[test]
+fn golden_ch13_cylinders() {
+    check("ch13-cylinders");
+}
+
+#[test]
+fn golden_ch15_triangles() {
+    check("ch15-triangles");
+}

@@ -117,22 +117,30 @@ impl Mesh {
 
     /// Every hit of the ray on the mesh's faces (negative `t` included), through the BVH.
     #[inline]
-    pub fn intersect(&self, ray: &Ray, mut hit: impl FnMut(LocalHit)) {
+    pub fn intersect(&self, ray: &Ray, hit: impl FnMut(LocalHit)) {
+        self.intersect_up_to(ray, f64::INFINITY, hit);
+    }
+
+    /// Every hit with `t <= t_max` (negative `t` included); boxes beyond `t_max` are skipped.
+    #[inline]
+    pub fn intersect_up_to(&self, ray: &Ray, t_max: f64, mut hit: impl FnMut(LocalHit)) {
         self.bvh.traverse(
             ray.origin,
             ray.direction,
             f64::NEG_INFINITY,
-            f64::INFINITY,
+            t_max,
             |index, _| {
                 let [p1, p2, p3] = self.corners(&self.faces[index as usize]);
                 if let Some((t, u, v)) = moller_trumbore(ray, p1, p2 - p1, p3 - p1) {
-                    hit(LocalHit {
-                        t,
-                        u,
-                        v,
-                        face: index,
-                        leaf: 0,
-                    });
+                    if t <= t_max {
+                        hit(LocalHit {
+                            t,
+                            u,
+                            v,
+                            face: index,
+                            leaf: 0,
+                        });
+                    }
                 }
                 ControlFlow::Continue(())
             },

@@ -10,9 +10,11 @@ mod cylinder;
 mod mesh;
 mod plane;
 mod sphere;
+mod tessellate;
 mod triangle;
 
 pub use mesh::{Mesh, MeshError, MeshFace};
+pub use tessellate::sphere_mesh;
 pub use triangle::Triangle;
 
 use std::sync::Arc;
@@ -154,6 +156,20 @@ impl Shape {
             }
         });
         best
+    }
+
+    /// Every hit with `t <= t_max`, negative ones included (what refraction's containers need);
+    /// meshes skip the parts of their BVH beyond `t_max`.
+    #[inline]
+    pub fn hits_up_to(&self, ray: &Ray, t_max: f64, mut hit: impl FnMut(LocalHit)) {
+        match self {
+            Shape::Mesh(mesh) => mesh.intersect_up_to(ray, t_max, hit),
+            _ => self.intersect_hits(ray, |h| {
+                if h.t <= t_max {
+                    hit(h)
+                }
+            }),
+        }
     }
 
     /// Whether any hit lies in `t_min <= t < t_max` (shadow rays); meshes stop at the first.

@@ -82,10 +82,8 @@ impl WorldIndex {
         self.candidates(ray, f64::NEG_INFINITY, t_max, |i, _| {
             let object = &world.objects[i];
             let local = object.ray_to_object(ray);
-            object.shape.intersect_hits(&local, |h| {
-                if h.t <= t_max {
-                    out.push(Intersection::from_local(object, h));
-                }
+            object.shape.hits_up_to(&local, t_max, |h| {
+                out.push(Intersection::from_local(object, h))
             });
             ControlFlow::Continue(())
         });
