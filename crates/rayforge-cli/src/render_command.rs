@@ -1,6 +1,6 @@
 //! `rayforge render`: load the scene, render it on a thread pool, write the image, summarise.
 
-use crate::diagnostics::scene_report;
+use crate::diagnostics::{scene_report, scene_warning};
 use crate::failure::Failure;
 use crate::output::write_atomically;
 use crate::progress::row_bar;
@@ -13,6 +13,11 @@ use std::time::Instant;
 pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
     let scene =
         rayforge_scene::load_file(&settings.scene).map_err(|e| Failure::Input(scene_report(e)))?;
+    if !settings.quiet {
+        for warning in &scene.warnings {
+            eprintln!("{:?}", scene_warning(warning.clone()));
+        }
+    }
     let camera = sized_camera(&scene.camera, settings)?;
     let pool = {
         let mut builder = rayon::ThreadPoolBuilder::new();

@@ -8,7 +8,7 @@ use crate::source::{check_keys, Entry, Node, Source};
 use crate::transform::transform_list;
 use glam::DMat4;
 use rayforge::math::{point, vector, view_transform};
-use rayforge::{Camera, CsgOperation, Group, Light, Material, Object, Shape};
+use rayforge::{AreaLight, Camera, CsgOperation, Group, Light, Material, Object, Shape};
 
 /// The shapes `add:` may name, for messages.
 pub const SHAPE_KINDS: &[&str] = &[
@@ -101,24 +101,72 @@ pub fn camera(
     Ok(Camera::new(width, height, fov).with_transform_of(view))
 }
 
-/// A point light from `add: light`.
+/// A light from `add: light`: a point light (`at`), or an area light (`corner`, `uvec`,
+/// `usteps`, `vvec`, `vsteps`, optionally `jitter`), as the soft-shadows bonus chapter writes it.
 pub fn light(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
     item: &Node<'_>,
 ) -> Result<Light, SceneError> {
-    check_keys(source, entries, "a light", &["add", "at", "intensity"])?;
+    let area = entries.iter().any(|e| e.name == "corner");
+    let (what, allowed): (&str, &[&str]) = if area {
+        (
+            "an area light",
+            &[
+                "add",
+                "intensity",
+                "corner",
+                "uvec",
+                "usteps",
+                "vvec",
+                "vsteps",
+                "jitter",
+            ],
+        )
+    } else {
+        ("a point light", &["add", "at", "intensity"])
+    };
+    check_keys(source, entries, what, allowed)?;
     let get = |k: &str| {
         entries
             .iter()
             .find(|e| e.name == k)
             .map(|e| e.value)
-            .ok_or_else(|| source.error(item, k, format!("the light needs `{k}:`")))
+            .ok_or_else(|| source.error(item, k, format!("{what} needs `{k}:`")))
     };
-    let [x, y, z] = source.triple(get("at")?, "at")?;
     let intensity = color(source, get("intensity")?, "intensity")?;
-    Ok(Light::point(point(x, y, z), intensity))
+    if !area {
+        let [x, y, z] = source.triple(get("at")?, "at")?;
+        return Ok(Light::point(point(x, y, z), intensity));
+    }
+    let [cx, cy, cz] = source.triple(get("corner")?, "corner")?;
+    let [ux, uy, uz] = source.triple(get("uvec")?, "uvec")?;
+    let [vx, vy, vz] = source.triple(get("vvec")?, "vvec")?;
+    let usteps = source.integer(get("usteps")?, "usteps", 1)?;
+    let vsteps = source.integer(get("vsteps")?, "vsteps", 1)?;
+    if usteps * vsteps > MAX_LIGHT_SAMPLES {
+        return Err(source.error(
+            get("usteps")?,
+            "usteps",
+            format!("{usteps}×{vsteps} samples is more than the limit {MAX_LIGHT_SAMPLES}"),
+        ));
+    }
+    let mut light = AreaLight::new(
+        point(cx, cy, cz),
+        vector(ux, uy, uz),
+        usteps as u32,
+        vector(vx, vy, vz),
+        vsteps as u32,
+        intensity,
+    );
+    if let Some(j) = entries.iter().find(|e| e.name == "jitter") {
+        light.jitter = source.boolean(j.value, "jitter")?;
+    }
+    Ok(Light::Area(light))
 }
+
+/// The most samples one area light may take: each is a shadow ray per shading point.
+const MAX_LIGHT_SAMPLES: u64 = 4096;
 
 /// The entries of an `add:` item after expanding a template: `add: NAME` where NAME is a
 /// define whose value is itself an object. The item's keys override the template's, except

@@ -29,6 +29,8 @@ pub struct Scene {
     pub world: rayforge::World,
     /// The camera from `add: camera`.
     pub camera: rayforge::Camera,
+    /// Problems in the file that the reader worked around (each located like an error).
+    pub warnings: Vec<SceneError>,
 }
 
 /// Scene files larger than this are refused before parsing (a scene is text written by hand or
@@ -89,7 +91,11 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
     let camera = camera.ok_or_else(|| {
         SceneError::new(path, "the scene has no camera: add an item `- add: camera`")
     })?;
-    Ok(Scene { world, camera })
+    Ok(Scene {
+        world,
+        camera,
+        warnings: source.take_warnings(),
+    })
 }
 
 /// One top-level item.

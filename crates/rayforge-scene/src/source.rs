@@ -9,6 +9,8 @@ pub struct Source<'s> {
     /// The file's name, as errors show it.
     pub path: &'s Path,
     text: &'s str,
+    /// Problems the reader worked around, reported to the user but not fatal.
+    warnings: std::cell::RefCell<Vec<SceneError>>,
 }
 
 /// A node of the document.
@@ -17,7 +19,11 @@ pub type Node<'s> = MarkedYaml<'s>;
 impl<'s> Source<'s> {
     /// Parses `text`; a syntax error carries the parser's own line and column.
     pub fn parse(path: &'s Path, text: &'s str) -> Result<(Self, Vec<Node<'s>>), SceneError> {
-        let source = Self { path, text };
+        let source = Self {
+            path,
+            text,
+            warnings: Default::default(),
+        };
         let docs = MarkedYaml::load_from_str(text).map_err(|e| {
             let m = e.marker();
             let span = source.span_at(m.index(), m.line(), m.col(), 0);
@@ -56,6 +62,17 @@ impl<'s> Source<'s> {
             len.min(1)
         };
         self.span_at(start.index(), start.line(), start.col(), len)
+    }
+
+    /// Records a warning located at `node`, about `key`.
+    pub fn warn(&self, node: &Node<'_>, key: &str, message: impl Into<String>) {
+        let warning = self.error(node, key, message);
+        self.warnings.borrow_mut().push(warning);
+    }
+
+    /// The warnings recorded so far.
+    pub fn take_warnings(&self) -> Vec<SceneError> {
+        std::mem::take(&mut self.warnings.borrow_mut())
     }
 
     /// An error located at `node`, about `key`.

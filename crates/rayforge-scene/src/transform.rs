@@ -70,6 +70,22 @@ fn operation(source: &Source<'_>, node: &Node<'_>) -> Result<DMat4, SceneError> 
             format!("unknown transform `{name}`; expected one of: {}", names()),
         ));
     };
+    // Extra numbers are ignored with a warning (one of the community's files writes
+    // `[rotate-y, 0,7853981634]` with a decimal comma); too few are an error.
+    let args = if args.len() > arity && args.iter().all(|a| source.number(a, name).is_ok()) {
+        source.warn(
+            node,
+            name,
+            format!(
+                "`{name}` takes {arity} number{}, found {}; the extra ones are ignored",
+                if arity == 1 { "" } else { "s" },
+                args.len()
+            ),
+        );
+        &args[..arity]
+    } else {
+        args
+    };
     if args.len() != arity {
         return Err(source.error(
             node,

@@ -422,3 +422,36 @@ fn a_csg_with_an_unknown_operation_is_refused() {
     assert!(e.message.contains("unknown operation `xor`"), "{e}");
     assert_eq!(e.key.as_deref(), Some("operation"));
 }
+
+#[test]
+fn area_lights_take_a_corner_two_edges_their_steps_and_jitter() {
+    let scene = load(
+        "- add: light\n  corner: [-1, 2, 4]\n  uvec: [2, 0, 0]\n  usteps: 10\n  vvec: [0, 2, 0]\n  vsteps: 5\n  jitter: true\n  intensity: [1.5, 1.5, 1.5]\n",
+    );
+    let rayforge::Light::Area(light) = scene.world.lights[0] else {
+        panic!("an area light");
+    };
+    assert_eq!(light.corner, point(-1.0, 2.0, 4.0));
+    assert_eq!(light.uvec, rayforge::vector(0.2, 0.0, 0.0));
+    assert_eq!(light.vvec, rayforge::vector(0.0, 0.4, 0.0));
+    assert_eq!(light.samples(), 50);
+    assert!(light.jitter);
+    assert_eq!(light.intensity, color(1.5, 1.5, 1.5));
+}
+
+#[test]
+fn extra_transform_numbers_are_ignored_with_a_located_warning() {
+    let scene = load("- add: sphere\n  transform:\n    - [rotate-y, 0,7853981634]\n");
+    assert!(scene.world.objects[0]
+        .transform
+        .matrix()
+        .abs_diff_eq(rayforge::math::rotation_y(0.0), 1e-12));
+    let [warning] = &scene.warnings[..] else {
+        panic!("one warning, got {:?}", scene.warnings);
+    };
+    assert_eq!(warning.span.unwrap().line, 11);
+    assert!(
+        warning.message.contains("extra ones are ignored"),
+        "{warning}"
+    );
+}

@@ -28,4 +28,6 @@ pub use scene::{
     default_world, hit, intersection_allowed, prepare_computations, schlick, Computations, Csg,
     CsgOperation, Group, Intersection, Node, Object, Tracer, World, DEFAULT_MAX_DEPTH,
 };
-pub use shading::{lighting, Light, Material, Pattern, PatternKind, PointLight};
+pub use shading::{
+    lighting, lighting_with, AreaLight, Light, Material, Pattern, PatternKind, PointLight,
+};

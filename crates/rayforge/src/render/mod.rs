@@ -51,6 +51,7 @@ pub fn render(
             |tracer, (y, row)| {
                 let before = tracer.rays_cast();
                 for (x, pixel) in row.iter_mut().enumerate() {
+                    tracer.reseed((y * width + x) as u64);
                     let ray = camera.ray_for_pixel(x, y);
                     *pixel = tracer.color_at(&ray, options.max_depth);
                 }

@@ -4,7 +4,8 @@
 use super::computations::prepare_computations_with;
 use super::WorldIndex;
 use crate::math::{Point3, Ray};
-use crate::{lighting, schlick, Color, Computations, Intersection, Light, Object, World};
+use crate::shading::{lighting_with, SplitMix64};
+use crate::{schlick, Color, Computations, Intersection, Light, Object, World};
 
 /// The recursion limit the book's tests use (and a sensible default for renders).
 pub const DEFAULT_MAX_DEPTH: u32 = 5;
@@ -17,6 +18,8 @@ pub struct Tracer<'w> {
     xs: Vec<Intersection<'w>>,
     containers: Vec<(&'w Object, f64)>,
     rays: u64,
+    /// Sample offsets for jittered area lights, reseeded per pixel by the render loop.
+    jitter: SplitMix64,
 }
 
 impl<'w> Tracer<'w> {
@@ -28,7 +31,14 @@ impl<'w> Tracer<'w> {
             xs: Vec::with_capacity(16),
             containers: Vec::with_capacity(8),
             rays: 0,
+            jitter: SplitMix64::new(0),
         }
+    }
+
+    /// Restarts the sample sequence from `seed` (the render loop passes the pixel's index, so
+    /// every pixel's samples are the same whichever thread renders it).
+    pub fn reseed(&mut self, seed: u64) {
+        self.jitter = SplitMix64::new(seed);
     }
 
     /// How many rays (camera, reflected, refracted and shadow) this tracer has cast.
@@ -63,7 +73,7 @@ impl<'w> Tracer<'w> {
         let mut surface = Color::BLACK;
         for light in &self.world.lights {
             let fraction = self.intensity_at(light, comps.over_point);
-            surface += lighting(
+            surface += lighting_with(
                 material,
                 comps.surface,
                 light,
@@ -71,6 +81,7 @@ impl<'w> Tracer<'w> {
                 comps.eyev,
                 comps.normalv,
                 fraction,
+                &mut self.jitter,
             );
         }
         let reflected = self.reflected_color(comps, remaining);
@@ -83,7 +94,8 @@ impl<'w> Tracer<'w> {
         }
     }
 
-    /// How much of `light` reaches `point`: 1 when nothing blocks it, 0 when something does.
+    /// The book's `intensity_at(light, point, world)`: the fraction of `light` that reaches
+    /// `point`: 0 or 1 for a point light, the fraction of unblocked samples for an area light.
     pub fn intensity_at(&mut self, light: &Light, point: Point3) -> f64 {
         match light {
             Light::Point(l) => {
@@ -92,6 +104,13 @@ impl<'w> Tracer<'w> {
                 } else {
                     1.0
                 }
+            }
+            Light::Area(area) => {
+                let mut jitter = self.jitter;
+                let fraction =
+                    area.fraction_visible(&mut jitter, |sample| self.is_shadowed(sample, point));
+                self.jitter = jitter;
+                fraction
             }
         }
     }

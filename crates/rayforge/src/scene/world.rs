@@ -58,6 +58,11 @@ impl World {
         Tracer::new(self, &WorldIndex::build(self)).refracted_color(comps, remaining)
     }
 
+    /// The book's `intensity_at(light, point, world)`.
+    pub fn intensity_at(&self, light: &crate::Light, point: Point3) -> f64 {
+        Tracer::new(self, &WorldIndex::build(self)).intensity_at(light, point)
+    }
+
     /// The book's `is_shadowed(world, light_position, point)`.
     pub fn is_shadowed(&self, light_position: Point3, point: Point3) -> bool {
         Tracer::new(self, &WorldIndex::build(self)).is_shadowed(light_position, point)

@@ -1,6 +1,8 @@
-//! Light sources (chapter 6; several per world since chapter 7's extensions).
+//! Light sources: point lights (chapter 6) and rectangular area lights that cast soft shadows
+//! (the bonus chapter "Rendering soft shadows").
 
-use crate::math::Point3;
+use super::jitter::Jitter;
+use crate::math::{Point3, Vec3};
 use crate::Color;
 
 /// A point light: no size, so its shadows are hard.
@@ -22,11 +24,106 @@ impl PointLight {
     }
 }
 
+/// A rectangular light divided into `usteps × vsteps` cells, one sample per cell.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AreaLight {
+    /// One corner of the rectangle.
+    pub corner: Point3,
+    /// One cell's edge along the first side (the full side divided by `usteps`).
+    pub uvec: Vec3,
+    /// Cells along the first side.
+    pub usteps: u32,
+    /// One cell's edge along the second side.
+    pub vvec: Vec3,
+    /// Cells along the second side.
+    pub vsteps: u32,
+    /// Its colour and brightness (the whole light's).
+    pub intensity: Color,
+    /// Whether samples are placed randomly within their cells (banding turns into noise) or at
+    /// the cells' centres.
+    pub jitter: bool,
+}
+
+impl AreaLight {
+    /// The book's `area_light(corner, full_uvec, usteps, full_vvec, vsteps, intensity)`.
+    /// Step counts below 1 count as 1.
+    pub fn new(
+        corner: Point3,
+        full_uvec: Vec3,
+        usteps: u32,
+        full_vvec: Vec3,
+        vsteps: u32,
+        intensity: Color,
+    ) -> Self {
+        let (usteps, vsteps) = (usteps.max(1), vsteps.max(1));
+        Self {
+            corner,
+            uvec: full_uvec / usteps as f64,
+            usteps,
+            vvec: full_vvec / vsteps as f64,
+            vsteps,
+            intensity,
+            jitter: false,
+        }
+    }
+
+    /// The same light with jittered samples.
+    pub fn jittered(mut self) -> Self {
+        self.jitter = true;
+        self
+    }
+
+    /// How many samples the light takes.
+    pub fn samples(&self) -> u32 {
+        self.usteps * self.vsteps
+    }
+
+    /// The centre of the rectangle.
+    pub fn position(&self) -> Point3 {
+        self.corner
+            + self.uvec * (self.usteps as f64 / 2.0)
+            + self.vvec * (self.vsteps as f64 / 2.0)
+    }
+
+    /// The book's `point_on_light(light, u, v)`: a point in cell (`u`, `v`), its centre or,
+    /// when jittered, a random point of it.
+    pub fn point_on_light(&self, u: u32, v: u32, jitter: &mut dyn Jitter) -> Point3 {
+        let (ju, jv) = if self.jitter {
+            (jitter.next_offset(), jitter.next_offset())
+        } else {
+            (0.5, 0.5)
+        };
+        self.corner + self.uvec * (u as f64 + ju) + self.vvec * (v as f64 + jv)
+    }
+
+    /// The fraction of the light's samples that reach `point`: `blocked(sample)` says whether
+    /// something lies between a sample point on the light and `point`.
+    pub fn fraction_visible(
+        &self,
+        jitter: &mut dyn Jitter,
+        mut blocked: impl FnMut(Point3) -> bool,
+    ) -> f64 {
+        let lit = self
+            .cells()
+            .filter(|&(u, v)| !blocked(self.point_on_light(u, v, jitter)))
+            .count();
+        lit as f64 / self.samples() as f64
+    }
+
+    /// Every cell, row by row.
+    pub fn cells(&self) -> impl Iterator<Item = (u32, u32)> {
+        let usteps = self.usteps;
+        (0..self.vsteps).flat_map(move |v| (0..usteps).map(move |u| (u, v)))
+    }
+}
+
 /// A light source of any kind.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
     /// A point light.
     Point(PointLight),
+    /// A rectangular area light.
+    Area(AreaLight),
 }
 
 impl Light {
@@ -39,13 +136,15 @@ impl Light {
     pub fn intensity(&self) -> Color {
         match self {
             Light::Point(l) => l.intensity,
+            Light::Area(l) => l.intensity,
         }
     }
 
-    /// The light's position (for shadow rays and the light vector).
+    /// The light's position (an area light's centre).
     pub fn position(&self) -> Point3 {
         match self {
             Light::Point(l) => l.position,
+            Light::Area(l) => l.position(),
         }
     }
 }

@@ -1,13 +1,15 @@
 //! Materials, patterns, lights and the Phong lighting model.
 
+mod jitter;
 mod light;
 mod material;
 mod noise;
 mod pattern;
 mod phong;
 
-pub use light::{Light, PointLight};
+pub use jitter::{Jitter, Sequence, SplitMix64};
+pub use light::{AreaLight, Light, PointLight};
 pub use material::Material;
 pub use noise::perlin_noise;
 pub use pattern::{Pattern, PatternKind};
-pub use phong::lighting;
+pub use phong::{lighting, lighting_with};

@@ -1,14 +1,17 @@
-//! The Phong reflection model (chapter 6), with the pattern hook of chapter 10 and the light
-//! fraction of the soft-shadows bonus chapter (0 = in shadow, 1 = fully lit).
+//! The Phong reflection model (chapter 6), with the pattern hook of chapter 10 and the soft
+//! shadows bonus chapter's light fraction and area-light sampling.
 
+use super::jitter::{Jitter, SplitMix64};
 use super::{Light, Material};
 use crate::math::{reflect, Point3, Vec3};
 use crate::{Color, Object};
 
 /// The book's `lighting(material, object, light, point, eyev, normalv, light_fraction)`.
 ///
-/// `light_fraction` replaces chapter 8's `in_shadow` flag: pass 0.0 for a point in shadow and 1.0
-/// for a lit one (the form the soft-shadow chapter generalises). Ambient light is never shadowed.
+/// `light_fraction` replaces chapter 8's `in_shadow` flag: the fraction of the light that
+/// reaches the point (0.0 in shadow, 1.0 fully lit; between for a partly hidden area light).
+/// Ambient light is never shadowed. A jittered area light draws its sample offsets from a
+/// fixed seed here; renders use [`lighting_with`] and a per-pixel generator.
 #[allow(clippy::too_many_arguments)]
 pub fn lighting(
     material: &Material,
@@ -19,6 +22,34 @@ pub fn lighting(
     normalv: Vec3,
     light_fraction: f64,
 ) -> Color {
+    let mut jitter = SplitMix64::new(0);
+    lighting_with(
+        material,
+        object,
+        light,
+        point,
+        eyev,
+        normalv,
+        light_fraction,
+        &mut jitter,
+    )
+}
+
+/// [`lighting`] with the jitter source for area-light samples given.
+///
+/// An area light's diffuse and specular terms are averaged over one sample point per cell
+/// (the bonus chapter's algorithm); a point light is its own single sample.
+#[allow(clippy::too_many_arguments)]
+pub fn lighting_with(
+    material: &Material,
+    object: &Object,
+    light: &Light,
+    point: Point3,
+    eyev: Vec3,
+    normalv: Vec3,
+    light_fraction: f64,
+    jitter: &mut dyn Jitter,
+) -> Color {
     let surface = match &material.pattern {
         Some(pattern) => pattern.color_at_object(object, point),
         None => material.color,
@@ -28,19 +59,31 @@ pub fn lighting(
     if light_fraction <= 0.0 {
         return ambient;
     }
-    let lightv = (light.position() - point).normalize();
-    let light_dot_normal = lightv.dot(normalv);
-    if light_dot_normal < 0.0 {
-        // The light is on the other side of the surface.
-        return ambient;
-    }
-    let diffuse = effective * material.diffuse * light_dot_normal;
-    let reflectv = reflect(-lightv, normalv);
-    let reflect_dot_eye = reflectv.dot(eyev);
-    let specular = if reflect_dot_eye <= 0.0 {
-        Color::BLACK
-    } else {
-        light.intensity() * material.specular * reflect_dot_eye.powf(material.shininess)
+    let sample = |light_position: Point3| {
+        let lightv = (light_position - point).normalize();
+        let light_dot_normal = lightv.dot(normalv);
+        if light_dot_normal < 0.0 {
+            // The light is on the other side of the surface.
+            return Color::BLACK;
+        }
+        let diffuse = effective * material.diffuse * light_dot_normal;
+        let reflect_dot_eye = reflect(-lightv, normalv).dot(eyev);
+        let specular = if reflect_dot_eye <= 0.0 {
+            Color::BLACK
+        } else {
+            light.intensity() * material.specular * reflect_dot_eye.powf(material.shininess)
+        };
+        diffuse + specular
     };
-    ambient + (diffuse + specular) * light_fraction
+    let lit = match light {
+        Light::Point(l) => sample(l.position),
+        Light::Area(area) => {
+            let sum: Color = area
+                .cells()
+                .map(|(u, v)| sample(area.point_on_light(u, v, jitter)))
+                .sum();
+            sum / area.samples() as f64
+        }
+    };
+    ambient + lit * light_fraction
 }
