@@ -3,7 +3,8 @@
 use crate::error::SceneError;
 use crate::obj::{read_obj_file, to_meshes};
 use rayforge::geometry::Mesh;
-use rayforge::Material;
+use rayforge::shading::{Filter, Texture};
+use rayforge::{Color, Material};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -16,6 +17,7 @@ pub type ObjMeshes = Arc<Vec<(Arc<Mesh>, Option<Material>)>>;
 pub struct Assets {
     base: PathBuf,
     meshes: HashMap<PathBuf, ObjMeshes>,
+    textures: HashMap<PathBuf, Arc<Texture>>,
 }
 
 impl Assets {
@@ -27,6 +29,7 @@ impl Assets {
                 .map(Path::to_path_buf)
                 .unwrap_or_default(),
             meshes: HashMap::new(),
+            textures: HashMap::new(),
         }
     }
 
@@ -45,4 +48,41 @@ impl Assets {
         self.meshes.insert(path.to_path_buf(), meshes.clone());
         Ok(meshes)
     }
+
+    /// An image texture (PNG, JPEG, PPM/PGM/PBM), read on first use. Bytes become colours as
+    /// they are (byte / 255), as the book's canvas-backed image patterns read them.
+    pub fn texture(&mut self, path: &Path) -> Result<Arc<Texture>, SceneError> {
+        if let Some(t) = self.textures.get(path) {
+            return Ok(t.clone());
+        }
+        let fail = |e: &dyn std::fmt::Display| {
+            SceneError::new(
+                path,
+                format!("cannot read the image `{}`: {e}", path.display()),
+            )
+        };
+        let reader = image::ImageReader::open(path)
+            .map_err(|e| fail(&e))?
+            .with_guessed_format()
+            .map_err(|e| fail(&e))?;
+        let mut reader = reader;
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(MAX_TEXTURE_SIDE);
+        limits.max_image_height = Some(MAX_TEXTURE_SIDE);
+        reader.limits(limits);
+        let rgb = reader.decode().map_err(|e| fail(&e))?.to_rgb32f();
+        let (w, h) = (rgb.width() as usize, rgb.height() as usize);
+        let pixels = rgb
+            .pixels()
+            .map(|p| Color::new(p[0] as f64, p[1] as f64, p[2] as f64))
+            .collect();
+        let texture = Texture::new(w, h, pixels, Filter::Bilinear)
+            .ok_or_else(|| fail(&"the image is empty"))?;
+        let texture = Arc::new(texture);
+        self.textures.insert(path.to_path_buf(), texture.clone());
+        Ok(texture)
+    }
 }
+
+/// The largest image side accepted (16384 pixels: 256 Mpixel, 6 GiB as colours, is the limit).
+const MAX_TEXTURE_SIDE: u32 = 16_384;

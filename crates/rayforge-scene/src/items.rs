@@ -303,7 +303,13 @@ pub fn add_objects<'n, 's>(
     for e in entries {
         match e.name {
             "material" => {
-                material_here = Some(material(source, defines, e.value, &Material::DEFAULT)?)
+                material_here = Some(material(
+                    source,
+                    defines,
+                    assets,
+                    e.value,
+                    &Material::DEFAULT,
+                )?)
             }
             "shadow" => casts_shadow &= source.boolean(e.value, "shadow")?,
             _ => {}

@@ -1,9 +1,11 @@
 //! Materials (`material:` as a mapping or a defined name) and their patterns.
 
+use crate::assets::Assets;
 use crate::defines::{is_reference, merge, Defines, Trail};
 use crate::error::SceneError;
 use crate::source::{as_str, check_keys, describe, Entry, Node, Source};
 use crate::transform::transform_list;
+use rayforge::shading::{Filter, UvMapping, UvPattern};
 use rayforge::{Color, Material, Pattern, PatternKind, Transform};
 
 /// The keys a material may have.
@@ -29,7 +31,11 @@ const PATTERN_TYPES: &[&str] = &[
     "radial-gradient",
     "blended",
     "perturbed",
+    "map",
 ];
+
+/// The faces of a cube map, in the order `PatternKind::CubeMap` stores them.
+const CUBE_FACES: [&str; 6] = ["left", "front", "right", "back", "up", "down"];
 
 /// Reads the entries of a `material:` value: a mapping, or the name of a defined one.
 pub fn material_entries<'n, 's>(
@@ -48,6 +54,7 @@ pub fn material_entries<'n, 's>(
 pub fn material<'n, 's>(
     source: &Source<'s>,
     defines: &Defines<'n, 's>,
+    assets: &mut Assets,
     node: &'n Node<'s>,
     base: &Material,
 ) -> Result<Material, SceneError> {
@@ -65,7 +72,7 @@ pub fn material<'n, 's>(
             "reflective" => m.reflective = number()?,
             "transparency" => m.transparency = number()?,
             "refractive-index" => m.refractive_index = number()?,
-            _ => m.pattern = Some(pattern(source, defines, value)?),
+            _ => m.pattern = Some(pattern(source, defines, assets, value)?),
         }
     }
     Ok(m)
@@ -82,6 +89,7 @@ pub fn color(source: &Source<'_>, node: &Node<'_>, key: &str) -> Result<Color, S
 pub fn pattern<'n, 's>(
     source: &Source<'s>,
     defines: &Defines<'n, 's>,
+    assets: &mut Assets,
     node: &'n Node<'s>,
 ) -> Result<Pattern, SceneError> {
     let mut entries = Vec::new();
@@ -97,6 +105,18 @@ pub fn pattern<'n, 's>(
         get("type").ok_or_else(|| source.error(node, "type", "a pattern needs a `type:`"))?;
     let kind_name = source.string(type_node, "type")?;
     let allowed: &[&str] = match kind_name {
+        "map" => &[
+            "type",
+            "mapping",
+            "uv_pattern",
+            "transform",
+            "left",
+            "front",
+            "right",
+            "back",
+            "up",
+            "down",
+        ],
         "blended" => &["type", "patterns", "transform"],
         "perturbed" => &["type", "pattern", "scale", "transform"],
         _ => &["type", "colors", "transform"],
@@ -118,12 +138,47 @@ pub fn pattern<'n, 's>(
         })
     };
     let kind = match kind_name {
+        "map" => {
+            let mapping_node = required("mapping")?;
+            match source.string(mapping_node, "mapping")? {
+                "cube" => {
+                    let mut faces = Vec::with_capacity(6);
+                    for face in CUBE_FACES {
+                        faces.push(uv_pattern(source, assets, required(face)?, face)?);
+                    }
+                    let faces: [UvPattern; 6] = faces
+                        .try_into()
+                        .map_err(|_| source.error(node, "mapping", "a cube map needs six faces"))?;
+                    PatternKind::CubeMap(Box::new(faces))
+                }
+                name => {
+                    let mapping = match name {
+                        "spherical" => UvMapping::Spherical,
+                        "planar" => UvMapping::Planar,
+                        "cylindrical" => UvMapping::Cylindrical,
+                        other => {
+                            return Err(source.error(
+                                mapping_node,
+                                "mapping",
+                                format!(
+                                    "unknown mapping `{other}`; expected one of: spherical, planar, cylindrical, cube"
+                                ),
+                            ))
+                        }
+                    };
+                    PatternKind::Map {
+                        mapping,
+                        uv: uv_pattern(source, assets, required("uv_pattern")?, "uv_pattern")?,
+                    }
+                }
+            }
+        }
         "blended" => {
             let list = required("patterns")?;
             let parts = source
                 .sequence(list, "patterns")?
                 .iter()
-                .map(|p| pattern(source, defines, p))
+                .map(|p| pattern(source, defines, assets, p))
                 .collect::<Result<Vec<_>, _>>()?;
             if parts.is_empty() {
                 return Err(source.error(list, "patterns", "a blend needs at least one pattern"));
@@ -131,7 +186,7 @@ pub fn pattern<'n, 's>(
             PatternKind::Blended(parts)
         }
         "perturbed" => PatternKind::Perturbed {
-            pattern: Box::new(pattern(source, defines, required("pattern")?)?),
+            pattern: Box::new(pattern(source, defines, assets, required("pattern")?)?),
             scale: match get("scale") {
                 Some(s) => source.number(s, "scale")?,
                 None => DEFAULT_PERTURBATION,
@@ -142,7 +197,7 @@ pub fn pattern<'n, 's>(
             let mut parts = source
                 .sequence(list, "colors")?
                 .iter()
-                .map(|c| color_or_pattern(source, defines, c))
+                .map(|c| color_or_pattern(source, defines, assets, c))
                 .collect::<Result<Vec<_>, _>>()?;
             let two =
                 |parts: &mut Vec<Pattern>| -> Result<(Box<Pattern>, Box<Pattern>), SceneError> {
@@ -204,13 +259,14 @@ const DEFAULT_PERTURBATION: f64 = 0.2;
 fn color_or_pattern<'n, 's>(
     source: &Source<'s>,
     defines: &Defines<'n, 's>,
+    assets: &mut Assets,
     node: &'n Node<'s>,
 ) -> Result<Pattern, SceneError> {
     if source.sequence(node, "colors").is_ok() {
         return Ok(Pattern::solid(color(source, node, "colors")?));
     }
     if as_str(node).is_some() || source.entries(node, "colors").is_ok() {
-        return pattern(source, defines, node);
+        return pattern(source, defines, assets, node);
     }
     Err(source.error(
         node,
@@ -229,4 +285,121 @@ pub fn checked(
     matrix: glam::DMat4,
 ) -> Result<Transform, SceneError> {
     Transform::try_new(matrix).map_err(|e| source.error(node, "transform", e.to_string()))
+}
+
+/// A 2D pattern on (u, v): `checkers` (`width`, `height`, two `colors`), `align_check`
+/// (`colors` with `main`, `ul`, `ur`, `bl`, `br`) or `image` (`file`, optional `filter`:
+/// `bilinear`, the default, or `nearest`).
+fn uv_pattern(
+    source: &Source<'_>,
+    assets: &mut Assets,
+    node: &Node<'_>,
+    key: &str,
+) -> Result<UvPattern, SceneError> {
+    let entries = source.entries(node, key)?;
+    let get = |k: &str| entries.iter().find(|e| e.name == k).map(|e| e.value);
+    let required =
+        |k: &str| get(k).ok_or_else(|| source.error(node, k, format!("a UV pattern needs `{k}:`")));
+    let type_node = required("type")?;
+    match source.string(type_node, "type")? {
+        "checkers" => {
+            check_keys(
+                source,
+                &entries,
+                "a UV checkers pattern",
+                &["type", "width", "height", "colors"],
+            )?;
+            let width = source.number(required("width")?, "width")?;
+            let height = source.number(required("height")?, "height")?;
+            let colors_node = required("colors")?;
+            let colors = source.sequence(colors_node, "colors")?;
+            let [a, b] = colors else {
+                return Err(source.error(
+                    colors_node,
+                    "colors",
+                    format!("UV checkers take exactly 2 colors, found {}", colors.len()),
+                ));
+            };
+            Ok(UvPattern::Checkers {
+                width,
+                height,
+                a: color(source, a, "colors")?,
+                b: color(source, b, "colors")?,
+            })
+        }
+        "align_check" => {
+            check_keys(
+                source,
+                &entries,
+                "an align_check pattern",
+                &["type", "colors"],
+            )?;
+            let colors = source.entries(required("colors")?, "colors")?;
+            check_keys(
+                source,
+                &colors,
+                "align_check colors",
+                &["main", "ul", "ur", "bl", "br"],
+            )?;
+            let pick = |k: &str| -> Result<Color, SceneError> {
+                let value = colors
+                    .iter()
+                    .find(|e| e.name == k)
+                    .map(|e| e.value)
+                    .ok_or_else(|| {
+                        source.error(node, k, format!("align_check colors need `{k}:`"))
+                    })?;
+                color(source, value, k)
+            };
+            Ok(UvPattern::AlignCheck {
+                main: pick("main")?,
+                ul: pick("ul")?,
+                ur: pick("ur")?,
+                bl: pick("bl")?,
+                br: pick("br")?,
+            })
+        }
+        "image" => {
+            check_keys(
+                source,
+                &entries,
+                "an image pattern",
+                &["type", "file", "filter"],
+            )?;
+            let file = required("file")?;
+            let path = assets.resolve(source.string(file, "file")?);
+            let texture = assets
+                .texture(&path)
+                .map_err(|e| source.error(file, "file", e.message))?;
+            let filter = match get("filter") {
+                None => Filter::Bilinear,
+                Some(f) => match source.string(f, "filter")? {
+                    "bilinear" => Filter::Bilinear,
+                    "nearest" => Filter::Nearest,
+                    other => {
+                        return Err(source.error(
+                            f,
+                            "filter",
+                            format!("unknown filter `{other}`; expected bilinear or nearest"),
+                        ))
+                    }
+                },
+            };
+            let texture = if texture.filter == filter {
+                texture
+            } else {
+                let mut t = (*texture).clone();
+                t.filter = filter;
+                std::sync::Arc::new(t)
+            };
+            Ok(UvPattern::Image(texture))
+        }
+        other => Err(source.error(
+            type_node,
+            "type",
+            format!(
+                "unknown UV pattern type `{other}`; expected one of: checkers, align_check, image"
+            ),
+        )),
+    }
 }

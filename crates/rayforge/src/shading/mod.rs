@@ -6,6 +6,7 @@ mod material;
 mod noise;
 mod pattern;
 mod phong;
+mod texture;
 
 pub use jitter::{Jitter, Sequence, SplitMix64};
 pub use light::{AreaLight, Light, PointLight};
@@ -13,3 +14,6 @@ pub use material::Material;
 pub use noise::perlin_noise;
 pub use pattern::{Pattern, PatternKind};
 pub use phong::{lighting, lighting_with};
+pub use texture::{
+    cylindrical_map, planar_map, spherical_map, CubeFace, Filter, Texture, UvMapping, UvPattern,
+};

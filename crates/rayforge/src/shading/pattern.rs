@@ -5,6 +5,7 @@
 //! blends, perturbations) evaluate each child in the child's own space, nested inside the parent's.
 
 use super::noise::perlin_noise;
+use super::texture::{CubeFace, UvMapping, UvPattern};
 use crate::math::{Point3, Transform};
 use crate::{Color, Object};
 
@@ -43,6 +44,15 @@ pub enum PatternKind {
         /// How far points move (in pattern-space units); the book suggests 0.2 or less.
         scale: f64,
     },
+    /// A 2D pattern wrapped onto the surface by a mapping (the texture-mapping bonus chapter).
+    Map {
+        /// How points become (u, v).
+        mapping: UvMapping,
+        /// What is drawn on (u, v).
+        uv: UvPattern,
+    },
+    /// A 2D pattern per face of the cube (left, front, right, back, up, down): a skybox.
+    CubeMap(Box<[UvPattern; 6]>),
     /// The pattern-space point itself as a colour (the book's `test_pattern`; handy for
     /// checking transforms).
     Position,
@@ -121,6 +131,15 @@ impl Pattern {
             }
             PatternKind::Perturbed { pattern, scale } => {
                 pattern.nested_at(p + perturbation(p) * *scale)
+            }
+            PatternKind::Map { mapping, uv } => {
+                let (u, v) = mapping.map(p);
+                uv.uv_pattern_at(u, v)
+            }
+            PatternKind::CubeMap(faces) => {
+                let face = CubeFace::from_point(p);
+                let (u, v) = face.uv(p);
+                faces[face.index()].uv_pattern_at(u, v)
             }
             PatternKind::Position => Color::new(p.x, p.y, p.z),
         }
