@@ -154,6 +154,25 @@ impl<'t> Line<'t> {
     }
 }
 
+/// The non-blank lines of a file with their first word (the statement's keyword), numbered and
+/// positioned for errors. OBJ and MTL share this shape.
+fn statements<'t>(text: &'t str, path: &'t Path) -> impl Iterator<Item = (Line<'t>, &'t str)> {
+    let mut offset = 0;
+    text.split_inclusive('\n')
+        .enumerate()
+        .filter_map(move |(index, raw)| {
+            let line = Line {
+                path,
+                number: index + 1,
+                offset,
+                text: raw.trim_end_matches(['\n', '\r']),
+            };
+            offset += raw.len();
+            let keyword = line.words().next()?.1;
+            Some((line, keyword))
+        })
+}
+
 /// Parses OBJ text; `path` names the file in errors.
 pub fn parse_obj(text: &str, path: &Path) -> Result<ObjFile, SceneError> {
     let mut obj = ObjFile {
@@ -163,18 +182,7 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<ObjFile, SceneError> {
     let mut current_group = 0;
     let mut current_material = None;
     let mut corners: Vec<Corner> = Vec::with_capacity(8);
-    let mut offset = 0;
-    for (index, raw) in text.split_inclusive('\n').enumerate() {
-        let line = Line {
-            path,
-            number: index + 1,
-            offset,
-            text: raw.trim_end_matches(['\n', '\r']),
-        };
-        offset += raw.len();
-        let Some((_, keyword)) = line.words().next() else {
-            continue;
-        };
+    for (line, keyword) in statements(text, path) {
         match keyword {
             "v" => {
                 let [x, y, z, _w] = line.numbers::<4>("v", 3)?;
@@ -329,18 +337,7 @@ pub fn parse_mtl(text: &str, path: &Path) -> Result<HashMap<String, Material>, S
         }
         out.insert(name, m);
     };
-    let mut offset = 0;
-    for (index, raw) in text.split_inclusive('\n').enumerate() {
-        let line = Line {
-            path,
-            number: index + 1,
-            offset,
-            text: raw.trim_end_matches(['\n', '\r']),
-        };
-        offset += raw.len();
-        let Some((_, keyword)) = line.words().next() else {
-            continue;
-        };
+    for (line, keyword) in statements(text, path) {
         if keyword == "newmtl" {
             if let Some(done) = current.take() {
                 finish(&mut out, done);

@@ -5,22 +5,6 @@ mod common;
 use common::*;
 use rayforge::{point, vector, Point3, Ray, Shape, Vec3};
 
-fn local_ts(shape: &Shape, origin: Point3, direction: Vec3) -> Vec<f64> {
-    let mut ts = Vec::new();
-    shape.intersect(&Ray::new(origin, direction.normalize()), |t| ts.push(t));
-    ts.sort_by(f64::total_cmp);
-    ts
-}
-
-macro_rules! scenario_rows {
-    ($check:ident; $($name:ident: $($arg:expr),*;)*) => {$(
-        #[test]
-        fn $name() {
-            $check($($arg),*);
-        }
-    )*};
-}
-
 fn strikes(origin: Point3, direction: Vec3, t0: f64, t1: f64) {
     let ts = local_ts(&Shape::CONE, origin, direction);
     assert_eq!(ts.len(), 2);

@@ -13,23 +13,6 @@ fn cylinder(minimum: f64, maximum: f64, closed: bool) -> Shape {
     }
 }
 
-/// The book's `local_intersect`, with the direction normalised as the scenarios do.
-fn local_ts(shape: &Shape, origin: Point3, direction: Vec3) -> Vec<f64> {
-    let mut ts = Vec::new();
-    shape.intersect(&Ray::new(origin, direction.normalize()), |t| ts.push(t));
-    ts.sort_by(f64::total_cmp);
-    ts
-}
-
-macro_rules! scenario_rows {
-    ($check:ident; $($name:ident: $($arg:expr),*;)*) => {$(
-        #[test]
-        fn $name() {
-            $check($($arg),*);
-        }
-    )*};
-}
-
 fn misses(origin: Point3, direction: Vec3) {
     assert!(local_ts(&Shape::CYLINDER, origin, direction).is_empty());
 }

@@ -51,20 +51,11 @@ fn point_light_intensity(p: Point3) -> f64 {
     w.intensity_at(&w.lights[0], p)
 }
 
-macro_rules! rows {
-    ($check:ident; $($name:ident: $($arg:expr),*;)*) => {$(
-        #[test]
-        fn $name() {
-            $check($($arg),*);
-        }
-    )*};
-}
-
 fn point_light_row(p: Point3, expected: f64) {
     assert_approx(point_light_intensity(p), expected);
 }
 
-rows! { point_light_row;
+scenario_rows! { point_light_row;
     point_lights_evaluate_the_light_intensity_at_a_given_point_1: point(0.0, 1.0001, 0.0), 1.0;
     point_lights_evaluate_the_light_intensity_at_a_given_point_2: point(-1.0001, 0.0, 0.0), 1.0;
     point_lights_evaluate_the_light_intensity_at_a_given_point_3: point(0.0, 0.0, -1.0001), 1.0;
@@ -97,7 +88,7 @@ fn attenuated(intensity: f64, expected: rayforge::Color) {
     assert_color_approx(result, expected);
 }
 
-rows! { attenuated;
+scenario_rows! { attenuated;
     lighting_uses_light_intensity_to_attenuate_color_1: 1.0, color(1.0, 1.0, 1.0);
     lighting_uses_light_intensity_to_attenuate_color_2: 0.5, color(0.55, 0.55, 0.55);
     lighting_uses_light_intensity_to_attenuate_color_3: 0.0, color(0.1, 0.1, 0.1);
@@ -138,7 +129,7 @@ fn point_on(u: u32, v: u32, expected: Point3) {
     assert_vec_approx(p, expected);
 }
 
-rows! { point_on;
+scenario_rows! { point_on;
     finding_a_single_point_on_an_area_light_1: 0, 0, point(0.25, 0.0, 0.25);
     finding_a_single_point_on_an_area_light_2: 1, 0, point(0.75, 0.0, 0.25);
     finding_a_single_point_on_an_area_light_3: 0, 1, point(0.25, 0.0, 0.75);
@@ -168,7 +159,7 @@ fn area_row(p: Point3, expected: f64) {
     assert_approx(w.intensity_at(&Light::Area(square_light()), p), expected);
 }
 
-rows! { area_row;
+scenario_rows! { area_row;
     the_area_light_intensity_function_1: point(0.0, 0.0, 2.0), 0.0;
     the_area_light_intensity_function_2: point(1.0, -1.0, 2.0), 0.25;
     the_area_light_intensity_function_3: point(1.5, 0.0, 2.0), 0.5;
@@ -182,7 +173,7 @@ fn jittered_point(u: u32, v: u32, expected: Point3) {
     assert_vec_approx(p, expected);
 }
 
-rows! { jittered_point;
+scenario_rows! { jittered_point;
     finding_a_single_point_on_a_jittered_area_light_1: 0, 0, point(0.15, 0.0, 0.35);
     finding_a_single_point_on_a_jittered_area_light_2: 1, 0, point(0.65, 0.0, 0.35);
     finding_a_single_point_on_a_jittered_area_light_3: 0, 1, point(0.15, 0.0, 0.85);
@@ -196,7 +187,7 @@ fn jittered_intensity(p: Point3, expected: f64) {
     assert_approx(fraction, expected);
 }
 
-rows! { jittered_intensity;
+scenario_rows! { jittered_intensity;
     the_area_light_with_jittered_samples_1: point(0.0, 0.0, 2.0), 0.0;
     the_area_light_with_jittered_samples_2: point(1.0, -1.0, 2.0), 0.5;
     the_area_light_with_jittered_samples_3: point(1.5, 0.0, 2.0), 0.75;
@@ -220,7 +211,7 @@ fn samples_area_light(pt: Point3, expected: rayforge::Color) {
     assert_color_approx(result, expected);
 }
 
-rows! { samples_area_light;
+scenario_rows! { samples_area_light;
     lighting_samples_the_area_light_1: point(0.0, 0.0, -1.0), color(0.9965, 0.9965, 0.9965);
     lighting_samples_the_area_light_2: point(0.0, 0.7071, -0.7071), color(0.6232, 0.6232, 0.6232);
 }

@@ -12,15 +12,6 @@ use rayforge::{point, Color, Pattern, PatternKind, Point3};
 const BLACK: Color = color(0.0, 0.0, 0.0);
 const WHITE: Color = color(1.0, 1.0, 1.0);
 
-macro_rules! rows {
-    ($check:ident; $($name:ident: $($arg:expr),*;)*) => {$(
-        #[test]
-        fn $name() {
-            $check($($arg),*);
-        }
-    )*};
-}
-
 fn checkers(width: f64, height: f64) -> UvPattern {
     UvPattern::Checkers {
         width,
@@ -34,7 +25,7 @@ fn checker_2d(u: f64, v: f64, expected: Color) {
     assert_eq!(checkers(2.0, 2.0).uv_pattern_at(u, v), expected);
 }
 
-rows! { checker_2d;
+scenario_rows! { checker_2d;
     checker_pattern_in_2d_1: 0.0, 0.0, BLACK;
     checker_pattern_in_2d_2: 0.5, 0.0, WHITE;
     checker_pattern_in_2d_3: 0.0, 0.5, WHITE;
@@ -52,7 +43,7 @@ fn spherical(p: Point3, u: f64, v: f64) {
     assert_uv(spherical_map(p), (u, v));
 }
 
-rows! { spherical;
+scenario_rows! { spherical;
     using_a_spherical_mapping_on_a_3d_point_1: point(0.0, 0.0, -1.0), 0.0, 0.5;
     using_a_spherical_mapping_on_a_3d_point_2: point(1.0, 0.0, 0.0), 0.25, 0.5;
     using_a_spherical_mapping_on_a_3d_point_3: point(0.0, 0.0, 1.0), 0.5, 0.5;
@@ -70,7 +61,7 @@ fn mapped_sphere(p: Point3, expected: Color) {
     assert_eq!(pattern.pattern_at(p), expected);
 }
 
-rows! { mapped_sphere;
+scenario_rows! { mapped_sphere;
     using_a_texture_map_pattern_with_a_spherical_map_1: point(0.4315, 0.4670, 0.7719), WHITE;
     using_a_texture_map_pattern_with_a_spherical_map_2: point(-0.9654, 0.2552, -0.0534), BLACK;
     using_a_texture_map_pattern_with_a_spherical_map_3: point(0.1039, 0.7090, 0.6975), WHITE;
@@ -87,7 +78,7 @@ fn planar(p: Point3, u: f64, v: f64) {
     assert_uv(planar_map(p), (u, v));
 }
 
-rows! { planar;
+scenario_rows! { planar;
     using_a_planar_mapping_on_a_3d_point_1: point(0.25, 0.0, 0.5), 0.25, 0.5;
     using_a_planar_mapping_on_a_3d_point_2: point(0.25, 0.0, -0.25), 0.25, 0.75;
     using_a_planar_mapping_on_a_3d_point_3: point(0.25, 0.5, -0.25), 0.25, 0.75;
@@ -101,7 +92,7 @@ fn cylindrical(p: Point3, u: f64, v: f64) {
     assert_uv(cylindrical_map(p), (u, v));
 }
 
-rows! { cylindrical;
+scenario_rows! { cylindrical;
     using_a_cylindrical_mapping_on_a_3d_point_1: point(0.0, 0.0, -1.0), 0.0, 0.0;
     using_a_cylindrical_mapping_on_a_3d_point_2: point(0.0, 0.5, -1.0), 0.0, 0.5;
     using_a_cylindrical_mapping_on_a_3d_point_3: point(0.0, 1.0, -1.0), 0.0, 0.0;
@@ -131,7 +122,7 @@ fn align(u: f64, v: f64, expected: Color) {
     assert_eq!(pattern.uv_pattern_at(u, v), expected);
 }
 
-rows! { align;
+scenario_rows! { align;
     layout_of_the_align_check_pattern_1: 0.5, 0.5, MAIN;
     layout_of_the_align_check_pattern_2: 0.1, 0.9, UL;
     layout_of_the_align_check_pattern_3: 0.9, 0.9, UR;
@@ -143,7 +134,7 @@ fn face(p: Point3, expected: CubeFace) {
     assert_eq!(CubeFace::from_point(p), expected);
 }
 
-rows! { face;
+scenario_rows! { face;
     identifying_the_face_of_a_cube_from_a_point_1: point(-1.0, 0.5, -0.25), CubeFace::Left;
     identifying_the_face_of_a_cube_from_a_point_2: point(1.1, -0.75, 0.8), CubeFace::Right;
     identifying_the_face_of_a_cube_from_a_point_3: point(0.1, 0.6, 0.9), CubeFace::Front;
@@ -156,7 +147,7 @@ fn face_uv(f: CubeFace, p: Point3, u: f64, v: f64) {
     assert_uv(f.uv(p), (u, v));
 }
 
-rows! { face_uv;
+scenario_rows! { face_uv;
     uv_mapping_the_front_face_of_a_cube_1: CubeFace::Front, point(-0.5, 0.5, 1.0), 0.25, 0.75;
     uv_mapping_the_front_face_of_a_cube_2: CubeFace::Front, point(0.5, -0.5, 1.0), 0.75, 0.25;
     uv_mapping_the_back_face_of_a_cube_1: CubeFace::Back, point(0.5, 0.5, -1.0), 0.25, 0.75;
@@ -201,7 +192,7 @@ fn mapped_cube(p: Point3, expected: Color) {
     assert_eq!(book_cube_map().pattern_at(p), expected);
 }
 
-rows! { mapped_cube;
+scenario_rows! { mapped_cube;
     finding_the_colors_on_a_mapped_cube_left_1: point(-1.0, 0.0, 0.0), YELLOW;
     finding_the_colors_on_a_mapped_cube_left_2: point(-1.0, 0.9, -0.9), CYAN;
     finding_the_colors_on_a_mapped_cube_left_3: point(-1.0, 0.9, 0.9), RED;

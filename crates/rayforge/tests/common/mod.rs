@@ -42,3 +42,26 @@ pub fn assert_matrix_approx(actual: glam::DMat4, expected: glam::DMat4) {
         "expected {expected:?}, got {actual:?}"
     );
 }
+
+/// One test per row of a scenario outline: `scenario_rows! { check; name: args…; … }` defines
+/// `#[test] fn name() { check(args…) }` for each row.
+#[macro_export]
+macro_rules! scenario_rows {
+    ($check:ident; $($name:ident: $($arg:expr),*;)*) => {$(
+        #[test]
+        fn $name() {
+            $check($($arg),*);
+        }
+    )*};
+}
+
+/// The book's `local_intersect(shape, ray)` for a ray with the direction normalised, as the
+/// scenario outlines write it: every `t`, sorted.
+pub fn local_ts(shape: &rayforge::Shape, origin: rayforge::Point3, direction: Vec3) -> Vec<f64> {
+    let mut ts = Vec::new();
+    shape.intersect(&rayforge::Ray::new(origin, direction.normalize()), |t| {
+        ts.push(t)
+    });
+    ts.sort_by(f64::total_cmp);
+    ts
+}
