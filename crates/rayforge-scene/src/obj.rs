@@ -383,15 +383,19 @@ pub fn to_meshes(obj: &ObjFile) -> Vec<(Arc<rayforge::geometry::Mesh>, Option<Ma
         for material in materials {
             let mut positions = Vec::new();
             let mut normals = Vec::new();
-            let mut vertex_map = HashMap::new();
-            let mut normal_map = HashMap::new();
-            let remap =
-                |map: &mut HashMap<u32, u32>, list: &mut Vec<Vec3>, source: &[Vec3], i: u32| {
-                    *map.entry(i).or_insert_with(|| {
-                        list.push(source[i as usize]);
-                        (list.len() - 1) as u32
-                    })
-                };
+            // Old index → new index, `UNUSED` until the vertex is first used: a dense table is
+            // several times faster than hashing on million-face files.
+            const UNUSED: u32 = u32::MAX;
+            let mut vertex_map = vec![UNUSED; obj.vertices.len()];
+            let mut normal_map = vec![UNUSED; obj.normals.len()];
+            let remap = |map: &mut Vec<u32>, list: &mut Vec<Vec3>, source: &[Vec3], i: u32| {
+                let slot = &mut map[i as usize];
+                if *slot == UNUSED {
+                    list.push(source[i as usize]);
+                    *slot = (list.len() - 1) as u32;
+                }
+                *slot
+            };
             let faces: Vec<MeshFace> = group
                 .triangles
                 .iter()

@@ -43,47 +43,74 @@ const TRAVERSAL_COST: f64 = 1.0;
 /// The deepest the tree may grow; a query's stack holds this many entries.
 pub const MAX_DEPTH: usize = 64;
 
-/// A range of `order` waiting to become a node; `parent` is patched with the node's index when
-/// it is a second child.
-struct Pending {
-    parent: Option<usize>,
-    start: usize,
-    end: usize,
-    depth: usize,
+/// Subtrees at least this large are split in parallel (the two halves on different threads);
+/// smaller ones are built on one thread, iteratively.
+const PARALLEL_MIN: usize = 16 * 1024;
+
+/// What the build reads: each primitive's box and centroid.
+struct BuildInput<'a> {
+    bounds: &'a [Aabb],
+    centroids: &'a [Point3],
 }
 
-impl Bvh {
-    /// Builds the hierarchy over `bounds`, one box per primitive. Boxes must be finite; empty
-    /// boxes are left out of the tree.
-    pub fn build(bounds: &[Aabb]) -> Self {
-        let mut order: Vec<u32> = (0..bounds.len() as u32)
-            .filter(|&i| !bounds[i as usize].is_empty())
-            .collect();
-        let centroids: Vec<Point3> = bounds.iter().map(Aabb::centroid).collect();
-        let mut nodes = Vec::with_capacity(2 * order.len() / MIN_SPLIT + 1);
-        let mut stack = Vec::with_capacity(MAX_DEPTH);
-        if !order.is_empty() {
-            stack.push(Pending {
-                parent: None,
-                start: 0,
-                end: order.len(),
-                depth: 0,
-            });
+impl BuildInput<'_> {
+    /// The nodes of the subtree over `items` (which start at `first` in the primitive order),
+    /// laid out depth first with indices relative to the subtree's root.
+    fn subtree(&self, items: &mut [u32], first: usize, depth: usize) -> Vec<BvhNode> {
+        if items.len() < PARALLEL_MIN {
+            return self.sequential(items, first, depth);
         }
+        let node_bounds = self.union_of(items);
+        let Some((axis, mid)) = choose_split(items, self.bounds, self.centroids, &node_bounds)
+        else {
+            return self.sequential(items, first, depth);
+        };
+        let (left, right) = items.split_at_mut(mid);
+        let (left, right) = rayon::join(
+            || self.subtree(left, first, depth + 1),
+            || self.subtree(right, first + mid, depth + 1),
+        );
+        let mut nodes = Vec::with_capacity(1 + left.len() + right.len());
+        nodes.push(BvhNode {
+            bounds: node_bounds,
+            offset: (1 + left.len()) as u32,
+            count: 0,
+            axis: axis as u8,
+        });
+        let base = 1 + left.len();
+        append_shifted(&mut nodes, left, 1);
+        append_shifted(&mut nodes, right, base);
+        nodes
+    }
+
+    fn union_of(&self, items: &[u32]) -> Aabb {
+        items
+            .iter()
+            .fold(Aabb::EMPTY, |b, &i| b.union(&self.bounds[i as usize]))
+    }
+
+    /// The subtree built on this thread with an explicit stack (no recursion).
+    fn sequential(&self, items: &mut [u32], first: usize, depth: usize) -> Vec<BvhNode> {
+        let mut nodes = Vec::with_capacity(2 * items.len() / MIN_SPLIT + 1);
+        let mut stack = Vec::with_capacity(MAX_DEPTH);
+        stack.push(Pending {
+            parent: None,
+            start: 0,
+            end: items.len(),
+            depth,
+        });
         while let Some(job) = stack.pop() {
             let index = nodes.len();
             if let Some(parent) = job.parent {
                 let parent: &mut BvhNode = &mut nodes[parent];
                 parent.offset = index as u32;
             }
-            let items = &mut order[job.start..job.end];
-            let node_bounds = items
-                .iter()
-                .fold(Aabb::EMPTY, |b, &i| b.union(&bounds[i as usize]));
-            let split = if items.len() < MIN_SPLIT || job.depth + 1 >= MAX_DEPTH {
+            let range = &mut items[job.start..job.end];
+            let node_bounds = self.union_of(range);
+            let split = if range.len() < MIN_SPLIT || job.depth + 1 >= MAX_DEPTH {
                 None
             } else {
-                choose_split(items, bounds, &centroids, &node_bounds)
+                choose_split(range, self.bounds, self.centroids, &node_bounds)
             };
             let (axis, count) = match split {
                 Some((axis, mid)) => {
@@ -101,15 +128,60 @@ impl Bvh {
                     });
                     (axis, 0)
                 }
-                None => (0, items.len()),
+                None => (0, range.len()),
             };
             nodes.push(BvhNode {
                 bounds: node_bounds,
-                offset: if count > 0 { job.start as u32 } else { 0 },
+                offset: if count > 0 {
+                    (first + job.start) as u32
+                } else {
+                    0
+                },
                 count: count as u32,
                 axis: axis as u8,
             });
         }
+        nodes
+    }
+}
+
+/// Appends a subtree's nodes placed at `base`: interior nodes' second-child indices move with
+/// them (leaf offsets point into the primitive order and stay).
+fn append_shifted(nodes: &mut Vec<BvhNode>, subtree: Vec<BvhNode>, base: usize) {
+    nodes.extend(subtree.into_iter().map(|mut n| {
+        if n.count == 0 {
+            n.offset += base as u32;
+        }
+        n
+    }));
+}
+
+/// A range of the primitives waiting to become a node; `parent` is patched with the node's
+/// index when it is a second child.
+struct Pending {
+    parent: Option<usize>,
+    start: usize,
+    end: usize,
+    depth: usize,
+}
+
+impl Bvh {
+    /// Builds the hierarchy over `bounds`, one box per primitive. Boxes must be finite; empty
+    /// boxes are left out of the tree.
+    pub fn build(bounds: &[Aabb]) -> Self {
+        let mut order: Vec<u32> = (0..bounds.len() as u32)
+            .filter(|&i| !bounds[i as usize].is_empty())
+            .collect();
+        let centroids: Vec<Point3> = bounds.iter().map(Aabb::centroid).collect();
+        let input = BuildInput {
+            bounds,
+            centroids: &centroids,
+        };
+        let nodes = if order.is_empty() {
+            Vec::new()
+        } else {
+            input.subtree(&mut order, 0, 0)
+        };
         Self { nodes, order }
     }
 
