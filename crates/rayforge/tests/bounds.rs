@@ -6,7 +6,7 @@
 mod common;
 use common::*;
 use rayforge::math::{rotation_x, rotation_y, scaling, translation, Aabb};
-use rayforge::{point, vector, Group, Object, Point3, Ray, Shape, Vec3};
+use rayforge::{point, vector, Group, Node, Object, Point3, Ray, Shape, Vec3};
 use std::f64::consts::PI;
 
 const INF: f64 = f64::INFINITY;
@@ -268,4 +268,117 @@ fn splitting_a_z_wide_box() {
     let (l, r) = aabb((-1.0, -2.0, -3.0), (5.0, 3.0, 7.0)).split();
     assert_eq!(l, aabb((-1.0, -2.0, -3.0), (5.0, 3.0, 2.0)));
     assert_eq!(r, aabb((-1.0, -2.0, 2.0), (5.0, 3.0, 7.0)));
+}
+
+#[test]
+fn a_csg_shape_has_a_bounding_box_that_contains_its_children() {
+    let left = Object::sphere();
+    let right = Object::sphere().with_transform(translation(2.0, 3.0, 4.0));
+    let shape = rayforge::Object::csg(rayforge::CsgOperation::Difference, left, right).unwrap();
+    let b = shape.bounds();
+    assert_vec_approx(b.min, point(-1.0, -1.0, -1.0));
+    assert_vec_approx(b.max, point(3.0, 4.0, 5.0));
+}
+
+fn sphere_at(x: f64, y: f64, z: f64) -> Object {
+    Object::sphere().with_transform(translation(x, y, z))
+}
+
+fn as_group(node: &Node) -> &Group {
+    match node {
+        Node::Group(g) => g,
+        Node::Object(o) => panic!("expected a group, found {o:?}"),
+    }
+}
+
+#[test]
+fn partitioning_a_groups_children() {
+    let (s1, s2, s3) = (
+        sphere_at(-2.0, 0.0, 0.0),
+        sphere_at(2.0, 0.0, 0.0),
+        Object::sphere(),
+    );
+    let mut g = Group::new()
+        .with_child(s1.clone())
+        .with_child(s2.clone())
+        .with_child(s3.clone());
+    let (left, right) = g.partition_children();
+    assert_eq!(g.children, [Node::from(s3)]);
+    assert_eq!(left, [Node::from(s1)]);
+    assert_eq!(right, [Node::from(s2)]);
+}
+
+#[test]
+fn creating_a_sub_group_from_a_list_of_children() {
+    let (s1, s2) = (Object::sphere(), Object::sphere());
+    let mut g = Group::new();
+    g.make_subgroup(vec![Node::from(s1.clone()), Node::from(s2.clone())]);
+    assert_eq!(g.children.len(), 1);
+    assert_eq!(
+        as_group(&g.children[0]).children,
+        [Node::from(s1), Node::from(s2)]
+    );
+}
+
+#[test]
+fn subdividing_a_group_partitions_its_children() {
+    let s1 = sphere_at(-2.0, -2.0, 0.0);
+    let s2 = sphere_at(-2.0, 2.0, 0.0);
+    let s3 = Object::sphere().with_transform(scaling(4.0, 4.0, 4.0));
+    let mut g = Group::new()
+        .with_child(s1.clone())
+        .with_child(s2.clone())
+        .with_child(s3.clone());
+    g.divide(1);
+    assert_eq!(g.children[0], Node::from(s3));
+    let subgroup = as_group(&g.children[1]);
+    assert_eq!(subgroup.children.len(), 2);
+    assert_eq!(as_group(&subgroup.children[0]).children, [Node::from(s1)]);
+    assert_eq!(as_group(&subgroup.children[1]).children, [Node::from(s2)]);
+}
+
+#[test]
+fn subdividing_a_group_with_too_few_children() {
+    let s1 = sphere_at(-2.0, 0.0, 0.0);
+    let s2 = sphere_at(2.0, 1.0, 0.0);
+    let s3 = sphere_at(2.0, -1.0, 0.0);
+    let subgroup = Group::new()
+        .with_child(s1.clone())
+        .with_child(s2.clone())
+        .with_child(s3.clone());
+    let s4 = Object::sphere();
+    let mut g = Group::new().with_child(subgroup).with_child(s4.clone());
+    g.divide(3);
+    let subgroup = as_group(&g.children[0]);
+    assert_eq!(g.children[1], Node::from(s4));
+    assert_eq!(subgroup.children.len(), 2);
+    assert_eq!(as_group(&subgroup.children[0]).children, [Node::from(s1)]);
+    assert_eq!(
+        as_group(&subgroup.children[1]).children,
+        [Node::from(s2), Node::from(s3)]
+    );
+}
+
+#[test]
+fn subdividing_a_primitive_does_nothing_to_its_flattened_objects() {
+    // A group of one primitive below the threshold stays as it is.
+    let mut g = Group::new().with_child(Object::sphere());
+    let before = g.clone();
+    g.divide(2);
+    assert_eq!(g, before);
+}
+
+#[test]
+fn a_divided_group_renders_the_same_objects() {
+    let mut g = Group::new();
+    for i in 0..20 {
+        g.add_child(sphere_at(i as f64 * 0.7 - 7.0, (i % 3) as f64, 0.0));
+    }
+    let before = g.flatten().unwrap();
+    g.divide(4);
+    let after = g.flatten().unwrap();
+    assert_eq!(before.len(), after.len());
+    for o in &before {
+        assert!(after.contains(o));
+    }
 }

@@ -117,3 +117,22 @@ fn a_million_boxes_in_a_line_build_without_deep_recursion() {
     let ray = Ray::new(point(-1.0, 0.5, 0.5), vector(1.0, 0.0, 0.0));
     assert_eq!(visit_all(&bvh, &ray).len(), 200_000);
 }
+
+/// The bonus chapter's "Intersecting ray+group doesn't test children if box is missed": the
+/// BVH visits no primitive when the ray misses the root box.
+#[test]
+fn intersecting_ray_group_doesnt_test_children_if_box_is_missed() {
+    let boxes = vec![Aabb::new(point(-1.0, -1.0, -1.0), point(1.0, 1.0, 1.0)); 3];
+    let bvh = Bvh::build(&boxes);
+    let ray = Ray::new(point(0.0, 0.0, -5.0), vector(0.0, 1.0, 0.0));
+    assert!(visit_all(&bvh, &ray).is_empty());
+}
+
+/// "Intersecting ray+group tests children if box is hit".
+#[test]
+fn intersecting_ray_group_tests_children_if_box_is_hit() {
+    let boxes = vec![Aabb::new(point(-1.0, -1.0, -1.0), point(1.0, 1.0, 1.0)); 3];
+    let bvh = Bvh::build(&boxes);
+    let ray = Ray::new(point(0.0, 0.0, -5.0), vector(0.0, 0.0, 1.0));
+    assert_eq!(visit_all(&bvh, &ray), [0, 1, 2]);
+}

@@ -8,7 +8,7 @@
 //! hierarchy per ray. The results are the same: `world_to_object` and `normal_to_world` of a
 //! flattened child equal the book's recursive versions.
 
-use crate::math::{SingularTransform, Transform};
+use crate::math::{Aabb, SingularTransform, Transform};
 use crate::Object;
 
 /// A node of a scene tree: a shape, or a group of nodes.
@@ -78,6 +78,81 @@ impl Group {
             }
         }
         Ok(out)
+    }
+}
+
+impl Node {
+    /// The box around the node in its parent's space (the book's `parent_space_bounds_of`).
+    pub fn bounds(&self) -> Aabb {
+        match self {
+            Node::Object(object) => object.bounds(),
+            Node::Group(group) => group.bounds(),
+        }
+    }
+}
+
+impl Group {
+    /// The box around every child, in the group's own space (the book's `bounds_of(group)`).
+    pub fn local_bounds(&self) -> Aabb {
+        self.children
+            .iter()
+            .fold(Aabb::EMPTY, |b, child| b.union(&child.bounds()))
+    }
+
+    /// The box around the group in its parent's space.
+    pub fn bounds(&self) -> Aabb {
+        self.local_bounds().transform(&self.transform)
+    }
+
+    /// The book's `partition_children(group)`: splits the group's box in half along its longest
+    /// axis and moves out the children that fit entirely in one half, returning (left, right);
+    /// children that straddle the split stay.
+    pub fn partition_children(&mut self) -> (Vec<Node>, Vec<Node>) {
+        let (left_box, right_box) = self.local_bounds().split();
+        let (mut left, mut right, mut stay) = (Vec::new(), Vec::new(), Vec::new());
+        for child in std::mem::take(&mut self.children) {
+            let b = child.bounds();
+            if left_box.contains_box(&b) {
+                left.push(child);
+            } else if right_box.contains_box(&b) {
+                right.push(child);
+            } else {
+                stay.push(child);
+            }
+        }
+        self.children = stay;
+        (left, right)
+    }
+
+    /// The book's `make_subgroup(group, children)`: adds a new group holding `children`.
+    pub fn make_subgroup(&mut self, children: Vec<Node>) {
+        self.add_child(Group {
+            transform: Transform::IDENTITY,
+            children,
+        });
+    }
+
+    /// The book's `divide(group, threshold)`: the bonus chapter's simple hierarchy, which
+    /// partitions any group of at least `threshold` children into subgroups, recursively.
+    ///
+    /// Rendering does not need it (flattened objects get a surface-area-heuristic BVH); it
+    /// exists for code that builds scene trees with the book's API. It recurses once per level
+    /// of the tree, which the scene reader caps at 256.
+    pub fn divide(&mut self, threshold: usize) {
+        if threshold <= self.children.len() {
+            let (left, right) = self.partition_children();
+            if !left.is_empty() {
+                self.make_subgroup(left);
+            }
+            if !right.is_empty() {
+                self.make_subgroup(right);
+            }
+        }
+        for child in &mut self.children {
+            if let Node::Group(group) = child {
+                group.divide(threshold);
+            }
+        }
     }
 }
 
