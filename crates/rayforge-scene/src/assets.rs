@@ -43,7 +43,8 @@ impl Assets {
         if let Some(m) = self.meshes.get(path) {
             return Ok(m.clone());
         }
-        let obj = read_obj_file(path)?;
+        let textures = &mut self.textures;
+        let obj = read_obj_file(path, &mut |image| cached_texture(textures, image))?;
         let meshes: ObjMeshes = Arc::new(to_meshes(&obj));
         self.meshes.insert(path.to_path_buf(), meshes.clone());
         Ok(meshes)
@@ -52,7 +53,17 @@ impl Assets {
     /// An image texture (PNG, JPEG, PPM/PGM/PBM), read on first use. Bytes become colours as
     /// they are (byte / 255), as the book's canvas-backed image patterns read them.
     pub fn texture(&mut self, path: &Path) -> Result<Arc<Texture>, SceneError> {
-        if let Some(t) = self.textures.get(path) {
+        cached_texture(&mut self.textures, path)
+    }
+}
+
+/// An image texture from `cache`, read and added on first use.
+fn cached_texture(
+    cache: &mut HashMap<PathBuf, Arc<Texture>>,
+    path: &Path,
+) -> Result<Arc<Texture>, SceneError> {
+    {
+        if let Some(t) = cache.get(path) {
             return Ok(t.clone());
         }
         let fail = |e: &dyn std::fmt::Display| {
@@ -79,7 +90,7 @@ impl Assets {
         let texture = Texture::new(w, h, pixels, Filter::Bilinear)
             .ok_or_else(|| fail(&"the image is empty"))?;
         let texture = Arc::new(texture);
-        self.textures.insert(path.to_path_buf(), texture.clone());
+        cache.insert(path.to_path_buf(), texture.clone());
         Ok(texture)
     }
 }

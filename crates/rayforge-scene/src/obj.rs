@@ -66,8 +66,16 @@ impl ObjFile {
     }
 }
 
-/// Reads an OBJ file, and the MTL files it names (relative to it).
-pub fn read_obj_file(path: &Path) -> Result<ObjFile, SceneError> {
+/// Loads an image named by a material library (`map_Kd`).
+pub type TextureLoader<'a> =
+    dyn FnMut(&Path) -> Result<Arc<rayforge::shading::Texture>, SceneError> + 'a;
+
+/// Reads an OBJ file, and the MTL files it names (relative to it), loading their texture maps
+/// with `load_texture`.
+pub fn read_obj_file(
+    path: &Path,
+    load_texture: &mut TextureLoader<'_>,
+) -> Result<ObjFile, SceneError> {
     let text = read_text(path)?;
     let mut obj = parse_obj(&text, path)?;
     let dir = path.parent().unwrap_or(Path::new("."));
@@ -78,7 +86,8 @@ pub fn read_obj_file(path: &Path) -> Result<ObjFile, SceneError> {
                 .at(span)
                 .with_key("mtllib")
         })?;
-        obj.materials.extend(parse_mtl(&mtl_text, &mtl_path)?);
+        obj.materials
+            .extend(parse_mtl(&mtl_text, &mtl_path, load_texture)?);
     }
     Ok(obj)
 }
@@ -323,9 +332,13 @@ fn corner(line: &Line<'_>, obj: &ObjFile, col: usize, word: &str) -> Result<Corn
 ///
 /// `Kd` becomes the colour, `Ks` (averaged) the specular weight, `Ns` the shininess, `d` (or
 /// `1 - Tr`) the opacity, `Ni` the refractive index; `illum` 3 and above (ray-traced
-/// reflection) makes the surface reflective by its specular weight. Texture maps (`map_Kd`)
-/// need image textures, which rayforge does not read yet: they are counted as ignored.
-pub fn parse_mtl(text: &str, path: &Path) -> Result<HashMap<String, Material>, SceneError> {
+/// reflection) makes the surface reflective by its specular weight. `map_Kd` names an image
+/// (relative to the MTL file) that multiplies `Kd` where the model has texture coordinates.
+pub fn parse_mtl(
+    text: &str,
+    path: &Path,
+    load_texture: &mut TextureLoader<'_>,
+) -> Result<HashMap<String, Material>, SceneError> {
     let mut out = HashMap::new();
     // The material being read, and whether `illum` asked for ray-traced reflection (applied
     // when the material ends, so it sees `Ks` wherever it was written).
@@ -361,6 +374,16 @@ pub fn parse_mtl(text: &str, path: &Path) -> Result<HashMap<String, Material>, S
             "Tr" => m.transparency = line.numbers::<1>("Tr", 1)?[0],
             "Ni" => m.refractive_index = line.numbers::<1>("Ni", 1)?[0],
             "illum" => *reflect = line.numbers::<1>("illum", 1)?[0] >= 3.0,
+            "map_Kd" => {
+                // The file name is the last word (options such as `-bm 1` may precede it).
+                let Some((col, name)) = line.words().last().filter(|(_, w)| *w != "map_Kd") else {
+                    return Err(line.error(0, 6, "map_Kd", "`map_Kd` needs a file name".into()));
+                };
+                let image = path.parent().unwrap_or(Path::new(".")).join(name);
+                let texture = load_texture(&image)
+                    .map_err(|e| line.error(col, name.len(), "map_Kd", e.message))?;
+                m.texture = Some(rayforge::shading::UvPattern::Image(texture));
+            }
             _ => {}
         }
     }
@@ -388,14 +411,16 @@ pub fn to_meshes(obj: &ObjFile) -> Vec<(Arc<rayforge::geometry::Mesh>, Option<Ma
             const UNUSED: u32 = u32::MAX;
             let mut vertex_map = vec![UNUSED; obj.vertices.len()];
             let mut normal_map = vec![UNUSED; obj.normals.len()];
-            let remap = |map: &mut Vec<u32>, list: &mut Vec<Vec3>, source: &[Vec3], i: u32| {
+            let mut texcoord_map = vec![UNUSED; obj.texcoords.len()];
+            let mut texcoords = Vec::new();
+            fn remap<T: Copy>(map: &mut [u32], list: &mut Vec<T>, source: &[T], i: u32) -> u32 {
                 let slot = &mut map[i as usize];
                 if *slot == UNUSED {
                     list.push(source[i as usize]);
                     *slot = (list.len() - 1) as u32;
                 }
                 *slot
-            };
+            }
             let faces: Vec<MeshFace> = group
                 .triangles
                 .iter()
@@ -407,13 +432,16 @@ pub fn to_meshes(obj: &ObjFile) -> Vec<(Arc<rayforge::geometry::Mesh>, Option<Ma
                     normals: t
                         .normals
                         .map(|n| n.map(|i| remap(&mut normal_map, &mut normals, &obj.normals, i))),
+                    texcoords: t.texcoords.map(|n| {
+                        n.map(|i| remap(&mut texcoord_map, &mut texcoords, &obj.texcoords, i))
+                    }),
                 })
                 .collect();
             if faces.is_empty() {
                 continue;
             }
             // Indices were checked while parsing and remapped into range, so this cannot fail.
-            let Ok(mesh) = Mesh::new(positions, normals, faces) else {
+            let Ok(mesh) = Mesh::with_texcoords(positions, normals, texcoords, faces) else {
                 continue;
             };
             let material = material

@@ -1,11 +1,33 @@
 //! Chapter 15: the OBJ file parser, and OBJ models in scene files.
 use rayforge::color::color;
+use rayforge::{hit, prepare_computations, Ray};
 use rayforge::{point, vector, Shape};
 use rayforge_scene::obj::{parse_obj, read_obj_file, to_meshes};
 use std::path::{Path, PathBuf};
 
 fn parse(text: &str) -> rayforge_scene::obj::ObjFile {
     parse_obj(text, Path::new("test.obj")).expect("parses")
+}
+
+/// Reads an OBJ file, loading any texture maps it names without a cache.
+fn read_obj(path: &Path) -> Result<rayforge_scene::obj::ObjFile, rayforge_scene::SceneError> {
+    read_obj_file(path, &mut |image| {
+        let text = std::fs::read_to_string(image)
+            .map_err(|e| rayforge_scene::SceneError::new(image, e.to_string()))?;
+        // The fixtures' images are plain PPMs of one colour: read the first pixel.
+        let numbers: Vec<f64> = text
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .flat_map(|l| l.split_whitespace())
+            .skip(4)
+            .map(|v| v.parse::<f64>().unwrap() / 255.0)
+            .collect();
+        let pixel = rayforge::Color::new(numbers[0], numbers[1], numbers[2]);
+        Ok(std::sync::Arc::new(
+            rayforge::shading::Texture::new(1, 1, vec![pixel], rayforge::shading::Filter::Nearest)
+                .unwrap(),
+        ))
+    })
 }
 
 fn fixture(name: &str) -> PathBuf {
@@ -54,7 +76,7 @@ fn triangulating_polygons() {
 
 #[test]
 fn triangles_in_groups() {
-    let obj = read_obj_file(&fixture("triangles.obj")).unwrap();
+    let obj = read_obj(&fixture("triangles.obj")).unwrap();
     let g1 = obj.group("FirstGroup").unwrap();
     let g2 = obj.group("SecondGroup").unwrap();
     assert_eq!(g1.triangles[0].vertices, [0, 1, 2]);
@@ -63,7 +85,7 @@ fn triangles_in_groups() {
 
 #[test]
 fn converting_an_obj_file_to_a_group() {
-    let obj = read_obj_file(&fixture("triangles.obj")).unwrap();
+    let obj = read_obj(&fixture("triangles.obj")).unwrap();
     let meshes = to_meshes(&obj);
     // One mesh per named group (the default group is empty here).
     assert_eq!(meshes.len(), 2);
@@ -106,7 +128,7 @@ fn negative_indices_count_back_from_the_latest_vertex() {
 
 #[test]
 fn texture_coordinates_are_kept() {
-    let obj = read_obj_file(&fixture("cube.obj")).unwrap();
+    let obj = read_obj(&fixture("cube.obj")).unwrap();
     let front = obj.group("front").unwrap();
     assert_eq!(obj.texcoords.len(), 4);
     assert_eq!(front.triangles[0].texcoords, Some([0, 3, 2]));
@@ -114,7 +136,7 @@ fn texture_coordinates_are_kept() {
 
 #[test]
 fn materials_from_the_library_map_onto_rayforge_materials() {
-    let obj = read_obj_file(&fixture("cube.obj")).unwrap();
+    let obj = read_obj(&fixture("cube.obj")).unwrap();
     let red = &obj.materials["red"];
     assert_eq!(red.color, color(0.8, 0.1, 0.1));
     assert!((red.specular - 0.3).abs() < 1e-12);
@@ -153,7 +175,7 @@ fn a_face_with_two_corners_is_refused() {
 #[test]
 fn a_scene_places_an_obj_model_with_its_transform_and_materials() {
     let dir = tempfile::tempdir().unwrap();
-    for f in ["cube.obj", "cube.mtl", "triangles.obj"] {
+    for f in ["cube.obj", "cube.mtl", "tint.ppm", "triangles.obj"] {
         std::fs::copy(fixture(f), dir.path().join(f)).unwrap();
     }
     let scene_path = dir.path().join("scene.yml");
@@ -190,4 +212,40 @@ fn a_missing_obj_file_is_reported_at_the_file_key() {
     assert_eq!(e.key.as_deref(), Some("file"));
     assert_eq!(e.span.unwrap().line, 2);
     assert!(e.message.contains("nowhere.obj"), "{e}");
+}
+
+#[test]
+fn map_kd_multiplies_the_colour_at_the_models_texture_coordinates() {
+    let obj = read_obj(&fixture("cube.obj")).unwrap();
+    let red = &obj.materials["red"];
+    assert!(red.texture.is_some(), "map_Kd is read");
+    let dir = tempfile::tempdir().unwrap();
+    for f in ["cube.obj", "cube.mtl", "tint.ppm"] {
+        std::fs::copy(fixture(f), dir.path().join(f)).unwrap();
+    }
+    let scene_path = dir.path().join("scene.yml");
+    std::fs::write(
+        &scene_path,
+        "- add: camera\n  width: 8\n  height: 8\n  field-of-view: 1\n  from: [0, 0, -5]\n  to: [0, 0, 0]\n  up: [0, 1, 0]\n- add: obj\n  file: cube.obj\n",
+    )
+    .unwrap();
+    let scene = rayforge_scene::load_file(&scene_path).unwrap();
+    // Straight at the front face (z = -1), a quarter of the way in from its lower-left corner.
+    let r = Ray::new(point(-0.5, -0.5, -5.0), vector(0.0, 0.0, 1.0));
+    let xs = scene.world.intersect(&r);
+    let h = hit(&xs).unwrap();
+    let comps = prepare_computations(h, &r, &xs);
+    let (u, v) = comps.uv.expect("the front face has texture coordinates");
+    assert!(
+        (u - 0.25).abs() < 1e-9 && (v - 0.25).abs() < 1e-9,
+        "({u}, {v})"
+    );
+    let c = comps
+        .surface
+        .material
+        .color_at(comps.surface, comps.point, comps.uv);
+    let expected = color(128.0 / 255.0 * 0.8, 0.1, 0.1);
+    // Images decode to 32-bit floats: compare at that precision.
+    assert!((c.red - expected.red).abs() < 1e-6, "{c:?}");
+    assert!((c.green - expected.green).abs() < 1e-6, "{c:?}");
 }

@@ -18,6 +18,8 @@ pub struct MeshFace {
     pub vertices: [u32; 3],
     /// Indices of the corners' normals in [`Mesh::normals`], for smooth shading.
     pub normals: Option<[u32; 3]>,
+    /// Indices of the corners' texture coordinates in [`Mesh::texcoords`], for texture maps.
+    pub texcoords: Option<[u32; 3]>,
 }
 
 /// A face that names a vertex or normal the mesh does not have.
@@ -26,7 +28,7 @@ pub struct MeshFace {
 pub struct MeshError {
     /// Which face (0-based).
     pub face: usize,
-    /// "vertex" or "normal".
+    /// "vertex", "normal" or "texture coordinate".
     pub what: &'static str,
     /// The index it names (0-based).
     pub index: u32,
@@ -39,6 +41,7 @@ pub struct MeshError {
 pub struct Mesh {
     positions: Vec<Point3>,
     normals: Vec<Vec3>,
+    texcoords: Vec<[f64; 2]>,
     faces: Vec<MeshFace>,
     bvh: Bvh,
 }
@@ -48,6 +51,16 @@ impl Mesh {
     pub fn new(
         positions: Vec<Point3>,
         normals: Vec<Vec3>,
+        faces: Vec<MeshFace>,
+    ) -> Result<Self, MeshError> {
+        Self::with_texcoords(positions, normals, Vec::new(), faces)
+    }
+
+    /// A mesh with texture coordinates as well; every index must be in range.
+    pub fn with_texcoords(
+        positions: Vec<Point3>,
+        normals: Vec<Vec3>,
+        texcoords: Vec<[f64; 2]>,
         faces: Vec<MeshFace>,
     ) -> Result<Self, MeshError> {
         for (face, f) in faces.iter().enumerate() {
@@ -69,6 +82,9 @@ impl Mesh {
             for i in f.normals.into_iter().flatten() {
                 check("normal", i, normals.len())?;
             }
+            for i in f.texcoords.into_iter().flatten() {
+                check("texture coordinate", i, texcoords.len())?;
+            }
         }
         let boxes: Vec<Aabb> = faces
             .iter()
@@ -84,6 +100,7 @@ impl Mesh {
         Ok(Self {
             positions,
             normals,
+            texcoords,
             faces,
             bvh,
         })
@@ -97,6 +114,26 @@ impl Mesh {
     /// The vertex normals (empty when the mesh has none).
     pub fn normals(&self) -> &[Vec3] {
         &self.normals
+    }
+
+    /// The texture coordinates (empty when the mesh has none).
+    pub fn texcoords(&self) -> &[[f64; 2]] {
+        &self.texcoords
+    }
+
+    /// The texture coordinates at a hit, blended from its face's corners by `u`, `v`; `None`
+    /// when the face has none.
+    pub fn texcoord_at(&self, hit: &LocalHit) -> Option<(f64, f64)> {
+        let [t1, t2, t3] = self
+            .faces
+            .get(hit.face as usize)?
+            .texcoords?
+            .map(|i| self.texcoords[i as usize]);
+        let w = 1.0 - hit.u - hit.v;
+        Some((
+            t1[0] * w + t2[0] * hit.u + t3[0] * hit.v,
+            t1[1] * w + t2[1] * hit.u + t3[1] * hit.v,
+        ))
     }
 
     /// The faces.

@@ -210,6 +210,14 @@ impl Shape {
         }
     }
 
+    /// The surface's own texture coordinates at a hit, where it has them (meshes with `vt`).
+    pub fn surface_uv(&self, hit: &LocalHit) -> Option<(f64, f64)> {
+        match self {
+            Shape::Mesh(mesh) => mesh.texcoord_at(hit),
+            _ => None,
+        }
+    }
+
     /// The book's `bounds_of(shape)`: the object-space box around the shape (infinite along the
     /// axes where the shape is unbounded).
     pub fn bounds(&self) -> Aabb {

@@ -36,6 +36,7 @@ pub fn sphere_mesh(rings: u32, segments: u32) -> Mesh {
                 faces.push(MeshFace {
                     vertices: v,
                     normals: Some(v),
+                    texcoords: None,
                 });
             }
         }

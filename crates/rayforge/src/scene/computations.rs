@@ -33,6 +33,8 @@ pub struct Computations<'a> {
     pub inside: bool,
     /// The ray's direction mirrored about the normal.
     pub reflectv: Vec3,
+    /// The surface's own texture coordinates at the hit, where it has them.
+    pub uv: Option<(f64, f64)>,
     /// Refractive index of the medium the ray leaves.
     pub n1: f64,
     /// Refractive index of the medium the ray enters.
@@ -71,6 +73,7 @@ pub fn prepare_computations_with<'a>(
         t: hit.t,
         object: hit.object,
         surface: hit.object.surface(hit.leaf),
+        uv: hit.object.surface(hit.leaf).shape.surface_uv(&hit.local()),
         point,
         over_point: point + normalv * EPSILON,
         under_point: point - normalv * EPSILON,

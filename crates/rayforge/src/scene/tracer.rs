@@ -70,12 +70,13 @@ impl<'w> Tracer<'w> {
     /// (mixed by Schlick's Fresnel factor when the material has both).
     pub fn shade_hit(&mut self, comps: &Computations<'_>, remaining: u32) -> Color {
         let material = &comps.surface.material;
+        let color = material.color_at(comps.surface, comps.over_point, comps.uv);
         let mut surface = Color::BLACK;
         for light in &self.world.lights {
             let fraction = self.intensity_at(light, comps.over_point);
             surface += lighting_with(
                 material,
-                comps.surface,
+                color,
                 light,
                 comps.over_point,
                 comps.eyev,

@@ -1,7 +1,8 @@
 //! The Phong material (chapters 6, 10 and 11).
 
-use super::Pattern;
-use crate::Color;
+use super::{Pattern, UvPattern};
+use crate::math::Point3;
+use crate::{Color, Object};
 
 /// Surface properties: Phong coefficients, a colour or pattern, reflection and refraction.
 #[derive(Debug, Clone, PartialEq)]
@@ -10,6 +11,9 @@ pub struct Material {
     pub color: Color,
     /// A pattern that replaces `color` when present.
     pub pattern: Option<Pattern>,
+    /// An image or UV pattern read with the surface's own texture coordinates (an OBJ model's
+    /// `vt`), multiplying `color` (MTL's `map_Kd`). Surfaces without coordinates ignore it.
+    pub texture: Option<UvPattern>,
     /// Fraction of the light's colour reflected regardless of direction.
     pub ambient: f64,
     /// Weight of the Lambertian term.
@@ -31,6 +35,7 @@ impl Material {
     pub const DEFAULT: Self = Self {
         color: Color::WHITE,
         pattern: None,
+        texture: None,
         ambient: 0.1,
         diffuse: 0.9,
         specular: 0.9,
@@ -46,6 +51,20 @@ impl Material {
             transparency: 1.0,
             refractive_index: 1.5,
             ..Self::DEFAULT
+        }
+    }
+}
+
+impl Material {
+    /// The surface colour at a point: the texture at the surface's coordinates when both exist,
+    /// else the pattern, else the plain colour.
+    pub fn color_at(&self, object: &Object, point: Point3, uv: Option<(f64, f64)>) -> Color {
+        if let (Some(texture), Some((u, v))) = (&self.texture, uv) {
+            return texture.uv_pattern_at(u, v) * self.color;
+        }
+        match &self.pattern {
+            Some(pattern) => pattern.color_at_object(object, point),
+            None => self.color,
         }
     }
 }

@@ -23,9 +23,10 @@ pub fn lighting(
     light_fraction: f64,
 ) -> Color {
     let mut jitter = SplitMix64::new(0);
+    let surface = material.color_at(object, point, None);
     lighting_with(
         material,
-        object,
+        surface,
         light,
         point,
         eyev,
@@ -35,14 +36,15 @@ pub fn lighting(
     )
 }
 
-/// [`lighting`] with the jitter source for area-light samples given.
+/// [`lighting`] with the surface colour already found (see [`Material::color_at`]) and the
+/// jitter source for area-light samples given.
 ///
 /// An area light's diffuse and specular terms are averaged over one sample point per cell
 /// (the bonus chapter's algorithm); a point light is its own single sample.
 #[allow(clippy::too_many_arguments)]
 pub fn lighting_with(
     material: &Material,
-    object: &Object,
+    surface: Color,
     light: &Light,
     point: Point3,
     eyev: Vec3,
@@ -50,10 +52,6 @@ pub fn lighting_with(
     light_fraction: f64,
     jitter: &mut dyn Jitter,
 ) -> Color {
-    let surface = match &material.pattern {
-        Some(pattern) => pattern.color_at_object(object, point),
-        None => material.color,
-    };
     let effective = surface * light.intensity();
     let ambient = effective * material.ambient;
     if light_fraction <= 0.0 {
