@@ -382,3 +382,44 @@ fn a_divided_group_renders_the_same_objects() {
         assert!(after.contains(o));
     }
 }
+
+/// The book's "A test shape has (arbitrary) bounds": every shape reports object-space bounds;
+/// with no `test_shape` in rayforge, a unit cube stands in for it.
+#[test]
+fn a_test_shape_has_arbitrary_bounds() {
+    let b = Shape::Cube.bounds();
+    assert_eq!(b.min, point(-1.0, -1.0, -1.0));
+    assert_eq!(b.max, point(1.0, 1.0, 1.0));
+}
+
+/// The book's "Subdividing a CSG shape subdivides its children". A rayforge CSG keeps its
+/// operands as flat lists of primitives (its own hierarchy is the operation tree), so dividing
+/// the groups before building the CSG must leave each side's primitives where they were.
+#[test]
+fn subdividing_a_csg_shape_subdivides_its_children() {
+    let (s1, s2) = (sphere_at(-1.5, 0.0, 0.0), sphere_at(1.5, 0.0, 0.0));
+    let (s3, s4) = (sphere_at(0.0, 0.0, -1.5), sphere_at(0.0, 0.0, 1.5));
+    let mut left = Group::new().with_child(s1.clone()).with_child(s2.clone());
+    let mut right = Group::new().with_child(s3.clone()).with_child(s4.clone());
+    left.divide(1);
+    right.divide(1);
+    assert_eq!(
+        as_group(&left.children[0]).children,
+        [Node::from(s1.clone())]
+    );
+    assert_eq!(
+        as_group(&left.children[1]).children,
+        [Node::from(s2.clone())]
+    );
+    assert_eq!(
+        as_group(&right.children[0]).children,
+        [Node::from(s3.clone())]
+    );
+    assert_eq!(
+        as_group(&right.children[1]).children,
+        [Node::from(s4.clone())]
+    );
+    let csg = rayforge::Csg::new(rayforge::CsgOperation::Difference, left, right).unwrap();
+    assert_eq!(csg.left(), [s1, s2]);
+    assert_eq!(csg.right(), [s3, s4]);
+}

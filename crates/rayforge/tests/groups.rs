@@ -119,3 +119,23 @@ fn deeply_nested_groups_flatten_without_overflowing_the_stack() {
     // Dropping a deep tree recurses too; leak it rather than test the allocator's stack.
     std::mem::forget(g);
 }
+
+/// The book's "A shape has a parent attribute". rayforge keeps no parent pointers (DESIGN.md:
+/// the tree is flattened when the scene is built); what the parent link is for — converting
+/// between world and object space through every ancestor — is carried by the flattened shape's
+/// transform. A shape outside any group has only its own transform.
+#[test]
+fn a_shape_has_a_parent_attribute() {
+    let s = Object::sphere().with_transform(translation(1.0, 0.0, 0.0));
+    let alone = Group::new().with_child(s.clone()).flatten().unwrap();
+    assert_eq!(alone[0].transform, s.transform);
+    let parented = Group::new()
+        .with_transform(scaling(2.0, 2.0, 2.0))
+        .with_child(s)
+        .flatten()
+        .unwrap();
+    assert_matrix_approx(
+        parented[0].transform.matrix(),
+        scaling(2.0, 2.0, 2.0) * translation(1.0, 0.0, 0.0),
+    );
+}
