@@ -44,6 +44,17 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
 
+    /// Camera rays per pixel, overriding the camera's `samples`: a stratified, jittered grid of
+    /// the smallest square with at least that many cells (4 → 2×2, 9 → 3×3); 1 is one ray
+    /// through the centre.
+    #[arg(long, value_name = "N")]
+    pub spp: Option<u32>,
+
+    /// Anti-alias adaptively instead (chapter 17): rays at each pixel's corners and centre,
+    /// splitting the pixel where they differ by more than this (0 to 1, per channel).
+    #[arg(long, value_name = "THRESHOLD")]
+    pub adaptive: Option<f64>,
+
     /// How many reflection and refraction bounces to follow.
     #[arg(long, value_name = "N", default_value_t = rayforge::DEFAULT_MAX_DEPTH)]
     pub max_depth: u32,

@@ -5,7 +5,7 @@ use crate::failure::Failure;
 use crate::output::write_atomically;
 use crate::progress::row_bar;
 use crate::settings::RenderSettings;
-use rayforge::render::{render, RenderOptions};
+use rayforge::render::{render, RenderOptions, Sampling};
 use rayforge::Camera;
 use std::time::Instant;
 
@@ -31,8 +31,17 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
     let bar = row_bar(camera.vsize(), settings.quiet);
     let started = Instant::now();
     let progress = |rows: usize| bar.inc(rows as u64);
+    let sampling = match settings.adaptive {
+        // Three levels of splitting: at most 64 sub-squares, about 4 rays each, per pixel.
+        Some(threshold) => Sampling::Adaptive {
+            threshold,
+            depth: 3,
+        },
+        None => Sampling::with_samples(settings.spp.unwrap_or(scene.samples)),
+    };
     let options = RenderOptions {
         max_depth: settings.max_depth,
+        sampling,
         progress: Some(&progress),
     };
     let (canvas, stats) = pool.install(|| render(&camera, &scene.world, &options));

@@ -8,6 +8,9 @@ use std::path::PathBuf;
 /// Default pixel limit: 2²⁸ pixels (16384 × 16384), about 6 GiB of linear colour in memory.
 pub const DEFAULT_MAX_PIXELS: u64 = 1 << 28;
 
+/// Most camera rays per pixel accepted on the command line.
+const MAX_SPP: u32 = 4096;
+
 /// Deepest recursion accepted: every bounce can spawn two rays, so deep limits explode.
 const MAX_DEPTH_LIMIT: u32 = 64;
 
@@ -28,6 +31,10 @@ pub struct RenderSettings {
     pub threads: Option<usize>,
     /// Recursion limit.
     pub max_depth: u32,
+    /// Samples per pixel asked for on the command line.
+    pub spp: Option<u32>,
+    /// Adaptive anti-aliasing threshold, when asked for.
+    pub adaptive: Option<f64>,
     /// Largest image accepted.
     pub max_pixels: u64,
     /// No progress or summary.
@@ -49,6 +56,23 @@ impl RenderSettings {
                 None => Ok(None),
             }
         };
+        if let Some(spp) = args.spp {
+            if spp == 0 || spp > MAX_SPP {
+                return Err(Failure::usage(format!(
+                    "--spp must be between 1 and {MAX_SPP}, found {spp}"
+                )));
+            }
+        }
+        if let Some(t) = args.adaptive {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(Failure::usage(format!(
+                    "--adaptive takes a threshold above 0, found {t}"
+                )));
+            }
+            if args.spp.is_some() {
+                return Err(Failure::usage("give --spp or --adaptive, not both"));
+            }
+        }
         if args.threads == Some(0) {
             return Err(Failure::usage("--threads must be at least 1"));
         }
@@ -66,6 +90,8 @@ impl RenderSettings {
             format,
             threads: args.threads,
             max_depth: args.max_depth,
+            spp: args.spp,
+            adaptive: args.adaptive,
             max_pixels: args.max_pixels,
             quiet: args.quiet,
         })

@@ -233,8 +233,50 @@ fn help_describes_every_option() {
         "--threads",
         "--max-depth",
         "--max-pixels",
+        "--spp",
+        "--adaptive",
         "--quiet",
     ] {
         assert!(help.contains(flag), "{flag} missing from:\n{help}");
+    }
+}
+
+#[test]
+fn supersampled_images_are_the_same_for_any_thread_count() {
+    let d = Dir::new();
+    let scene = d.file("s.yml", &RED_SPHERE.replace("ambient: 1", "ambient: 0.2"));
+    let (one, four) = (d.path("one.pfm"), d.path("four.pfm"));
+    assert!(
+        render(&scene, &one, &["-q", "--threads", "1", "--spp", "4"])
+            .status
+            .success()
+    );
+    assert!(
+        render(&scene, &four, &["-q", "--threads", "4", "--spp", "4"])
+            .status
+            .success()
+    );
+    assert_eq!(std::fs::read(&one).unwrap(), std::fs::read(&four).unwrap());
+    let adaptive = d.path("adaptive.pfm");
+    assert!(render(&scene, &adaptive, &["-q", "--adaptive", "0.05"])
+        .status
+        .success());
+}
+
+#[test]
+fn the_cameras_samples_key_and_bad_sampling_flags() {
+    let d = Dir::new();
+    let scene = d.file(
+        "s.yml",
+        &RED_SPHERE.replace("  up: [0, 1, 0]", "  up: [0, 1, 0]\n  samples: 4"),
+    );
+    assert!(render(&scene, &d.path("o.png"), &["-q"]).status.success());
+    for bad in [
+        &["--spp", "0"][..],
+        &["--adaptive", "-1"],
+        &["--spp", "4", "--adaptive", "0.1"],
+    ] {
+        let o = render(&scene, &d.path("o.png"), bad);
+        assert_eq!(o.status.code(), Some(2), "{bad:?}");
     }
 }

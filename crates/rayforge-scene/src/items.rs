@@ -42,12 +42,12 @@ const QUADRIC_KEYS: &[&str] = &[
     "closed",
 ];
 
-/// The camera from `add: camera`.
+/// The camera from `add: camera`, with its samples per pixel (`samples`, default 1).
 pub fn camera(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
     item: &Node<'_>,
-) -> Result<Camera, SceneError> {
+) -> Result<(Camera, u32), SceneError> {
     check_keys(
         source,
         entries,
@@ -60,6 +60,7 @@ pub fn camera(
             "from",
             "to",
             "up",
+            "samples",
         ],
     )?;
     let get = |k: &str| {
@@ -98,7 +99,24 @@ pub fn camera(
     }
     let view = rayforge::Transform::try_new(view_transform(from, to, up))
         .map_err(|e| source.error(item, "up", format!("the view transform is singular: {e}")))?;
-    Ok(Camera::new(width, height, fov).with_transform_of(view))
+    let samples = match entries.iter().find(|e| e.name == "samples") {
+        Some(e) => {
+            let n = source.integer(e.value, "samples", 1)?;
+            if n > MAX_SAMPLES_PER_PIXEL {
+                return Err(source.error(
+                    e.value,
+                    "samples",
+                    format!("{n} samples per pixel is more than the limit {MAX_SAMPLES_PER_PIXEL}"),
+                ));
+            }
+            n as u32
+        }
+        None => 1,
+    };
+    Ok((
+        Camera::new(width, height, fov).with_transform_of(view),
+        samples,
+    ))
 }
 
 /// A light from `add: light`: a point light (`at`), or an area light (`corner`, `uvec`,
@@ -164,6 +182,9 @@ pub fn light(
     }
     Ok(Light::Area(light))
 }
+
+/// The most camera rays per pixel a scene may ask for.
+const MAX_SAMPLES_PER_PIXEL: u64 = 4096;
 
 /// The most samples one area light may take: each is a shadow ray per shading point.
 const MAX_LIGHT_SAMPLES: u64 = 4096;

@@ -29,6 +29,8 @@ pub struct Scene {
     pub world: rayforge::World,
     /// The camera from `add: camera`.
     pub camera: rayforge::Camera,
+    /// Camera rays per pixel asked for by the camera's `samples` (1: one through the centre).
+    pub samples: u32,
     /// Problems in the file that the reader worked around (each located like an error).
     pub warnings: Vec<SceneError>,
 }
@@ -77,7 +79,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
     let mut defines = Defines::default();
     let mut assets = assets::Assets::new(path);
     let mut world = rayforge::World::new();
-    let mut camera = None;
+    let mut camera: Option<(rayforge::Camera, u32)> = None;
     for item in items {
         add_item(
             &source,
@@ -88,12 +90,13 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
             &mut camera,
         )?;
     }
-    let camera = camera.ok_or_else(|| {
+    let (camera, samples) = camera.ok_or_else(|| {
         SceneError::new(path, "the scene has no camera: add an item `- add: camera`")
     })?;
     Ok(Scene {
         world,
         camera,
+        samples,
         warnings: source.take_warnings(),
     })
 }
@@ -105,7 +108,7 @@ fn add_item<'n, 's>(
     assets: &mut assets::Assets,
     item: &'n Node<'s>,
     world: &mut rayforge::World,
-    camera: &mut Option<rayforge::Camera>,
+    camera: &mut Option<(rayforge::Camera, u32)>,
 ) -> Result<(), SceneError> {
     let entries = source.entries(item, "")?;
     if entries.iter().any(|e| e.name == "define") {

@@ -455,3 +455,14 @@ fn extra_transform_numbers_are_ignored_with_a_located_warning() {
         "{warning}"
     );
 }
+
+#[test]
+fn the_camera_may_ask_for_samples_per_pixel() {
+    assert_eq!(load("").samples, 1);
+    let scene = load_str(
+        &CAMERA.replace("  up: [0, 1, 0]", "  up: [0, 1, 0]\n  samples: 9"),
+        Path::new("test.yml"),
+    )
+    .unwrap();
+    assert_eq!(scene.samples, 9);
+}

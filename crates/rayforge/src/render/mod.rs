@@ -3,15 +3,21 @@
 //! Each pixel is a pure function of the scene, so the image is identical for any thread count
 //! and any order in which rows finish.
 
+mod sampler;
+
+pub use sampler::Sampling;
+
 use crate::scene::WorldIndex;
 use crate::{Camera, Canvas, Color, Tracer, World, DEFAULT_MAX_DEPTH};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// How to render: recursion depth and an optional progress callback.
+/// How to render: recursion depth, anti-aliasing and an optional progress callback.
 pub struct RenderOptions<'p> {
     /// How many reflection/refraction bounces to follow.
     pub max_depth: u32,
+    /// Where in each pixel the camera rays go.
+    pub sampling: Sampling,
     /// Called with the number of rows just finished (from any thread).
     pub progress: Option<&'p (dyn Fn(usize) + Sync)>,
 }
@@ -20,6 +26,7 @@ impl Default for RenderOptions<'_> {
     fn default() -> Self {
         Self {
             max_depth: DEFAULT_MAX_DEPTH,
+            sampling: Sampling::Centre,
             progress: None,
         }
     }
@@ -51,9 +58,11 @@ pub fn render(
             |tracer, (y, row)| {
                 let before = tracer.rays_cast();
                 for (x, pixel) in row.iter_mut().enumerate() {
-                    tracer.reseed((y * width + x) as u64);
-                    let ray = camera.ray_for_pixel(x, y);
-                    *pixel = tracer.color_at(&ray, options.max_depth);
+                    let seed = (y * width + x) as u64;
+                    tracer.reseed(seed);
+                    *pixel = options.sampling.pixel(x, y, seed, |px, py| {
+                        tracer.color_at(&camera.ray_through(px, py), options.max_depth)
+                    });
                 }
                 rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);
                 if let Some(progress) = options.progress {

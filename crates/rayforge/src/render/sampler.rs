@@ -1,0 +1,106 @@
+//! Anti-aliasing: where in a pixel the camera rays go.
+//!
+//! Every choice here is a pure function of the pixel (its seed is its index), so images are
+//! identical for any thread count and any order in which pixels are rendered.
+
+use crate::shading::{Jitter, SplitMix64};
+use crate::Color;
+
+/// How each pixel is sampled.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Sampling {
+    /// One ray through the pixel's centre (the book's renderer).
+    Centre,
+    /// An `n × n` grid of cells, one ray at a random point of each cell (stratified, jittered),
+    /// averaged with equal weights.
+    Stratified {
+        /// Cells per side (the pixel takes `n²` samples).
+        per_side: u32,
+    },
+    /// Chapter 17's adaptive scheme: rays at the four corners and the centre; where any corner
+    /// differs from the centre by more than `threshold` (in any channel), the pixel is split into
+    /// quarters and each is sampled the same way, down to `depth` levels.
+    Adaptive {
+        /// The largest channel difference accepted without subdividing.
+        threshold: f64,
+        /// How many times a pixel may be split.
+        depth: u32,
+    },
+}
+
+impl Sampling {
+    /// Stratified sampling with at least `spp` samples per pixel: the grid is the smallest
+    /// square with that many cells (4 → 2×2, 5 → 3×3); 1 or 0 means one ray through the centre.
+    pub fn with_samples(spp: u32) -> Self {
+        if spp <= 1 {
+            return Sampling::Centre;
+        }
+        let per_side = (spp as f64).sqrt().ceil() as u32;
+        Sampling::Stratified { per_side }
+    }
+
+    /// The colour of pixel (`x`, `y`), given `trace(px, py)` for a point of the image in pixel
+    /// units (0,0 is the top-left corner of the image).
+    pub fn pixel(
+        &self,
+        x: usize,
+        y: usize,
+        seed: u64,
+        mut trace: impl FnMut(f64, f64) -> Color,
+    ) -> Color {
+        let (x, y) = (x as f64, y as f64);
+        match *self {
+            Sampling::Centre => trace(x + 0.5, y + 0.5),
+            Sampling::Stratified { per_side } => {
+                let n = per_side.max(1);
+                let cell = 1.0 / n as f64;
+                // A different stream from the one that jitters area lights.
+                let mut rng = SplitMix64::new(seed ^ 0xA5A5_5A5A_C3C3_3C3C);
+                let mut sum = Color::BLACK;
+                for j in 0..n {
+                    for i in 0..n {
+                        let dx = (i as f64 + rng.next_offset()) * cell;
+                        let dy = (j as f64 + rng.next_offset()) * cell;
+                        sum += trace(x + dx, y + dy);
+                    }
+                }
+                sum / (n * n) as f64
+            }
+            Sampling::Adaptive { threshold, depth } => {
+                adaptive(x, y, 1.0, threshold, depth, &mut trace)
+            }
+        }
+    }
+}
+
+/// The adaptive estimate of the square at (`x`, `y`) with side `size`.
+fn adaptive(
+    x: f64,
+    y: f64,
+    size: f64,
+    threshold: f64,
+    depth: u32,
+    trace: &mut impl FnMut(f64, f64) -> Color,
+) -> Color {
+    let centre = trace(x + size / 2.0, y + size / 2.0);
+    let corners = [
+        trace(x, y),
+        trace(x + size, y),
+        trace(x, y + size),
+        trace(x + size, y + size),
+    ];
+    let differs = corners.iter().any(|c| {
+        let d = *c - centre;
+        d.red.abs().max(d.green.abs()).max(d.blue.abs()) > threshold
+    });
+    if !differs || depth == 0 {
+        return (corners.iter().copied().sum::<Color>() + centre) / 5.0;
+    }
+    let half = size / 2.0;
+    let quarters = [(x, y), (x + half, y), (x, y + half), (x + half, y + half)];
+    quarters
+        .iter()
+        .map(|&(qx, qy)| adaptive(qx, qy, half, threshold, depth - 1, trace))
+        .sum::<Color>()
+        / 4.0
+}
