@@ -8,7 +8,7 @@ use crate::source::{check_keys, Entry, Node, Source};
 use crate::transform::transform_list;
 use glam::DMat4;
 use rayforge::math::{point, vector, view_transform};
-use rayforge::{AreaLight, Camera, CsgOperation, Group, Light, Material, Object, Shape};
+use rayforge::{AreaLight, Camera, CsgOperation, Group, Light, Material, Object, Shape, SpotLight};
 
 /// The shapes `add:` may name, for messages.
 pub const SHAPE_KINDS: &[&str] = &[
@@ -127,6 +127,7 @@ pub fn light(
     item: &Node<'_>,
 ) -> Result<Light, SceneError> {
     let area = entries.iter().any(|e| e.name == "corner");
+    let spot = entries.iter().any(|e| e.name == "angle");
     let (what, allowed): (&str, &[&str]) = if area {
         (
             "an area light",
@@ -141,6 +142,11 @@ pub fn light(
                 "jitter",
             ],
         )
+    } else if spot {
+        (
+            "a spotlight",
+            &["add", "at", "intensity", "direction", "angle", "fade"],
+        )
     } else {
         ("a point light", &["add", "at", "intensity"])
     };
@@ -153,6 +159,27 @@ pub fn light(
             .ok_or_else(|| source.error(item, k, format!("{what} needs `{k}:`")))
     };
     let intensity = color(source, get("intensity")?, "intensity")?;
+    if spot {
+        let [x, y, z] = source.triple(get("at")?, "at")?;
+        let direction_node = get("direction")?;
+        let [dx, dy, dz] = source.triple(direction_node, "direction")?;
+        let angle_node = get("angle")?;
+        let angle = source.number(angle_node, "angle")?;
+        if !(angle > 0.0 && angle < std::f64::consts::PI) {
+            return Err(source.error(
+                angle_node,
+                "angle",
+                format!("the cone's half-angle is in radians, between 0 and π; found {angle}"),
+            ));
+        }
+        let fade = match entries.iter().find(|e| e.name == "fade") {
+            Some(e) => source.number(e.value, "fade")?,
+            None => 0.0,
+        };
+        let light = SpotLight::new(point(x, y, z), vector(dx, dy, dz), angle, fade, intensity)
+            .ok_or_else(|| source.error(direction_node, "direction", "the direction is zero"))?;
+        return Ok(Light::Spot(light));
+    }
     if !area {
         let [x, y, z] = source.triple(get("at")?, "at")?;
         return Ok(Light::point(point(x, y, z), intensity));

@@ -466,3 +466,20 @@ fn the_camera_may_ask_for_samples_per_pixel() {
     .unwrap();
     assert_eq!(scene.samples, 9);
 }
+
+#[test]
+fn spotlights_take_a_direction_an_angle_and_a_fade() {
+    let scene = load("- add: light\n  at: [0, 5, 0]\n  direction: [0, -1, 0]\n  angle: 0.5\n  fade: 0.1\n  intensity: [1, 1, 1]\n");
+    let rayforge::Light::Spot(s) = scene.world.lights[0] else {
+        panic!("a spotlight");
+    };
+    assert_eq!(s.direction, rayforge::vector(0.0, -1.0, 0.0));
+    assert!((s.cos_outer - 0.5f64.cos()).abs() < 1e-12);
+    assert!((s.cos_inner - 0.4f64.cos()).abs() < 1e-12);
+    let e = load_str(
+        &format!("{CAMERA}- add: light\n  at: [0, 5, 0]\n  direction: [0, -1, 0]\n  angle: 4\n  intensity: [1, 1, 1]\n"),
+        Path::new("test.yml"),
+    )
+    .unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("angle"));
+}

@@ -30,4 +30,5 @@ pub use scene::{
 };
 pub use shading::{
     lighting, lighting_with, AreaLight, Light, Material, Pattern, PatternKind, PointLight,
+    SpotLight,
 };

@@ -4,7 +4,7 @@
 use super::computations::prepare_computations_with;
 use super::WorldIndex;
 use crate::math::{Point3, Ray};
-use crate::shading::{lighting_with, SplitMix64};
+use crate::shading::{lighting_with, PointLight, SplitMix64, SpotLight};
 use crate::{schlick, Color, Computations, Intersection, Light, Object, World};
 
 /// The recursion limit the book's tests use (and a sensible default for renders).
@@ -99,8 +99,8 @@ impl<'w> Tracer<'w> {
     /// `point`: 0 or 1 for a point light, the fraction of unblocked samples for an area light.
     pub fn intensity_at(&mut self, light: &Light, point: Point3) -> f64 {
         match light {
-            Light::Point(l) => {
-                if self.is_shadowed(l.position, point) {
+            Light::Point(PointLight { position, .. }) | Light::Spot(SpotLight { position, .. }) => {
+                if self.is_shadowed(*position, point) {
                     0.0
                 } else {
                     1.0

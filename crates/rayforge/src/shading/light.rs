@@ -117,6 +117,59 @@ impl AreaLight {
     }
 }
 
+/// A spotlight: a point light that shines in a cone, fading out towards the cone's edge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpotLight {
+    /// Where the light is.
+    pub position: Point3,
+    /// Unit vector along the cone's axis.
+    pub direction: Vec3,
+    /// Cosine of the half-angle inside which the light is at full strength.
+    pub cos_inner: f64,
+    /// Cosine of the half-angle outside which there is no light.
+    pub cos_outer: f64,
+    /// Its colour and brightness.
+    pub intensity: Color,
+}
+
+impl SpotLight {
+    /// A spotlight at `position` pointing along `direction`, dark beyond `cone_angle` (the
+    /// half-angle, radians) and fading over the outer `fade_angle` of it. `None` when the
+    /// direction is zero or not finite.
+    pub fn new(
+        position: Point3,
+        direction: Vec3,
+        cone_angle: f64,
+        fade_angle: f64,
+        intensity: Color,
+    ) -> Option<Self> {
+        let direction = direction.try_normalize()?;
+        let outer = cone_angle.clamp(0.0, std::f64::consts::PI);
+        let inner = (outer - fade_angle.max(0.0)).max(0.0);
+        Some(Self {
+            position,
+            direction,
+            cos_inner: inner.cos(),
+            cos_outer: outer.cos(),
+            intensity,
+        })
+    }
+
+    /// How strongly the spot lights a point seen along `to_point` (a unit vector from the
+    /// light): 1 inside the inner cone, 0 outside the outer, a smooth step between.
+    pub fn falloff(&self, to_point: Vec3) -> f64 {
+        let cos = to_point.dot(self.direction);
+        if cos >= self.cos_inner {
+            return 1.0;
+        }
+        if cos <= self.cos_outer {
+            return 0.0;
+        }
+        let t = (cos - self.cos_outer) / (self.cos_inner - self.cos_outer);
+        t * t * (3.0 - 2.0 * t)
+    }
+}
+
 /// A light source of any kind.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
@@ -124,6 +177,8 @@ pub enum Light {
     Point(PointLight),
     /// A rectangular area light.
     Area(AreaLight),
+    /// A spotlight.
+    Spot(SpotLight),
 }
 
 impl Light {
@@ -137,6 +192,7 @@ impl Light {
         match self {
             Light::Point(l) => l.intensity,
             Light::Area(l) => l.intensity,
+            Light::Spot(l) => l.intensity,
         }
     }
 
@@ -145,6 +201,7 @@ impl Light {
         match self {
             Light::Point(l) => l.position,
             Light::Area(l) => l.position(),
+            Light::Spot(l) => l.position,
         }
     }
 }

@@ -9,7 +9,7 @@ mod phong;
 mod texture;
 
 pub use jitter::{Jitter, Sequence, SplitMix64};
-pub use light::{AreaLight, Light, PointLight};
+pub use light::{AreaLight, Light, PointLight, SpotLight};
 pub use material::Material;
 pub use noise::perlin_noise;
 pub use pattern::{Pattern, PatternKind};

@@ -75,6 +75,14 @@ pub fn lighting_with(
     };
     let lit = match light {
         Light::Point(l) => sample(l.position),
+        Light::Spot(spot) => {
+            let falloff = spot.falloff((point - spot.position).normalize_or_zero());
+            if falloff > 0.0 {
+                sample(spot.position) * falloff
+            } else {
+                Color::BLACK
+            }
+        }
         Light::Area(area) => {
             let sum: Color = area
                 .cells()
