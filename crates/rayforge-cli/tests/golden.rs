@@ -124,3 +124,10 @@ fn golden_ch13_cylinders() {
 fn golden_ch15_triangles() {
     check("ch15-triangles");
 }
+
+/// Focal blur, soft shadows, a spotlight and 36 jittered samples per pixel: all seeded per
+/// pixel, so the image is as reproducible as the others.
+#[test]
+fn golden_ch17_focal_blur() {
+    check("ch17-focal-blur");
+}

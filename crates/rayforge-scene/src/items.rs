@@ -61,6 +61,8 @@ pub fn camera(
             "to",
             "up",
             "samples",
+            "aperture",
+            "focal-distance",
         ],
     )?;
     let get = |k: &str| {
@@ -113,10 +115,28 @@ pub fn camera(
         }
         None => 1,
     };
-    Ok((
-        Camera::new(width, height, fov).with_transform_of(view),
-        samples,
-    ))
+    let mut camera = Camera::new(width, height, fov).with_transform_of(view);
+    if let Some(aperture_entry) = entries.iter().find(|e| e.name == "aperture") {
+        let aperture = source.number(aperture_entry.value, "aperture")?;
+        if aperture < 0.0 {
+            return Err(source.error(
+                aperture_entry.value,
+                "aperture",
+                "the aperture cannot be negative",
+            ));
+        }
+        let focal_node = get("focal-distance")?;
+        let focal = source.number(focal_node, "focal-distance")?;
+        if focal <= 0.0 {
+            return Err(source.error(
+                focal_node,
+                "focal-distance",
+                "the focal distance must be positive",
+            ));
+        }
+        camera = camera.with_lens(aperture, focal);
+    }
+    Ok((camera, samples))
 }
 
 /// A light from `add: light`: a point light (`at`), or an area light (`corner`, `uvec`,

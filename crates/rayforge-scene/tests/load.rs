@@ -483,3 +483,23 @@ fn spotlights_take_a_direction_an_angle_and_a_fade() {
     .unwrap_err();
     assert_eq!(e.key.as_deref(), Some("angle"));
 }
+
+#[test]
+fn a_camera_with_an_aperture_focuses_at_its_focal_distance() {
+    let scene = load_str(
+        &CAMERA.replace(
+            "  up: [0, 1, 0]",
+            "  up: [0, 1, 0]\n  aperture: 0.5\n  focal-distance: 4",
+        ),
+        Path::new("test.yml"),
+    )
+    .unwrap();
+    assert_eq!(scene.camera.aperture(), 0.5);
+    assert_eq!(scene.camera.focal_distance(), 4.0);
+    let e = load_str(
+        &CAMERA.replace("  up: [0, 1, 0]", "  up: [0, 1, 0]\n  aperture: 0.5"),
+        Path::new("test.yml"),
+    )
+    .unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("focal-distance"));
+}

@@ -12,6 +12,10 @@ pub struct Camera {
     half_width: f64,
     half_height: f64,
     pixel_size: f64,
+    /// Diameter of the thin lens (0: a pinhole, everything in focus).
+    aperture: f64,
+    /// Distance from the eye to the plane that is in focus.
+    focal_distance: f64,
 }
 
 impl Camera {
@@ -32,12 +36,35 @@ impl Camera {
             half_width,
             half_height,
             pixel_size: half_width * 2.0 / hsize as f64,
+            aperture: 0.0,
+            focal_distance: 1.0,
         }
+    }
+
+    /// The same camera with a thin lens of diameter `aperture`, focused at `focal_distance`
+    /// (focal blur). Negative or non-finite values mean a pinhole.
+    pub fn with_lens(mut self, aperture: f64, focal_distance: f64) -> Self {
+        let valid = aperture.is_finite() && aperture > 0.0 && focal_distance.is_finite();
+        self.aperture = if valid { aperture } else { 0.0 };
+        self.focal_distance = if valid { focal_distance.max(1e-9) } else { 1.0 };
+        self
+    }
+
+    /// The lens diameter (0 for a pinhole).
+    pub fn aperture(&self) -> f64 {
+        self.aperture
+    }
+
+    /// The distance in focus.
+    pub fn focal_distance(&self) -> f64 {
+        self.focal_distance
     }
 
     /// The same camera at another resolution, keeping its field of view and placement.
     pub fn resized(&self, hsize: usize, vsize: usize) -> Self {
-        Self::new(hsize, vsize, self.field_of_view).with_transform_of(self.transform)
+        Self::new(hsize, vsize, self.field_of_view)
+            .with_transform_of(self.transform)
+            .with_lens(self.aperture, self.focal_distance)
     }
 
     /// The same camera placed by a view transform (`camera_from_world`).
@@ -85,6 +112,26 @@ impl Camera {
         self.ray_through(px as f64 + 0.5, py as f64 + 0.5)
     }
 
+    /// The ray through a point of the canvas from a point of the lens: `lens_u`, `lens_v` in
+    /// [0, 1) pick the point on the lens disk (0.5, 0.5 is its centre). The ray passes through
+    /// the canvas point's image on the focal plane, so only that plane is sharp.
+    pub fn ray_through_lens(&self, x: f64, y: f64, lens_u: f64, lens_v: f64) -> Ray {
+        if self.aperture == 0.0 {
+            return self.ray_through(x, y);
+        }
+        let canvas = Point3::new(
+            self.half_width - x * self.pixel_size,
+            self.half_height - y * self.pixel_size,
+            -1.0,
+        );
+        let focus = canvas * self.focal_distance;
+        let (dx, dy) = concentric_disk(lens_u, lens_v);
+        let lens = Point3::new(dx, dy, 0.0) * (self.aperture / 2.0);
+        let origin = self.transform.inverse_point(lens);
+        let target = self.transform.inverse_point(focus);
+        Ray::new(origin, (target - origin).normalize())
+    }
+
     /// The ray through a point of the canvas in pixel units (0,0 is the top-left corner).
     pub fn ray_through(&self, x: f64, y: f64) -> Ray {
         let world_x = self.half_width - x * self.pixel_size;
@@ -95,4 +142,20 @@ impl Camera {
         let origin = self.transform.inverse_point(Point3::ZERO);
         Ray::new(origin, (pixel - origin).normalize())
     }
+}
+
+/// Maps the unit square onto the unit disk keeping strata compact (Shirley and Chiu's
+/// concentric mapping), so stratified lens samples stay stratified.
+fn concentric_disk(u: f64, v: f64) -> (f64, f64) {
+    let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+    if a == 0.0 && b == 0.0 {
+        return (0.0, 0.0);
+    }
+    let quarter = std::f64::consts::FRAC_PI_4;
+    let (r, theta) = if a.abs() > b.abs() {
+        (a, quarter * (b / a))
+    } else {
+        (b, 2.0 * quarter - quarter * (a / b))
+    };
+    (r * theta.cos(), r * theta.sin())
 }

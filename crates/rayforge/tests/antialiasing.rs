@@ -25,7 +25,7 @@ fn sample_counts_round_up_to_a_square_grid() {
 #[test]
 fn stratified_samples_fall_one_in_each_cell_of_the_pixel() {
     let mut points = Vec::new();
-    Sampling::Stratified { per_side: 3 }.pixel(7, 2, 99, |x, y| {
+    Sampling::Stratified { per_side: 3 }.pixel(7, 2, 99, |x, y, _, _| {
         points.push((x, y));
         Color::BLACK
     });
@@ -49,7 +49,7 @@ fn stratified_samples_fall_one_in_each_cell_of_the_pixel() {
 fn stratified_samples_depend_only_on_the_pixel() {
     let run = |seed| {
         let mut points = Vec::new();
-        Sampling::Stratified { per_side: 2 }.pixel(3, 4, seed, |x, y| {
+        Sampling::Stratified { per_side: 2 }.pixel(3, 4, seed, |x, y, _, _| {
             points.push((x, y));
             Color::BLACK
         });
@@ -61,7 +61,7 @@ fn stratified_samples_depend_only_on_the_pixel() {
 
 #[test]
 fn the_average_of_samples_is_the_pixel_colour() {
-    let c = Sampling::Stratified { per_side: 2 }.pixel(0, 0, 1, |x, _| {
+    let c = Sampling::Stratified { per_side: 2 }.pixel(0, 0, 1, |x, _, _, _| {
         if x < 0.5 {
             color(1.0, 0.0, 0.0)
         } else {
@@ -78,7 +78,7 @@ fn adaptive_sampling_takes_five_rays_where_the_pixel_is_flat() {
         threshold: 0.1,
         depth: 3,
     }
-    .pixel(4, 4, 0, |_, _| {
+    .pixel(4, 4, 0, |_, _, _, _| {
         rays += 1;
         color(0.2, 0.4, 0.6)
     });
@@ -94,7 +94,7 @@ fn adaptive_sampling_subdivides_across_an_edge() {
         threshold: 0.1,
         depth: 3,
     }
-    .pixel(4, 0, 0, |x, _| {
+    .pixel(4, 0, 0, |x, _, _, _| {
         rays += 1;
         if x < 4.3 {
             Color::WHITE
@@ -138,4 +138,28 @@ fn anti_aliased_renders_keep_flat_areas_and_soften_edges() {
             a.red > 0.0 && (a.red < p.red - 1e-3 || p.red == 0.0)
         });
     assert!(blended);
+}
+
+#[test]
+fn a_pinhole_camera_ignores_the_lens_sample() {
+    let c = Camera::new(11, 11, 1.0);
+    assert_eq!(
+        c.ray_through_lens(3.2, 4.7, 0.1, 0.9),
+        c.ray_through(3.2, 4.7)
+    );
+}
+
+#[test]
+fn a_thin_lens_keeps_the_focal_plane_sharp_and_blurs_the_rest() {
+    let c = Camera::new(11, 11, 1.0).with_lens(0.5, 4.0);
+    let centre = c.ray_through_lens(5.5, 5.5, 0.5, 0.5);
+    let edge = c.ray_through_lens(5.5, 5.5, 0.95, 0.2);
+    // Rays from different points of the lens meet on the focal plane (z = -4 here)…
+    let on_plane = |r: rayforge::Ray| r.position(-4.0 / r.direction.z);
+    assert!((on_plane(centre) - on_plane(edge)).length() < 1e-9);
+    // …and start from different points of the lens, within its radius.
+    assert!(edge.origin.length() > 0.1 && edge.origin.length() <= 0.25 + 1e-12);
+    // Away from the focal plane they diverge.
+    let near = |r: rayforge::Ray| r.position(-1.0 / r.direction.z);
+    assert!((near(centre) - near(edge)).length() > 0.05);
 }

@@ -60,8 +60,9 @@ pub fn render(
                 for (x, pixel) in row.iter_mut().enumerate() {
                     let seed = (y * width + x) as u64;
                     tracer.reseed(seed);
-                    *pixel = options.sampling.pixel(x, y, seed, |px, py| {
-                        tracer.color_at(&camera.ray_through(px, py), options.max_depth)
+                    *pixel = options.sampling.pixel(x, y, seed, |px, py, lu, lv| {
+                        let ray = camera.ray_through_lens(px, py, lu, lv);
+                        tracer.color_at(&ray, options.max_depth)
                     });
                 }
                 rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);

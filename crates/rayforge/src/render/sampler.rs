@@ -39,18 +39,20 @@ impl Sampling {
         Sampling::Stratified { per_side }
     }
 
-    /// The colour of pixel (`x`, `y`), given `trace(px, py)` for a point of the image in pixel
-    /// units (0,0 is the top-left corner of the image).
+    /// The colour of pixel (`x`, `y`), given `trace(px, py, lens_u, lens_v)` for a point of
+    /// the image in pixel units (0,0 is the top-left corner of the image) seen from a point of
+    /// the lens (0.5, 0.5 is its centre; stratified sampling spreads samples over the lens too).
     pub fn pixel(
         &self,
         x: usize,
         y: usize,
         seed: u64,
-        mut trace: impl FnMut(f64, f64) -> Color,
+        mut trace: impl FnMut(f64, f64, f64, f64) -> Color,
     ) -> Color {
         let (x, y) = (x as f64, y as f64);
+        let mut through_centre = |px, py| trace(px, py, 0.5, 0.5);
         match *self {
-            Sampling::Centre => trace(x + 0.5, y + 0.5),
+            Sampling::Centre => through_centre(x + 0.5, y + 0.5),
             Sampling::Stratified { per_side } => {
                 let n = per_side.max(1);
                 let cell = 1.0 / n as f64;
@@ -61,13 +63,16 @@ impl Sampling {
                     for i in 0..n {
                         let dx = (i as f64 + rng.next_offset()) * cell;
                         let dy = (j as f64 + rng.next_offset()) * cell;
-                        sum += trace(x + dx, y + dy);
+                        // The lens point is drawn independently of the pixel's stratum, so
+                        // focal blur and edge smoothing do not correlate.
+                        let (lu, lv) = (rng.next_offset(), rng.next_offset());
+                        sum += trace(x + dx, y + dy, lu, lv);
                     }
                 }
                 sum / (n * n) as f64
             }
             Sampling::Adaptive { threshold, depth } => {
-                adaptive(x, y, 1.0, threshold, depth, &mut trace)
+                adaptive(x, y, 1.0, threshold, depth, &mut through_centre)
             }
         }
     }
