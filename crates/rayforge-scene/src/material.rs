@@ -5,7 +5,7 @@ use crate::defines::{is_reference, merge, Defines, Trail};
 use crate::error::SceneError;
 use crate::source::{as_str, check_keys, describe, Entry, Node, Source};
 use crate::transform::transform_list;
-use rayforge::shading::{Filter, UvMapping, UvPattern};
+use rayforge::shading::{Bump, BumpKind, Filter, UvMapping, UvPattern};
 use rayforge::{Color, Material, Pattern, PatternKind, Transform};
 
 /// The keys a material may have.
@@ -19,6 +19,7 @@ const MATERIAL_KEYS: &[&str] = &[
     "transparency",
     "refractive-index",
     "pattern",
+    "bump",
 ];
 
 /// The pattern types, as scene files name them.
@@ -72,10 +73,75 @@ pub fn material<'n, 's>(
             "reflective" => m.reflective = number()?,
             "transparency" => m.transparency = number()?,
             "refractive-index" => m.refractive_index = number()?,
+            "bump" => m.bump = Some(bump(source, defines, value)?),
             _ => m.pattern = Some(pattern(source, defines, assets, value)?),
         }
     }
     Ok(m)
+}
+
+/// Bumps on the normal: `type: waves` (`amplitude`, `wavelength`) or `type: noise`
+/// (`strength`), each with an optional `transform`.
+fn bump<'n, 's>(
+    source: &Source<'s>,
+    defines: &Defines<'n, 's>,
+    node: &'n Node<'s>,
+) -> Result<Bump, SceneError> {
+    let entries = source.entries(node, "bump")?;
+    let get = |k: &str| entries.iter().find(|e| e.name == k).map(|e| e.value);
+    let required =
+        |k: &str| get(k).ok_or_else(|| source.error(node, k, format!("this bump needs `{k}:`")));
+    let type_node = required("type")?;
+    let kind = match source.string(type_node, "type")? {
+        "waves" => {
+            check_keys(
+                source,
+                &entries,
+                "waves",
+                &["type", "amplitude", "wavelength", "transform"],
+            )?;
+            let wavelength_node = required("wavelength")?;
+            let wavelength = source.number(wavelength_node, "wavelength")?;
+            if wavelength <= 0.0 {
+                return Err(source.error(
+                    wavelength_node,
+                    "wavelength",
+                    "the wavelength must be positive",
+                ));
+            }
+            BumpKind::Waves {
+                amplitude: source.number(required("amplitude")?, "amplitude")?,
+                wavelength,
+            }
+        }
+        "noise" => {
+            check_keys(
+                source,
+                &entries,
+                "noise bumps",
+                &["type", "strength", "transform"],
+            )?;
+            BumpKind::Noise {
+                strength: source.number(required("strength")?, "strength")?,
+            }
+        }
+        other => {
+            return Err(source.error(
+                type_node,
+                "type",
+                format!("unknown bump type `{other}`; expected waves or noise"),
+            ))
+        }
+    };
+    let mut b = Bump::new(kind);
+    if let Some(t) = get("transform") {
+        b.transform = checked(
+            source,
+            t,
+            transform_list(source, defines, t, &mut Trail::new())?,
+        )?;
+    }
+    Ok(b)
 }
 
 /// `[r, g, b]`.

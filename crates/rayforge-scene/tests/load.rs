@@ -503,3 +503,29 @@ fn a_camera_with_an_aperture_focuses_at_its_focal_distance() {
     .unwrap_err();
     assert_eq!(e.key.as_deref(), Some("focal-distance"));
 }
+
+#[test]
+fn materials_take_bumps() {
+    let scene = load(
+        "- add: plane\n  material:\n    bump:\n      type: waves\n      amplitude: 0.2\n      wavelength: 0.5\n- add: sphere\n  material:\n    bump: {type: noise, strength: 0.3, transform: [[scale, 0.1, 0.1, 0.1]]}\n",
+    );
+    let waves = scene.world.objects[0].material.bump.as_ref().unwrap();
+    assert_eq!(
+        waves.kind,
+        rayforge::shading::BumpKind::Waves {
+            amplitude: 0.2,
+            wavelength: 0.5
+        }
+    );
+    let noise = scene.world.objects[1].material.bump.as_ref().unwrap();
+    assert_eq!(
+        noise.kind,
+        rayforge::shading::BumpKind::Noise { strength: 0.3 }
+    );
+    let e = load_str(
+        &format!("{CAMERA}- add: plane\n  material:\n    bump: {{type: waves, amplitude: 1, wavelength: 0}}\n"),
+        Path::new("test.yml"),
+    )
+    .unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("wavelength"));
+}

@@ -63,20 +63,31 @@ pub fn prepare_computations_with<'a>(
 ) -> Computations<'a> {
     let point = ray.position(hit.t);
     let eyev = -ray.direction.normalize();
-    let mut normalv = hit.object.normal_at_hit(point, &hit);
-    let inside = normalv.dot(eyev) < 0.0;
+    let mut geometric = hit.object.normal_at_hit(point, &hit);
+    let inside = geometric.dot(eyev) < 0.0;
     if inside {
-        normalv = -normalv;
+        geometric = -geometric;
     }
+    // Bumps tilt the normal used for shading; the points nudged off the surface keep to the
+    // true normal, so bumps never push a shadow or refraction ray through the surface.
+    let surface = hit.object.surface(hit.leaf);
+    let normalv = match &surface.material.bump {
+        Some(bump) => bump.perturb(
+            geometric,
+            surface.world_to_object(point),
+            &surface.transform,
+        ),
+        None => geometric,
+    };
     let (n1, n2) = refractive_indices(hit, xs, containers);
     Computations {
         t: hit.t,
         object: hit.object,
-        surface: hit.object.surface(hit.leaf),
-        uv: hit.object.surface(hit.leaf).shape.surface_uv(&hit.local()),
+        surface,
+        uv: surface.shape.surface_uv(&hit.local()),
         point,
-        over_point: point + normalv * EPSILON,
-        under_point: point - normalv * EPSILON,
+        over_point: point + geometric * EPSILON,
+        under_point: point - geometric * EPSILON,
         eyev,
         normalv,
         inside,

@@ -1,6 +1,6 @@
 //! The Phong material (chapters 6, 10 and 11).
 
-use super::{Pattern, UvPattern};
+use super::{Bump, Pattern, UvPattern};
 use crate::math::Point3;
 use crate::{Color, Object};
 
@@ -11,6 +11,8 @@ pub struct Material {
     pub color: Color,
     /// A pattern that replaces `color` when present.
     pub pattern: Option<Pattern>,
+    /// Bumps that tilt the shading normal.
+    pub bump: Option<Bump>,
     /// An image or UV pattern read with the surface's own texture coordinates (an OBJ model's
     /// `vt`), multiplying `color` (MTL's `map_Kd`). Surfaces without coordinates ignore it.
     pub texture: Option<UvPattern>,
@@ -35,6 +37,7 @@ impl Material {
     pub const DEFAULT: Self = Self {
         color: Color::WHITE,
         pattern: None,
+        bump: None,
         texture: None,
         ambient: 0.1,
         diffuse: 0.9,

@@ -1,5 +1,6 @@
 //! Materials, patterns, lights and the Phong lighting model.
 
+mod bump;
 mod jitter;
 mod light;
 mod material;
@@ -8,6 +9,7 @@ mod pattern;
 mod phong;
 mod texture;
 
+pub use bump::{Bump, BumpKind};
 pub use jitter::{Jitter, Sequence, SplitMix64};
 pub use light::{AreaLight, Light, PointLight, SpotLight};
 pub use material::Material;
