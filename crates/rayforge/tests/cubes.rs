@@ -12,6 +12,7 @@ fn local_ts(origin: Point3, direction: Vec3) -> Vec<f64> {
     ts
 }
 
+/// Scenario outline "A ray intersects a cube": one test per example row, named by its label.
 #[track_caller]
 fn assert_hits(origin: Point3, direction: Vec3, t1: f64, t2: f64) {
     let ts = local_ts(origin, direction);
@@ -55,38 +56,39 @@ fn a_ray_intersects_a_cube_inside() {
     assert_hits(point(0.0, 0.5, 0.0), vector(0.0, 0.0, 1.0), -1.0, 1.0);
 }
 
+/// Scenario outline "A ray misses a cube": one test per example row, named by its origin.
 #[track_caller]
 fn assert_misses(origin: Point3, direction: Vec3) {
     assert!(local_ts(origin, direction).is_empty());
 }
 
 #[test]
-fn a_ray_misses_a_cube_1() {
+fn a_ray_misses_a_cube_from_minus_2_0_0() {
     assert_misses(point(-2.0, 0.0, 0.0), vector(0.2673, 0.5345, 0.8018));
 }
 
 #[test]
-fn a_ray_misses_a_cube_2() {
+fn a_ray_misses_a_cube_from_0_minus_2_0() {
     assert_misses(point(0.0, -2.0, 0.0), vector(0.8018, 0.2673, 0.5345));
 }
 
 #[test]
-fn a_ray_misses_a_cube_3() {
+fn a_ray_misses_a_cube_from_0_0_minus_2() {
     assert_misses(point(0.0, 0.0, -2.0), vector(0.5345, 0.8018, 0.2673));
 }
 
 #[test]
-fn a_ray_misses_a_cube_4() {
+fn a_ray_misses_a_cube_from_2_0_2() {
     assert_misses(point(2.0, 0.0, 2.0), vector(0.0, 0.0, -1.0));
 }
 
 #[test]
-fn a_ray_misses_a_cube_5() {
+fn a_ray_misses_a_cube_from_0_2_2() {
     assert_misses(point(0.0, 2.0, 2.0), vector(0.0, -1.0, 0.0));
 }
 
 #[test]
-fn a_ray_misses_a_cube_6() {
+fn a_ray_misses_a_cube_from_2_2_0() {
     assert_misses(point(2.0, 2.0, 0.0), vector(-1.0, 0.0, 0.0));
 }
 

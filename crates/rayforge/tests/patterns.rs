@@ -285,9 +285,11 @@ fn a_perturbed_pattern_moves_points_by_bounded_deterministic_noise() {
         let p = point(i as f64 * 0.137, i as f64 * -0.071, i as f64 * 0.029);
         let c = perturbed.pattern_at(p);
         let q = point(c.red, c.green, c.blue);
-        // Perlin noise stays within [-1, 1] per axis, so the point moves at most 0.2 per axis.
+        // Each noise lookup interpolates (convexly) between corner terms g·d, where every
+        // gradient g has two ±1 components and every offset d is within 1 per axis: |noise| ≤ 2,
+        // so the point moves at most 2 × 0.2 per axis. (In practice the noise peaks just above 1.)
         assert!(
-            (q - p).abs().max_element() <= 0.2 + 1e-12,
+            (q - p).abs().max_element() <= 2.0 * 0.2 + 1e-12,
             "{p:?} moved to {q:?}"
         );
         moved |= (q - p).length() > 1e-3;
@@ -309,4 +311,81 @@ fn stripes_with_three_colors_cycle_through_them() {
     assert_eq!(pattern.pattern_at(point(2.5, 0.0, 0.0)), red);
     assert_eq!(pattern.pattern_at(point(3.5, 0.0, 0.0)), WHITE);
     assert_eq!(pattern.pattern_at(point(-0.5, 0.0, 0.0)), red);
+}
+
+#[test]
+fn rings_with_three_colors_cycle_through_them() {
+    let red = color(1.0, 0.0, 0.0);
+    let pattern = Pattern::new(PatternKind::Rings(vec![
+        Pattern::solid(WHITE),
+        Pattern::solid(BLACK),
+        Pattern::solid(red),
+    ]));
+    assert_eq!(pattern.pattern_at(point(0.5, 0.0, 0.0)), WHITE);
+    assert_eq!(pattern.pattern_at(point(0.0, 0.0, -1.5)), BLACK);
+    // Radius 2.5: (1.5, 2.0) is a 3-4-5 triangle scaled by one half.
+    assert_eq!(pattern.pattern_at(point(1.5, 7.0, 2.0)), red);
+    assert_eq!(pattern.pattern_at(point(-3.5, 0.0, 0.0)), WHITE);
+}
+
+#[test]
+fn checkers_with_three_colors_cycle_through_them() {
+    let red = color(1.0, 0.0, 0.0);
+    let pattern = Pattern::new(PatternKind::Checkers(vec![
+        Pattern::solid(WHITE),
+        Pattern::solid(BLACK),
+        Pattern::solid(red),
+    ]));
+    assert_eq!(pattern.pattern_at(point(0.5, 0.5, 0.5)), WHITE);
+    assert_eq!(pattern.pattern_at(point(1.5, 0.5, 0.5)), BLACK);
+    assert_eq!(pattern.pattern_at(point(1.5, 1.5, 0.5)), red);
+    assert_eq!(pattern.pattern_at(point(1.5, 1.5, 1.5)), WHITE);
+    // Cell sum -1 wraps round to the last colour.
+    assert_eq!(pattern.pattern_at(point(-0.5, 0.5, 0.5)), red);
+}
+
+#[test]
+fn a_gradient_between_nested_patterns_blends_their_colors() {
+    let red = color(1.0, 0.0, 0.0);
+    let green = color(0.0, 1.0, 0.0);
+    let pattern = Pattern::new(PatternKind::Gradient(
+        Box::new(Pattern::solid(WHITE)),
+        Box::new(Pattern::stripes(red, green)),
+    ));
+    // A quarter of the way across each unit: 3/4 white + 1/4 of whichever stripe is there.
+    assert_color_approx(
+        pattern.pattern_at(point(0.25, 0.0, 0.0)),
+        color(1.0, 0.75, 0.75),
+    );
+    assert_color_approx(
+        pattern.pattern_at(point(1.25, 0.0, 0.0)),
+        color(0.75, 1.0, 0.75),
+    );
+}
+
+#[test]
+fn a_perturbed_patterns_offset_grows_linearly_with_its_scale() {
+    let perturbed = |scale| {
+        Pattern::new(PatternKind::Perturbed {
+            pattern: Box::new(Pattern::position()),
+            scale,
+        })
+    };
+    let (small, large) = (perturbed(0.1), perturbed(0.3));
+    let mut largest: f64 = 0.0;
+    for i in 0..50 {
+        let p = point(
+            i as f64 * 0.291 - 3.0,
+            i as f64 * 0.113,
+            2.0 - i as f64 * 0.057,
+        );
+        let offset = |pattern: &Pattern| {
+            let c = pattern.pattern_at(p);
+            point(c.red, c.green, c.blue) - p
+        };
+        // The noise is read at the unperturbed point, so only its scale differs.
+        assert_vec_approx(offset(&large), offset(&small) * 3.0);
+        largest = largest.max(offset(&large).abs().max_element());
+    }
+    assert!(largest > 0.01, "the noise must move the points");
 }

@@ -6,9 +6,26 @@ use common::*;
 use rayforge::color::color;
 use rayforge::math::translation;
 use rayforge::{
-    default_world, point, prepare_computations, vector, Intersection, Light, Object, Ray, World,
-    DEFAULT_MAX_DEPTH, EPSILON,
+    default_world, lighting, point, prepare_computations, vector, Intersection, Light, Material,
+    Object, Ray, World, EPSILON,
 };
+
+/// The recursion depth the book's scenarios pass to `shade_hit` (SEED-NOTES.md).
+const REMAINING: u32 = 5;
+
+/// The book's `in_shadow = true` is a light fraction of 0 here (1 is fully lit).
+#[test]
+fn lighting_with_the_surface_in_shadow() {
+    // The materials feature's Background: m ← material(), position ← point(0, 0, 0).
+    let m = Material::default();
+    let position = point(0.0, 0.0, 0.0);
+    let eyev = vector(0.0, 0.0, -1.0);
+    let normalv = vector(0.0, 0.0, -1.0);
+    let light = Light::point(point(0.0, 0.0, -10.0), color(1.0, 1.0, 1.0));
+    let object = Object::sphere();
+    let result = lighting(&m, &object, &light, position, eyev, normalv, 0.0);
+    assert_color_approx(result, color(0.1, 0.1, 0.1));
+}
 
 fn shadowed(p: rayforge::Point3) -> bool {
     let w = default_world();
@@ -48,7 +65,7 @@ fn shade_hit_is_given_an_intersection_in_shadow() {
     let r = Ray::new(point(0.0, 0.0, 5.0), vector(0.0, 0.0, 1.0));
     let i = Intersection::new(4.0, &w.objects[1]);
     let comps = prepare_computations(i, &r, &[i]);
-    assert_color_approx(w.shade_hit(&comps, DEFAULT_MAX_DEPTH), color(0.1, 0.1, 0.1));
+    assert_color_approx(w.shade_hit(&comps, REMAINING), color(0.1, 0.1, 0.1));
 }
 
 #[test]
@@ -59,6 +76,8 @@ fn the_hit_should_offset_the_point() {
     let comps = prepare_computations(i, &r, &[i]);
     assert!(comps.over_point.z < -EPSILON / 2.0);
     assert!(comps.point.z > comps.over_point.z);
+    // The validation notebook's trap: `point` itself stays on the surface, apart from `over_point`.
+    assert_vec_approx(comps.point, point(0.0, 0.0, 0.0));
 }
 
 /// Objects marked `shadow: false` in scene files let light through.

@@ -7,8 +7,11 @@ use rayforge::color::color;
 use rayforge::math::scaling;
 use rayforge::{
     default_world, point, prepare_computations, vector, Intersection, Light, Material, Object, Ray,
-    World, DEFAULT_MAX_DEPTH,
+    World,
 };
+
+/// The recursion depth the book's scenarios pass to `shade_hit` and `color_at` (SEED-NOTES.md).
+const REMAINING: u32 = 5;
 
 #[test]
 fn creating_a_world() {
@@ -37,8 +40,11 @@ fn the_default_world() {
 fn intersect_a_world_with_a_ray() {
     let w = default_world();
     let r = Ray::new(point(0.0, 0.0, -5.0), vector(0.0, 0.0, 1.0));
-    let ts: Vec<f64> = w.intersect(&r).iter().map(|i| i.t).collect();
-    assert_eq!(ts, [4.0, 4.5, 5.5, 6.0]);
+    let xs = w.intersect(&r);
+    assert_eq!(xs.len(), 4);
+    for (x, expected) in xs.iter().zip([4.0, 4.5, 5.5, 6.0]) {
+        assert_approx(x.t, expected);
+    }
 }
 
 #[test]
@@ -83,7 +89,7 @@ fn shading_an_intersection() {
     let i = Intersection::new(4.0, shape);
     let comps = prepare_computations(i, &r, &[i]);
     assert_color_approx(
-        w.shade_hit(&comps, DEFAULT_MAX_DEPTH),
+        w.shade_hit(&comps, REMAINING),
         color(0.38066, 0.47583, 0.2855),
     );
 }
@@ -97,7 +103,7 @@ fn shading_an_intersection_from_the_inside() {
     let i = Intersection::new(0.5, shape);
     let comps = prepare_computations(i, &r, &[i]);
     assert_color_approx(
-        w.shade_hit(&comps, DEFAULT_MAX_DEPTH),
+        w.shade_hit(&comps, REMAINING),
         color(0.90498, 0.90498, 0.90498),
     );
 }
@@ -106,17 +112,14 @@ fn shading_an_intersection_from_the_inside() {
 fn the_color_when_a_ray_misses() {
     let w = default_world();
     let r = Ray::new(point(0.0, 0.0, -5.0), vector(0.0, 1.0, 0.0));
-    assert_color_approx(w.color_at(&r, DEFAULT_MAX_DEPTH), color(0.0, 0.0, 0.0));
+    assert_color_approx(w.color_at(&r, REMAINING), color(0.0, 0.0, 0.0));
 }
 
 #[test]
 fn the_color_when_a_ray_hits() {
     let w = default_world();
     let r = Ray::new(point(0.0, 0.0, -5.0), vector(0.0, 0.0, 1.0));
-    assert_color_approx(
-        w.color_at(&r, DEFAULT_MAX_DEPTH),
-        color(0.38066, 0.47583, 0.2855),
-    );
+    assert_color_approx(w.color_at(&r, REMAINING), color(0.38066, 0.47583, 0.2855));
 }
 
 #[test]
@@ -126,5 +129,5 @@ fn the_color_with_an_intersection_behind_the_ray() {
     w.objects[1].material.ambient = 1.0;
     let r = Ray::new(point(0.0, 0.0, 0.75), vector(0.0, 0.0, -1.0));
     let inner_color = w.objects[1].material.color;
-    assert_color_approx(w.color_at(&r, DEFAULT_MAX_DEPTH), inner_color);
+    assert_color_approx(w.color_at(&r, REMAINING), inner_color);
 }
