@@ -3,7 +3,10 @@
 #![allow(clippy::approx_constant)]
 mod common;
 use common::*;
-use rayforge::{point, vector, Object, Point3, Ray, Shape, Vec3};
+use rayforge::math::{scaling, translation};
+use rayforge::{
+    hit, point, prepare_computations, vector, Color, Light, Object, Point3, Ray, Shape, Vec3, World,
+};
 
 fn cylinder(minimum: f64, maximum: f64, closed: bool) -> Shape {
     Shape::Cylinder {
@@ -57,6 +60,7 @@ fn the_default_minimum_and_maximum_for_a_cylinder() {
     };
     assert_eq!(minimum, f64::NEG_INFINITY);
     assert_eq!(maximum, f64::INFINITY);
+    assert_eq!(Object::cylinder().shape, Shape::CYLINDER);
 }
 
 fn constrained(origin: Point3, direction: Vec3, count: usize) {
@@ -114,10 +118,65 @@ scenario_rows! { cap_normal;
 /// A capped cylinder placed in the world: the ray from above meets the top cap first.
 #[test]
 fn a_transformed_closed_cylinder_is_hit_on_its_cap_from_above() {
-    let c = Object::new(cylinder(-1.0, 1.0, true))
-        .with_transform(rayforge::math::translation(0.0, 2.0, 0.0));
+    let c = Object::new(cylinder(-1.0, 1.0, true)).with_transform(translation(0.0, 2.0, 0.0));
     let r = Ray::new(point(0.2, 10.0, 0.1), vector(0.0, -1.0, 0.0));
-    let hit = rayforge::hit(&c.intersections(&r)).expect("hits the cap");
+    let hit = hit(&c.intersections(&r)).expect("hits the cap");
     assert_approx(hit.t, 7.0);
     assert_vec_approx(c.normal_at(r.position(hit.t)), vector(0.0, 1.0, 0.0));
+}
+
+/// A world holding one cylinder of radius 2 spanning 0 ≤ y ≤ 2 (local -1..1, scaled then raised),
+/// lit by a white point light at `eye`.
+fn world_with_cylinder(closed: bool, eye: Point3) -> World {
+    let transform = translation(0.0, 1.0, 0.0) * scaling(2.0, 1.0, 2.0);
+    World {
+        objects: vec![Object::new(cylinder(-1.0, 1.0, closed)).with_transform(transform)],
+        lights: vec![Light::point(eye, Color::WHITE)],
+        ..World::new()
+    }
+}
+
+/// Through the world API: looking straight down at a transformed, capped cylinder with the light
+/// at the eye, the top cap is the hit, its normal is +y, and it shades at full strength.
+#[test]
+fn a_transformed_closed_cylinder_in_a_world_shows_its_top_cap() {
+    let eye = point(1.0, 10.0, 0.5);
+    let w = world_with_cylinder(true, eye);
+    let r = Ray::new(eye, vector(0.0, -1.0, 0.0));
+    let xs = w.intersect(&r);
+    // Top cap at y = 2, bottom cap at y = 0; the axis-parallel ray never meets the side.
+    assert_eq!(xs.len(), 2);
+    assert_approx(xs[0].t, 8.0);
+    assert_approx(xs[1].t, 10.0);
+    let h = hit(&xs).expect("hits the top cap");
+    assert_vec_approx(h.object.normal_at(r.position(h.t)), vector(0.0, 1.0, 0.0));
+    let comps = prepare_computations(h, &r, &xs);
+    assert_vec_approx(comps.point, point(1.0, 2.0, 0.5));
+    assert_vec_approx(comps.normalv, vector(0.0, 1.0, 0.0));
+    assert!(!comps.inside);
+    // Light, eye and normal all along +y: ambient 0.1 + diffuse 0.9 + specular 0.9, unshadowed.
+    assert_color_approx(w.color_at(&r, 5), Color::new(1.9, 1.9, 1.9));
+}
+
+/// The same ray through the same cylinder left open passes down its hollow middle.
+#[test]
+fn a_transformed_open_cylinder_in_a_world_is_hollow_from_above() {
+    let eye = point(1.0, 10.0, 0.5);
+    let w = world_with_cylinder(false, eye);
+    let r = Ray::new(eye, vector(0.0, -1.0, 0.0));
+    assert!(w.intersect(&r).is_empty());
+    assert_color_approx(w.color_at(&r, 5), Color::BLACK);
+}
+
+/// A horizontal ray meets the scaled side at z = -2, where the world normal is -z.
+#[test]
+fn a_transformed_closed_cylinder_in_a_world_has_side_normals() {
+    let w = world_with_cylinder(true, point(0.0, 1.0, -10.0));
+    let r = Ray::new(point(0.0, 1.0, -10.0), vector(0.0, 0.0, 1.0));
+    let xs = w.intersect(&r);
+    assert_eq!(xs.len(), 2);
+    assert_approx(xs[0].t, 8.0);
+    assert_approx(xs[1].t, 12.0);
+    let h = hit(&xs).expect("hits the side");
+    assert_vec_approx(h.object.normal_at(r.position(h.t)), vector(0.0, 0.0, -1.0));
 }
