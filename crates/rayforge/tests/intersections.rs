@@ -1,4 +1,4 @@
-//! Chapter 5: intersections and hits.
+//! Chapter 5: intersections and hits (and, last, chapter 15's intersection with u and v).
 // The book's expected values are kept exactly as printed (0.70711, not FRAC_1_SQRT_2).
 #![allow(clippy::approx_constant)]
 use rayforge::{hit, Intersection, Object};

@@ -3,38 +3,61 @@
 #![allow(clippy::approx_constant)]
 mod common;
 use common::*;
-use rayforge::math::{rotation_x, rotation_y, rotation_z, scaling, shearing, translation};
-use rayforge::{point, vector};
+use glam::DMat4;
+use rayforge::math::{rotation_x, rotation_y, rotation_z, scaling, shearing, translation, Tuple};
+use rayforge::{point, vector, Point3, Vec3};
 use std::f64::consts::PI;
 
 const HALF_SQRT2: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+/// The book's `m * p` for a point: the full 4×4 product with the tuple `(x, y, z, 1)`, whose
+/// result must still be a point. glam's `transform_point3`, which the renderer uses, must agree.
+#[track_caller]
+fn mul_point(m: DMat4, p: Point3) -> Point3 {
+    let t = m * Tuple::point(p.x, p.y, p.z);
+    assert_approx(t.w, 1.0);
+    let product = point(t.x, t.y, t.z);
+    assert_vec_approx(m.transform_point3(p), product);
+    product
+}
+
+/// The book's `m * v` for a vector: the full 4×4 product with the tuple `(x, y, z, 0)`, whose
+/// result must still be a vector. glam's `transform_vector3` must agree.
+#[track_caller]
+fn mul_vector(m: DMat4, v: Vec3) -> Vec3 {
+    let t = m * Tuple::vector(v.x, v.y, v.z);
+    assert_approx(t.w, 0.0);
+    let product = vector(t.x, t.y, t.z);
+    assert_vec_approx(m.transform_vector3(v), product);
+    product
+}
 
 #[test]
 fn multiplying_by_a_translation_matrix() {
     let transform = translation(5.0, -3.0, 2.0);
     let p = point(-3.0, 4.0, 5.0);
-    assert_vec_approx(transform.transform_point3(p), point(2.0, 1.0, 7.0));
+    assert_vec_approx(mul_point(transform, p), point(2.0, 1.0, 7.0));
 }
 
 #[test]
 fn multiplying_by_the_inverse_of_a_translation_matrix() {
     let inv = translation(5.0, -3.0, 2.0).inverse();
     let p = point(-3.0, 4.0, 5.0);
-    assert_vec_approx(inv.transform_point3(p), point(-8.0, 7.0, 3.0));
+    assert_vec_approx(mul_point(inv, p), point(-8.0, 7.0, 3.0));
 }
 
 #[test]
 fn translation_does_not_affect_vectors() {
     let transform = translation(5.0, -3.0, 2.0);
     let v = vector(-3.0, 4.0, 5.0);
-    assert_vec_approx(transform.transform_vector3(v), v);
+    assert_vec_approx(mul_vector(transform, v), v);
 }
 
 #[test]
 fn a_scaling_matrix_applied_to_a_point() {
     let transform = scaling(2.0, 3.0, 4.0);
     assert_vec_approx(
-        transform.transform_point3(point(-4.0, 6.0, 8.0)),
+        mul_point(transform, point(-4.0, 6.0, 8.0)),
         point(-8.0, 18.0, 32.0),
     );
 }
@@ -43,7 +66,7 @@ fn a_scaling_matrix_applied_to_a_point() {
 fn a_scaling_matrix_applied_to_a_vector() {
     let transform = scaling(2.0, 3.0, 4.0);
     assert_vec_approx(
-        transform.transform_vector3(vector(-4.0, 6.0, 8.0)),
+        mul_vector(transform, vector(-4.0, 6.0, 8.0)),
         vector(-8.0, 18.0, 32.0),
     );
 }
@@ -52,7 +75,7 @@ fn a_scaling_matrix_applied_to_a_vector() {
 fn multiplying_by_the_inverse_of_a_scaling_matrix() {
     let inv = scaling(2.0, 3.0, 4.0).inverse();
     assert_vec_approx(
-        inv.transform_vector3(vector(-4.0, 6.0, 8.0)),
+        mul_vector(inv, vector(-4.0, 6.0, 8.0)),
         vector(-2.0, 2.0, 2.0),
     );
 }
@@ -61,7 +84,7 @@ fn multiplying_by_the_inverse_of_a_scaling_matrix() {
 fn reflection_is_scaling_by_a_negative_value() {
     let transform = scaling(-1.0, 1.0, 1.0);
     assert_vec_approx(
-        transform.transform_point3(point(2.0, 3.0, 4.0)),
+        mul_point(transform, point(2.0, 3.0, 4.0)),
         point(-2.0, 3.0, 4.0),
     );
 }
@@ -72,10 +95,10 @@ fn rotating_a_point_around_the_x_axis() {
     let half_quarter = rotation_x(PI / 4.0);
     let full_quarter = rotation_x(PI / 2.0);
     assert_vec_approx(
-        half_quarter.transform_point3(p),
+        mul_point(half_quarter, p),
         point(0.0, HALF_SQRT2, HALF_SQRT2),
     );
-    assert_vec_approx(full_quarter.transform_point3(p), point(0.0, 0.0, 1.0));
+    assert_vec_approx(mul_point(full_quarter, p), point(0.0, 0.0, 1.0));
 }
 
 /// SEED-NOTES.md erratum 1: the seed prints (0, -√2/2, -√2/2); the inverse rotation gives
@@ -84,37 +107,31 @@ fn rotating_a_point_around_the_x_axis() {
 fn the_inverse_of_an_x_rotation_rotates_in_the_opposite_direction() {
     let p = point(0.0, 1.0, 0.0);
     let inv = rotation_x(PI / 4.0).inverse();
-    assert_vec_approx(inv.transform_point3(p), point(0.0, HALF_SQRT2, -HALF_SQRT2));
+    assert_vec_approx(mul_point(inv, p), point(0.0, HALF_SQRT2, -HALF_SQRT2));
 }
 
 #[test]
 fn rotating_a_point_around_the_y_axis() {
     let p = point(0.0, 0.0, 1.0);
     assert_vec_approx(
-        rotation_y(PI / 4.0).transform_point3(p),
+        mul_point(rotation_y(PI / 4.0), p),
         point(HALF_SQRT2, 0.0, HALF_SQRT2),
     );
-    assert_vec_approx(
-        rotation_y(PI / 2.0).transform_point3(p),
-        point(1.0, 0.0, 0.0),
-    );
+    assert_vec_approx(mul_point(rotation_y(PI / 2.0), p), point(1.0, 0.0, 0.0));
 }
 
 #[test]
 fn rotating_a_point_around_the_z_axis() {
     let p = point(0.0, 1.0, 0.0);
     assert_vec_approx(
-        rotation_z(PI / 4.0).transform_point3(p),
+        mul_point(rotation_z(PI / 4.0), p),
         point(-HALF_SQRT2, HALF_SQRT2, 0.0),
     );
-    assert_vec_approx(
-        rotation_z(PI / 2.0).transform_point3(p),
-        point(-1.0, 0.0, 0.0),
-    );
+    assert_vec_approx(mul_point(rotation_z(PI / 2.0), p), point(-1.0, 0.0, 0.0));
 }
 
-fn shear(xy: f64, xz: f64, yx: f64, yz: f64, zx: f64, zy: f64) -> rayforge::Point3 {
-    shearing(xy, xz, yx, yz, zx, zy).transform_point3(point(2.0, 3.0, 4.0))
+fn shear(xy: f64, xz: f64, yx: f64, yz: f64, zx: f64, zy: f64) -> Point3 {
+    mul_point(shearing(xy, xz, yx, yz, zx, zy), point(2.0, 3.0, 4.0))
 }
 
 #[test]
@@ -153,11 +170,11 @@ fn individual_transformations_are_applied_in_sequence() {
     let a = rotation_x(PI / 2.0);
     let b = scaling(5.0, 5.0, 5.0);
     let c = translation(10.0, 5.0, 7.0);
-    let p2 = a.transform_point3(p);
+    let p2 = mul_point(a, p);
     assert_vec_approx(p2, point(1.0, -1.0, 0.0));
-    let p3 = b.transform_point3(p2);
+    let p3 = mul_point(b, p2);
     assert_vec_approx(p3, point(5.0, -5.0, 0.0));
-    let p4 = c.transform_point3(p3);
+    let p4 = mul_point(c, p3);
     assert_vec_approx(p4, point(15.0, 0.0, 7.0));
 }
 
@@ -165,5 +182,5 @@ fn individual_transformations_are_applied_in_sequence() {
 fn chained_transformations_must_be_applied_in_reverse_order() {
     let p = point(1.0, 0.0, 1.0);
     let t = translation(10.0, 5.0, 7.0) * scaling(5.0, 5.0, 5.0) * rotation_x(PI / 2.0);
-    assert_vec_approx(t.transform_point3(p), point(15.0, 0.0, 7.0));
+    assert_vec_approx(mul_point(t, p), point(15.0, 0.0, 7.0));
 }

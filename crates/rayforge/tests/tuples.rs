@@ -1,10 +1,12 @@
-//! Chapter 1 (Tuples, Points, and Vectors) and chapter 2's colour scenarios.
+//! Chapter 1 (Tuples, Points, and Vectors), chapter 2's colour scenarios and chapter 6's `reflect`
+//! (all of the book's `features/tuples.feature`).
 // The book's expected values are kept exactly as printed (0.70711, not FRAC_1_SQRT_2).
 #![allow(clippy::approx_constant)]
 mod common;
 use common::*;
 use rayforge::color::color;
-use rayforge::math::Tuple;
+use rayforge::math::{reflect, Tuple};
+use rayforge::vector;
 
 fn tuple(x: f64, y: f64, z: f64, w: f64) -> Tuple {
     Tuple::new(x, y, z, w)
@@ -199,4 +201,19 @@ fn multiplying_colors() {
     let c1 = color(1.0, 0.2, 0.4);
     let c2 = color(0.9, 1.0, 0.1);
     assert_color_approx(c1 * c2, color(0.9, 0.2, 0.04));
+}
+
+#[test]
+fn reflecting_a_vector_approaching_at_45() {
+    let v = vector(1.0, -1.0, 0.0);
+    let n = vector(0.0, 1.0, 0.0);
+    assert_vec_approx(reflect(v, n), vector(1.0, 1.0, 0.0));
+}
+
+#[test]
+fn reflecting_a_vector_off_a_slanted_surface() {
+    let k = 2f64.sqrt() / 2.0;
+    let v = vector(0.0, -1.0, 0.0);
+    let n = vector(k, k, 0.0);
+    assert_vec_approx(reflect(v, n), vector(1.0, 0.0, 0.0));
 }
