@@ -5,7 +5,7 @@
 //! back to itself is reported as a cycle instead of recursing forever.
 
 use crate::error::SceneError;
-use crate::source::{as_str, check_keys, Entry, Node, Source};
+use crate::source::{as_str, check_keys, is_mapping, Entry, Node, Source};
 use std::collections::HashMap;
 
 /// How deep references may nest before the file is judged to be unreasonable.
@@ -48,7 +48,20 @@ impl<'n, 's> Defines<'n, 's> {
             )
         })?;
         let extend = match get("extend") {
-            Some(e) => Some((source.string(e.value, "extend")?, e.value)),
+            Some(e) => {
+                if !is_mapping(value.value) {
+                    return Err(source.error(
+                        e.key,
+                        "extend",
+                        format!(
+                            "`{name}` extends another define, so its `value:` must be a mapping \
+                             (a material, pattern or object); a transform list uses another by \
+                             naming it as an entry"
+                        ),
+                    ));
+                }
+                Some((source.string(e.value, "extend")?, e.value))
+            }
             None => None,
         };
         self.table.insert(
@@ -106,6 +119,7 @@ impl<'n, 's> Defines<'n, 's> {
                 format!("references nest deeper than {MAX_REFERENCE_DEPTH} levels"),
             ));
         }
+        source.spend(at, key)?;
         trail.push(name);
         Ok(())
     }

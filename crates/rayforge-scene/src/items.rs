@@ -4,7 +4,7 @@ use crate::assets::Assets;
 use crate::defines::{is_reference, merge, Defines, Trail};
 use crate::error::SceneError;
 use crate::material::{checked, color, material};
-use crate::source::{check_keys, Entry, Node, Source};
+use crate::source::{as_str, check_keys, Entry, Node, Source};
 use crate::transform::transform_list;
 use glam::DMat4;
 use rayforge::math::{point, vector, view_transform};
@@ -236,29 +236,47 @@ const MAX_SAMPLES_PER_PIXEL: u64 = 4096;
 /// The most samples one area light may take: each is a shadow ray per shading point.
 const MAX_LIGHT_SAMPLES: u64 = 4096;
 
-/// The entries of an `add:` item after expanding a template: `add: NAME` where NAME is a
-/// define whose value is itself an object. The item's keys override the template's, except
-/// `transform`, which composes (the template's placement first, then the item's); the result
-/// also returns the template's transform lists in order.
+/// An `add:` item with any object templates expanded.
+pub struct Expanded<'n, 's> {
+    /// Its keys: the templates' merged with the item's own (`add:` names a shape kind).
+    pub entries: Vec<Entry<'n, 's>>,
+    /// Its transform lists in the order they apply: the innermost template's first, the
+    /// item's own last.
+    pub transforms: Vec<&'n Node<'s>>,
+}
+
+/// Expands an `add:` item whose kind names a template: `add: NAME` where NAME is a define
+/// whose value is itself an object. The item's keys override the template's, except
+/// `transform`, which composes (the template's placement first, then the item's).
+///
+/// The names of the templates expanded are left on `trail`: the caller truncates it once the
+/// object is built, so that a template's children (or CSG operands) that instantiate the
+/// template again are reported as a cycle rather than recursing forever.
 pub fn expand_template<'n, 's>(
     source: &Source<'s>,
     defines: &Defines<'n, 's>,
     entries: Vec<Entry<'n, 's>>,
     kind: &'n Node<'s>,
     trail: &mut Trail<'n>,
-) -> Result<(Vec<Entry<'n, 's>>, Vec<&'n Node<'s>>), SceneError> {
+) -> Result<Expanded<'n, 's>, SceneError> {
     let name = source.string(kind, "add")?;
-    let mut transforms = Vec::new();
     if SHAPE_KINDS.contains(&name) || name == "camera" || name == "light" || !is_reference(kind) {
-        if let Some(t) = entries.iter().find(|e| e.name == "transform") {
-            transforms.push(t.value);
-        }
-        return Ok((entries, transforms));
+        let transforms = entries
+            .iter()
+            .filter(|e| e.name == "transform")
+            .map(|e| e.value)
+            .collect();
+        return Ok(Expanded {
+            entries,
+            transforms,
+        });
     }
     if !defines.contains(name) {
         return Err(unknown_kind(source, kind, name));
     }
-    let mut template = defines.mapping_entries(source, kind, "add", trail)?;
+    let template = defines.mapping_entries(source, kind, "add", trail)?;
+    // Stays on the trail while the object is built (see above).
+    trail.push(name);
     let inner_kind = template
         .iter()
         .find(|e| e.name == "add")
@@ -278,7 +296,7 @@ pub fn expand_template<'n, 's>(
         .copied()
         .filter(|e| e.name != "transform")
         .collect();
-    let (expanded, mut inner_transforms) = expand_template(
+    let mut expanded = expand_template(
         source,
         defines,
         template_without_transform,
@@ -286,21 +304,19 @@ pub fn expand_template<'n, 's>(
         trail,
     )?;
     if let Some(t) = template.iter().find(|e| e.name == "transform") {
-        inner_transforms.push(t.value);
+        expanded.transforms.push(t.value);
     }
-    template = expanded;
     for e in entries {
         if e.name == "add" {
             continue;
         }
         if e.name == "transform" {
-            inner_transforms.push(e.value);
+            expanded.transforms.push(e.value);
         } else {
-            merge(&mut template, e);
+            merge(&mut expanded.entries, e);
         }
     }
-    trail.pop();
-    Ok((template, inner_transforms))
+    Ok(expanded)
 }
 
 /// What a shape inherits from the groups around it.
@@ -326,21 +342,27 @@ impl Inherited {
     };
 }
 
-/// Groups may nest this deep; deeper nesting is certainly a generated or hostile file, and
-/// refusing it keeps the reader's recursion bounded.
-const MAX_GROUP_DEPTH: usize = 256;
+/// Groups (and CSGs) may nest this deep, inline or through defined objects; deeper nesting is
+/// certainly a generated or hostile file, and refusing it keeps the reader's recursion bounded
+/// (an unoptimised build takes about 50 KiB of stack a level).
+const MAX_GROUP_DEPTH: usize = 100;
 
 /// Builds the objects of one (expanded) `add:` item, a shape or a group, into `out`, with
-/// every enclosing group's transform baked in (the parent first: `parent * child`).
+/// every enclosing group's transform baked in (the parent first: `parent * child`). `trail`
+/// holds the object templates being built (see [`expand_template`]).
 pub fn add_objects<'n, 's>(
     source: &Source<'s>,
     defines: &Defines<'n, 's>,
     assets: &mut Assets,
-    entries: &[Entry<'n, 's>],
-    transforms: &[&'n Node<'s>],
+    item: &Expanded<'n, 's>,
     inherited: &Inherited,
+    trail: &mut Trail<'n>,
     out: &mut Vec<rayforge::Object>,
 ) -> Result<(), SceneError> {
+    let Expanded {
+        entries,
+        transforms,
+    } = item;
     let kind_node = entries
         .iter()
         .find(|e| e.name == "add")
@@ -360,7 +382,7 @@ pub fn add_objects<'n, 's>(
     };
     check_keys(source, entries, &format!("a {kind}"), keys)?;
     let mut own = DMat4::IDENTITY;
-    for t in transforms {
+    for t in transforms.iter().copied() {
         own = transform_list(source, defines, t, &mut Trail::new())? * own;
     }
     let placed_at = transforms.last().copied().unwrap_or(kind_node);
@@ -416,23 +438,27 @@ pub fn add_objects<'n, 's>(
                 format!("groups and CSG nest deeper than {MAX_GROUP_DEPTH} levels"),
             ));
         }
-        let mut operand = |key: &str| -> Result<Group, SceneError> {
+        let mut build_operand = |key: &str| -> Result<Group, SceneError> {
             let node = required(source, entries, kind_node, key, "a csg")?;
+            let mark = trail.len();
+            let item = operand(source, defines, node, key, trail)?;
             let mut objects = Vec::new();
-            add_operand(source, defines, assets, node, key, &inside, &mut objects)?;
+            add_objects(source, defines, assets, &item, &inside, trail, &mut objects)?;
+            trail.truncate(mark);
             let mut group = Group::new();
             for o in objects {
                 group.add_child(o);
             }
             Ok(group)
         };
-        let left = operand("left")?;
-        let right = operand("right")?;
+        let left = build_operand("left")?;
+        let right = build_operand("right")?;
         let csg = Object::csg(operation, left, right)
             .and_then(|c| c.placed_by(&world))
             .map_err(|e| source.error(placed_at, "transform", e.to_string()))?;
         let mut csg = csg;
         csg.casts_shadow = casts_shadow;
+        source.spend(kind_node, "add")?;
         out.push(csg);
         return Ok(());
     }
@@ -459,6 +485,7 @@ pub fn add_objects<'n, 's>(
                 _ => material.clone().unwrap_or_default(),
             };
             object.casts_shadow = casts_shadow;
+            source.spend(kind_node, "add")?;
             out.push(object);
         }
         return Ok(());
@@ -489,23 +516,17 @@ pub fn add_objects<'n, 's>(
                 .find(|e| e.name == "add")
                 .map(|e| e.value)
                 .ok_or_else(|| source.error(child, "children", "each child needs `add:`"))?;
-            let (child_entries, child_transforms) =
-                expand_template(source, defines, child_entries, child_kind, &mut Vec::new())?;
-            add_objects(
-                source,
-                defines,
-                assets,
-                &child_entries,
-                &child_transforms,
-                &inside,
-                out,
-            )?;
+            let mark = trail.len();
+            let child = expand_template(source, defines, child_entries, child_kind, trail)?;
+            add_objects(source, defines, assets, &child, &inside, trail, out)?;
+            trail.truncate(mark);
         }
         return Ok(());
     };
     let mut object = Object::new(shape).with_transform_of(world);
     object.material = material.unwrap_or_default();
     object.casts_shadow = casts_shadow;
+    source.spend(kind_node, "add")?;
     out.push(object);
     Ok(())
 }
@@ -526,18 +547,20 @@ fn required<'n, 's>(
 }
 
 /// A CSG operand (`left:` or `right:`): a shape, group, CSG or defined object, written with
-/// `add:` or, as the community's files do, `type:`; or the name of a defined object.
-fn add_operand<'n, 's>(
+/// `add:` or, as the community's files do, `type:`; or the name of a defined object. Names
+/// expanded are left on `trail`, as [`expand_template`] leaves them.
+fn operand<'n, 's>(
     source: &Source<'s>,
     defines: &Defines<'n, 's>,
-    assets: &mut Assets,
     node: &'n Node<'s>,
     key: &str,
-    inherited: &Inherited,
-    out: &mut Vec<Object>,
-) -> Result<(), SceneError> {
-    let mut entries = if is_reference(node) {
-        defines.mapping_entries(source, node, key, &mut Vec::new())?
+    trail: &mut Trail<'n>,
+) -> Result<Expanded<'n, 's>, SceneError> {
+    let mut entries = if let Some(name) = as_str(node) {
+        let entries = defines.mapping_entries(source, node, key, trail)?;
+        // On the trail while the operand is built, as for templates.
+        trail.push(name);
+        entries
     } else {
         source.entries(node, key)?
     };
@@ -551,16 +574,7 @@ fn add_operand<'n, 's>(
         .find(|e| e.name == "add")
         .map(|e| e.value)
         .ok_or_else(|| source.error(node, key, "an operand needs `add:` or `type:`"))?;
-    let (entries, transforms) = expand_template(source, defines, entries, kind, &mut Vec::new())?;
-    add_objects(
-        source,
-        defines,
-        assets,
-        &entries,
-        &transforms,
-        inherited,
-        out,
-    )
+    expand_template(source, defines, entries, kind, trail)
 }
 
 /// The shape an `add:` names, with its shape-specific keys.
@@ -598,6 +612,14 @@ fn shape(
             maximum,
             closed,
         }),
+        "camera" | "light" => Err(source.error(
+            kind_node,
+            "add",
+            format!(
+                "a {kind} cannot be a defined object, a group's child or a CSG operand: add it \
+                 as an item of its own"
+            ),
+        )),
         other => Err(unknown_kind(source, kind_node, other)),
     }
 }

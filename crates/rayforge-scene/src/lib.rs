@@ -8,6 +8,7 @@
 #![forbid(unsafe_code)]
 
 mod assets;
+mod budget;
 mod defines;
 mod error;
 mod items;
@@ -57,8 +58,35 @@ pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
     load_str(&text, path)
 }
 
+/// The stack the reader runs on. Reading recurses once per level of nesting (YAML lists and
+/// mappings, groups, patterns, references), and each level is bounded (see
+/// `docs/scene-format.md`, "Limits"); at their bounds an unoptimised build needs about 10 MiB.
+/// A thread of its own with this much room makes the reader safe whatever stack its caller has
+/// (test threads get 2 MiB). Only the pages it touches are ever committed.
+const READER_STACK_BYTES: usize = 64 << 20;
+
 /// Builds a scene from YAML text; `path` names the file in errors and anchors relative paths.
 pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
+    std::thread::scope(|scope| {
+        let reader = std::thread::Builder::new()
+            .name("rayforge-scene".into())
+            .stack_size(READER_STACK_BYTES)
+            .spawn_scoped(scope, || read(text, path))
+            .map_err(|e| {
+                SceneError::new(
+                    path,
+                    format!("cannot start a thread to read the scene: {e}"),
+                )
+            })?;
+        // The reader returns errors as values; a panic would be a bug in it: pass it on.
+        reader
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+    })
+}
+
+/// [`load_str`]'s work, on the reader's own thread.
+fn read(text: &str, path: &Path) -> Result<Scene, SceneError> {
     if text.contains('\0') {
         return Err(SceneError::new(
             path,
@@ -72,6 +100,14 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
             "the scene file is empty: expected a list of `- add:` and `- define:` items",
         ));
     };
+    // A second document (after `---`) would be silently ignored: refuse it instead.
+    if let Some(extra) = documents[1..].iter().find(|d| !d.data.is_null()) {
+        return Err(source.error(
+            extra,
+            "",
+            "the file holds more than one YAML document (`---`); a scene is one list of items",
+        ));
+    }
     let items = source.sequence(root, "").map_err(|e| SceneError {
         message: "the top level must be a list of `- add:` and `- define:` items".into(),
         ..e
@@ -118,18 +154,21 @@ fn add_item<'n, 's>(
         return Err(source.error(item, "", "each item needs `add:` or `define:`"));
     };
     match source.string(kind, "add")? {
+        "camera" if camera.is_some() => {
+            return Err(source.error(kind, "add", "a second camera: a scene has exactly one"))
+        }
         "camera" => *camera = Some(items::camera(source, &entries, item)?),
         "light" => world.lights.push(items::light(source, &entries, item)?),
         _ => {
-            let (entries, transforms) =
-                items::expand_template(source, defines, entries, kind, &mut Vec::new())?;
+            let mut trail = Vec::new();
+            let item = items::expand_template(source, defines, entries, kind, &mut trail)?;
             items::add_objects(
                 source,
                 defines,
                 assets,
-                &entries,
-                &transforms,
+                &item,
                 &items::Inherited::TOP,
+                &mut trail,
                 &mut world.objects,
             )?;
         }

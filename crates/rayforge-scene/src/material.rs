@@ -3,7 +3,7 @@
 use crate::assets::Assets;
 use crate::defines::{is_reference, merge, Defines, Trail};
 use crate::error::SceneError;
-use crate::source::{as_str, check_keys, describe, Entry, Node, Source};
+use crate::source::{as_str, check_keys, describe, is_mapping, is_sequence, Entry, Node, Source};
 use crate::transform::transform_list;
 use rayforge::shading::{Bump, BumpKind, Filter, UvMapping, UvPattern};
 use rayforge::{Color, Material, Pattern, PatternKind, Transform};
@@ -151,16 +151,69 @@ pub fn color(source: &Source<'_>, node: &Node<'_>, key: &str) -> Result<Color, S
 }
 
 /// A pattern mapping: `type`, `colors` (colours or nested patterns), `transform`, and the
-/// extras' keys (`patterns` for blends, `pattern` and `scale` for perturbation).
+/// extras' keys (`patterns` for blends, `pattern` and `scale` for perturbation); or the name
+/// of a defined one.
 pub fn pattern<'n, 's>(
     source: &Source<'s>,
     defines: &Defines<'n, 's>,
     assets: &mut Assets,
     node: &'n Node<'s>,
 ) -> Result<Pattern, SceneError> {
+    let mut nesting = Nesting {
+        trail: Trail::new(),
+        depth: 0,
+    };
+    nested_pattern(source, defines, assets, node, &mut nesting)
+}
+
+/// Patterns may nest this deep (inline or through defines). Reading and shading both recurse
+/// once a level; no real pattern needs more than a handful.
+const MAX_PATTERN_DEPTH: usize = 64;
+
+/// Where a pattern being read sits: the defined patterns it is inside (a pattern that contains
+/// itself is a cycle) and how deep it is.
+struct Nesting<'n> {
+    trail: Trail<'n>,
+    depth: usize,
+}
+
+/// A pattern at any depth (see [`pattern`]).
+fn nested_pattern<'n, 's>(
+    source: &Source<'s>,
+    defines: &Defines<'n, 's>,
+    assets: &mut Assets,
+    node: &'n Node<'s>,
+    nesting: &mut Nesting<'n>,
+) -> Result<Pattern, SceneError> {
+    if nesting.depth >= MAX_PATTERN_DEPTH {
+        return Err(source.error(
+            node,
+            "pattern",
+            format!("patterns nest deeper than {MAX_PATTERN_DEPTH} levels"),
+        ));
+    }
+    source.spend(node, "pattern")?;
+    let mark = nesting.trail.len();
+    nesting.depth += 1;
+    let pattern = pattern_here(source, defines, assets, node, nesting);
+    nesting.depth -= 1;
+    nesting.trail.truncate(mark);
+    pattern
+}
+
+/// The pattern at `node`, its parts read through [`nested_pattern`].
+fn pattern_here<'n, 's>(
+    source: &Source<'s>,
+    defines: &Defines<'n, 's>,
+    assets: &mut Assets,
+    node: &'n Node<'s>,
+    nesting: &mut Nesting<'n>,
+) -> Result<Pattern, SceneError> {
     let mut entries = Vec::new();
-    if is_reference(node) {
-        entries = defines.mapping_entries(source, node, "pattern", &mut Trail::new())?;
+    if let Some(name) = as_str(node) {
+        entries = defines.mapping_entries(source, node, "pattern", &mut nesting.trail)?;
+        // On the trail while its parts are read: a part that names it again is a cycle.
+        nesting.trail.push(name);
     } else {
         for e in source.entries(node, "pattern")? {
             merge(&mut entries, e);
@@ -188,11 +241,16 @@ pub fn pattern<'n, 's>(
         _ => &["type", "colors", "transform"],
     };
     if !PATTERN_TYPES.contains(&kind_name) {
+        let hint = if kind_name == "nested" {
+            " (a pattern nests by standing in place of a colour in `colors:`)"
+        } else {
+            ""
+        };
         return Err(source.error(
             type_node,
             "type",
             format!(
-                "unknown pattern type `{kind_name}`; expected one of: {}",
+                "unknown pattern type `{kind_name}`; expected one of: {}{hint}",
                 PATTERN_TYPES.join(", ")
             ),
         ));
@@ -241,18 +299,23 @@ pub fn pattern<'n, 's>(
         }
         "blended" => {
             let list = required("patterns")?;
-            let parts = source
-                .sequence(list, "patterns")?
-                .iter()
-                .map(|p| pattern(source, defines, assets, p))
-                .collect::<Result<Vec<_>, _>>()?;
+            let mut parts = Vec::new();
+            for p in source.sequence(list, "patterns")? {
+                parts.push(nested_pattern(source, defines, assets, p, nesting)?);
+            }
             if parts.is_empty() {
                 return Err(source.error(list, "patterns", "a blend needs at least one pattern"));
             }
             PatternKind::Blended(parts)
         }
         "perturbed" => PatternKind::Perturbed {
-            pattern: Box::new(pattern(source, defines, assets, required("pattern")?)?),
+            pattern: Box::new(nested_pattern(
+                source,
+                defines,
+                assets,
+                required("pattern")?,
+                nesting,
+            )?),
             scale: match get("scale") {
                 Some(s) => source.number(s, "scale")?,
                 None => DEFAULT_PERTURBATION,
@@ -260,11 +323,10 @@ pub fn pattern<'n, 's>(
         },
         _ => {
             let list = required("colors")?;
-            let mut parts = source
-                .sequence(list, "colors")?
-                .iter()
-                .map(|c| color_or_pattern(source, defines, assets, c))
-                .collect::<Result<Vec<_>, _>>()?;
+            let mut parts = Vec::new();
+            for c in source.sequence(list, "colors")? {
+                parts.push(color_or_pattern(source, defines, assets, c, nesting)?);
+            }
             let two =
                 |parts: &mut Vec<Pattern>| -> Result<(Box<Pattern>, Box<Pattern>), SceneError> {
                     if parts.len() != 2 {
@@ -327,12 +389,14 @@ fn color_or_pattern<'n, 's>(
     defines: &Defines<'n, 's>,
     assets: &mut Assets,
     node: &'n Node<'s>,
+    nesting: &mut Nesting<'n>,
 ) -> Result<Pattern, SceneError> {
-    if source.sequence(node, "colors").is_ok() {
+    if is_sequence(node) {
+        source.spend(node, "colors")?;
         return Ok(Pattern::solid(color(source, node, "colors")?));
     }
-    if as_str(node).is_some() || source.entries(node, "colors").is_ok() {
-        return pattern(source, defines, assets, node);
+    if as_str(node).is_some() || is_mapping(node) {
+        return nested_pattern(source, defines, assets, node, nesting);
     }
     Err(source.error(
         node,

@@ -1,8 +1,17 @@
 //! The YAML document with positions: typed access to nodes, every failure a located error.
 
+use crate::budget::Budget;
 use crate::error::{SceneError, Span};
 use saphyr::{LoadableYamlNode, MarkedYaml, Scalar, YamlData};
+use saphyr_parser::{Event, Parser};
+use std::collections::HashMap;
 use std::path::Path;
+
+/// How deeply lists and mappings may nest, counting what aliases bring in. saphyr builds and
+/// drops its tree recursively, about 2 KiB of stack a level, so a file of a few hundred
+/// thousand `- ` would overflow the stack; a real scene nests fewer than 20 levels (a pattern
+/// nested in a pattern in a material in a group in a group is 12).
+pub const MAX_NESTING: usize = 128;
 
 /// A parsed scene file: its text (for byte offsets) and its path (for messages).
 pub struct Source<'s> {
@@ -11,7 +20,14 @@ pub struct Source<'s> {
     text: &'s str,
     /// Problems the reader worked around, reported to the user but not fatal.
     warnings: std::cell::RefCell<Vec<SceneError>>,
+    /// What the scene may still build.
+    budget: Budget,
+    /// Whether the text is ASCII (character and byte offsets agree).
+    ascii: bool,
 }
+
+/// The most warnings one file reports: enough to see the pattern of a mistake.
+pub const MAX_WARNINGS: usize = 100;
 
 /// A node of the document.
 pub type Node<'s> = MarkedYaml<'s>;
@@ -23,13 +39,72 @@ impl<'s> Source<'s> {
             path,
             text,
             warnings: Default::default(),
+            budget: Budget::default(),
+            ascii: text.is_ascii(),
         };
+        source.check_nesting()?;
         let docs = MarkedYaml::load_from_str(text).map_err(|e| {
             let m = e.marker();
             let span = source.span_at(m.index(), m.line(), m.col(), 0);
             SceneError::new(path, format!("not valid YAML: {}", e.info())).at(span)
         })?;
         Ok((source, docs))
+    }
+
+    /// Refuses a document that nests deeper than [`MAX_NESTING`], before saphyr builds its
+    /// tree. Reads the parser's events (a loop, no recursion); an alias counts as deep as the
+    /// node its anchor names. Syntax errors are left for the loader to report.
+    fn check_nesting(&self) -> Result<(), SceneError> {
+        // Per open collection: its anchor (0: none) and the deepest level reached inside it.
+        let mut open: Vec<(usize, usize)> = Vec::new();
+        // Per anchor: how many levels its node spans (0 for a scalar).
+        let mut heights: HashMap<usize, usize> = HashMap::new();
+        for event in Parser::new_from_str(self.text) {
+            let Ok((event, span)) = event else {
+                return Ok(());
+            };
+            let depth = open.len();
+            let reached = match event {
+                Event::SequenceStart(anchor, _) | Event::MappingStart(anchor, _) => {
+                    open.push((anchor, depth + 1));
+                    depth + 1
+                }
+                Event::SequenceEnd | Event::MappingEnd => {
+                    if let Some((anchor, deepest)) = open.pop() {
+                        // This collection was at level `depth`.
+                        if anchor != 0 {
+                            heights.insert(anchor, deepest + 1 - depth);
+                        }
+                        if let Some(parent) = open.last_mut() {
+                            parent.1 = parent.1.max(deepest);
+                        }
+                    }
+                    continue;
+                }
+                Event::Alias(anchor) => depth + heights.get(&anchor).copied().unwrap_or(0),
+                _ => continue,
+            };
+            if let Some(parent) = open.last_mut() {
+                parent.1 = parent.1.max(reached);
+            }
+            if reached > MAX_NESTING {
+                let m = span.start;
+                return Err(SceneError::new(
+                    self.path,
+                    format!("lists and mappings nest deeper than {MAX_NESTING} levels"),
+                )
+                .at(self.span_at(m.index(), m.line(), m.col(), 0)));
+            }
+        }
+        Ok(())
+    }
+
+    /// Spends one part of the scene's budget (see the `budget` module) on something built at
+    /// `node` for `key`.
+    pub fn spend(&self, node: &Node<'_>, key: &str) -> Result<(), SceneError> {
+        self.budget
+            .spend()
+            .map_err(|message| self.error(node, key, message))
     }
 
     fn span_at(&self, char_index: usize, line: usize, col: usize, char_len: usize) -> Span {
@@ -43,8 +118,12 @@ impl<'s> Source<'s> {
         }
     }
 
-    /// Byte offset of a character index (the parser counts characters).
+    /// Byte offset of a character index (the parser counts characters). The same number in
+    /// ASCII text; otherwise a walk from the start, which only errors and warnings take.
     fn byte_offset(&self, char_index: usize) -> usize {
+        if self.ascii {
+            return char_index.min(self.text.len());
+        }
         self.text
             .char_indices()
             .nth(char_index)
@@ -65,9 +144,18 @@ impl<'s> Source<'s> {
     }
 
     /// Records a warning located at `node`, about `key`.
+    /// After [`MAX_WARNINGS`], one more says that the rest are not shown.
     pub fn warn(&self, node: &Node<'_>, key: &str, message: impl Into<String>) {
-        let warning = self.error(node, key, message);
-        self.warnings.borrow_mut().push(warning);
+        let mut warnings = self.warnings.borrow_mut();
+        match warnings.len() {
+            n if n < MAX_WARNINGS => warnings.push(self.error(node, key, message)),
+            MAX_WARNINGS => warnings.push(self.error(
+                node,
+                key,
+                format!("more than {MAX_WARNINGS} warnings; the rest are not shown"),
+            )),
+            _ => {}
+        }
     }
 
     /// The warnings recorded so far.
@@ -213,6 +301,16 @@ pub struct Entry<'n, 's> {
     pub key: &'n Node<'s>,
     /// The value node.
     pub value: &'n Node<'s>,
+}
+
+/// Whether the node is a list.
+pub fn is_sequence(node: &Node<'_>) -> bool {
+    matches!(node.data, YamlData::Sequence(_))
+}
+
+/// Whether the node is a mapping.
+pub fn is_mapping(node: &Node<'_>) -> bool {
+    matches!(node.data, YamlData::Mapping(_))
 }
 
 /// The node as a string, if it is one.

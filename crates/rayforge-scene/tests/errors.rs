@@ -38,6 +38,12 @@ fn an_unknown_kind_is_named_with_the_kinds_there_are() {
 }
 
 #[test]
+fn a_light_inside_a_group_is_not_a_shape() {
+    let e = error("- add: group\n  children:\n    - add: light\n      at: [0, 0, 0]\n");
+    assert_error(&e, 10, 12, Some("add"), "a light cannot be");
+}
+
+#[test]
 fn an_unknown_key_lists_the_allowed_ones() {
     let e = error("- add: sphere\n  colour: [1, 0, 0]\n");
     assert_error(&e, 9, 3, Some("colour"), "unknown key for a sphere");
@@ -103,13 +109,35 @@ fn a_zero_width() {
 }
 
 #[test]
-fn a_field_of_view_out_of_range() {
+fn a_zero_height() {
     let e = load_str(
-        &CAMERA.replace("field-of-view: 1", "field-of-view: 90"),
+        &CAMERA.replace("height: 10", "height: 0"),
         Path::new("scene.yml"),
     )
     .unwrap_err();
-    assert_error(&e, 4, 18, Some("field-of-view"), "radians");
+    assert_error(&e, 3, 11, Some("height"), "at least 1, found 0");
+}
+
+#[test]
+fn a_field_of_view_out_of_range() {
+    for fov in ["90", "0", "-1", "3.14159266"] {
+        let e = load_str(
+            &CAMERA.replace("field-of-view: 1", &format!("field-of-view: {fov}")),
+            Path::new("scene.yml"),
+        )
+        .unwrap_err();
+        assert_error(&e, 4, 18, Some("field-of-view"), "between 0 and π");
+    }
+}
+
+#[test]
+fn a_camera_looking_at_its_own_position() {
+    let e = load_str(
+        &CAMERA.replace("to: [0, 0, 0]", "to: [0, 0, -5]"),
+        Path::new("scene.yml"),
+    )
+    .unwrap_err();
+    assert_error(&e, 6, 7, Some("to"), "looks at its own position");
 }
 
 #[test]
@@ -127,34 +155,142 @@ fn a_define_that_extends_itself_is_a_cycle() {
     let e = error(
         "- define: a\n  extend: b\n  value:\n    ambient: 1\n- define: b\n  extend: a\n  value:\n    diffuse: 1\n- add: sphere\n  material: a\n",
     );
-    assert!(e.message.contains("define cycle"), "{e}");
-    assert!(e.message.contains("a → b → a"), "{e}");
+    // Found where `b` extends `a` again.
+    assert_error(&e, 13, 11, Some("extend"), "define cycle: a → b → a");
+}
+
+#[test]
+fn only_mappings_extend() {
+    let e = error("- define: a\n  value: [[scale, 2, 2, 2]]\n- define: b\n  extend: a\n  value: [[translate, 1, 0, 0]]\n");
+    assert_error(&e, 11, 3, Some("extend"), "its `value:` must be a mapping");
 }
 
 #[test]
 fn a_transform_define_that_references_itself_is_a_cycle() {
     let e =
         error("- define: loop\n  value:\n    - loop\n- add: sphere\n  transform:\n    - loop\n");
-    assert!(e.message.contains("define cycle: loop → loop"), "{e}");
+    assert_error(&e, 10, 7, Some("transform"), "define cycle: loop → loop");
+}
+
+/// Regression: a defined object naming itself (directly or through another) overflowed the stack.
+#[test]
+fn an_object_define_that_instantiates_itself_is_a_cycle() {
+    let e = error("- define: a\n  value: {add: b}\n- define: b\n  value: {add: a}\n- add: a\n");
+    assert_error(&e, 11, 16, Some("add"), "define cycle: a → b → a");
+}
+
+/// Regression: a group template among its own children recursed until the stack overflowed.
+#[test]
+fn a_group_define_among_its_own_children_is_a_cycle() {
+    let e = error("- define: g\n  value: {add: group, children: [{add: g}]}\n- add: g\n");
+    assert_error(&e, 9, 40, Some("add"), "define cycle: g → g");
+}
+
+#[test]
+fn a_csg_define_that_is_its_own_operand_is_a_cycle() {
+    let e = error(
+        "- define: c\n  value: {add: csg, operation: union, left: c, right: {type: cube}}\n- add: c\n",
+    );
+    assert_error(&e, 9, 45, Some("left"), "define cycle: c → c");
+}
+
+/// Regression: a pattern define that contains itself overflowed the stack.
+#[test]
+fn a_pattern_define_that_contains_itself_is_a_cycle() {
+    let e = error(
+        "- define: p\n  value: {type: perturbed, pattern: p}\n- add: sphere\n  material: {pattern: p}\n",
+    );
+    assert_error(&e, 9, 37, Some("pattern"), "define cycle: p → p");
+    let e = error(
+        "- define: p\n  value: {type: stripes, colors: [[1, 1, 1], p]}\n- add: sphere\n  material: {pattern: p}\n",
+    );
+    assert_error(&e, 9, 46, Some("pattern"), "define cycle: p → p");
+}
+
+/// Thirty defines that each use the one before twice would build 2³⁰ parts: refused, quickly.
+#[test]
+fn defines_that_expand_exponentially_are_refused() {
+    let mut body = String::from("- define: t0\n  value: [[translate, 1, 0, 0]]\n");
+    for i in 1..30 {
+        body += &format!("- define: t{i}\n  value: [t{}, t{}]\n", i - 1, i - 1);
+    }
+    body += "- add: sphere\n  transform: [t29]\n";
+    let e = error(&body);
+    assert!(e.message.contains("more than 1000000 parts"), "{e}");
+    assert_eq!(e.key.as_deref(), Some("transform"), "{e}");
+    assert!(e.span.is_some(), "{e}");
+}
+
+/// Regression: a few hundred thousand `- ` overflowed saphyr's recursive tree builder.
+#[test]
+fn yaml_that_nests_too_deeply_is_refused_before_it_is_built() {
+    let e = error(&format!("{}1\n", "- ".repeat(200_000)));
+    assert_error(&e, 8, 257, None, "nest deeper than 128 levels");
+    // Aliases count as deep as what they name.
+    let mut text = format!("a0: &a0 {}1{}\n", "[".repeat(100), "]".repeat(100));
+    for i in 1..10 {
+        text += &format!("a{i}: &a{i} [[[[[[[[[[*a{}]]]]]]]]]]\n", i - 1);
+    }
+    let e = load_str(&text, Path::new("scene.yml")).unwrap_err();
+    assert!(e.message.contains("nest deeper than 128 levels"), "{e}");
+}
+
+#[test]
+fn groups_nested_through_defines_are_refused_without_overflowing() {
+    let mut body = String::from("- define: g0\n  value: {add: sphere}\n");
+    for i in 1..20 {
+        let open = "{add: group, children: [".repeat(8);
+        let close = "]}".repeat(8);
+        body += &format!(
+            "- define: g{i}\n  value: {open}{{add: g{}}}{close}\n",
+            i - 1
+        );
+    }
+    body += "- add: g19\n";
+    let e = error(&body);
+    assert!(e.message.contains("nest deeper than 100 levels"), "{e}");
 }
 
 #[test]
 fn a_scene_without_a_camera() {
     let e = load_str("- add: sphere\n", Path::new("scene.yml")).unwrap_err();
-    assert!(e.message.contains("no camera"), "{e}");
+    assert_eq!((e.span, e.key.as_deref()), (None, None), "{e}");
+    assert_eq!(
+        e.to_string(),
+        "scene.yml: the scene has no camera: add an item `- add: camera`"
+    );
+}
+
+#[test]
+fn a_second_camera() {
+    let e = error(CAMERA);
+    assert_error(&e, 8, 8, Some("add"), "a second camera");
+}
+
+#[test]
+fn a_second_yaml_document() {
+    let e = error("---\n- add: sphere\n");
+    assert_error(&e, 9, 1, None, "more than one YAML document");
 }
 
 #[test]
 fn a_file_that_is_not_yaml_reports_the_parsers_position() {
     let e = load_str("- add: sphere\n  material: [1, 2\n", Path::new("scene.yml")).unwrap_err();
-    assert!(e.message.contains("not valid YAML"), "{e}");
-    assert!(e.span.is_some(), "{e}");
+    assert_error(
+        &e,
+        3,
+        1,
+        None,
+        "not valid YAML: while parsing a flow sequence, expected ',' or ']'",
+    );
+    let e = load_str("- add: sphere\n\tmaterial: x\n", Path::new("scene.yml")).unwrap_err();
+    assert_error(&e, 1, 8, None, "not valid YAML");
 }
 
 #[test]
 fn a_top_level_that_is_not_a_list() {
-    let e = load_str("add: sphere\n", Path::new("scene.yml")).unwrap_err();
-    assert!(e.message.contains("top level must be a list"), "{e}");
+    let e = load_str("\nadd: sphere\n", Path::new("scene.yml")).unwrap_err();
+    assert_error(&e, 2, 1, None, "top level must be a list");
 }
 
 #[test]
@@ -174,6 +310,7 @@ fn a_missing_file_names_the_path() {
     let e = rayforge_scene::load_file(Path::new("/no/such/scene.yml")).unwrap_err();
     assert!(e.to_string().starts_with("/no/such/scene.yml: "), "{e}");
     assert!(e.message.contains("cannot read"), "{e}");
+    assert_eq!((e.span, e.key.as_deref()), (None, None), "{e}");
 }
 
 #[test]
@@ -186,6 +323,18 @@ fn an_item_without_add_or_define() {
 fn a_pattern_of_an_unknown_type() {
     let e = error("- add: plane\n  material:\n    pattern:\n      type: plaid\n      colors: [[1, 1, 1], [0, 0, 0]]\n");
     assert_error(&e, 11, 13, Some("type"), "unknown pattern type `plaid`");
+}
+
+#[test]
+fn a_nested_pattern_type_says_how_nesting_is_written() {
+    let e = error("- add: plane\n  material:\n    pattern:\n      type: nested\n      colors: [[1, 1, 1], [0, 0, 0]]\n");
+    assert_error(
+        &e,
+        11,
+        13,
+        Some("type"),
+        "in place of a colour in `colors:`",
+    );
 }
 
 #[test]

@@ -190,6 +190,75 @@ fn the_chapter_extras_read_as_patterns() {
 }
 
 #[test]
+fn rings_may_be_spelt_ring_and_take_any_number_of_colors() {
+    let scene = load(
+        "
+- define: three
+  value: {type: ring, colors: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}
+- add: plane
+  material: {pattern: three}
+- add: plane
+  material:
+    pattern: {type: rings, colors: [[1, 1, 1], [0, 0, 0]]}
+",
+    );
+    for (object, n) in scene.world.objects.iter().zip([3, 2]) {
+        let p = object.material.pattern.as_ref().unwrap();
+        let PatternKind::Rings(parts) = &p.kind else {
+            panic!("rings, got {:?}", p.kind);
+        };
+        assert_eq!(parts.len(), n);
+    }
+}
+
+#[test]
+fn a_transform_may_be_a_single_defined_name() {
+    let scene = load(
+        "
+- define: up
+  value:
+    - [translate, 0, 1, 0]
+- add: sphere
+  transform: up
+",
+    );
+    assert!(scene.world.objects[0]
+        .transform
+        .matrix()
+        .abs_diff_eq(translation(0.0, 1.0, 0.0), 1e-12));
+}
+
+#[test]
+fn a_defined_object_may_build_on_another() {
+    let scene = load(
+        "
+- define: ball
+  value:
+    add: sphere
+    material: {color: [1, 0, 0], reflective: 0.5}
+    transform: [[scale, 2, 2, 2]]
+- define: raised-ball
+  value:
+    add: ball
+    transform: [[translate, 0, 1, 0]]
+- add: raised-ball
+  shadow: false
+  transform: [[rotate-y, 1]]
+",
+    );
+    let [ball] = &scene.world.objects[..] else {
+        panic!("one object");
+    };
+    assert_eq!(ball.shape, Shape::Sphere);
+    assert_eq!(ball.material.reflective, 0.5);
+    assert!(!ball.casts_shadow);
+    // The innermost template's transform first, the item's last.
+    let expected =
+        rayforge::math::rotation_y(1.0) * translation(0.0, 1.0, 0.0) * scaling(2.0, 2.0, 2.0);
+    assert!(ball.transform.matrix().abs_diff_eq(expected, 1e-12));
+}
+
+#[test]
 fn shadow_false_makes_an_object_cast_no_shadow() {
     let scene = load("- add: sphere\n  shadow: false\n- add: sphere\n");
     assert!(!scene.world.objects[0].casts_shadow);
@@ -249,7 +318,23 @@ fn the_repaired_cover_scene_loads_with_all_its_items() {
     assert_eq!(count(Shape::Plane), 1);
     assert_eq!(count(Shape::Sphere), 1);
     assert_eq!(count(Shape::Cube), 17);
+    assert_eq!(scene.world.objects.len(), 19);
     assert_eq!((scene.camera.hsize(), scene.camera.vsize()), (100, 100));
+    assert_eq!(scene.camera.field_of_view(), 0.785);
+    // Objects keep the file's order: the plane, the glass sphere, then the cubes.
+    let glass = &scene.world.objects[1].material;
+    assert_eq!((glass.transparency, glass.refractive_index), (0.7, 1.5));
+    // The first cube: `medium-object` (itself `standard-transform` then a scale), then a move.
+    let cube = &scene.world.objects[2];
+    let expected = translation(4.0, 0.0, 0.0)
+        * scaling(3.0, 3.0, 3.0)
+        * scaling(0.5, 0.5, 0.5)
+        * translation(1.0, -1.0, 1.0);
+    assert!(cube.transform.matrix().abs_diff_eq(expected, 1e-12));
+    // `blue-material` extends `white-material`: its colour, white's diffuse and reflective.
+    let blue = &scene.world.objects[3].material;
+    assert_eq!(blue.color, color(0.537, 0.831, 0.914));
+    assert_eq!((blue.diffuse, blue.reflective), (0.7, 0.1));
 }
 
 /// Every chapter scene shipped in `scenes/trtc/` loads (the showcase scenes read models from
@@ -454,6 +539,16 @@ fn extra_transform_numbers_are_ignored_with_a_located_warning() {
         warning.message.contains("extra ones are ignored"),
         "{warning}"
     );
+}
+
+#[test]
+fn warnings_stop_after_a_hundred() {
+    let scene = load(&"- add: sphere\n  transform: [[rotate-y, 0,5]]\n".repeat(150));
+    assert_eq!(scene.world.objects.len(), 150);
+    assert_eq!(scene.warnings.len(), 101);
+    assert!(scene.warnings[100]
+        .message
+        .contains("the rest are not shown"));
 }
 
 #[test]
