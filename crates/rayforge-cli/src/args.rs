@@ -3,10 +3,46 @@
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 
+/// Usage examples and exit statuses, shown under both `--help` pages.
+macro_rules! examples {
+    () => {
+        "\
+Examples:
+  rayforge render scenes/trtc/cover.yml -o cover.png
+  rayforge render scenes/trtc/cover.yml -o preview.png --width 200 --threads 2
+  rayforge render scene.yml -o linear.pfm --max-depth 8 --quiet
+
+Exit status: 0 on success, 2 for bad input (arguments, the scene file, the output path),
+1 for an internal error."
+    };
+}
+
+/// The options of `rayforge render`, in brief, for `rayforge --help` (each is described in full
+/// by `rayforge render --help`; a test checks both list every flag).
+const OVERVIEW: &str = concat!(
+    "\
+Render options (`rayforge render --help` describes each in full):
+  -o, --output <FILE>       the image to write: .png, .ppm or .pfm, by extension
+      --width <PIXELS>      image width (keeps the camera's field of view; alone, its aspect ratio)
+      --height <PIXELS>     image height (likewise)
+      --threads <N>         worker threads [default: all cores]
+      --spp <N>             camera rays per pixel, stratified [default: the camera's `samples`]
+      --adaptive <T>        adaptive anti-aliasing with this threshold instead
+      --max-depth <N>       reflection and refraction bounces [default: 5]
+      --max-pixels <PIXELS> the largest image accepted [default: 268435456, 2^28]
+  -q, --quiet               no progress bar and no summary
+
+",
+    examples!()
+);
+
+/// The examples under `rayforge render --help`.
+const RENDER_EXAMPLES: &str = examples!();
+
 /// rayforge renders scene files with a Whitted ray tracer built on the classic ray tracing
 /// books (The Ray Tracer Challenge's YAML scene format).
 #[derive(Debug, Parser)]
-#[command(name = "rayforge", version, about, long_about = None)]
+#[command(name = "rayforge", version, about, long_about = None, after_help = OVERVIEW)]
 pub struct Cli {
     /// What to do.
     #[command(subcommand)]
@@ -17,6 +53,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Render a scene file to an image (.png, .ppm or .pfm, chosen by the output's extension).
+    #[command(after_help = RENDER_EXAMPLES)]
     Render(RenderArgs),
 }
 
@@ -61,10 +98,29 @@ pub struct RenderArgs {
 
     /// The largest image to accept, in pixels (width × height), as a guard against typos
     /// that would take hours or all memory.
-    #[arg(long, value_name = "PIXELS", default_value_t = crate::settings::DEFAULT_MAX_PIXELS)]
+    #[arg(long, value_name = "PIXELS", default_value_t = crate::sizing::DEFAULT_MAX_PIXELS)]
     pub max_pixels: u64,
 
     /// Print nothing but errors: no progress bar, no summary.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_overview_states_the_real_defaults() {
+        let depth = format!("[default: {}]", rayforge::DEFAULT_MAX_DEPTH);
+        let pixels = format!("[default: {}, 2^28]", crate::sizing::DEFAULT_MAX_PIXELS);
+        assert!(OVERVIEW.contains(&depth), "{depth}");
+        assert!(OVERVIEW.contains(&pixels), "{pixels}");
+    }
+
+    #[test]
+    fn the_command_line_definition_is_consistent() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
 }

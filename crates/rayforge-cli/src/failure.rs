@@ -2,31 +2,48 @@
 
 use std::process::ExitCode;
 
+/// Exit status for input the user can fix: arguments, the scene file, the output path.
+pub const EXIT_INPUT: u8 = 2;
+
+/// Exit status for failures that are not the user's doing (a bug, or the system refusing).
+pub const EXIT_INTERNAL: u8 = 1;
+
 /// A failure to report to the user.
 #[derive(Debug)]
 pub enum Failure {
-    /// Bad arguments, scene or file: the user can fix it (exit 2).
-    Input(miette::Report),
+    /// Bad arguments, scene or output path, explained in one line (exit 2).
+    Input(String),
+    /// A scene error with the offending line of the file to show (exit 2).
+    Scene(miette::Report),
     /// Something that should not happen (exit 1).
-    Internal(miette::Report),
+    Internal(String),
 }
 
 impl Failure {
-    /// A bad-argument failure with a one-line message.
+    /// A bad-input failure with a one-line message.
     pub fn usage(message: impl Into<String>) -> Self {
-        Failure::Input(miette::miette!("{}", message.into()))
+        Failure::Input(message.into())
+    }
+
+    /// An internal failure with a one-line message.
+    pub fn internal(message: impl Into<String>) -> Self {
+        Failure::Internal(message.into())
     }
 
     /// Prints the failure on stderr and returns its exit code.
     pub fn report(self) -> ExitCode {
         match self {
-            Failure::Input(report) => {
-                eprintln!("{report:?}");
-                ExitCode::from(2)
+            Failure::Input(message) => {
+                eprintln!("error: {message}");
+                ExitCode::from(EXIT_INPUT)
             }
-            Failure::Internal(report) => {
+            Failure::Scene(report) => {
                 eprintln!("{report:?}");
-                ExitCode::from(1)
+                ExitCode::from(EXIT_INPUT)
+            }
+            Failure::Internal(message) => {
+                eprintln!("internal error: {message}");
+                ExitCode::from(EXIT_INTERNAL)
             }
         }
     }

@@ -1,26 +1,38 @@
 //! The `rayforge` command. `main` only turns `run()`'s result into an exit code.
 
 mod args;
+mod atomic_write;
 mod diagnostics;
 mod failure;
-mod output;
+mod format;
 mod progress;
 mod render_command;
 mod settings;
+mod sizing;
+mod summary;
 
 use clap::Parser;
+use failure::{Failure, EXIT_INTERNAL};
+use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let cli = args::Cli::parse();
-    match run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(failure) => failure.report(),
+    // A panic is a bug: the default hook has printed its message; say so and exit 1, not 101.
+    match catch_unwind(AssertUnwindSafe(run)) {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(failure)) => failure.report(),
+        Err(_) => {
+            eprintln!("internal error: rayforge panicked (a bug; please report it with the scene)");
+            ExitCode::from(EXIT_INTERNAL)
+        }
     }
 }
 
-fn run(cli: args::Cli) -> Result<(), failure::Failure> {
-    match cli.command {
+/// Parses the command line (clap prints help, or a usage error and exits 2, by itself), checks
+/// it into settings, and runs the command.
+fn run() -> Result<(), Failure> {
+    diagnostics::install_handler();
+    match args::Cli::parse().command {
         args::Command::Render(render) => {
             let settings = settings::RenderSettings::from_args(render)?;
             render_command::run(&settings)

@@ -2,17 +2,20 @@
 
 use crate::args::RenderArgs;
 use crate::failure::Failure;
-use crate::output::ImageFormat;
+use crate::format::ImageFormat;
+use crate::sizing::SizeRequest;
 use std::path::PathBuf;
-
-/// Default pixel limit: 2²⁸ pixels (16384 × 16384), about 6 GiB of linear colour in memory.
-pub const DEFAULT_MAX_PIXELS: u64 = 1 << 28;
 
 /// Most camera rays per pixel accepted on the command line.
 const MAX_SPP: u32 = 4096;
 
 /// Deepest recursion accepted: every bounce can spawn two rays, so deep limits explode.
 const MAX_DEPTH_LIMIT: u32 = 64;
+
+/// Most worker threads accepted. Rendering is bound by the CPU, so threads beyond the cores
+/// only add overhead; a number past this is a typo, and a pool of tens of thousands of
+/// threads takes minutes just to start.
+const MAX_THREADS: usize = 1024;
 
 /// Everything `rayforge render` needs, validated.
 #[derive(Debug, Clone)]
@@ -23,10 +26,8 @@ pub struct RenderSettings {
     pub output: PathBuf,
     /// Its format, from the extension.
     pub format: ImageFormat,
-    /// Size overrides.
-    pub width: Option<usize>,
-    /// Size overrides.
-    pub height: Option<usize>,
+    /// The size asked for, and the pixel limit.
+    pub size: SizeRequest,
     /// Worker threads; `None` for all cores.
     pub threads: Option<usize>,
     /// Recursion limit.
@@ -35,27 +36,15 @@ pub struct RenderSettings {
     pub spp: Option<u32>,
     /// Adaptive anti-aliasing threshold, when asked for.
     pub adaptive: Option<f64>,
-    /// Largest image accepted.
-    pub max_pixels: u64,
     /// No progress or summary.
     pub quiet: bool,
 }
 
 impl RenderSettings {
-    /// Checks the raw arguments.
+    /// Checks the raw arguments; each refusal names the flag.
     pub fn from_args(args: RenderArgs) -> Result<Self, Failure> {
         let format = ImageFormat::from_path(&args.output)?;
-        let size = |flag: &str, v: Option<u64>| -> Result<Option<usize>, Failure> {
-            match v {
-                Some(0) => Err(Failure::usage(format!("{flag} must be at least 1"))),
-                Some(v) if v > args.max_pixels => Err(Failure::usage(format!(
-                    "{flag} {v} exceeds the pixel limit {} (see --max-pixels)",
-                    args.max_pixels
-                ))),
-                Some(v) => Ok(Some(v as usize)),
-                None => Ok(None),
-            }
-        };
+        let size = SizeRequest::new(args.width, args.height, args.max_pixels)?;
         if let Some(spp) = args.spp {
             if spp == 0 || spp > MAX_SPP {
                 return Err(Failure::usage(format!(
@@ -73,26 +62,28 @@ impl RenderSettings {
                 return Err(Failure::usage("give --spp or --adaptive, not both"));
             }
         }
-        if args.threads == Some(0) {
-            return Err(Failure::usage("--threads must be at least 1"));
+        if let Some(threads) = args.threads {
+            if threads == 0 || threads > MAX_THREADS {
+                return Err(Failure::usage(format!(
+                    "--threads must be between 1 and {MAX_THREADS}, found {threads}"
+                )));
+            }
         }
         if args.max_depth > MAX_DEPTH_LIMIT {
             return Err(Failure::usage(format!(
-                "--max-depth {} is more than the limit {MAX_DEPTH_LIMIT}",
+                "--max-depth must be at most {MAX_DEPTH_LIMIT}, found {}",
                 args.max_depth
             )));
         }
         Ok(Self {
-            width: size("--width", args.width)?,
-            height: size("--height", args.height)?,
             scene: args.scene,
             output: args.output,
             format,
+            size,
             threads: args.threads,
             max_depth: args.max_depth,
             spp: args.spp,
             adaptive: args.adaptive,
-            max_pixels: args.max_pixels,
             quiet: args.quiet,
         })
     }

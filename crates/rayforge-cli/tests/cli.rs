@@ -124,6 +124,11 @@ fn width_and_height_override_the_camera() {
         .status
         .success());
     assert_eq!(image::open(&out).unwrap().to_rgb8().dimensions(), (18, 18));
+    let wide = d.file("wide.yml", &RED_SPHERE.replace("width: 9", "width: 18"));
+    assert!(render(&wide, &out, &["-q", "--height", "5"])
+        .status
+        .success());
+    assert_eq!(image::open(&out).unwrap().to_rgb8().dimensions(), (10, 5));
 }
 
 #[test]
@@ -159,6 +164,10 @@ fn a_scene_error_names_file_line_column_and_key_and_exits_2() {
     assert!(err.contains("bad.yml:15:14"), "{err}");
     assert!(err.contains("`ambient`"), "{err}");
     assert!(err.contains("expected a number"), "{err}");
+    assert!(
+        err.contains("ambient: lots"),
+        "the offending line is shown: {err}"
+    );
     assert!(!out.exists(), "a failed render leaves nothing behind");
 }
 
@@ -167,7 +176,9 @@ fn a_missing_scene_file_exits_2() {
     let d = Dir::new();
     let o = render(&d.path("nope.yml"), &d.path("out.png"), &[]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("nope.yml"), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("nope.yml"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
 }
 
 #[test]
@@ -177,7 +188,11 @@ fn an_unwritable_output_exits_2_and_leaves_nothing() {
     let out = d.path("missing-dir/out.png");
     let o = render(&scene, &out, &["-q"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("cannot write"), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("cannot write"), "{err}");
+    assert!(err.contains("does not exist"), "{err}");
+    assert!(!err.contains(".rayforge-"), "no temporary names: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
     assert!(!out.exists());
     let leftovers: Vec<_> = std::fs::read_dir(d.0.path()).unwrap().collect();
     assert_eq!(leftovers.len(), 1, "only the scene file remains");
@@ -211,21 +226,116 @@ fn an_absurd_resolution_is_refused() {
         &["--width", "100000", "--height", "100000"],
     );
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("--max-pixels"), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("--width 100000 --height 100000"), "{err}");
+    assert!(err.contains("--max-pixels"), "{err}");
+    // Raising the limit past what memory can address is refused too, without overflow.
+    let o = render(
+        &scene,
+        &d.path("o.png"),
+        &[
+            "--width",
+            "4294967296",
+            "--max-pixels",
+            "18446744073709551615",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    // One side alone is checked at the camera's aspect ratio.
+    let o = render(&scene, &d.path("o.png"), &["--height", "20000"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("20000×20000"), "{}", stderr(&o));
+    assert!(!d.path("o.png").exists());
 }
 
 #[test]
-fn zero_threads_is_refused() {
+fn zero_or_absurd_thread_counts_are_refused() {
     let d = Dir::new();
     let scene = d.file("s.yml", RED_SPHERE);
-    let o = render(&scene, &d.path("o.png"), &["--threads", "0"]);
+    for threads in ["0", "100000"] {
+        let o = render(&scene, &d.path("o.png"), &["--threads", threads]);
+        assert_eq!(o.status.code(), Some(2), "--threads {threads}");
+        assert!(stderr(&o).contains("--threads"), "{}", stderr(&o));
+    }
+    let o = render(&scene, &d.path("o.png"), &["--threads", "many"]);
+    assert_eq!(o.status.code(), Some(2), "clap refuses a non-number");
+}
+
+#[test]
+fn zero_sizes_and_deep_recursion_are_refused_naming_the_flag() {
+    let d = Dir::new();
+    let scene = d.file("s.yml", RED_SPHERE);
+    for (flag, value) in [("--width", "0"), ("--height", "0"), ("--max-depth", "1000")] {
+        let o = render(&scene, &d.path("o.png"), &[flag, value]);
+        assert_eq!(o.status.code(), Some(2), "{flag} {value}");
+        assert!(stderr(&o).contains(flag), "{}", stderr(&o));
+    }
+}
+
+#[test]
+fn an_output_that_is_a_directory_exits_2() {
+    let d = Dir::new();
+    let scene = d.file("s.yml", RED_SPHERE);
+    let out = d.path("taken.png");
+    std::fs::create_dir(&out).unwrap();
+    let o = render(&scene, &out, &["-q"]);
     assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("is a directory"), "{}", stderr(&o));
+    assert!(out.is_dir());
+}
+
+#[test]
+fn pfm_rows_are_the_ppm_rows_bottom_to_top() {
+    let d = Dir::new();
+    // The sphere sits in the upper half, so the rows are not symmetric.
+    let scene = d.file(
+        "s.yml",
+        &format!(
+            "{RED_SPHERE}  transform:\n    - [scale, 0.5, 0.5, 0.5]\n    - [translate, 0, 1, 0]\n"
+        ),
+    );
+    let (ppm, pfm) = (d.path("o.ppm"), d.path("o.pfm"));
+    assert!(render(&scene, &ppm, &["-q"]).status.success());
+    assert!(render(&scene, &pfm, &["-q"]).status.success());
+    let ppm = std::fs::read_to_string(&ppm).unwrap();
+    let bytes: Vec<u8> = ppm
+        .lines()
+        .skip(3)
+        .flat_map(|l| l.split_whitespace().map(|v| v.parse::<u8>().unwrap()))
+        .collect();
+    let pfm = std::fs::read(&pfm).unwrap();
+    let header = b"PF\n9 9\n-1.0\n";
+    assert_eq!(&pfm[..header.len()], header);
+    let floats: Vec<f32> = pfm[header.len()..]
+        .chunks(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    let lit_rows: Vec<usize> = (0..9)
+        .filter(|y| bytes[y * 9 * 3..][..9 * 3].iter().any(|&v| v > 0))
+        .collect();
+    assert!(
+        !lit_rows.is_empty() && lit_rows.iter().all(|&y| y < 4),
+        "the sphere is in the upper half only: {lit_rows:?}"
+    );
+    for y in 0..9 {
+        let ppm_row = &bytes[y * 9 * 3..][..9 * 3];
+        let pfm_row = &floats[(8 - y) * 9 * 3..][..9 * 3];
+        let as_bytes: Vec<u8> = pfm_row
+            .iter()
+            .map(|v| (v * 255.0).round().clamp(0.0, 255.0) as u8)
+            .collect();
+        assert_eq!(ppm_row, &as_bytes[..], "row {y}");
+    }
 }
 
 #[test]
 fn help_describes_every_option() {
-    let o = rayforge(&[Path::new("render"), Path::new("--help")]);
-    let help = String::from_utf8_lossy(&o.stdout);
+    let render_help = rayforge(&[Path::new("render"), Path::new("--help")]);
+    let top_help = rayforge(&[Path::new("--help")]);
+    assert!(render_help.status.success() && top_help.status.success());
+    let render_help = String::from_utf8_lossy(&render_help.stdout);
+    let top_help = String::from_utf8_lossy(&top_help.stdout);
     for flag in [
         "--output",
         "--width",
@@ -237,7 +347,9 @@ fn help_describes_every_option() {
         "--adaptive",
         "--quiet",
     ] {
-        assert!(help.contains(flag), "{flag} missing from:\n{help}");
+        for help in [&render_help, &top_help] {
+            assert!(help.contains(flag), "{flag} missing from:\n{help}");
+        }
     }
 }
 

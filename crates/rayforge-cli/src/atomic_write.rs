@@ -1,0 +1,121 @@
+//! Writing the image atomically: a temporary file beside the target, renamed over it once
+//! complete, so readers see the old file or the whole new one, never a truncated image, and a
+//! failure leaves nothing behind.
+
+use crate::failure::Failure;
+use std::io::{self, Write};
+use std::path::Path;
+use tempfile::NamedTempFile;
+
+/// Checks, before any rendering, that `path` can be written: its directory exists and takes
+/// new files (by creating and removing a temporary one there), and `path` is not a directory.
+pub fn check_writable(path: &Path) -> Result<(), Failure> {
+    if path.is_dir() {
+        return Err(cannot_write(path, "it is a directory"));
+    }
+    let dir = directory_of(path);
+    match std::fs::metadata(dir) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            return Err(cannot_write(
+                path,
+                &format!("the directory `{}` does not exist", dir.display()),
+            ));
+        }
+        Err(e) => return Err(cannot_write(path, &reason(&e))),
+        Ok(meta) if !meta.is_dir() => {
+            return Err(cannot_write(
+                path,
+                &format!("`{}` is not a directory", dir.display()),
+            ));
+        }
+        Ok(_) => {}
+    }
+    temporary_beside(path).map(drop)
+}
+
+/// Writes `bytes` to a temporary file in `path`'s directory, flushes it to disk, then renames
+/// it over `path`. On any failure the temporary file is removed and `path` is untouched.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
+    let mut file = temporary_beside(path)?;
+    file.write_all(bytes)
+        .map_err(|e| cannot_write(path, &reason(&e)))?;
+    file.as_file()
+        .sync_all()
+        .map_err(|e| cannot_write(path, &reason(&e)))?;
+    file.persist(path)
+        .map_err(|e| cannot_write(path, &reason(&e.error)))?;
+    Ok(())
+}
+
+/// A new temporary file in `path`'s directory (removed when dropped unless persisted).
+fn temporary_beside(path: &Path) -> Result<NamedTempFile, Failure> {
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".rayforge-").suffix(".tmp");
+    // Temporary files are private (0600) by default; an image should get the usual
+    // permissions, which the umask then trims.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    builder
+        .tempfile_in(directory_of(path))
+        .map_err(|e| cannot_write(path, &reason(&e)))
+}
+
+/// The directory a relative or absolute file path lies in (`.` for a bare file name).
+fn directory_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    }
+}
+
+fn cannot_write(path: &Path, reason: &str) -> Failure {
+    Failure::usage(format!("cannot write `{}`: {reason}", path.display()))
+}
+
+/// Why an I/O operation failed, without the name of the temporary file (which tempfile adds
+/// to its errors, and which means nothing to the user).
+fn reason(e: &io::Error) -> String {
+    match e.kind() {
+        io::ErrorKind::PermissionDenied => "permission denied".into(),
+        io::ErrorKind::ReadOnlyFilesystem => "the file system is read-only".into(),
+        io::ErrorKind::StorageFull => "no space left on the device".into(),
+        io::ErrorKind::NotFound => "the directory does not exist".into(),
+        // A plain OS error carries no path of its own: its message is the best there is.
+        _ if e.raw_os_error().is_some() => e.to_string(),
+        kind => kind.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_complete_file_replaces_the_old_one_and_no_temporary_file_remains() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("image.ppm");
+        std::fs::write(&target, "old").unwrap();
+        check_writable(&target).ok().unwrap();
+        write_atomically(&target, b"new").ok().unwrap();
+        assert_eq!(std::fs::read(&target).unwrap(), b"new");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn a_missing_directory_is_named_without_temporary_paths() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("nowhere/image.png");
+        let Err(Failure::Input(message)) = check_writable(&target) else {
+            panic!("expected an input failure");
+        };
+        assert!(message.contains("does not exist"), "{message}");
+        assert!(!message.contains(".rayforge-"), "{message}");
+        assert!(write_atomically(&target, b"x").is_err());
+    }
+
+    #[test]
+    fn a_directory_is_not_an_output_file() {
+        let dir = tempfile::tempdir().unwrap();
+        assert!(check_writable(dir.path()).is_err());
+    }
+}

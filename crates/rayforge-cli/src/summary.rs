@@ -1,0 +1,60 @@
+//! The one-line summary printed after a render: size, time, ray throughput, output file.
+
+use std::path::Path;
+use std::time::Duration;
+
+/// E.g. `rendered 1080×1080 in 2.31 s, 4.1 M rays/s (9.5 M rays) → cover.png`.
+pub fn summary_line(
+    width: usize,
+    height: usize,
+    elapsed: Duration,
+    rays: u64,
+    output: &Path,
+) -> String {
+    let seconds = elapsed.as_secs_f64();
+    // A render too quick to time has no meaningful rate; a nanosecond floor keeps it finite.
+    let rate = rays as f64 / seconds.max(1e-9);
+    format!(
+        "rendered {width}×{height} in {seconds:.2} s, {} rays/s ({} rays) → {}",
+        si(rate),
+        si(rays as f64),
+        output.display()
+    )
+}
+
+/// A count with an SI prefix and one decimal: `4.1 M`, `950.0 k`, `12`.
+fn si(v: f64) -> String {
+    match v {
+        v if v >= 1e9 => format!("{:.1} G", v / 1e9),
+        v if v >= 1e6 => format!("{:.1} M", v / 1e6),
+        v if v >= 1e3 => format!("{:.1} k", v / 1e3),
+        v => format!("{v:.0}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_summary_reads_like_the_example() {
+        let line = summary_line(
+            1080,
+            1080,
+            Duration::from_millis(2310),
+            9_500_000,
+            Path::new("cover.png"),
+        );
+        assert_eq!(
+            line,
+            "rendered 1080×1080 in 2.31 s, 4.1 M rays/s (9.5 M rays) → cover.png"
+        );
+    }
+
+    #[test]
+    fn counts_take_si_prefixes() {
+        assert_eq!(si(12.0), "12");
+        assert_eq!(si(950_000.0), "950.0 k");
+        assert_eq!(si(2.5e9), "2.5 G");
+    }
+}
