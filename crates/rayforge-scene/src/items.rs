@@ -8,17 +8,34 @@ use crate::source::{as_str, check_keys, Entry, Node, Source};
 use crate::transform::transform_list;
 use glam::DMat4;
 use rayforge::math::{point, vector, view_transform};
-use rayforge::{AreaLight, Camera, CsgOperation, Group, Light, Material, Object, Shape, SpotLight};
+use rayforge::{
+    AreaLight, Camera, CsgOperation, Group, Light, Material, Object, Shape, SpotLight, Transform,
+};
 
 /// The shapes `add:` may name, for messages.
 pub const SHAPE_KINDS: &[&str] = &[
-    "sphere", "plane", "cube", "cylinder", "cone", "group", "obj", "csg",
+    "sphere", "plane", "cube", "cylinder", "cone", "torus", "group", "obj", "csg",
 ];
 
 /// Keys every shape accepts.
-const SHAPE_KEYS: &[&str] = &["add", "material", "transform", "shadow"];
+const SHAPE_KEYS: &[&str] = &[
+    "add",
+    "material",
+    "transform",
+    "shadow",
+    "motion",
+    "velocity",
+];
 /// Keys a group accepts.
-const GROUP_KEYS: &[&str] = &["add", "children", "material", "transform", "shadow"];
+const GROUP_KEYS: &[&str] = &[
+    "add",
+    "children",
+    "material",
+    "transform",
+    "shadow",
+    "motion",
+    "velocity",
+];
 /// Keys a CSG accepts.
 const CSG_KEYS: &[&str] = &[
     "add",
@@ -28,15 +45,38 @@ const CSG_KEYS: &[&str] = &[
     "material",
     "transform",
     "shadow",
+    "motion",
+    "velocity",
 ];
 /// Keys an OBJ model accepts.
-const OBJ_KEYS: &[&str] = &["add", "file", "material", "transform", "shadow"];
+const OBJ_KEYS: &[&str] = &[
+    "add",
+    "file",
+    "material",
+    "transform",
+    "shadow",
+    "motion",
+    "velocity",
+];
+/// Keys a torus accepts.
+const TORUS_KEYS: &[&str] = &[
+    "add",
+    "material",
+    "transform",
+    "shadow",
+    "motion",
+    "velocity",
+    "major-radius",
+    "minor-radius",
+];
 /// Keys cylinders and cones accept besides those.
 const QUADRIC_KEYS: &[&str] = &[
     "add",
     "material",
     "transform",
     "shadow",
+    "motion",
+    "velocity",
     "min",
     "max",
     "closed",
@@ -63,6 +103,7 @@ pub fn camera(
             "samples",
             "aperture",
             "focal-distance",
+            "shutter",
         ],
     )?;
     let get = |k: &str| {
@@ -135,6 +176,31 @@ pub fn camera(
             ));
         }
         camera = camera.with_lens(aperture, focal);
+    }
+    if let Some(shutter) = entries.iter().find(|e| e.name == "shutter") {
+        let times = source.sequence(shutter.value, "shutter")?;
+        let [open, close] = times else {
+            return Err(source.error(
+                shutter.value,
+                "shutter",
+                format!(
+                    "expected [open, close], two instants, found {} items",
+                    times.len()
+                ),
+            ));
+        };
+        let (open, close) = (
+            source.number(open, "shutter")?,
+            source.number(close, "shutter")?,
+        );
+        if close < open {
+            return Err(source.error(
+                shutter.value,
+                "shutter",
+                "the shutter closes before it opens",
+            ));
+        }
+        camera = camera.with_shutter(open, close);
     }
     Ok((camera, samples))
 }
@@ -324,6 +390,8 @@ pub fn expand_template<'n, 's>(
 pub struct Inherited {
     /// `world_from_parent`: every enclosing group's transform, composed.
     pub matrix: DMat4,
+    /// `world_from_parent` when the shutter closes (equal to `matrix` unless a group moves).
+    pub end_matrix: DMat4,
     /// The nearest enclosing group's material, for children that set none.
     pub material: Option<Material>,
     /// False when an enclosing group has `shadow: false`.
@@ -336,6 +404,7 @@ impl Inherited {
     /// What a top-level item inherits: nothing.
     pub const TOP: Self = Self {
         matrix: DMat4::IDENTITY,
+        end_matrix: DMat4::IDENTITY,
         material: None,
         casts_shadow: true,
         depth: 0,
@@ -374,6 +443,7 @@ pub fn add_objects<'n, 's>(
         "csg" => CSG_KEYS,
         "obj" => OBJ_KEYS,
         "cylinder" | "cone" => QUADRIC_KEYS,
+        "torus" => TORUS_KEYS,
         _ => SHAPE_KEYS,
     };
     let shape = match kind {
@@ -388,6 +458,11 @@ pub fn add_objects<'n, 's>(
     let placed_at = transforms.last().copied().unwrap_or(kind_node);
     checked(source, placed_at, own)?;
     let world = checked(source, placed_at, inherited.matrix * own)?;
+    let own_end = motion_end(source, defines, entries, own)?;
+    let world_end = match own_end {
+        Some((node, end)) => checked(source, node, inherited.end_matrix * end)?,
+        None => checked(source, placed_at, inherited.end_matrix * own)?,
+    };
     let mut material_here = None;
     let mut casts_shadow = inherited.casts_shadow;
     for e in entries {
@@ -427,6 +502,7 @@ pub fn add_objects<'n, 's>(
         };
         let inside = Inherited {
             matrix: DMat4::IDENTITY,
+            end_matrix: DMat4::IDENTITY,
             material,
             casts_shadow,
             depth: inherited.depth + 1,
@@ -454,7 +530,7 @@ pub fn add_objects<'n, 's>(
         let left = build_operand("left")?;
         let right = build_operand("right")?;
         let csg = Object::csg(operation, left, right)
-            .and_then(|c| c.placed_by(&world))
+            .and_then(|c| c.placed_by_moving(&world, &world_end))
             .map_err(|e| source.error(placed_at, "transform", e.to_string()))?;
         let mut csg = csg;
         csg.casts_shadow = casts_shadow;
@@ -478,7 +554,7 @@ pub fn add_objects<'n, 's>(
             }
         })?;
         for (mesh, own_material) in meshes.iter() {
-            let mut object = Object::mesh(mesh.clone()).with_transform_of(world);
+            let mut object = moving(Object::mesh(mesh.clone()), &world, &world_end);
             // An explicit `material:` wins; then the file's own; then the group's.
             object.material = match (material_explicit, own_material) {
                 (false, Some(m)) => m.clone(),
@@ -505,6 +581,7 @@ pub fn add_objects<'n, 's>(
         }
         let inside = Inherited {
             matrix: world.matrix(),
+            end_matrix: world_end.matrix(),
             material,
             casts_shadow,
             depth: inherited.depth + 1,
@@ -523,12 +600,57 @@ pub fn add_objects<'n, 's>(
         }
         return Ok(());
     };
-    let mut object = Object::new(shape).with_transform_of(world);
+    let mut object = moving(Object::new(shape), &world, &world_end);
     object.material = material.unwrap_or_default();
     object.casts_shadow = casts_shadow;
     source.spend(kind_node, "add")?;
     out.push(object);
     Ok(())
+}
+
+/// An object (with the identity transform) placed at `start` when the shutter opens and `end`
+/// when it closes.
+fn moving(object: Object, start: &Transform, end: &Transform) -> Object {
+    // A primitive or mesh with the identity transform: placing it multiplies by the identity,
+    // which cannot make an invertible transform singular.
+    object
+        .placed_by_moving(start, end)
+        .unwrap_or_else(|_| object.with_transform_of(*start))
+}
+
+/// The item's own transform when the shutter closes, if it moves: `motion:` gives it as a
+/// transform list (like `transform:`), `velocity: [x, y, z]` as the distance travelled while
+/// the shutter is open (added after the item's own transform). Returns the key's node, for
+/// errors.
+fn motion_end<'n>(
+    source: &Source<'_>,
+    defines: &Defines<'n, '_>,
+    entries: &[Entry<'n, '_>],
+    own: DMat4,
+) -> Result<Option<(&'n Node<'n>, DMat4)>, SceneError> {
+    let motion = entries.iter().find(|e| e.name == "motion");
+    let velocity = entries.iter().find(|e| e.name == "velocity");
+    match (motion, velocity) {
+        (Some(_), Some(v)) => Err(source.error(
+            v.key,
+            "velocity",
+            "give either `motion:` (where the item ends up) or `velocity:` (how far it moves), \
+             not both",
+        )),
+        (Some(m), None) => {
+            let end = transform_list(source, defines, m.value, &mut Trail::new())?;
+            checked(source, m.value, end)?;
+            Ok(Some((m.value, end)))
+        }
+        (None, Some(v)) => {
+            let [x, y, z] = source.triple(v.value, "velocity")?;
+            Ok(Some((
+                v.value,
+                DMat4::from_translation(glam::DVec3::new(x, y, z)) * own,
+            )))
+        }
+        (None, None) => Ok(None),
+    }
 }
 
 /// The value of a required key.
@@ -612,6 +734,7 @@ fn shape(
             maximum,
             closed,
         }),
+        "torus" => torus(source, entries),
         "camera" | "light" => Err(source.error(
             kind_node,
             "add",
@@ -622,6 +745,24 @@ fn shape(
         )),
         other => Err(unknown_kind(source, kind_node, other)),
     }
+}
+
+/// A torus: `major-radius` (its tube's centre circle, default 1) and `minor-radius` (the tube,
+/// default 0.25), both positive.
+fn torus(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<Shape, SceneError> {
+    let (mut major, mut minor) = (1.0, 0.25);
+    for e in entries {
+        let radius = match e.name {
+            "major-radius" => &mut major,
+            "minor-radius" => &mut minor,
+            _ => continue,
+        };
+        *radius = source.number(e.value, e.name)?;
+        if *radius <= 0.0 {
+            return Err(source.error(e.value, e.name, "a torus radius must be positive"));
+        }
+    }
+    Ok(Shape::Torus { major, minor })
 }
 
 /// The error for an `add:` that names neither a shape nor a defined object.

@@ -228,6 +228,7 @@ fn pattern_here<'n, 's>(
             "type",
             "mapping",
             "uv_pattern",
+            "major-radius",
             "transform",
             "left",
             "front",
@@ -280,12 +281,19 @@ fn pattern_here<'n, 's>(
                         "spherical" => UvMapping::Spherical,
                         "planar" => UvMapping::Planar,
                         "cylindrical" => UvMapping::Cylindrical,
+                        "toroidal" => {
+                            let major = match get("major-radius") {
+                                Some(n) => source.number(n, "major-radius")?,
+                                None => 1.0,
+                            };
+                            UvMapping::Toroidal { major }
+                        }
                         other => {
                             return Err(source.error(
                                 mapping_node,
                                 "mapping",
                                 format!(
-                                    "unknown mapping `{other}`; expected one of: spherical, planar, cylindrical, cube"
+                                    "unknown mapping `{other}`; expected one of: spherical, planar, cylindrical, toroidal, cube"
                                 ),
                             ))
                         }

@@ -243,7 +243,7 @@ fn map_kd_multiplies_the_colour_at_the_models_texture_coordinates() {
     let c = comps
         .surface
         .material
-        .color_at(comps.surface, comps.point, comps.uv);
+        .color_at(comps.surface, comps.point, comps.uv, comps.time);
     let expected = color(128.0 / 255.0 * 0.8, 0.1, 0.1);
     // Images decode to 32-bit floats: compare at that precision.
     assert!((c.red - expected.red).abs() < 1e-6, "{c:?}");

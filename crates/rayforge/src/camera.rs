@@ -16,6 +16,9 @@ pub struct Camera {
     aperture: f64,
     /// Distance from the eye to the plane that is in focus.
     focal_distance: f64,
+    /// When the shutter opens and closes, in the time of object motions (a moving object is
+    /// at its start at 0 and its end at 1).
+    shutter: (f64, f64),
 }
 
 impl Camera {
@@ -38,7 +41,23 @@ impl Camera {
             pixel_size: half_width * 2.0 / hsize as f64,
             aperture: 0.0,
             focal_distance: 1.0,
+            shutter: (0.0, 1.0),
         }
+    }
+
+    /// The same camera with its shutter open from `open` to `close` (motion blur shows what
+    /// moves in between; `open == close` freezes the motion at that instant). Non-finite
+    /// values keep the default, the whole motion from 0 to 1.
+    pub fn with_shutter(mut self, open: f64, close: f64) -> Self {
+        if open.is_finite() && close.is_finite() {
+            self.shutter = (open.min(close), open.max(close));
+        }
+        self
+    }
+
+    /// When the shutter opens and closes.
+    pub fn shutter(&self) -> (f64, f64) {
+        self.shutter
     }
 
     /// The same camera with a thin lens of diameter `aperture`, focused at `focal_distance`
@@ -65,6 +84,7 @@ impl Camera {
         Self::new(hsize, vsize, self.field_of_view)
             .with_transform_of(self.transform)
             .with_lens(self.aperture, self.focal_distance)
+            .with_shutter(self.shutter.0, self.shutter.1)
     }
 
     /// The same camera placed by a view transform (`camera_from_world`).
@@ -110,6 +130,14 @@ impl Camera {
     /// The book's `ray_for_pixel(camera, px, py)`: through the centre of the pixel.
     pub fn ray_for_pixel(&self, px: usize, py: usize) -> Ray {
         self.ray_through(px as f64 + 0.5, py as f64 + 0.5)
+    }
+
+    /// The ray for one camera sample: through its image point, from its lens point, at its
+    /// instant of the shutter interval.
+    pub fn ray_for_sample(&self, sample: &crate::render::CameraSample) -> Ray {
+        let (open, close) = self.shutter;
+        self.ray_through_lens(sample.x, sample.y, sample.lens_u, sample.lens_v)
+            .at_time(open + (close - open) * sample.time)
     }
 
     /// The ray through a point of the canvas from a point of the lens: `lens_u`, `lens_v` in

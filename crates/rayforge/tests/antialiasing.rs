@@ -25,8 +25,8 @@ fn sample_counts_round_up_to_a_square_grid() {
 #[test]
 fn stratified_samples_fall_one_in_each_cell_of_the_pixel() {
     let mut points = Vec::new();
-    Sampling::Stratified { per_side: 3 }.pixel(7, 2, 99, |x, y, _, _| {
-        points.push((x, y));
+    Sampling::Stratified { per_side: 3 }.pixel(7, 2, 99, |s| {
+        points.push((s.x, s.y));
         Color::BLACK
     });
     assert_eq!(points.len(), 9);
@@ -49,8 +49,8 @@ fn stratified_samples_fall_one_in_each_cell_of_the_pixel() {
 fn stratified_samples_depend_only_on_the_pixel() {
     let run = |seed| {
         let mut points = Vec::new();
-        Sampling::Stratified { per_side: 2 }.pixel(3, 4, seed, |x, y, _, _| {
-            points.push((x, y));
+        Sampling::Stratified { per_side: 2 }.pixel(3, 4, seed, |s| {
+            points.push((s.x, s.y));
             Color::BLACK
         });
         points
@@ -61,8 +61,8 @@ fn stratified_samples_depend_only_on_the_pixel() {
 
 #[test]
 fn the_average_of_samples_is_the_pixel_colour() {
-    let c = Sampling::Stratified { per_side: 2 }.pixel(0, 0, 1, |x, _, _, _| {
-        if x < 0.5 {
+    let c = Sampling::Stratified { per_side: 2 }.pixel(0, 0, 1, |s| {
+        if s.x < 0.5 {
             color(1.0, 0.0, 0.0)
         } else {
             color(0.0, 0.0, 1.0)
@@ -78,7 +78,7 @@ fn adaptive_sampling_takes_five_rays_where_the_pixel_is_flat() {
         threshold: 0.1,
         depth: 3,
     }
-    .pixel(4, 4, 0, |_, _, _, _| {
+    .pixel(4, 4, 0, |_| {
         rays += 1;
         color(0.2, 0.4, 0.6)
     });
@@ -94,9 +94,9 @@ fn adaptive_sampling_subdivides_across_an_edge() {
         threshold: 0.1,
         depth: 3,
     }
-    .pixel(4, 0, 0, |x, _, _, _| {
+    .pixel(4, 0, 0, |s| {
         rays += 1;
-        if x < 4.3 {
+        if s.x < 4.3 {
             Color::WHITE
         } else {
             Color::BLACK

@@ -176,6 +176,7 @@ impl Mesh {
                             v,
                             face: index,
                             leaf: 0,
+                            time: ray.time,
                         });
                     }
                 }
@@ -201,6 +202,7 @@ impl Mesh {
                             v,
                             face: index,
                             leaf: 0,
+                            time: ray.time,
                         });
                     }
                 }

@@ -11,10 +11,12 @@ mod mesh;
 mod plane;
 mod sphere;
 mod tessellate;
+mod torus;
 mod triangle;
 
 pub use mesh::{Mesh, MeshError, MeshFace};
 pub use tessellate::sphere_mesh;
+pub use torus::toroidal_map;
 pub use triangle::Triangle;
 
 use std::sync::Arc;
@@ -32,6 +34,8 @@ pub struct LocalHit {
     pub face: u32,
     /// Which primitive of a CSG solid was hit (0 for other shapes).
     pub leaf: u32,
+    /// When the ray that made the hit was cast (see [`Ray::time`]): where a moving object was.
+    pub time: f64,
 }
 
 impl LocalHit {
@@ -44,6 +48,7 @@ impl LocalHit {
             v: 0.0,
             face: 0,
             leaf: 0,
+            time: 0.0,
         }
     }
 }
@@ -83,6 +88,14 @@ pub enum Shape {
         /// Whether the ends are capped.
         closed: bool,
     },
+    /// A torus around the y axis: a tube of radius `minor` around a circle of radius `major` in
+    /// the xz plane (Fundamentals of Ray Tracing, chapter 13).
+    Torus {
+        /// Radius of the tube's centre circle (Cross's A).
+        major: f64,
+        /// Radius of the tube (Cross's B).
+        minor: f64,
+    },
 }
 
 impl Shape {
@@ -112,6 +125,8 @@ impl Shape {
     /// on triangles, and the face of a mesh).
     #[inline]
     pub fn intersect_hits(&self, ray: &Ray, mut hit: impl FnMut(LocalHit)) {
+        let time = ray.time;
+        let mut hit = |h: LocalHit| hit(LocalHit { time, ..h });
         let mut hit_t = |t| hit(LocalHit::at(t));
         match self {
             Shape::Sphere => sphere::intersect(ray, &mut hit_t),
@@ -137,6 +152,7 @@ impl Shape {
                 maximum,
                 closed,
             } => cone::intersect(ray, *minimum, *maximum, *closed, &mut hit_t),
+            Shape::Torus { major, minor } => torus::intersect(ray, *major, *minor, &mut hit_t),
         }
     }
 
@@ -207,6 +223,7 @@ impl Shape {
             Shape::Cone {
                 minimum, maximum, ..
             } => cone::normal_at(point, *minimum, *maximum),
+            Shape::Torus { major, .. } => torus::normal_at(point, *major),
         }
     }
 
@@ -239,6 +256,13 @@ impl Shape {
             } => {
                 let r = minimum.abs().max(maximum.abs());
                 Aabb::new(Point3::new(-r, *minimum, -r), Point3::new(r, *maximum, r))
+            }
+            Shape::Torus { major, minor } => {
+                let (outer, r) = (major + minor, *minor);
+                Aabb::new(
+                    Point3::new(-outer, -r, -outer),
+                    Point3::new(outer, r, outer),
+                )
             }
             Shape::Mesh(mesh) => mesh.bounds(),
             Shape::Csg(csg) => csg.bounds(),

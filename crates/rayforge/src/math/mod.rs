@@ -7,6 +7,7 @@
 
 mod aabb;
 mod matrix;
+mod motion;
 mod ray;
 pub mod roots;
 mod transform;
@@ -17,6 +18,7 @@ pub use matrix::{
     matrix2, matrix3, matrix4, rotation_x, rotation_y, rotation_z, scaling, shearing, translation,
     view_transform, BookMatrix,
 };
+pub use motion::Motion;
 pub use ray::Ray;
 pub use transform::{SingularTransform, Transform};
 pub use tuple::Tuple;

@@ -10,13 +10,27 @@ pub struct Ray {
     pub origin: Point3,
     /// Where it goes, per unit of `t`.
     pub direction: Vec3,
+    /// When it is cast, as a fraction of the shutter interval (0 when it opens, 1 when it
+    /// closes): moving objects are met where they are at that instant (motion blur).
+    pub time: f64,
 }
 
 impl Ray {
     /// The book's `ray(origin, direction)`.
     #[inline]
     pub const fn new(origin: Point3, direction: Vec3) -> Self {
-        Self { origin, direction }
+        Self {
+            origin,
+            direction,
+            time: 0.0,
+        }
+    }
+
+    /// The same ray cast at another instant.
+    #[inline]
+    pub const fn at_time(mut self, time: f64) -> Self {
+        self.time = time;
+        self
     }
 
     /// The book's `position(ray, t)`.
@@ -31,6 +45,7 @@ impl Ray {
             m.transform_point3(self.origin),
             m.transform_vector3(self.direction),
         )
+        .at_time(self.time)
     }
 
     /// The ray moved into the object space of `transform` (its inverse applied).
@@ -40,5 +55,6 @@ impl Ray {
             transform.inverse_point(self.origin),
             transform.inverse_vector(self.direction),
         )
+        .at_time(self.time)
     }
 }

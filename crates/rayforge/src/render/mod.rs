@@ -5,7 +5,7 @@
 
 mod sampler;
 
-pub use sampler::Sampling;
+pub use sampler::{CameraSample, Sampling};
 
 use crate::scene::WorldIndex;
 use crate::{Camera, Canvas, Color, Tracer, World, DEFAULT_MAX_DEPTH};
@@ -60,9 +60,8 @@ pub fn render(
                 for (x, pixel) in row.iter_mut().enumerate() {
                     let seed = (y * width + x) as u64;
                     tracer.reseed(seed);
-                    *pixel = options.sampling.pixel(x, y, seed, |px, py, lu, lv| {
-                        let ray = camera.ray_through_lens(px, py, lu, lv);
-                        tracer.color_at(&ray, options.max_depth)
+                    *pixel = options.sampling.pixel(x, y, seed, |sample| {
+                        tracer.color_at(&camera.ray_for_sample(&sample), options.max_depth)
                     });
                 }
                 rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);

@@ -6,6 +6,46 @@
 use crate::shading::{Jitter, SplitMix64};
 use crate::Color;
 
+/// Where one camera ray goes: a point of the image, a point of the lens and an instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraSample {
+    /// Horizontal image position in pixels (0 is the left edge of the image).
+    pub x: f64,
+    /// Vertical image position in pixels (0 is the top edge).
+    pub y: f64,
+    /// Point of the lens, each coordinate in [0, 1) (0.5, 0.5 is its centre).
+    pub lens_u: f64,
+    /// See `lens_u`.
+    pub lens_v: f64,
+    /// Instant, as a fraction of the shutter interval in [0, 1) (0.5 is its middle).
+    pub time: f64,
+}
+
+impl CameraSample {
+    /// Through image point (`x`, `y`), from the lens's centre, half way through the shutter.
+    pub fn centred(x: f64, y: f64) -> Self {
+        Self {
+            x,
+            y,
+            lens_u: 0.5,
+            lens_v: 0.5,
+            time: 0.5,
+        }
+    }
+
+    /// Through image point (`x`, `y`) with the lens point drawn from `lens` and the instant
+    /// from `shutter` (separate streams, so adding motion blur changes no lens sample).
+    fn drawn(x: f64, y: f64, lens: &mut SplitMix64, shutter: &mut SplitMix64) -> Self {
+        Self {
+            x,
+            y,
+            lens_u: lens.next_offset(),
+            lens_v: lens.next_offset(),
+            time: shutter.next_offset(),
+        }
+    }
+}
+
 /// How each pixel is sampled.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Sampling {
@@ -39,40 +79,42 @@ impl Sampling {
         Sampling::Stratified { per_side }
     }
 
-    /// The colour of pixel (`x`, `y`), given `trace(px, py, lens_u, lens_v)` for a point of
-    /// the image in pixel units (0,0 is the top-left corner of the image) seen from a point of
-    /// the lens (0.5, 0.5 is its centre; stratified sampling spreads samples over the lens too).
+    /// The colour of pixel (`x`, `y`), given `trace` for one camera sample.
+    ///
+    /// One ray goes through the pixel's centre, from the lens's centre, half way through the
+    /// shutter. Several rays also spread over the lens (focal blur) and the shutter interval
+    /// (motion blur), each drawn independently of the pixel's stratum so that the blurs and
+    /// edge smoothing do not correlate.
     pub fn pixel(
         &self,
         x: usize,
         y: usize,
         seed: u64,
-        mut trace: impl FnMut(f64, f64, f64, f64) -> Color,
+        mut trace: impl FnMut(CameraSample) -> Color,
     ) -> Color {
         let (x, y) = (x as f64, y as f64);
-        let mut through_centre = |px, py| trace(px, py, 0.5, 0.5);
+        // A different stream from the one that jitters area lights.
+        let mut rng = SplitMix64::new(seed ^ 0xA5A5_5A5A_C3C3_3C3C);
+        let mut shutter = SplitMix64::new(seed ^ 0x0B5E_55ED_0F71_3501);
         match *self {
-            Sampling::Centre => through_centre(x + 0.5, y + 0.5),
+            Sampling::Centre => trace(CameraSample::centred(x + 0.5, y + 0.5)),
             Sampling::Stratified { per_side } => {
                 let n = per_side.max(1);
                 let cell = 1.0 / n as f64;
-                // A different stream from the one that jitters area lights.
-                let mut rng = SplitMix64::new(seed ^ 0xA5A5_5A5A_C3C3_3C3C);
                 let mut sum = Color::BLACK;
                 for j in 0..n {
                     for i in 0..n {
                         let dx = (i as f64 + rng.next_offset()) * cell;
                         let dy = (j as f64 + rng.next_offset()) * cell;
-                        // The lens point is drawn independently of the pixel's stratum, so
-                        // focal blur and edge smoothing do not correlate.
-                        let (lu, lv) = (rng.next_offset(), rng.next_offset());
-                        sum += trace(x + dx, y + dy, lu, lv);
+                        let sample = CameraSample::drawn(x + dx, y + dy, &mut rng, &mut shutter);
+                        sum += trace(sample);
                     }
                 }
                 sum / (n * n) as f64
             }
             Sampling::Adaptive { threshold, depth } => {
-                adaptive(x, y, 1.0, threshold, depth, &mut through_centre)
+                let mut at = |px, py| trace(CameraSample::drawn(px, py, &mut rng, &mut shutter));
+                adaptive(x, y, 1.0, threshold, depth, &mut at)
             }
         }
     }

@@ -39,6 +39,9 @@ pub struct Computations<'a> {
     pub n1: f64,
     /// Refractive index of the medium the ray enters.
     pub n2: f64,
+    /// When the ray was cast: rays leaving the hit (shadows, reflections, refractions) are
+    /// cast at the same instant, and moving patterns are read where the object was then.
+    pub time: f64,
 }
 
 /// The book's `prepare_computations(hit, ray, xs)`.
@@ -72,11 +75,10 @@ pub fn prepare_computations_with<'a>(
     // true normal, so bumps never push a shadow or refraction ray through the surface.
     let surface = hit.object.surface(hit.leaf);
     let normalv = match &surface.material.bump {
-        Some(bump) => bump.perturb(
-            geometric,
-            surface.world_to_object(point),
-            &surface.transform,
-        ),
+        Some(bump) => {
+            let transform = surface.transform_at(hit.time);
+            bump.perturb(geometric, transform.inverse_point(point), &transform)
+        }
         None => geometric,
     };
     let (n1, n2) = refractive_indices(hit, xs, containers);
@@ -94,6 +96,7 @@ pub fn prepare_computations_with<'a>(
         reflectv: reflect(ray.direction, normalv),
         n1,
         n2,
+        time: ray.time,
     }
 }
 

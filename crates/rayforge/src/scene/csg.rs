@@ -110,10 +110,20 @@ impl Csg {
 
     /// The same solid moved by `transform` (applied after its leaves' own transforms).
     pub fn placed_by(&self, transform: &Transform) -> Result<Self, SingularTransform> {
+        self.placed_by_moving(transform, transform)
+    }
+
+    /// The same solid moving from `start` to `end` while the shutter is open (its primitives
+    /// carry the motion).
+    pub fn placed_by_moving(
+        &self,
+        start: &Transform,
+        end: &Transform,
+    ) -> Result<Self, SingularTransform> {
         let leaves = self
             .leaves
             .iter()
-            .map(|leaf| leaf.placed_by(transform))
+            .map(|leaf| leaf.placed_by_moving(start, end))
             .collect::<Result<Vec<_>, _>>()?;
         let bounds = leaves
             .iter()

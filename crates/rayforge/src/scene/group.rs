@@ -8,7 +8,7 @@
 //! hierarchy per ray. The results are the same: `world_to_object` and `normal_to_world` of a
 //! flattened child equal the book's recursive versions.
 
-use crate::math::{Aabb, SingularTransform, Transform};
+use crate::math::{Aabb, Motion, SingularTransform, Transform};
 use crate::Object;
 
 /// A node of a scene tree: a shape, or a group of nodes.
@@ -24,8 +24,10 @@ pub enum Node {
 /// The book's `group()`: children that share a transform.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Group {
-    /// `parent_from_group`.
+    /// `parent_from_group` (when the shutter opens, for a group that moves).
     pub transform: Transform,
+    /// `parent_from_group` when the shutter closes, for a group that moves (motion blur).
+    pub motion_end: Option<Transform>,
     /// The shapes and groups inside, each placed relative to the group.
     pub children: Vec<Node>,
 }
@@ -62,18 +64,20 @@ impl Group {
     /// Walks the tree with an explicit stack, so arbitrarily deep nesting cannot overflow.
     pub fn flatten(&self) -> Result<Vec<Object>, SingularTransform> {
         let mut out = Vec::new();
-        let mut stack: Vec<(&Node, Transform)> = self
-            .children
-            .iter()
-            .rev()
-            .map(|c| (c, self.transform))
-            .collect();
-        while let Some((node, parent)) = stack.pop() {
+        // Each entry carries its parent's placement when the shutter opens and closes (the
+        // same twice unless something above it moves).
+        let placement = (self.transform, self.end_transform());
+        let mut stack: Vec<(&Node, (Transform, Transform))> =
+            self.children.iter().rev().map(|c| (c, placement)).collect();
+        while let Some((node, (start, end))) = stack.pop() {
             match node {
-                Node::Object(object) => out.push(object.placed_by(&parent)?),
+                Node::Object(object) => out.push(object.placed_by_moving(&start, &end)?),
                 Node::Group(group) => {
-                    let world = parent.then_after(&group.transform)?;
-                    stack.extend(group.children.iter().rev().map(|c| (c, world)));
+                    let placement = (
+                        start.then_after(&group.transform)?,
+                        end.then_after(&group.end_transform())?,
+                    );
+                    stack.extend(group.children.iter().rev().map(|c| (c, placement)));
                 }
             }
         }
@@ -99,9 +103,17 @@ impl Group {
             .fold(Aabb::EMPTY, |b, child| b.union(&child.bounds()))
     }
 
-    /// The box around the group in its parent's space.
+    /// The box around the group in its parent's space (over its whole motion, if it moves).
     pub fn bounds(&self) -> Aabb {
-        self.local_bounds().transform(&self.transform)
+        match self.motion_end {
+            None => self.local_bounds().transform(&self.transform),
+            Some(end) => Motion::new(self.transform, end).bounds(&self.local_bounds()),
+        }
+    }
+
+    /// Where the group is when the shutter closes.
+    fn end_transform(&self) -> Transform {
+        self.motion_end.unwrap_or(self.transform)
     }
 
     /// The book's `partition_children(group)`: splits the group's box in half along its longest
@@ -127,8 +139,8 @@ impl Group {
     /// The book's `make_subgroup(group, children)`: adds a new group holding `children`.
     pub fn make_subgroup(&mut self, children: Vec<Node>) {
         self.add_child(Group {
-            transform: Transform::IDENTITY,
             children,
+            ..Group::default()
         });
     }
 

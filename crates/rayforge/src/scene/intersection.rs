@@ -19,6 +19,8 @@ pub struct Intersection<'a> {
     pub face: u32,
     /// The primitive of a CSG solid that was hit (0 for other shapes).
     pub leaf: u32,
+    /// When the ray was cast (where a moving object was).
+    pub time: f64,
 }
 
 impl<'a> Intersection<'a> {
@@ -52,6 +54,7 @@ impl<'a> Intersection<'a> {
             v: hit.v,
             face: hit.face,
             leaf: hit.leaf,
+            time: hit.time,
         }
     }
 
@@ -64,6 +67,7 @@ impl<'a> Intersection<'a> {
             v: self.v,
             face: self.face,
             leaf: self.leaf,
+            time: self.time,
         }
     }
 

@@ -2,8 +2,9 @@
 
 use crate::geometry::LocalHit;
 use crate::geometry::Triangle;
-use crate::math::{Aabb, Point3, Ray, SingularTransform, Transform, Vec3};
+use crate::math::{Aabb, Motion, Point3, Ray, SingularTransform, Transform, Vec3};
 use crate::{Intersection, Material, Shape};
+use std::borrow::Cow;
 
 /// A shape with its transform and material.
 #[derive(Debug, Clone, PartialEq)]
@@ -16,6 +17,9 @@ pub struct Object {
     pub material: Material,
     /// Whether it blocks light from reaching other surfaces (`shadow: false` in scene files).
     pub casts_shadow: bool,
+    /// Where it moves while the shutter is open (motion blur); `transform` is then where it
+    /// is when the shutter opens. Boxed: most objects stand still.
+    pub motion: Option<Box<Motion>>,
 }
 
 impl Object {
@@ -26,6 +30,7 @@ impl Object {
             transform: Transform::IDENTITY,
             material: Material::DEFAULT,
             casts_shadow: true,
+            motion: None,
         }
     }
 
@@ -120,21 +125,43 @@ impl Object {
         self.transform = Transform::new(matrix);
     }
 
-    /// The book's `parent_space_bounds_of(shape)`: the shape's box in world space.
+    /// The book's `parent_space_bounds_of(shape)`: the shape's box in world space (around
+    /// every place it passes through, for a moving object).
     pub fn bounds(&self) -> Aabb {
-        self.shape.bounds().transform(&self.transform)
+        match &self.motion {
+            None => self.shape.bounds().transform(&self.transform),
+            Some(motion) => motion.bounds(&self.shape.bounds()),
+        }
     }
 
-    /// The book's `world_to_object(shape, point)`.
+    /// The transform at `time` (a fraction of the shutter interval): `transform` itself for an
+    /// object that stands still.
+    #[inline]
+    pub fn transform_at(&self, time: f64) -> Cow<'_, Transform> {
+        match &self.motion {
+            None => Cow::Borrowed(&self.transform),
+            Some(motion) => Cow::Owned(motion.at(time)),
+        }
+    }
+
+    /// The book's `world_to_object(shape, point)` (for a moving object, where it is when the
+    /// shutter opens).
     #[inline]
     pub fn world_to_object(&self, point: Point3) -> Point3 {
         self.transform.inverse_point(point)
     }
 
-    /// The ray in object space: what the book's `test_shape` records as `saved_ray`.
+    /// `world_to_object` at an instant of the shutter interval.
+    #[inline]
+    pub fn world_to_object_at(&self, point: Point3, time: f64) -> Point3 {
+        self.transform_at(time).inverse_point(point)
+    }
+
+    /// The ray in object space (where the object is at the ray's time): what the book's
+    /// `test_shape` records as `saved_ray`.
     #[inline]
     pub fn ray_to_object(&self, ray: &Ray) -> Ray {
-        ray.to_object(&self.transform)
+        ray.to_object(&self.transform_at(ray.time))
     }
 
     /// The book's `intersect(shape, ray)`: appends every intersection (any sign of `t`) to `out`.
@@ -173,13 +200,14 @@ impl Object {
         self.normal_at_local_hit(world_point, &hit.local())
     }
 
-    /// The unit world-space normal at a hit given in the shape's own terms.
+    /// The unit world-space normal at a hit given in the shape's own terms (at the hit's time).
     #[inline]
     pub fn normal_at_local_hit(&self, world_point: Point3, hit: &LocalHit) -> Vec3 {
+        let transform = self.transform_at(hit.time);
         let local = self
             .shape
-            .normal_at_hit(self.world_to_object(world_point), hit);
-        self.transform.normal(local)
+            .normal_at_hit(transform.inverse_point(world_point), hit);
+        transform.normal(local)
     }
 
     /// The object whose surface a hit is on: the hit primitive of a CSG solid, or itself.
@@ -195,14 +223,34 @@ impl Object {
     /// the identity and moves its primitives instead, so each primitive always knows its full
     /// world transform (which its normals and patterns need).
     pub fn placed_by(&self, parent: &Transform) -> Result<Object, SingularTransform> {
-        let placement = parent.then_after(&self.transform)?;
+        self.placed_by_moving(parent, parent)
+    }
+
+    /// The same object placed by a parent that moves from `start` (when the shutter opens) to
+    /// `end` (when it closes), each applied after the object's own transform at that time.
+    /// Passing the same transform twice is [`Object::placed_by`]; a parent that moves makes the
+    /// object move (a CSG solid passes the motion on to its primitives).
+    pub fn placed_by_moving(
+        &self,
+        start: &Transform,
+        end: &Transform,
+    ) -> Result<Object, SingularTransform> {
+        let own_end = self.motion.as_ref().map_or(&self.transform, |m| m.end());
+        let placed_start = start.then_after(&self.transform)?;
+        let placed_end = end.then_after(own_end)?;
         let mut placed = self.clone();
         match &self.shape {
             Shape::Csg(csg) => {
-                placed.shape = Shape::Csg(std::sync::Arc::new(csg.placed_by(&placement)?));
+                let leaves = csg.placed_by_moving(&placed_start, &placed_end)?;
+                placed.shape = Shape::Csg(std::sync::Arc::new(leaves));
                 placed.transform = Transform::IDENTITY;
+                placed.motion = None;
             }
-            _ => placed.transform = placement,
+            _ => {
+                placed.transform = placed_start;
+                placed.motion = (placed_end != placed_start)
+                    .then(|| Box::new(Motion::new(placed_start, placed_end)));
+            }
         }
         Ok(placed)
     }

@@ -70,10 +70,10 @@ impl<'w> Tracer<'w> {
     /// (mixed by Schlick's Fresnel factor when the material has both).
     pub fn shade_hit(&mut self, comps: &Computations<'_>, remaining: u32) -> Color {
         let material = &comps.surface.material;
-        let color = material.color_at(comps.surface, comps.over_point, comps.uv);
+        let color = material.color_at(comps.surface, comps.over_point, comps.uv, comps.time);
         let mut surface = Color::BLACK;
         for light in &self.world.lights {
-            let fraction = self.intensity_at(light, comps.over_point);
+            let fraction = self.intensity_at_time(light, comps.over_point, comps.time);
             surface += lighting_with(
                 material,
                 color,
@@ -98,9 +98,15 @@ impl<'w> Tracer<'w> {
     /// The book's `intensity_at(light, point, world)`: the fraction of `light` that reaches
     /// `point`: 0 or 1 for a point light, the fraction of unblocked samples for an area light.
     pub fn intensity_at(&mut self, light: &Light, point: Point3) -> f64 {
+        self.intensity_at_time(light, point, 0.0)
+    }
+
+    /// [`Tracer::intensity_at`] at an instant of the shutter interval (what moving objects
+    /// block depends on where they are).
+    pub fn intensity_at_time(&mut self, light: &Light, point: Point3, time: f64) -> f64 {
         match light {
             Light::Point(PointLight { position, .. }) | Light::Spot(SpotLight { position, .. }) => {
-                if self.is_shadowed(*position, point) {
+                if self.is_shadowed_at(*position, point, time) {
                     0.0
                 } else {
                     1.0
@@ -109,7 +115,7 @@ impl<'w> Tracer<'w> {
             Light::Area(area) => {
                 let mut jitter = self.jitter;
                 let fraction =
-                    area.fraction_visible(&mut jitter, |sample| self.is_shadowed(sample, point));
+                    area.fraction_visible(&mut jitter, |s| self.is_shadowed_at(s, point, time));
                 self.jitter = jitter;
                 fraction
             }
@@ -119,10 +125,15 @@ impl<'w> Tracer<'w> {
     /// Whether an object that casts shadows lies between `point` and `light_position`.
     /// Stops at the first blocker found.
     pub fn is_shadowed(&mut self, light_position: Point3, point: Point3) -> bool {
+        self.is_shadowed_at(light_position, point, 0.0)
+    }
+
+    /// [`Tracer::is_shadowed`] at an instant of the shutter interval.
+    pub fn is_shadowed_at(&mut self, light_position: Point3, point: Point3, time: f64) -> bool {
         self.rays += 1;
         let to_light = light_position - point;
         let distance = to_light.length();
-        let ray = Ray::new(point, to_light / distance);
+        let ray = Ray::new(point, to_light / distance).at_time(time);
         self.index.occluded(self.world, &ray, distance)
     }
 
@@ -132,7 +143,7 @@ impl<'w> Tracer<'w> {
         if remaining == 0 || reflective == 0.0 {
             return Color::BLACK;
         }
-        let ray = Ray::new(comps.over_point, comps.reflectv);
+        let ray = Ray::new(comps.over_point, comps.reflectv).at_time(comps.time);
         self.color_at(&ray, remaining - 1) * reflective
     }
 
@@ -151,7 +162,7 @@ impl<'w> Tracer<'w> {
         }
         let cos_t = (1.0 - sin2_t).sqrt();
         let direction = comps.normalv * (n_ratio * cos_i - cos_t) - comps.eyev * n_ratio;
-        let ray = Ray::new(comps.under_point, direction);
+        let ray = Ray::new(comps.under_point, direction).at_time(comps.time);
         self.color_at(&ray, remaining - 1) * transparency
     }
 }

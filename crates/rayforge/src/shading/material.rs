@@ -59,14 +59,20 @@ impl Material {
 }
 
 impl Material {
-    /// The surface colour at a point: the texture at the surface's coordinates when both exist,
-    /// else the pattern, else the plain colour.
-    pub fn color_at(&self, object: &Object, point: Point3, uv: Option<(f64, f64)>) -> Color {
+    /// The surface colour at a world-space point (on `object` as it was at `time`): the texture
+    /// at the surface's coordinates when both exist, else the pattern, else the plain colour.
+    pub fn color_at(
+        &self,
+        object: &Object,
+        point: Point3,
+        uv: Option<(f64, f64)>,
+        time: f64,
+    ) -> Color {
         if let (Some(texture), Some((u, v))) = (&self.texture, uv) {
             return texture.uv_pattern_at(u, v) * self.color;
         }
         match &self.pattern {
-            Some(pattern) => pattern.color_at_object(object, point),
+            Some(pattern) => pattern.nested_at(object.world_to_object_at(point, time)),
             None => self.color,
         }
     }

@@ -23,7 +23,7 @@ pub fn lighting(
     light_fraction: f64,
 ) -> Color {
     let mut jitter = SplitMix64::new(0);
-    let surface = material.color_at(object, point, None);
+    let surface = material.color_at(object, point, None, 0.0);
     lighting_with(
         material,
         surface,

@@ -151,7 +151,7 @@ fn clamp_unit(t: f64) -> f64 {
 }
 
 /// How a 3D point (in pattern space) becomes (u, v).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum UvMapping {
     /// Longitude and latitude on the unit sphere.
     Spherical,
@@ -159,6 +159,11 @@ pub enum UvMapping {
     Planar,
     /// Around the y axis, repeating every unit of height.
     Cylindrical,
+    /// Around the y axis and around the tube of a torus whose centre circle has this radius.
+    Toroidal {
+        /// The torus's major radius (the centre circle of its tube).
+        major: f64,
+    },
 }
 
 impl UvMapping {
@@ -168,6 +173,7 @@ impl UvMapping {
             UvMapping::Spherical => spherical_map(p),
             UvMapping::Planar => planar_map(p),
             UvMapping::Cylindrical => cylindrical_map(p),
+            UvMapping::Toroidal { major } => crate::geometry::toroidal_map(p, major),
         }
     }
 }
