@@ -90,11 +90,11 @@ fn a_missing_image_is_reported_at_its_file_key() {
 #[test]
 fn an_unknown_mapping_is_refused() {
     let e = rayforge_scene::load_str(
-        &format!("{CAMERA}- add: sphere\n  material:\n    pattern:\n      type: map\n      mapping: toroidal\n      uv_pattern: {{type: checkers, width: 2, height: 2, colors: [[0, 0, 0], [1, 1, 1]]}}\n"),
+        &format!("{CAMERA}- add: sphere\n  material:\n    pattern:\n      type: map\n      mapping: conical\n      uv_pattern: {{type: checkers, width: 2, height: 2, colors: [[0, 0, 0], [1, 1, 1]]}}\n"),
         Path::new("scene.yml"),
     )
     .unwrap_err();
-    assert!(e.message.contains("unknown mapping `toroidal`"), "{e}");
+    assert!(e.message.contains("unknown mapping `conical`"), "{e}");
 }
 
 #[test]
