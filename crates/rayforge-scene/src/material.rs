@@ -73,18 +73,20 @@ pub fn material<'n, 's>(
             "reflective" => m.reflective = number()?,
             "transparency" => m.transparency = number()?,
             "refractive-index" => m.refractive_index = number()?,
-            "bump" => m.bump = Some(bump(source, defines, value)?),
+            "bump" => m.bump = Some(bump(source, defines, assets, value)?),
             _ => m.pattern = Some(pattern(source, defines, assets, value)?),
         }
     }
     Ok(m)
 }
 
-/// Bumps on the normal: `type: waves` (`amplitude`, `wavelength`) or `type: noise`
-/// (`strength`), each with an optional `transform`.
+/// Bumps on the normal: `type: waves` (`amplitude`, `wavelength`), `type: noise`
+/// (`strength`) or `type: normal-map` (`file`, `mapping`, optional `strength`), each with an
+/// optional `transform`.
 fn bump<'n, 's>(
     source: &Source<'s>,
     defines: &Defines<'n, 's>,
+    assets: &mut Assets,
     node: &'n Node<'s>,
 ) -> Result<Bump, SceneError> {
     let entries = source.entries(node, "bump")?;
@@ -125,11 +127,55 @@ fn bump<'n, 's>(
                 strength: source.number(required("strength")?, "strength")?,
             }
         }
+        "normal-map" => {
+            check_keys(
+                source,
+                &entries,
+                "a normal map",
+                &["type", "file", "mapping", "major-radius", "strength", "transform"],
+            )?;
+            let file = required("file")?;
+            let path = assets.resolve(source.string(file, "file")?);
+            let map = assets
+                .texture(&path)
+                .map_err(|e| source.error(file, "file", e.message))?;
+            let mapping_node = required("mapping")?;
+            let mapping = match source.string(mapping_node, "mapping")? {
+                "spherical" => UvMapping::Spherical,
+                "planar" => UvMapping::Planar,
+                "cylindrical" => UvMapping::Cylindrical,
+                "toroidal" => UvMapping::Toroidal {
+                    major: match get("major-radius") {
+                        Some(n) => source.number(n, "major-radius")?,
+                        None => 1.0,
+                    },
+                },
+                other => {
+                    return Err(source.error(
+                        mapping_node,
+                        "mapping",
+                        format!(
+                            "unknown mapping `{other}` for a normal map; expected one of: \
+                             spherical, planar, cylindrical, toroidal"
+                        ),
+                    ))
+                }
+            };
+            let strength = match get("strength") {
+                Some(n) => source.number(n, "strength")?,
+                None => 1.0,
+            };
+            BumpKind::NormalMap {
+                map,
+                mapping,
+                strength,
+            }
+        }
         other => {
             return Err(source.error(
                 type_node,
                 "type",
-                format!("unknown bump type `{other}`; expected waves or noise"),
+                format!("unknown bump type `{other}`; expected waves, noise or normal-map"),
             ))
         }
     };

@@ -114,6 +114,13 @@ impl Transform {
         (self.normal * n).normalize_or_zero()
     }
 
+    /// Maps a world-space normal back to object space (the inverse of [`Transform::normal`]:
+    /// the transpose of the linear part), normalised.
+    #[inline]
+    pub fn normal_to_object(&self, n: DVec3) -> DVec3 {
+        (self.forward.matrix3.transpose() * n).normalize_or_zero()
+    }
+
     /// `self` applied after `inner`: `self * inner` in matrix terms.
     pub fn then_after(&self, inner: &Transform) -> Result<Self, SingularTransform> {
         Self::try_new(self.matrix * inner.matrix)
