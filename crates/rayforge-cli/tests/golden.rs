@@ -3,7 +3,7 @@
 //!
 //! Each scene `scenes/trtc/<name>.yml` is rendered with `rayforge render --width 64` (the
 //! height follows the camera's aspect ratio; the scene's own `samples` apply, as for a user)
-//! and compared with `tests/golden/<name>.png`.
+//! and compared with `tests/golden/<name>.png` (`next-steps/x` is stored as `next-steps-x`).
 //!
 //! Tolerance: each channel may differ by [`CHANNEL_TOLERANCE`] = 2/255. The renderer is
 //! deterministic, so on one machine the bytes are identical; the slack is for other CPUs and
@@ -78,16 +78,17 @@ fn compare(actual: &image::RgbImage, expected: &image::RgbImage) -> Difference {
 }
 
 fn check(scene: &str) {
+    let file_name = format!("{}.png", scene.replace('/', "-"));
     let golden = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/golden")
-        .join(format!("{scene}.png"));
+        .join(&file_name);
     if std::env::var_os("RAYFORGE_BLESS").is_some() {
         render_small(scene, &golden);
         return;
     }
     let kept = Path::new(env!("CARGO_TARGET_TMPDIR")).join("golden");
     std::fs::create_dir_all(&kept).expect("creates target/tmp/golden");
-    let rendered = kept.join(format!("{scene}.png"));
+    let rendered = kept.join(&file_name);
     render_small(scene, &rendered);
     let actual = image::open(&rendered).expect("reads the render").to_rgb8();
     let expected = image::open(&golden)
@@ -187,9 +188,51 @@ fn golden_ch16_csg() {
     check("ch16-csg");
 }
 
-/// Focal blur, soft shadows, a spotlight and the camera's 36 jittered samples per pixel: all
-/// seeded per pixel, so the image is as reproducible as the others.
+// Chapter 17's next steps and the bonus chapters. Jittered samples, area lights, lens and
+// shutter samples are all seeded per pixel, so these images are as reproducible as the others.
+
+/// Focal blur, soft shadows, a spotlight and the camera's 36 samples per pixel.
 #[test]
-fn golden_ch17_focal_blur() {
-    check("ch17-focal-blur");
+fn golden_next_steps_focal_blur() {
+    check("next-steps/focal-blur");
+}
+
+#[test]
+fn golden_next_steps_soft_shadows() {
+    check("next-steps/soft-shadows");
+}
+
+#[test]
+fn golden_next_steps_spotlights() {
+    check("next-steps/spotlights");
+}
+
+#[test]
+fn golden_next_steps_motion_blur() {
+    check("next-steps/motion-blur");
+}
+
+#[test]
+fn golden_next_steps_anti_aliasing() {
+    check("next-steps/anti-aliasing");
+}
+
+#[test]
+fn golden_next_steps_texture_mapping() {
+    check("next-steps/texture-mapping");
+}
+
+#[test]
+fn golden_next_steps_skybox() {
+    check("next-steps/skybox");
+}
+
+#[test]
+fn golden_next_steps_bump_mapping() {
+    check("next-steps/bump-mapping");
+}
+
+#[test]
+fn golden_next_steps_torus() {
+    check("next-steps/torus");
 }

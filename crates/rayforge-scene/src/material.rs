@@ -132,7 +132,14 @@ fn bump<'n, 's>(
                 source,
                 &entries,
                 "a normal map",
-                &["type", "file", "mapping", "major-radius", "strength", "transform"],
+                &[
+                    "type",
+                    "file",
+                    "mapping",
+                    "major-radius",
+                    "strength",
+                    "transform",
+                ],
             )?;
             let file = required("file")?;
             let path = assets.resolve(source.string(file, "file")?);

@@ -1,0 +1,149 @@
+//! Generates the textures of `scenes/trtc/next-steps/textures/`: an earth-like map, a tiled
+//! normal map and the six faces of a sky box. Every pixel is computed here (procedural noise
+//! and closed-form shapes), so the images are ours to commit and can be remade exactly:
+//!
+//! ```text
+//! cargo run -p rayforge-scene --example make_textures -- scenes/trtc/next-steps/textures
+//! ```
+
+use rayforge::shading::{perlin_noise, CubeFace};
+use rayforge::Point3;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = PathBuf::from(
+        std::env::args()
+            .nth(1)
+            .unwrap_or_else(|| "scenes/trtc/next-steps/textures".into()),
+    );
+    std::fs::create_dir_all(&dir)?;
+    save(&dir, "earth.png", 512, 256, earth)?;
+    save(&dir, "tiles-normal.png", 256, 256, tiles_normal)?;
+    for face in CubeFace::ALL {
+        let name = format!("sky-{}.png", face_name(face));
+        save(&dir, &name, 128, 128, |u, v| {
+            sky(cube_direction(face, u, v))
+        })?;
+    }
+    Ok(())
+}
+
+/// Writes a `width × height` PNG whose pixel at (u, v) (the book's texture convention: u to the
+/// right, v up, both in [0, 1] from edge pixel centre to edge pixel centre) is `shade(u, v)`.
+fn save(
+    dir: &Path,
+    name: &str,
+    width: u32,
+    height: u32,
+    shade: impl Fn(f64, f64) -> [f64; 3],
+) -> Result<(), image::ImageError> {
+    let image = image::RgbImage::from_fn(width, height, |x, y| {
+        let u = x as f64 / (width - 1) as f64;
+        let v = 1.0 - y as f64 / (height - 1) as f64;
+        let c = shade(u, v);
+        image::Rgb(c.map(|channel| (channel.clamp(0.0, 1.0) * 255.0).round() as u8))
+    });
+    image.save(dir.join(name))?;
+    println!("wrote {}", dir.join(name).display());
+    Ok(())
+}
+
+/// Fractal noise: four octaves of Perlin noise.
+fn fbm(p: Point3) -> f64 {
+    (0..4)
+        .map(|octave| {
+            let scale = f64::from(1u32 << octave);
+            perlin_noise(p * scale) / scale
+        })
+        .sum()
+}
+
+fn mix(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
+    let t = t.clamp(0.0, 1.0);
+    [0, 1, 2].map(|i| a[i] + (b[i] - a[i]) * t)
+}
+
+/// An equirectangular map of an invented planet: noise on the sphere itself (so the map has
+/// no seam), oceans shading to deep blue, land from green lowlands to brown highlands, ice
+/// towards the poles. Laid out for the book's spherical mapping.
+fn earth(u: f64, v: f64) -> [f64; 3] {
+    let longitude = (u - 0.5) * 2.0 * PI;
+    let latitude = (v - 0.5) * PI;
+    let p = Point3::new(
+        latitude.cos() * longitude.sin(),
+        latitude.sin(),
+        latitude.cos() * longitude.cos(),
+    );
+    let height = fbm(p * 2.2 + Point3::new(3.1, 0.7, -1.9));
+    let ice = latitude.abs() > 1.2 + 0.15 * fbm(p * 6.0);
+    if ice {
+        return [0.93, 0.95, 0.97];
+    }
+    if height < -0.02 {
+        mix([0.02, 0.09, 0.32], [0.1, 0.35, 0.6], (height + 0.5) / 0.48)
+    } else {
+        let land = mix([0.2, 0.5, 0.15], [0.45, 0.35, 0.2], (height + 0.02) / 0.4);
+        mix(land, [0.85, 0.85, 0.82], (height - 0.55) / 0.1)
+    }
+}
+
+/// A normal map of 4 × 4 square tiles with bevelled edges and a faint dimple in each, in the
+/// OpenGL convention (red along u, green along v, blue out of the surface).
+fn tiles_normal(u: f64, v: f64) -> [f64; 3] {
+    let height = |u: f64, v: f64| {
+        let (fu, fv) = ((u * 4.0).rem_euclid(1.0), (v * 4.0).rem_euclid(1.0));
+        let edge = fu.min(1.0 - fu).min(fv.min(1.0 - fv));
+        let bevel = (edge / 0.08).min(1.0);
+        let (du, dv) = (fu - 0.5, fv - 0.5);
+        bevel - 0.15 * (-(du * du + dv * dv) * 20.0).exp()
+    };
+    let h = 1.0 / 1024.0;
+    let slope_u = (height(u + h, v) - height(u - h, v)) / (2.0 * h);
+    let slope_v = (height(u, v + h) - height(u, v - h)) / (2.0 * h);
+    let (x, y, z) = (-slope_u * 0.02, -slope_v * 0.02, 1.0);
+    let length = (x * x + y * y + z * z).sqrt();
+    [x / length, y / length, z / length].map(|c| 0.5 + 0.5 * c)
+}
+
+fn face_name(face: CubeFace) -> &'static str {
+    match face {
+        CubeFace::Left => "left",
+        CubeFace::Front => "front",
+        CubeFace::Right => "right",
+        CubeFace::Back => "back",
+        CubeFace::Up => "up",
+        CubeFace::Down => "down",
+    }
+}
+
+/// The direction from the cube's centre through (u, v) of a face: the inverse of the book's
+/// `cube_uv_*` functions.
+fn cube_direction(face: CubeFace, u: f64, v: f64) -> Point3 {
+    let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+    match face {
+        CubeFace::Front => Point3::new(a, b, 1.0),
+        CubeFace::Back => Point3::new(-a, b, -1.0),
+        CubeFace::Left => Point3::new(-1.0, b, a),
+        CubeFace::Right => Point3::new(1.0, b, -a),
+        CubeFace::Up => Point3::new(a, 1.0, -b),
+        CubeFace::Down => Point3::new(a, -1.0, b),
+    }
+    .normalize()
+}
+
+/// A clear sky seen along `d`: deep blue overhead, pale at the horizon, a sun, wisps of cloud,
+/// and dark ground below.
+fn sky(d: Point3) -> [f64; 3] {
+    let sun = Point3::new(0.5, 0.45, 0.74).normalize();
+    if d.y < 0.0 {
+        let ground = mix([0.36, 0.32, 0.26], [0.16, 0.14, 0.12], (-d.y * 3.0).sqrt());
+        return mix([0.75, 0.8, 0.85], ground, -d.y * 12.0);
+    }
+    let mut c = mix([0.78, 0.86, 0.95], [0.16, 0.36, 0.75], d.y.sqrt());
+    let cloud = (fbm(d / (d.y + 0.15) * 0.6) - 0.05).max(0.0) * 2.5 * (d.y * 4.0).min(1.0);
+    c = mix(c, [1.0, 1.0, 1.0], cloud);
+    let glow = d.dot(sun).max(0.0).powf(256.0);
+    let disc = if d.dot(sun) > 0.9992 { 1.0 } else { 0.0 };
+    mix(c, [1.0, 0.97, 0.85], glow + disc)
+}
