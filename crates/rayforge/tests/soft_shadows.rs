@@ -248,3 +248,92 @@ fn jittered_renders_do_not_depend_on_the_thread_count() {
     };
     assert_eq!(render_on(1), render_on(3));
 }
+
+/// A sphere above a floor, lit by `light`: the middle row of a small image of the floor (its
+/// brightness across the shadow).
+fn shadow_row(light: Light, sphere_casts_shadow: bool) -> Vec<f64> {
+    let mut w = World::new();
+    w.objects.push(Object::plane().with_material(Material {
+        ambient: 0.0,
+        specular: 0.0,
+        ..Material::default()
+    }));
+    let mut sphere = Object::sphere().with_transform(
+        rayforge::math::translation(0.0, 1.5, 0.0) * rayforge::math::scaling(0.5, 0.5, 0.5),
+    );
+    sphere.casts_shadow = sphere_casts_shadow;
+    // The camera looks down at the floor from below the sphere, so the middle row of the image
+    // shows only the floor and the shadow on it.
+    w.objects.push(sphere);
+    w.lights.push(light);
+    let camera = rayforge::Camera::new(61, 3, 0.9).with_transform(rayforge::math::view_transform(
+        point(0.0, 0.9, -3.0),
+        point(0.0, 0.0, 0.0),
+        vector(0.0, 1.0, 0.0),
+    ));
+    let canvas = camera.render(&w);
+    (0..canvas.width())
+        .map(|x| canvas.pixel_at(x, 1).red)
+        .collect()
+}
+
+fn area_light_above() -> Light {
+    Light::Area(AreaLight::new(
+        point(-1.0, 4.0, -1.0),
+        vector(2.0, 0.0, 0.0),
+        8,
+        vector(0.0, 0.0, 2.0),
+        8,
+        color(1.0, 1.0, 1.0),
+    ))
+}
+
+#[test]
+fn an_area_light_casts_a_shadow_with_a_penumbra() {
+    let row = shadow_row(area_light_above(), true);
+    let lit = row.iter().cloned().fold(0.0, f64::max);
+    let darkest = row.iter().cloned().fold(f64::INFINITY, f64::min);
+    assert!(darkest < 0.25 * lit, "an umbra: {row:?}");
+    // Between the umbra and the lit floor, a gradual penumbra of several distinct levels.
+    let mut levels: Vec<u32> = row
+        .iter()
+        .filter(|&&v| v > darkest + 0.05 * lit && v < 0.95 * lit)
+        .map(|v| (v * 1000.0) as u32)
+        .collect();
+    levels.sort_unstable();
+    levels.dedup();
+    assert!(levels.len() >= 6, "a penumbra: {row:?}");
+}
+
+#[test]
+fn a_point_light_casts_a_hard_shadow() {
+    let row = shadow_row(
+        Light::point(point(0.0, 4.0, 0.0), color(1.0, 1.0, 1.0)),
+        true,
+    );
+    // Each pixel is either in shadow (no light at all: the floor has no ambient term) or lit.
+    let shadowed = row.iter().filter(|&&v| v == 0.0).count();
+    assert!(shadowed > 0 && shadowed < row.len(), "{row:?}");
+}
+
+#[test]
+fn objects_that_cast_no_shadow_let_every_kind_of_light_through() {
+    let spot = rayforge::SpotLight::new(
+        point(0.0, 4.0, 0.0),
+        vector(0.0, -1.0, 0.0),
+        1.2,
+        0.0,
+        color(1.0, 1.0, 1.0),
+    )
+    .unwrap();
+    for light in [
+        Light::point(point(0.0, 4.0, 0.0), color(1.0, 1.0, 1.0)),
+        area_light_above(),
+        Light::Spot(spot),
+    ] {
+        let with = shadow_row(light.clone(), true);
+        let without = shadow_row(light, false);
+        assert!(with.iter().any(|&v| v < 0.05), "a shadow: {with:?}");
+        assert!(without.iter().all(|&v| v > 0.1), "no shadow: {without:?}");
+    }
+}
