@@ -61,6 +61,7 @@ fn main() -> std::io::Result<()> {
         ],
         lights: vec![Light::point(point(-10.0, 10.0, -10.0), Color::WHITE)],
         background: Color::BLACK,
+        ..World::default()
     };
     let camera = Camera::new(400, 200, FRAC_PI_3).with_transform(view_transform(
         point(0.0, 1.5, -5.0),

@@ -45,9 +45,13 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
     let bar = row_bar(camera.vsize(), settings.quiet);
     let progress = |rows: usize| bar.inc(rows as u64);
     let options = RenderOptions {
-        max_depth: settings.max_depth,
+        max_depth: settings
+            .max_depth
+            .or(scene.max_depth)
+            .unwrap_or(rayforge::DEFAULT_MAX_DEPTH),
         sampling,
         progress: Some(&progress),
+        subsample: settings.subsample,
     };
     let started = Instant::now();
     let (canvas, stats) = pool.install(|| render(&camera, &scene.world, &options));

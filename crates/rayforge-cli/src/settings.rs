@@ -30,12 +30,14 @@ pub struct RenderSettings {
     pub size: SizeRequest,
     /// Worker threads; `None` for all cores.
     pub threads: Option<usize>,
-    /// Recursion limit.
-    pub max_depth: u32,
+    /// Recursion limit asked for on the command line.
+    pub max_depth: Option<u32>,
     /// Samples per pixel asked for on the command line.
     pub spp: Option<u32>,
     /// Adaptive anti-aliasing threshold, when asked for.
     pub adaptive: Option<f64>,
+    /// Subsampling threshold, when asked for.
+    pub subsample: Option<f64>,
     /// No progress or summary.
     pub quiet: bool,
 }
@@ -62,6 +64,13 @@ impl RenderSettings {
                 return Err(Failure::usage("give --spp or --adaptive, not both"));
             }
         }
+        if let Some(t) = args.subsample {
+            if !(0.0..=1.0).contains(&t) {
+                return Err(Failure::usage(format!(
+                    "--subsample takes a threshold from 0 to 1, found {t}"
+                )));
+            }
+        }
         if let Some(threads) = args.threads {
             if threads == 0 || threads > MAX_THREADS {
                 return Err(Failure::usage(format!(
@@ -69,10 +78,9 @@ impl RenderSettings {
                 )));
             }
         }
-        if args.max_depth > MAX_DEPTH_LIMIT {
+        if let Some(depth) = args.max_depth.filter(|&d| d > MAX_DEPTH_LIMIT) {
             return Err(Failure::usage(format!(
-                "--max-depth must be at most {MAX_DEPTH_LIMIT}, found {}",
-                args.max_depth
+                "--max-depth must be at most {MAX_DEPTH_LIMIT}, found {depth}"
             )));
         }
         Ok(Self {
@@ -84,6 +92,7 @@ impl RenderSettings {
             max_depth: args.max_depth,
             spp: args.spp,
             adaptive: args.adaptive,
+            subsample: args.subsample,
             quiet: args.quiet,
         })
     }

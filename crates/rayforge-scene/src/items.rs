@@ -3,7 +3,7 @@
 use crate::assets::Assets;
 use crate::defines::{is_reference, merge, Defines, Trail};
 use crate::error::SceneError;
-use crate::material::{checked, color, material};
+use crate::material::{checked, material};
 use crate::source::{as_str, check_keys, Entry, Node, Source};
 use crate::transform::transform_list;
 use glam::DMat4;
@@ -88,6 +88,10 @@ pub fn camera(
     entries: &[Entry<'_, '_>],
     item: &Node<'_>,
 ) -> Result<(Camera, u32), SceneError> {
+    if entries.iter().any(|e| e.name == "viewport") {
+        let camera = crate::viewport::camera(source, entries, item)?;
+        return finish_camera(source, entries, camera);
+    }
     check_keys(
         source,
         entries,
@@ -142,20 +146,6 @@ pub fn camera(
     }
     let view = rayforge::Transform::try_new(view_transform(from, to, up))
         .map_err(|e| source.error(item, "up", format!("the view transform is singular: {e}")))?;
-    let samples = match entries.iter().find(|e| e.name == "samples") {
-        Some(e) => {
-            let n = source.integer(e.value, "samples", 1)?;
-            if n > MAX_SAMPLES_PER_PIXEL {
-                return Err(source.error(
-                    e.value,
-                    "samples",
-                    format!("{n} samples per pixel is more than the limit {MAX_SAMPLES_PER_PIXEL}"),
-                ));
-            }
-            n as u32
-        }
-        None => 1,
-    };
     let mut camera = Camera::new(width, height, fov).with_transform_of(view);
     if let Some(aperture_entry) = entries.iter().find(|e| e.name == "aperture") {
         let aperture = source.number(aperture_entry.value, "aperture")?;
@@ -177,6 +167,29 @@ pub fn camera(
         }
         camera = camera.with_lens(aperture, focal);
     }
+    finish_camera(source, entries, camera)
+}
+
+/// What every camera accepts: `samples` per pixel and the `shutter` interval.
+pub fn finish_camera(
+    source: &Source<'_>,
+    entries: &[Entry<'_, '_>],
+    mut camera: Camera,
+) -> Result<(Camera, u32), SceneError> {
+    let samples = match entries.iter().find(|e| e.name == "samples") {
+        Some(e) => {
+            let n = source.integer(e.value, "samples", 1)?;
+            if n > MAX_SAMPLES_PER_PIXEL {
+                return Err(source.error(
+                    e.value,
+                    "samples",
+                    format!("{n} samples per pixel is more than the limit {MAX_SAMPLES_PER_PIXEL}"),
+                ));
+            }
+            n as u32
+        }
+        None => 1,
+    };
     if let Some(shutter) = entries.iter().find(|e| e.name == "shutter") {
         let times = source.sequence(shutter.value, "shutter")?;
         let [open, close] = times else {
@@ -206,12 +219,30 @@ pub fn camera(
 }
 
 /// A light from `add: light`: a point light (`at`), or an area light (`corner`, `uvec`,
-/// `usteps`, `vvec`, `vsteps`, optionally `jitter`), as the soft-shadows bonus chapter writes it.
+/// `usteps`, `vvec`, `vsteps`, optionally `jitter`), as the soft-shadows bonus chapter writes it,
+/// a spotlight (`angle`), or with `type:` Computer Graphics from Scratch's `ambient` and
+/// `directional` lights.
 pub fn light(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
     item: &Node<'_>,
 ) -> Result<Light, SceneError> {
+    if let Some(kind) = entries.iter().find(|e| e.name == "type") {
+        match source.string(kind.value, "type")? {
+            "point" => {}
+            "ambient" | "directional" => return crate::lights::cgfs_light(source, entries, item),
+            other => {
+                return Err(source.error(
+                    kind.value,
+                    "type",
+                    format!(
+                        "unknown light type `{other}`; expected point, ambient or directional \
+                         (area lights and spotlights are told by `corner` and `angle`)"
+                    ),
+                ))
+            }
+        }
+    }
     let area = entries.iter().any(|e| e.name == "corner");
     let spot = entries.iter().any(|e| e.name == "angle");
     let (what, allowed): (&str, &[&str]) = if area {
@@ -234,7 +265,7 @@ pub fn light(
             &["add", "at", "intensity", "direction", "angle", "fade"],
         )
     } else {
-        ("a point light", &["add", "at", "intensity"])
+        ("a point light", &["add", "type", "at", "intensity"])
     };
     check_keys(source, entries, what, allowed)?;
     let get = |k: &str| {
@@ -244,7 +275,7 @@ pub fn light(
             .map(|e| e.value)
             .ok_or_else(|| source.error(item, k, format!("{what} needs `{k}:`")))
     };
-    let intensity = color(source, get("intensity")?, "intensity")?;
+    let intensity = crate::lights::intensity(source, get("intensity")?)?;
     if spot {
         let [x, y, z] = source.triple(get("at")?, "at")?;
         let direction_node = get("direction")?;

@@ -12,10 +12,13 @@ mod budget;
 mod defines;
 mod error;
 mod items;
+mod lights;
 mod material;
 pub mod obj;
+mod settings;
 mod source;
 mod transform;
+mod viewport;
 
 pub use error::{SceneError, Span};
 
@@ -32,6 +35,8 @@ pub struct Scene {
     pub camera: rayforge::Camera,
     /// Camera rays per pixel asked for by the camera's `samples` (1: one through the centre).
     pub samples: u32,
+    /// Reflection and refraction bounces, when the scene's `world:` item sets `max-depth`.
+    pub max_depth: Option<u32>,
     /// Problems in the file that the reader worked around (each located like an error).
     pub warnings: Vec<SceneError>,
 }
@@ -116,7 +121,21 @@ fn read(text: &str, path: &Path) -> Result<Scene, SceneError> {
     let mut assets = assets::Assets::new(path);
     let mut world = rayforge::World::new();
     let mut camera: Option<(rayforge::Camera, u32)> = None;
+    let mut settings: Option<Option<u32>> = None;
     for item in items {
+        let entries = source.entries(item, "")?;
+        if let Some(e) = entries.iter().find(|e| e.name == "world") {
+            if entries.len() > 1 || settings.is_some() {
+                let message = if settings.is_some() {
+                    "a second `world:` item: a scene has at most one"
+                } else {
+                    "a `world:` item has nothing beside it"
+                };
+                return Err(source.error(e.key, "world", message));
+            }
+            settings = Some(settings::apply(&source, e.value, &mut world)?);
+            continue;
+        }
         add_item(
             &source,
             &mut defines,
@@ -133,6 +152,7 @@ fn read(text: &str, path: &Path) -> Result<Scene, SceneError> {
         world,
         camera,
         samples,
+        max_depth: settings.flatten(),
         warnings: source.take_warnings(),
     })
 }
@@ -151,7 +171,7 @@ fn add_item<'n, 's>(
         return defines.add(source, &entries);
     }
     let Some(kind) = entries.iter().find(|e| e.name == "add").map(|e| e.value) else {
-        return Err(source.error(item, "", "each item needs `add:` or `define:`"));
+        return Err(source.error(item, "", "each item needs `add:`, `define:` or `world:`"));
     };
     match source.string(kind, "add")? {
         "camera" if camera.is_some() => {

@@ -26,7 +26,8 @@ pub use geometry::Shape;
 pub use math::{point, vector, Matrix4, Point3, Ray, Transform, Vec3, EPSILON};
 pub use scene::{
     default_world, hit, intersection_allowed, prepare_computations, schlick, Computations, Csg,
-    CsgOperation, Group, Intersection, Node, Object, Tracer, World, DEFAULT_MAX_DEPTH,
+    CsgOperation, Group, Intersection, LightingModel, Node, Object, Tracer, World,
+    DEFAULT_MAX_DEPTH,
 };
 pub use shading::{
     lighting, lighting_with, AreaLight, Light, Material, Pattern, PatternKind, PointLight,

@@ -145,6 +145,7 @@ fn sliding_sphere(shutter: (f64, f64)) -> (World, Camera) {
         objects: vec![sphere],
         lights: vec![Light::point(point(0.0, 0.0, -10.0), Color::WHITE)],
         background: Color::BLACK,
+        ..World::default()
     };
     let camera = Camera::new(41, 11, 1.2)
         .with_transform(rayforge::math::view_transform(
@@ -212,6 +213,7 @@ fn a_moving_object_casts_its_shadow_where_it_is_at_the_instant() {
         objects: vec![blocker],
         lights: vec![Light::point(point(0.0, 10.0, 0.0), Color::WHITE)],
         background: Color::BLACK,
+        ..World::default()
     };
     let index = rayforge::scene::WorldIndex::build(&world);
     let mut tracer = rayforge::Tracer::new(&world, &index);

@@ -13,6 +13,9 @@ pub struct Ray {
     /// When it is cast, as a fraction of the shutter interval (0 when it opens, 1 when it
     /// closes): moving objects are met where they are at that instant (motion blur).
     pub time: f64,
+    /// The nearest `t` at which the ray may hit anything: 0 for most rays; a viewport camera's
+    /// rays start counting at its projection plane, `t = 1` (Computer Graphics from Scratch).
+    pub t_min: f64,
 }
 
 impl Ray {
@@ -23,7 +26,15 @@ impl Ray {
             origin,
             direction,
             time: 0.0,
+            t_min: 0.0,
         }
+    }
+
+    /// The same ray, blind to anything before `t_min`.
+    #[inline]
+    pub const fn from_t(mut self, t_min: f64) -> Self {
+        self.t_min = t_min;
+        self
     }
 
     /// The same ray cast at another instant.
@@ -46,6 +57,7 @@ impl Ray {
             m.transform_vector3(self.direction),
         )
         .at_time(self.time)
+        .from_t(self.t_min)
     }
 
     /// The ray moved into the object space of `transform` (its inverse applied).
@@ -56,5 +68,6 @@ impl Ray {
             transform.inverse_vector(self.direction),
         )
         .at_time(self.time)
+        .from_t(self.t_min)
     }
 }

@@ -20,6 +20,10 @@ pub struct RenderOptions<'p> {
     pub sampling: Sampling,
     /// Called with the number of rows just finished (from any thread).
     pub progress: Option<&'p (dyn Fn(usize) + Sync)>,
+    /// Computer Graphics from Scratch's subsampling: trace only every other pixel of a row and
+    /// fill each pixel between two traced ones with their average when no channel of the two
+    /// differs by more than this threshold (trace it otherwise). `None` traces every pixel.
+    pub subsample: Option<f64>,
 }
 
 impl Default for RenderOptions<'_> {
@@ -28,6 +32,7 @@ impl Default for RenderOptions<'_> {
             max_depth: DEFAULT_MAX_DEPTH,
             sampling: Sampling::Centre,
             progress: None,
+            subsample: None,
         }
     }
 }
@@ -57,12 +62,20 @@ pub fn render(
             || Tracer::new(world, &index),
             |tracer, (y, row)| {
                 let before = tracer.rays_cast();
-                for (x, pixel) in row.iter_mut().enumerate() {
+                let mut trace = |x: usize| {
                     let seed = (y * width + x) as u64;
                     tracer.reseed(seed);
-                    *pixel = options.sampling.pixel(x, y, seed, |sample| {
+                    options.sampling.pixel(x, y, seed, |sample| {
                         tracer.color_at(&camera.ray_for_sample(&sample), options.max_depth)
-                    });
+                    })
+                };
+                match options.subsample {
+                    None => {
+                        for (x, pixel) in row.iter_mut().enumerate() {
+                            *pixel = trace(x);
+                        }
+                    }
+                    Some(threshold) => subsample_row(row, threshold, trace),
                 }
                 rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);
                 if let Some(progress) = options.progress {
@@ -74,6 +87,25 @@ pub fn render(
         rays: rays.into_inner(),
     };
     (canvas, stats)
+}
+
+/// Fills a row by tracing its even pixels (and the last), then each odd pixel from its two
+/// neighbours when they agree within `threshold`, by tracing it when they do not.
+fn subsample_row(row: &mut [Color], threshold: f64, mut trace: impl FnMut(usize) -> Color) {
+    let last = row.len().saturating_sub(1);
+    for x in (0..row.len()).filter(|&x| x % 2 == 0 || x == last) {
+        row[x] = trace(x);
+    }
+    for x in (1..last).step_by(2) {
+        let (left, right) = (row[x - 1], row[x + 1]);
+        let d = left - right;
+        let agree = d.red.abs().max(d.green.abs()).max(d.blue.abs()) <= threshold;
+        row[x] = if agree {
+            (left + right) * 0.5
+        } else {
+            trace(x)
+        };
+    }
 }
 
 impl Camera {

@@ -54,13 +54,14 @@ impl WorldIndex {
             });
     }
 
-    /// The nearest intersection with `t >= 0` (the book's `hit` of `intersect_world`).
+    /// The nearest intersection with `t >= ray.t_min` (the book's `hit` of `intersect_world`,
+    /// which takes `t >= 0`).
     pub fn closest_hit<'w>(&self, world: &'w World, ray: &Ray) -> Option<Intersection<'w>> {
         let mut best: Option<Intersection<'w>> = None;
-        self.candidates(ray, 0.0, f64::INFINITY, |i, t_max| {
+        self.candidates(ray, ray.t_min, f64::INFINITY, |i, t_max| {
             let object = &world.objects[i];
             let local = object.ray_to_object(ray);
-            if let Some(h) = object.shape.closest_hit(&local, 0.0, *t_max) {
+            if let Some(h) = object.shape.closest_hit(&local, ray.t_min, *t_max) {
                 *t_max = h.t;
                 best = Some(Intersection::from_local(object, h));
             }

@@ -1,5 +1,6 @@
 //! Objects in the world, intersections, and the Whitted tracer that shades them.
 
+mod cgfs;
 mod computations;
 mod csg;
 mod group;
@@ -16,4 +17,4 @@ pub use index::WorldIndex;
 pub use intersection::{hit, sort_intersections, Intersection};
 pub use object::Object;
 pub use tracer::{Tracer, DEFAULT_MAX_DEPTH};
-pub use world::{default_world, World};
+pub use world::{default_world, LightingModel, World};

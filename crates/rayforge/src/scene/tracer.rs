@@ -1,7 +1,9 @@
 //! The Whitted tracer (chapters 7, 8 and 11): `color_at`, `shade_hit`, shadows, reflection and
 //! refraction, with per-thread scratch buffers so that tracing a ray allocates nothing.
 
+use super::cgfs::Stage;
 use super::computations::prepare_computations_with;
+use super::world::LightingModel;
 use super::WorldIndex;
 use crate::math::{Point3, Ray};
 use crate::shading::{lighting_with, PointLight, SplitMix64, SpotLight};
@@ -13,13 +15,13 @@ pub const DEFAULT_MAX_DEPTH: u32 = 5;
 /// Traces rays through one world, reusing its buffers between rays. One per thread.
 #[derive(Debug)]
 pub struct Tracer<'w> {
-    world: &'w World,
-    index: &'w WorldIndex,
+    pub(super) world: &'w World,
+    pub(super) index: &'w WorldIndex,
     xs: Vec<Intersection<'w>>,
     containers: Vec<(&'w Object, f64)>,
-    rays: u64,
+    pub(super) rays: u64,
     /// Sample offsets for jittered area lights, reseeded per pixel by the render loop.
-    jitter: SplitMix64,
+    pub(super) jitter: SplitMix64,
 }
 
 impl<'w> Tracer<'w> {
@@ -52,6 +54,15 @@ impl<'w> Tracer<'w> {
     /// intersections before it, which the refractive indices n1 and n2 depend on. (For opaque
     /// surfaces n1 = n2 = 1 in the computations: nothing reads them there.)
     pub fn color_at(&mut self, ray: &Ray, remaining: u32) -> Color {
+        match self.world.lighting {
+            LightingModel::Phong => self.phong_color_at(ray, remaining),
+            LightingModel::Flat => self.cgfs_color_at(ray, remaining, Stage::Flat),
+            LightingModel::Cgfs => self.cgfs_color_at(ray, remaining, Stage::Lit),
+        }
+    }
+
+    /// [`Tracer::color_at`] under The Ray Tracer Challenge's Phong model.
+    fn phong_color_at(&mut self, ray: &Ray, remaining: u32) -> Color {
         self.rays += 1;
         let Some(hit) = self.index.closest_hit(self.world, ray) else {
             return self.world.background;
@@ -112,6 +123,16 @@ impl<'w> Tracer<'w> {
                     1.0
                 }
             }
+            Light::Ambient(_) => 1.0,
+            Light::Directional(l) => {
+                self.rays += 1;
+                let ray = Ray::new(point, l.towards.normalize_or_zero()).at_time(time);
+                if self.index.occluded(self.world, &ray, f64::INFINITY) {
+                    0.0
+                } else {
+                    1.0
+                }
+            }
             Light::Area(area) => {
                 let mut jitter = self.jitter;
                 let fraction =
@@ -144,7 +165,7 @@ impl<'w> Tracer<'w> {
             return Color::BLACK;
         }
         let ray = Ray::new(comps.over_point, comps.reflectv).at_time(comps.time);
-        self.color_at(&ray, remaining - 1) * reflective
+        self.phong_color_at(&ray, remaining - 1) * reflective
     }
 
     /// The book's `refracted_color`: Snell's law from n1 into n2, black for opaque surfaces,
@@ -163,6 +184,6 @@ impl<'w> Tracer<'w> {
         let cos_t = (1.0 - sin2_t).sqrt();
         let direction = comps.normalv * (n_ratio * cos_i - cos_t) - comps.eyev * n_ratio;
         let ray = Ray::new(comps.under_point, direction).at_time(comps.time);
-        self.color_at(&ray, remaining - 1) * transparency
+        self.phong_color_at(&ray, remaining - 1) * transparency
     }
 }

@@ -14,6 +14,22 @@ pub struct World {
     pub lights: Vec<Light>,
     /// The colour of rays that hit nothing (black in the book).
     pub background: Color,
+    /// How hits are shaded.
+    pub lighting: LightingModel,
+}
+
+/// How a world's hits are shaded: which book's lighting model (chosen per scene).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LightingModel {
+    /// The Ray Tracer Challenge: Phong with per-material ambient, diffuse and specular weights,
+    /// Schlick's Fresnel term, over- and under-points against acne.
+    #[default]
+    Phong,
+    /// Computer Graphics from Scratch's first stage: the nearest surface's colour, unlit.
+    Flat,
+    /// Computer Graphics from Scratch: ambient, point and directional lights, the book's
+    /// diffuse and specular terms and reflection blend, reproduced bit for bit.
+    Cgfs,
 }
 
 impl World {
@@ -82,5 +98,6 @@ pub fn default_world() -> World {
         objects: vec![outer, inner],
         lights: vec![Light::point(point(-10.0, 10.0, -10.0), Color::WHITE)],
         background: Color::BLACK,
+        lighting: LightingModel::Phong,
     }
 }

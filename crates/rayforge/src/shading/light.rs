@@ -1,5 +1,6 @@
-//! Light sources: point lights (chapter 6) and rectangular area lights that cast soft shadows
-//! (the bonus chapter "Rendering soft shadows").
+//! Light sources: point lights (chapter 6), rectangular area lights that cast soft shadows
+//! (the bonus chapter "Rendering soft shadows"), spotlights (chapter 17), and the ambient and
+//! directional lights of Computer Graphics from Scratch.
 
 use super::jitter::Jitter;
 use crate::math::{Point3, Vec3};
@@ -170,6 +171,17 @@ impl SpotLight {
     }
 }
 
+/// Parallel light from infinitely far away (the sun), Computer Graphics from Scratch's
+/// directional light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DirectionalLight {
+    /// The direction from any surface towards the light, as given: Computer Graphics from
+    /// Scratch uses this vector, unnormalised, as its `L`.
+    pub towards: Vec3,
+    /// Its colour and brightness.
+    pub intensity: Color,
+}
+
 /// A light source of any kind.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
@@ -179,7 +191,15 @@ pub enum Light {
     Area(AreaLight),
     /// A spotlight.
     Spot(SpotLight),
+    /// Light that reaches every surface equally, from no direction and unshadowed (Computer
+    /// Graphics from Scratch's ambient light).
+    Ambient(Color),
+    /// Parallel light from infinitely far away.
+    Directional(DirectionalLight),
 }
+
+/// How far away a directional light is taken to be where a position is needed.
+const FAR_AWAY: f64 = 1e12;
 
 impl Light {
     /// The book's `point_light(position, intensity)` as a [`Light`].
@@ -193,15 +213,21 @@ impl Light {
             Light::Point(l) => l.intensity,
             Light::Area(l) => l.intensity,
             Light::Spot(l) => l.intensity,
+            Light::Ambient(intensity) => *intensity,
+            Light::Directional(l) => l.intensity,
         }
     }
 
-    /// The light's position (an area light's centre).
+    /// The light's position: an area light's centre; for a directional light, a point very far
+    /// along its direction (so that code needing a position sees a distant point light); the
+    /// origin for ambient light, which has none.
     pub fn position(&self) -> Point3 {
         match self {
             Light::Point(l) => l.position,
             Light::Area(l) => l.position(),
             Light::Spot(l) => l.position,
+            Light::Ambient(_) => Point3::ZERO,
+            Light::Directional(l) => l.towards.normalize_or_zero() * FAR_AWAY,
         }
     }
 }

@@ -11,7 +11,7 @@ mod texture;
 
 pub use bump::{Bump, BumpKind};
 pub use jitter::{Jitter, Sequence, SplitMix64};
-pub use light::{AreaLight, Light, PointLight, SpotLight};
+pub use light::{AreaLight, DirectionalLight, Light, PointLight, SpotLight};
 pub use material::Material;
 pub use noise::perlin_noise;
 pub use pattern::{Pattern, PatternKind};

@@ -54,11 +54,10 @@ pub fn lighting_with(
 ) -> Color {
     let effective = surface * light.intensity();
     let ambient = effective * material.ambient;
-    if light_fraction <= 0.0 {
+    if light_fraction <= 0.0 || matches!(light, Light::Ambient(_)) {
         return ambient;
     }
-    let sample = |light_position: Point3| {
-        let lightv = (light_position - point).normalize();
+    let shade = |lightv: Vec3| {
         let light_dot_normal = lightv.dot(normalv);
         if light_dot_normal < 0.0 {
             // The light is on the other side of the surface.
@@ -73,7 +72,10 @@ pub fn lighting_with(
         };
         diffuse + specular
     };
+    let sample = |light_position: Point3| shade((light_position - point).normalize());
     let lit = match light {
+        Light::Ambient(_) => Color::BLACK,
+        Light::Directional(l) => shade(l.towards.normalize_or_zero()),
         Light::Point(l) => sample(l.position),
         Light::Spot(spot) => {
             let falloff = spot.falloff((point - spot.position).normalize_or_zero());

@@ -1,4 +1,10 @@
-//! The camera (chapter 7): a pinhole with a field of view, placed by a view transform.
+//! The camera (chapter 7): a pinhole with a field of view, placed by a view transform; with a
+//! thin lens (focal blur) and a shutter (motion blur) from chapter 17; or Computer Graphics from
+//! Scratch's viewport camera.
+
+mod viewport;
+
+pub use viewport::Viewport;
 
 use crate::math::{Point3, Ray, Transform};
 
@@ -19,6 +25,8 @@ pub struct Camera {
     /// When the shutter opens and closes, in the time of object motions (a moving object is
     /// at its start at 0 and its end at 1).
     shutter: (f64, f64),
+    /// Computer Graphics from Scratch's viewport, which then decides every ray.
+    viewport: Option<Viewport>,
 }
 
 impl Camera {
@@ -42,7 +50,36 @@ impl Camera {
             aperture: 0.0,
             focal_distance: 1.0,
             shutter: (0.0, 1.0),
+            viewport: None,
         }
+    }
+
+    /// Computer Graphics from Scratch's camera: a `hsize × vsize` canvas onto `viewport`.
+    ///
+    /// Its rays are the book's (see [`Viewport`]): unnormalised, reaching the projection plane
+    /// at `t = 1`, and only hits beyond that plane count ([`Ray::t_min`] is 1). The camera's
+    /// transform is set to the matching view transform, for code that needs one; it is `None`
+    /// when the rotation cannot be inverted.
+    pub fn viewport(hsize: usize, vsize: usize, viewport: Viewport) -> Option<Self> {
+        let r = viewport.rotation;
+        let world_from_camera = glam::DMat4::from_cols(
+            glam::DVec4::new(r[0][0], r[1][0], r[2][0], 0.0),
+            glam::DVec4::new(r[0][1], r[1][1], r[2][1], 0.0),
+            glam::DVec4::new(r[0][2], r[1][2], r[2][2], 0.0),
+            viewport.position.extend(1.0),
+        );
+        // The book's camera space has x right and z forward; this crate's looks down -z with
+        // x to the left: half a turn about y between them.
+        let flip = glam::DMat4::from_rotation_y(std::f64::consts::PI);
+        let view = Transform::try_new(flip * world_from_camera.inverse()).ok()?;
+        let mut camera = Self::new(hsize, vsize, viewport.field_of_view()).with_transform_of(view);
+        camera.viewport = Some(viewport);
+        Some(camera)
+    }
+
+    /// The viewport, for a Computer Graphics from Scratch camera.
+    pub fn viewport_of(&self) -> Option<&Viewport> {
+        self.viewport.as_ref()
     }
 
     /// The same camera with its shutter open from `open` to `close` (motion blur shows what
@@ -81,6 +118,13 @@ impl Camera {
 
     /// The same camera at another resolution, keeping its field of view and placement.
     pub fn resized(&self, hsize: usize, vsize: usize) -> Self {
+        if let Some(viewport) = self.viewport {
+            let mut camera = self.clone();
+            camera.hsize = hsize;
+            camera.vsize = vsize;
+            camera.viewport = Some(viewport);
+            return camera;
+        }
         Self::new(hsize, vsize, self.field_of_view)
             .with_transform_of(self.transform)
             .with_lens(self.aperture, self.focal_distance)
@@ -144,7 +188,7 @@ impl Camera {
     /// [0, 1) pick the point on the lens disk (0.5, 0.5 is its centre). The ray passes through
     /// the canvas point's image on the focal plane, so only that plane is sharp.
     pub fn ray_through_lens(&self, x: f64, y: f64, lens_u: f64, lens_v: f64) -> Ray {
-        if self.aperture == 0.0 {
+        if self.aperture == 0.0 || self.viewport.is_some() {
             return self.ray_through(x, y);
         }
         let canvas = Point3::new(
@@ -162,6 +206,11 @@ impl Camera {
 
     /// The ray through a point of the canvas in pixel units (0,0 is the top-left corner).
     pub fn ray_through(&self, x: f64, y: f64) -> Ray {
+        if let Some(viewport) = &self.viewport {
+            let (w, h) = (self.hsize as f64, self.vsize as f64);
+            let (cx, cy) = Viewport::canvas_point(x, y, w, h);
+            return Ray::new(viewport.position, viewport.direction(cx, cy, w, h)).from_t(1.0);
+        }
         let world_x = self.half_width - x * self.pixel_size;
         let world_y = self.half_height - y * self.pixel_size;
         let pixel = self
