@@ -32,19 +32,20 @@ pub fn apply(
     for e in &entries {
         match e.name {
             "lighting" => {
-                world.lighting =
-                    match source.string(e.value, "lighting")? {
-                        "phong" => LightingModel::Phong,
-                        "flat" => LightingModel::Flat,
-                        "cgfs" => LightingModel::Cgfs,
-                        other => return Err(source.error(
+                world.lighting = match source.string(e.value, "lighting")? {
+                    "phong" => LightingModel::Phong,
+                    "flat" => LightingModel::Flat,
+                    "cgfs" => LightingModel::Cgfs,
+                    other => {
+                        return Err(source.error(
                             e.value,
                             "lighting",
                             format!(
                                 "unknown lighting model `{other}`; expected phong, flat or cgfs"
                             ),
-                        )),
+                        ))
                     }
+                }
             }
             "background" => world.background = color(source, e.value, "background")?,
             _ => {

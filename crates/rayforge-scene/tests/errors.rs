@@ -316,7 +316,50 @@ fn a_missing_file_names_the_path() {
 #[test]
 fn an_item_without_add_or_define() {
     let e = error("- sphere: yes\n");
-    assert!(e.message.contains("`add:` or `define:`"), "{e}");
+    assert!(e.message.contains("`add:`, `define:` or `world:`"), "{e}");
+}
+
+#[test]
+fn a_second_world_item_is_an_error() {
+    let e = error("- world: {lighting: cgfs}\n- world: {background: [1, 1, 1]}\n");
+    assert_error(&e, 9, 3, Some("world"), "a second `world:` item");
+}
+
+#[test]
+fn an_unknown_lighting_model_is_named() {
+    let e = error("- world:\n    lighting: pbr\n");
+    assert_error(&e, 9, 15, Some("lighting"), "expected phong, flat or cgfs");
+}
+
+#[test]
+fn an_unknown_light_type_is_named() {
+    let e = error("- add: light\n  type: laser\n  intensity: 1\n");
+    assert_error(&e, 9, 9, Some("type"), "unknown light type `laser`");
+}
+
+#[test]
+fn a_directional_light_needs_its_direction() {
+    let e = error("- add: light\n  type: directional\n  intensity: 0.2\n");
+    assert!(e.message.contains("needs `towards:`"), "{e}");
+    let e = error("- add: light\n  type: directional\n  intensity: 0.2\n  towards: [0, 0, 0]\n");
+    assert_error(&e, 11, 12, Some("towards"), "zero");
+}
+
+#[test]
+fn a_viewport_camera_checks_its_sizes_and_rotation() {
+    let camera = |extra: &str| {
+        rayforge_scene::load_str(
+            &format!("- add: camera\n  width: 10\n  height: 10\n{extra}"),
+            std::path::Path::new("scene.yml"),
+        )
+        .expect_err("rejected")
+    };
+    let e = camera("  viewport: [1, 0]\n");
+    assert_eq!(e.key.as_deref(), Some("viewport"), "{e}");
+    let e = camera("  viewport: [1, 1]\n  rotation: [[0, 0, 0], [0, 1, 0], [0, 0, 1]]\n");
+    assert!(e.message.contains("cannot be inverted"), "{e}");
+    let e = camera("  viewport: [1, 1]\n  position: [0, 0, 0]\n  from: [0, 0, 0]\n");
+    assert!(e.message.contains("not both"), "{e}");
 }
 
 #[test]
