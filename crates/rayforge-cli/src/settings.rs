@@ -38,7 +38,14 @@ pub struct RenderSettings {
     pub adaptive: Option<f64>,
     /// No progress or summary.
     pub quiet: bool,
+    /// The mesh size limit.
+    pub max_triangles: usize,
+    /// Continue from the checkpoint.
+    pub resume: bool,
 }
+
+/// The highest `--max-triangles` accepted: meshes index their vertices with 32-bit numbers.
+const MAX_TRIANGLE_LIMIT: usize = u32::MAX as usize - 1;
 
 impl RenderSettings {
     /// Checks the raw arguments; each refusal names the flag.
@@ -75,6 +82,12 @@ impl RenderSettings {
                 args.max_depth
             )));
         }
+        if args.max_triangles == 0 || args.max_triangles > MAX_TRIANGLE_LIMIT {
+            return Err(Failure::usage(format!(
+                "--max-triangles must be between 1 and {MAX_TRIANGLE_LIMIT}, found {}",
+                args.max_triangles
+            )));
+        }
         Ok(Self {
             scene: args.scene,
             output: args.output,
@@ -85,6 +98,8 @@ impl RenderSettings {
             spp: args.spp,
             adaptive: args.adaptive,
             quiet: args.quiet,
+            max_triangles: args.max_triangles,
+            resume: args.resume,
         })
     }
 }

@@ -70,8 +70,8 @@ impl ObjFile {
 pub type TextureLoader<'a> =
     dyn FnMut(&Path) -> Result<Arc<rayforge::shading::Texture>, SceneError> + 'a;
 
-/// The most triangles a scene's models may hold together by default (and the most vertices,
-/// normals or texture coordinates of each kind). A million-triangle model loads in about two
+/// The most triangles a scene's models may hold together by default (and three times as many
+/// vertices, normals or texture coordinates of each kind in one model). A million-triangle model loads in about two
 /// seconds and takes some 200 MB; ten times that is the largest a scene may have unless the
 /// caller (`--max-triangles` on the command line) says otherwise.
 pub const DEFAULT_MAX_TRIANGLES: usize = 10_000_000;
@@ -88,8 +88,7 @@ pub fn read_obj_file(
     read_obj_file_with_limit(path, load_texture, DEFAULT_MAX_TRIANGLES)
 }
 
-/// [`read_obj_file`] with a mesh size limit: more than `max_triangles` triangles (or vertices,
-/// normals or texture coordinates) is an error at the line that goes over it.
+/// [`read_obj_file`] with a mesh size limit (see [`parse_obj_with_limit`]).
 pub fn read_obj_file_with_limit(
     path: &Path,
     load_texture: &mut TextureLoader<'_>,
@@ -207,32 +206,40 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<ObjFile, SceneError> {
     parse_obj_with_limit(text, path, DEFAULT_MAX_TRIANGLES)
 }
 
-/// [`parse_obj`] with a mesh size limit: more than `max_triangles` triangles, or vertices,
-/// normals or texture coordinates of any one kind, is an error at the line that goes over it.
+/// [`parse_obj`] with a mesh size limit: more than `max_triangles` triangles, or three times
+/// as many vertices, normals or texture coordinates of any one kind, is an error at the line
+/// that goes over it.
 pub fn parse_obj_with_limit(
     text: &str,
     path: &Path,
     max_triangles: usize,
 ) -> Result<ObjFile, SceneError> {
     let mut triangles = 0usize;
-    let too_many = |line: &Line<'_>, key: &str, what: &str| {
+    let too_many = |line: &Line<'_>| {
         line.error(
             0,
-            key.len(),
-            key,
+            1,
+            "f",
             format!(
-                "the model has more than {max_triangles} {what}, the mesh size limit \
+                "the model has more than {max_triangles} triangles, the mesh size limit \
                  (`--max-triangles` on the command line)"
             ),
         )
     };
-    // Vertices, normals and texture coordinates are bounded by the same number.
+    // Vertices, normals and texture coordinates are bounded too: three per triangle, as a
+    // model whose faces share no corners has.
+    let max_vertices = max_triangles.saturating_mul(3);
     let room = |line: &Line<'_>, key: &str, count: usize| {
-        if count >= max_triangles {
-            Err(too_many(
-                line,
+        if count >= max_vertices {
+            Err(line.error(
+                0,
+                key.len(),
                 key,
-                "entries of one kind (`v`, `vn` or `vt`)",
+                format!(
+                    "the model has more than {max_vertices} entries of one kind (`v`, `vn` or \
+                     `vt`), three per triangle of the mesh size limit (`--max-triangles` on the \
+                     command line)"
+                ),
             ))
         } else {
             Ok(())
@@ -281,7 +288,7 @@ pub fn parse_obj_with_limit(
                 }
                 triangles += corners.len() - 2;
                 if triangles > max_triangles {
-                    return Err(too_many(&line, "f", "triangles"));
+                    return Err(too_many(&line));
                 }
                 // Fan triangulation: (1, 2, 3), (1, 3, 4), … as the book does.
                 for k in 1..corners.len() - 1 {
