@@ -106,26 +106,39 @@ pub fn generated_images() -> Vec<Vec<u8>> {
 
 /// A 4×2 PNG with a four-colour palette and transparency, written chunk by chunk.
 fn palette_png() -> Vec<u8> {
-    use crate::mutate::crc32;
-    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
-    let mut chunk = |kind: &[u8], data: &[u8]| {
-        png.extend_from_slice(&(data.len() as u32).to_be_bytes());
-        let mut body = kind.to_vec();
-        body.extend_from_slice(data);
-        png.extend_from_slice(&body);
-        png.extend_from_slice(&crc32(&body).to_be_bytes());
-    };
+    palette_png_with(&[255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255])
+}
+
+/// A 4×2 palette PNG (pixels 0 1 2 3 / 3 2 1 0) with these bytes as its `PLTE` chunk,
+/// checksums correct whatever they are.
+pub fn palette_png_with(palette: &[u8]) -> Vec<u8> {
     // 4×2, bit depth 8, colour type 3 (palette).
-    chunk(b"IHDR", &[0, 0, 0, 4, 0, 0, 0, 2, 8, 3, 0, 0, 0]);
-    chunk(b"PLTE", &[255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255]);
-    chunk(b"tRNS", &[255, 128, 0]);
+    let header = [0, 0, 0, 4, 0, 0, 0, 2, 8, 3, 0, 0, 0];
     // Two rows, filter 0, stored in a zlib stream without compression.
     let raw = [0u8, 0, 1, 2, 3, 0, 3, 2, 1, 0];
     let mut zlib = vec![0x78, 0x01, 1, raw.len() as u8, 0, !(raw.len() as u8), 0xff];
     zlib.extend_from_slice(&raw);
     zlib.extend_from_slice(&adler32(&raw).to_be_bytes());
-    chunk(b"IDAT", &zlib);
-    chunk(b"IEND", &[]);
+    png(&[
+        (b"IHDR", &header),
+        (b"PLTE", palette),
+        (b"tRNS", &[255, 128, 0]),
+        (b"IDAT", &zlib),
+        (b"IEND", &[]),
+    ])
+}
+
+/// A PNG file of these chunks, each with its length and CRC.
+pub fn png(chunks: &[(&[u8; 4], &[u8])]) -> Vec<u8> {
+    use crate::mutate::crc32;
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    for (kind, data) in chunks {
+        png.extend_from_slice(&(data.len() as u32).to_be_bytes());
+        let mut body = kind.to_vec();
+        body.extend_from_slice(data);
+        png.extend_from_slice(&body);
+        png.extend_from_slice(&crc32(&body).to_be_bytes());
+    }
     png
 }
 

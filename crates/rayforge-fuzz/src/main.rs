@@ -19,7 +19,8 @@ usage: rayforge-fuzz [--target scene|obj|image|all] [--seconds N | --iterations 
 Fuzzes each target for --seconds (default 60) or --iterations mutated inputs, from --seed
 (default: the time). A crash is minimised and written to --crash-dir (default
 target/fuzz-crashes) and the exit status is 1; an input running past --timeout (default 10 s)
-is written there as a hang and the process aborts. --replay runs one file on the target.";
+is written there as a hang and the process aborts; the slowest input of each target is kept
+there too. --replay runs one file on the target.";
 
 fn main() -> ExitCode {
     match run() {
@@ -98,6 +99,7 @@ fn run() -> Result<ExitCode, String> {
             timeout: Duration::from_secs_f64(timeout),
             crash_dir: crash_dir.clone(),
             report_every: Some(Duration::from_secs(30)),
+            keep_slowest: true,
         };
         eprintln!("{}: fuzzing from seed {seed}", target.name());
         match fuzz(target, &options) {

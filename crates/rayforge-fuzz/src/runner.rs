@@ -26,6 +26,8 @@ pub struct Options {
     pub crash_dir: PathBuf,
     /// Called now and then with the number of inputs run so far.
     pub report_every: Option<Duration>,
+    /// Write the slowest input to the crash directory at the end.
+    pub keep_slowest: bool,
 }
 
 impl Options {
@@ -38,6 +40,7 @@ impl Options {
             timeout: Duration::from_secs(60),
             crash_dir: default_crash_dir(),
             report_every: None,
+            keep_slowest: false,
         }
     }
 }
@@ -192,6 +195,7 @@ fn fuzz_loop(
         accepted: 0,
     };
     let mut mutated = 0u64;
+    let mut slowest_input = Vec::new();
     let mut seeds = corpus.iter();
     loop {
         let input = match seeds.next() {
@@ -215,7 +219,11 @@ fn fuzz_loop(
         if let Ok(mut c) = current.lock() {
             c.started = None;
         }
-        report.slowest = report.slowest.max(began.elapsed());
+        let took = began.elapsed();
+        if took > report.slowest {
+            report.slowest = took;
+            slowest_input.clone_from(&input);
+        }
         report.executed += 1;
         match outcome {
             Ok(accepted) => report.accepted += u64::from(accepted),
@@ -244,6 +252,10 @@ fn fuzz_loop(
         }
     }
     report.elapsed = start.elapsed();
+    // Kept to look at: the slowest input shows where the readers spend their time.
+    if options.keep_slowest {
+        save(&options.crash_dir, target, "slowest", &slowest_input, None);
+    }
     Ok(report)
 }
 

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// Called with a finished row's index and pixels.
-pub type RowCallback = dyn Fn(usize, &[Color]) + Sync;
+pub type RowCallback<'a> = dyn Fn(usize, &[Color]) + Sync + 'a;
 
 /// How to render: recursion depth, anti-aliasing, and optional progress, cancellation and
 /// resumption.
@@ -34,7 +34,7 @@ pub struct RenderOptions<'p> {
     pub finished: Option<&'p PartialImage>,
     /// Called with each row as it is finished, its index and its pixels (from any thread), so
     /// a caller can save rows as they come.
-    pub on_row: Option<&'p RowCallback>,
+    pub on_row: Option<&'p RowCallback<'p>>,
 }
 
 impl Default for RenderOptions<'_> {
