@@ -547,3 +547,26 @@ fn a_mesh_over_the_triangle_limit_is_refused_naming_the_flag() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--max-triangles"), "{}", stderr(&o));
 }
+
+/// A scene whose camera asks for 10 gigapixels (about 240 GB of colours) is refused before
+/// anything is allocated, naming the camera and the flag.
+#[test]
+fn a_ten_gigapixel_scene_camera_is_refused_before_rendering() {
+    let d = Dir::new();
+    let scene = d.file(
+        "huge.yml",
+        &RED_SPHERE
+            .replace("width: 9", "width: 100000")
+            .replace("height: 9", "height: 100000"),
+    );
+    let started = std::time::Instant::now();
+    let o = render(&scene, &d.path("o.png"), &["-q"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("the scene's camera"), "{err}");
+    assert!(err.contains("100000×100000"), "{err}");
+    assert!(err.contains("--max-pixels"), "{err}");
+    assert!(started.elapsed() < std::time::Duration::from_secs(30));
+    assert!(!d.path("o.png").exists());
+    assert!(!d.path("o.png.rayforge-checkpoint").exists());
+}

@@ -20,8 +20,10 @@ pub struct Assets {
     base: PathBuf,
     meshes: HashMap<PathBuf, ObjMeshes>,
     textures: HashMap<PathBuf, Arc<Texture>>,
-    /// How many more triangles (and vertices of each kind) the scene's models may have.
-    triangles_left: usize,
+    /// The most triangles the scene's models may hold together.
+    max_triangles: usize,
+    /// How many they hold so far.
+    triangles: usize,
 }
 
 impl Assets {
@@ -35,7 +37,8 @@ impl Assets {
                 .unwrap_or_default(),
             meshes: HashMap::new(),
             textures: HashMap::new(),
-            triangles_left: max_triangles,
+            max_triangles,
+            triangles: 0,
         }
     }
 
@@ -50,13 +53,24 @@ impl Assets {
             return Ok(m.clone());
         }
         let textures = &mut self.textures;
+        // One model is held to the limit as it is read; then the scene's total is.
         let obj = read_obj_file_with_limit(
             path,
             &mut |image| cached_texture(textures, image),
-            self.triangles_left,
+            self.max_triangles,
         )?;
         let triangles: usize = obj.groups.iter().map(|g| g.triangles.len()).sum();
-        self.triangles_left = self.triangles_left.saturating_sub(triangles);
+        self.triangles = self.triangles.saturating_add(triangles);
+        if self.triangles > self.max_triangles {
+            return Err(SceneError::new(
+                path,
+                format!(
+                    "with this model's {triangles} triangles the scene's models hold {} together, \
+                     more than the mesh size limit of {} (`--max-triangles` on the command line)",
+                    self.triangles, self.max_triangles
+                ),
+            ));
+        }
         let meshes: ObjMeshes = Arc::new(to_meshes(&obj));
         self.meshes.insert(path.to_path_buf(), meshes.clone());
         Ok(meshes)
