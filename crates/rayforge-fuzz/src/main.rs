@@ -104,11 +104,13 @@ fn run() -> Result<ExitCode, String> {
         eprintln!("{}: fuzzing from seed {seed}", target.name());
         match fuzz(target, &options) {
             Ok(r) => println!(
-                "{}: {} inputs ({} accepted) in {:.1} s, no crash (slowest input {:.3} s, seed {seed})",
+                "{}: {} inputs ({} accepted) in {:.1} s, no crash, {} caught panics \
+                 (slowest input {:.3} s, seed {seed})",
                 target.name(),
                 r.executed,
                 r.accepted,
                 r.elapsed.as_secs_f64(),
+                r.caught_panics,
                 r.slowest.as_secs_f64()
             ),
             Err(crash) => {

@@ -7,7 +7,7 @@ use crate::mutate::Mutator;
 use crate::targets::Target;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, Once};
 use std::time::{Duration, Instant};
 
@@ -64,6 +64,9 @@ pub struct Report {
     pub slowest: Duration,
     /// Inputs the reader accepted (the rest it refused with an error).
     pub accepted: u64,
+    /// Inputs during which something panicked and the reader caught it (a bug in a library
+    /// the reader guards against); the first few are written to the crash directory.
+    pub caught_panics: u64,
 }
 
 /// An input that panicked.
@@ -106,12 +109,16 @@ impl std::fmt::Display for Crash {
 static LAST_PANIC: Mutex<String> = Mutex::new(String::new());
 /// Whether panics are printed (a minimiser causes hundreds).
 static QUIET: AtomicBool = AtomicBool::new(false);
+/// Panics so far, caught or not: a reader that catches a panic in a library it calls (the
+/// image decoders) survives it, and the fuzzer still counts it as a finding.
+static PANICS: AtomicU64 = AtomicU64::new(0);
 
 fn install_panic_hook() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         let previous = std::panic::take_hook();
         std::panic::set_hook(Box::new(move |info| {
+            PANICS.fetch_add(1, Ordering::Relaxed);
             let message = match info.payload().downcast_ref::<&str>() {
                 Some(s) => (*s).to_string(),
                 None => info
@@ -193,6 +200,7 @@ fn fuzz_loop(
         elapsed: Duration::ZERO,
         slowest: Duration::ZERO,
         accepted: 0,
+        caught_panics: 0,
     };
     let mut mutated = 0u64;
     let mut slowest_input = Vec::new();
@@ -215,7 +223,14 @@ fn fuzz_loop(
             c.started = Some(began);
             c.input.clone_from(&input);
         }
+        let panics_before = PANICS.load(Ordering::Relaxed);
         let outcome = run_one(target, &input);
+        if outcome.is_ok() && PANICS.load(Ordering::Relaxed) != panics_before {
+            report.caught_panics += 1;
+            if report.caught_panics <= 5 {
+                save(&options.crash_dir, target, "caught", &input, None);
+            }
+        }
         if let Ok(mut c) = current.lock() {
             c.started = None;
         }
@@ -241,10 +256,12 @@ fn fuzz_loop(
                 last_report = Instant::now();
                 let secs = start.elapsed().as_secs_f64();
                 eprintln!(
-                    "{}: {} inputs ({} accepted) in {secs:.0} s ({:.0}/s), slowest {:.2} s",
+                    "{}: {} inputs ({} accepted, {} caught panics) in {secs:.0} s ({:.0}/s), \
+                     slowest {:.2} s",
                     target.name(),
                     report.executed,
                     report.accepted,
+                    report.caught_panics,
                     report.executed as f64 / secs,
                     report.slowest.as_secs_f64()
                 );

@@ -15,10 +15,11 @@ fn iterations(default: u64) -> u64 {
 fn check(target: Target, seed: u64, default: u64) {
     match fuzz(target, &Options::quick(seed, iterations(default))) {
         Ok(report) => eprintln!(
-            "{}: {} inputs ({} accepted) in {:.1} s, slowest {:.3} s",
+            "{}: {} inputs ({} accepted, {} caught panics) in {:.1} s, slowest {:.3} s",
             target.name(),
             report.executed,
             report.accepted,
+            report.caught_panics,
             report.elapsed.as_secs_f64(),
             report.slowest.as_secs_f64()
         ),
