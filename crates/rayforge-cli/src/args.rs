@@ -12,8 +12,11 @@ Examples:
   rayforge render scenes/trtc/cover.yml -o preview.png --width 200 --threads 2
   rayforge render scene.yml -o linear.pfm --max-depth 8 --quiet
 
+Ctrl-C (or SIGTERM) stops a render after the rows in progress; the finished rows are kept in
+<FILE>.rayforge-checkpoint, and the same command with --resume finishes the image.
+
 Exit status: 0 on success, 2 for bad input (arguments, the scene file, the output path),
-1 for an internal error."
+1 for an internal error, 130 when interrupted."
     };
 }
 
@@ -31,6 +34,8 @@ Render options (`rayforge render --help` describes each in full):
       --subsample <T>       trace every other pixel, interpolate where neighbours agree
       --max-depth <N>       reflection and refraction bounces [default: the scene's, else 5]
       --max-pixels <PIXELS> the largest image accepted [default: 268435456, 2^28]
+      --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
+      --resume              continue an interrupted render from its checkpoint
   -q, --quiet               no progress bar and no summary
 
 ",
@@ -109,6 +114,18 @@ pub struct RenderArgs {
     #[arg(long, value_name = "PIXELS", default_value_t = crate::sizing::DEFAULT_MAX_PIXELS)]
     pub max_pixels: u64,
 
+    /// The most triangles the scene's OBJ models may hold together (a model used twice counts
+    /// once), and the most vertices of any one kind in a model: a guard against models that
+    /// would take all memory.
+    #[arg(long, value_name = "N", default_value_t = rayforge_scene::DEFAULT_MAX_TRIANGLES)]
+    pub max_triangles: usize,
+
+    /// Continue an interrupted render: the rows saved in <FILE>.rayforge-checkpoint are kept
+    /// and only the others are rendered, giving the same image as an uninterrupted run. Refused
+    /// when the checkpoint was made from another scene file or other settings.
+    #[arg(long)]
+    pub resume: bool,
+
     /// Print nothing but errors: no progress bar, no summary.
     #[arg(short, long)]
     pub quiet: bool,
@@ -125,6 +142,8 @@ mod tests {
             rayforge::DEFAULT_MAX_DEPTH
         );
         let pixels = format!("[default: {}, 2^28]", crate::sizing::DEFAULT_MAX_PIXELS);
+        let triangles = format!("[default: {}]", rayforge_scene::DEFAULT_MAX_TRIANGLES);
+        assert!(OVERVIEW.contains(&triangles), "{triangles}");
         assert!(OVERVIEW.contains(&depth), "{depth}");
         assert!(OVERVIEW.contains(&pixels), "{pixels}");
     }

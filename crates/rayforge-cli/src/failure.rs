@@ -8,6 +8,10 @@ pub const EXIT_INPUT: u8 = 2;
 /// Exit status for failures that are not the user's doing (a bug, or the system refusing).
 pub const EXIT_INTERNAL: u8 = 1;
 
+/// Exit status after an interrupt (Ctrl-C or a termination signal): 128 + SIGINT, as shells
+/// report a process stopped by it.
+pub const EXIT_INTERRUPTED: u8 = 130;
+
 /// A failure to report to the user.
 #[derive(Debug)]
 pub enum Failure {
@@ -17,6 +21,8 @@ pub enum Failure {
     Scene(miette::Report),
     /// Something that should not happen (exit 1).
     Internal(String),
+    /// The render was interrupted; the message says where its rows were saved (exit 130).
+    Interrupted(String),
 }
 
 impl Failure {
@@ -44,6 +50,10 @@ impl Failure {
             Failure::Internal(message) => {
                 eprintln!("internal error: {message}");
                 ExitCode::from(EXIT_INTERNAL)
+            }
+            Failure::Interrupted(message) => {
+                eprintln!("interrupted: {message}");
+                ExitCode::from(EXIT_INTERRUPTED)
             }
         }
     }

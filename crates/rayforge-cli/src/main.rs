@@ -2,9 +2,11 @@
 
 mod args;
 mod atomic_write;
+mod checkpoint;
 mod diagnostics;
 mod failure;
 mod format;
+mod interrupt;
 mod progress;
 mod render_command;
 mod settings;

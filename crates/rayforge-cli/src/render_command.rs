@@ -1,19 +1,27 @@
-//! `rayforge render`: load the scene, render it on a thread pool, write the image, summarise.
+//! `rayforge render`: load the scene, render it on a thread pool (saving finished rows to a
+//! checkpoint, stopping cleanly on Ctrl-C), write the image, summarise.
 
 use crate::atomic_write::{check_writable, write_atomically};
+use crate::checkpoint::{self, Log, RenderKey};
 use crate::diagnostics::{print_warning, scene_failure};
 use crate::failure::Failure;
 use crate::progress::row_bar;
 use crate::settings::RenderSettings;
 use crate::summary::summary_line;
-use rayforge::render::{render, RenderOptions, Sampling};
+use rayforge::render::{render_rows, PartialImage, RenderOptions, Sampling};
+use rayforge::Color;
+use rayforge_scene::LoadOptions;
+use std::sync::mpsc;
 use std::time::Instant;
 
 /// Runs the render command.
 pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
     // Cheap checks first: a long render must not end in "cannot write".
     check_writable(&settings.output)?;
-    let scene = rayforge_scene::load_file(&settings.scene).map_err(scene_failure)?;
+    let load = LoadOptions {
+        max_triangles: settings.max_triangles,
+    };
+    let scene = rayforge_scene::load_file_with(&settings.scene, &load).map_err(scene_failure)?;
     if !settings.quiet {
         scene.warnings.iter().for_each(print_warning);
     }
@@ -42,23 +50,59 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
         },
         None => Sampling::with_samples(settings.spp.unwrap_or(scene.samples)),
     };
+    let (finished, log) = open_checkpoint(settings, width, height, &sampling)?;
+    let stop = crate::interrupt::stop_flag(settings.quiet);
     let bar = row_bar(camera.vsize(), settings.quiet);
+    if let Some(f) = &finished {
+        bar.set_position(f.finished_rows() as u64);
+    }
     let progress = |rows: usize| bar.inc(rows as u64);
-    let options = RenderOptions {
-        max_depth: settings
-            .max_depth
-            .or(scene.max_depth)
-            .unwrap_or(rayforge::DEFAULT_MAX_DEPTH),
-        sampling,
-        progress: Some(&progress),
-        subsample: settings.subsample,
-    };
     let started = Instant::now();
-    let (canvas, stats) = pool.install(|| render(&camera, &scene.world, &options));
+    let (rows_sent, rows_received) = mpsc::channel::<(usize, Vec<Color>)>();
+    let ((image, stats), logged) = std::thread::scope(|scope| {
+        let logger = scope.spawn(move || log.record(rows_received));
+        let rendered = {
+            // Owns the sending end: dropped after the render, which ends the log.
+            let on_row = move |y: usize, row: &[Color]| {
+                let _ = rows_sent.send((y, row.to_vec()));
+            };
+            let options = RenderOptions {
+                max_depth: settings
+                    .max_depth
+                    .or(scene.max_depth)
+                    .unwrap_or(rayforge::DEFAULT_MAX_DEPTH),
+                sampling,
+                progress: Some(&progress),
+                subsample: settings.subsample,
+                cancel: Some(stop),
+                finished: finished.as_ref(),
+                on_row: Some(&on_row),
+            };
+            pool.install(|| render_rows(&camera, &scene.world, &options))
+        };
+        let logged = logger
+            .join()
+            .unwrap_or_else(|_| Err(Failure::internal("the checkpoint writer failed")));
+        (rendered, logged)
+    });
     let elapsed = started.elapsed();
     bar.finish_and_clear();
+    let checkpoint = checkpoint::path_for(&settings.output);
+    if !image.is_complete() {
+        // Interrupted: the rows are in the checkpoint, unless writing it failed.
+        logged?;
+        return Err(Failure::Interrupted(format!(
+            "{} of {} rows are saved in `{}`; run the same command with --resume to finish",
+            image.finished_rows(),
+            image.height(),
+            checkpoint.display()
+        )));
+    }
+    let canvas = image.into_canvas();
     let bytes = settings.format.encode(&canvas)?;
     write_atomically(&settings.output, &bytes)?;
+    // The image is complete: its checkpoint has done its job.
+    let _ = std::fs::remove_file(&checkpoint);
     if !settings.quiet {
         eprintln!(
             "{}",
@@ -72,4 +116,46 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+/// The rows of the checkpoint to resume from (with `--resume`) and the log that saves new
+/// rows: the same checkpoint continued, or a new one.
+fn open_checkpoint(
+    settings: &RenderSettings,
+    width: usize,
+    height: usize,
+    sampling: &Sampling,
+) -> Result<(Option<PartialImage>, Log), Failure> {
+    // The scene was just read and checked (a regular file within the size limit).
+    let scene_bytes = std::fs::read(&settings.scene)
+        .map_err(|e| Failure::usage(format!("cannot read `{}`: {e}", settings.scene.display())))?;
+    // Everything that changes a pixel; the thread count does not.
+    let described = format!(
+        "{sampling:?}; max depth {:?}; subsample {:?}; rayforge {}",
+        settings.max_depth,
+        settings.subsample,
+        env!("CARGO_PKG_VERSION")
+    );
+    let key = RenderKey::new(&scene_bytes, width, height, &described);
+    let path = checkpoint::path_for(&settings.output);
+    if settings.resume {
+        let (image, valid_end) = checkpoint::read(&path, &key)?;
+        if !settings.quiet {
+            eprintln!(
+                "resuming: {} of {} rows from `{}`",
+                image.finished_rows(),
+                height,
+                path.display()
+            );
+        }
+        return Ok((Some(image), Log::append_at(&path, valid_end)?));
+    }
+    if path.exists() && !settings.quiet {
+        eprintln!(
+            "note: starting afresh, replacing the checkpoint `{}` of an earlier render \
+             (--resume continues it instead)",
+            path.display()
+        );
+    }
+    Ok((None, Log::create(&path, &key)?))
 }

@@ -40,7 +40,14 @@ pub struct RenderSettings {
     pub subsample: Option<f64>,
     /// No progress or summary.
     pub quiet: bool,
+    /// The mesh size limit.
+    pub max_triangles: usize,
+    /// Continue from the checkpoint.
+    pub resume: bool,
 }
+
+/// The highest `--max-triangles` accepted: meshes index their vertices with 32-bit numbers.
+const MAX_TRIANGLE_LIMIT: usize = u32::MAX as usize - 1;
 
 impl RenderSettings {
     /// Checks the raw arguments; each refusal names the flag.
@@ -83,6 +90,12 @@ impl RenderSettings {
                 "--max-depth must be at most {MAX_DEPTH_LIMIT}, found {depth}"
             )));
         }
+        if args.max_triangles == 0 || args.max_triangles > MAX_TRIANGLE_LIMIT {
+            return Err(Failure::usage(format!(
+                "--max-triangles must be between 1 and {MAX_TRIANGLE_LIMIT}, found {}",
+                args.max_triangles
+            )));
+        }
         Ok(Self {
             scene: args.scene,
             output: args.output,
@@ -94,6 +107,8 @@ impl RenderSettings {
             adaptive: args.adaptive,
             subsample: args.subsample,
             quiet: args.quiet,
+            max_triangles: args.max_triangles,
+            resume: args.resume,
         })
     }
 }

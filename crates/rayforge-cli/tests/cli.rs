@@ -345,6 +345,8 @@ fn help_describes_every_option() {
         "--max-pixels",
         "--spp",
         "--adaptive",
+        "--max-triangles",
+        "--resume",
         "--quiet",
     ] {
         for help in [&render_help, &top_help] {
@@ -391,4 +393,180 @@ fn the_cameras_samples_key_and_bad_sampling_flags() {
         let o = render(&scene, &d.path("o.png"), bad);
         assert_eq!(o.status.code(), Some(2), "{bad:?}");
     }
+}
+
+/// A scene slow enough (reflection, refraction, 64 samples a pixel: about 3 s on one thread
+/// of the test build) that an interrupt lands while it renders.
+const SLOW_SCENE: &str = "
+- add: camera
+  width: 200
+  height: 150
+  field-of-view: 0.9
+  from: [0, 1.5, -5]
+  to: [0, 0.5, 0]
+  up: [0, 1, 0]
+  samples: 64
+- add: light
+  at: [-10, 10, -10]
+  intensity: [1, 1, 1]
+- add: plane
+  material:
+    pattern:
+      type: checkers
+      colors: [[1, 1, 1], [0.2, 0.2, 0.2]]
+    reflective: 0.3
+- add: sphere
+  transform:
+    - [translate, -0.8, 1, 0]
+  material:
+    color: [0.1, 0.1, 0.1]
+    transparency: 0.9
+    refractive-index: 1.5
+    reflective: 0.9
+- add: sphere
+  transform:
+    - [translate, 1.2, 1, 1]
+  material:
+    color: [1, 0.2, 0.2]
+    reflective: 0.5
+";
+
+/// The checkpoint's header, and one row's record, in bytes (see `checkpoint.rs`).
+const CHECKPOINT_HEADER: u64 = 22 + 32;
+const SLOW_ROW_RECORD: u64 = 16 + 200 * 24;
+
+fn checkpoint_of(output: &Path) -> PathBuf {
+    PathBuf::from(format!("{}.rayforge-checkpoint", output.display()))
+}
+
+/// Ctrl-C for real: the binary is interrupted once its checkpoint holds a row, exits 130 with
+/// the rows saved, refuses to resume with other settings, and `--resume` then finishes the
+/// image with exactly the bytes of an uninterrupted render.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_render_resumes_to_the_same_bytes() {
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+    let d = Dir::new();
+    let scene = d.file("slow.yml", SLOW_SCENE);
+    let reference = d.path("reference.pfm");
+    let started = Instant::now();
+    let o = render(&scene, &reference, &["-q", "--threads", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let full_time = started.elapsed();
+    assert!(
+        !checkpoint_of(&reference).exists(),
+        "a finished render leaves no checkpoint"
+    );
+
+    let out = d.path("out.pfm");
+    let checkpoint = checkpoint_of(&out);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .args([Path::new("render"), &scene, Path::new("-o"), &out])
+        .args(["--threads", "1"])
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let size = |p: &Path| std::fs::metadata(p).map_or(0, |m| m.len());
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while size(&checkpoint) < CHECKPOINT_HEADER + SLOW_ROW_RECORD {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the render finished before it could be interrupted (it took {full_time:?} on 2 threads)"
+        );
+        assert!(Instant::now() < deadline, "no row was checkpointed");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the render finished before it could be interrupted (it took {full_time:?} on 2 threads)"
+    );
+    let kill = Command::new("kill")
+        .args(["-s", "INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let interrupted = child.wait_with_output().unwrap();
+    let err = stderr(&interrupted);
+    assert_eq!(interrupted.status.code(), Some(130), "{err}");
+    assert!(err.contains("--resume"), "{err}");
+    assert!(!out.exists(), "no partial image is written");
+    let saved = (size(&checkpoint) - CHECKPOINT_HEADER) / SLOW_ROW_RECORD;
+    assert!((1..150).contains(&saved), "{saved} rows saved: {err}");
+    assert!(err.contains(&format!("{saved} of 150 rows")), "{err}");
+
+    // Other settings are another image: refused, and the checkpoint is kept.
+    let o = render(&scene, &out, &["-q", "--resume", "--spp", "4"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("other settings"), "{}", stderr(&o));
+    assert!(checkpoint.exists());
+
+    let o = render(&scene, &out, &["--resume", "--threads", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(&format!("resuming: {saved} of 150 rows")),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        std::fs::read(&reference).unwrap()
+    );
+    assert!(
+        !checkpoint.exists(),
+        "the finished render removes its checkpoint"
+    );
+
+    // Nothing left to resume.
+    let o = render(&scene, &out, &["-q", "--resume"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("no checkpoint"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_mesh_over_the_triangle_limit_is_refused_naming_the_flag() {
+    let d = Dir::new();
+    d.file("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 3 2\n");
+    let scene = d.file(
+        "s.yml",
+        &format!("{RED_SPHERE}- add: obj\n  file: quad.obj\n"),
+    );
+    let o = render(&scene, &d.path("o.png"), &["-q", "--max-triangles", "1"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("more than 1 triangles"), "{err}");
+    assert!(err.contains("quad.obj:5:1"), "{err}");
+    assert!(err.contains("--max-triangles"), "{err}");
+    assert!(err.contains("quad.obj"), "{err}");
+    assert!(
+        render(&scene, &d.path("o.png"), &["-q", "--max-triangles", "2"])
+            .status
+            .success()
+    );
+    let o = render(&scene, &d.path("o.png"), &["-q", "--max-triangles", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--max-triangles"), "{}", stderr(&o));
+}
+
+/// A scene whose camera asks for 10 gigapixels (about 240 GB of colours) is refused before
+/// anything is allocated, naming the camera and the flag.
+#[test]
+fn a_ten_gigapixel_scene_camera_is_refused_before_rendering() {
+    let d = Dir::new();
+    let scene = d.file(
+        "huge.yml",
+        &RED_SPHERE
+            .replace("width: 9", "width: 100000")
+            .replace("height: 9", "height: 100000"),
+    );
+    let started = std::time::Instant::now();
+    let o = render(&scene, &d.path("o.png"), &["-q"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("the scene's camera"), "{err}");
+    assert!(err.contains("100000×100000"), "{err}");
+    assert!(err.contains("--max-pixels"), "{err}");
+    assert!(started.elapsed() < std::time::Duration::from_secs(30));
+    assert!(!d.path("o.png").exists());
+    assert!(!d.path("o.png.rayforge-checkpoint").exists());
 }

@@ -1,11 +1,13 @@
-//! Files a scene refers to (OBJ meshes), found relative to the scene file and read once each.
+//! Files a scene refers to (OBJ meshes, images), found relative to the scene file and read
+//! once each.
 
 use crate::error::SceneError;
-use crate::obj::{read_obj_file, to_meshes};
+use crate::obj::{read_obj_file_with_limit, to_meshes};
 use rayforge::geometry::Mesh;
 use rayforge::shading::{Filter, Texture};
 use rayforge::{Color, Material};
 use std::collections::HashMap;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -18,11 +20,16 @@ pub struct Assets {
     base: PathBuf,
     meshes: HashMap<PathBuf, ObjMeshes>,
     textures: HashMap<PathBuf, Arc<Texture>>,
+    /// The most triangles the scene's models may hold together.
+    max_triangles: usize,
+    /// How many they hold so far.
+    triangles: usize,
 }
 
 impl Assets {
-    /// Assets for the scene file at `scene_path` (relative names resolve beside it).
-    pub fn new(scene_path: &Path) -> Self {
+    /// Assets for the scene file at `scene_path` (relative names resolve beside it), whose
+    /// models together may hold at most `max_triangles` triangles.
+    pub fn new(scene_path: &Path, max_triangles: usize) -> Self {
         Self {
             base: scene_path
                 .parent()
@@ -30,6 +37,8 @@ impl Assets {
                 .unwrap_or_default(),
             meshes: HashMap::new(),
             textures: HashMap::new(),
+            max_triangles,
+            triangles: 0,
         }
     }
 
@@ -44,7 +53,24 @@ impl Assets {
             return Ok(m.clone());
         }
         let textures = &mut self.textures;
-        let obj = read_obj_file(path, &mut |image| cached_texture(textures, image))?;
+        // One model is held to the limit as it is read; then the scene's total is.
+        let obj = read_obj_file_with_limit(
+            path,
+            &mut |image| cached_texture(textures, image),
+            self.max_triangles,
+        )?;
+        let triangles: usize = obj.groups.iter().map(|g| g.triangles.len()).sum();
+        self.triangles = self.triangles.saturating_add(triangles);
+        if self.triangles > self.max_triangles {
+            return Err(SceneError::new(
+                path,
+                format!(
+                    "with this model's {triangles} triangles the scene's models hold {} together, \
+                     more than the mesh size limit of {} (`--max-triangles` on the command line)",
+                    self.triangles, self.max_triangles
+                ),
+            ));
+        }
         let meshes: ObjMeshes = Arc::new(to_meshes(&obj));
         self.meshes.insert(path.to_path_buf(), meshes.clone());
         Ok(meshes)
@@ -62,38 +88,92 @@ fn cached_texture(
     cache: &mut HashMap<PathBuf, Arc<Texture>>,
     path: &Path,
 ) -> Result<Arc<Texture>, SceneError> {
-    {
-        if let Some(t) = cache.get(path) {
-            return Ok(t.clone());
-        }
-        let fail = |e: &dyn std::fmt::Display| {
-            SceneError::new(
-                path,
-                format!("cannot read the image `{}`: {e}", path.display()),
-            )
-        };
-        let reader = image::ImageReader::open(path)
-            .map_err(|e| fail(&e))?
-            .with_guessed_format()
-            .map_err(|e| fail(&e))?;
-        let mut reader = reader;
-        let mut limits = image::Limits::default();
-        limits.max_image_width = Some(MAX_TEXTURE_SIDE);
-        limits.max_image_height = Some(MAX_TEXTURE_SIDE);
-        reader.limits(limits);
-        let rgb = reader.decode().map_err(|e| fail(&e))?.to_rgb32f();
-        let (w, h) = (rgb.width() as usize, rgb.height() as usize);
-        let pixels = rgb
-            .pixels()
-            .map(|p| Color::new(p[0] as f64, p[1] as f64, p[2] as f64))
-            .collect();
-        let texture = Texture::new(w, h, pixels, Filter::Bilinear)
-            .ok_or_else(|| fail(&"the image is empty"))?;
-        let texture = Arc::new(texture);
-        cache.insert(path.to_path_buf(), texture.clone());
-        Ok(texture)
+    if let Some(t) = cache.get(path) {
+        return Ok(t.clone());
     }
+    let bytes = read_bounded(path, MAX_IMAGE_BYTES).map_err(|e| {
+        SceneError::new(
+            path,
+            format!("cannot read the image `{}`: {e}", path.display()),
+        )
+    })?;
+    let texture = Arc::new(texture_from_bytes(&bytes, path)?);
+    cache.insert(path.to_path_buf(), texture.clone());
+    Ok(texture)
 }
 
-/// The largest image side accepted (16384 pixels: 256 Mpixel, 6 GiB as colours, is the limit).
-const MAX_TEXTURE_SIDE: u32 = 16_384;
+/// Reads a whole file of at most `limit` bytes; the error is the reason, for the caller to
+/// put in context. Refuses what is not a regular file (a directory, `/dev/zero`, a pipe that
+/// would never end) and stops reading past the limit, so neither a huge file nor an endless
+/// device can take all memory.
+pub(crate) fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    if !meta.is_file() {
+        return Err("it is not a regular file".into());
+    }
+    if meta.len() > limit {
+        return Err(format!("it is {} bytes; the limit is {limit}", meta.len()));
+    }
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > limit {
+        return Err(format!("it grew past the limit of {limit} bytes"));
+    }
+    Ok(bytes)
+}
+
+/// Decodes an image file's bytes (PNG, JPEG or PPM/PGM/PBM, told apart by their contents) into
+/// a texture, as scene files' `image` patterns and MTL `map_Kd` read them; `path` names the file
+/// in errors. Images over [`MAX_TEXTURE_SIDE`] on a side or [`MAX_TEXTURE_PIXELS`] in all are
+/// refused before they are decoded.
+pub fn texture_from_bytes(bytes: &[u8], path: &Path) -> Result<Texture, SceneError> {
+    let fail = |e: &dyn std::fmt::Display| {
+        SceneError::new(
+            path,
+            format!("cannot read the image `{}`: {e}", path.display()),
+        )
+    };
+    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| fail(&e))?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_TEXTURE_SIDE);
+    limits.max_image_height = Some(MAX_TEXTURE_SIDE);
+    reader.limits(limits);
+    // The decoders are third-party code fed untrusted bytes: a panic in one is a broken image,
+    // reported as such, not a crash of the renderer.
+    let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(
+        move || -> Result<_, String> {
+            use image::ImageDecoder;
+            let decoder = reader.into_decoder().map_err(|e| e.to_string())?;
+            let (w, h) = decoder.dimensions();
+            if u64::from(w) * u64::from(h) > MAX_TEXTURE_PIXELS {
+                return Err(format!(
+                    "it is {w}×{h} pixels; the limit is {MAX_TEXTURE_PIXELS} pixels"
+                ));
+            }
+            let image = image::DynamicImage::from_decoder(decoder).map_err(|e| e.to_string())?;
+            Ok(image.to_rgb32f())
+        },
+    ))
+    .map_err(|_| fail(&"the image decoder failed on it (the file is damaged)"))?;
+    let rgb = decoded.map_err(|e| fail(&e))?;
+    let (w, h) = (rgb.width() as usize, rgb.height() as usize);
+    let pixels = rgb
+        .pixels()
+        .map(|p| Color::new(p[0] as f64, p[1] as f64, p[2] as f64))
+        .collect();
+    Texture::new(w, h, pixels, Filter::Bilinear).ok_or_else(|| fail(&"the image is empty"))
+}
+
+/// The largest image side accepted.
+pub const MAX_TEXTURE_SIDE: u32 = 16_384;
+
+/// The most pixels an image texture may have: 2²⁶ (8192 × 8192), 1.5 GiB as colours.
+pub const MAX_TEXTURE_PIXELS: u64 = 1 << 26;
+
+/// The largest image file read.
+pub const MAX_IMAGE_BYTES: u64 = 256 << 20;

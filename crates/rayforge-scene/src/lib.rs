@@ -20,7 +20,9 @@ mod source;
 mod transform;
 mod viewport;
 
+pub use assets::{texture_from_bytes, MAX_IMAGE_BYTES, MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE};
 pub use error::{SceneError, Span};
+pub use obj::DEFAULT_MAX_TRIANGLES;
 
 use defines::Defines;
 use source::{Node, Source};
@@ -45,22 +47,34 @@ pub struct Scene {
 /// a tool; anything this large is a mistake, and parsing it would take all memory).
 pub const MAX_SCENE_BYTES: u64 = 64 * 1024 * 1024;
 
+/// Limits on what loading a scene may take, beyond the fixed ones of the format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// The most triangles the scene's OBJ models may hold together (a model used twice counts
+    /// once), and the most vertices, normals or texture coordinates in any one model.
+    pub max_triangles: usize,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self {
+            max_triangles: DEFAULT_MAX_TRIANGLES,
+        }
+    }
+}
+
 /// Reads and builds the scene in the file at `path`.
 pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
-    let size = std::fs::metadata(path)
-        .map_err(|e| SceneError::new(path, format!("cannot read the scene file: {e}")))?
-        .len();
-    if size > MAX_SCENE_BYTES {
-        return Err(SceneError::new(
-            path,
-            format!("the scene file is {size} bytes; the limit is {MAX_SCENE_BYTES}"),
-        ));
-    }
-    let bytes = std::fs::read(path)
+    load_file_with(path, &LoadOptions::default())
+}
+
+/// [`load_file`] within `options`' limits.
+pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
+    let bytes = assets::read_bounded(path, MAX_SCENE_BYTES)
         .map_err(|e| SceneError::new(path, format!("cannot read the scene file: {e}")))?;
     let text = String::from_utf8(bytes)
         .map_err(|_| SceneError::new(path, "the scene file is not UTF-8 text"))?;
-    load_str(&text, path)
+    load_str_with(&text, path, options)
 }
 
 /// The stack the reader runs on. Reading recurses once per level of nesting (YAML lists and
@@ -72,11 +86,16 @@ const READER_STACK_BYTES: usize = 64 << 20;
 
 /// Builds a scene from YAML text; `path` names the file in errors and anchors relative paths.
 pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
+    load_str_with(text, path, &LoadOptions::default())
+}
+
+/// [`load_str`] within `options`' limits.
+pub fn load_str_with(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     std::thread::scope(|scope| {
         let reader = std::thread::Builder::new()
             .name("rayforge-scene".into())
             .stack_size(READER_STACK_BYTES)
-            .spawn_scoped(scope, || read(text, path))
+            .spawn_scoped(scope, || read(text, path, options))
             .map_err(|e| {
                 SceneError::new(
                     path,
@@ -91,7 +110,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
 }
 
 /// [`load_str`]'s work, on the reader's own thread.
-fn read(text: &str, path: &Path) -> Result<Scene, SceneError> {
+fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     if text.contains('\0') {
         return Err(SceneError::new(
             path,
@@ -118,7 +137,7 @@ fn read(text: &str, path: &Path) -> Result<Scene, SceneError> {
         ..e
     })?;
     let mut defines = Defines::default();
-    let mut assets = assets::Assets::new(path);
+    let mut assets = assets::Assets::new(path, options.max_triangles);
     let mut world = rayforge::World::new();
     let mut camera: Option<(rayforge::Camera, u32)> = None;
     let mut settings: Option<Option<u32>> = None;

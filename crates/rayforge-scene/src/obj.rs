@@ -70,14 +70,32 @@ impl ObjFile {
 pub type TextureLoader<'a> =
     dyn FnMut(&Path) -> Result<Arc<rayforge::shading::Texture>, SceneError> + 'a;
 
+/// The most triangles a scene's models may hold together by default (and three times as many
+/// vertices, normals or texture coordinates of each kind in one model). A million-triangle model loads in about two
+/// seconds and takes some 200 MB; ten times that is the largest a scene may have unless the
+/// caller (`--max-triangles` on the command line) says otherwise.
+pub const DEFAULT_MAX_TRIANGLES: usize = 10_000_000;
+
+/// The largest OBJ or MTL file read (1 GiB, about twenty million triangles with normals).
+pub const MAX_MODEL_BYTES: u64 = 1 << 30;
+
 /// Reads an OBJ file, and the MTL files it names (relative to it), loading their texture maps
-/// with `load_texture`.
+/// with `load_texture`. At most [`DEFAULT_MAX_TRIANGLES`] triangles.
 pub fn read_obj_file(
     path: &Path,
     load_texture: &mut TextureLoader<'_>,
 ) -> Result<ObjFile, SceneError> {
+    read_obj_file_with_limit(path, load_texture, DEFAULT_MAX_TRIANGLES)
+}
+
+/// [`read_obj_file`] with a mesh size limit (see [`parse_obj_with_limit`]).
+pub fn read_obj_file_with_limit(
+    path: &Path,
+    load_texture: &mut TextureLoader<'_>,
+    max_triangles: usize,
+) -> Result<ObjFile, SceneError> {
     let text = read_text(path)?;
-    let mut obj = parse_obj(&text, path)?;
+    let mut obj = parse_obj_with_limit(&text, path, max_triangles)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     for (name, span) in obj.material_libraries.clone() {
         let mtl_path = dir.join(&name);
@@ -93,7 +111,7 @@ pub fn read_obj_file(
 }
 
 fn read_text(path: &Path) -> Result<String, SceneError> {
-    let bytes = std::fs::read(path)
+    let bytes = crate::assets::read_bounded(path, MAX_MODEL_BYTES)
         .map_err(|e| SceneError::new(path, format!("cannot read `{}`: {e}", path.display())))?;
     String::from_utf8(bytes).map_err(|_| SceneError::new(path, "not a UTF-8 text file"))
 }
@@ -182,26 +200,76 @@ fn statements<'t>(text: &'t str, path: &'t Path) -> impl Iterator<Item = (Line<'
         })
 }
 
-/// Parses OBJ text; `path` names the file in errors.
+/// Parses OBJ text; `path` names the file in errors. At most [`DEFAULT_MAX_TRIANGLES`]
+/// triangles.
 pub fn parse_obj(text: &str, path: &Path) -> Result<ObjFile, SceneError> {
+    parse_obj_with_limit(text, path, DEFAULT_MAX_TRIANGLES)
+}
+
+/// [`parse_obj`] with a mesh size limit: more than `max_triangles` triangles, or three times
+/// as many vertices, normals or texture coordinates of any one kind, is an error at the line
+/// that goes over it.
+pub fn parse_obj_with_limit(
+    text: &str,
+    path: &Path,
+    max_triangles: usize,
+) -> Result<ObjFile, SceneError> {
+    let mut triangles = 0usize;
+    let too_many = |line: &Line<'_>| {
+        line.error(
+            0,
+            1,
+            "f",
+            format!(
+                "the model has more than {max_triangles} triangles, the mesh size limit \
+                 (`--max-triangles` on the command line)"
+            ),
+        )
+    };
+    // Vertices, normals and texture coordinates are bounded too: three per triangle, as a
+    // model whose faces share no corners has.
+    let max_vertices = max_triangles.saturating_mul(3);
+    let room = |line: &Line<'_>, key: &str, count: usize| {
+        if count >= max_vertices {
+            Err(line.error(
+                0,
+                key.len(),
+                key,
+                format!(
+                    "the model has more than {max_vertices} entries of one kind (`v`, `vn` or \
+                     `vt`), three per triangle of the mesh size limit (`--max-triangles` on the \
+                     command line)"
+                ),
+            ))
+        } else {
+            Ok(())
+        }
+    };
     let mut obj = ObjFile {
         groups: vec![ObjGroup::default()],
         ..ObjFile::default()
     };
     let mut current_group = 0;
     let mut current_material = None;
+    // Names to indices: a file may name hundreds of thousands of groups or materials, and a
+    // linear search for each would take quadratic time.
+    let mut group_index: HashMap<String, usize> = HashMap::from([(String::new(), 0)]);
+    let mut material_index: HashMap<String, u32> = HashMap::new();
     let mut corners: Vec<Corner> = Vec::with_capacity(8);
     for (line, keyword) in statements(text, path) {
         match keyword {
             "v" => {
+                room(&line, "v", obj.vertices.len())?;
                 let [x, y, z, _w] = line.numbers::<4>("v", 3)?;
                 obj.vertices.push(Point3::new(x, y, z));
             }
             "vn" => {
+                room(&line, "vn", obj.normals.len())?;
                 let [x, y, z] = line.numbers::<3>("vn", 3)?;
                 obj.normals.push(Vec3::new(x, y, z));
             }
             "vt" => {
+                room(&line, "vt", obj.texcoords.len())?;
                 let [u, v, _w] = line.numbers::<3>("vt", 1)?;
                 obj.texcoords.push([u, v]);
             }
@@ -217,6 +285,10 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<ObjFile, SceneError> {
                         "f",
                         format!("a face needs at least 3 corners, found {}", corners.len()),
                     ));
+                }
+                triangles += corners.len() - 2;
+                if triangles > max_triangles {
+                    return Err(too_many(&line));
                 }
                 // Fan triangulation: (1, 2, 3), (1, 3, 4), … as the book does.
                 for k in 1..corners.len() - 1 {
@@ -234,26 +306,20 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<ObjFile, SceneError> {
             }
             "g" => {
                 let name = line.text.trim_start()[1..].trim().to_string();
-                current_group = match obj.groups.iter().position(|g| g.name == name) {
-                    Some(i) => i,
-                    None => {
-                        obj.groups.push(ObjGroup {
-                            name,
-                            triangles: Vec::new(),
-                        });
-                        obj.groups.len() - 1
-                    }
-                };
+                current_group = *group_index.entry(name).or_insert_with_key(|name| {
+                    obj.groups.push(ObjGroup {
+                        name: name.clone(),
+                        triangles: Vec::new(),
+                    });
+                    obj.groups.len() - 1
+                });
             }
             "usemtl" => {
                 let name = line.text.trim_start()["usemtl".len()..].trim().to_string();
-                current_material = Some(match obj.material_names.iter().position(|n| *n == name) {
-                    Some(i) => i as u32,
-                    None => {
-                        obj.material_names.push(name);
-                        (obj.material_names.len() - 1) as u32
-                    }
-                });
+                current_material = Some(*material_index.entry(name).or_insert_with_key(|name| {
+                    obj.material_names.push(name.clone());
+                    (obj.material_names.len() - 1) as u32
+                }));
             }
             "mtllib" => {
                 for (col, word) in line.words().skip(1) {
@@ -398,45 +464,66 @@ pub fn parse_mtl(
 /// by `usemtl` and found in the libraries, or `None`.
 pub fn to_meshes(obj: &ObjFile) -> Vec<(Arc<rayforge::geometry::Mesh>, Option<Material>)> {
     use rayforge::geometry::{Mesh, MeshFace};
+    /// Old index → new index, `UNUSED` until the entry is first used in the mesh being built:
+    /// a dense table is several times faster than hashing on million-face files. The table is
+    /// shared by all meshes and only the entries a mesh used are reset, so a file of many
+    /// small groups costs what it holds, not groups × vertices.
+    struct Remap {
+        map: Vec<u32>,
+        used: Vec<u32>,
+    }
+    const UNUSED: u32 = u32::MAX;
+    impl Remap {
+        fn new(len: usize) -> Self {
+            Self {
+                map: vec![UNUSED; len],
+                used: Vec::new(),
+            }
+        }
+        fn get<T: Copy>(&mut self, list: &mut Vec<T>, source: &[T], i: u32) -> u32 {
+            let slot = &mut self.map[i as usize];
+            if *slot == UNUSED {
+                list.push(source[i as usize]);
+                *slot = (list.len() - 1) as u32;
+                self.used.push(i);
+            }
+            *slot
+        }
+        fn reset(&mut self) {
+            for i in self.used.drain(..) {
+                self.map[i as usize] = UNUSED;
+            }
+        }
+    }
+    let mut vertex_map = Remap::new(obj.vertices.len());
+    let mut normal_map = Remap::new(obj.normals.len());
+    let mut texcoord_map = Remap::new(obj.texcoords.len());
     let mut out = Vec::new();
     for group in &obj.groups {
-        let mut materials: Vec<Option<u32>> = group.triangles.iter().map(|t| t.material).collect();
-        materials.sort_unstable();
-        materials.dedup();
-        for material in materials {
-            let mut positions = Vec::new();
-            let mut normals = Vec::new();
-            // Old index → new index, `UNUSED` until the vertex is first used: a dense table is
-            // several times faster than hashing on million-face files.
-            const UNUSED: u32 = u32::MAX;
-            let mut vertex_map = vec![UNUSED; obj.vertices.len()];
-            let mut normal_map = vec![UNUSED; obj.normals.len()];
-            let mut texcoord_map = vec![UNUSED; obj.texcoords.len()];
-            let mut texcoords = Vec::new();
-            fn remap<T: Copy>(map: &mut [u32], list: &mut Vec<T>, source: &[T], i: u32) -> u32 {
-                let slot = &mut map[i as usize];
-                if *slot == UNUSED {
-                    list.push(source[i as usize]);
-                    *slot = (list.len() - 1) as u32;
-                }
-                *slot
-            }
-            let faces: Vec<MeshFace> = group
-                .triangles
+        // The group's triangles by material (a stable sort keeps each material's in file
+        // order), one mesh per run.
+        let mut by_material: Vec<&ObjTriangle> = group.triangles.iter().collect();
+        by_material.sort_by_key(|t| t.material);
+        for run in by_material.chunk_by(|a, b| a.material == b.material) {
+            let material = run[0].material;
+            let (mut positions, mut normals, mut texcoords) = (Vec::new(), Vec::new(), Vec::new());
+            let faces: Vec<MeshFace> = run
                 .iter()
-                .filter(|t| t.material == material)
                 .map(|t| MeshFace {
                     vertices: t
                         .vertices
-                        .map(|i| remap(&mut vertex_map, &mut positions, &obj.vertices, i)),
+                        .map(|i| vertex_map.get(&mut positions, &obj.vertices, i)),
                     normals: t
                         .normals
-                        .map(|n| n.map(|i| remap(&mut normal_map, &mut normals, &obj.normals, i))),
-                    texcoords: t.texcoords.map(|n| {
-                        n.map(|i| remap(&mut texcoord_map, &mut texcoords, &obj.texcoords, i))
-                    }),
+                        .map(|n| n.map(|i| normal_map.get(&mut normals, &obj.normals, i))),
+                    texcoords: t
+                        .texcoords
+                        .map(|n| n.map(|i| texcoord_map.get(&mut texcoords, &obj.texcoords, i))),
                 })
                 .collect();
+            vertex_map.reset();
+            normal_map.reset();
+            texcoord_map.reset();
             if faces.is_empty() {
                 continue;
             }

@@ -29,7 +29,10 @@ fn an_ambient_light_adds_only_the_ambient_term() {
         1.0,
     );
     // colour 1 × intensity 0.5 × ambient 0.1
-    assert!((c.red - 0.05).abs() < 1e-12 && c.red == c.green && c.green == c.blue, "{c:?}");
+    assert!(
+        (c.red - 0.05).abs() < 1e-12 && c.red == c.green && c.green == c.blue,
+        "{c:?}"
+    );
 }
 
 #[test]
@@ -48,5 +51,8 @@ fn a_directional_light_shades_like_a_point_light_infinitely_far_away() {
     let b = rayforge::lighting(&m, &object, &far, p, eye, normal, 1.0);
     assert!((a.red - b.red).abs() < 1e-6, "{a:?} vs {b:?}");
     // 0.1 ambient + 0.9·cos 45° diffuse, no highlight towards the eye.
-    assert!((a.red - (0.1 + 0.9 * std::f64::consts::FRAC_1_SQRT_2)).abs() < 1e-4, "{a:?}");
+    assert!(
+        (a.red - (0.1 + 0.9 * std::f64::consts::FRAC_1_SQRT_2)).abs() < 1e-4,
+        "{a:?}"
+    );
 }

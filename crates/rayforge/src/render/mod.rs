@@ -1,7 +1,9 @@
 //! The parallel render loop: rows of the image traced on every core into a [`Canvas`].
 //!
 //! Each pixel is a pure function of the scene, so the image is identical for any thread count
-//! and any order in which rows finish.
+//! and any order in which rows finish. That also makes renders resumable: a render can be
+//! cancelled between rows ([`RenderOptions::cancel`]) and continued later from the rows it
+//! finished ([`RenderOptions::finished`]), giving exactly the image of an uninterrupted run.
 
 mod sampler;
 
@@ -10,9 +12,13 @@ pub use sampler::{CameraSample, Sampling};
 use crate::scene::WorldIndex;
 use crate::{Camera, Canvas, Color, Tracer, World, DEFAULT_MAX_DEPTH};
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
-/// How to render: recursion depth, anti-aliasing and an optional progress callback.
+/// Called with a finished row's index and pixels.
+pub type RowCallback<'a> = dyn Fn(usize, &[Color]) + Sync + 'a;
+
+/// How to render: recursion depth, anti-aliasing, and optional progress, cancellation and
+/// resumption.
 pub struct RenderOptions<'p> {
     /// How many reflection/refraction bounces to follow.
     pub max_depth: u32,
@@ -24,6 +30,15 @@ pub struct RenderOptions<'p> {
     /// fill each pixel between two traced ones with their average when no channel of the two
     /// differs by more than this threshold (trace it otherwise). `None` traces every pixel.
     pub subsample: Option<f64>,
+    /// Checked before each row is started: once it is set, no more rows are started, and the
+    /// render returns when the rows in progress are done ([`render_rows`] says which).
+    pub cancel: Option<&'p AtomicBool>,
+    /// Rows already rendered (read back from a checkpoint, say), copied instead of traced. A
+    /// partial image of another size than the camera's is ignored.
+    pub finished: Option<&'p PartialImage>,
+    /// Called with each row as it is finished, its index and its pixels (from any thread), so
+    /// a caller can save rows as they come.
+    pub on_row: Option<&'p RowCallback<'p>>,
 }
 
 impl Default for RenderOptions<'_> {
@@ -33,6 +48,9 @@ impl Default for RenderOptions<'_> {
             sampling: Sampling::Centre,
             progress: None,
             subsample: None,
+            cancel: None,
+            finished: None,
+            on_row: None,
         }
     }
 }
@@ -44,23 +62,118 @@ pub struct RenderStats {
     pub rays: u64,
 }
 
+/// An image whose rows may not all be rendered yet: a canvas and which of its rows are done.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PartialImage {
+    canvas: Canvas,
+    done: Vec<bool>,
+}
+
+impl PartialImage {
+    /// A `width` × `height` image with no rows done.
+    pub fn new(width: usize, height: usize) -> Self {
+        Self {
+            canvas: Canvas::new(width, height),
+            done: vec![false; height],
+        }
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> usize {
+        self.canvas.width()
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> usize {
+        self.canvas.height()
+    }
+
+    /// Whether row `y` is done (false past the last row).
+    pub fn is_done(&self, y: usize) -> bool {
+        self.done.get(y).copied().unwrap_or(false)
+    }
+
+    /// Row `y`'s pixels, if it is done.
+    pub fn row(&self, y: usize) -> Option<&[Color]> {
+        let w = self.width();
+        self.is_done(y)
+            .then(|| &self.canvas.pixels()[y * w..(y + 1) * w])
+    }
+
+    /// Marks row `y` done with these pixels. False (and nothing changes) when `y` is past the
+    /// last row or `pixels` is not one row long.
+    pub fn set_row(&mut self, y: usize, pixels: &[Color]) -> bool {
+        let w = self.width();
+        if y >= self.height() || pixels.len() != w {
+            return false;
+        }
+        self.canvas.pixels_mut()[y * w..(y + 1) * w].copy_from_slice(pixels);
+        self.done[y] = true;
+        true
+    }
+
+    /// How many rows are done.
+    pub fn finished_rows(&self) -> usize {
+        self.done.iter().filter(|&&d| d).count()
+    }
+
+    /// Whether every row is done.
+    pub fn is_complete(&self) -> bool {
+        self.done.iter().all(|&d| d)
+    }
+
+    /// The pixels so far (rows not done are black).
+    pub fn canvas(&self) -> &Canvas {
+        &self.canvas
+    }
+
+    /// The canvas, whether complete or not.
+    pub fn into_canvas(self) -> Canvas {
+        self.canvas
+    }
+}
+
 /// Renders `world` through `camera` on the current rayon thread pool.
+///
+/// With a [`RenderOptions::cancel`] flag that gets set, the canvas holds only the rows that
+/// were finished; [`render_rows`] says which.
 pub fn render(
     camera: &Camera,
     world: &World,
     options: &RenderOptions<'_>,
 ) -> (Canvas, RenderStats) {
+    let (image, stats) = render_rows(camera, world, options);
+    (image.into_canvas(), stats)
+}
+
+/// Renders the rows of the image not already in [`RenderOptions::finished`], until done or
+/// cancelled; the image says which rows are done. The statistics count the rays of this call
+/// only.
+pub fn render_rows(
+    camera: &Camera,
+    world: &World,
+    options: &RenderOptions<'_>,
+) -> (PartialImage, RenderStats) {
     let (width, height) = (camera.hsize(), camera.vsize());
-    let mut canvas = Canvas::new(width, height);
+    let mut image = match options.finished {
+        Some(p) if (p.width(), p.height()) == (width, height) => p.clone(),
+        _ => PartialImage::new(width, height),
+    };
     let rays = AtomicU64::new(0);
     let index = WorldIndex::build(world);
+    let cancelled = || options.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+    let PartialImage { canvas, done } = &mut image;
     canvas
         .pixels_mut()
         .par_chunks_mut(width.max(1))
+        .zip(done.par_iter_mut())
         .enumerate()
         .for_each_init(
             || Tracer::new(world, &index),
-            |tracer, (y, row)| {
+            |tracer, (y, (row, done))| {
+                if *done || cancelled() {
+                    return;
+                }
                 let before = tracer.rays_cast();
                 let mut trace = |x: usize| {
                     let seed = (y * width + x) as u64;
@@ -77,7 +190,11 @@ pub fn render(
                     }
                     Some(threshold) => subsample_row(row, threshold, trace),
                 }
+                *done = true;
                 rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);
+                if let Some(on_row) = options.on_row {
+                    on_row(y, row);
+                }
                 if let Some(progress) = options.progress {
                     progress(1);
                 }
@@ -86,7 +203,7 @@ pub fn render(
     let stats = RenderStats {
         rays: rays.into_inner(),
     };
-    (canvas, stats)
+    (image, stats)
 }
 
 /// Fills a row by tracing its even pixels (and the last), then each odd pixel from its two

@@ -82,14 +82,15 @@ pub fn prepare_computations_with<'a>(
         None => geometric,
     };
     let (n1, n2) = refractive_indices(hit, xs, containers);
+    let offset = geometric * surface_offset(point);
     Computations {
         t: hit.t,
         object: hit.object,
         surface,
         uv: surface.shape.surface_uv(&hit.local()),
         point,
-        over_point: point + geometric * EPSILON,
-        under_point: point - geometric * EPSILON,
+        over_point: point + offset,
+        under_point: point - offset,
         eyev,
         normalv,
         inside,
@@ -98,6 +99,16 @@ pub fn prepare_computations_with<'a>(
         n2,
         time: ray.time,
     }
+}
+
+/// How far hit points are nudged off their surface: the book's `EPSILON`, or more far from the
+/// origin, where coordinates themselves are coarser. A double resolves about 2.2e-16 of a
+/// coordinate's size, and a hit point computed from a ray carries a few dozen such steps of
+/// error; past about 1e9 from the origin that error outgrows `EPSILON` and surfaces would
+/// shadow themselves (acne), so the offset grows with the point's largest coordinate, staying
+/// some 45 steps of the coordinates' resolution. Nearer scenes keep exactly `EPSILON`.
+fn surface_offset(point: Point3) -> f64 {
+    EPSILON.max(point.abs().max_element() * 1e-14)
 }
 
 /// The chapter 11 algorithm: walk the sorted intersections, keeping the list of objects the ray

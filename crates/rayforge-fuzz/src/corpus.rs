@@ -1,0 +1,173 @@
+//! Seed inputs: the repository's own scenes and models, the copies of community files in
+//! `corpus/` (see `corpus/README.md` for where each comes from), and small images made here in
+//! every format and colour type the decoder reads.
+
+use crate::targets::{repo_root, Target};
+use std::path::Path;
+
+/// The seeds of `target`, in a fixed order (a run is repeatable from its seed).
+pub fn seeds(target: Target) -> Vec<Vec<u8>> {
+    let root = repo_root();
+    let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus");
+    let mut seeds = Vec::new();
+    match target {
+        Target::Scene => {
+            files_under(&root.join("scenes"), &["yml", "yaml"], &mut seeds);
+            files_under(&corpus.join("scene"), &["yml", "yaml"], &mut seeds);
+        }
+        Target::Obj => {
+            files_under(&root.join("scenes"), &["obj", "mtl"], &mut seeds);
+            files_under(&corpus.join("obj"), &["obj", "mtl"], &mut seeds);
+        }
+        Target::Image => seeds.extend(generated_images()),
+    }
+    if seeds.is_empty() {
+        seeds.push(Vec::new());
+    }
+    seeds
+}
+
+/// The files under `dir` (recursively) with one of `extensions`, sorted by path.
+fn files_under(dir: &Path, extensions: &[&str], out: &mut Vec<Vec<u8>>) {
+    let mut paths = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&d) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path
+                .extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| extensions.contains(&e))
+            {
+                paths.push(path);
+            }
+        }
+    }
+    paths.sort();
+    out.extend(paths.iter().filter_map(|p| std::fs::read(p).ok()));
+}
+
+/// Small images in each format and colour type the texture reader takes: PNG (grey, grey with
+/// alpha, RGB, RGBA, 16-bit, palette), JPEG (colour and grey, baseline), and the PNM family in
+/// text and binary forms.
+pub fn generated_images() -> Vec<Vec<u8>> {
+    use image::{ExtendedColorType, ImageEncoder};
+    let (w, h) = (5u32, 3u32);
+    let rgb: Vec<u8> = (0..w * h * 3).map(|i| (i * 37 % 256) as u8).collect();
+    let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 53 % 256) as u8).collect();
+    let grey: Vec<u8> = (0..w * h).map(|i| (i * 17 % 256) as u8).collect();
+    let grey_alpha: Vec<u8> = (0..w * h * 2).map(|i| (i * 29 % 256) as u8).collect();
+    let rgb16: Vec<u8> = (0..w * h * 6).map(|i| (i * 11 % 256) as u8).collect();
+    let mut out = Vec::new();
+    let png = |data: &[u8], colour| {
+        let mut bytes = Vec::new();
+        image::codecs::png::PngEncoder::new(&mut bytes)
+            .write_image(data, w, h, colour)
+            .map(|()| bytes)
+            .ok()
+    };
+    out.extend(png(&rgb, ExtendedColorType::Rgb8));
+    out.extend(png(&rgba, ExtendedColorType::Rgba8));
+    out.extend(png(&grey, ExtendedColorType::L8));
+    out.extend(png(&grey_alpha, ExtendedColorType::La8));
+    out.extend(png(&rgb16, ExtendedColorType::Rgb16));
+    out.push(palette_png());
+    let jpeg = |data: &[u8], colour| {
+        let mut bytes = Vec::new();
+        image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, 80)
+            .write_image(data, w, h, colour)
+            .map(|()| bytes)
+            .ok()
+    };
+    out.extend(jpeg(&rgb, ExtendedColorType::Rgb8));
+    out.extend(jpeg(&grey, ExtendedColorType::L8));
+    out.push(b"P3\n# a comment\n2 2\n255\n255 0 0  0 255 0\n0 0 255  255 255 255\n".to_vec());
+    out.push(b"P2\n3 1\n65535\n0 32768 65535\n".to_vec());
+    out.push(b"P1\n4 2\n1 0 1 0\n0 1 0 1\n".to_vec());
+    let mut p6 = format!("P6\n{w} {h}\n255\n").into_bytes();
+    p6.extend_from_slice(&rgb);
+    out.push(p6);
+    let mut p5 = format!("P5\n{w} {h}\n255\n").into_bytes();
+    p5.extend_from_slice(&grey);
+    out.push(p5);
+    out.push(b"P4\n8 2\n\xa5\x5a".to_vec());
+    let mut pam =
+        format!("P7\nWIDTH {w}\nHEIGHT {h}\nDEPTH 4\nMAXVAL 255\nTUPLTYPE RGB_ALPHA\nENDHDR\n")
+            .into_bytes();
+    pam.extend_from_slice(&rgba);
+    out.push(pam);
+    out
+}
+
+/// A 4×2 PNG with a four-colour palette and transparency, written chunk by chunk.
+fn palette_png() -> Vec<u8> {
+    palette_png_with(&[255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255])
+}
+
+/// A 4×2 palette PNG (pixels 0 1 2 3 / 3 2 1 0) with these bytes as its `PLTE` chunk,
+/// checksums correct whatever they are.
+pub fn palette_png_with(palette: &[u8]) -> Vec<u8> {
+    // 4×2, bit depth 8, colour type 3 (palette).
+    let header = [0, 0, 0, 4, 0, 0, 0, 2, 8, 3, 0, 0, 0];
+    // Two rows, filter 0, stored in a zlib stream without compression.
+    let raw = [0u8, 0, 1, 2, 3, 0, 3, 2, 1, 0];
+    let mut zlib = vec![0x78, 0x01, 1, raw.len() as u8, 0, !(raw.len() as u8), 0xff];
+    zlib.extend_from_slice(&raw);
+    zlib.extend_from_slice(&adler32(&raw).to_be_bytes());
+    png(&[
+        (b"IHDR", &header),
+        (b"PLTE", palette),
+        (b"tRNS", &[255, 128, 0]),
+        (b"IDAT", &zlib),
+        (b"IEND", &[]),
+    ])
+}
+
+/// A PNG file of these chunks, each with its length and CRC.
+pub fn png(chunks: &[(&[u8; 4], &[u8])]) -> Vec<u8> {
+    use crate::mutate::crc32;
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    for (kind, data) in chunks {
+        png.extend_from_slice(&(data.len() as u32).to_be_bytes());
+        let mut body = kind.to_vec();
+        body.extend_from_slice(data);
+        png.extend_from_slice(&body);
+        png.extend_from_slice(&crc32(&body).to_be_bytes());
+    }
+    png
+}
+
+fn adler32(bytes: &[u8]) -> u32 {
+    let (mut a, mut b) = (1u32, 0u32);
+    for &x in bytes {
+        a = (a + u32::from(x)) % 65521;
+        b = (b + a) % 65521;
+    }
+    (b << 16) | a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_generated_image_decodes() {
+        let images = generated_images();
+        assert_eq!(images.len(), 15);
+        for (i, bytes) in images.iter().enumerate() {
+            let t = rayforge_scene::texture_from_bytes(bytes, Path::new("seed"));
+            assert!(t.is_ok(), "seed image {i}: {:?}", t.err());
+        }
+    }
+
+    #[test]
+    fn the_repositorys_files_are_seeds() {
+        assert!(seeds(Target::Scene).len() >= 14);
+        assert!(seeds(Target::Obj).len() >= 4);
+    }
+}

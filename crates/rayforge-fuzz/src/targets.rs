@@ -1,0 +1,190 @@
+//! What is fuzzed: the scene reader, the OBJ/MTL reader and the image-texture decoder, each
+//! followed by a tiny render of what it produced, so that values the readers let through are
+//! also fed to the renderer.
+
+use crate::mutate::Flavour;
+use rayforge::render::{render, RenderOptions, Sampling};
+use rayforge::{point, vector, Camera, Color, Light, Object, World};
+use rayforge_scene::obj::{parse_mtl, parse_obj_with_limit, to_meshes};
+use rayforge_scene::{load_str_with, texture_from_bytes, LoadOptions, SceneError};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A fuzz target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    /// `rayforge_scene::load_str` on YAML text (with OBJ models and images it names).
+    Scene,
+    /// The OBJ and MTL parsers and the meshes built from them.
+    Obj,
+    /// The image decoding that `image` patterns and `map_Kd` use.
+    Image,
+}
+
+/// The mesh size limit while fuzzing: low, so that inputs that multiply faces stay quick.
+const FUZZ_MAX_TRIANGLES: usize = 200_000;
+
+impl Target {
+    /// Every target.
+    pub const ALL: [Target; 3] = [Target::Scene, Target::Obj, Target::Image];
+
+    /// The target's name on the command line and in crash file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Target::Scene => "scene",
+            Target::Obj => "obj",
+            Target::Image => "image",
+        }
+    }
+
+    /// The target called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|t| t.name() == name)
+    }
+
+    /// How its inputs are mutated.
+    pub fn flavour(self) -> Flavour {
+        match self {
+            Target::Scene => Flavour::Yaml,
+            Target::Obj => Flavour::Obj,
+            Target::Image => Flavour::Image,
+        }
+    }
+
+    /// The longest input tried.
+    pub fn max_len(self) -> usize {
+        match self {
+            Target::Scene => 32 << 10,
+            Target::Obj => 64 << 10,
+            Target::Image => 128 << 10,
+        }
+    }
+
+    /// Runs one input; whether the reader accepted it. Errors are the expected answer to bad
+    /// input; a panic is a bug (and so is an error whose position lies outside the text, which
+    /// would break its display).
+    pub fn run(self, input: &[u8]) -> bool {
+        match self {
+            Target::Scene => scene(input),
+            Target::Obj => obj(input),
+            Target::Image => image(input),
+        }
+    }
+}
+
+/// The repository's root (scene inputs are read as if they were in `scenes/trtc/`, so the
+/// models and images they name resolve to real files).
+pub fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn scene(input: &[u8]) -> bool {
+    let text = String::from_utf8_lossy(input);
+    let path = repo_root().join("scenes/trtc/fuzz-input.yml");
+    let options = LoadOptions {
+        max_triangles: FUZZ_MAX_TRIANGLES,
+    };
+    match load_str_with(&text, &path, &options) {
+        Ok(scene) => {
+            for w in &scene.warnings {
+                check_error(w, &path, &text);
+            }
+            let camera = scene.camera.resized(3, 2);
+            tiny_render(&camera, &scene.world);
+            true
+        }
+        Err(e) => {
+            check_error(&e, &path, &text);
+            false
+        }
+    }
+}
+
+fn obj(input: &[u8]) -> bool {
+    let text = String::from_utf8_lossy(input);
+    let path = Path::new("fuzz-input.obj");
+    let accepted = match parse_obj_with_limit(&text, path, FUZZ_MAX_TRIANGLES) {
+        Ok(obj) => {
+            let mut world = World::new();
+            for (mesh, material) in to_meshes(&obj) {
+                let mut object = Object::mesh(mesh);
+                object.material = material.unwrap_or_default();
+                world.objects.push(object);
+            }
+            world
+                .lights
+                .push(Light::point(point(-10.0, 10.0, -10.0), Color::WHITE));
+            let camera = Camera::new(3, 2, 1.0).with_transform(rayforge::math::view_transform(
+                point(0.5, 1.0, -5.0),
+                point(0.0, 0.0, 0.0),
+                vector(0.0, 1.0, 0.0),
+            ));
+            tiny_render(&camera, &world);
+            true
+        }
+        Err(e) => {
+            check_error(&e, path, &text);
+            false
+        }
+    };
+    // The same text as a material library, its images refused.
+    let mut no_images = |p: &Path| -> Result<Arc<rayforge::shading::Texture>, SceneError> {
+        Err(SceneError::new(p, "no images while fuzzing"))
+    };
+    if let Err(e) = parse_mtl(&text, path, &mut no_images) {
+        check_error(&e, path, &text);
+    }
+    accepted
+}
+
+fn image(input: &[u8]) -> bool {
+    let Ok(texture) = texture_from_bytes(input, Path::new("fuzz-input.img")) else {
+        return false;
+    };
+    {
+        for (u, v) in [
+            (0.0, 0.0),
+            (0.5, 0.5),
+            (1.0, 1.0),
+            (-3.5, 7.25),
+            (f64::NAN, f64::INFINITY),
+        ] {
+            let _ = texture.sample(u, v);
+        }
+    }
+    true
+}
+
+/// A 3×2 render with every kind of sampling touched lightly.
+fn tiny_render(camera: &Camera, world: &World) {
+    let options = RenderOptions {
+        max_depth: 3,
+        sampling: Sampling::Adaptive {
+            threshold: 0.1,
+            depth: 1,
+        },
+        ..RenderOptions::default()
+    };
+    let _ = render(camera, world, &options);
+}
+
+/// An error located in `text` must lie within it, on character boundaries (the command line
+/// shows the line it points at), and must say something.
+fn check_error(e: &SceneError, path: &Path, text: &str) {
+    let shown = e.to_string();
+    assert!(!e.message.trim().is_empty(), "an empty message: {shown}");
+    if e.path != path {
+        return;
+    }
+    if let Some(span) = e.span {
+        let end = span.offset.checked_add(span.len);
+        assert!(
+            end.is_some_and(|end| end <= text.len()
+                && text.is_char_boundary(span.offset)
+                && text.is_char_boundary(end)),
+            "the error's span {span:?} is outside the text ({} bytes) or splits a character: {shown}",
+            text.len()
+        );
+        assert!(span.line >= 1 && span.column >= 1, "{shown}");
+    }
+}

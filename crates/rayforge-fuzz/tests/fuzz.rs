@@ -1,0 +1,43 @@
+//! A short, fixed-seed fuzzing run of each reader as part of `cargo test` (a few thousand
+//! inputs each; the `rayforge-fuzz` binary runs longer). A crash fails the test with the
+//! minimised input, written under `target/fuzz-crashes`.
+
+use rayforge_fuzz::{fuzz, Options, Target};
+
+/// Inputs per target: `RAYFORGE_FUZZ_ITERATIONS` or the default.
+fn iterations(default: u64) -> u64 {
+    std::env::var("RAYFORGE_FUZZ_ITERATIONS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+fn check(target: Target, seed: u64, default: u64) {
+    match fuzz(target, &Options::quick(seed, iterations(default))) {
+        Ok(report) => eprintln!(
+            "{}: {} inputs ({} accepted, {} caught panics) in {:.1} s, slowest {:.3} s",
+            target.name(),
+            report.executed,
+            report.accepted,
+            report.caught_panics,
+            report.elapsed.as_secs_f64(),
+            report.slowest.as_secs_f64()
+        ),
+        Err(crash) => panic!("{crash}"),
+    }
+}
+
+#[test]
+fn the_scene_reader_survives_mutated_scenes() {
+    check(Target::Scene, 0x5CE4E, 2500);
+}
+
+#[test]
+fn the_obj_reader_survives_mutated_models() {
+    check(Target::Obj, 0x0B1, 3000);
+}
+
+#[test]
+fn the_image_reader_survives_mutated_images() {
+    check(Target::Image, 0x1A6E, 5000);
+}

@@ -1,0 +1,60 @@
+//! Inputs the fuzzer found that crashed, hung or crawled, minimised, each with what it gets
+//! now. They run through the same targets as the fuzzer (reader, then a tiny render).
+
+use rayforge_fuzz::corpus::palette_png_with;
+use rayforge_fuzz::{run_one, Target};
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// Found by `rayforge-fuzz --target image --seed 1` in its first second: a palette whose
+/// length is not a multiple of three panics inside the png crate (0.18.1, palette.rs:74,
+/// "range end index 3 out of range for slice of length 2"). The texture reader catches the
+/// decoder's panic and reports a damaged image.
+#[test]
+fn a_png_palette_of_a_length_not_a_multiple_of_three_is_a_damaged_image() {
+    for palette in [&[255u8, 0, 0, 0, 255][..], &[1, 2, 3, 4]] {
+        let png = palette_png_with(palette);
+        let e = rayforge_scene::texture_from_bytes(&png, Path::new("bad.png"))
+            .expect_err("a damaged palette is refused");
+        assert!(e.message.contains("damaged"), "{e}");
+        assert_eq!(run_one(Target::Image, &png), Ok(false));
+    }
+    // Shorter than one colour, the png crate itself finds the chunk too short.
+    let png = palette_png_with(&[9, 9]);
+    assert_eq!(run_one(Target::Image, &png), Ok(false));
+    // The same file with a whole palette decodes.
+    let fine = palette_png_with(&[255, 0, 0, 0, 255, 0]);
+    assert_eq!(run_one(Target::Image, &fine), Ok(true));
+}
+
+#[test]
+fn a_png_with_a_damaged_palette_in_a_scene_is_a_located_error() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("bad.png"), palette_png_with(&[1, 2, 3, 4])).unwrap();
+    let scene = "- add: camera\n  width: 4\n  height: 4\n  field-of-view: 1\n  from: [0, 0, -5]\n  to: [0, 0, 0]\n  up: [0, 1, 0]\n- add: sphere\n  material:\n    pattern:\n      type: map\n      mapping: spherical\n      uv_pattern:\n        type: image\n        file: bad.png\n";
+    let e = rayforge_scene::load_str(scene, &dir.path().join("s.yml")).unwrap_err();
+    let span = e.span.expect("located");
+    assert_eq!((span.line, e.key.as_deref()), (15, Some("file")), "{e}");
+    assert!(e.message.contains("damaged"), "{e}");
+}
+
+/// Found while writing the OBJ target: a model naming many groups and materials took
+/// quadratic time (a linear search per name, and a vertex table as long as the whole file's
+/// per group and material: here 50,000 × 150,000 entries). It now takes time in proportion
+/// to the file.
+#[test]
+fn many_groups_and_materials_take_linear_time() {
+    let mut obj = String::new();
+    for i in 0..50_000 {
+        obj += &format!("v {i} 0 0\nv {i} 1 0\nv {i} 0 1\ng g{i}\nusemtl m{i}\nf -3 -2 -1\n");
+    }
+    let started = Instant::now();
+    let parsed = rayforge_scene::obj::parse_obj(&obj, Path::new("many.obj")).unwrap();
+    let meshes = rayforge_scene::obj::to_meshes(&parsed);
+    assert_eq!((parsed.groups.len(), meshes.len()), (50_001, 50_000));
+    assert!(
+        started.elapsed() < Duration::from_secs(10),
+        "took {:?}",
+        started.elapsed()
+    );
+}
