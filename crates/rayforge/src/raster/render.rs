@@ -65,7 +65,7 @@ pub fn render_with_stats(
         stats.culled += chunk.counts.culled;
         stats.drawn += chunk.counts.binned;
     }
-    let ctx = ShadeContext {
+    let mut ctx = ShadeContext {
         instances: &instances,
         vertices: &vertices,
         normals: &normals,
@@ -80,7 +80,11 @@ pub fn render_with_stats(
         shading: options.shading,
         filter: options.filter,
         bits,
+        vertex_light: Vec::new(),
     };
+    if options.shading == super::Shading::Gouraud && !options.wireframe {
+        ctx.light_vertices();
+    }
     let background = world.background;
     canvas
         .pixels_mut()

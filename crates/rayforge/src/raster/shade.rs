@@ -40,6 +40,9 @@ pub(crate) struct ShadeContext<'a, 'w> {
     pub shading: Shading,
     pub filter: TextureFilter,
     pub bits: u32,
+    /// Gouraud shading's lighting at each vertex, for instances whose faces index normals like
+    /// vertices (every tessellated shape, most meshes); empty otherwise.
+    pub vertex_light: Vec<(Color, Color)>,
 }
 
 /// The lights as the rasterizer can use them: area lights become point lights at their centre.
@@ -178,7 +181,13 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
             }
             Shading::Gouraud => {
                 for k in 0..3 {
-                    let (mul, add) = self.affine_light(instance, points[k], normals[k]);
+                    let shared =
+                        face.normals == Some(face.vertices) && !self.vertex_light.is_empty();
+                    let (mul, add) = if shared {
+                        self.vertex_light[instance.vertex_base + face.vertices[k] as usize]
+                    } else {
+                        self.affine_light(instance, points[k], normals[k])
+                    };
                     out.light_mul[k] = mul;
                     out.light_add[k] = add;
                 }
@@ -186,6 +195,41 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
             Shading::Phong => {}
         }
         out
+    }
+
+    /// Lights every vertex in front of the eye once, in parallel, for Gouraud shading: a
+    /// vertex is shared by about six triangles, each of which would otherwise light it again.
+    pub fn light_vertices(&mut self) {
+        use rayon::prelude::*;
+        let mut lights = vec![(Color::BLACK, Color::BLACK); self.vertices.len()];
+        let this = &*self;
+        let mut rest = lights.as_mut_slice();
+        let mut jobs = Vec::with_capacity(this.instances.len());
+        for instance in this.instances {
+            let (part, tail) = rest.split_at_mut(instance.model.mesh.positions.len());
+            jobs.push((instance, part));
+            rest = tail;
+        }
+        jobs.into_par_iter().for_each(|(instance, part)| {
+            let mesh = &instance.model.mesh;
+            // Only where a vertex's normal has the vertex's own index can one result serve
+            // every face around it.
+            if mesh.normals.len() != mesh.positions.len() {
+                return;
+            }
+            let views = &this.vertices[instance.vertex_base..][..part.len()];
+            let normals = &this.normals[instance.normal_base..][..part.len()];
+            part.par_chunks_mut(1024).enumerate().for_each(|(c, out)| {
+                for (i, o) in out.iter_mut().enumerate() {
+                    let k = c * 1024 + i;
+                    if views[k].view.z > 0.0 {
+                        let point = instance.transform.point(mesh.positions[k]);
+                        *o = this.affine_light(instance, point, normals[k]);
+                    }
+                }
+            });
+        });
+        self.vertex_light = lights;
     }
 
     /// The shading normal at a point: `normal` turned towards the eye (as the ray tracer's
