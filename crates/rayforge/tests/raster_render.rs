@@ -257,9 +257,15 @@ fn the_image_is_the_same_for_any_thread_count() {
     }
     let w = world(objects);
     let c = camera(67);
-    for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+    // 140 divisions: 39 200 triangles per sphere, so the triangles span several chunks.
+    for (shading, sphere_divisions) in [
+        (Shading::Flat, 20),
+        (Shading::Gouraud, 48),
+        (Shading::Phong, 140),
+    ] {
         let options = RasterOptions {
             shading,
+            sphere_divisions,
             ..RasterOptions::default()
         };
         let render = |threads| {
@@ -472,4 +478,28 @@ fn a_csg_difference_shows_the_hole() {
         .filter(|&i| traced.pixels()[i] != drawn.pixels()[i])
         .count();
     assert!(differ < 41 * 41 / 20, "{differ} pixels differ");
+}
+
+#[test]
+fn refining_cuts_faces_into_k_squared_pieces_of_the_same_surface() {
+    use rayforge::raster::{refine, tessellate};
+    let cube = tessellate(&rayforge::Shape::Cube, 8);
+    // Cube faces' triangles have legs of 2 and a hypotenuse of 2√2: k = ⌈2√2 / 0.75⌉ = 4.
+    let fine = refine(&cube, 0.75);
+    assert_eq!(fine.faces.len(), 12 * 16);
+    let area = |t: &rayforge::raster::Tessellation<'_>| -> f64 {
+        t.faces
+            .iter()
+            .map(|f| {
+                let [a, b, c] = t.corners(f);
+                (b - a).cross(c - a).length() / 2.0
+            })
+            .sum()
+    };
+    assert!((area(&fine) - 24.0).abs() < 1e-9);
+    for face in fine.faces.iter() {
+        let [p1, p2, p3] = fine.corners(face);
+        let n = (p3 - p1).cross(p2 - p1);
+        assert!(n.dot(p1 + p2 + p3) > 0.0, "still wound outwards");
+    }
 }

@@ -18,7 +18,7 @@ use rayon::prelude::*;
 pub(crate) const TILE_WIDTH: usize = 64;
 /// Tile height in pixels.
 pub(crate) const TILE_HEIGHT: usize = 32;
-/// Triangles per chunk.
+/// Triangles per chunk (of one object or several).
 const CHUNK: usize = 32 * 1024;
 /// Marks a bin entry that names a clipped piece rather than a face.
 pub(crate) const CLIPPED: u32 = 1 << 31;
@@ -126,23 +126,42 @@ pub(crate) struct BinContext<'a, 'w> {
 
 /// Bins every triangle of every instance.
 pub(crate) fn bin_all(ctx: &BinContext<'_, '_>) -> Vec<Chunk> {
-    let mut jobs = Vec::new();
+    // Chunks of CHUNK faces in scene order; a chunk may hold the faces of many small objects
+    // (a chunk's bins cost memory per tile, so there must not be one per object).
+    let mut jobs: Vec<Vec<(usize, usize, usize)>> = vec![Vec::new()];
+    let mut filled = 0;
     for (index, instance) in ctx.instances.iter().enumerate() {
         let faces = instance.model.mesh.faces.len();
-        for start in (0..faces).step_by(CHUNK) {
-            jobs.push((index, start, (start + CHUNK).min(faces)));
+        let mut start = 0;
+        while start < faces {
+            if filled == CHUNK {
+                jobs.push(Vec::new());
+                filled = 0;
+            }
+            let end = faces.min(start + CHUNK - filled);
+            if let Some(job) = jobs.last_mut() {
+                job.push((index, start, end));
+            }
+            filled += end - start;
+            start = end;
         }
     }
     jobs.into_par_iter()
-        .map(|(index, start, end)| bin_chunk(ctx, index, start, end))
+        .map(|segments| {
+            let mut chunk = Chunk {
+                bins: vec![Vec::new(); ctx.tiles.count()],
+                ..Chunk::default()
+            };
+            for (index, start, end) in segments {
+                bin_faces(ctx, &mut chunk, index, start, end);
+            }
+            chunk
+        })
         .collect()
 }
 
-fn bin_chunk(ctx: &BinContext<'_, '_>, index: usize, start: usize, end: usize) -> Chunk {
-    let mut chunk = Chunk {
-        bins: vec![Vec::new(); ctx.tiles.count()],
-        ..Chunk::default()
-    };
+/// Bins faces `start..end` of instance `index` into `chunk`.
+fn bin_faces(ctx: &BinContext<'_, '_>, chunk: &mut Chunk, index: usize, start: usize, end: usize) {
     let instance = &ctx.instances[index];
     let mesh = &instance.model.mesh;
     let vertices = &ctx.vertices[instance.vertex_base..][..mesh.positions.len()];
@@ -188,7 +207,7 @@ fn bin_chunk(ctx: &BinContext<'_, '_>, index: usize, start: usize, end: usize) -
                         instance: index as u32,
                         prim: CLIPPED | chunk.clipped.len() as u32,
                     };
-                    if place(&mut chunk, ctx, instance, image, screen, entry) {
+                    if place(chunk, ctx, instance, image, screen, entry) {
                         chunk.clipped.push(ClippedPiece {
                             face: face_index,
                             screen,
@@ -205,7 +224,7 @@ fn bin_chunk(ctx: &BinContext<'_, '_>, index: usize, start: usize, end: usize) -
             prim: face_index,
         };
         place(
-            &mut chunk,
+            chunk,
             ctx,
             instance,
             image,
@@ -213,7 +232,6 @@ fn bin_chunk(ctx: &BinContext<'_, '_>, index: usize, start: usize, end: usize) -
             entry,
         );
     }
-    chunk
 }
 
 /// Culls a screen triangle or records it in the tiles it touches; whether it was recorded.

@@ -4,7 +4,7 @@
 //! whole by its bounding sphere.
 
 use super::clip::{ClipPlane, SphereSide};
-use super::tessellate::{tessellate, Tessellation};
+use super::tessellate::{refine, tessellate, Tessellation};
 use super::Projection;
 use crate::math::{Point3, Transform};
 use crate::scene::Csg;
@@ -83,18 +83,24 @@ fn model_key(shape: &Shape) -> Option<ModelKey> {
 /// Tessellations already made for this frame.
 #[derive(Default)]
 struct Models<'w> {
-    shared: Vec<(ModelKey, Arc<Model<'w>>)>,
+    shared: Vec<((ModelKey, bool), Arc<Model<'w>>)>,
 }
 
 impl<'w> Models<'w> {
-    fn get(&mut self, shape: &'w Shape, divisions: u32) -> Arc<Model<'w>> {
-        let key = model_key(shape);
+    /// The model of a shape; `fine` for CSG primitives, refined so that no edge is longer than
+    /// the spacing of a sphere's rings (see [`refine`]).
+    fn get(&mut self, shape: &'w Shape, divisions: u32, fine: bool) -> Arc<Model<'w>> {
+        let key = model_key(shape).map(|k| (k, fine));
         if let Some(key) = key {
             if let Some((_, model)) = self.shared.iter().find(|(k, _)| *k == key) {
                 return Arc::clone(model);
             }
         }
-        let mesh = tessellate(shape, divisions);
+        let mut mesh = tessellate(shape, divisions);
+        if fine {
+            let (_, radius) = mesh.bounding_sphere();
+            mesh = refine(&mesh, radius * std::f64::consts::PI / divisions as f64);
+        }
         let sphere = mesh.bounding_sphere();
         let model = Arc::new(Model { mesh, sphere });
         if let Some(key) = key {
@@ -148,7 +154,7 @@ pub(crate) fn instances<'w>(
             _ => vec![(object, object.transform, None)],
         };
         for (surface, transform, csg) in parts {
-            let model = models.get(&surface.shape, divisions);
+            let model = models.get(&surface.shape, divisions, csg.is_some());
             let to_view =
                 *projection.world_to_view_affine() * DAffine3::from_mat4(transform.matrix());
             let (centre, radius) = model.sphere;

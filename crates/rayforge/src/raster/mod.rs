@@ -55,4 +55,4 @@ pub use mipmap::MipChain;
 pub use options::{RasterOptions, Shading, TextureFilter};
 pub use projection::Projection;
 pub use render::{render, render_with_stats, RasterStats};
-pub use tessellate::{generate_sphere, tessellate, Tessellation};
+pub use tessellate::{generate_sphere, refine, tessellate, Tessellation};

@@ -327,6 +327,63 @@ fn csg(csg: &Csg, divisions: u32) -> Tessellation<'static> {
     out
 }
 
+/// The same surface with every face cut into `k²` smaller ones, `k` chosen so that no edge is
+/// longer than `max_edge`; normals and texture coordinates are blended at the new vertices
+/// (normals renormalised). CSG primitives are refined so that keeping or dropping whole
+/// triangles by their centre follows the solid's edges closely.
+pub fn refine(t: &Tessellation<'_>, max_edge: f64) -> Tessellation<'static> {
+    let mut out = Tessellation::empty(t.closed);
+    for face in t.faces.iter() {
+        let p = t.corners(face);
+        let longest = (p[1] - p[0])
+            .length()
+            .max((p[2] - p[1]).length())
+            .max((p[0] - p[2]).length());
+        let k = if max_edge > 0.0 && longest.is_finite() {
+            ((longest / max_edge).ceil() as u32).clamp(1, 64)
+        } else {
+            1
+        };
+        let n = face.normals.map(|n| n.map(|i| t.normals[i as usize]));
+        let uv = face.texcoords.map(|c| c.map(|i| t.texcoords[i as usize]));
+        let first = out.positions.len() as u32;
+        let first_uv = out.texcoords.len() as u32;
+        // Grid points (i, j) with i + j <= k, weights (k - i - j, i, j) / k on the corners.
+        let index = |i: u32, j: u32| first + j * (k + 1) - j * (j.saturating_sub(1)) / 2 + i;
+        for j in 0..=k {
+            for i in 0..=k - j {
+                let w = [(k - i - j) as f64, i as f64, j as f64].map(|w| w / k as f64);
+                let blend = |v: [Vec3; 3]| v[0] * w[0] + v[1] * w[1] + v[2] * w[2];
+                let normal = n.map_or(Vec3::ZERO, |n| blend(n).normalize_or_zero());
+                out.vertex(blend(p), normal);
+                if let Some(c) = uv {
+                    out.texcoords.to_mut().push([
+                        c[0][0] * w[0] + c[1][0] * w[1] + c[2][0] * w[2],
+                        c[0][1] * w[0] + c[1][1] * w[1] + c[2][1] * w[2],
+                    ]);
+                }
+            }
+        }
+        let mut push = |a: u32, b: u32, c: u32| {
+            let v = [a, b, c];
+            out.faces.to_mut().push(MeshFace {
+                vertices: v,
+                normals: face.normals.map(|_| v),
+                texcoords: uv.map(|_| v.map(|i| i - first + first_uv)),
+            });
+        };
+        for j in 0..k {
+            for i in 0..k - j {
+                push(index(i, j), index(i + 1, j), index(i, j + 1));
+                if i + j + 1 < k {
+                    push(index(i + 1, j), index(i + 1, j + 1), index(i, j + 1));
+                }
+            }
+        }
+    }
+    out
+}
+
 /// Any shape as triangles in its own object space. `divisions` sets the resolution of curved
 /// shapes (see [`generate_sphere`]; cylinders and cones get as many segments around). Meshes
 /// are borrowed as they are; planes and infinite cylinders and cones are cut at [`EXTENT`].
