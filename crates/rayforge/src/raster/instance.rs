@@ -4,7 +4,7 @@
 //! whole by its bounding sphere.
 
 use super::clip::{ClipPlane, SphereSide};
-use super::tessellate::{refine, tessellate, Tessellation};
+use super::tessellate::{refine, tessellate, Tessellation, EXTENT};
 use super::Projection;
 use crate::math::{Point3, Transform};
 use crate::scene::Csg;
@@ -83,23 +83,22 @@ fn model_key(shape: &Shape) -> Option<ModelKey> {
 /// Tessellations already made for this frame.
 #[derive(Default)]
 struct Models<'w> {
-    shared: Vec<((ModelKey, bool), Arc<Model<'w>>)>,
+    shared: Vec<((ModelKey, u64), Arc<Model<'w>>)>,
 }
 
 impl<'w> Models<'w> {
-    /// The model of a shape; `fine` for CSG primitives, refined so that no edge is longer than
-    /// the spacing of a sphere's rings (see [`refine`]).
-    fn get(&mut self, shape: &'w Shape, divisions: u32, fine: bool) -> Arc<Model<'w>> {
-        let key = model_key(shape).map(|k| (k, fine));
+    /// The model of a shape, its faces cut so that no edge is longer than `max_edge` (object
+    /// units; 0 for no refinement: only CSG primitives are refined, see [`refine`]).
+    fn get(&mut self, shape: &'w Shape, divisions: u32, max_edge: f64) -> Arc<Model<'w>> {
+        let key = model_key(shape).map(|k| (k, max_edge.to_bits()));
         if let Some(key) = key {
             if let Some((_, model)) = self.shared.iter().find(|(k, _)| *k == key) {
                 return Arc::clone(model);
             }
         }
         let mut mesh = tessellate(shape, divisions);
-        if fine {
-            let (_, radius) = mesh.bounding_sphere();
-            mesh = refine(&mesh, radius * std::f64::consts::PI / divisions as f64);
+        if max_edge > 0.0 {
+            mesh = refine(&mesh, max_edge);
         }
         let sphere = mesh.bounding_sphere();
         let model = Arc::new(Model { mesh, sphere });
@@ -154,7 +153,28 @@ pub(crate) fn instances<'w>(
             _ => vec![(object, object.transform, None)],
         };
         for (surface, transform, csg) in parts {
-            let model = models.get(&surface.shape, divisions, csg.is_some());
+            // A CSG primitive is refined to twice the resolution of a sphere as large as the whole
+            // solid, so that small parts (a gear's teeth) stay small.
+            let max_edge = match csg {
+                Some((solid, _)) => {
+                    let b = solid.bounds();
+                    let world_edge = if b.is_empty() {
+                        0.0
+                    } else {
+                        // Half a sphere's ring spacing: cut edges follow the other operands.
+                        let radius = (b.max - b.min).length().min(2.0 * EXTENT) / 2.0;
+                        radius * std::f64::consts::PI / (2 * divisions) as f64
+                    };
+                    let scale = stretch(&DAffine3::from_mat4(transform.matrix()).matrix3);
+                    if scale > 0.0 && world_edge.is_finite() {
+                        world_edge / scale
+                    } else {
+                        0.0
+                    }
+                }
+                None => 0.0,
+            };
+            let model = models.get(&surface.shape, divisions, max_edge);
             let to_view =
                 *projection.world_to_view_affine() * DAffine3::from_mat4(transform.matrix());
             let (centre, radius) = model.sphere;

@@ -327,8 +327,11 @@ fn csg(csg: &Csg, divisions: u32) -> Tessellation<'static> {
     out
 }
 
+/// The most pieces per side [`refine`] cuts a face into.
+const MAX_REFINE: u32 = 32;
+
 /// The same surface with every face cut into `k²` smaller ones, `k` chosen so that no edge is
-/// longer than `max_edge`; normals and texture coordinates are blended at the new vertices
+/// longer than `max_edge` (at most 32 per side); normals and texture coordinates are blended at the new vertices
 /// (normals renormalised). CSG primitives are refined so that keeping or dropping whole
 /// triangles by their centre follows the solid's edges closely.
 pub fn refine(t: &Tessellation<'_>, max_edge: f64) -> Tessellation<'static> {
@@ -340,7 +343,7 @@ pub fn refine(t: &Tessellation<'_>, max_edge: f64) -> Tessellation<'static> {
             .max((p[2] - p[1]).length())
             .max((p[0] - p[2]).length());
         let k = if max_edge > 0.0 && longest.is_finite() {
-            ((longest / max_edge).ceil() as u32).clamp(1, 64)
+            ((longest / max_edge).ceil() as u32).clamp(1, MAX_REFINE)
         } else {
             1
         };
