@@ -168,16 +168,33 @@ fn a_floor_through_the_near_plane_is_clipped_not_dropped() {
         .with_transform(translation(0.0, -1.0, 0.0))
         .with_material(matte(Color::new(0.2, 0.7, 0.2)));
     let w = world(vec![floor]);
-    let c = camera(40);
-    let (image, stats) = raster::render_with_stats(&c, &w, &RasterOptions::default());
-    assert!(stats.clipped > 0);
+    // A wide view from just in front of a grid line: the nearest visible cells have corners
+    // behind the eye.
+    let c = Camera::new(40, 40, 2.8).with_transform(view_transform(
+        point(0.0, 0.0, -4.75),
+        point(0.0, 0.0, 0.0),
+        vector(0.0, 1.0, 0.0),
+    ));
     let traced = c.render(&w);
-    let differ = (0..40 * 40)
-        .filter(|i| image.pixels()[*i] != traced.pixels()[*i])
-        .count();
-    // Only along the horizon can a pixel centre fall on the other side of the far grid edge.
-    assert!(differ <= 40, "{differ} pixels differ");
-    assert_eq!(image.pixel_at(20, 39), Color::new(0.2, 0.7, 0.2));
+    // Every shading mode: Gouraud must light the pieces whose corners lie behind the eye too.
+    for shading in [Shading::Phong, Shading::Gouraud, Shading::Flat] {
+        let options = RasterOptions {
+            shading,
+            ..RasterOptions::default()
+        };
+        let (image, stats) = raster::render_with_stats(&c, &w, &options);
+        assert!(stats.clipped > 0);
+        let differ = (0..40 * 40)
+            .filter(|i| !close(image.pixels()[*i], traced.pixels()[*i], 1e-9))
+            .count();
+        // Only along the horizon can a pixel centre fall on the other side of the far grid edge.
+        assert!(differ <= 40, "{shading:?}: {differ} pixels differ");
+        assert!(close(
+            image.pixel_at(20, 39),
+            Color::new(0.2, 0.7, 0.2),
+            1e-9
+        ));
+    }
 }
 
 #[test]

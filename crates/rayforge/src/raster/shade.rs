@@ -181,10 +181,13 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
             }
             Shading::Gouraud => {
                 for k in 0..3 {
-                    let shared =
-                        face.normals == Some(face.vertices) && !self.vertex_light.is_empty();
+                    // Vertices behind the eye (corners of a clipped face) were not lit.
+                    let vertex = instance.vertex_base + face.vertices[k] as usize;
+                    let shared = face.normals == Some(face.vertices)
+                        && !self.vertex_light.is_empty()
+                        && self.vertices[vertex].view.z > 0.0;
                     let (mul, add) = if shared {
-                        self.vertex_light[instance.vertex_base + face.vertices[k] as usize]
+                        self.vertex_light[vertex]
                     } else {
                         self.affine_light(instance, points[k], normals[k])
                     };
