@@ -80,7 +80,7 @@ pub(crate) fn build_mips(instances: &[Instance<'_>]) -> HashMap<usize, MipChain>
 }
 
 /// A visible triangle with what every one of its pixels needs, built once per triangle.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub(crate) struct Face {
     instance: u32,
     /// Screen-space barycentric planes: weight i at pixel p is `plane[i]·(p.x, p.y, 1)`.
@@ -121,8 +121,9 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
         (v.map(|v| v.screen), v.map(|v| v.inv_z))
     }
 
-    /// Prepares a binned triangle for shading.
-    pub fn face(&self, chunk: &Chunk, instance_index: u32, prim: u32) -> Face {
+    /// Prepares a binned triangle for shading, in place (a face is large: the tile keeps a few
+    /// and overwrites them rather than moving new ones in).
+    pub fn fill_face(&self, out: &mut Face, chunk: &Chunk, instance_index: u32, prim: u32) {
         let instance = &self.instances[instance_index as usize];
         let (screen, inv_z) = self.screen_triangle(chunk, instance_index, prim);
         let (face_index, weights) = if prim & CLIPPED != 0 {
@@ -158,17 +159,13 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
                 (b.1 - a.1) * a.0 - (b.0 - a.0) * a.1,
             ) / area
         };
-        let mut out = Face {
-            instance: instance_index,
-            planes: [plane(0), plane(1), plane(2)],
-            inv_z,
-            weights,
-            points,
-            normals,
-            uvs,
-            light_mul: [Color::BLACK; 3],
-            light_add: [Color::BLACK; 3],
-        };
+        out.instance = instance_index;
+        out.planes = [plane(0), plane(1), plane(2)];
+        out.inv_z = inv_z;
+        out.weights = weights;
+        out.points = points;
+        out.normals = normals;
+        out.uvs = uvs;
         match self.shading {
             Shading::Flat => {
                 let centre = (points[0] + points[1] + points[2]) / 3.0;
@@ -197,7 +194,6 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
             }
             Shading::Phong => {}
         }
-        out
     }
 
     /// Lights every vertex in front of the eye once, in parallel, for Gouraud shading: a

@@ -24,7 +24,7 @@ struct Seen {
 pub(crate) struct TileBuffers {
     depth: Vec<f64>,
     seen: Vec<Seen>,
-    cache: Vec<Option<(u32, u32, Face)>>,
+    cache: Vec<(u32, u32, Face)>,
 }
 
 /// Faces remembered per tile: a pixel's neighbours mostly show the same triangle.
@@ -41,7 +41,7 @@ impl TileBuffers {
                 };
                 TILE_WIDTH * TILE_HEIGHT
             ],
-            cache: vec![None; CACHE],
+            cache: vec![(NONE, NONE, Face::default()); CACHE],
         }
     }
 }
@@ -88,7 +88,9 @@ pub(crate) fn draw_tile(
             });
         }
     }
-    buffers.cache.fill(None);
+    for entry in &mut buffers.cache {
+        entry.0 = NONE;
+    }
     let width = tiles.width;
     for y in rect.y0..=rect.y1 {
         for x in rect.x0..=rect.x1 {
@@ -99,19 +101,14 @@ pub(crate) fn draw_tile(
                 continue;
             }
             let slot = (seen.entry as usize ^ (seen.chunk as usize).wrapping_mul(7)) % CACHE;
-            let hit = matches!(&buffers.cache[slot], Some((c, e, _)) if *c == seen.chunk && *e == seen.entry);
-            if !hit {
+            let cached = &mut buffers.cache[slot];
+            if (cached.0, cached.1) != (seen.chunk, seen.entry) {
                 let chunk = &ctx.chunks[seen.chunk as usize];
                 let entry = chunk.bins[tile][seen.entry as usize];
-                buffers.cache[slot] = Some((
-                    seen.chunk,
-                    seen.entry,
-                    ctx.face(chunk, entry.instance, entry.prim),
-                ));
+                ctx.fill_face(&mut cached.2, chunk, entry.instance, entry.prim);
+                (cached.0, cached.1) = (seen.chunk, seen.entry);
             }
-            if let Some((_, _, face)) = &buffers.cache[slot] {
-                *out = ctx.shade(face, x, y);
-            }
+            *out = ctx.shade(&cached.2, x, y);
         }
     }
 }
