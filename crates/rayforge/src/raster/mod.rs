@@ -3,11 +3,11 @@
 //! The ray tracer asks, for every pixel, which surface it sees; the rasterizer asks, for every
 //! triangle, which pixels it covers. It draws the same [`World`](crate::World) through the same
 //! [`Camera`](crate::Camera), so the two images line up pixel for pixel, but it can only draw
-//! triangles: every analytic shape is tessellated first ([`tessellate`]).
+//! triangles: every analytic shape is tessellated first ([`tessellate()`]).
 //!
 //! The pipeline, one file per stage:
 //!
-//! 1. [`tessellate`]: shapes become triangle meshes in object space (the book's models).
+//! 1. [`mod@tessellate`]: shapes become triangle meshes in object space (the book's models).
 //! 2. `instance`: each object becomes an instance: its mesh, its 4×4 transform composed with the
 //!    camera's ([`Projection`]), and a bounding sphere that accepts or rejects it whole against
 //!    the five clipping planes.
