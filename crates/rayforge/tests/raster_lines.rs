@@ -114,3 +114,25 @@ fn a_wireframe_triangle_is_its_three_edges() {
     // Top edge 9 pixels, left edge 9, the diagonal 9, corners shared: 24.
     assert_eq!(pixels.len(), 24);
 }
+
+#[test]
+fn a_line_with_far_away_endpoints_draws_only_its_visible_part_quickly() {
+    let mut c = Canvas::new(12, 12);
+    // Two billion columns long, but only twelve of them are on the canvas.
+    draw_line(
+        &mut c,
+        IVec2::new(-1_000_000_000, 5),
+        IVec2::new(1_000_000_000, 5),
+        INK,
+    );
+    assert_eq!(lit(&c).len(), 12);
+    // The extremes of the coordinate type do not overflow.
+    let mut c = Canvas::new(12, 12);
+    draw_line(
+        &mut c,
+        IVec2::new(i32::MIN, 3),
+        IVec2::new(i32::MAX, 3),
+        INK,
+    );
+    assert_eq!(lit(&c).len(), 12);
+}

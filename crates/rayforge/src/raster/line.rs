@@ -68,7 +68,8 @@ impl ExactSizeIterator for Interpolate {}
 /// exactly the pixels of `P0 → P1`. Pixels off the canvas are skipped.
 pub fn draw_line(canvas: &mut Canvas, p0: IVec2, p1: IVec2, color: Color) {
     let (w, h) = (canvas.width() as i64, canvas.height() as i64);
-    line_pixels(p0, p1, |x, y| {
+    // Only the part of the line over the canvas is walked, however far the endpoints lie.
+    line_pixels_in(p0, p1, Some((0, 0, w - 1, h - 1)), |x, y| {
         if (0..w).contains(&x) && (0..h).contains(&y) {
             canvas.write_pixel(x as usize, y as usize, color);
         }
@@ -82,43 +83,37 @@ pub fn draw_wireframe_triangle(canvas: &mut Canvas, p0: IVec2, p1: IVec2, p2: IV
     draw_line(canvas, p2, p0, color);
 }
 
-/// Every pixel of the line `p0 → p1`, in order of the independent coordinate.
-pub(crate) fn line_pixels(p0: IVec2, p1: IVec2, visit: impl FnMut(i64, i64)) {
-    line_pixels_in(p0, p1, None, visit);
-}
-
 /// The pixels of the line `p0 → p1` whose independent coordinate lies in `span` (when given):
 /// the wireframe pass draws only the part of a long line that crosses its tile, computing
-/// exactly the pixels the whole line would have there.
+/// exactly the pixels the whole line would have there; `draw_line` likewise walks only the
+/// canvas.
 pub(crate) fn line_pixels_in(
     p0: IVec2,
     p1: IVec2,
     span: Option<(i64, i64, i64, i64)>,
     mut visit: impl FnMut(i64, i64),
 ) {
+    // In 64 bits: the difference of two i32 coordinates may not fit in 32.
+    let (p0, p1) = (p0.as_i64vec2(), p1.as_i64vec2());
     let (dx, dy) = ((p1.x - p0.x).abs(), (p1.y - p0.y).abs());
     if dx > dy {
         // Horizontal-ish: x is the independent variable; make sure x0 < x1.
         let (a, b) = if p0.x > p1.x { (p1, p0) } else { (p0, p1) };
-        let (lo, hi) = span.map_or((a.x as i64, b.x as i64), |(x0, _, x1, _)| {
-            ((a.x as i64).max(x0), (b.x as i64).min(x1))
-        });
+        let (lo, hi) = span.map_or((a.x, b.x), |(x0, _, x1, _)| (a.x.max(x0), b.x.min(x1)));
         for x in lo..=hi {
-            let t = (x - a.x as i64) as f64 / (b.x - a.x) as f64;
+            let t = (x - a.x) as f64 / (b.x - a.x) as f64;
             let y = (a.y as f64 + (b.y - a.y) as f64 * t).round() as i64;
             visit(x, y);
         }
     } else {
         // Vertical-ish (or a single point): y is the independent variable; y0 <= y1.
         let (a, b) = if p0.y > p1.y { (p1, p0) } else { (p0, p1) };
-        let (lo, hi) = span.map_or((a.y as i64, b.y as i64), |(_, y0, _, y1)| {
-            ((a.y as i64).max(y0), (b.y as i64).min(y1))
-        });
+        let (lo, hi) = span.map_or((a.y, b.y), |(_, y0, _, y1)| (a.y.max(y0), b.y.min(y1)));
         for y in lo..=hi {
             let x = if a.y == b.y {
-                a.x as i64
+                a.x
             } else {
-                let t = (y - a.y as i64) as f64 / (b.y - a.y) as f64;
+                let t = (y - a.y) as f64 / (b.y - a.y) as f64;
                 (a.x as f64 + (b.x - a.x) as f64 * t).round() as i64
             };
             visit(x, y);
