@@ -181,3 +181,17 @@ fn a_shaded_triangle_blends_the_vertex_intensities() {
     }
     assert_eq!(c.pixel_at(60, 60), Color::BLACK, "outside the hypotenuse");
 }
+
+#[test]
+fn a_triangle_reaching_far_beyond_the_canvas_covers_it_without_overflow() {
+    let mut c = Canvas::new(8, 8);
+    let far = 1e12;
+    draw_filled_triangle(
+        &mut c,
+        DVec2::new(-far, -far),
+        DVec2::new(far, -far),
+        DVec2::new(0.0, far),
+        Color::WHITE,
+    );
+    assert!(c.pixels().iter().all(|&p| p == Color::WHITE));
+}

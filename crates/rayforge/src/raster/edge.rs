@@ -12,13 +12,13 @@
 pub const SUBPIXEL_BITS: u32 = 8;
 
 /// The subpixel precision for an image of `width × height`: 8 bits, fewer on images so large
-/// that edge-function products would overflow 64 bits (coordinates stay below 2^30, products
-/// below 2^62).
+/// that edge-function sums would overflow 64 bits (coordinates stay within ±2^29 grid units,
+/// so edge coefficients are below 2^30, products below 2^59 and the sums below 2^61).
 pub fn subpixel_bits(width: usize, height: usize) -> u32 {
     let largest = (width.max(height) as u64 + 4)
         .next_power_of_two()
         .trailing_zeros();
-    30u32.saturating_sub(largest).clamp(1, SUBPIXEL_BITS)
+    29u32.saturating_sub(largest).clamp(1, SUBPIXEL_BITS)
 }
 
 /// A point on the subpixel grid.
@@ -32,10 +32,11 @@ pub struct FixedPoint {
 
 impl FixedPoint {
     /// A point in pixel coordinates (pixel `(x, y)` spans `[x, x+1) × [y, y+1)`) snapped to
-    /// the grid. Coordinates are clamped to `±2^(30-bits)` pixels, beyond any image.
+    /// the grid. Coordinates are clamped to `±2^(29-bits)` pixels, beyond any image (a triangle
+    /// reaching further is drawn with its corner moved in).
     pub fn from_pixels(x: f64, y: f64, bits: u32) -> Self {
         let scale = (1u64 << bits) as f64;
-        let limit = (1u64 << 30) as f64;
+        let limit = (1u64 << 29) as f64;
         let snap = |v: f64| {
             let s = (v * scale).round();
             if s.is_nan() {
