@@ -1,6 +1,6 @@
 //! The command line as clap sees it: raw arguments, validated later into settings.
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 
 /// Usage examples and exit statuses, shown under both `--help` pages.
@@ -11,6 +11,7 @@ Examples:
   rayforge render scenes/trtc/cover.yml -o cover.png
   rayforge render scenes/trtc/cover.yml -o preview.png --width 200 --threads 2
   rayforge render scene.yml -o linear.pfm --max-depth 8 --quiet
+  rayforge render scenes/trtc/cover.yml -o fast.png --renderer raster --shading gouraud
 
 Ctrl-C (or SIGTERM) stops a render after the rows in progress; the finished rows are kept in
 <FILE>.rayforge-checkpoint, and the same command with --resume finishes the image.
@@ -37,6 +38,12 @@ Render options (`rayforge render --help` describes each in full):
       --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
       --resume              continue an interrupted render from its checkpoint
   -q, --quiet               no progress bar and no summary
+      --renderer <NAME>     ray (the ray tracer) or raster (triangles; no shadows, mirrors
+                            or glass) [default: ray]
+      --shading <MODE>      raster only: flat, gouraud or phong [default: phong]
+      --sphere-divisions <N> raster only: sphere resolution (N+1 rings of N) [default: 48]
+      --texture-filter <F>  raster only: nearest, bilinear or trilinear [default: trilinear]
+      --wireframe           raster only: draw the triangles' edges
 
 ",
     examples!()
@@ -129,6 +136,65 @@ pub struct RenderArgs {
     /// Print nothing but errors: no progress bar, no summary.
     #[arg(short, long)]
     pub quiet: bool,
+
+    /// Which renderer draws the scene: `ray`, the Whitted ray tracer, or `raster`, a
+    /// software rasterizer (Computer Graphics from Scratch, part II) that draws every shape as
+    /// triangles, much faster, with the same camera, materials and lights but no shadows,
+    /// reflection, refraction or anti-aliasing.
+    #[arg(long, value_name = "NAME", value_enum, default_value_t = Renderer::Ray)]
+    pub renderer: Renderer,
+
+    /// How the rasterizer shades: `flat` (one colour per triangle), `gouraud` (lit at the
+    /// vertices, blended) or `phong` (lit at every pixel). Needs --renderer raster.
+    #[arg(long, value_name = "MODE", value_enum)]
+    pub shading: Option<ShadingArg>,
+
+    /// How finely the rasterizer cuts spheres into triangles: N+1 rings of N vertices (the
+    /// book's GenerateSphere); cylinders and cones get N segments around. 3 to 4096 [default:
+    /// 48]. Needs --renderer raster.
+    #[arg(long, value_name = "N")]
+    pub sphere_divisions: Option<u32>,
+
+    /// How the rasterizer filters textures: `nearest`, `bilinear` or `trilinear` (MIP-mapped)
+    /// [default: trilinear]. Needs --renderer raster.
+    #[arg(long, value_name = "FILTER", value_enum)]
+    pub texture_filter: Option<FilterArg>,
+
+    /// Draw only the edges of the triangles, each in its material's colour, hidden edges
+    /// included (the book's wireframe). Needs --renderer raster.
+    #[arg(long)]
+    pub wireframe: bool,
+}
+
+/// The renderers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Renderer {
+    /// The Whitted ray tracer.
+    Ray,
+    /// The software rasterizer.
+    Raster,
+}
+
+/// Shading modes of the rasterizer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ShadingArg {
+    /// One colour per triangle.
+    Flat,
+    /// Lit at the vertices, blended across.
+    Gouraud,
+    /// Lit at every pixel.
+    Phong,
+}
+
+/// Texture filters of the rasterizer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FilterArg {
+    /// The nearest texel.
+    Nearest,
+    /// Four texels blended.
+    Bilinear,
+    /// Bilinear in two MIP levels, blended.
+    Trilinear,
 }
 
 #[cfg(test)]
@@ -146,6 +212,18 @@ mod tests {
         assert!(OVERVIEW.contains(&triangles), "{triangles}");
         assert!(OVERVIEW.contains(&depth), "{depth}");
         assert!(OVERVIEW.contains(&pixels), "{pixels}");
+    }
+
+    #[test]
+    fn the_overview_states_the_raster_defaults() {
+        let divisions = format!(
+            "[default: {}]",
+            rayforge::raster::RasterOptions::DEFAULT_SPHERE_DIVISIONS
+        );
+        assert!(OVERVIEW.contains(&divisions), "{divisions}");
+        let defaults = rayforge::raster::RasterOptions::default();
+        assert_eq!(defaults.shading, rayforge::raster::Shading::Phong);
+        assert_eq!(defaults.filter, rayforge::raster::TextureFilter::Trilinear);
     }
 
     #[test]

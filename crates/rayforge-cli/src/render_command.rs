@@ -7,7 +7,7 @@ use crate::diagnostics::{print_warning, scene_failure};
 use crate::failure::Failure;
 use crate::progress::row_bar;
 use crate::settings::RenderSettings;
-use crate::summary::summary_line;
+use crate::summary::{raster_summary_line, summary_line};
 use rayforge::render::{render_rows, PartialImage, RenderOptions, Sampling};
 use rayforge::Color;
 use rayforge_scene::LoadOptions;
@@ -42,6 +42,28 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
             .build()
             .map_err(|e| Failure::internal(format!("cannot start worker threads: {e}")))?
     };
+    if let Some(options) = &settings.raster {
+        let started = Instant::now();
+        let (canvas, stats) =
+            pool.install(|| rayforge::raster::render_with_stats(&camera, &scene.world, options));
+        let elapsed = started.elapsed();
+        let bytes = settings.format.encode(&canvas)?;
+        write_atomically(&settings.output, &bytes)?;
+        if !settings.quiet {
+            eprintln!(
+                "{}",
+                raster_summary_line(
+                    canvas.width(),
+                    canvas.height(),
+                    elapsed,
+                    stats.triangles,
+                    stats.drawn,
+                    &settings.output
+                )
+            );
+        }
+        return Ok(());
+    }
     let sampling = match settings.adaptive {
         // Three levels of splitting: at most 64 sub-squares, about 4 rays each, per pixel.
         Some(threshold) => Sampling::Adaptive {

@@ -1,9 +1,10 @@
 //! Validated settings: what the render command runs with, checked before any work starts.
 
-use crate::args::RenderArgs;
+use crate::args::{FilterArg, RenderArgs, Renderer, ShadingArg};
 use crate::failure::Failure;
 use crate::format::ImageFormat;
 use crate::sizing::SizeRequest;
+use rayforge::raster::{RasterOptions, Shading, TextureFilter};
 use std::path::PathBuf;
 
 /// Most camera rays per pixel accepted on the command line.
@@ -16,6 +17,9 @@ const MAX_DEPTH_LIMIT: u32 = 64;
 /// only add overhead; a number past this is a typo, and a pool of tens of thousands of
 /// threads takes minutes just to start.
 const MAX_THREADS: usize = 1024;
+
+/// Sphere resolutions accepted: 4096 divisions is 33 M triangles per sphere.
+const SPHERE_DIVISIONS: std::ops::RangeInclusive<u32> = 3..=4096;
 
 /// Everything `rayforge render` needs, validated.
 #[derive(Debug, Clone)]
@@ -44,6 +48,8 @@ pub struct RenderSettings {
     pub max_triangles: usize,
     /// Continue from the checkpoint.
     pub resume: bool,
+    /// The rasterizer's options, when it is the renderer (`None`: the ray tracer).
+    pub raster: Option<RasterOptions>,
 }
 
 /// The highest `--max-triangles` accepted: meshes index their vertices with 32-bit numbers.
@@ -96,6 +102,7 @@ impl RenderSettings {
                 args.max_triangles
             )));
         }
+        let raster = raster_options(&args)?;
         Ok(Self {
             scene: args.scene,
             output: args.output,
@@ -109,6 +116,63 @@ impl RenderSettings {
             quiet: args.quiet,
             max_triangles: args.max_triangles,
             resume: args.resume,
+            raster,
         })
     }
+}
+
+/// The rasterizer's options from the raster flags; they are refused with the ray tracer, and
+/// the ray tracer's sampling flags with the rasterizer (it does not anti-alias).
+fn raster_options(args: &RenderArgs) -> Result<Option<RasterOptions>, Failure> {
+    if args.renderer == Renderer::Ray {
+        let raster_only = [
+            ("--shading", args.shading.is_some()),
+            ("--sphere-divisions", args.sphere_divisions.is_some()),
+            ("--texture-filter", args.texture_filter.is_some()),
+            ("--wireframe", args.wireframe),
+        ];
+        if let Some((flag, _)) = raster_only.iter().find(|(_, given)| *given) {
+            return Err(Failure::usage(format!(
+                "{flag} applies to the rasterizer: add --renderer raster"
+            )));
+        }
+        return Ok(None);
+    }
+    for (flag, given) in [
+        ("--spp", args.spp.is_some()),
+        ("--adaptive", args.adaptive.is_some()),
+    ] {
+        if given {
+            return Err(Failure::usage(format!(
+                "{flag} applies to the ray tracer; the rasterizer does not anti-alias"
+            )));
+        }
+    }
+    let mut options = RasterOptions::default();
+    if let Some(divisions) = args.sphere_divisions {
+        if !SPHERE_DIVISIONS.contains(&divisions) {
+            return Err(Failure::usage(format!(
+                "--sphere-divisions must be between {} and {}, found {divisions}",
+                SPHERE_DIVISIONS.start(),
+                SPHERE_DIVISIONS.end()
+            )));
+        }
+        options.sphere_divisions = divisions;
+    }
+    if let Some(shading) = args.shading {
+        options.shading = match shading {
+            ShadingArg::Flat => Shading::Flat,
+            ShadingArg::Gouraud => Shading::Gouraud,
+            ShadingArg::Phong => Shading::Phong,
+        };
+    }
+    if let Some(filter) = args.texture_filter {
+        options.filter = match filter {
+            FilterArg::Nearest => TextureFilter::Nearest,
+            FilterArg::Bilinear => TextureFilter::Bilinear,
+            FilterArg::Trilinear => TextureFilter::Trilinear,
+        };
+    }
+    options.wireframe = args.wireframe;
+    Ok(Some(options))
 }

@@ -22,6 +22,24 @@ pub fn summary_line(
     )
 }
 
+/// E.g. `rasterized 1920×1080 in 0.21 s, 1.0 M triangles (480.2 k drawn) → out.png`.
+pub fn raster_summary_line(
+    width: usize,
+    height: usize,
+    elapsed: Duration,
+    triangles: u64,
+    drawn: u64,
+    output: &Path,
+) -> String {
+    format!(
+        "rasterized {width}×{height} in {:.2} s, {} triangles ({} drawn) → {}",
+        elapsed.as_secs_f64(),
+        si(triangles as f64),
+        si(drawn as f64),
+        output.display()
+    )
+}
+
 /// A count with an SI prefix and one decimal: `4.1 M`, `950.0 k`, `12`.
 fn si(v: f64) -> String {
     match v {
@@ -48,6 +66,22 @@ mod tests {
         assert_eq!(
             line,
             "rendered 1080×1080 in 2.31 s, 4.1 M rays/s (9.5 M rays) → cover.png"
+        );
+    }
+
+    #[test]
+    fn the_raster_summary_counts_triangles() {
+        let line = raster_summary_line(
+            1920,
+            1080,
+            Duration::from_millis(210),
+            1_000_000,
+            480_200,
+            Path::new("out.png"),
+        );
+        assert_eq!(
+            line,
+            "rasterized 1920×1080 in 0.21 s, 1.0 M triangles (480.2 k drawn) → out.png"
         );
     }
 

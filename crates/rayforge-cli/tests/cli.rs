@@ -348,6 +348,11 @@ fn help_describes_every_option() {
         "--max-triangles",
         "--resume",
         "--quiet",
+        "--renderer",
+        "--shading",
+        "--sphere-divisions",
+        "--texture-filter",
+        "--wireframe",
     ] {
         for help in [&render_help, &top_help] {
             assert!(help.contains(flag), "{flag} missing from:\n{help}");
@@ -569,4 +574,117 @@ fn a_ten_gigapixel_scene_camera_is_refused_before_rendering() {
     assert!(started.elapsed() < std::time::Duration::from_secs(30));
     assert!(!d.path("o.png").exists());
     assert!(!d.path("o.png.rayforge-checkpoint").exists());
+}
+
+#[test]
+fn the_rasterizer_renders_the_scene() {
+    let d = Dir::new();
+    let scene = d.file("s.yml", RED_SPHERE);
+    let out = d.path("out.png");
+    let o = render(&scene, &out, &["--renderer", "raster"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image::open(&out).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (9, 9));
+    assert_eq!(img.get_pixel(4, 4).0, [255, 0, 0]);
+    assert_eq!(img.get_pixel(0, 0).0, [0, 0, 0]);
+    let summary = stderr(&o);
+    assert!(summary.contains("rasterized 9×9"), "{summary}");
+    assert!(summary.contains("triangles"), "{summary}");
+}
+
+#[test]
+fn the_rasterizer_and_the_ray_tracer_agree_on_a_matte_sphere() {
+    let d = Dir::new();
+    let scene = d.file(
+        "s.yml",
+        &RED_SPHERE.replace("width: 9\n  height: 9", "width: 40\n  height: 40"),
+    );
+    let (ray, raster) = (d.path("ray.pfm"), d.path("raster.pfm"));
+    assert!(render(&scene, &ray, &["-q"]).status.success());
+    let o = render(
+        &scene,
+        &raster,
+        &["-q", "--renderer", "raster", "--sphere-divisions", "96"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (a, b) = (std::fs::read(ray).unwrap(), std::fs::read(raster).unwrap());
+    assert_eq!(a.len(), b.len());
+    let differ = a
+        .chunks(12)
+        .zip(b.chunks(12))
+        .filter(|(p, q)| p != q)
+        .count();
+    // Only pixels along the silhouette of the tessellated sphere may differ.
+    assert!(differ < 40, "{differ} pixels differ");
+}
+
+#[test]
+fn raster_options_change_the_image_and_any_thread_count_gives_the_same_bytes() {
+    let d = Dir::new();
+    let scene = d.file(
+        "s.yml",
+        &RED_SPHERE.replace("width: 9", "width: 60").replace(
+            "ambient: 1\n    diffuse: 0\n    specular: 0",
+            "ambient: 0.1",
+        ),
+    );
+    let run = |name: &str, extra: &[&str]| {
+        let out = d.path(name);
+        let mut args = vec!["-q", "--renderer", "raster"];
+        args.extend_from_slice(extra);
+        let o = render(&scene, &out, &args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(out).unwrap()
+    };
+    let one = run("one.pfm", &["--threads", "1", "--shading", "gouraud"]);
+    let four = run("four.pfm", &["--threads", "4", "--shading", "gouraud"]);
+    assert_eq!(one, four);
+    let flat = run(
+        "flat.pfm",
+        &["--shading", "flat", "--sphere-divisions", "8"],
+    );
+    let phong = run(
+        "phong.pfm",
+        &["--shading", "phong", "--texture-filter", "nearest"],
+    );
+    let wire = run("wire.pfm", &["--wireframe"]);
+    assert_ne!(flat, phong);
+    assert_ne!(phong, wire);
+}
+
+#[test]
+fn raster_flags_need_the_rasterizer_and_sampling_flags_the_ray_tracer() {
+    let d = Dir::new();
+    let scene = d.file("s.yml", RED_SPHERE);
+    let out = d.path("o.png");
+    for extra in [
+        &["--shading", "flat"][..],
+        &["--wireframe"],
+        &["--sphere-divisions", "10"],
+        &["--texture-filter", "nearest"],
+    ] {
+        let o = render(&scene, &out, extra);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        assert!(stderr(&o).contains(extra[0]), "{}", stderr(&o));
+        assert!(stderr(&o).contains("--renderer raster"), "{}", stderr(&o));
+    }
+    for extra in [&["--spp", "4"][..], &["--adaptive", "0.1"]] {
+        let mut args = vec!["--renderer", "raster"];
+        args.extend_from_slice(extra);
+        let o = render(&scene, &out, &args);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        assert!(stderr(&o).contains(extra[0]), "{}", stderr(&o));
+    }
+    for divisions in ["2", "5000"] {
+        let o = render(
+            &scene,
+            &out,
+            &["--renderer", "raster", "--sphere-divisions", divisions],
+        );
+        assert_eq!(o.status.code(), Some(2), "{divisions}");
+        assert!(stderr(&o).contains("--sphere-divisions"), "{}", stderr(&o));
+    }
+    let o = render(&scene, &out, &["--renderer", "gpu"]);
+    assert_eq!(o.status.code(), Some(2), "clap refuses an unknown renderer");
+    assert!(!out.exists());
 }

@@ -6,6 +6,8 @@
 //!
 //! The pipeline: a [`World`] of [`Object`]s and [`Light`]s is seen through a [`Camera`]; the
 //! [`render`](render::render) loop traces rays in parallel tiles into a [`Canvas`] of linear colours.
+//! A second renderer, the [`raster`] module, draws the same world as triangles (a software
+//! rasterizer after *Computer Graphics from Scratch*).
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
@@ -15,6 +17,7 @@ pub mod canvas;
 pub mod color;
 pub mod geometry;
 pub mod math;
+pub mod raster;
 pub mod render;
 pub mod scene;
 pub mod shading;

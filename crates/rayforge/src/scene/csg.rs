@@ -213,6 +213,64 @@ impl Csg {
         }
     }
 
+    /// Whether a point on the surface of leaf `leaf` is on the solid's surface: every
+    /// operation above the leaf allows it (the book's `intersection_allowed`), given whether
+    /// the point lies inside the other operand. This is the ray tracer's filter asked of a
+    /// single point; the rasterizer keeps or drops the primitives' triangles by it.
+    pub fn keeps_surface_point(&self, leaf: usize, point: Point3) -> bool {
+        let leaf = leaf as u32;
+        self.nodes
+            .iter()
+            .filter(|n| n.start <= leaf && leaf < n.end)
+            .all(|n| {
+                let lhit = leaf < n.split;
+                let inl = !lhit && self.range_contains(n.start, n.split, point);
+                let inr = lhit && self.range_contains(n.split, n.end, point);
+                intersection_allowed(n.operation, lhit, inl, inr)
+            })
+    }
+
+    /// Whether `point` is inside the solid.
+    pub fn contains_point(&self, point: Point3) -> bool {
+        self.range_contains(0, self.leaves.len() as u32, point)
+    }
+
+    /// Whether `point` is inside the operand made of leaves `start..end`: the operations that
+    /// span parts of it combine their operands; leaves side by side (a group) are a union.
+    fn range_contains(&self, start: u32, end: u32, point: Point3) -> bool {
+        let mut at = start;
+        let mut inside = false;
+        while at < end {
+            // The widest operation that starts here and fits in the range, else one leaf.
+            let node = self
+                .nodes
+                .iter()
+                .filter(|n| n.start == at && n.end <= end)
+                .max_by_key(|n| n.end);
+            let part = match node {
+                Some(n) => {
+                    let (l, r) = (
+                        self.range_contains(n.start, n.split, point),
+                        self.range_contains(n.split, n.end, point),
+                    );
+                    at = n.end;
+                    match n.operation {
+                        CsgOperation::Union => l || r,
+                        CsgOperation::Intersection => l && r,
+                        CsgOperation::Difference => l && !r,
+                    }
+                }
+                _ => {
+                    let leaf = &self.leaves[at as usize];
+                    at += 1;
+                    leaf_contains(leaf, point)
+                }
+            };
+            inside |= part;
+        }
+        inside
+    }
+
     /// The unit normal at a hit, from the leaf it is on.
     pub fn normal_at(&self, point: Point3, hit: &LocalHit) -> Vec3 {
         self.leaves
@@ -232,4 +290,20 @@ impl Object {
             operation, left, right,
         )?))))
     }
+}
+
+/// Whether `point` is inside a primitive: an odd number of its surfaces lie ahead along a
+/// fixed, skewed direction (the parity the ray tracer's filter keeps along every ray). For open
+/// surfaces this picks a side: below a plane, for instance, counts as inside.
+fn leaf_contains(leaf: &Object, point: Point3) -> bool {
+    let direction = Vec3::new(0.267_261_24, 0.801_783_73, 0.534_522_48);
+    let ray = leaf.ray_to_object(&Ray::new(point, direction));
+    let mut crossings = 0u32;
+    let tolerance = 1e-9 * (1.0 + point.length());
+    leaf.shape.intersect(&ray, |t| {
+        if t > tolerance {
+            crossings += 1;
+        }
+    });
+    crossings % 2 == 1
 }

@@ -116,6 +116,21 @@ impl Texture {
         })
     }
 
+    /// Width in pixels.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// The pixels, row-major from the top-left (the rasterizer builds MIP maps from them).
+    pub fn pixels(&self) -> &[Color] {
+        &self.pixels
+    }
+
     fn texel(&self, x: usize, y: usize) -> Color {
         self.pixels[y.min(self.height - 1) * self.width + x.min(self.width - 1)]
     }

@@ -1,0 +1,74 @@
+//! What the rasterizer can be asked to do differently: how surfaces are shaded, how finely
+//! curved shapes are cut into triangles, how textures are filtered.
+
+/// Where the lighting equation is evaluated (the book's "Shading" chapter).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Shading {
+    /// Once per triangle, at its centre, with the face's own normal: faceted.
+    Flat,
+    /// Once per vertex, with the vertex normal, blended across the triangle (Gouraud, 1971):
+    /// smooth, but highlights that fall between vertices are lost.
+    Gouraud,
+    /// Once per pixel, with the normal blended from the vertices (Phong, 1973): what the ray
+    /// tracer computes, short of shadows.
+    #[default]
+    Phong,
+}
+
+/// How texels are read (the book leaves filtering and MIP maps "TO DO").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TextureFilter {
+    /// The texel nearest the sample: blocky when magnified, shimmering when minified.
+    Nearest,
+    /// A blend of the four texels around the sample (smooth when magnified).
+    Bilinear,
+    /// Bilinear in the two MIP levels whose texel size brackets the pixel's footprint, blended
+    /// (smooth when minified too).
+    #[default]
+    Trilinear,
+}
+
+/// Options for [`render`](super::render).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RasterOptions {
+    /// Flat, Gouraud or Phong shading.
+    pub shading: Shading,
+    /// Sphere tessellation: `divisions + 1` rings of `divisions` vertices (the book's
+    /// `GenerateSphere(divs)`); cylinders and cones use as many segments around. At least 3.
+    pub sphere_divisions: u32,
+    /// How textures are filtered.
+    pub filter: TextureFilter,
+    /// Draw only the triangles' edges (the book's `DrawWireframeTriangle`), each in its
+    /// material's colour, hidden edges included.
+    pub wireframe: bool,
+    /// Skip triangles facing away from the camera on closed shapes (spheres, cubes, capped
+    /// cylinders and cones) seen from outside: there a back face is always behind a front
+    /// face, so skipping it changes nothing but the time. Open surfaces, meshes (whose winding
+    /// is whatever the file had), CSG primitives (a difference shows the inside of what it
+    /// cuts away) and shapes the eye is inside of are never culled.
+    pub backface_culling: bool,
+    /// Distance of the near clipping plane in front of the eye. The ray tracer has none; the
+    /// rasterizer must not divide by z ≈ 0, so this is small.
+    pub near: f64,
+}
+
+impl RasterOptions {
+    /// The sphere resolution used unless asked otherwise: round to about a pixel on a sphere
+    /// 500 pixels across.
+    pub const DEFAULT_SPHERE_DIVISIONS: u32 = 48;
+    /// The default near-plane distance.
+    pub const DEFAULT_NEAR: f64 = 1e-3;
+}
+
+impl Default for RasterOptions {
+    fn default() -> Self {
+        Self {
+            shading: Shading::Phong,
+            sphere_divisions: Self::DEFAULT_SPHERE_DIVISIONS,
+            filter: TextureFilter::Trilinear,
+            wireframe: false,
+            backface_culling: true,
+            near: Self::DEFAULT_NEAR,
+        }
+    }
+}

@@ -1,0 +1,103 @@
+//! The rasterizer's entry point: a world through a camera into a canvas.
+
+use super::bin::{bin_all, BinContext, Tiles, TILE_HEIGHT};
+use super::edge::subpixel_bits;
+use super::instance::instances;
+use super::options::RasterOptions;
+use super::shade::{build_mips, raster_lights, ShadeContext};
+use super::tile::{draw_tile, draw_wireframe_tile, TileBuffers};
+use super::vertex::transform_vertices;
+use super::Projection;
+use crate::{Camera, Canvas, World};
+use rayon::prelude::*;
+
+/// What a raster render did, for tests and summaries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct RasterStats {
+    /// Objects (CSG primitives counted one by one) drawn, after whole-object rejection.
+    pub instances: u64,
+    /// Triangles of those objects considered.
+    pub triangles: u64,
+    /// Triangles that crossed a clipping plane and were split.
+    pub clipped: u64,
+    /// Triangles (or pieces) skipped because they face away from the camera.
+    pub culled: u64,
+    /// Triangles (or pieces) handed to the tiles.
+    pub drawn: u64,
+}
+
+/// Rasterizes `world` through `camera` on the current rayon thread pool.
+pub fn render(camera: &Camera, world: &World, options: &RasterOptions) -> Canvas {
+    render_with_stats(camera, world, options).0
+}
+
+/// [`render`], with counts of what was drawn.
+pub fn render_with_stats(
+    camera: &Camera,
+    world: &World,
+    options: &RasterOptions,
+) -> (Canvas, RasterStats) {
+    let (width, height) = (camera.hsize(), camera.vsize());
+    let mut canvas = Canvas::new(width, height);
+    if width == 0 || height == 0 {
+        return (canvas, RasterStats::default());
+    }
+    let projection = Projection::new(camera, options.near);
+    let bits = subpixel_bits(width, height);
+    let divisions = options.sphere_divisions.max(3);
+    let instances = instances(world, &projection, divisions, options.backface_culling);
+    let (vertices, normals) = transform_vertices(&instances, &projection, bits);
+    let tiles = Tiles::new(width, height);
+    let chunks = bin_all(&BinContext {
+        instances: &instances,
+        vertices: &vertices,
+        projection: &projection,
+        tiles,
+        bits,
+    });
+    let mut stats = RasterStats {
+        instances: instances.len() as u64,
+        ..RasterStats::default()
+    };
+    for chunk in &chunks {
+        stats.triangles += chunk.counts.faces;
+        stats.clipped += chunk.counts.clipped;
+        stats.culled += chunk.counts.culled;
+        stats.drawn += chunk.counts.binned;
+    }
+    let mut ctx = ShadeContext {
+        instances: &instances,
+        vertices: &vertices,
+        normals: &normals,
+        chunks: &chunks,
+        projection: &projection,
+        lights: raster_lights(&world.lights),
+        mips: if options.wireframe {
+            Default::default()
+        } else {
+            build_mips(&instances)
+        },
+        shading: options.shading,
+        filter: options.filter,
+        bits,
+        vertex_light: Vec::new(),
+    };
+    if options.shading == super::Shading::Gouraud && !options.wireframe {
+        ctx.light_vertices();
+    }
+    let background = world.background;
+    canvas
+        .pixels_mut()
+        .par_chunks_mut(width * TILE_HEIGHT)
+        .enumerate()
+        .for_each_init(TileBuffers::new, |buffers, (row, band)| {
+            for column in 0..tiles.columns {
+                if options.wireframe {
+                    draw_wireframe_tile(&ctx, &tiles, column, row, band, background);
+                } else {
+                    draw_tile(&ctx, &tiles, column, row, band, background, buffers);
+                }
+            }
+        });
+    (canvas, stats)
+}

@@ -1,0 +1,463 @@
+//! Shapes as triangles (the book's models): a rasterizer can only draw triangles, so every
+//! analytic shape is cut into a mesh in its own object space, with the true surface normal at
+//! each vertex so that Gouraud and Phong shading hide the facets.
+//!
+//! Winding: every face is wound so that `(p3 - p1) × (p2 - p1)` points out of the shape, the
+//! convention of rayforge's triangles, which back-face culling relies on. Faces are checked
+//! against the outward direction as they are made, so no generator can get it wrong.
+//!
+//! Unbounded shapes are cut at [`EXTENT`] units from their origin: planes become large grids,
+//! infinite cylinders and cones long tubes. Grid lines are dense near the origin and grow
+//! geometrically further out (the farther parts cover few pixels), so a plane costs a few
+//! thousand triangles and Gouraud shading still has vertices near what the camera looks at.
+
+use crate::geometry::{Mesh, MeshFace};
+use crate::math::{Aabb, Point3, Vec3};
+use crate::scene::Csg;
+use crate::Shape;
+use std::borrow::Cow;
+use std::f64::consts::{PI, TAU};
+
+/// How far unbounded shapes reach from their origin, in object units.
+pub const EXTENT: f64 = 1.0e4;
+
+/// A triangle mesh in object space, borrowed from a [`Mesh`] or generated.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tessellation<'a> {
+    /// Vertex positions.
+    pub positions: Cow<'a, [Point3]>,
+    /// Vertex normals, indexed by the faces' `normals` (faces without are flat).
+    pub normals: Cow<'a, [Vec3]>,
+    /// Texture coordinates, indexed by the faces' `texcoords`.
+    pub texcoords: Cow<'a, [[f64; 2]]>,
+    /// The triangles.
+    pub faces: Cow<'a, [MeshFace]>,
+    /// Whether the surface encloses a volume with every face wound outwards, so that faces
+    /// pointing away from the eye are hidden behind others (and may be culled).
+    pub closed: bool,
+}
+
+impl<'a> Tessellation<'a> {
+    /// An empty tessellation to add faces to.
+    fn empty(closed: bool) -> Tessellation<'static> {
+        Tessellation {
+            positions: Cow::Owned(Vec::new()),
+            normals: Cow::Owned(Vec::new()),
+            texcoords: Cow::Owned(Vec::new()),
+            faces: Cow::Owned(Vec::new()),
+            closed,
+        }
+    }
+
+    /// A mesh's own arrays, borrowed.
+    pub fn of_mesh(mesh: &'a Mesh) -> Self {
+        Tessellation {
+            positions: Cow::Borrowed(mesh.positions()),
+            normals: Cow::Borrowed(mesh.normals()),
+            texcoords: Cow::Borrowed(mesh.texcoords()),
+            faces: Cow::Borrowed(mesh.faces()),
+            closed: false,
+        }
+    }
+
+    /// The corners of a face.
+    #[inline]
+    pub fn corners(&self, face: &MeshFace) -> [Point3; 3] {
+        face.vertices.map(|i| self.positions[i as usize])
+    }
+
+    /// A sphere around every vertex: the centre of their box and the farthest distance from
+    /// it (not the smallest sphere, but close, and found in one pass).
+    pub fn bounding_sphere(&self) -> (Point3, f64) {
+        let mut bounds = Aabb::EMPTY;
+        for &p in self.positions.iter() {
+            bounds.add_point(p);
+        }
+        if bounds.is_empty() {
+            return (Point3::ZERO, 0.0);
+        }
+        let centre = bounds.centroid();
+        let radius = self
+            .positions
+            .iter()
+            .map(|p| p.distance_squared(centre))
+            .fold(0.0, f64::max)
+            .sqrt();
+        (centre, radius)
+    }
+
+    /// Adds a vertex with its normal (same index in both arrays) and returns its index.
+    fn vertex(&mut self, p: Point3, n: Vec3) -> u32 {
+        let positions = self.positions.to_mut();
+        positions.push(p);
+        self.normals.to_mut().push(n);
+        (positions.len() - 1) as u32
+    }
+
+    /// Adds the face `a b c`, wound so that its normal points along `outward`.
+    fn face(&mut self, a: u32, b: u32, c: u32, outward: Vec3) {
+        let [p1, p2, p3] = [a, b, c].map(|i| self.positions[i as usize]);
+        let v = if (p3 - p1).cross(p2 - p1).dot(outward) < 0.0 {
+            [a, c, b]
+        } else {
+            [a, b, c]
+        };
+        self.faces.to_mut().push(MeshFace {
+            vertices: v,
+            normals: Some(v),
+            texcoords: None,
+        });
+    }
+
+    /// Adds the quad `a b c d` (in order around it) as two faces.
+    fn quad(&mut self, [a, b, c, d]: [u32; 4], outward: Vec3) {
+        self.face(a, b, c, outward);
+        self.face(a, c, d, outward);
+    }
+}
+
+/// The book's `GenerateSphere(divs)`: the unit sphere as `divs + 1` rings of `divs` vertices
+/// each, from the south pole to the north, and `2·divs²` triangles between consecutive rings.
+/// The rings at the poles collapse to a point, so `divs` of the triangles touching each pole
+/// have no area and draw nothing. Normals are the positions (exact for a sphere).
+///
+/// The book spaces the rings evenly in y; here they are evenly spaced in latitude, which keeps
+/// the triangles near the poles from becoming slivers. `divs` below 3 counts as 3.
+pub fn generate_sphere(divs: u32) -> Tessellation<'static> {
+    let divs = divs.max(3);
+    let mut t = Tessellation::empty(true);
+    for d in 0..=divs {
+        let latitude = PI * d as f64 / divs as f64;
+        let (y, radius) = (-latitude.cos(), latitude.sin());
+        for i in 0..divs {
+            let angle = TAU * i as f64 / divs as f64;
+            let p = Point3::new(radius * angle.cos(), y, radius * angle.sin());
+            t.vertex(p, p);
+        }
+    }
+    for d in 0..divs {
+        for i in 0..divs {
+            let i0 = d * divs + i;
+            let i1 = (d + 1) * divs + (i + 1) % divs;
+            let i2 = d * divs + (i + 1) % divs;
+            let i3 = (d + 1) * divs + i;
+            let outward = t.positions[i0 as usize] + t.positions[i1 as usize];
+            t.face(i0, i1, i2, outward);
+            t.face(i0, i3, i1, outward);
+        }
+    }
+    t
+}
+
+/// A torus around the y axis: `2·divs` segments around the axis, `divs` around the tube, each
+/// vertex with the surface's own normal.
+fn torus(divs: u32, major: f64, minor: f64) -> Tessellation<'static> {
+    let around = divs.max(3) * 2;
+    let tube = divs.max(3);
+    let mut t = Tessellation::empty(true);
+    for i in 0..around {
+        let u = TAU * i as f64 / around as f64;
+        for j in 0..tube {
+            let v = TAU * j as f64 / tube as f64;
+            let n = Vec3::new(v.cos() * u.cos(), v.sin(), v.cos() * u.sin());
+            let centre = Point3::new(major * u.cos(), 0.0, major * u.sin());
+            t.vertex(centre + n * minor, n);
+        }
+    }
+    let index = |i: u32, j: u32| (i % around) * tube + (j % tube);
+    for i in 0..around {
+        for j in 0..tube {
+            let corners = [
+                index(i, j),
+                index(i + 1, j),
+                index(i + 1, j + 1),
+                index(i, j + 1),
+            ];
+            let outward = corners
+                .iter()
+                .map(|&c| t.normals[c as usize])
+                .fold(Vec3::ZERO, |a, n| a + n);
+            t.quad(corners, outward);
+        }
+    }
+    t
+}
+
+/// The cube from -1 to 1: four vertices per face (so each face has its own normal), twelve
+/// triangles.
+fn cube() -> Tessellation<'static> {
+    let mut t = Tessellation::empty(true);
+    for axis in 0..3 {
+        for sign in [-1.0, 1.0] {
+            let mut normal = Vec3::ZERO;
+            normal[axis] = sign;
+            let (u, v) = (Vec3::AXES[(axis + 1) % 3], Vec3::AXES[(axis + 2) % 3]);
+            let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                .map(|(a, b)| t.vertex(normal + u * a + v * b, normal));
+            t.quad(corners, normal);
+        }
+    }
+    t
+}
+
+/// Grid lines from `min` to `max`: both ends, and between them every half unit up to 8 from
+/// the origin, then every power of two. Infinite ends are cut at ±[`EXTENT`].
+fn levels(min: f64, max: f64) -> Vec<f64> {
+    let (min, max) = (min.max(-EXTENT), max.min(EXTENT));
+    let mut ladder: Vec<f64> = (1..=16).map(|k| k as f64 * 0.5).collect();
+    let mut step = 16.0;
+    while step < EXTENT {
+        ladder.push(step);
+        step *= 2.0;
+    }
+    let mut out = vec![min];
+    let inner = ladder
+        .iter()
+        .rev()
+        .map(|v| -v)
+        .chain(std::iter::once(0.0))
+        .chain(ladder.iter().copied());
+    out.extend(inner.filter(|&v| v > min && v < max));
+    if max > min {
+        out.push(max);
+    }
+    out
+}
+
+/// The xz plane as a grid of quads out to ±[`EXTENT`], normal +y.
+fn plane() -> Tessellation<'static> {
+    let mut t = Tessellation::empty(false);
+    let lines = levels(-EXTENT, EXTENT);
+    let n = lines.len() as u32;
+    for &z in &lines {
+        for &x in &lines {
+            t.vertex(Point3::new(x, 0.0, z), Vec3::Y);
+        }
+    }
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let at = |i: u32, j: u32| j * n + i;
+            t.quad(
+                [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)],
+                Vec3::Y,
+            );
+        }
+    }
+    t
+}
+
+/// A surface of revolution about y between `min` and `max`: radius `radius(y)` and the normal
+/// at angle `a` given by `normal(a, y)`; bands between the grid [`levels`], each with its own
+/// rings (so a cone's two nappes get their own normals at the apex). Capped ends are fans.
+fn revolution(
+    segments: u32,
+    min: f64,
+    max: f64,
+    closed: bool,
+    radius: impl Fn(f64) -> f64,
+    normal: impl Fn(f64, f64) -> Vec3,
+) -> Tessellation<'static> {
+    let segments = segments.max(3);
+    let closed = closed && min.is_finite() && max.is_finite();
+    let mut t = Tessellation::empty(closed);
+    let lines = levels(min, max);
+    let around = |i: u32| TAU * i as f64 / segments as f64;
+    for band in lines.windows(2) {
+        let (y0, y1) = (band[0], band[1]);
+        let mid = (y0 + y1) / 2.0;
+        let ring = |t: &mut Tessellation<'static>, y: f64| -> u32 {
+            let first = t.positions.len() as u32;
+            for i in 0..segments {
+                let a = around(i);
+                let r = radius(y);
+                t.vertex(Point3::new(r * a.cos(), y, r * a.sin()), normal(a, mid));
+            }
+            first
+        };
+        let (lo, hi) = (ring(&mut t, y0), ring(&mut t, y1));
+        for i in 0..segments {
+            let j = (i + 1) % segments;
+            let a = (around(i) + around(i) + TAU / segments as f64) / 2.0;
+            t.quad([lo + i, lo + j, hi + j, hi + i], normal(a, mid));
+        }
+    }
+    if closed {
+        for (y, up) in [(min, -1.0), (max, 1.0)] {
+            let n = Vec3::new(0.0, up, 0.0);
+            let centre = t.vertex(Point3::new(0.0, y, 0.0), n);
+            let r = radius(y);
+            let first = t.positions.len() as u32;
+            for i in 0..segments {
+                let a = around(i);
+                t.vertex(Point3::new(r * a.cos(), y, r * a.sin()), n);
+            }
+            for i in 0..segments {
+                t.face(centre, first + i, first + (i + 1) % segments, n);
+            }
+        }
+    }
+    t
+}
+
+/// A single triangle (smooth when it has vertex normals). Open: both sides can be seen.
+fn triangle(tri: &crate::geometry::Triangle) -> Tessellation<'static> {
+    let mut t = Tessellation::empty(false);
+    let normals = tri.vertex_normals.unwrap_or([tri.normal; 3]);
+    let ids = [tri.p1, tri.p2, tri.p3]
+        .iter()
+        .zip(normals)
+        .map(|(&p, n)| t.vertex(p, n))
+        .collect::<Vec<_>>();
+    t.faces.to_mut().push(MeshFace {
+        vertices: [ids[0], ids[1], ids[2]],
+        normals: tri.vertex_normals.map(|_| [ids[0], ids[1], ids[2]]),
+        texcoords: None,
+    });
+    t
+}
+
+/// A CSG solid's surface: each primitive's tessellation, moved into the solid's space, keeping
+/// the faces whose centre the solid keeps (see [`Csg::keeps_surface_point`]). Faces that cross
+/// the boundary of another operand are kept or dropped whole, so the cut edges are as jagged as
+/// the tessellation is coarse. The renderer draws CSG primitives one by one with the same rule,
+/// each with its own material; this is the single-mesh form.
+fn csg(csg: &Csg, divisions: u32) -> Tessellation<'static> {
+    let mut out = Tessellation::empty(false);
+    for (leaf, object) in csg.leaves().iter().enumerate() {
+        let part = tessellate(&object.shape, divisions);
+        let base = out.positions.len() as u32;
+        let normal_base = out.normals.len() as u32;
+        let uv_base = out.texcoords.len() as u32;
+        out.positions
+            .to_mut()
+            .extend(part.positions.iter().map(|&p| object.transform.point(p)));
+        out.normals
+            .to_mut()
+            .extend(part.normals.iter().map(|&n| object.transform.normal(n)));
+        out.texcoords.to_mut().extend(part.texcoords.iter());
+        for face in part.faces.iter() {
+            let [a, b, c] = part.corners(face).map(|p| object.transform.point(p));
+            if !csg.keeps_surface_point(leaf, (a + b + c) / 3.0) {
+                continue;
+            }
+            let mut face = *face;
+            face.vertices = face.vertices.map(|i| i + base);
+            face.normals = face.normals.map(|n| n.map(|i| i + normal_base));
+            face.texcoords = face.texcoords.map(|n| n.map(|i| i + uv_base));
+            if object.transform.matrix().determinant() < 0.0 {
+                face.vertices.swap(1, 2);
+                face.normals = face.normals.map(|mut n| {
+                    n.swap(1, 2);
+                    n
+                });
+                face.texcoords = face.texcoords.map(|mut n| {
+                    n.swap(1, 2);
+                    n
+                });
+            }
+            out.faces.to_mut().push(face);
+        }
+    }
+    out
+}
+
+/// The most pieces per side [`refine`] cuts a face into.
+const MAX_REFINE: u32 = 32;
+
+/// The same surface with every face cut into `k²` smaller ones, `k` chosen so that no edge is
+/// longer than `max_edge` (at most 32 per side); normals and texture coordinates are blended at the new vertices
+/// (normals renormalised). CSG primitives are refined so that keeping or dropping whole
+/// triangles by their centre follows the solid's edges closely.
+pub fn refine(t: &Tessellation<'_>, max_edge: f64) -> Tessellation<'static> {
+    let mut out = Tessellation::empty(t.closed);
+    for face in t.faces.iter() {
+        let p = t.corners(face);
+        let longest = (p[1] - p[0])
+            .length()
+            .max((p[2] - p[1]).length())
+            .max((p[0] - p[2]).length());
+        let k = if max_edge > 0.0 && longest.is_finite() {
+            ((longest / max_edge).ceil() as u32).clamp(1, MAX_REFINE)
+        } else {
+            1
+        };
+        let n = face.normals.map(|n| n.map(|i| t.normals[i as usize]));
+        let uv = face.texcoords.map(|c| c.map(|i| t.texcoords[i as usize]));
+        let first = out.positions.len() as u32;
+        let first_uv = out.texcoords.len() as u32;
+        // Grid points (i, j) with i + j <= k, weights (k - i - j, i, j) / k on the corners.
+        let index = |i: u32, j: u32| first + j * (k + 1) - j * (j.saturating_sub(1)) / 2 + i;
+        for j in 0..=k {
+            for i in 0..=k - j {
+                let w = [(k - i - j) as f64, i as f64, j as f64].map(|w| w / k as f64);
+                let blend = |v: [Vec3; 3]| v[0] * w[0] + v[1] * w[1] + v[2] * w[2];
+                let normal = n.map_or(Vec3::ZERO, |n| blend(n).normalize_or_zero());
+                out.vertex(blend(p), normal);
+                if let Some(c) = uv {
+                    out.texcoords.to_mut().push([
+                        c[0][0] * w[0] + c[1][0] * w[1] + c[2][0] * w[2],
+                        c[0][1] * w[0] + c[1][1] * w[1] + c[2][1] * w[2],
+                    ]);
+                }
+            }
+        }
+        let mut push = |a: u32, b: u32, c: u32| {
+            let v = [a, b, c];
+            out.faces.to_mut().push(MeshFace {
+                vertices: v,
+                normals: face.normals.map(|_| v),
+                texcoords: uv.map(|_| v.map(|i| i - first + first_uv)),
+            });
+        };
+        for j in 0..k {
+            for i in 0..k - j {
+                push(index(i, j), index(i + 1, j), index(i, j + 1));
+                if i + j + 1 < k {
+                    push(index(i + 1, j), index(i + 1, j + 1), index(i, j + 1));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Any shape as triangles in its own object space. `divisions` sets the resolution of curved
+/// shapes (see [`generate_sphere`]; cylinders and cones get as many segments around). Meshes
+/// are borrowed as they are; planes and infinite cylinders and cones are cut at [`EXTENT`].
+pub fn tessellate(shape: &Shape, divisions: u32) -> Tessellation<'_> {
+    match shape {
+        Shape::Sphere => generate_sphere(divisions),
+        Shape::Cube => cube(),
+        Shape::Plane => plane(),
+        Shape::Cylinder {
+            minimum,
+            maximum,
+            closed,
+        } => revolution(
+            divisions,
+            *minimum,
+            *maximum,
+            *closed,
+            |_| 1.0,
+            |a, _| Vec3::new(a.cos(), 0.0, a.sin()),
+        ),
+        Shape::Cone {
+            minimum,
+            maximum,
+            closed,
+        } => revolution(
+            divisions,
+            *minimum,
+            *maximum,
+            *closed,
+            f64::abs,
+            // The side of x² + z² = y² leans out at 45°: down on the upper nappe, up on the
+            // lower (the ray tracer's normal, normalised).
+            |a, y| Vec3::new(a.cos(), -y.signum(), a.sin()) / std::f64::consts::SQRT_2,
+        ),
+        Shape::Torus { major, minor } => torus(divisions, *major, *minor),
+        Shape::Triangle(tri) => triangle(tri),
+        Shape::Mesh(mesh) => Tessellation::of_mesh(mesh),
+        Shape::Csg(c) => csg(c, divisions),
+    }
+}

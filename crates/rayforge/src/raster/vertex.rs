@@ -1,0 +1,85 @@
+//! The vertex stage: every vertex of every instance moved into view space and projected onto
+//! the screen once, and every normal moved into world space once, in parallel. Triangles then
+//! share their corners' work.
+
+use super::edge::FixedPoint;
+use super::instance::Instance;
+use super::Projection;
+use crate::math::Vec3;
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// A vertex in view space and on the screen.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct ViewVertex {
+    /// View-space position (the eye at the origin, looking down +z).
+    pub view: DVec3,
+    /// Screen position on the subpixel grid (meaningful only in front of the near plane).
+    pub screen: FixedPoint,
+    /// 1/z, what the depth buffer holds.
+    pub inv_z: f64,
+}
+
+/// Vertices are processed in runs of this many per task.
+const RUN: usize = 4096;
+
+/// The screen position of a view-space point in front of the eye, on the grid.
+#[inline]
+pub(crate) fn to_screen(projection: &Projection, view: DVec3, bits: u32) -> FixedPoint {
+    let p = projection.project(view);
+    FixedPoint::from_pixels(p.x, p.y, bits)
+}
+
+/// All vertices and world-space normals of `instances`, at the offsets they were given.
+pub(crate) fn transform_vertices(
+    instances: &[Instance<'_>],
+    projection: &Projection,
+    bits: u32,
+) -> (Vec<ViewVertex>, Vec<Vec3>) {
+    let vertex_count = instances
+        .last()
+        .map_or(0, |i| i.vertex_base + i.model.mesh.positions.len());
+    let normal_count = instances
+        .last()
+        .map_or(0, |i| i.normal_base + i.model.mesh.normals.len());
+    let mut vertices = vec![ViewVertex::default(); vertex_count];
+    let mut normals = vec![Vec3::ZERO; normal_count];
+    // Split the arrays into each instance's part, then work on runs of every part in parallel.
+    let mut jobs = Vec::with_capacity(instances.len());
+    let (mut rest_v, mut rest_n) = (vertices.as_mut_slice(), normals.as_mut_slice());
+    for instance in instances {
+        let (v, tail_v) = rest_v.split_at_mut(instance.model.mesh.positions.len());
+        let (n, tail_n) = rest_n.split_at_mut(instance.model.mesh.normals.len());
+        jobs.push((instance, v, n));
+        rest_v = tail_v;
+        rest_n = tail_n;
+    }
+    jobs.into_par_iter().for_each(|(instance, v, n)| {
+        let mesh = &instance.model.mesh;
+        v.par_chunks_mut(RUN)
+            .zip(mesh.positions.par_chunks(RUN))
+            .for_each(|(out, positions)| {
+                for (o, &p) in out.iter_mut().zip(positions) {
+                    let view = instance.to_view.transform_point3(p);
+                    let in_front = view.z > 0.0;
+                    *o = ViewVertex {
+                        view,
+                        screen: if in_front {
+                            to_screen(projection, view, bits)
+                        } else {
+                            FixedPoint::default()
+                        },
+                        inv_z: if in_front { 1.0 / view.z } else { 0.0 },
+                    };
+                }
+            });
+        n.par_chunks_mut(RUN)
+            .zip(mesh.normals.par_chunks(RUN))
+            .for_each(|(out, normals)| {
+                for (o, &m) in out.iter_mut().zip(normals) {
+                    *o = instance.transform.normal(m);
+                }
+            });
+    });
+    (vertices, normals)
+}
