@@ -70,7 +70,10 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
             threshold,
             depth: 3,
         },
-        None => Sampling::with_samples(settings.spp.unwrap_or(scene.samples)),
+        None => match (settings.spp, scene.anti_alias) {
+            (None, Some(per_side)) => Sampling::Grid { per_side },
+            (spp, _) => Sampling::with_samples(spp.unwrap_or(scene.samples)),
+        },
     };
     let (finished, log) = open_checkpoint(settings, width, height, &sampling)?;
     let stop = crate::interrupt::stop_flag(settings.quiet);
@@ -136,6 +139,12 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
                 &settings.output
             )
         );
+        if stats.ambiguous > 0 {
+            eprintln!(
+                "{} ambiguous pixels (two surfaces at the same distance) were filled from their neighbours",
+                stats.ambiguous
+            );
+        }
     }
     Ok(())
 }

@@ -82,16 +82,45 @@ const QUADRIC_KEYS: &[&str] = &[
     "closed",
 ];
 
-/// The camera from `add: camera`, with its samples per pixel (`samples`, default 1).
+/// What `add: camera` gives: the camera and how to sample its pixels.
+pub struct CameraItem {
+    /// The camera.
+    pub camera: Camera,
+    /// Samples per pixel (`samples`, default 1).
+    pub samples: u32,
+    /// A zoom camera's `anti-alias` grid size.
+    pub anti_alias: Option<u32>,
+}
+
+/// The camera from `add: camera`: the book's (`field-of-view`, `from`, `to`, `up`), Computer
+/// Graphics from Scratch's (`viewport`) or Fundamentals of Ray Tracing's (`zoom`).
 pub fn camera(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
     item: &Node<'_>,
-) -> Result<(Camera, u32), SceneError> {
-    if entries.iter().any(|e| e.name == "viewport") {
-        let camera = crate::viewport::camera(source, entries, item)?;
-        return finish_camera(source, entries, camera);
+) -> Result<CameraItem, SceneError> {
+    if entries.iter().any(|e| e.name == "zoom") {
+        return crate::zoom_camera::camera(source, entries, item);
     }
+    let (camera, samples) = if entries.iter().any(|e| e.name == "viewport") {
+        let camera = crate::viewport::camera(source, entries, item)?;
+        finish_camera(source, entries, camera)?
+    } else {
+        pinhole_camera(source, entries, item)?
+    };
+    Ok(CameraItem {
+        camera,
+        samples,
+        anti_alias: None,
+    })
+}
+
+/// The Ray Tracer Challenge's camera.
+fn pinhole_camera(
+    source: &Source<'_>,
+    entries: &[Entry<'_, '_>],
+    item: &Node<'_>,
+) -> Result<(Camera, u32), SceneError> {
     check_keys(
         source,
         entries,

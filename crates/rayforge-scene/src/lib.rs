@@ -19,6 +19,7 @@ mod settings;
 mod source;
 mod transform;
 mod viewport;
+mod zoom_camera;
 
 pub use assets::{texture_from_bytes, MAX_IMAGE_BYTES, MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE};
 pub use error::{SceneError, Span};
@@ -37,6 +38,9 @@ pub struct Scene {
     pub camera: rayforge::Camera,
     /// Camera rays per pixel asked for by the camera's `samples` (1: one through the centre).
     pub samples: u32,
+    /// Fundamentals of Ray Tracing's anti-aliasing, when the camera gives `anti-alias: N`: an
+    /// N × N grid of rays from each pixel's corner, unjittered (`samples` is then N²).
+    pub anti_alias: Option<u32>,
     /// Reflection and refraction bounces, when the scene's `world:` item sets `max-depth`.
     pub max_depth: Option<u32>,
     /// Problems in the file that the reader worked around (each located like an error).
@@ -139,7 +143,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
     let mut defines = Defines::default();
     let mut assets = assets::Assets::new(path, options.max_triangles);
     let mut world = rayforge::World::new();
-    let mut camera: Option<(rayforge::Camera, u32)> = None;
+    let mut camera: Option<items::CameraItem> = None;
     let mut settings: Option<Option<u32>> = None;
     for item in items {
         let entries = source.entries(item, "")?;
@@ -164,13 +168,18 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
             &mut camera,
         )?;
     }
-    let (camera, samples) = camera.ok_or_else(|| {
+    let items::CameraItem {
+        camera,
+        samples,
+        anti_alias,
+    } = camera.ok_or_else(|| {
         SceneError::new(path, "the scene has no camera: add an item `- add: camera`")
     })?;
     Ok(Scene {
         world,
         camera,
         samples,
+        anti_alias,
         max_depth: settings.flatten(),
         warnings: source.take_warnings(),
     })
@@ -183,7 +192,7 @@ fn add_item<'n, 's>(
     assets: &mut assets::Assets,
     item: &'n Node<'s>,
     world: &mut rayforge::World,
-    camera: &mut Option<(rayforge::Camera, u32)>,
+    camera: &mut Option<items::CameraItem>,
 ) -> Result<(), SceneError> {
     let entries = source.entries(item, "")?;
     if entries.iter().any(|e| e.name == "define") {

@@ -20,6 +20,9 @@ const MATERIAL_KEYS: &[&str] = &[
     "refractive-index",
     "pattern",
     "bump",
+    "gloss",
+    "opacity",
+    "matte-gloss-balance",
 ];
 
 /// The pattern types, as scene files name them.
@@ -74,6 +77,13 @@ pub fn material<'n, 's>(
             "transparency" => m.transparency = number()?,
             "refractive-index" => m.refractive_index = number()?,
             "bump" => m.bump = Some(bump(source, defines, assets, value)?),
+            "gloss" => m.gloss = color(source, value, name)?,
+            "opacity" => m.opacity = number()?,
+            "matte-gloss-balance" => {
+                let (matte, gloss) = matte_gloss_balance(source, value)?;
+                m.color = matte;
+                m.gloss = gloss;
+            }
             _ => m.pattern = Some(pattern(source, defines, assets, value)?),
         }
     }
@@ -195,6 +205,34 @@ fn bump<'n, 's>(
         )?;
     }
     Ok(b)
+}
+
+/// Fundamentals of Ray Tracing's `SetMatteGlossBalance(g, matte, gloss)`:
+/// `{balance: g, matte: [r, g, b], gloss: [r, g, b]}` makes the matte colour `(1 - g)·matte` and
+/// the gloss colour `g·gloss`, splitting the light a surface returns between the two.
+fn matte_gloss_balance(source: &Source<'_>, node: &Node<'_>) -> Result<(Color, Color), SceneError> {
+    let entries = source.entries(node, "matte-gloss-balance")?;
+    check_keys(
+        source,
+        &entries,
+        "`matte-gloss-balance`",
+        &["balance", "matte", "gloss"],
+    )?;
+    let get = |k: &str| {
+        entries
+            .iter()
+            .find(|e| e.name == k)
+            .map(|e| e.value)
+            .ok_or_else(|| source.error(node, k, format!("`matte-gloss-balance` needs `{k}:`")))
+    };
+    let balance_node = get("balance")?;
+    let balance = source.number(balance_node, "balance")?;
+    if !(0.0..=1.0).contains(&balance) {
+        return Err(source.error(balance_node, "balance", "the balance lies between 0 and 1"));
+    }
+    let matte = color(source, get("matte")?, "matte")?;
+    let gloss = color(source, get("gloss")?, "gloss")?;
+    Ok((matte * (1.0 - balance), gloss * balance))
 }
 
 /// `[r, g, b]`.

@@ -26,28 +26,36 @@ pub fn apply(
         source,
         &entries,
         "`world`",
-        &["lighting", "background", "max-depth"],
+        &["lighting", "background", "max-depth", "ambient-index"],
     )?;
     let mut max_depth = None;
     for e in &entries {
         match e.name {
-            "lighting" => {
-                world.lighting = match source.string(e.value, "lighting")? {
-                    "phong" => LightingModel::Phong,
-                    "flat" => LightingModel::Flat,
-                    "cgfs" => LightingModel::Cgfs,
-                    other => {
-                        return Err(source.error(
-                            e.value,
-                            "lighting",
-                            format!(
-                                "unknown lighting model `{other}`; expected phong, flat or cgfs"
-                            ),
-                        ))
-                    }
-                }
-            }
+            "lighting" => world.lighting = match source.string(e.value, "lighting")? {
+                "phong" => LightingModel::Phong,
+                "flat" => LightingModel::Flat,
+                "cgfs" => LightingModel::Cgfs,
+                "optics" => LightingModel::Optics,
+                other => return Err(source.error(
+                    e.value,
+                    "lighting",
+                    format!(
+                        "unknown lighting model `{other}`; expected phong, flat, cgfs or optics"
+                    ),
+                )),
+            },
             "background" => world.background = color(source, e.value, "background")?,
+            "ambient-index" => {
+                let index = source.number(e.value, "ambient-index")?;
+                if !(1.0..=9.0).contains(&index) {
+                    return Err(source.error(
+                        e.value,
+                        "ambient-index",
+                        "a refractive index lies between 1 and 9",
+                    ));
+                }
+                world.ambient_index = index;
+            }
             _ => {
                 let depth = source.integer(e.value, "max-depth", 0)?;
                 if depth > MAX_DEPTH {

@@ -1,5 +1,6 @@
-//! Transform lists: `[translate, x, y, z]`, `[scale, …]`, `[rotate-x, r]`, `[shear, …]` and
-//! references to defined lists, applied in the order written (the first entry acts first).
+//! Transform lists: `[translate, x, y, z]`, `[scale, …]`, `[rotate-x, r]` (radians),
+//! `[rotate-x-degrees, d]`, `[shear, …]` and references to defined lists, applied in the order
+//! written (the first entry acts first).
 
 use crate::defines::{Defines, Trail};
 use crate::error::SceneError;
@@ -14,6 +15,9 @@ const OPERATIONS: &[(&str, usize)] = &[
     ("rotate-x", 1),
     ("rotate-y", 1),
     ("rotate-z", 1),
+    ("rotate-x-degrees", 1),
+    ("rotate-y-degrees", 1),
+    ("rotate-z-degrees", 1),
     ("shear", 6),
 ];
 
@@ -107,6 +111,9 @@ fn operation(source: &Source<'_>, node: &Node<'_>) -> Result<DMat4, SceneError> 
         "rotate-x" => rotation_x(a[0]),
         "rotate-y" => rotation_y(a[0]),
         "rotate-z" => rotation_z(a[0]),
+        "rotate-x-degrees" => rotation_x(a[0].to_radians()),
+        "rotate-y-degrees" => rotation_y(a[0].to_radians()),
+        "rotate-z-degrees" => rotation_z(a[0].to_radians()),
         _ => shearing(a[0], a[1], a[2], a[3], a[4], a[5]),
     })
 }

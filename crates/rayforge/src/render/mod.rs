@@ -5,12 +5,13 @@
 //! cancelled between rows ([`RenderOptions::cancel`]) and continued later from the rows it
 //! finished ([`RenderOptions::finished`]), giving exactly the image of an uninterrupted run.
 
+mod exposure;
 mod sampler;
 
 pub use sampler::{CameraSample, Sampling};
 
 use crate::scene::WorldIndex;
-use crate::{Camera, Canvas, Color, Tracer, World, DEFAULT_MAX_DEPTH};
+use crate::{Camera, Canvas, Color, LightingModel, Tracer, World, DEFAULT_MAX_DEPTH};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -60,6 +61,9 @@ impl Default for RenderOptions<'_> {
 pub struct RenderStats {
     /// Every ray cast: camera, reflected, refracted and shadow rays.
     pub rays: u64,
+    /// Pixels none of whose samples could be traced (the optics model's ties between two
+    /// surfaces), repaired from their neighbours.
+    pub ambiguous: u64,
 }
 
 /// An image whose rows may not all be rendered yet: a canvas and which of its rows are done.
@@ -160,6 +164,10 @@ pub fn render_rows(
         _ => PartialImage::new(width, height),
     };
     let rays = AtomicU64::new(0);
+    // The optics model's brightest sample (as bits: positive floats order like integers) and
+    // its pixels with no usable sample.
+    let brightest = AtomicU64::new(0);
+    let ambiguous = std::sync::Mutex::new(Vec::new());
     let index = WorldIndex::build(world);
     let cancelled = || options.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let PartialImage { canvas, done } = &mut image;
@@ -178,9 +186,23 @@ pub fn render_rows(
                 let mut trace = |x: usize| {
                     let seed = (y * width + x) as u64;
                     tracer.reseed(seed);
-                    options.sampling.pixel(x, y, seed, |sample| {
+                    let mut samples = 0;
+                    let color = options.sampling.pixel(x, y, seed, |sample| {
+                        samples += 1;
                         tracer.color_at(&camera.ray_for_sample(&sample), options.max_depth)
-                    })
+                    });
+                    // Ambiguous samples are black: average the others, or leave the pixel to
+                    // its neighbours when there are none.
+                    match tracer.ambiguous_samples() {
+                        0 => color,
+                        bad if bad < samples => color * (samples as f64 / (samples - bad) as f64),
+                        _ => {
+                            if let Ok(mut list) = ambiguous.lock() {
+                                list.push(y * width + x);
+                            }
+                            Color::BLACK
+                        }
+                    }
                 };
                 match options.subsample {
                     None => {
@@ -192,6 +214,7 @@ pub fn render_rows(
                 }
                 *done = true;
                 rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);
+                brightest.fetch_max(tracer.brightest().to_bits(), Ordering::Relaxed);
                 if let Some(on_row) = options.on_row {
                     on_row(y, row);
                 }
@@ -200,8 +223,15 @@ pub fn render_rows(
                 }
             },
         );
+    let mut ambiguous = ambiguous.into_inner().unwrap_or_default();
+    if world.lighting == LightingModel::Optics && image.is_complete() {
+        ambiguous.sort_unstable();
+        exposure::repair_ambiguous(&mut image.canvas, &ambiguous);
+        exposure::expose(&mut image.canvas, f64::from_bits(brightest.into_inner()));
+    }
     let stats = RenderStats {
         rays: rays.into_inner(),
+        ambiguous: ambiguous.len() as u64,
     };
     (image, stats)
 }

@@ -57,6 +57,12 @@ pub enum Sampling {
         /// Cells per side (the pixel takes `n²` samples).
         per_side: u32,
     },
+    /// Fundamentals of Ray Tracing's anti-aliasing: an `n × n` grid of rays from each pixel's
+    /// top-left corner at steps of `1/n` (no jitter), averaged.
+    Grid {
+        /// Rays per side.
+        per_side: u32,
+    },
     /// Chapter 17's adaptive scheme: rays at the four corners and the centre; where any corner
     /// differs from the centre by more than `threshold` (in any channel), the pixel is split into
     /// quarters and each is sampled the same way, down to `depth` levels.
@@ -108,6 +114,18 @@ impl Sampling {
                         let dy = (j as f64 + rng.next_offset()) * cell;
                         let sample = CameraSample::drawn(x + dx, y + dy, &mut rng, &mut shutter);
                         sum += trace(sample);
+                    }
+                }
+                sum / (n * n) as f64
+            }
+            Sampling::Grid { per_side } => {
+                let n = per_side.max(1);
+                let step = 1.0 / n as f64;
+                let mut sum = Color::BLACK;
+                for i in 0..n {
+                    for j in 0..n {
+                        let (px, py) = (x + i as f64 * step, y + j as f64 * step);
+                        sum += trace(CameraSample::centred(px, py));
                     }
                 }
                 sum / (n * n) as f64

@@ -280,6 +280,29 @@ impl Csg {
 }
 
 impl Object {
+    /// Whether `point` (in world space) is inside the solid: a CSG solid by its operations,
+    /// any other shape by the parity of its surfaces ahead of the point (see `leaf_contains`).
+    /// Open surfaces pick a side: below a plane counts as inside.
+    pub fn contains(&self, point: Point3) -> bool {
+        match &self.shape {
+            Shape::Csg(csg) => csg.contains_point(self.world_to_object(point)),
+            _ => leaf_contains(self, point),
+        }
+    }
+
+    /// The primitive whose material fills the solid at `point`: for a CSG solid the first of
+    /// its primitives that contains the point, for any other the object itself.
+    pub fn surface_containing(&self, point: Point3) -> &Object {
+        match &self.shape {
+            Shape::Csg(csg) => csg
+                .leaves()
+                .iter()
+                .find(|leaf| leaf.contains(point))
+                .unwrap_or(self),
+            _ => self,
+        }
+    }
+
     /// The book's `csg(operation, left, right)` as an object.
     pub fn csg(
         operation: CsgOperation,

@@ -7,6 +7,7 @@ mod group;
 mod index;
 mod intersection;
 mod object;
+mod optics;
 mod tracer;
 mod world;
 

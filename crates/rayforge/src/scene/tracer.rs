@@ -22,6 +22,10 @@ pub struct Tracer<'w> {
     pub(super) rays: u64,
     /// Sample offsets for jittered area lights, reseeded per pixel by the render loop.
     pub(super) jitter: SplitMix64,
+    /// Samples since the last reseed whose rays met a tie (the optics model's ambiguous hits).
+    ambiguous: u32,
+    /// The brightest channel of any sample so far (the optics model exposes by it).
+    brightest: f64,
 }
 
 impl<'w> Tracer<'w> {
@@ -34,6 +38,8 @@ impl<'w> Tracer<'w> {
             containers: Vec::with_capacity(8),
             rays: 0,
             jitter: SplitMix64::new(0),
+            ambiguous: 0,
+            brightest: 0.0,
         }
     }
 
@@ -41,6 +47,20 @@ impl<'w> Tracer<'w> {
     /// every pixel's samples are the same whichever thread renders it).
     pub fn reseed(&mut self, seed: u64) {
         self.jitter = SplitMix64::new(seed);
+        self.ambiguous = 0;
+    }
+
+    /// How many samples since the last [`Tracer::reseed`] were ambiguous (their rays met two
+    /// surfaces at the same distance, under the optics model): they are black and should be
+    /// left out of their pixel.
+    pub fn ambiguous_samples(&self) -> u32 {
+        self.ambiguous
+    }
+
+    /// The brightest channel of every sample this tracer has traced under the optics model
+    /// (which divides the image by the brightest of all).
+    pub fn brightest(&self) -> f64 {
+        self.brightest
     }
 
     /// How many rays (camera, reflected, refracted and shadow) this tracer has cast.
@@ -58,6 +78,16 @@ impl<'w> Tracer<'w> {
             LightingModel::Phong => self.phong_color_at(ray, remaining),
             LightingModel::Flat => self.cgfs_color_at(ray, remaining, Stage::Flat),
             LightingModel::Cgfs => self.cgfs_color_at(ray, remaining, Stage::Lit),
+            LightingModel::Optics => match self.optics_color_at(ray) {
+                Ok(c) => {
+                    self.brightest = self.brightest.max(c.red).max(c.green).max(c.blue);
+                    c
+                }
+                Err(_) => {
+                    self.ambiguous += 1;
+                    Color::BLACK
+                }
+            },
         }
     }
 

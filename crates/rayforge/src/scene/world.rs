@@ -6,7 +6,7 @@ use crate::math::{point, scaling, Point3, Ray};
 use crate::{Color, Computations, Intersection, Light, Material, Object};
 
 /// Everything in the scene that rays can meet or be lit by.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct World {
     /// The objects, in the order they were added.
     pub objects: Vec<Object>,
@@ -16,6 +16,8 @@ pub struct World {
     pub background: Color,
     /// How hits are shaded.
     pub lighting: LightingModel,
+    /// The refractive index of empty space (the optics model's ambient index; 1 by default).
+    pub ambient_index: f64,
 }
 
 /// How a world's hits are shaded: which book's lighting model (chosen per scene).
@@ -30,6 +32,21 @@ pub enum LightingModel {
     /// Computer Graphics from Scratch: ambient, point and directional lights, the book's
     /// diffuse and specular terms and reflection blend, reproduced bit for bit.
     Cgfs,
+    /// Fundamentals of Ray Tracing: matte, gloss, opacity and refraction by Fresnel's
+    /// equations, lights falling off with the square of the distance, automatic exposure.
+    Optics,
+}
+
+impl Default for World {
+    fn default() -> Self {
+        Self {
+            objects: Vec::new(),
+            lights: Vec::new(),
+            background: Color::BLACK,
+            lighting: LightingModel::Phong,
+            ambient_index: 1.0,
+        }
+    }
 }
 
 impl World {
@@ -97,7 +114,6 @@ pub fn default_world() -> World {
     World {
         objects: vec![outer, inner],
         lights: vec![Light::point(point(-10.0, 10.0, -10.0), Color::WHITE)],
-        background: Color::BLACK,
-        lighting: LightingModel::Phong,
+        ..World::default()
     }
 }

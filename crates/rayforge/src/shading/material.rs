@@ -30,6 +30,11 @@ pub struct Material {
     pub transparency: f64,
     /// Index of refraction (1 for vacuum, 1.5 for glass).
     pub refractive_index: f64,
+    /// The colour of mirror-like reflection (the optics model of Fundamentals of Ray Tracing;
+    /// `color` is its matte colour there).
+    pub gloss: Color,
+    /// How much light the surface stops, from 0 (clear) to 1 (opaque), in the optics model.
+    pub opacity: f64,
 }
 
 impl Material {
@@ -46,6 +51,8 @@ impl Material {
         reflective: 0.0,
         transparency: 0.0,
         refractive_index: 1.0,
+        gloss: Color::BLACK,
+        opacity: 1.0,
     };
 
     /// The book's `glass_sphere()` material: fully transparent, index 1.5.
