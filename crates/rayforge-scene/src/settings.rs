@@ -31,19 +31,23 @@ pub fn apply(
     let mut max_depth = None;
     for e in &entries {
         match e.name {
-            "lighting" => world.lighting = match source.string(e.value, "lighting")? {
-                "phong" => LightingModel::Phong,
-                "flat" => LightingModel::Flat,
-                "cgfs" => LightingModel::Cgfs,
-                "optics" => LightingModel::Optics,
-                other => return Err(source.error(
-                    e.value,
-                    "lighting",
-                    format!(
+            "lighting" => {
+                world.lighting = match source.string(e.value, "lighting")? {
+                    "phong" => LightingModel::Phong,
+                    "flat" => LightingModel::Flat,
+                    "cgfs" => LightingModel::Cgfs,
+                    "optics" => LightingModel::Optics,
+                    other => {
+                        return Err(source.error(
+                            e.value,
+                            "lighting",
+                            format!(
                         "unknown lighting model `{other}`; expected phong, flat, cgfs or optics"
                     ),
-                )),
-            },
+                        ))
+                    }
+                }
+            }
             "background" => world.background = color(source, e.value, "background")?,
             "ambient-index" => {
                 let index = source.number(e.value, "ambient-index")?;

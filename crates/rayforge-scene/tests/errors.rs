@@ -328,7 +328,13 @@ fn a_second_world_item_is_an_error() {
 #[test]
 fn an_unknown_lighting_model_is_named() {
     let e = error("- world:\n    lighting: pbr\n");
-    assert_error(&e, 9, 15, Some("lighting"), "expected phong, flat, cgfs or optics");
+    assert_error(
+        &e,
+        9,
+        15,
+        Some("lighting"),
+        "expected phong, flat, cgfs or optics",
+    );
 }
 
 #[test]

@@ -1,0 +1,70 @@
+//! Fundamentals of Ray Tracing (Don Cross): `rayforge render scenes/fundamentals/NAME.yml` at
+//! the original program's size, zoom and anti-aliasing.
+//!
+//! Each render is pinned by a hash of its pixels. The hashes were taken from renders compared
+//! pixel by pixel with the images the author's own program writes (built from its public
+//! source; `docs/fidelity.md` gives the measured differences: none for seven of these scenes).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn render(name: &str) -> image::RgbImage {
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("fundamentals-{name}.png"));
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("render")
+        .arg(repo().join(format!("scenes/fundamentals/{name}.yml")))
+        .arg("-o")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .expect("runs rayforge");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    image::open(&out).expect("reads the render").to_rgb8()
+}
+
+/// FNV-1a, 64 bits, over the RGB bytes.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+#[test]
+fn the_test_commands_scenes_render_as_pinned() {
+    let expected: [(&str, (u32, u32), u64); 9] = [
+        ("sphere", (400, 400), 0xb348_eeec_6cba_4604),
+        ("cuboid", (300, 300), 0x7e87_a204_c11a_1c68),
+        ("spheroid", (300, 300), 0x7917_771d_a871_039d),
+        ("cylinder", (300, 300), 0x6f76_08f3_ac2d_641e),
+        ("torus1", (420, 300), 0xe56a_6175_5084_d100),
+        ("torus2", (420, 300), 0xe8c9_7334_7f09_b67a),
+        ("intersection", (300, 300), 0x8e36_bf97_7109_2b52),
+        ("difference", (300, 300), 0xc3e1_8f9e_2440_7f7c),
+        ("donutbite", (300, 300), 0xde09_fe87_1858_c3b7),
+    ];
+    let mut wrong = Vec::new();
+    for (name, size, hash) in expected {
+        let image = render(name);
+        assert_eq!(image.dimensions(), size, "{name}");
+        let got = fnv1a(image.as_raw());
+        if got != hash {
+            wrong.push(format!("(\"{name}\", {size:?}, {got:#018x})"));
+        }
+    }
+    assert!(wrong.is_empty(), "changed renders: {}", wrong.join(", "));
+}
+
+#[test]
+fn automatic_exposure_makes_the_brightest_channel_full() {
+    // The matte sphere (0.6, 0.2, 0.2) under the light (0.5, 1.0, 0.3) reflects (0.3, 0.2,
+    // 0.06) of it: red is the brightest channel, and its brightest point becomes 255.
+    let image = render("sphere");
+    let brightest = image.pixels().map(|p| p.0[0]).max().unwrap();
+    assert_eq!(brightest, 255);
+    // The background stays black.
+    assert_eq!(image.get_pixel(0, 0).0, [0, 0, 0]);
+}
