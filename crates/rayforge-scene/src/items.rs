@@ -14,7 +14,17 @@ use rayforge::{
 
 /// The shapes `add:` may name, for messages.
 pub const SHAPE_KINDS: &[&str] = &[
-    "sphere", "plane", "cube", "cylinder", "cone", "torus", "group", "obj", "csg",
+    "sphere",
+    "plane",
+    "cube",
+    "cylinder",
+    "cone",
+    "torus",
+    "icosahedron",
+    "dodecahedron",
+    "group",
+    "obj",
+    "csg",
 ];
 
 /// Keys every shape accepts.
@@ -795,6 +805,13 @@ fn shape(
             closed,
         }),
         "torus" => torus(source, entries),
+        // Fundamentals of Ray Tracing's polyhedra, with its size parameter 1 (scale to taste).
+        "icosahedron" => Ok(Shape::Mesh(std::sync::Arc::new(
+            rayforge::geometry::icosahedron(),
+        ))),
+        "dodecahedron" => Ok(Shape::Mesh(std::sync::Arc::new(
+            rayforge::geometry::dodecahedron(),
+        ))),
         "camera" | "light" => Err(source.error(
             kind_node,
             "add",

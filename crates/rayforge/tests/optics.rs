@@ -165,3 +165,41 @@ fn the_medium_beyond_a_surface_is_the_first_solid_that_contains_it() {
     assert_eq!(color_at(&water_first, &ray), Color::BLACK);
     assert_eq!(color_at(&only_glass, &ray), Color::BLACK);
 }
+
+/// The polyhedra: exact vertex sets, every edge the same length, every face facing out.
+fn check_polyhedron(mesh: &rayforge::geometry::Mesh, vertices: usize, triangles: usize, edge: f64) {
+    assert_eq!(mesh.positions().len(), vertices);
+    assert_eq!(mesh.faces().len(), triangles);
+    let object = Object::mesh(std::sync::Arc::new(mesh.clone()));
+    for (i, face) in mesh.faces().iter().enumerate() {
+        let [a, b, c] = face.vertices.map(|v| mesh.positions()[v as usize]);
+        let centre = (a + b + c) / 3.0;
+        let hit = rayforge::geometry::LocalHit {
+            face: i as u32,
+            ..Default::default()
+        };
+        let normal = object.normal_at_local_hit(centre, &hit);
+        assert!(normal.dot(centre) > 0.0, "face {i} faces in");
+    }
+    // Each vertex has neighbours at exactly the edge length and none nearer.
+    for p in mesh.positions() {
+        let nearest = mesh
+            .positions()
+            .iter()
+            .filter(|q| (**q - *p).length() > 1e-9)
+            .map(|q| (*q - *p).length())
+            .fold(f64::INFINITY, f64::min);
+        assert!(close(nearest, edge), "{nearest} vs {edge}");
+    }
+}
+
+#[test]
+fn the_icosahedron_has_twelve_vertices_and_twenty_faces() {
+    check_polyhedron(&rayforge::geometry::icosahedron(), 12, 20, 2.0);
+}
+
+#[test]
+fn the_dodecahedron_has_twenty_vertices_and_twelve_pentagons() {
+    let phi = (1.0 + 5f64.sqrt()) / 2.0;
+    check_polyhedron(&rayforge::geometry::dodecahedron(), 20, 36, 2.0 / phi);
+}

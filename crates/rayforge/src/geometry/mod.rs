@@ -9,12 +9,14 @@ mod cube;
 mod cylinder;
 mod mesh;
 mod plane;
+mod polyhedra;
 mod sphere;
 mod tessellate;
 mod torus;
 mod triangle;
 
 pub use mesh::{Mesh, MeshError, MeshFace};
+pub use polyhedra::{dodecahedron, icosahedron};
 pub use tessellate::sphere_mesh;
 pub use torus::toroidal_map;
 pub use triangle::Triangle;
