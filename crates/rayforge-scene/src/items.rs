@@ -20,6 +20,8 @@ pub const SHAPE_KINDS: &[&str] = &[
     "cylinder",
     "cone",
     "torus",
+    "ring",
+    "disc",
     "icosahedron",
     "dodecahedron",
     "group",
@@ -67,6 +69,27 @@ const OBJ_KEYS: &[&str] = &[
     "shadow",
     "motion",
     "velocity",
+];
+/// Keys a ring accepts.
+const RING_KEYS: &[&str] = &[
+    "add",
+    "material",
+    "transform",
+    "shadow",
+    "motion",
+    "velocity",
+    "inner-radius",
+    "outer-radius",
+];
+/// Keys a disc accepts.
+const DISC_KEYS: &[&str] = &[
+    "add",
+    "material",
+    "transform",
+    "shadow",
+    "motion",
+    "velocity",
+    "radius",
 ];
 /// Keys a torus accepts.
 const TORUS_KEYS: &[&str] = &[
@@ -514,6 +537,8 @@ pub fn add_objects<'n, 's>(
         "obj" => OBJ_KEYS,
         "cylinder" | "cone" => QUADRIC_KEYS,
         "torus" => TORUS_KEYS,
+        "ring" => RING_KEYS,
+        "disc" => DISC_KEYS,
         _ => SHAPE_KEYS,
     };
     let shape = match kind {
@@ -805,6 +830,7 @@ fn shape(
             closed,
         }),
         "torus" => torus(source, entries),
+        "ring" | "disc" => ring(source, entries, kind),
         // Fundamentals of Ray Tracing's polyhedra, with its size parameter 1 (scale to taste).
         "icosahedron" => Ok(Shape::Mesh(std::sync::Arc::new(
             rayforge::geometry::icosahedron(),
@@ -822,6 +848,39 @@ fn shape(
         )),
         other => Err(unknown_kind(source, kind_node, other)),
     }
+}
+
+/// A thin ring (`inner-radius`, default 0.5; `outer-radius`, default 1) or disc (`radius`,
+/// default 1) in the xz plane.
+fn ring(source: &Source<'_>, entries: &[Entry<'_, '_>], kind: &str) -> Result<Shape, SceneError> {
+    let (mut inner, mut outer) = if kind == "disc" {
+        (0.0, 1.0)
+    } else {
+        (0.5, 1.0)
+    };
+    for e in entries {
+        let radius = match e.name {
+            "inner-radius" => &mut inner,
+            "outer-radius" | "radius" => &mut outer,
+            _ => continue,
+        };
+        *radius = source.number(e.value, e.name)?;
+        if *radius < 0.0 {
+            return Err(source.error(e.value, e.name, "a radius cannot be negative"));
+        }
+    }
+    if inner >= outer {
+        let node = entries
+            .iter()
+            .find(|e| e.name == "inner-radius")
+            .map_or(entries[0].value, |e| e.value);
+        return Err(source.error(
+            node,
+            "inner-radius",
+            format!("the inner radius {inner} must be smaller than the outer {outer}"),
+        ));
+    }
+    Ok(Shape::Ring { inner, outer })
 }
 
 /// A torus: `major-radius` (its tube's centre circle, default 1) and `minor-radius` (the tube,

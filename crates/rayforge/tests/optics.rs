@@ -203,3 +203,41 @@ fn the_dodecahedron_has_twenty_vertices_and_twelve_pentagons() {
     let phi = (1.0 + 5f64.sqrt()) / 2.0;
     check_polyhedron(&rayforge::geometry::dodecahedron(), 20, 36, 2.0 / phi);
 }
+
+#[test]
+fn a_thin_ring_is_hit_between_its_radii_and_holds_nothing() {
+    let ring = Object::new(Shape::Ring {
+        inner: 1.0,
+        outer: 2.0,
+    });
+    let down = |x: f64| Ray::new(point(x, 5.0, 0.0), vector(0.0, -1.0, 0.0));
+    assert!(ring.intersections(&down(0.5)).is_empty(), "the hole");
+    assert_eq!(ring.intersections(&down(1.5)).len(), 1);
+    assert!(ring.intersections(&down(2.5)).is_empty());
+    assert!(!ring.contains(point(1.5, -1.0, 0.0)));
+    assert!(!ring.contains(point(1.5, 0.0, 0.0)));
+}
+
+#[test]
+fn a_thin_ring_is_lit_on_the_side_the_light_is() {
+    // Lit from above, seen from above: bright; seen from below: the matte term is zero (the
+    // light is on the other side of the surface).
+    let ring = Object::new(Shape::Ring {
+        inner: 0.0,
+        outer: 2.0,
+    });
+    let world = optics_world(
+        vec![ring],
+        vec![Light::point(point(0.0, 3.0, 0.0), Color::WHITE)],
+    );
+    let above = color_at(
+        &world,
+        &Ray::new(point(0.0, 1.0, 0.5), vector(0.0, -1.0, 0.0)),
+    );
+    let below = color_at(
+        &world,
+        &Ray::new(point(0.0, -1.0, 0.5), vector(0.0, 1.0, 0.0)),
+    );
+    assert!(above.red > 0.0, "{above:?}");
+    assert_eq!(below, Color::BLACK);
+}

@@ -10,6 +10,7 @@ mod cylinder;
 mod mesh;
 mod plane;
 mod polyhedra;
+mod ring;
 mod sphere;
 mod tessellate;
 mod torus;
@@ -98,6 +99,14 @@ pub enum Shape {
         /// Radius of the tube (Cross's B).
         minor: f64,
     },
+    /// A flat ring in the xz plane around the y axis, between two radii (Fundamentals of Ray
+    /// Tracing's thin ring; with `inner` 0, its thin disc). No thickness, no volume.
+    Ring {
+        /// Radius of the hole (0 for a disc).
+        inner: f64,
+        /// Outer radius.
+        outer: f64,
+    },
 }
 
 impl Shape {
@@ -155,6 +164,7 @@ impl Shape {
                 closed,
             } => cone::intersect(ray, *minimum, *maximum, *closed, &mut hit_t),
             Shape::Torus { major, minor } => torus::intersect(ray, *major, *minor, &mut hit_t),
+            Shape::Ring { inner, outer } => ring::intersect(ray, *inner, *outer, &mut hit_t),
         }
     }
 
@@ -226,6 +236,7 @@ impl Shape {
                 minimum, maximum, ..
             } => cone::normal_at(point, *minimum, *maximum),
             Shape::Torus { major, .. } => torus::normal_at(point, *major),
+            Shape::Ring { .. } => ring::normal_at(point),
         }
     }
 
@@ -235,6 +246,12 @@ impl Shape {
             Shape::Mesh(mesh) => mesh.texcoord_at(hit),
             _ => None,
         }
+    }
+
+    /// Whether the shape encloses a volume (surfaces with no thickness, a ring or a lone
+    /// triangle, do not: nothing is ever inside them).
+    pub fn has_volume(&self) -> bool {
+        !matches!(self, Shape::Ring { .. } | Shape::Triangle(_))
     }
 
     /// The book's `bounds_of(shape)`: the object-space box around the shape (infinite along the
@@ -266,6 +283,10 @@ impl Shape {
                     Point3::new(outer, r, outer),
                 )
             }
+            Shape::Ring { outer, .. } => Aabb::new(
+                Point3::new(-outer, 0.0, -outer),
+                Point3::new(*outer, 0.0, *outer),
+            ),
             Shape::Mesh(mesh) => mesh.bounds(),
             Shape::Csg(csg) => csg.bounds(),
             Shape::Triangle(t) => {

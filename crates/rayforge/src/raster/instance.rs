@@ -58,6 +58,7 @@ enum ModelKey {
     Cylinder(u64, u64, bool),
     Cone(u64, u64, bool),
     Torus(u64, u64),
+    Ring(u64, u64),
     Mesh(usize),
 }
 
@@ -77,6 +78,7 @@ fn model_key(shape: &Shape) -> Option<ModelKey> {
             closed,
         } => ModelKey::Cone(minimum.to_bits(), maximum.to_bits(), *closed),
         Shape::Torus { major, minor } => ModelKey::Torus(major.to_bits(), minor.to_bits()),
+        Shape::Ring { inner, outer } => ModelKey::Ring(inner.to_bits(), outer.to_bits()),
         Shape::Mesh(mesh) => ModelKey::Mesh(Arc::as_ptr(mesh) as usize),
         Shape::Triangle(_) | Shape::Csg(_) => return None,
     })

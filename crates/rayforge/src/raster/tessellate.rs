@@ -183,6 +183,23 @@ fn torus(divs: u32, major: f64, minor: f64) -> Tessellation<'static> {
     t
 }
 
+/// A flat ring (or disc) in the xz plane: `4·divs` segments around, seen from both sides.
+fn ring(divs: u32, inner: f64, outer: f64) -> Tessellation<'static> {
+    let around = divs.max(3) * 4;
+    let mut t = Tessellation::empty(false);
+    for i in 0..around {
+        let a = TAU * i as f64 / around as f64;
+        let (x, z) = (a.cos(), a.sin());
+        t.vertex(Point3::new(inner * x, 0.0, inner * z), Vec3::Y);
+        t.vertex(Point3::new(outer * x, 0.0, outer * z), Vec3::Y);
+    }
+    for i in 0..around {
+        let j = (i + 1) % around;
+        t.quad([2 * i, 2 * i + 1, 2 * j + 1, 2 * j], Vec3::Y);
+    }
+    t
+}
+
 /// The cube from -1 to 1: four vertices per face (so each face has its own normal), twelve
 /// triangles.
 fn cube() -> Tessellation<'static> {
@@ -456,6 +473,7 @@ pub fn tessellate(shape: &Shape, divisions: u32) -> Tessellation<'_> {
             |a, y| Vec3::new(a.cos(), -y.signum(), a.sin()) / std::f64::consts::SQRT_2,
         ),
         Shape::Torus { major, minor } => torus(divisions, *major, *minor),
+        Shape::Ring { inner, outer } => ring(divisions, *inner, *outer),
         Shape::Triangle(tri) => triangle(tri),
         Shape::Mesh(mesh) => Tessellation::of_mesh(mesh),
         Shape::Csg(c) => csg(c, divisions),

@@ -286,6 +286,7 @@ impl Object {
     pub fn contains(&self, point: Point3) -> bool {
         match &self.shape {
             Shape::Csg(csg) => csg.contains_point(self.world_to_object(point)),
+            shape if !shape.has_volume() => false,
             _ => leaf_contains(self, point),
         }
     }

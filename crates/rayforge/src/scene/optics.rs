@@ -280,6 +280,10 @@ impl<'w> Tracer<'w> {
             {
                 normal = -normal;
             }
+            // A surface with no thickness (a ring) is seen from whichever side the ray comes.
+            if !object.surface(h.leaf).shape.has_volume() && normal.dot(ray.direction) > 0.0 {
+                normal = -normal;
+            }
             Hit {
                 surface: object.surface(h.leaf),
                 point,
