@@ -33,6 +33,7 @@ Render options (`rayforge render --help` describes each in full):
       --spp <N>             camera rays per pixel, stratified [default: the camera's `samples`]
       --adaptive <T>        adaptive anti-aliasing with this threshold instead
       --subsample <T>       trace every other pixel, interpolate where neighbours agree
+      --frames <A..B>       render animation frames A to B to a %04d-numbered output
       --max-depth <N>       reflection and refraction bounces [default: the scene's, else 5]
       --max-pixels <PIXELS> the largest image accepted [default: 268435456, 2^28]
       --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
@@ -104,6 +105,12 @@ pub struct RenderArgs {
     /// splitting the pixel where they differ by more than this (0 to 1, per channel).
     #[arg(long, value_name = "THRESHOLD")]
     pub adaptive: Option<f64>,
+
+    /// Render the frames FIRST..LAST (inclusive) of an animated scene (items with
+    /// `per-frame`), each to the output name with `%04d` (or `%d`) replaced by its number.
+    /// Frames already written are skipped, so an interrupted sequence resumes.
+    #[arg(long, value_name = "FIRST..LAST")]
+    pub frames: Option<String>,
 
     /// Computer Graphics from Scratch's subsampling: trace every other pixel of each row and
     /// fill the ones between with their neighbours' average where those differ by at most this

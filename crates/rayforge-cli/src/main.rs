@@ -6,6 +6,7 @@ mod checkpoint;
 mod diagnostics;
 mod failure;
 mod format;
+mod frames;
 mod interrupt;
 mod progress;
 mod render_command;

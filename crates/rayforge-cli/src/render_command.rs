@@ -11,15 +11,36 @@ use crate::summary::{raster_summary_line, summary_line};
 use rayforge::render::{render_rows, PartialImage, RenderOptions, Sampling};
 use rayforge::Color;
 use rayforge_scene::LoadOptions;
+use std::path::Path;
 use std::sync::mpsc;
 use std::time::Instant;
 
-/// Runs the render command.
+/// Runs the render command: one image, or with `--frames` every frame of an animation not
+/// already on disk (so an interrupted sequence resumes where it stopped).
 pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
+    let Some((first, last)) = settings.frames else {
+        return render_frame(settings, &settings.output, 0);
+    };
+    for frame in first..=last {
+        let output = crate::frames::frame_path(&settings.output, frame);
+        if output.exists() {
+            if !settings.quiet {
+                eprintln!("frame {frame}: `{}` is already there", output.display());
+            }
+            continue;
+        }
+        render_frame(settings, &output, frame)?;
+    }
+    Ok(())
+}
+
+/// Renders animation frame `frame` of the scene (0 for a still) to `output`.
+fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<(), Failure> {
     // Cheap checks first: a long render must not end in "cannot write".
-    check_writable(&settings.output)?;
+    check_writable(output)?;
     let load = LoadOptions {
         max_triangles: settings.max_triangles,
+        frame,
     };
     let scene = rayforge_scene::load_file_with(&settings.scene, &load).map_err(scene_failure)?;
     if !settings.quiet {
@@ -48,7 +69,7 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
             pool.install(|| rayforge::raster::render_with_stats(&camera, &scene.world, options));
         let elapsed = started.elapsed();
         let bytes = settings.format.encode(&canvas)?;
-        write_atomically(&settings.output, &bytes)?;
+        write_atomically(output, &bytes)?;
         if !settings.quiet {
             eprintln!(
                 "{}",
@@ -58,7 +79,7 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
                     elapsed,
                     stats.triangles,
                     stats.drawn,
-                    &settings.output
+                    output
                 )
             );
         }
@@ -75,7 +96,7 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
             (spp, _) => Sampling::with_samples(spp.unwrap_or(scene.samples)),
         },
     };
-    let (finished, log) = open_checkpoint(settings, width, height, &sampling)?;
+    let (finished, log) = open_checkpoint(settings, output, frame, width, height, &sampling)?;
     let stop = crate::interrupt::stop_flag(settings.quiet);
     let bar = row_bar(camera.vsize(), settings.quiet);
     if let Some(f) = &finished {
@@ -112,7 +133,7 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
     });
     let elapsed = started.elapsed();
     bar.finish_and_clear();
-    let checkpoint = checkpoint::path_for(&settings.output);
+    let checkpoint = checkpoint::path_for(output);
     if !image.is_complete() {
         // Interrupted: the rows are in the checkpoint, unless writing it failed.
         logged?;
@@ -125,19 +146,13 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
     }
     let canvas = image.into_canvas();
     let bytes = settings.format.encode(&canvas)?;
-    write_atomically(&settings.output, &bytes)?;
+    write_atomically(output, &bytes)?;
     // The image is complete: its checkpoint has done its job.
     let _ = std::fs::remove_file(&checkpoint);
     if !settings.quiet {
         eprintln!(
             "{}",
-            summary_line(
-                canvas.width(),
-                canvas.height(),
-                elapsed,
-                stats.rays,
-                &settings.output
-            )
+            summary_line(canvas.width(), canvas.height(), elapsed, stats.rays, output)
         );
         if stats.ambiguous > 0 {
             eprintln!(
@@ -153,6 +168,8 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
 /// rows: the same checkpoint continued, or a new one.
 fn open_checkpoint(
     settings: &RenderSettings,
+    output: &Path,
+    frame: u64,
     width: usize,
     height: usize,
     sampling: &Sampling,
@@ -162,13 +179,13 @@ fn open_checkpoint(
         .map_err(|e| Failure::usage(format!("cannot read `{}`: {e}", settings.scene.display())))?;
     // Everything that changes a pixel; the thread count does not.
     let described = format!(
-        "{sampling:?}; max depth {:?}; subsample {:?}; rayforge {}",
+        "{sampling:?}; max depth {:?}; subsample {:?}; frame {frame}; rayforge {}",
         settings.max_depth,
         settings.subsample,
         env!("CARGO_PKG_VERSION")
     );
     let key = RenderKey::new(&scene_bytes, width, height, &described);
-    let path = checkpoint::path_for(&settings.output);
+    let path = checkpoint::path_for(output);
     if settings.resume {
         let (image, valid_end) = checkpoint::read(&path, &key)?;
         if !settings.quiet {

@@ -42,6 +42,8 @@ pub struct RenderSettings {
     pub adaptive: Option<f64>,
     /// Subsampling threshold, when asked for.
     pub subsample: Option<f64>,
+    /// The animation frames to render, first and last, when asked for.
+    pub frames: Option<(u64, u64)>,
     /// No progress or summary.
     pub quiet: bool,
     /// The mesh size limit.
@@ -59,6 +61,25 @@ impl RenderSettings {
     /// Checks the raw arguments; each refusal names the flag.
     pub fn from_args(args: RenderArgs) -> Result<Self, Failure> {
         let format = ImageFormat::from_path(&args.output)?;
+        let frames = match &args.frames {
+            None => None,
+            Some(text) => {
+                if !crate::frames::has_frame_pattern(&args.output) {
+                    return Err(Failure::usage(format!(
+                        "--frames needs a frame number in the output name, such as \
+                         `out/frame-%04d.png`; found `{}`",
+                        args.output.display()
+                    )));
+                }
+                if args.resume {
+                    return Err(Failure::usage(
+                        "--frames resumes by itself (frames already written are skipped); \
+                         drop --resume",
+                    ));
+                }
+                Some(crate::frames::parse_range(text)?)
+            }
+        };
         let size = SizeRequest::new(args.width, args.height, args.max_pixels)?;
         if let Some(spp) = args.spp {
             if spp == 0 || spp > MAX_SPP {
@@ -113,6 +134,7 @@ impl RenderSettings {
             spp: args.spp,
             adaptive: args.adaptive,
             subsample: args.subsample,
+            frames,
             quiet: args.quiet,
             max_triangles: args.max_triangles,
             resume: args.resume,

@@ -688,3 +688,74 @@ fn raster_flags_need_the_rasterizer_and_sampling_flags_the_ray_tracer() {
     assert_eq!(o.status.code(), Some(2), "clap refuses an unknown renderer");
     assert!(!out.exists());
 }
+
+/// A sphere that moves one unit right per frame.
+const SLIDING: &str = "
+- add: camera
+  width: 16
+  height: 8
+  field-of-view: 1.2
+  from: [0, 0, -5]
+  to: [0, 0, 0]
+  up: [0, 1, 0]
+- add: light
+  at: [-10, 10, -10]
+  intensity: [1, 1, 1]
+- add: sphere
+  transform:
+    - [scale, 0.5, 0.5, 0.5]
+    - [translate, -1, 0, 0]
+  per-frame:
+    - [translate, 1, 0, 0]
+";
+
+#[test]
+fn frames_are_written_numbered_and_skipped_when_present() {
+    let d = Dir::new();
+    let scene = d.file("s.yml", SLIDING);
+    let pattern = d.path("frame-%03d.png");
+    let o = render(&scene, &pattern, &["--frames", "0..2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let frames: Vec<_> = (0..3)
+        .map(|f| {
+            image::open(d.path(&format!("frame-{f:03}.png")))
+                .unwrap()
+                .to_rgb8()
+        })
+        .collect();
+    // The sphere moves: each frame differs from the one before.
+    assert_ne!(frames[0], frames[1]);
+    assert_ne!(frames[1], frames[2]);
+    // Frame 1 has the sphere at the origin: the same image as a still with it there.
+    let still = d.file(
+        "still.yml",
+        &SLIDING.replace("[translate, -1, 0, 0]", "[translate, 0, 0, 0]"),
+    );
+    let o = render(&still, &d.path("still.png"), &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        frames[1],
+        image::open(d.path("still.png")).unwrap().to_rgb8()
+    );
+    // Run again with one frame removed: only that one is rendered.
+    std::fs::remove_file(d.path("frame-001.png")).unwrap();
+    let o = render(&scene, &pattern, &["--frames", "0..2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("frame 0") && err.contains("already there"),
+        "{err}"
+    );
+    assert!(d.path("frame-001.png").exists());
+}
+
+#[test]
+fn frames_need_a_number_in_the_output_name() {
+    let d = Dir::new();
+    let scene = d.file("s.yml", SLIDING);
+    let o = render(&scene, &d.path("out.png"), &["--frames", "0..2"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("%04d"), "{}", stderr(&o));
+    let o = render(&scene, &d.path("f%d.png"), &["--frames", "3..1"]);
+    assert_eq!(o.status.code(), Some(2));
+}

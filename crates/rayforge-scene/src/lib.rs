@@ -57,12 +57,15 @@ pub struct LoadOptions {
     /// The most triangles the scene's OBJ models may hold together (a model used twice counts
     /// once), and the most vertices, normals or texture coordinates in any one model.
     pub max_triangles: usize,
+    /// The animation frame to build: items with `per-frame` take that many steps (0, a still).
+    pub frame: u64,
 }
 
 impl Default for LoadOptions {
     fn default() -> Self {
         Self {
             max_triangles: DEFAULT_MAX_TRIANGLES,
+            frame: 0,
         }
     }
 }
@@ -166,6 +169,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
             item,
             &mut world,
             &mut camera,
+            options.frame,
         )?;
     }
     let items::CameraItem {
@@ -193,6 +197,7 @@ fn add_item<'n, 's>(
     item: &'n Node<'s>,
     world: &mut rayforge::World,
     camera: &mut Option<items::CameraItem>,
+    frame: u64,
 ) -> Result<(), SceneError> {
     let entries = source.entries(item, "")?;
     if entries.iter().any(|e| e.name == "define") {
@@ -215,7 +220,10 @@ fn add_item<'n, 's>(
                 defines,
                 assets,
                 &item,
-                &items::Inherited::TOP,
+                &items::Inherited {
+                    frame,
+                    ..items::Inherited::TOP
+                },
                 &mut trail,
                 &mut world.objects,
             )?;
