@@ -83,6 +83,8 @@ fn scene(input: &[u8]) -> bool {
     let path = repo_root().join("scenes/trtc/fuzz-input.yml");
     let options = LoadOptions {
         max_triangles: FUZZ_MAX_TRIANGLES,
+        // A frame beyond 0, so that `per-frame` steps are exercised too.
+        frame: 3,
     };
     match load_str_with(&text, &path, &options) {
         Ok(scene) => {
