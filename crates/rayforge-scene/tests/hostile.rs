@@ -342,7 +342,13 @@ fn the_mesh_limit_counts_each_model_once() {
     let scene = |body: &str| {
         let path = dir.path().join("s.yml");
         std::fs::write(&path, format!("{CAMERA}{body}")).unwrap();
-        load_file_with(&path, &LoadOptions { max_triangles: 1 })
+        load_file_with(
+            &path,
+            &LoadOptions {
+                max_triangles: 1,
+                ..LoadOptions::default()
+            },
+        )
     };
     let twice = "- add: obj\n  file: a.obj\n- add: obj\n  file: a.obj\n";
     assert_eq!(scene(twice).unwrap().world.objects.len(), 2);
