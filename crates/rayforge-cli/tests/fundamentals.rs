@@ -35,7 +35,7 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 
 #[test]
 fn the_test_commands_scenes_render_as_pinned() {
-    let expected: [(&str, (u32, u32), u64); 14] = [
+    let expected: [(&str, (u32, u32), u64); 15] = [
         ("sphere", (400, 400), 0xb348_eeec_6cba_4604),
         ("cuboid", (300, 300), 0x7e87_a204_c11a_1c68),
         ("spheroid", (300, 300), 0x7917_771d_a871_039d),
@@ -50,6 +50,7 @@ fn the_test_commands_scenes_render_as_pinned() {
         ("overlap", (400, 300), 0xbedc_cfef_1c72_1bcd),
         ("saturn", (500, 250), 0x2a68_6228_945f_dfce),
         ("block", (320, 400), 0xb300_15a5_f025_a944),
+        ("kaleid", (600, 600), 0xedf4_7e11_6597_2c69),
     ];
     let mut wrong = Vec::new();
     for (name, size, hash) in expected {
