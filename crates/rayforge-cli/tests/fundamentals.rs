@@ -35,7 +35,7 @@ fn fnv1a(bytes: &[u8]) -> u64 {
 
 #[test]
 fn the_test_commands_scenes_render_as_pinned() {
-    let expected: [(&str, (u32, u32), u64); 15] = [
+    let expected: [(&str, (u32, u32), u64); 16] = [
         ("sphere", (400, 400), 0xb348_eeec_6cba_4604),
         ("cuboid", (300, 300), 0x7e87_a204_c11a_1c68),
         ("spheroid", (300, 300), 0x7917_771d_a871_039d),
@@ -51,6 +51,7 @@ fn the_test_commands_scenes_render_as_pinned() {
         ("saturn", (500, 250), 0x2a68_6228_945f_dfce),
         ("block", (320, 400), 0xb300_15a5_f025_a944),
         ("kaleid", (600, 600), 0xedf4_7e11_6597_2c69),
+        ("chessboard", (600, 360), 0x5662_1a29_46bb_717d),
     ];
     let mut wrong = Vec::new();
     for (name, size, hash) in expected {

@@ -623,11 +623,44 @@ fn uv_pattern(
             };
             Ok(UvPattern::Image(texture))
         }
+        "board" => {
+            check_keys(
+                source,
+                &entries,
+                "a board pattern",
+                &["type", "squares", "border", "colors"],
+            )?;
+            let squares = source.integer(required("squares")?, "squares", 1)?.min(1 << 16) as u32;
+            let border_node = required("border")?;
+            let border = source.number(border_node, "border")?;
+            if !(0.0..0.5).contains(&border) {
+                return Err(source.error(
+                    border_node,
+                    "border",
+                    "the border is a fraction of the face on each side, from 0 to below 0.5",
+                ));
+            }
+            let colors = source.entries(required("colors")?, "colors")?;
+            check_keys(source, &colors, "board colors", &["light", "dark", "border"])?;
+            let pick = |k: &str| -> Result<Color, SceneError> {
+                let value = colors.iter().find(|e| e.name == k).map(|e| e.value).ok_or_else(
+                    || source.error(node, k, format!("board colors need `{k}:`")),
+                )?;
+                color(source, value, k)
+            };
+            Ok(UvPattern::Board {
+                squares,
+                border,
+                light: pick("light")?,
+                dark: pick("dark")?,
+                edge: pick("border")?,
+            })
+        }
         other => Err(source.error(
             type_node,
             "type",
             format!(
-                "unknown UV pattern type `{other}`; expected one of: checkers, align_check, image"
+                "unknown UV pattern type `{other}`; expected one of: checkers, align_check, image, board"
             ),
         )),
     }

@@ -258,3 +258,31 @@ fn a_bilinear_image_pattern_blends_the_four_nearest_pixels() {
     // Outside [0, 1] clamps to the edge.
     assert_color_approx(t.sample(-3.0, 7.0), color(0.0, 0.0, 0.0));
 }
+
+/// Fundamentals of Ray Tracing's chess board as a UV pattern: eight squares a side inside a
+/// border of a sixth of the face, the low corner's square dark.
+#[test]
+fn a_board_pattern_has_squares_inside_a_border() {
+    let (light, dark, edge) = (
+        rayforge::Color::new(1.0, 1.0, 1.0),
+        rayforge::Color::new(0.0, 0.0, 0.0),
+        rayforge::Color::new(0.5, 0.3, 0.1),
+    );
+    let board = UvPattern::Board {
+        squares: 8,
+        border: 1.0 / 6.0,
+        light,
+        dark,
+        edge,
+    };
+    let square = |i: f64, j: f64| {
+        let at = |k: f64| 1.0 / 6.0 + (k + 0.5) * (4.0 / 6.0) / 8.0;
+        board.uv_pattern_at(at(i), at(j))
+    };
+    assert_eq!(square(0.0, 0.0), dark);
+    assert_eq!(square(1.0, 0.0), light);
+    assert_eq!(square(1.0, 1.0), dark);
+    assert_eq!(square(7.0, 0.0), light);
+    assert_eq!(board.uv_pattern_at(0.05, 0.5), edge);
+    assert_eq!(board.uv_pattern_at(0.5, 0.95), edge);
+}

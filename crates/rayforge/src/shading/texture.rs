@@ -36,6 +36,22 @@ pub enum UvPattern {
     },
     /// An image, (0, 0) at its bottom-left corner.
     Image(Arc<Texture>),
+    /// A game board (Fundamentals of Ray Tracing's chess board): `squares × squares` squares
+    /// inside a plain border `border` wide (a fraction of the face on each side). Square (0, 0)
+    /// at the low-u, low-v corner is dark, and so is every square whose indices sum to an even
+    /// number.
+    Board {
+        /// Squares per side.
+        squares: u32,
+        /// Width of the border on each side, as a fraction of the face (below 0.5).
+        border: f64,
+        /// The light squares' colour.
+        light: Color,
+        /// The dark squares' colour.
+        dark: Color,
+        /// The border's colour.
+        edge: Color,
+    },
 }
 
 impl UvPattern {
@@ -80,6 +96,26 @@ impl UvPattern {
                 *main
             }
             UvPattern::Image(texture) => texture.sample(u, v),
+            UvPattern::Board {
+                squares,
+                border,
+                light,
+                dark,
+                edge,
+            } => {
+                let inner = 1.0 - 2.0 * border;
+                let inside = |t: f64| t > *border && t < 1.0 - border;
+                if !(inside(u) && inside(v)) || inner <= 0.0 {
+                    return *edge;
+                }
+                let n = f64::from((*squares).max(1));
+                let index = |t: f64| (n * (t - border) / inner).floor().clamp(0.0, n - 1.0);
+                if (index(u) + index(v)).rem_euclid(2.0) == 0.0 {
+                    *dark
+                } else {
+                    *light
+                }
+            }
         }
     }
 }
