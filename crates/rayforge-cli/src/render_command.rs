@@ -20,6 +20,7 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
     check_writable(&settings.output)?;
     let load = LoadOptions {
         max_triangles: settings.max_triangles,
+        ..LoadOptions::default()
     };
     let scene = rayforge_scene::load_file_with(&settings.scene, &load).map_err(scene_failure)?;
     if !settings.quiet {

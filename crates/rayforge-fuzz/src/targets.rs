@@ -83,6 +83,7 @@ fn scene(input: &[u8]) -> bool {
     let path = repo_root().join("scenes/trtc/fuzz-input.yml");
     let options = LoadOptions {
         max_triangles: FUZZ_MAX_TRIANGLES,
+        ..LoadOptions::default()
     };
     match load_str_with(&text, &path, &options) {
         Ok(scene) => {

@@ -17,7 +17,10 @@ pub mod obj;
 mod source;
 mod transform;
 
-pub use assets::{texture_from_bytes, MAX_IMAGE_BYTES, MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE};
+pub use assets::{
+    texture_from_bytes, MAX_IMAGE_BYTES, MAX_SCENE_TEXTURE_PIXELS, MAX_TEXTURE_PIXELS,
+    MAX_TEXTURE_SIDE,
+};
 pub use error::{SceneError, Span};
 pub use obj::DEFAULT_MAX_TRIANGLES;
 
@@ -48,12 +51,15 @@ pub struct LoadOptions {
     /// The most triangles the scene's OBJ models may hold together (a model used twice counts
     /// once), and the most vertices, normals or texture coordinates in any one model.
     pub max_triangles: usize,
+    /// The most pixels the scene's images may hold together (an image used twice counts once).
+    pub max_texture_pixels: u64,
 }
 
 impl Default for LoadOptions {
     fn default() -> Self {
         Self {
             max_triangles: DEFAULT_MAX_TRIANGLES,
+            max_texture_pixels: MAX_SCENE_TEXTURE_PIXELS,
         }
     }
 }
@@ -132,7 +138,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         ..e
     })?;
     let mut defines = Defines::default();
-    let mut assets = assets::Assets::new(path, options.max_triangles);
+    let mut assets = assets::Assets::new(path, options.max_triangles, options.max_texture_pixels);
     let mut world = rayforge::World::new();
     let mut camera: Option<(rayforge::Camera, u32)> = None;
     for item in items {
