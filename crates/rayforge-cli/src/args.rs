@@ -129,8 +129,8 @@ pub struct RenderArgs {
     pub max_pixels: u64,
 
     /// The most triangles the scene's OBJ models may hold together (a model used twice counts
-    /// once), and the most vertices of any one kind in a model: a guard against models that
-    /// would take all memory.
+    /// once; a model may also have at most three times as many vertices, normals or texture
+    /// coordinates): a guard against models that would take all memory.
     #[arg(long, value_name = "N", default_value_t = rayforge_scene::DEFAULT_MAX_TRIANGLES)]
     pub max_triangles: usize,
 

@@ -41,6 +41,7 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
     let load = LoadOptions {
         max_triangles: settings.max_triangles,
         frame,
+        ..LoadOptions::default()
     };
     let scene = rayforge_scene::load_file_with(&settings.scene, &load).map_err(scene_failure)?;
     if !settings.quiet {

@@ -85,6 +85,7 @@ fn scene(input: &[u8]) -> bool {
         max_triangles: FUZZ_MAX_TRIANGLES,
         // A frame beyond 0, so that `per-frame` steps are exercised too.
         frame: 3,
+        ..LoadOptions::default()
     };
     match load_str_with(&text, &path, &options) {
         Ok(scene) => {

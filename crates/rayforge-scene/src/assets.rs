@@ -19,7 +19,7 @@ pub type ObjMeshes = Arc<Vec<(Arc<Mesh>, Option<Material>)>>;
 pub struct Assets {
     base: PathBuf,
     meshes: HashMap<PathBuf, ObjMeshes>,
-    textures: HashMap<PathBuf, Arc<Texture>>,
+    textures: Textures,
     /// The most triangles the scene's models may hold together.
     max_triangles: usize,
     /// How many they hold so far.
@@ -28,15 +28,20 @@ pub struct Assets {
 
 impl Assets {
     /// Assets for the scene file at `scene_path` (relative names resolve beside it), whose
-    /// models together may hold at most `max_triangles` triangles.
-    pub fn new(scene_path: &Path, max_triangles: usize) -> Self {
+    /// models together may hold at most `max_triangles` triangles and whose images at most
+    /// `max_texture_pixels` pixels.
+    pub fn new(scene_path: &Path, max_triangles: usize, max_texture_pixels: u64) -> Self {
         Self {
             base: scene_path
                 .parent()
                 .map(Path::to_path_buf)
                 .unwrap_or_default(),
             meshes: HashMap::new(),
-            textures: HashMap::new(),
+            textures: Textures {
+                by_path: HashMap::new(),
+                pixels: 0,
+                max_pixels: max_texture_pixels,
+            },
             max_triangles,
             triangles: 0,
         }
@@ -83,12 +88,17 @@ impl Assets {
     }
 }
 
-/// An image texture from `cache`, read and added on first use.
-fn cached_texture(
-    cache: &mut HashMap<PathBuf, Arc<Texture>>,
-    path: &Path,
-) -> Result<Arc<Texture>, SceneError> {
-    if let Some(t) = cache.get(path) {
+/// The images a scene has read, and how many pixels they hold together.
+struct Textures {
+    by_path: HashMap<PathBuf, Arc<Texture>>,
+    pixels: u64,
+    max_pixels: u64,
+}
+
+/// An image texture from `cache`, read and added on first use, within the cache's limit on
+/// the pixels of all the scene's images.
+fn cached_texture(cache: &mut Textures, path: &Path) -> Result<Arc<Texture>, SceneError> {
+    if let Some(t) = cache.by_path.get(path) {
         return Ok(t.clone());
     }
     let bytes = read_bounded(path, MAX_IMAGE_BYTES).map_err(|e| {
@@ -97,8 +107,20 @@ fn cached_texture(
             format!("cannot read the image `{}`: {e}", path.display()),
         )
     })?;
-    let texture = Arc::new(texture_from_bytes(&bytes, path)?);
-    cache.insert(path.to_path_buf(), texture.clone());
+    let (texture, pixels) = decode(&bytes, path)?;
+    cache.pixels += pixels;
+    if cache.pixels > cache.max_pixels {
+        return Err(SceneError::new(
+            path,
+            format!(
+                "with this image the scene's images hold {} pixels together, more than the \
+                 limit of {}",
+                cache.pixels, cache.max_pixels
+            ),
+        ));
+    }
+    let texture = Arc::new(texture);
+    cache.by_path.insert(path.to_path_buf(), texture.clone());
     Ok(texture)
 }
 
@@ -130,6 +152,11 @@ pub(crate) fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
 /// in errors. Images over [`MAX_TEXTURE_SIDE`] on a side or [`MAX_TEXTURE_PIXELS`] in all are
 /// refused before they are decoded.
 pub fn texture_from_bytes(bytes: &[u8], path: &Path) -> Result<Texture, SceneError> {
+    decode(bytes, path).map(|(texture, _)| texture)
+}
+
+/// [`texture_from_bytes`], with the number of pixels.
+fn decode(bytes: &[u8], path: &Path) -> Result<(Texture, u64), SceneError> {
     let fail = |e: &dyn std::fmt::Display| {
         SceneError::new(
             path,
@@ -166,7 +193,9 @@ pub fn texture_from_bytes(bytes: &[u8], path: &Path) -> Result<Texture, SceneErr
         .pixels()
         .map(|p| Color::new(p[0] as f64, p[1] as f64, p[2] as f64))
         .collect();
-    Texture::new(w, h, pixels, Filter::Bilinear).ok_or_else(|| fail(&"the image is empty"))
+    Texture::new(w, h, pixels, Filter::Bilinear)
+        .map(|t| (t, (w * h) as u64))
+        .ok_or_else(|| fail(&"the image is empty"))
 }
 
 /// The largest image side accepted.
@@ -174,6 +203,10 @@ pub const MAX_TEXTURE_SIDE: u32 = 16_384;
 
 /// The most pixels an image texture may have: 2²⁶ (8192 × 8192), 1.5 GiB as colours.
 pub const MAX_TEXTURE_PIXELS: u64 = 1 << 26;
+
+/// The most pixels all of a scene's images may hold together by default: 2²⁷, 3 GiB as
+/// colours.
+pub const MAX_SCENE_TEXTURE_PIXELS: u64 = 1 << 27;
 
 /// The largest image file read.
 pub const MAX_IMAGE_BYTES: u64 = 256 << 20;

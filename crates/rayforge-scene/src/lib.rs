@@ -21,7 +21,10 @@ mod transform;
 mod viewport;
 mod zoom_camera;
 
-pub use assets::{texture_from_bytes, MAX_IMAGE_BYTES, MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE};
+pub use assets::{
+    texture_from_bytes, MAX_IMAGE_BYTES, MAX_SCENE_TEXTURE_PIXELS, MAX_TEXTURE_PIXELS,
+    MAX_TEXTURE_SIDE,
+};
 pub use error::{SceneError, Span};
 pub use obj::DEFAULT_MAX_TRIANGLES;
 
@@ -59,6 +62,8 @@ pub struct LoadOptions {
     pub max_triangles: usize,
     /// The animation frame to build: items with `per-frame` take that many steps (0, a still).
     pub frame: u64,
+    /// The most pixels the scene's images may hold together (an image used twice counts once).
+    pub max_texture_pixels: u64,
 }
 
 impl Default for LoadOptions {
@@ -66,6 +71,7 @@ impl Default for LoadOptions {
         Self {
             max_triangles: DEFAULT_MAX_TRIANGLES,
             frame: 0,
+            max_texture_pixels: MAX_SCENE_TEXTURE_PIXELS,
         }
     }
 }
@@ -144,7 +150,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         ..e
     })?;
     let mut defines = Defines::default();
-    let mut assets = assets::Assets::new(path, options.max_triangles);
+    let mut assets = assets::Assets::new(path, options.max_triangles, options.max_texture_pixels);
     let mut world = rayforge::World::new();
     let mut camera: Option<items::CameraItem> = None;
     let mut settings: Option<Option<u32>> = None;

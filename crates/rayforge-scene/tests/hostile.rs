@@ -410,3 +410,27 @@ fn crc32(bytes: &[u8]) -> u32 {
     }
     !crc
 }
+
+/// The scene's images together are held to a pixel limit (an image used twice counts once).
+#[test]
+fn the_images_of_a_scene_are_held_to_a_pixel_limit() {
+    let ppm = b"P3\n2 2\n255\n255 0 0  0 255 0\n0 0 255  255 255 255\n";
+    let dir = dir_with(&[("a.ppm", ppm), ("b.ppm", ppm)]);
+    let image = |file: &str| {
+        format!("- add: sphere\n  material:\n    pattern:\n      type: map\n      mapping: spherical\n      uv_pattern: {{type: image, file: {file}}}\n")
+    };
+    let path = dir.path().join("s.yml");
+    let options = LoadOptions {
+        max_texture_pixels: 4,
+        ..LoadOptions::default()
+    };
+    let twice = format!("{CAMERA}{}{}", image("a.ppm"), image("a.ppm"));
+    std::fs::write(&path, twice).unwrap();
+    assert!(load_file_with(&path, &options).is_ok());
+    let two = format!("{CAMERA}{}{}", image("a.ppm"), image("b.ppm"));
+    std::fs::write(&path, two).unwrap();
+    let e = load_file_with(&path, &options).unwrap_err();
+    assert!(e.message.contains("hold 8 pixels together"), "{e}");
+    assert_eq!(e.key.as_deref(), Some("file"), "{e}");
+    assert_eq!(e.span.map(|s| s.line), Some(19), "{e}");
+}
