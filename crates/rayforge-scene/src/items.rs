@@ -597,12 +597,13 @@ pub fn add_objects<'n, 's>(
             // "intersect"; both mean the same.
             "intersection" | "intersect" => CsgOperation::Intersection,
             "difference" => CsgOperation::Difference,
+            "complement" => CsgOperation::Complement,
             other => {
                 return Err(source.error(
                     operation_node,
                     "operation",
                     format!(
-                    "unknown operation `{other}`; expected one of: union, intersection, difference"
+                    "unknown operation `{other}`; expected one of: union, intersection, difference, complement"
                 ),
                 ))
             }
@@ -636,8 +637,20 @@ pub fn add_objects<'n, 's>(
             Ok(group)
         };
         let left = build_operand("left")?;
-        let right = build_operand("right")?;
-        let csg = Object::csg(operation, left, right)
+        let solid = if operation == CsgOperation::Complement {
+            if let Some(right) = entries.iter().find(|e| e.name == "right") {
+                return Err(source.error(
+                    right.key,
+                    "right",
+                    "a complement has one operand, `left`: everything outside it",
+                ));
+            }
+            Object::complement(left)
+        } else {
+            let right = build_operand("right")?;
+            Object::csg(operation, left, right)
+        };
+        let csg = solid
             .and_then(|c| c.placed_by_moving(&world, &world_end))
             .map_err(|e| source.error(placed_at, "transform", e.to_string()))?;
         let mut csg = csg;

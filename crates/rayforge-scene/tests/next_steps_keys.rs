@@ -135,3 +135,21 @@ fn a_toroidal_mapping_takes_the_torus_major_radius() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn a_complement_takes_one_operand() {
+    let scene = load(
+        "- add: csg\n  operation: intersection\n  left:\n    type: sphere\n  right:\n    type: csg\n    operation: complement\n    left:\n      type: cube\n      transform: [[scale, 0.5, 0.5, 0.5]]\n",
+    )
+    .unwrap();
+    let solid = &scene.world.objects[0];
+    assert!(solid.contains(point(0.0, 0.0, 0.8)));
+    assert!(
+        !solid.contains(point(0.0, 0.0, 0.2)),
+        "inside the cube taken out"
+    );
+    let e = load("- add: csg\n  operation: complement\n  left:\n    type: sphere\n  right:\n    type: cube\n")
+        .unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("right"), "{e}");
+    assert!(e.message.contains("one operand"), "{e}");
+}

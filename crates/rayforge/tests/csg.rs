@@ -246,3 +246,48 @@ fn a_transformed_csg_object_places_its_primitives() {
         vector(0.0, 0.0, -1.0),
     );
 }
+
+/// Fundamentals of Ray Tracing's set complement.
+#[test]
+fn a_complement_keeps_every_surface_of_its_operand() {
+    use rayforge::{intersection_allowed, CsgOperation};
+    for (l, i, r) in [
+        (true, true, true),
+        (false, false, false),
+        (true, false, true),
+    ] {
+        assert!(intersection_allowed(CsgOperation::Complement, l, i, r));
+    }
+    let outside = rayforge::Object::complement(rayforge::Object::sphere()).unwrap();
+    let ray = rayforge::Ray::new(
+        rayforge::point(0.0, 0.0, -5.0),
+        rayforge::vector(0.0, 0.0, 1.0),
+    );
+    let ts: Vec<f64> = outside.intersections(&ray).iter().map(|x| x.t).collect();
+    assert_eq!(ts.len(), 2);
+    assert!(!outside.contains(rayforge::point(0.0, 0.0, 0.0)));
+    assert!(outside.contains(rayforge::point(0.0, 0.0, 3.0)));
+}
+
+#[test]
+fn an_intersection_with_a_complement_is_a_difference() {
+    use rayforge::math::translation;
+    use rayforge::{CsgOperation, Object};
+    let bite = || Object::sphere().with_transform(translation(0.7, 0.2, 0.0));
+    let difference = Object::csg(CsgOperation::Difference, Object::sphere(), bite()).unwrap();
+    let complement = Object::complement(bite()).unwrap();
+    let crossed = Object::csg(CsgOperation::Intersection, Object::sphere(), complement).unwrap();
+    for i in 0..40 {
+        let y = -1.2 + i as f64 * 0.06;
+        let ray = rayforge::Ray::new(
+            rayforge::point(-3.0, y, 0.1),
+            rayforge::vector(1.0, 0.05, 0.0),
+        );
+        let ts = |o: &Object| -> Vec<f64> {
+            let mut t: Vec<f64> = o.intersections(&ray).iter().map(|x| x.t).collect();
+            t.sort_by(f64::total_cmp);
+            t
+        };
+        assert_eq!(ts(&difference), ts(&crossed), "ray at y = {y}");
+    }
+}

@@ -25,6 +25,10 @@ pub enum CsgOperation {
     Intersection,
     /// What is in the left operand and not in the right.
     Difference,
+    /// Everything not in its one operand (Fundamentals of Ray Tracing's `SetComplement`): the
+    /// same surfaces, facing the other way. Useful inside another operation, as in
+    /// `A ∩ ¬B`.
+    Complement,
 }
 
 /// The book's `intersection_allowed(op, lhit, inl, inr)`: whether a hit on the left (`lhit`)
@@ -34,6 +38,8 @@ pub fn intersection_allowed(operation: CsgOperation, lhit: bool, inl: bool, inr:
         CsgOperation::Union => (lhit && !inr) || (!lhit && !inl),
         CsgOperation::Intersection => (lhit && inr) || (!lhit && inl),
         CsgOperation::Difference => (lhit && !inr) || (!lhit && inl),
+        // Every surface of the operand bounds its complement.
+        CsgOperation::Complement => true,
     }
 }
 
@@ -76,6 +82,30 @@ impl Csg {
             split,
             end: csg.leaves.len() as u32,
         });
+        csg.bounds = csg
+            .leaves
+            .iter()
+            .fold(Aabb::EMPTY, |b, leaf| b.union(&leaf.bounds()));
+        Ok(csg)
+    }
+
+    /// Everything outside `operand` (Fundamentals of Ray Tracing's set complement).
+    pub fn complement(operand: impl Into<Node>) -> Result<Self, SingularTransform> {
+        let mut csg = Csg {
+            leaves: Vec::new(),
+            nodes: Vec::new(),
+            bounds: Aabb::EMPTY,
+        };
+        csg.add_operand(&operand.into())?;
+        let end = csg.leaves.len() as u32;
+        csg.nodes.push(CsgNode {
+            operation: CsgOperation::Complement,
+            start: 0,
+            split: end,
+            end,
+        });
+        // The complement itself is unbounded, but its surfaces are its operand's: rays can
+        // only meet it there.
         csg.bounds = csg
             .leaves
             .iter()
@@ -173,8 +203,11 @@ impl Csg {
     /// The book's `filter_intersections(csg, xs)` over leaf indices: `hits` sorted by `t`,
     /// each tagged with the leaf it is on; keeps the hits every operation allows.
     pub fn filter(&self, hits: &mut SmallVec<[LocalHit; 16]>) {
-        for node in &self.nodes {
-            let (mut inl, mut inr) = (false, false);
+        for (k, node) in self.nodes.iter().enumerate() {
+            // A ray starts far away, outside every bounded solid but inside any complement.
+            let outside = |_: &Object| false;
+            let mut inl = self.range_inside(node.start, node.split, k, &outside);
+            let mut inr = self.range_inside(node.split, node.end, k, &outside);
             hits.retain(|h| {
                 if h.leaf < node.start || h.leaf >= node.end {
                     return true;
@@ -221,49 +254,67 @@ impl Csg {
         let leaf = leaf as u32;
         self.nodes
             .iter()
-            .filter(|n| n.start <= leaf && leaf < n.end)
-            .all(|n| {
+            .enumerate()
+            .filter(|(_, n)| n.start <= leaf && leaf < n.end)
+            .all(|(k, n)| {
                 let lhit = leaf < n.split;
-                let inl = !lhit && self.range_contains(n.start, n.split, point);
-                let inr = lhit && self.range_contains(n.split, n.end, point);
+                let inl = !lhit && self.range_contains(n.start, n.split, k, point);
+                let inr = lhit && self.range_contains(n.split, n.end, k, point);
                 intersection_allowed(n.operation, lhit, inl, inr)
             })
     }
 
     /// Whether `point` is inside the solid.
     pub fn contains_point(&self, point: Point3) -> bool {
-        self.range_contains(0, self.leaves.len() as u32, point)
+        self.range_contains(0, self.leaves.len() as u32, self.nodes.len(), point)
     }
 
-    /// Whether `point` is inside the operand made of leaves `start..end`: the operations that
-    /// span parts of it combine their operands; leaves side by side (a group) are a union.
-    fn range_contains(&self, start: u32, end: u32, point: Point3) -> bool {
+    /// Whether `point` is inside the operand made of leaves `start..end`.
+    fn range_contains(&self, start: u32, end: u32, limit: usize, point: Point3) -> bool {
+        self.range_inside(start, end, limit, &|leaf| leaf_contains(leaf, point))
+    }
+
+    /// Whether a place is inside the operand made of leaves `start..end`, given whether it is
+    /// inside each leaf: the operations that span parts of it combine their operands; leaves
+    /// side by side (a group) are a union.
+    ///
+    /// Only the operations before `limit` (in post-order, those below the one asking) are
+    /// considered: a complement's operand spans the same leaves as the complement itself.
+    fn range_inside(
+        &self,
+        start: u32,
+        end: u32,
+        limit: usize,
+        leaf_inside: &dyn Fn(&Object) -> bool,
+    ) -> bool {
         let mut at = start;
         let mut inside = false;
         while at < end {
-            // The widest operation that starts here and fits in the range, else one leaf.
-            let node = self
-                .nodes
+            // The widest (and, among equals, outermost) operation that starts here and fits
+            // in the range, else one leaf.
+            let node = self.nodes[..limit.min(self.nodes.len())]
                 .iter()
-                .filter(|n| n.start == at && n.end <= end)
-                .max_by_key(|n| n.end);
+                .enumerate()
+                .filter(|(_, n)| n.start == at && n.end <= end)
+                .max_by_key(|(_, n)| n.end);
             let part = match node {
-                Some(n) => {
+                Some((k, n)) => {
                     let (l, r) = (
-                        self.range_contains(n.start, n.split, point),
-                        self.range_contains(n.split, n.end, point),
+                        self.range_inside(n.start, n.split, k, leaf_inside),
+                        self.range_inside(n.split, n.end, k, leaf_inside),
                     );
                     at = n.end;
                     match n.operation {
                         CsgOperation::Union => l || r,
                         CsgOperation::Intersection => l && r,
                         CsgOperation::Difference => l && !r,
+                        CsgOperation::Complement => !l,
                     }
                 }
                 _ => {
                     let leaf = &self.leaves[at as usize];
                     at += 1;
-                    leaf_contains(leaf, point)
+                    leaf_inside(leaf)
                 }
             };
             inside |= part;
@@ -302,6 +353,11 @@ impl Object {
                 .unwrap_or(self),
             _ => self,
         }
+    }
+
+    /// Everything outside `operand`, as an object (see [`Csg::complement`]).
+    pub fn complement(operand: impl Into<Node>) -> Result<Self, SingularTransform> {
+        Ok(Self::new(Shape::Csg(Arc::new(Csg::complement(operand)?))))
     }
 
     /// The book's `csg(operation, left, right)` as an object.
