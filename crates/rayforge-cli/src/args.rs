@@ -34,6 +34,7 @@ Render options (`rayforge render --help` describes each in full):
       --adaptive <T>        adaptive anti-aliasing with this threshold instead
       --subsample <T>       trace every other pixel, interpolate where neighbours agree
       --frames <A..B>       render animation frames A to B to a %04d-numbered output
+      --trace-pixel <X,Y>   print every ray that pixel casts, then render as usual
       --max-depth <N>       reflection and refraction bounces [default: the scene's, else 5]
       --max-pixels <PIXELS> the largest image accepted [default: 268435456, 2^28]
       --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
@@ -105,6 +106,12 @@ pub struct RenderArgs {
     /// splitting the pixel where they differ by more than this (0 to 1, per channel).
     #[arg(long, value_name = "THRESHOLD")]
     pub adaptive: Option<f64>,
+
+    /// Print the tree of rays pixel X,Y (from the image's top-left corner) casts: each ray,
+    /// what it hits (object, point, normal, media), the light and the colour it brings back.
+    /// The image is rendered and written as usual.
+    #[arg(long, value_name = "X,Y")]
+    pub trace_pixel: Option<String>,
 
     /// Render the frames FIRST..LAST (inclusive) of an animated scene (items with
     /// `per-frame`), each to the output name with `%04d` (or `%d`) replaced by its number.

@@ -97,6 +97,30 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
             (spp, _) => Sampling::with_samples(spp.unwrap_or(scene.samples)),
         },
     };
+    if let Some((x, y)) = settings.trace_pixel {
+        if x >= width || y >= height {
+            return Err(Failure::usage(format!(
+                "--trace-pixel {x},{y} is outside the {width}×{height} image"
+            )));
+        }
+        let options = RenderOptions {
+            max_depth: settings
+                .max_depth
+                .or(scene.max_depth)
+                .unwrap_or(rayforge::DEFAULT_MAX_DEPTH),
+            sampling,
+            ..RenderOptions::default()
+        };
+        let (color, lines) = rayforge::render::trace_pixel(&camera, &scene.world, &options, x, y);
+        println!("pixel ({x}, {y}) of `{}`:", settings.scene.display());
+        for line in lines {
+            println!("  {line}");
+        }
+        println!(
+            "  pixel colour [{:.4}, {:.4}, {:.4}]",
+            color.red, color.green, color.blue
+        );
+    }
     let (finished, log) = open_checkpoint(settings, output, frame, width, height, &sampling)?;
     let stop = crate::interrupt::stop_flag(settings.quiet);
     let bar = row_bar(camera.vsize(), settings.quiet);

@@ -44,6 +44,8 @@ pub struct RenderSettings {
     pub subsample: Option<f64>,
     /// The animation frames to render, first and last, when asked for.
     pub frames: Option<(u64, u64)>,
+    /// The pixel whose rays to print, when asked for.
+    pub trace_pixel: Option<(usize, usize)>,
     /// No progress or summary.
     pub quiet: bool,
     /// The mesh size limit.
@@ -56,6 +58,20 @@ pub struct RenderSettings {
 
 /// The highest `--max-triangles` accepted: meshes index their vertices with 32-bit numbers.
 const MAX_TRIANGLE_LIMIT: usize = u32::MAX as usize - 1;
+
+/// `X,Y`, as `--trace-pixel` takes it.
+fn parse_pixel(text: &str) -> Result<(usize, usize), Failure> {
+    let bad = || {
+        Failure::usage(format!(
+            "--trace-pixel takes X,Y, two whole numbers (from the top-left corner), found `{text}`"
+        ))
+    };
+    let (x, y) = text.split_once(',').ok_or_else(bad)?;
+    Ok((
+        x.trim().parse().map_err(|_| bad())?,
+        y.trim().parse().map_err(|_| bad())?,
+    ))
+}
 
 impl RenderSettings {
     /// Checks the raw arguments; each refusal names the flag.
@@ -135,6 +151,10 @@ impl RenderSettings {
             adaptive: args.adaptive,
             subsample: args.subsample,
             frames,
+            trace_pixel: match &args.trace_pixel {
+                None => None,
+                Some(text) => Some(parse_pixel(text)?),
+            },
             quiet: args.quiet,
             max_triangles: args.max_triangles,
             resume: args.resume,

@@ -759,3 +759,36 @@ fn frames_need_a_number_in_the_output_name() {
     let o = render(&scene, &d.path("f%d.png"), &["--frames", "3..1"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+#[test]
+fn trace_pixel_prints_the_rays_of_one_pixel_under_every_lighting_model() {
+    let d = Dir::new();
+    for (model, extra) in [("phong", ""), ("cgfs", ""), ("optics", ""), ("flat", "")] {
+        let scene = d.file(
+            &format!("{model}.yml"),
+            &format!(
+                "- world:\n    lighting: {model}\n{}{extra}",
+                SLIDING.replace("[translate, -1, 0, 0]", "[translate, 0, 0, 0]")
+            ),
+        );
+        let o = render(
+            &scene,
+            &d.path(&format!("{model}.png")),
+            &["--trace-pixel", "8,4", "--quiet"],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert!(out.contains("pixel (8, 4)"), "{model}: {out}");
+        assert!(out.contains("ray from"), "{model}: {out}");
+        assert!(out.contains("hit object #0 (sphere)"), "{model}: {out}");
+        assert!(out.contains("pixel colour"), "{model}: {out}");
+        assert!(
+            d.path(&format!("{model}.png")).exists(),
+            "the image is written too"
+        );
+    }
+    let scene = d.file("s.yml", SLIDING);
+    let o = render(&scene, &d.path("o.png"), &["--trace-pixel", "99,4"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("outside"), "{}", stderr(&o));
+}

@@ -236,6 +236,36 @@ pub fn render_rows(
     (image, stats)
 }
 
+/// Traces pixel (`x`, `y`) exactly as the render would (the same samples, seeded the same way)
+/// and records every ray each sample casts: what `--trace-pixel` prints. Returns the pixel's
+/// colour (before the optics model's exposure) and the record, one line per event.
+pub fn trace_pixel(
+    camera: &Camera,
+    world: &World,
+    options: &RenderOptions<'_>,
+    x: usize,
+    y: usize,
+) -> (Color, Vec<String>) {
+    let index = WorldIndex::build(world);
+    let mut tracer = Tracer::new(world, &index);
+    let seed = (y * camera.hsize() + x) as u64;
+    tracer.reseed(seed);
+    let mut lines = Vec::new();
+    let mut samples = 0;
+    let color = options.sampling.pixel(x, y, seed, |sample| {
+        samples += 1;
+        lines.push(format!(
+            "sample {samples}: image point ({:.4}, {:.4}), lens ({:.3}, {:.3}), time {:.3}",
+            sample.x, sample.y, sample.lens_u, sample.lens_v, sample.time
+        ));
+        tracer.start_log();
+        let color = tracer.color_at(&camera.ray_for_sample(&sample), options.max_depth);
+        lines.extend(tracer.take_log().into_iter().map(|l| format!("  {l}")));
+        color
+    });
+    (color, lines)
+}
+
 /// Fills a row by tracing its even pixels (and the last), then each odd pixel from its two
 /// neighbours when they agree within `threshold`, by tracing it when they do not.
 fn subsample_row(row: &mut [Color], threshold: f64, mut trace: impl FnMut(usize) -> Color) {

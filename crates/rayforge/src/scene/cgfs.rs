@@ -21,6 +21,7 @@
 //! the scene too (a spotlight as a point light times its cone's falloff, an area light as its
 //! samples, each with an equal share of the intensity).
 
+use super::trace_log::{c, v};
 use super::tracer::Tracer;
 use crate::math::{Point3, Ray, Vec3};
 use crate::shading::Light;
@@ -125,9 +126,25 @@ impl<'w> Tracer<'w> {
         stage: Stage,
     ) -> Rgb {
         self.rays += 1;
+        self.note(|_| {
+            format!(
+                "ray from {} along {}, {t_min} < t < {t_max}",
+                v(origin),
+                v(direction)
+            )
+        });
         let Some(hit) = self.cgfs_closest(origin, direction, t_min, t_max, time) else {
+            self.note(|t| format!("miss: background {}", c(t.world.background)));
             return scale(self.world.background.to_array(), 255.0);
         };
+        self.note(|t| {
+            format!(
+                "hit {}: point {}, normal {}",
+                t.describe(hit.surface),
+                v(hit.point),
+                v(hit.normal)
+            )
+        });
         let surface = hit.surface;
         let material = &surface.material;
         let color = scale(
@@ -140,6 +157,7 @@ impl<'w> Tracer<'w> {
         let view = direction * -1.0;
         let lighting = self.cgfs_lighting(hit.point, hit.normal, view, material.shininess, time);
         let local = [0, 1, 2].map(|i| color[i] * lighting[i]);
+        self.note(|_| format!("light intensity {lighting:.4?}, local colour (0-255) {local:.3?}"));
         let r = material.reflective;
         let transparency = material.transparency;
         if depth == 0 || (r <= 0.0 && transparency <= 0.0) {
@@ -148,6 +166,8 @@ impl<'w> Tracer<'w> {
         let mut result = local;
         if r > 0.0 {
             let reflected_ray = hit.normal * (2.0 * view.dot(hit.normal)) - view;
+            self.note(|_| format!("reflected ray, weight {r}:"));
+            self.deeper();
             let reflected = self.cgfs_trace(
                 hit.point,
                 reflected_ray,
@@ -157,9 +177,12 @@ impl<'w> Tracer<'w> {
                 time,
                 stage,
             );
+            self.shallower();
             result = add(scale(local, 1.0 - r), scale(reflected, r));
         }
         if transparency > 0.0 {
+            self.note(|_| format!("refracted ray, weight {transparency}:"));
+            self.deeper();
             let refracted = match refract(direction, &hit, material.refractive_index) {
                 Some(bent) => self.cgfs_trace(
                     hit.point,
@@ -184,6 +207,7 @@ impl<'w> Tracer<'w> {
                     )
                 }
             };
+            self.shallower();
             result = add(
                 scale(result, 1.0 - transparency),
                 scale(refracted, transparency),

@@ -8,6 +8,7 @@ mod index;
 mod intersection;
 mod object;
 mod optics;
+mod trace_log;
 mod tracer;
 mod world;
 

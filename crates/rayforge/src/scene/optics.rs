@@ -18,6 +18,7 @@
 //! with another one (squared distances within `1e-6`) is *ambiguous*: the ray is abandoned and
 //! the render loop repairs its pixel from its neighbours, as the book does.
 
+use super::trace_log::{c, v};
 use super::tracer::Tracer;
 use crate::math::{Point3, Ray, Vec3};
 use crate::{Color, Light, Object};
@@ -73,9 +74,38 @@ impl<'w> Tracer<'w> {
         time: f64,
     ) -> Result<Color, Ambiguous> {
         self.rays += 1;
-        match self.optics_closest(vantage, direction, time)? {
-            None => Ok(intensity * self.world.background),
-            Some(hit) => self.optics_lighting(&hit, direction, index, intensity, depth + 1, time),
+        self.note(|_| {
+            format!(
+                "ray from {} along {}, in a medium of index {index}, carrying {}",
+                v(vantage),
+                v(direction),
+                c(intensity)
+            )
+        });
+        match self.optics_closest(vantage, direction, time) {
+            Err(Ambiguous) => {
+                self.note(|_| "ambiguous: two surfaces at the same distance".to_string());
+                Err(Ambiguous)
+            }
+            Ok(None) => {
+                self.note(|t| format!("miss: background {}", c(t.world.background)));
+                Ok(intensity * self.world.background)
+            }
+            Ok(Some(hit)) => {
+                self.note(|t| {
+                    format!(
+                        "hit {}: point {}, normal {}",
+                        t.describe(hit.surface),
+                        v(hit.point),
+                        v(hit.normal)
+                    )
+                });
+                self.deeper();
+                let color =
+                    self.optics_lighting(&hit, direction, index, intensity, depth + 1, time);
+                self.shallower();
+                color
+            }
         }
     }
 
@@ -98,7 +128,9 @@ impl<'w> Tracer<'w> {
         let transparency = 1.0 - opacity;
         if opacity > 0.0 {
             let matte = material.color_at(hit.surface, hit.point, None, time);
-            sum += matte * intensity * self.optics_matte(hit, time) * opacity;
+            let light = self.optics_matte(hit, time);
+            self.note(|_| format!("matte: light arriving {}, opacity {opacity}", c(light)));
+            sum += matte * intensity * light * opacity;
         }
         let mut fresnel = 0.0;
         if transparency > 0.0 {
@@ -197,6 +229,7 @@ impl<'w> Tracer<'w> {
             .map_or(self.world.ambient_index, |o| {
                 o.surface_containing(beyond).material.refractive_index
             });
+        self.note(|_| format!("refraction from index {index} into {target}"));
         let ratio = index / target;
         let sin_a2 = ratio * sin_a1;
         if sin_a2.abs() >= 1.0 {

@@ -3,6 +3,7 @@
 
 use super::cgfs::Stage;
 use super::computations::prepare_computations_with;
+use super::trace_log::{c, v};
 use super::world::LightingModel;
 use super::WorldIndex;
 use crate::math::{Point3, Ray};
@@ -26,6 +27,8 @@ pub struct Tracer<'w> {
     ambiguous: u32,
     /// The brightest channel of any sample so far (the optics model exposes by it).
     brightest: f64,
+    /// The record of rays, when `--trace-pixel` asked for one.
+    pub(super) log: Option<Box<super::trace_log::TraceLog>>,
 }
 
 impl<'w> Tracer<'w> {
@@ -40,6 +43,7 @@ impl<'w> Tracer<'w> {
             jitter: SplitMix64::new(0),
             ambiguous: 0,
             brightest: 0.0,
+            log: None,
         }
     }
 
@@ -94,7 +98,9 @@ impl<'w> Tracer<'w> {
     /// [`Tracer::color_at`] under The Ray Tracer Challenge's Phong model.
     fn phong_color_at(&mut self, ray: &Ray, remaining: u32) -> Color {
         self.rays += 1;
+        self.note(|_| format!("ray from {} along {}", v(ray.origin), v(ray.direction)));
         let Some(hit) = self.index.closest_hit(self.world, ray) else {
+            self.note(|t| format!("miss: background {}", c(t.world.background)));
             return self.world.background;
         };
         if hit.object.surface(hit.leaf).material.transparency > 0.0 {
@@ -104,7 +110,21 @@ impl<'w> Tracer<'w> {
             self.xs.clear();
         }
         let comps = prepare_computations_with(hit, ray, &self.xs, &mut self.containers);
-        self.shade_hit(&comps, remaining)
+        self.note(|t| {
+            format!(
+                "hit {} at t = {:.5}: point {}, normal {}{}, media n1 = {} → n2 = {}",
+                t.describe(comps.surface),
+                comps.t,
+                v(comps.point),
+                v(comps.normalv),
+                if comps.inside { " (from inside)" } else { "" },
+                comps.n1,
+                comps.n2
+            )
+        });
+        let color = self.shade_hit(&comps, remaining);
+        self.note(|_| format!("colour {}", c(color)));
+        color
     }
 
     /// The colour at a prepared hit: every light's Phong term, plus reflection and refraction
@@ -115,6 +135,13 @@ impl<'w> Tracer<'w> {
         let mut surface = Color::BLACK;
         for light in &self.world.lights {
             let fraction = self.intensity_at_time(light, comps.over_point, comps.time);
+            self.note(|_| {
+                format!(
+                    "light at {}: {:.3} of it reaches the point",
+                    v(light.position()),
+                    fraction
+                )
+            });
             surface += lighting_with(
                 material,
                 color,
@@ -195,7 +222,11 @@ impl<'w> Tracer<'w> {
             return Color::BLACK;
         }
         let ray = Ray::new(comps.over_point, comps.reflectv).at_time(comps.time);
-        self.phong_color_at(&ray, remaining - 1) * reflective
+        self.note(|_| format!("reflected ray, weight {reflective}:"));
+        self.deeper();
+        let color = self.phong_color_at(&ray, remaining - 1) * reflective;
+        self.shallower();
+        color
     }
 
     /// The book's `refracted_color`: Snell's law from n1 into n2, black for opaque surfaces,
@@ -214,6 +245,10 @@ impl<'w> Tracer<'w> {
         let cos_t = (1.0 - sin2_t).sqrt();
         let direction = comps.normalv * (n_ratio * cos_i - cos_t) - comps.eyev * n_ratio;
         let ray = Ray::new(comps.under_point, direction).at_time(comps.time);
-        self.phong_color_at(&ray, remaining - 1) * transparency
+        self.note(|_| format!("refracted ray, weight {transparency}:"));
+        self.deeper();
+        let color = self.phong_color_at(&ray, remaining - 1) * transparency;
+        self.shallower();
+        color
     }
 }
