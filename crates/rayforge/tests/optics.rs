@@ -241,3 +241,27 @@ fn a_thin_ring_is_lit_on_the_side_the_light_is() {
     assert!(above.red > 0.0, "{above:?}");
     assert_eq!(below, Color::BLACK);
 }
+
+#[test]
+fn the_surface_of_a_bite_faces_out_of_the_solid() {
+    // A unit sphere with a bite (a sphere at x = 1.2) taken out, lit from +x: the bite's
+    // surface is the inside of the smaller sphere, but it faces out of the solid, towards the
+    // light, so the matte term lights it. Looking into the bite along -x.
+    use rayforge::math::translation;
+    let bitten = Object::csg(
+        CsgOperation::Difference,
+        Object::sphere(),
+        Object::sphere().with_transform(translation(1.2, 0.0, 0.0)),
+    )
+    .unwrap();
+    let world = optics_world(
+        vec![bitten],
+        vec![Light::point(point(5.0, 0.0, 0.0), Color::WHITE)],
+    );
+    let c = color_at(
+        &world,
+        &Ray::new(point(5.0, 0.0, 0.0), vector(-1.0, 0.0, 0.0)),
+    );
+    // The bite's deepest point is at x = 0.2, facing +x: n·l̂ = 1, d = 4.8.
+    assert!(close(c.red, 1.0 / (4.8 * 4.8)), "{c:?}");
+}
