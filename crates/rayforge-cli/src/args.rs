@@ -155,8 +155,9 @@ pub struct RenderArgs {
     /// software rasterizer (Computer Graphics from Scratch, part II) that draws every shape as
     /// triangles, much faster, with the same camera, materials and lights but no shadows,
     /// reflection, refraction or anti-aliasing.
-    #[arg(long, value_name = "NAME", value_enum, default_value_t = Renderer::Ray)]
-    pub renderer: Renderer,
+    /// [default: the scene's `renderer`, else ray]
+    #[arg(long, value_name = "NAME", value_enum)]
+    pub renderer: Option<Renderer>,
 
     /// How the rasterizer shades: `flat` (one colour per triangle), `gouraud` (lit at the
     /// vertices, blended) or `phong` (lit at every pixel). Needs --renderer raster.

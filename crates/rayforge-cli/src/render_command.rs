@@ -64,7 +64,7 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
             .build()
             .map_err(|e| Failure::internal(format!("cannot start worker threads: {e}")))?
     };
-    if let Some(options) = &settings.raster {
+    if let Some(options) = &settings.raster.resolve(scene.raster)? {
         let started = Instant::now();
         let (canvas, stats) =
             pool.install(|| rayforge::raster::render_with_stats(&camera, &scene.world, options));

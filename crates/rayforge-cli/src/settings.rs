@@ -52,8 +52,8 @@ pub struct RenderSettings {
     pub max_triangles: usize,
     /// Continue from the checkpoint.
     pub resume: bool,
-    /// The rasterizer's options, when it is the renderer (`None`: the ray tracer).
-    pub raster: Option<RasterOptions>,
+    /// The renderer and raster options asked for on the command line.
+    pub raster: RasterRequest,
 }
 
 /// The highest `--max-triangles` accepted: meshes index their vertices with 32-bit numbers.
@@ -139,7 +139,7 @@ impl RenderSettings {
                 args.max_triangles
             )));
         }
-        let raster = raster_options(&args)?;
+        let raster = raster_request(&args)?;
         Ok(Self {
             scene: args.scene,
             output: args.output,
@@ -163,34 +163,77 @@ impl RenderSettings {
     }
 }
 
-/// The rasterizer's options from the raster flags; they are refused with the ray tracer, and
-/// the ray tracer's sampling flags with the rasterizer (it does not anti-alias).
-fn raster_options(args: &RenderArgs) -> Result<Option<RasterOptions>, Failure> {
-    if args.renderer == Renderer::Ray {
-        let raster_only = [
-            ("--shading", args.shading.is_some()),
-            ("--sphere-divisions", args.sphere_divisions.is_some()),
-            ("--texture-filter", args.texture_filter.is_some()),
-            ("--wireframe", args.wireframe),
-        ];
-        if let Some((flag, _)) = raster_only.iter().find(|(_, given)| *given) {
-            return Err(Failure::usage(format!(
-                "{flag} applies to the rasterizer: add --renderer raster"
-            )));
-        }
-        return Ok(None);
+/// The renderer and raster options asked for on the command line, to be merged with the
+/// scene's own choice (its `world:` item may pick the rasterizer) when the scene is read.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RasterRequest {
+    /// `--renderer`, when given.
+    pub renderer: Option<Renderer>,
+    /// `--shading`, when given.
+    pub shading: Option<Shading>,
+    /// `--sphere-divisions`, when given.
+    pub sphere_divisions: Option<u32>,
+    /// `--texture-filter`, when given.
+    pub filter: Option<TextureFilter>,
+    /// `--wireframe`.
+    pub wireframe: bool,
+    /// Whether `--spp` or `--adaptive` was given (the rasterizer does not anti-alias).
+    pub sampling_flag: Option<&'static str>,
+}
+
+impl RasterRequest {
+    /// The raster flag given, if any.
+    fn raster_flag(&self) -> Option<&'static str> {
+        [
+            ("--shading", self.shading.is_some()),
+            ("--sphere-divisions", self.sphere_divisions.is_some()),
+            ("--texture-filter", self.filter.is_some()),
+            ("--wireframe", self.wireframe),
+        ]
+        .into_iter()
+        .find_map(|(flag, given)| given.then_some(flag))
     }
-    for (flag, given) in [
-        ("--spp", args.spp.is_some()),
-        ("--adaptive", args.adaptive.is_some()),
-    ] {
-        if given {
+
+    /// The rasterizer's options when the rasterizer draws the scene (`--renderer raster`, or
+    /// the scene's choice when the command line makes none), `None` for the ray tracer. The
+    /// command line's raster flags win over the scene's; they are refused with the ray tracer,
+    /// and the ray tracer's sampling flags with the rasterizer.
+    pub fn resolve(&self, scene: Option<RasterOptions>) -> Result<Option<RasterOptions>, Failure> {
+        let raster = match self.renderer {
+            Some(Renderer::Ray) => false,
+            Some(Renderer::Raster) => true,
+            None => scene.is_some(),
+        };
+        if !raster {
+            if let Some(flag) = self.raster_flag() {
+                return Err(Failure::usage(format!(
+                    "{flag} applies to the rasterizer: add --renderer raster"
+                )));
+            }
+            return Ok(None);
+        }
+        if let Some(flag) = self.sampling_flag {
             return Err(Failure::usage(format!(
                 "{flag} applies to the ray tracer; the rasterizer does not anti-alias"
             )));
         }
+        let mut options = scene.unwrap_or_default();
+        if let Some(shading) = self.shading {
+            options.shading = shading;
+        }
+        if let Some(divisions) = self.sphere_divisions {
+            options.sphere_divisions = divisions;
+        }
+        if let Some(filter) = self.filter {
+            options.filter = filter;
+        }
+        options.wireframe |= self.wireframe;
+        Ok(Some(options))
     }
-    let mut options = RasterOptions::default();
+}
+
+/// The raster flags, checked.
+fn raster_request(args: &RenderArgs) -> Result<RasterRequest, Failure> {
     if let Some(divisions) = args.sphere_divisions {
         if !SPHERE_DIVISIONS.contains(&divisions) {
             return Err(Failure::usage(format!(
@@ -199,22 +242,27 @@ fn raster_options(args: &RenderArgs) -> Result<Option<RasterOptions>, Failure> {
                 SPHERE_DIVISIONS.end()
             )));
         }
-        options.sphere_divisions = divisions;
     }
-    if let Some(shading) = args.shading {
-        options.shading = match shading {
+    Ok(RasterRequest {
+        renderer: args.renderer,
+        shading: args.shading.map(|s| match s {
             ShadingArg::Flat => Shading::Flat,
             ShadingArg::Gouraud => Shading::Gouraud,
             ShadingArg::Phong => Shading::Phong,
-        };
-    }
-    if let Some(filter) = args.texture_filter {
-        options.filter = match filter {
+        }),
+        sphere_divisions: args.sphere_divisions,
+        filter: args.texture_filter.map(|f| match f {
             FilterArg::Nearest => TextureFilter::Nearest,
             FilterArg::Bilinear => TextureFilter::Bilinear,
             FilterArg::Trilinear => TextureFilter::Trilinear,
-        };
-    }
-    options.wireframe = args.wireframe;
-    Ok(Some(options))
+        }),
+        wireframe: args.wireframe,
+        sampling_flag: if args.spp.is_some() {
+            Some("--spp")
+        } else if args.adaptive.is_some() {
+            Some("--adaptive")
+        } else {
+            None
+        },
+    })
 }

@@ -46,6 +46,8 @@ pub struct Scene {
     pub anti_alias: Option<u32>,
     /// Reflection and refraction bounces, when the scene's `world:` item sets `max-depth`.
     pub max_depth: Option<u32>,
+    /// The rasterizer's options, when the scene's `world:` item says `renderer: raster`.
+    pub raster: Option<rayforge::raster::RasterOptions>,
     /// Problems in the file that the reader worked around (each located like an error).
     pub warnings: Vec<SceneError>,
 }
@@ -153,7 +155,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
     let mut assets = assets::Assets::new(path, options.max_triangles, options.max_texture_pixels);
     let mut world = rayforge::World::new();
     let mut camera: Option<items::CameraItem> = None;
-    let mut settings: Option<Option<u32>> = None;
+    let mut settings: Option<settings::Settings> = None;
     for item in items {
         let entries = source.entries(item, "")?;
         if let Some(e) = entries.iter().find(|e| e.name == "world") {
@@ -190,7 +192,8 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         camera,
         samples,
         anti_alias,
-        max_depth: settings.flatten(),
+        max_depth: settings.as_ref().and_then(|s| s.max_depth),
+        raster: settings.and_then(|s| s.raster),
         warnings: source.take_warnings(),
     })
 }

@@ -439,7 +439,17 @@ pub fn parse_mtl(
             "d" => m.transparency = 1.0 - line.numbers::<1>("d", 1)?[0],
             "Tr" => m.transparency = line.numbers::<1>("Tr", 1)?[0],
             "Ni" => m.refractive_index = line.numbers::<1>("Ni", 1)?[0],
-            "illum" => *reflect = line.numbers::<1>("illum", 1)?[0] >= 3.0,
+            "illum" => {
+                let model = line.numbers::<1>("illum", 1)?[0];
+                *reflect = model >= 3.0;
+                if model == 0.0 {
+                    // Illumination model 0, "colour on, ambient off": the colour as it is,
+                    // unlit (each light's ambient share shows it; one white light, exactly).
+                    m.ambient = 1.0;
+                    m.diffuse = 0.0;
+                    m.specular = 0.0;
+                }
+            }
             "map_Kd" => {
                 // The file name is the last word (options such as `-bm 1` may precede it).
                 let Some((col, name)) = line.words().last().filter(|(_, w)| *w != "map_Kd") else {

@@ -90,3 +90,22 @@ fn a_viewport_camera_may_look_at_a_point() {
         [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
     );
 }
+
+#[test]
+fn a_scene_may_choose_the_rasterizer_and_its_options() {
+    let scene = load_str(
+        "- world:\n    renderer: raster\n    shading: flat\n    sphere-divisions: 15\n    wireframe: true\n- add: camera\n  width: 4\n  height: 4\n  viewport: [1, 1]\n",
+        Path::new("s.yml"),
+    )
+    .unwrap();
+    let raster = scene.raster.expect("the rasterizer");
+    assert_eq!(raster.sphere_divisions, 15);
+    assert!(raster.wireframe);
+    assert_eq!(raster.shading, rayforge::raster::Shading::Flat);
+    let e = load_str(
+        "- world:\n    wireframe: true\n- add: camera\n  width: 4\n  height: 4\n  viewport: [1, 1]\n",
+        Path::new("s.yml"),
+    )
+    .unwrap_err();
+    assert!(e.message.contains("renderer: raster"), "{e}");
+}
