@@ -40,6 +40,7 @@ fn the_stages_are_rasterized_by_their_own_choice() {
         "raster-09",
         "raster-10",
         "raster-11",
+        "raster-12",
     ] {
         let (summary, image) = render(stage);
         assert!(
@@ -76,6 +77,17 @@ fn wireframes_draw_edges_and_filled_triangles_cover_the_faces() {
         .filter(|c| image.pixels().any(|p| p.0 == **c))
         .count();
     assert!(seen >= 4, "{seen} of the face colours");
+}
+
+#[test]
+fn the_crates_wear_their_texture() {
+    let (_, image) = render("raster-12");
+    // The texture's browns, not the material's white.
+    let brown = image
+        .pixels()
+        .filter(|p| p.0[0] > p.0[2] + 40 && p.0[1] > p.0[2])
+        .count();
+    assert!(brown > 50_000, "{brown} brown pixels");
 }
 
 #[test]

@@ -1,9 +1,9 @@
-//! Generates the textures of `scenes/trtc/next-steps/textures/`: an earth-like map, a tiled
-//! normal map and the six faces of a sky box. Every pixel is computed here (procedural noise
+//! Generates the textures of `scenes/trtc/next-steps/textures/` (an earth-like map, a tiled
+//! normal map and the six faces of a sky box) and the wooden crate of `scenes/cgfs/textures/`. Every pixel is computed here (procedural noise
 //! and closed-form shapes), so the images are ours to commit and can be remade exactly:
 //!
 //! ```text
-//! cargo run -p rayforge-scene --example make_textures -- scenes/trtc/next-steps/textures
+//! cargo run -p rayforge-scene --example make_textures -- scenes/trtc/next-steps/textures scenes/cgfs/textures
 //! ```
 
 use rayforge::shading::{perlin_noise, CubeFace};
@@ -26,7 +26,46 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             sky(cube_direction(face, u, v))
         })?;
     }
+    let crate_dir = PathBuf::from(
+        std::env::args()
+            .nth(2)
+            .unwrap_or_else(|| "scenes/cgfs/textures".into()),
+    );
+    std::fs::create_dir_all(&crate_dir)?;
+    save(&crate_dir, "crate.png", 256, 256, wooden_crate)?;
     Ok(())
+}
+
+/// A wooden crate's face: a frame of boards around five horizontal planks and a diagonal
+/// brace, with grain from stretched noise and dark gaps between boards.
+fn wooden_crate(u: f64, v: f64) -> [f64; 3] {
+    let frame = 0.12;
+    let on_frame = u < frame || u > 1.0 - frame || v < frame || v > 1.0 - frame;
+    let brace = (u - v).abs() < 0.07 && !on_frame;
+    let (along, across) = if on_frame {
+        if u < frame || u > 1.0 - frame {
+            (v, u)
+        } else {
+            (u, v)
+        }
+    } else if brace {
+        ((u + v) * 0.5, u - v)
+    } else {
+        (u, v)
+    };
+    let grain = fbm(Point3::new(along * 3.0, across * 40.0, 7.0)) * 0.5 + 0.5;
+    let mut c = mix([0.52, 0.34, 0.17], [0.78, 0.58, 0.34], grain);
+    if on_frame || brace {
+        c = c.map(|x| x * 0.85);
+    }
+    // Gaps: between the planks of the middle, and at the frame's inner edge.
+    let plank = (v - frame) / (1.0 - 2.0 * frame) * 5.0;
+    let plank_gap = !on_frame && !brace && plank.fract() < 0.03;
+    let edge = |t: f64| (t - frame).abs() < 0.006 || (t - (1.0 - frame)).abs() < 0.006;
+    if plank_gap || edge(u) || edge(v) {
+        c = [0.2, 0.12, 0.06];
+    }
+    c
 }
 
 /// Writes a `width × height` PNG whose pixel at (u, v) (the book's texture convention: u to the

@@ -158,18 +158,22 @@ fn raster_options(
                 options.sphere_divisions = n as u32;
             }
             "wireframe" => options.wireframe = source.boolean(e.value, "wireframe")?,
-            "texture-filter" => options.filter = match source.string(e.value, "texture-filter")? {
-                "nearest" => TextureFilter::Nearest,
-                "bilinear" => TextureFilter::Bilinear,
-                "trilinear" => TextureFilter::Trilinear,
-                other => return Err(source.error(
-                    e.value,
-                    "texture-filter",
-                    format!(
+            "texture-filter" => {
+                options.filter = match source.string(e.value, "texture-filter")? {
+                    "nearest" => TextureFilter::Nearest,
+                    "bilinear" => TextureFilter::Bilinear,
+                    "trilinear" => TextureFilter::Trilinear,
+                    other => {
+                        return Err(source.error(
+                            e.value,
+                            "texture-filter",
+                            format!(
                         "unknown texture filter `{other}`; expected nearest, bilinear or trilinear"
                     ),
-                )),
-            },
+                        ))
+                    }
+                }
+            }
             _ => {}
         }
     }
