@@ -80,6 +80,22 @@ fn wireframes_draw_edges_and_filled_triangles_cover_the_faces() {
 }
 
 #[test]
+fn the_shading_stage_is_lit_by_the_books_model() {
+    // Under `lighting: cgfs` a face is its colour times the summed intensity: the front of the
+    // blue cube (facing the point light) is lit but not the full blue of the unlit stage.
+    let (_, lit) = render("raster-11");
+    let (_, unlit) = render("raster-10");
+    let pure_blue = |image: &image::RgbImage| image.pixels().filter(|p| p.0 == [0, 0, 255]).count();
+    assert!(pure_blue(&unlit) > 10_000);
+    assert_eq!(pure_blue(&lit), 0);
+    let bluish = lit
+        .pixels()
+        .filter(|p| p.0[2] > 100 && p.0[0] < 20 && p.0[1] < 20)
+        .count();
+    assert!(bluish > 10_000, "{bluish}");
+}
+
+#[test]
 fn the_crates_wear_their_texture() {
     let (_, image) = render("raster-12");
     // The texture's browns, not the material's white.

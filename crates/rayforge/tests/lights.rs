@@ -56,3 +56,24 @@ fn a_directional_light_shades_like_a_point_light_infinitely_far_away() {
         "{a:?}"
     );
 }
+
+/// Computer Graphics from Scratch's intensity with every light visible (the rasterizer's).
+#[test]
+fn the_unshadowed_cgfs_intensity_sums_ambient_diffuse_and_specular() {
+    use rayforge::scene::unshadowed_intensity;
+    use rayforge::shading::DirectionalLight;
+    let lights = [
+        Light::Ambient(color(0.2, 0.2, 0.2)),
+        Light::Directional(DirectionalLight {
+            towards: rayforge::vector(0.0, 2.0, 0.0),
+            intensity: color(0.5, 0.5, 0.5),
+        }),
+    ];
+    let up = rayforge::vector(0.0, 1.0, 0.0);
+    // Matte: 0.2 + 0.5 · (n·l / |n||l|) = 0.7.
+    let matte = unshadowed_intensity(&lights, point(0.0, 0.0, 0.0), up, up, -1.0);
+    assert!((matte.red - 0.7).abs() < 1e-12, "{matte:?}");
+    // Seen along the mirror direction, a shiny surface adds 0.5 · 1^s.
+    let shiny = unshadowed_intensity(&lights, point(0.0, 0.0, 0.0), up, up, 10.0);
+    assert!((shiny.red - 1.2).abs() < 1e-12, "{shiny:?}");
+}

@@ -72,6 +72,7 @@ pub fn render_with_stats(
         chunks: &chunks,
         projection: &projection,
         lights: raster_lights(&world.lights),
+        lighting: world.lighting,
         mips: if options.wireframe {
             Default::default()
         } else {

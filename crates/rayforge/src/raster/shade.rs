@@ -22,8 +22,9 @@ use super::options::{Shading, TextureFilter};
 use super::vertex::ViewVertex;
 use super::Projection;
 use crate::math::{Point3, Vec3};
+use crate::scene::unshadowed_intensity;
 use crate::shading::{lighting_with, PatternKind, SplitMix64, UvPattern};
-use crate::{Color, Light, Material, Object};
+use crate::{Color, Light, LightingModel, Material, Object};
 use glam::DVec3;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -36,6 +37,8 @@ pub(crate) struct ShadeContext<'a, 'w> {
     pub chunks: &'a [Chunk],
     pub projection: &'a Projection,
     pub lights: Vec<Light>,
+    /// The world's lighting model: Phong, or Computer Graphics from Scratch's (flat or lit).
+    pub lighting: LightingModel,
     pub mips: HashMap<usize, MipChain>,
     pub shading: Shading,
     pub filter: TextureFilter,
@@ -245,7 +248,10 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
         }
     }
 
-    /// Every light's Phong term at a point, summed, for a surface colour `colour`.
+    /// Every light's term at a point, summed, for a surface colour `colour`: Phong's, or under
+    /// Computer Graphics from Scratch's model the colour times the book's light intensity
+    /// (every light visible), or under its flat model the colour itself. The optics model's
+    /// light needs the whole image to be exposed, so the rasterizer shades it with Phong.
     fn phong(
         &self,
         material: &Material,
@@ -254,6 +260,15 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
         eyev: Vec3,
         normal: Vec3,
     ) -> Color {
+        match self.lighting {
+            LightingModel::Flat => return colour,
+            LightingModel::Cgfs => {
+                let intensity =
+                    unshadowed_intensity(&self.lights, point, normal, eyev, material.shininess);
+                return colour * intensity;
+            }
+            LightingModel::Phong | LightingModel::Optics => {}
+        }
         let mut jitter = SplitMix64::new(0);
         self.lights
             .iter()

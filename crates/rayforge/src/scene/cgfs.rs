@@ -370,6 +370,14 @@ impl<'w> Tracer<'w> {
         if self.cgfs_blocked(lit.point, vec_l, t_max, lit.time) {
             return;
         }
+        lit.add_light(vec_l, light);
+    }
+}
+
+impl Lighting {
+    /// One visible light's diffuse and specular terms, added to the sum: the book's formula.
+    fn add_light(&mut self, vec_l: Vec3, light: Rgb) {
+        let lit = self;
         let n_dot_l = lit.normal.dot(vec_l);
         if n_dot_l > 0.0 {
             let denominator = lit.length_n * vec_l.length();
@@ -388,6 +396,43 @@ impl<'w> Tracer<'w> {
             }
         }
     }
+}
+
+/// Computer Graphics from Scratch's light intensity at a point, every light taken as visible
+/// (for the rasterizer, which casts no shadows): ambient lights summed, point, spot and
+/// directional lights by the book's diffuse and specular terms, area lights at their centre.
+/// Per channel; the surface colour times it is the lit colour.
+pub fn unshadowed_intensity(
+    lights: &[Light],
+    point: Point3,
+    normal: Vec3,
+    view: Vec3,
+    shininess: f64,
+) -> Color {
+    let mut lit = Lighting {
+        intensity: [0.0; 3],
+        point,
+        normal,
+        view,
+        length_n: normal.length(),
+        length_v: view.length(),
+        shininess,
+        time: 0.0,
+    };
+    for light in lights {
+        match light {
+            Light::Ambient(c) => lit.intensity = add(lit.intensity, c.to_array()),
+            Light::Directional(l) => lit.add_light(l.towards, l.intensity.to_array()),
+            Light::Point(l) => lit.add_light(l.position - point, l.intensity.to_array()),
+            Light::Spot(l) => {
+                let falloff = l.falloff((point - l.position).normalize_or_zero());
+                lit.add_light(l.position - point, (l.intensity * falloff).to_array());
+            }
+            Light::Area(l) => lit.add_light(l.position() - point, l.intensity.to_array()),
+        }
+    }
+    let [r, g, b] = lit.intensity;
+    Color::new(r, g, b)
 }
 
 /// What `ComputeLighting` keeps while it sums the lights.

@@ -12,6 +12,7 @@ mod trace_log;
 mod tracer;
 mod world;
 
+pub use cgfs::unshadowed_intensity;
 pub use computations::{prepare_computations, schlick, Computations};
 pub use csg::{intersection_allowed, Csg, CsgOperation};
 pub use group::{Group, Node};
