@@ -10,34 +10,12 @@
 // The book writes its rotation with 0.7071 for √½; the tests use its numbers.
 #![allow(clippy::approx_constant)]
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod support;
+use support::{fnv1a, render_scene};
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// Renders a cgfs scene at its own size (600 × 600) and returns its pixels.
-fn render(stage: &str) -> image::RgbImage {
-    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cgfs-{stage}.png"));
-    let scene = repo().join(format!("scenes/cgfs/{stage}.yml"));
-    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
-        .args(["render"])
-        .arg(&scene)
-        .arg("-o")
-        .arg(&out)
-        .arg("--quiet")
-        .output()
-        .expect("runs rayforge");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    image::open(&out).expect("reads the render").to_rgb8()
-}
-
-/// FNV-1a, 64 bits, over the RGB bytes.
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    })
+/// Renders `scenes/cgfs/<name>.yml` at its own size.
+fn render(name: &str) -> image::RgbImage {
+    render_scene(&format!("cgfs/{name}"))
 }
 
 /// The screen pixel of the book's canvas point (x, y): column `Cw/2 + x`, row `Ch/2 - y - 1`.

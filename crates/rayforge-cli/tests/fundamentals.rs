@@ -5,32 +5,12 @@
 //! pixel by pixel with the images the author's own program writes (built from its public
 //! source; `docs/fidelity.md` gives the measured differences: none for seven of these scenes).
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod support;
+use support::{fnv1a, render_scene};
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
+/// Renders `scenes/fundamentals/<name>.yml` at its own size.
 fn render(name: &str) -> image::RgbImage {
-    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("fundamentals-{name}.png"));
-    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
-        .arg("render")
-        .arg(repo().join(format!("scenes/fundamentals/{name}.yml")))
-        .arg("-o")
-        .arg(&out)
-        .arg("--quiet")
-        .output()
-        .expect("runs rayforge");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    image::open(&out).expect("reads the render").to_rgb8()
-}
-
-/// FNV-1a, 64 bits, over the RGB bytes.
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    })
+    render_scene(&format!("fundamentals/{name}"))
 }
 
 #[test]

@@ -29,7 +29,7 @@ pub const SHAPE_KINDS: &[&str] = &[
     "csg",
 ];
 
-/// Keys every shape accepts.
+/// Keys every shape, group, CSG and model accepts: what places it, moves it and colours it.
 const SHAPE_KEYS: &[&str] = &[
     "add",
     "material",
@@ -39,89 +39,20 @@ const SHAPE_KEYS: &[&str] = &[
     "velocity",
     "per-frame",
 ];
-/// Keys a group accepts.
-const GROUP_KEYS: &[&str] = &[
-    "add",
-    "children",
-    "material",
-    "transform",
-    "shadow",
-    "motion",
-    "velocity",
-    "per-frame",
-];
-/// Keys a CSG accepts.
-const CSG_KEYS: &[&str] = &[
-    "add",
-    "operation",
-    "left",
-    "right",
-    "material",
-    "transform",
-    "shadow",
-    "motion",
-    "velocity",
-    "per-frame",
-];
-/// Keys an OBJ model accepts.
-const OBJ_KEYS: &[&str] = &[
-    "add",
-    "file",
-    "material",
-    "transform",
-    "shadow",
-    "motion",
-    "velocity",
-    "per-frame",
-];
-/// Keys a ring accepts.
-const RING_KEYS: &[&str] = &[
-    "add",
-    "material",
-    "transform",
-    "shadow",
-    "motion",
-    "velocity",
-    "per-frame",
-    "inner-radius",
-    "outer-radius",
-];
-/// Keys a disc accepts.
-const DISC_KEYS: &[&str] = &[
-    "add",
-    "material",
-    "transform",
-    "shadow",
-    "motion",
-    "velocity",
-    "per-frame",
-    "radius",
-];
-/// Keys a torus accepts.
-const TORUS_KEYS: &[&str] = &[
-    "add",
-    "material",
-    "transform",
-    "shadow",
-    "motion",
-    "velocity",
-    "per-frame",
-    "major-radius",
-    "minor-radius",
-];
-/// Keys cylinders and cones accept besides those.
-const QUADRIC_KEYS: &[&str] = &[
-    "add",
-    "material",
-    "transform",
-    "shadow",
-    "motion",
-    "velocity",
-    "per-frame",
-    "min",
-    "max",
-    "closed",
-];
+
+/// The keys a kind of item accepts besides [`SHAPE_KEYS`].
+fn own_keys(kind: &str) -> &'static [&'static str] {
+    match kind {
+        "group" => &["children"],
+        "csg" => &["operation", "left", "right"],
+        "obj" => &["file"],
+        "cylinder" | "cone" => &["min", "max", "closed"],
+        "torus" => &["major-radius", "minor-radius"],
+        "ring" => &["inner-radius", "outer-radius"],
+        "disc" => &["radius"],
+        _ => &[],
+    }
+}
 
 /// What `add: camera` gives: the camera and how to sample its pixels.
 pub struct CameraItem {
@@ -542,21 +473,12 @@ pub fn add_objects<'n, 's>(
         .expect("every item has `add`")
         .value;
     let kind = source.string(kind_node, "add")?;
-    let keys = match kind {
-        "group" => GROUP_KEYS,
-        "csg" => CSG_KEYS,
-        "obj" => OBJ_KEYS,
-        "cylinder" | "cone" => QUADRIC_KEYS,
-        "torus" => TORUS_KEYS,
-        "ring" => RING_KEYS,
-        "disc" => DISC_KEYS,
-        _ => SHAPE_KEYS,
-    };
+    let keys: Vec<&str> = SHAPE_KEYS.iter().chain(own_keys(kind)).copied().collect();
     let shape = match kind {
         "group" | "obj" | "csg" => None,
         _ => Some(shape(source, entries, kind_node, kind)?),
     };
-    check_keys(source, entries, &format!("a {kind}"), keys)?;
+    check_keys(source, entries, &format!("a {kind}"), &keys)?;
     let mut own = DMat4::IDENTITY;
     for t in transforms.iter().copied() {
         own = transform_list(source, defines, t, &mut Trail::new())? * own;

@@ -324,16 +324,7 @@ impl<'w> Tracer<'w> {
         shininess: f64,
         time: f64,
     ) -> Rgb {
-        let mut lit = Lighting {
-            intensity: [0.0; 3],
-            point,
-            normal,
-            view,
-            length_n: normal.length(),
-            length_v: view.length(),
-            shininess,
-            time,
-        };
+        let mut lit = Lighting::new(point, normal, view, shininess, time);
         let world = self.world;
         for light in &world.lights {
             match light {
@@ -375,22 +366,35 @@ impl<'w> Tracer<'w> {
 }
 
 impl Lighting {
+    /// No light yet at `point`, seen along `view`.
+    fn new(point: Point3, normal: Vec3, view: Vec3, shininess: f64, time: f64) -> Self {
+        Self {
+            intensity: [0.0; 3],
+            point,
+            normal,
+            view,
+            length_n: normal.length(),
+            length_v: view.length(),
+            shininess,
+            time,
+        }
+    }
+
     /// One visible light's diffuse and specular terms, added to the sum: the book's formula.
     fn add_light(&mut self, vec_l: Vec3, light: Rgb) {
-        let lit = self;
-        let n_dot_l = lit.normal.dot(vec_l);
+        let n_dot_l = self.normal.dot(vec_l);
         if n_dot_l > 0.0 {
-            let denominator = lit.length_n * vec_l.length();
-            for (sum, i) in lit.intensity.iter_mut().zip(light) {
+            let denominator = self.length_n * vec_l.length();
+            for (sum, i) in self.intensity.iter_mut().zip(light) {
                 *sum += i * n_dot_l / denominator;
             }
         }
-        if lit.shininess >= 0.0 {
-            let vec_r = lit.normal * (2.0 * n_dot_l) - vec_l;
-            let r_dot_v = vec_r.dot(lit.view);
+        if self.shininess >= 0.0 {
+            let vec_r = self.normal * (2.0 * n_dot_l) - vec_l;
+            let r_dot_v = vec_r.dot(self.view);
             if r_dot_v > 0.0 {
-                let highlight = (r_dot_v / (vec_r.length() * lit.length_v)).powf(lit.shininess);
-                for (sum, i) in lit.intensity.iter_mut().zip(light) {
+                let highlight = (r_dot_v / (vec_r.length() * self.length_v)).powf(self.shininess);
+                for (sum, i) in self.intensity.iter_mut().zip(light) {
                     *sum += i * highlight;
                 }
             }
@@ -409,16 +413,7 @@ pub fn unshadowed_intensity(
     view: Vec3,
     shininess: f64,
 ) -> Color {
-    let mut lit = Lighting {
-        intensity: [0.0; 3],
-        point,
-        normal,
-        view,
-        length_n: normal.length(),
-        length_v: view.length(),
-        shininess,
-        time: 0.0,
-    };
+    let mut lit = Lighting::new(point, normal, view, shininess, 0.0);
     for light in lights {
         match light {
             Light::Ambient(c) => lit.intensity = add(lit.intensity, c.to_array()),

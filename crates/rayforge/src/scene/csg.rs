@@ -50,6 +50,9 @@ struct CsgNode {
     start: u32,
     split: u32,
     end: u32,
+    /// Whether a ray coming from far away starts inside the left and the right operand
+    /// (outside every bounded solid, inside a complement): the filter's first state.
+    starts_inside: (bool, bool),
 }
 
 /// A CSG solid: its primitives (in world space) and its operations.
@@ -68,44 +71,46 @@ impl Csg {
         left: impl Into<Node>,
         right: impl Into<Node>,
     ) -> Result<Self, SingularTransform> {
+        Self::build(operation, &left.into(), Some(&right.into()))
+    }
+
+    /// Everything outside `operand` (Fundamentals of Ray Tracing's set complement). The
+    /// complement itself is unbounded, but its surfaces are its operand's: rays can only meet
+    /// it there, so its box is the operand's.
+    pub fn complement(operand: impl Into<Node>) -> Result<Self, SingularTransform> {
+        Self::build(CsgOperation::Complement, &operand.into(), None)
+    }
+
+    /// An operation over its operands (a complement has no right one).
+    fn build(
+        operation: CsgOperation,
+        left: &Node,
+        right: Option<&Node>,
+    ) -> Result<Self, SingularTransform> {
         let mut csg = Csg {
             leaves: Vec::new(),
             nodes: Vec::new(),
             bounds: Aabb::EMPTY,
         };
-        csg.add_operand(&left.into())?;
+        csg.add_operand(left)?;
         let split = csg.leaves.len() as u32;
-        csg.add_operand(&right.into())?;
+        if let Some(right) = right {
+            csg.add_operand(right)?;
+        }
+        let end = csg.leaves.len() as u32;
+        let below = csg.nodes.len();
+        let outside = |_: &Object| false;
+        let starts_inside = (
+            csg.range_inside(0, split, below, &outside),
+            csg.range_inside(split, end, below, &outside),
+        );
         csg.nodes.push(CsgNode {
             operation,
             start: 0,
             split,
-            end: csg.leaves.len() as u32,
-        });
-        csg.bounds = csg
-            .leaves
-            .iter()
-            .fold(Aabb::EMPTY, |b, leaf| b.union(&leaf.bounds()));
-        Ok(csg)
-    }
-
-    /// Everything outside `operand` (Fundamentals of Ray Tracing's set complement).
-    pub fn complement(operand: impl Into<Node>) -> Result<Self, SingularTransform> {
-        let mut csg = Csg {
-            leaves: Vec::new(),
-            nodes: Vec::new(),
-            bounds: Aabb::EMPTY,
-        };
-        csg.add_operand(&operand.into())?;
-        let end = csg.leaves.len() as u32;
-        csg.nodes.push(CsgNode {
-            operation: CsgOperation::Complement,
-            start: 0,
-            split: end,
             end,
+            starts_inside,
         });
-        // The complement itself is unbounded, but its surfaces are its operand's: rays can
-        // only meet it there.
         csg.bounds = csg
             .leaves
             .iter()
@@ -203,11 +208,8 @@ impl Csg {
     /// The book's `filter_intersections(csg, xs)` over leaf indices: `hits` sorted by `t`,
     /// each tagged with the leaf it is on; keeps the hits every operation allows.
     pub fn filter(&self, hits: &mut SmallVec<[LocalHit; 16]>) {
-        for (k, node) in self.nodes.iter().enumerate() {
-            // A ray starts far away, outside every bounded solid but inside any complement.
-            let outside = |_: &Object| false;
-            let mut inl = self.range_inside(node.start, node.split, k, &outside);
-            let mut inr = self.range_inside(node.split, node.end, k, &outside);
+        for node in &self.nodes {
+            let (mut inl, mut inr) = node.starts_inside;
             hits.retain(|h| {
                 if h.leaf < node.start || h.leaf >= node.end {
                     return true;
