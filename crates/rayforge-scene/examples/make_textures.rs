@@ -1,5 +1,6 @@
 //! Generates the textures of `scenes/trtc/next-steps/textures/` (an earth-like map, a tiled
-//! normal map and the six faces of a sky box) and the wooden crate of `scenes/cgfs/textures/`. Every pixel is computed here (procedural noise
+//! normal map and the six faces of a sky box) and those of `scenes/cgfs/textures/` (a wooden
+//! crate, a floor tile). Every pixel is computed here (procedural noise
 //! and closed-form shapes), so the images are ours to commit and can be remade exactly:
 //!
 //! ```text
@@ -33,7 +34,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     std::fs::create_dir_all(&crate_dir)?;
     save(&crate_dir, "crate.png", 256, 256, wooden_crate)?;
+    save(&crate_dir, "floor-tile.png", 64, 64, floor_tile)?;
     Ok(())
+}
+
+/// A floor tile for the texture-filtering stage: a cream tile with a slate diamond inlay,
+/// framed by dark grout. Coarse on purpose (64 texels), so that close up a texel covers many
+/// pixels and nearest filtering shows its steps along the diamond's diagonal edges, which
+/// bilinear filtering smooths; towards the horizon, where a pixel spans many tiles, the grout
+/// lines and diamonds alias into moiré unless a MIP map averages them. The edge texels are all
+/// grout, so tiles repeated side by side meet without a seam.
+fn floor_tile(u: f64, v: f64) -> [f64; 3] {
+    let (x, y) = ((u * 63.0).round(), (v * 63.0).round());
+    let inside = |t: f64| (3.0..=60.0).contains(&t);
+    let grout = !inside(x) || !inside(y);
+    if grout {
+        return [0.16, 0.13, 0.11];
+    }
+    if (u - 0.5).abs() + (v - 0.5).abs() < 0.3 {
+        [0.18, 0.24, 0.36]
+    } else {
+        [0.93, 0.89, 0.78]
+    }
 }
 
 /// A wooden crate's face: a frame of boards around five horizontal planks and a diagonal

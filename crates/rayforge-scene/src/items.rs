@@ -358,7 +358,8 @@ pub fn expand_template<'n, 's>(
     trail: &mut Trail<'n>,
 ) -> Result<Expanded<'n, 's>, SceneError> {
     let name = source.string(kind, "add")?;
-    if SHAPE_KINDS.contains(&name) || name == "camera" || name == "light" || !is_reference(kind) {
+    let item_kind = ["camera", "light", "canvas-line", "canvas-triangle"].contains(&name);
+    if SHAPE_KINDS.contains(&name) || item_kind || !is_reference(kind) {
         let transforms = entries
             .iter()
             .filter(|e| e.name == "transform")
@@ -812,7 +813,7 @@ fn shape(
         "dodecahedron" => Ok(Shape::Mesh(std::sync::Arc::new(
             rayforge::geometry::dodecahedron(),
         ))),
-        "camera" | "light" => Err(source.error(
+        "camera" | "light" | "canvas-line" | "canvas-triangle" => Err(source.error(
             kind_node,
             "add",
             format!(
@@ -881,7 +882,7 @@ fn unknown_kind(source: &Source<'_>, node: &Node<'_>, name: &str) -> SceneError 
         node,
         "add",
         format!(
-            "unknown kind `{name}`; expected one of: camera, light, {} or the name of a defined object",
+            "unknown kind `{name}`; expected one of: camera, light, canvas-line, canvas-triangle, {} or the name of a defined object",
             SHAPE_KINDS.join(", ")
         ),
     )

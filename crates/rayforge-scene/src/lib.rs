@@ -9,6 +9,7 @@
 
 mod assets;
 mod budget;
+mod canvas_items;
 mod defines;
 mod error;
 mod items;
@@ -48,6 +49,9 @@ pub struct Scene {
     pub max_depth: Option<u32>,
     /// The rasterizer's options, when the scene's `world:` item says `renderer: raster`.
     pub raster: Option<rayforge::raster::RasterOptions>,
+    /// The canvas items (`add: canvas-line`, `add: canvas-triangle`), drawn over the image by
+    /// either renderer.
+    pub overlay: rayforge::raster::Overlay,
     /// Problems in the file that the reader worked around (each located like an error).
     pub warnings: Vec<SceneError>,
 }
@@ -153,8 +157,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
     })?;
     let mut defines = Defines::default();
     let mut assets = assets::Assets::new(path, options.max_triangles, options.max_texture_pixels);
-    let mut world = rayforge::World::new();
-    let mut camera: Option<items::CameraItem> = None;
+    let mut read = Contents::default();
     let mut settings: Option<settings::Settings> = None;
     for item in items {
         let entries = source.entries(item, "")?;
@@ -167,7 +170,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
                 };
                 return Err(source.error(e.key, "world", message));
             }
-            settings = Some(settings::apply(&source, e.value, &mut world)?);
+            settings = Some(settings::apply(&source, e.value, &mut read.world)?);
             continue;
         }
         add_item(
@@ -175,11 +178,15 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
             &mut defines,
             &mut assets,
             item,
-            &mut world,
-            &mut camera,
+            &mut read,
             options.frame,
         )?;
     }
+    let Contents {
+        world,
+        camera,
+        canvas_items,
+    } = read;
     let items::CameraItem {
         camera,
         samples,
@@ -187,7 +194,10 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
     } = camera.ok_or_else(|| {
         SceneError::new(path, "the scene has no camera: add an item `- add: camera`")
     })?;
+    // Canvas coordinates are pixels of the camera's canvas.
+    let overlay = rayforge::raster::Overlay::new(canvas_items, camera.hsize(), camera.vsize());
     Ok(Scene {
+        overlay,
         world,
         camera,
         samples,
@@ -198,14 +208,24 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
     })
 }
 
+/// What the file's items add up to, as they are read.
+#[derive(Default)]
+struct Contents {
+    /// Objects and lights (and, from `world:`, the settings that go into the world).
+    world: rayforge::World,
+    /// The camera, once read.
+    camera: Option<items::CameraItem>,
+    /// `canvas-line` and `canvas-triangle` items, in order.
+    canvas_items: Vec<rayforge::raster::CanvasItem>,
+}
+
 /// One top-level item.
 fn add_item<'n, 's>(
     source: &Source<'s>,
     defines: &mut Defines<'n, 's>,
     assets: &mut assets::Assets,
     item: &'n Node<'s>,
-    world: &mut rayforge::World,
-    camera: &mut Option<items::CameraItem>,
+    read: &mut Contents,
     frame: u64,
 ) -> Result<(), SceneError> {
     let entries = source.entries(item, "")?;
@@ -216,11 +236,19 @@ fn add_item<'n, 's>(
         return Err(source.error(item, "", "each item needs `add:`, `define:` or `world:`"));
     };
     match source.string(kind, "add")? {
-        "camera" if camera.is_some() => {
+        "camera" if read.camera.is_some() => {
             return Err(source.error(kind, "add", "a second camera: a scene has exactly one"))
         }
-        "camera" => *camera = Some(items::camera(source, &entries, item)?),
-        "light" => world.lights.push(items::light(source, &entries, item)?),
+        "camera" => read.camera = Some(items::camera(source, &entries, item)?),
+        "light" => read
+            .world
+            .lights
+            .push(items::light(source, &entries, item)?),
+        kind if canvas_items::CANVAS_KINDS.contains(&kind) => {
+            source.spend(item, "add")?;
+            let canvas_item = canvas_items::canvas_item(source, &entries, item, kind)?;
+            read.canvas_items.push(canvas_item);
+        }
         _ => {
             let mut trail = Vec::new();
             let item = items::expand_template(source, defines, entries, kind, &mut trail)?;
@@ -234,7 +262,7 @@ fn add_item<'n, 's>(
                     ..items::Inherited::TOP
                 },
                 &mut trail,
-                &mut world.objects,
+                &mut read.world.objects,
             )?;
         }
     }

@@ -402,3 +402,71 @@ fn deeply_nested_patterns_are_refused_or_read_without_overflow() {
     let scene = format!("{CAMERA}- add: plane\n  material:\n    pattern: {pattern}\n");
     let _ = load_str(&scene, Path::new("scene.yml"));
 }
+
+#[test]
+fn a_canvas_point_needs_two_or_three_numbers() {
+    let e = error("- add: canvas-line\n  from: [1, 2, 3, 4]\n  to: [0, 0]\n");
+    assert_error(
+        &e,
+        9,
+        9,
+        Some("from"),
+        "expected [x, y] on the canvas or [x, y, z]",
+    );
+}
+
+#[test]
+fn a_canvas_point_to_project_must_lie_in_front_of_the_eye() {
+    let e = error("- add: canvas-line\n  from: [1, 2, -3]\n  to: [0, 0, 1]\n");
+    assert_error(&e, 9, 16, Some("from"), "in front of the eye (z > 0)");
+}
+
+#[test]
+fn a_canvas_line_needs_both_ends() {
+    let e = error("- add: canvas-line\n  from: [1, 2]\n");
+    assert_error(&e, 8, 3, Some("to"), "a canvas line needs `to:`");
+}
+
+#[test]
+fn a_canvas_triangle_has_three_corners() {
+    let e = error("- add: canvas-triangle\n  points: [[0, 0], [1, 1]]\n");
+    assert_error(&e, 9, 11, Some("points"), "3 corners, found 2");
+}
+
+#[test]
+fn a_shaded_canvas_triangle_needs_its_intensities() {
+    let e = error("- add: canvas-triangle\n  points: [[0, 0], [1, 1], [0, 1]]\n  style: shaded\n");
+    assert_error(&e, 8, 3, Some("intensities"), "needs `intensities:`");
+    let e = error(
+        "- add: canvas-triangle\n  points: [[0, 0], [1, 1], [0, 1]]\n  style: shaded\n  intensities: [1, -0.5, 0]\n",
+    );
+    assert_error(&e, 11, 16, Some("intensities"), "cannot be negative");
+}
+
+#[test]
+fn intensities_on_an_unshaded_canvas_triangle_are_refused() {
+    let e = error(
+        "- add: canvas-triangle\n  points: [[0, 0], [1, 1], [0, 1]]\n  intensities: [1, 1, 1]\n",
+    );
+    assert_error(&e, 10, 3, Some("intensities"), "add `style: shaded`");
+}
+
+#[test]
+fn an_unknown_canvas_triangle_style_names_the_styles() {
+    let e = error("- add: canvas-triangle\n  points: [[0, 0], [1, 1], [0, 1]]\n  style: dotted\n");
+    assert_error(
+        &e,
+        10,
+        10,
+        Some("style"),
+        "expected wireframe, filled or shaded",
+    );
+}
+
+#[test]
+fn a_canvas_item_cannot_be_a_groups_child() {
+    let e = error(
+        "- add: group\n  children:\n    - add: canvas-line\n      from: [0, 0]\n      to: [1, 1]\n",
+    );
+    assert_error(&e, 10, 12, Some("add"), "a canvas-line cannot be");
+}

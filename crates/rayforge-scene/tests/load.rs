@@ -624,3 +624,44 @@ fn materials_take_bumps() {
     .unwrap_err();
     assert_eq!(e.key.as_deref(), Some("wavelength"));
 }
+
+#[test]
+fn canvas_items_are_kept_in_order_for_the_cameras_canvas() {
+    use rayforge::raster::{CanvasItem, CanvasPoint, TriangleStyle};
+    let scene = load(
+        "
+- add: canvas-triangle
+  points: [[-10, -5], [10, -5], [0, 8]]
+  color: [0, 1, 0]
+  style: shaded
+  intensities: [0.3, 0.1, 1]
+- add: canvas-line
+  from: [-2, -0.5, 5]
+  to: [3, 4]
+",
+    );
+    let items = scene.overlay.items();
+    assert_eq!(items.len(), 2);
+    assert_eq!(
+        items[0],
+        CanvasItem::Triangle {
+            points: [
+                CanvasPoint::Canvas(glam::DVec2::new(-10.0, -5.0)),
+                CanvasPoint::Canvas(glam::DVec2::new(10.0, -5.0)),
+                CanvasPoint::Canvas(glam::DVec2::new(0.0, 8.0)),
+            ],
+            color: color(0.0, 1.0, 0.0),
+            style: TriangleStyle::Shaded([0.3, 0.1, 1.0]),
+        }
+    );
+    assert_eq!(
+        items[1],
+        CanvasItem::Line {
+            from: CanvasPoint::Projected(glam::DVec3::new(-2.0, -0.5, 5.0)),
+            to: CanvasPoint::Canvas(glam::DVec2::new(3.0, 4.0)),
+            color: color(0.0, 0.0, 0.0),
+        },
+        "black unless a colour is given"
+    );
+    assert!(scene.world.objects.is_empty(), "nothing in the 3D world");
+}

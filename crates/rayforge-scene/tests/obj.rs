@@ -91,7 +91,7 @@ fn converting_an_obj_file_to_a_group() {
     assert_eq!(meshes.len(), 2);
     let first = &meshes[0].0;
     assert_eq!(
-        first.corners(&first.faces()[0]),
+        first.corners(&first.face(0)),
         [obj.vertices[0], obj.vertices[1], obj.vertices[2]]
     );
 }

@@ -521,3 +521,23 @@ fn refining_cuts_faces_into_k_squared_pieces_of_the_same_surface() {
         assert!(n.dot(p1 + p2 + p3) > 0.0, "still wound outwards");
     }
 }
+
+#[test]
+fn a_resized_viewport_camera_rasterizes_the_same_view_at_the_new_size() {
+    // `--width` on a Computer Graphics from Scratch scene resizes its viewport camera: the
+    // rasterizer must see the smaller canvas's pixels, not a corner of the old one.
+    use rayforge::camera::Viewport;
+    let w = world(vec![Object::sphere()
+        .with_transform(translation(0.5, 0.0, 5.0))
+        .with_material(matte(Color::WHITE))]);
+    let resized = Camera::viewport(600, 600, Viewport::BOOK)
+        .unwrap()
+        .resized(60, 60);
+    let native = Camera::viewport(60, 60, Viewport::BOOK).unwrap();
+    let options = RasterOptions::default();
+    assert_eq!(
+        raster::render(&resized, &w, &options),
+        raster::render(&native, &w, &options)
+    );
+    assert_eq!(resized.pixel_size(), native.pixel_size());
+}

@@ -139,3 +139,69 @@ fn nested_csg_and_groups_count_as_their_combined_solid() {
         "inside the removed sphere"
     );
 }
+
+/// The cube map of `texture` on every face of a cube 1.2 units across at the origin, unlit
+/// (its colour is the texture's), seen face on from 5 units away on a 48-pixel image, so that
+/// each pixel covers about six texels of a 64-texel face.
+fn render_cube_map(texture: Texture, filter: TextureFilter) -> Vec<Color> {
+    use rayforge::math::view_transform;
+    use rayforge::raster::RasterOptions;
+    use rayforge::shading::UvPattern;
+    use rayforge::{vector, Camera, Light, Material, Pattern, PatternKind, World};
+    use std::sync::Arc;
+    let image = UvPattern::Image(Arc::new(texture));
+    let faces = Box::new(std::array::from_fn(|_| image.clone()));
+    let cube = Object::cube()
+        .with_transform(scaling(0.6, 0.6, 0.6))
+        .with_material(Material {
+            pattern: Some(Pattern::new(PatternKind::CubeMap(faces))),
+            ambient: 1.0,
+            diffuse: 0.0,
+            specular: 0.0,
+            ..Material::DEFAULT
+        });
+    let world = World {
+        objects: vec![cube],
+        lights: vec![Light::point(point(0.0, 0.0, -10.0), Color::WHITE)],
+        background: Color::new(0.0, 0.0, 1.0),
+        ..World::default()
+    };
+    let camera = Camera::new(48, 48, std::f64::consts::FRAC_PI_3).with_transform(view_transform(
+        point(0.0, 0.0, -5.0),
+        point(0.0, 0.0, 0.0),
+        vector(0.0, 1.0, 0.0),
+    ));
+    let options = RasterOptions {
+        filter,
+        ..RasterOptions::default()
+    };
+    let canvas = rayforge::raster::render(&camera, &world, &options);
+    canvas
+        .pixels()
+        .iter()
+        .copied()
+        .filter(|c| c.blue == c.red)
+        .collect()
+}
+
+#[test]
+fn cube_maps_are_filtered_like_every_other_image() {
+    // Nearest filtering picks a black or a white texel for each pixel; trilinear reads the MIP
+    // level whose texels are pixel-sized, where the checkerboard has averaged to grey.
+    let grey = |pixels: &[Color]| pixels.iter().filter(|c| (c.red - 0.5).abs() < 0.15).count();
+    let nearest = render_cube_map(checkerboard(64, 64), TextureFilter::Nearest);
+    let trilinear = render_cube_map(checkerboard(64, 64), TextureFilter::Trilinear);
+    assert_eq!(
+        nearest.len(),
+        trilinear.len(),
+        "the same pixels show the cube"
+    );
+    assert!(nearest.len() > 40, "{} pixels", nearest.len());
+    assert_eq!(grey(&nearest), 0);
+    assert!(
+        grey(&trilinear) * 10 >= trilinear.len() * 9,
+        "{} of {} grey",
+        grey(&trilinear),
+        trilinear.len()
+    );
+}

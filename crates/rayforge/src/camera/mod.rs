@@ -119,11 +119,13 @@ impl Camera {
     /// The same camera at another resolution, keeping its field of view and placement.
     pub fn resized(&self, hsize: usize, vsize: usize) -> Self {
         if let Some(viewport) = self.viewport {
-            let mut camera = self.clone();
-            camera.hsize = hsize;
-            camera.vsize = vsize;
-            camera.viewport = Some(viewport);
-            return camera;
+            // Built afresh for the new canvas: its pixel size (which the rasterizer projects
+            // with) changes with it. The viewport was accepted once, so it is accepted again.
+            if let Some(camera) = Self::viewport(hsize, vsize, viewport) {
+                return camera
+                    .with_lens(self.aperture, self.focal_distance)
+                    .with_shutter(self.shutter.0, self.shutter.1);
+            }
         }
         Self::new(hsize, vsize, self.field_of_view)
             .with_transform_of(self.transform)

@@ -17,12 +17,15 @@
 //! 5. `tile`: each tile fills a depth buffer on 1/z and a triangle id per pixel with the
 //!    fixed-point edge functions of [`edge`], then shades each visible pixel once (`shade`):
 //!    flat, Gouraud or Phong, with the scene's materials and lights through the ray tracer's own
-//!    [`lighting_with`](crate::lighting_with), and textures read perspective-correctly with
-//!    nearest, bilinear or trilinear (MIP-mapped) filtering (`mipmap`).
+//!    [`lighting_with`](crate::lighting_with), and textures (image textures, mapped patterns
+//!    and cube maps, `surface`) read perspective-correctly with nearest, bilinear or trilinear
+//!    (MIP-mapped) filtering (`mipmap`).
 //!
 //! The 2D drawing functions of the book's first chapters ([`draw_line`], [`interpolate`],
 //! [`draw_wireframe_triangle`], [`draw_filled_triangle`], [`draw_shaded_triangle`]) work on any
-//! [`Canvas`](crate::Canvas) and share the coverage rule of the 3D path.
+//! [`Canvas`](crate::Canvas) and share the coverage rule of the 3D path. [`mod@book2d`] holds
+//! the book's own versions, approximations and all, to the pixel; scenes draw with them through
+//! canvas items ([`Overlay`]), over the image of either renderer.
 //!
 //! What a rasterizer cannot show: shadows, reflection and refraction need rays, so surfaces are
 //! lit as if nothing stood between them and each light, mirrors and glass look like the opaque
@@ -34,16 +37,20 @@
 //! the image is the same bytes for any thread count.
 
 mod bin;
+pub mod book2d;
 pub mod clip;
 pub mod edge;
 mod fill;
 mod instance;
+mod lighting;
 mod line;
 mod mipmap;
 mod options;
+mod overlay;
 mod projection;
 mod render;
 mod shade;
+mod surface;
 pub mod tessellate;
 mod tile;
 mod vertex;
@@ -53,6 +60,7 @@ pub use fill::{draw_filled_triangle, draw_shaded_triangle};
 pub use line::{draw_line, draw_wireframe_triangle, interpolate, Interpolate};
 pub use mipmap::MipChain;
 pub use options::{RasterOptions, Shading, TextureFilter};
+pub use overlay::{CanvasItem, CanvasPoint, Overlay, TriangleStyle};
 pub use projection::Projection;
 pub use render::{render, render_with_stats, RasterStats};
 pub use tessellate::{generate_sphere, refine, tessellate, Tessellation};

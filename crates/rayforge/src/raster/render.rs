@@ -4,11 +4,12 @@ use super::bin::{bin_all, BinContext, Tiles, TILE_HEIGHT};
 use super::edge::subpixel_bits;
 use super::instance::instances;
 use super::options::RasterOptions;
-use super::shade::{build_mips, raster_lights, ShadeContext};
+use super::shade::{raster_lights, ShadeContext};
+use super::surface::build_mips;
 use super::tile::{draw_tile, draw_wireframe_tile, TileBuffers};
 use super::vertex::transform_vertices;
 use super::Projection;
-use crate::{Camera, Canvas, World};
+use crate::{Camera, Canvas, LightingModel, World};
 use rayon::prelude::*;
 
 /// What a raster render did, for tests and summaries.
@@ -100,5 +101,10 @@ pub fn render_with_stats(
                 }
             }
         });
+    if world.lighting == LightingModel::Optics {
+        // The optics model's automatic exposure, as the ray tracer applies it: the image
+        // divided by its brightest channel (one sample per pixel: the brightest pixel).
+        crate::render::exposure::expose(&mut canvas, 0.0);
+    }
     (canvas, stats)
 }

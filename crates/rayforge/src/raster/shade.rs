@@ -1,6 +1,6 @@
 //! Shading the visible pixels (the book's "Shading" and "Textures" chapters): once the depth
 //! buffer knows which triangle each pixel sees, the pixel is lit once, with the scene's
-//! materials and lights through the ray tracer's own Phong model.
+//! materials and lights under the scene's lighting model (`lighting.rs`).
 //!
 //! Attributes are interpolated perspective-correctly: a quantity that is linear on the triangle
 //! in 3D is not linear on the screen, but its value divided by z is, as is 1/z; their ratio at
@@ -8,10 +8,10 @@
 //! barycentric weights themselves, from which position, normal, texture coordinates and vertex
 //! lighting all follow.
 //!
-//! Lighting is [`lighting_with`] with the light fully visible (a rasterizer has no shadow
-//! rays), an area light replaced by a point light at its centre. Flat and Gouraud shading use
-//! that it is affine in the surface colour, `lit(s) = s ⊙ A + B` (ambient and diffuse scale
-//! with the colour, the highlight does not): A and B are found once per face or per vertex,
+//! Lighting takes every light as fully visible (a rasterizer has no shadow rays), an area light
+//! replaced by a point light at its centre. Flat and Gouraud shading use that it is affine in
+//! the surface colour, `lit(s) = s ⊙ A + B` (ambient and diffuse scale with the colour, a
+//! highlight does not): A and B are found once per face or per vertex,
 //! and the pixel's own texture or pattern colour goes through them, so textures stay sharp
 //! under per-vertex lighting.
 
@@ -22,12 +22,9 @@ use super::options::{Shading, TextureFilter};
 use super::vertex::ViewVertex;
 use super::Projection;
 use crate::math::{Point3, Vec3};
-use crate::scene::unshadowed_intensity;
-use crate::shading::{lighting_with, PatternKind, SplitMix64, UvPattern};
-use crate::{Color, Light, LightingModel, Material, Object};
+use crate::{Color, Light, LightingModel};
 use glam::DVec3;
 use std::collections::HashMap;
-use std::sync::Arc;
 
 /// Everything shading reads, shared by all tiles.
 pub(crate) struct ShadeContext<'a, 'w> {
@@ -37,7 +34,7 @@ pub(crate) struct ShadeContext<'a, 'w> {
     pub chunks: &'a [Chunk],
     pub projection: &'a Projection,
     pub lights: Vec<Light>,
-    /// The world's lighting model: Phong, or Computer Graphics from Scratch's (flat or lit).
+    /// The world's lighting model (see `lighting.rs`).
     pub lighting: LightingModel,
     pub mips: HashMap<usize, MipChain>,
     pub shading: Shading,
@@ -57,29 +54,6 @@ pub(crate) fn raster_lights(lights: &[Light]) -> Vec<Light> {
             other => *other,
         })
         .collect()
-}
-
-/// The images that materials read through texture coordinates or mapped patterns, each with
-/// its MIP map, keyed by the image's address.
-pub(crate) fn build_mips(instances: &[Instance<'_>]) -> HashMap<usize, MipChain> {
-    let mut mips = HashMap::new();
-    for instance in instances {
-        let material = &instance.surface.material;
-        let images = [
-            material.texture.as_ref(),
-            material.pattern.as_ref().and_then(|p| match &p.kind {
-                PatternKind::Map { uv, .. } => Some(uv),
-                _ => None,
-            }),
-        ];
-        for image in images.into_iter().flatten() {
-            if let UvPattern::Image(texture) = image {
-                mips.entry(Arc::as_ptr(texture) as usize)
-                    .or_insert_with(|| MipChain::new(texture));
-            }
-        }
-    }
-    mips
 }
 
 /// A visible triangle with what every one of its pixels needs, built once per triangle.
@@ -234,66 +208,13 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
         self.vertex_light = lights;
     }
 
-    /// The shading normal at a point: `normal` turned towards the eye (as the ray tracer's
-    /// `prepare_computations` does) and tilted by the material's bumps.
-    fn shading_normal(&self, surface: &Object, point: Point3, normal: Vec3, eyev: Vec3) -> Vec3 {
-        let normal = if normal.dot(eyev) < 0.0 {
-            -normal
-        } else {
-            normal
-        };
-        match &surface.material.bump {
-            Some(bump) => bump.perturb(normal, surface.world_to_object(point), &surface.transform),
-            None => normal,
-        }
-    }
-
-    /// Every light's term at a point, summed, for a surface colour `colour`: Phong's, or under
-    /// Computer Graphics from Scratch's model the colour times the book's light intensity
-    /// (every light visible), or under its flat model the colour itself. The optics model's
-    /// light needs the whole image to be exposed, so the rasterizer shades it with Phong.
-    fn phong(
-        &self,
-        material: &Material,
-        colour: Color,
-        point: Point3,
-        eyev: Vec3,
-        normal: Vec3,
-    ) -> Color {
-        match self.lighting {
-            LightingModel::Flat => return colour,
-            LightingModel::Cgfs => {
-                let intensity =
-                    unshadowed_intensity(&self.lights, point, normal, eyev, material.shininess);
-                return colour * intensity;
-            }
-            LightingModel::Phong | LightingModel::Optics => {}
-        }
-        let mut jitter = SplitMix64::new(0);
-        self.lights
-            .iter()
-            .map(|light| {
-                lighting_with(
-                    material,
-                    colour,
-                    light,
-                    point,
-                    eyev,
-                    normal,
-                    1.0,
-                    &mut jitter,
-                )
-            })
-            .sum()
-    }
-
     /// `A` and `B` with `lit(s) = s ⊙ A + B` at a point with a (not yet eye-facing) normal.
     fn affine_light(&self, instance: &Instance<'_>, point: Point3, normal: Vec3) -> (Color, Color) {
         let surface = instance.surface;
         let eyev = (self.projection.eye() - point).normalize_or_zero();
-        let normal = self.shading_normal(surface, point, normal, eyev);
-        let add = self.phong(&surface.material, Color::BLACK, point, eyev, normal);
-        let white = self.phong(&surface.material, Color::WHITE, point, eyev, normal);
+        let normal = self.shading_normal(instance, point, normal, eyev);
+        let add = self.light(&surface.material, Color::BLACK, point, eyev, normal);
+        let white = self.light(&surface.material, Color::WHITE, point, eyev, normal);
         (white - add, add)
     }
 
@@ -347,77 +268,9 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
             Shading::Phong => {
                 let eyev = (self.projection.eye() - point).normalize_or_zero();
                 let normal = blend3(&face.normals, &w).normalize_or_zero();
-                let normal = self.shading_normal(surface, point, normal, eyev);
-                self.phong(material, colour, point, eyev, normal)
+                let normal = self.shading_normal(instance, point, normal, eyev);
+                self.light(material, colour, point, eyev, normal)
             }
         }
-    }
-
-    /// The surface colour at a point: the material's texture at the surface's own coordinates,
-    /// else its pattern, else its colour. Images are filtered with the chosen filter; the pixel's
-    /// footprint (for the MIP level) comes from `neighbour(dx, dy)`, the point and coordinates
-    /// one pixel across and one pixel down.
-    fn surface_colour(
-        &self,
-        surface: &Object,
-        point: Point3,
-        uv: Option<(f64, f64)>,
-        neighbour: impl Fn(f64, f64) -> (Point3, Option<(f64, f64)>),
-    ) -> Color {
-        let material = &surface.material;
-        if let (Some(texture), Some((u, v))) = (&material.texture, uv) {
-            let UvPattern::Image(image) = texture else {
-                return texture.uv_pattern_at(u, v) * material.color;
-            };
-            let footprint = || {
-                let ((_, ux), (_, uy)) = (neighbour(1.0, 0.0), neighbour(0.0, 1.0));
-                let (ux, uy) = (ux.unwrap_or((u, v)), uy.unwrap_or((u, v)));
-                (ux.0 - u, ux.1 - v, uy.0 - u, uy.1 - v)
-            };
-            return self.sample(image, u, v, footprint) * material.color;
-        }
-        let Some(pattern) = &material.pattern else {
-            return material.color;
-        };
-        if let PatternKind::Map {
-            mapping,
-            uv: UvPattern::Image(image),
-        } = &pattern.kind
-        {
-            let map = |p: Point3| {
-                mapping.map(pattern.transform.inverse_point(surface.world_to_object(p)))
-            };
-            let (u, v) = map(point);
-            let footprint = || {
-                let ((px, _), (py, _)) = (neighbour(1.0, 0.0), neighbour(0.0, 1.0));
-                let ((ux, vx), (uy, vy)) = (map(px), map(py));
-                // Mappings wrap around (u from 1 back to 0 on a sphere's seam): a footprint is
-                // never more than half the texture across.
-                let wrap = |d: f64| d - d.round();
-                (wrap(ux - u), wrap(vx - v), wrap(uy - u), wrap(vy - v))
-            };
-            return self.sample(image, u, v, footprint);
-        }
-        pattern.color_at_object(surface, point)
-    }
-
-    /// An image at (u, v) through its MIP map.
-    fn sample(
-        &self,
-        image: &Arc<crate::shading::Texture>,
-        u: f64,
-        v: f64,
-        footprint: impl Fn() -> (f64, f64, f64, f64),
-    ) -> Color {
-        let Some(mip) = self.mips.get(&(Arc::as_ptr(image) as usize)) else {
-            return image.sample(u, v);
-        };
-        let lod = if self.filter == TextureFilter::Trilinear {
-            let (du_dx, dv_dx, du_dy, dv_dy) = footprint();
-            mip.level_of_detail(du_dx, dv_dx, du_dy, dv_dy)
-        } else {
-            0.0
-        };
-        mip.sample(u, v, lod, self.filter)
     }
 }

@@ -55,7 +55,7 @@ impl<'a> Tessellation<'a> {
             positions: Cow::Borrowed(mesh.positions()),
             normals: Cow::Borrowed(mesh.normals()),
             texcoords: Cow::Borrowed(mesh.texcoords()),
-            faces: Cow::Borrowed(mesh.faces()),
+            faces: Cow::Owned(mesh.faces().collect()),
             closed: false,
         }
     }
