@@ -24,7 +24,7 @@ fn bvh_build(c: &mut Criterion) {
         let (positions, normals, faces) = (
             mesh.positions().to_vec(),
             mesh.normals().to_vec(),
-            mesh.faces().to_vec(),
+            mesh.faces().collect::<Vec<_>>(),
         );
         group.throughput(Throughput::Elements(faces.len() as u64));
         group.bench_with_input(

@@ -1,5 +1,10 @@
-//! Acceleration structures: a bounding volume hierarchy over anything with a bounding box.
+//! Acceleration structures: a four-wide bounding volume hierarchy over anything with a
+//! bounding box, with single-precision boxes, and the ray form its walk uses.
 
+mod build;
 mod bvh;
+mod query;
 
-pub use bvh::{Bvh, BvhNode};
+pub(crate) use build::{build, Frame, PrimRef};
+pub use bvh::{Bvh, Node, MAX_BLOCKS, NO_PRIMITIVE};
+pub use query::RayQuery;

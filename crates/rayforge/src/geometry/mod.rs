@@ -204,7 +204,7 @@ impl Shape {
     #[inline]
     pub fn any_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         if let Shape::Mesh(mesh) = self {
-            return mesh.closest_hit(ray, t_min, t_max).is_some();
+            return mesh.any_hit(ray, t_min, t_max);
         }
         let mut found = false;
         self.intersect_hits(ray, |h| found |= h.t >= t_min && h.t < t_max);

@@ -1,0 +1,472 @@
+//! Triangle meshes (chapter 15's OBJ models): shared vertex arrays, indexed faces and a BVH
+//! over the faces, all in the mesh's object space.
+//!
+//! A mesh is one object to the scene however many faces it has, so a million-triangle model
+//! costs its vertex data and, per face, its indices (12 bytes, twice that with normals), a
+//! single-precision copy of its corners laid out four faces to a [`TrianglePacket`] in the
+//! BVH's leaf order (36 bytes, plus the padding of part-filled packets) and its share of the
+//! BVH, not a transform and material per triangle.
+//!
+//! Rays are answered in two steps: the BVH walk and the packet tests run in `f32` (four boxes
+//! or four triangles per instruction), then the winning face is measured again in `f64` from
+//! the original vertices, so the `t`, `u` and `v` a caller sees are as exact as the book's
+//! lone triangles. Hits within a rounding error of the caller's `t_min` (a shadow ray
+//! leaving the surface it starts on) are decided in `f64` as well.
+
+mod packet;
+
+use super::triangle::moller_trumbore;
+use super::LocalHit;
+use crate::accel::{Bvh, Frame, PrimRef, RayQuery, MAX_BLOCKS, NO_PRIMITIVE};
+use crate::math::{Aabb, Point3, Ray, Vec3};
+use packet::{TrianglePacket, TriangleRay};
+use rayon::prelude::*;
+use std::ops::ControlFlow;
+
+/// Faces tested together: one packet's lanes.
+const PACKET: usize = 4;
+/// A face's `f32` distance is trusted to this fraction of the mesh's size (along a unit
+/// direction); nearer the caller's `t_min` than that, the hit is decided in `f64`. The `f32`
+/// arithmetic errs by a few units of 2^-24 of the mesh's size; this is 2^-16.
+const F32_TOLERANCE: f64 = 1.0 / 65536.0;
+/// What a face without normal or texture indices stores in their place.
+const NONE: u32 = u32::MAX;
+
+/// One face: indices into the mesh's positions, and optionally into its normals (a smooth face).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MeshFace {
+    /// Indices of the three corners in [`Mesh::positions`].
+    pub vertices: [u32; 3],
+    /// Indices of the corners' normals in [`Mesh::normals`], for smooth shading.
+    pub normals: Option<[u32; 3]>,
+    /// Indices of the corners' texture coordinates in [`Mesh::texcoords`], for texture maps.
+    pub texcoords: Option<[u32; 3]>,
+}
+
+/// Why faces cannot make a mesh.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum MeshError {
+    /// A face names a vertex, normal or texture coordinate the mesh does not have.
+    #[error("face {face} refers to {what} {index}, but the mesh has {count}")]
+    BadIndex {
+        /// Which face (0-based).
+        face: usize,
+        /// "vertex", "normal" or "texture coordinate".
+        what: &'static str,
+        /// The index it names (0-based).
+        index: u32,
+        /// How many there are.
+        count: usize,
+    },
+    /// More faces than one BVH can hold.
+    #[error("{faces} faces are more than one mesh can hold ({max})")]
+    TooManyFaces {
+        /// How many were given.
+        faces: usize,
+        /// The most a mesh holds.
+        max: usize,
+    },
+}
+
+/// An indexed triangle mesh with its own BVH.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    positions: Vec<Point3>,
+    normals: Vec<Vec3>,
+    texcoords: Vec<[f64; 2]>,
+    /// Each face's corners: indices into `positions`.
+    corners: Vec<[u32; 3]>,
+    /// Each face's normal indices ([`NONE`] for a flat face); empty when no face has any.
+    corner_normals: Vec<[u32; 3]>,
+    /// Each face's texture coordinate indices ([`NONE`] for none); empty when no face has any.
+    corner_texcoords: Vec<[u32; 3]>,
+    /// Over the faces, in blocks of [`PACKET`].
+    bvh: Bvh,
+    /// The faces' corners in `f32`, one packet per block of the BVH's order.
+    packets: Vec<TrianglePacket>,
+    /// [`F32_TOLERANCE`] times the mesh's size.
+    tolerance: f64,
+}
+
+impl Mesh {
+    /// A mesh from its vertex data and faces; every index must be in range.
+    pub fn new(
+        positions: Vec<Point3>,
+        normals: Vec<Vec3>,
+        faces: Vec<MeshFace>,
+    ) -> Result<Self, MeshError> {
+        Self::with_texcoords(positions, normals, Vec::new(), faces)
+    }
+
+    /// A mesh with texture coordinates as well; every index must be in range.
+    ///
+    /// Faces with a corner beyond ±10^30 units from the others cannot be held in the BVH's
+    /// single precision; they are kept (the rasterizer draws them) but rays pass them by.
+    pub fn with_texcoords(
+        positions: Vec<Point3>,
+        normals: Vec<Vec3>,
+        texcoords: Vec<[f64; 2]>,
+        faces: Vec<MeshFace>,
+    ) -> Result<Self, MeshError> {
+        if faces.len() >= MAX_BLOCKS {
+            return Err(MeshError::TooManyFaces {
+                faces: faces.len(),
+                max: MAX_BLOCKS - 1,
+            });
+        }
+        // Every index in range (checked in parallel: a million-face model is common).
+        let bad_index = |face: usize, f: &MeshFace| {
+            let lists = [
+                ("vertex", Some(f.vertices), positions.len()),
+                ("normal", f.normals, normals.len()),
+                ("texture coordinate", f.texcoords, texcoords.len()),
+            ];
+            lists.into_iter().find_map(|(what, indices, count)| {
+                let index = indices?.into_iter().find(|&i| i as usize >= count)?;
+                Some(MeshError::BadIndex {
+                    face,
+                    what,
+                    index,
+                    count,
+                })
+            })
+        };
+        if let Some(face) = faces
+            .par_iter()
+            .enumerate()
+            .with_min_len(4096)
+            .position_first(|(i, f)| bad_index(i, f).is_some())
+        {
+            return Err(bad_index(face, &faces[face]).expect("the face just found"));
+        }
+        let corners: Vec<[u32; 3]> = faces.par_iter().map(|f| f.vertices).collect();
+        let optional = |pick: fn(&MeshFace) -> Option<[u32; 3]>| -> Vec<[u32; 3]> {
+            if faces.par_iter().any(|f| pick(f).is_some()) {
+                faces
+                    .par_iter()
+                    .map(|f| pick(f).unwrap_or([NONE; 3]))
+                    .collect()
+            } else {
+                Vec::new()
+            }
+        };
+        let corner_normals = optional(|f| f.normals);
+        let corner_texcoords = optional(|f| f.texcoords);
+        drop(faces);
+        let (bvh, packets, tolerance) = index(&positions, &corners);
+        Ok(Self {
+            positions,
+            normals,
+            texcoords,
+            corners,
+            corner_normals,
+            corner_texcoords,
+            bvh,
+            packets,
+            tolerance,
+        })
+    }
+
+    /// The vertex positions.
+    pub fn positions(&self) -> &[Point3] {
+        &self.positions
+    }
+
+    /// The vertex normals (empty when the mesh has none).
+    pub fn normals(&self) -> &[Vec3] {
+        &self.normals
+    }
+
+    /// The texture coordinates (empty when the mesh has none).
+    pub fn texcoords(&self) -> &[[f64; 2]] {
+        &self.texcoords
+    }
+
+    /// How many faces the mesh has.
+    pub fn face_count(&self) -> usize {
+        self.corners.len()
+    }
+
+    /// Face `index` (`index < face_count()`).
+    pub fn face(&self, index: usize) -> MeshFace {
+        let optional = |list: &[[u32; 3]]| list.get(index).filter(|i| i[0] != NONE).copied();
+        MeshFace {
+            vertices: self.corners[index],
+            normals: optional(&self.corner_normals),
+            texcoords: optional(&self.corner_texcoords),
+        }
+    }
+
+    /// The faces, in the order they were given.
+    pub fn faces(&self) -> impl ExactSizeIterator<Item = MeshFace> + '_ {
+        (0..self.corners.len()).map(|i| self.face(i))
+    }
+
+    /// The texture coordinates at a hit, blended from its face's corners by `u`, `v`; `None`
+    /// when the face has none.
+    pub fn texcoord_at(&self, hit: &LocalHit) -> Option<(f64, f64)> {
+        let [t1, t2, t3] = self
+            .corner_texcoords
+            .get(hit.face as usize)
+            .filter(|i| i[0] != NONE)?
+            .map(|i| self.texcoords[i as usize]);
+        let w = 1.0 - hit.u - hit.v;
+        Some((
+            t1[0] * w + t2[0] * hit.u + t3[0] * hit.v,
+            t1[1] * w + t2[1] * hit.u + t3[1] * hit.v,
+        ))
+    }
+
+    /// Bytes the mesh holds beyond its vertex data (positions, normals, texture coordinates):
+    /// its faces' indices, the `f32` packets and the BVH. The performance budget is stated
+    /// per triangle in these terms (see `docs/performance.md`).
+    pub fn index_bytes(&self) -> usize {
+        let indices = self.corners.len() + self.corner_normals.len() + self.corner_texcoords.len();
+        indices * std::mem::size_of::<[u32; 3]>()
+            + self.packets.len() * std::mem::size_of::<TrianglePacket>()
+            + self.bvh.heap_bytes()
+    }
+
+    /// The box around every face the BVH holds.
+    pub fn bounds(&self) -> Aabb {
+        self.bvh.bounds()
+    }
+
+    /// The corners of a face.
+    #[inline]
+    pub fn corners(&self, face: &MeshFace) -> [Point3; 3] {
+        face.vertices.map(|i| self.positions[i as usize])
+    }
+
+    /// Every hit of the ray on the mesh's faces (negative `t` included), through the BVH.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, hit: impl FnMut(LocalHit)) {
+        self.intersect_up_to(ray, f64::INFINITY, hit);
+    }
+
+    /// Every hit with `t <= t_max` (negative `t` included); boxes beyond `t_max` are skipped.
+    pub fn intersect_up_to(&self, ray: &Ray, t_max: f64, mut hit: impl FnMut(LocalHit)) {
+        let q = self.bvh.query(ray.origin, ray.direction);
+        let tri = TriangleRay::new(&q);
+        // The f32 search reaches a little past t_max, so that a hit measured in f64 at
+        // exactly t_max (the hit a closest-hit search returned) is never left out.
+        let upper = q.t_above(t_max) + self.tolerance_along(ray);
+        self.bvh.walk(&q, f32::NEG_INFINITY, upper, |slots, _| {
+            self.each_hit(&q, &tri, slots, f32::NEG_INFINITY, upper, |face, _| {
+                if let Some(h) = self.measure(face, ray) {
+                    if h.t <= t_max {
+                        hit(h);
+                    }
+                }
+                ControlFlow::Continue(())
+            })
+        });
+    }
+
+    /// How far an `f32` distance along `ray` may be from the truth: [`F32_TOLERANCE`] of
+    /// the mesh's size, in units of the ray's direction.
+    #[inline]
+    fn tolerance_along(&self, ray: &Ray) -> f32 {
+        (self.tolerance / ray.direction.length()) as f32
+    }
+
+    /// The nearest hit with `t_min <= t < t_max`: the BVH walk skips boxes beyond the nearest
+    /// hit found so far, so a ray costs a few dozen boxes and triangles even on a large model.
+    #[inline]
+    pub fn closest_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<LocalHit> {
+        let mut best = None;
+        self.search(ray, t_min, t_max, |face, t| {
+            best = Some(face);
+            t
+        });
+        // The f32 search already placed the hit in range; a last rounding step of the f64
+        // measurement must not move it out.
+        self.measure(best?, ray).map(|h| LocalHit {
+            t: h.t.max(t_min).min(t_max),
+            ..h
+        })
+    }
+
+    /// Whether any face meets the ray with `t_min <= t < t_max` (shadow rays): the walk stops
+    /// at the first one.
+    #[inline]
+    pub fn any_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        let mut found = false;
+        self.search(ray, t_min, t_max, |_, _| {
+            found = true;
+            f32::NEG_INFINITY
+        });
+        found
+    }
+
+    /// Walks the BVH for hits in `[t_min, t_max)`, nearest boxes first. `accept` receives each
+    /// face hit nearer than the current limit and its query distance, and returns the new
+    /// limit (its distance for a closest-hit search; −∞ stops the walk).
+    #[inline]
+    fn search(&self, ray: &Ray, t_min: f64, t_max: f64, mut accept: impl FnMut(u32, f32) -> f32) {
+        let q = self.bvh.query(ray.origin, ray.direction);
+        let tri = TriangleRay::new(&q);
+        let tolerance = self.tolerance_along(ray);
+        let (lower, upper) = (q.t_below(t_min), q.t_above(t_max));
+        let doubtful = lower + tolerance;
+        self.bvh.walk(&q, lower - tolerance, upper, |slots, limit| {
+            self.each_hit(&q, &tri, slots, lower - tolerance, *limit, |face, t| {
+                if t >= *limit {
+                    return ControlFlow::Continue(());
+                }
+                if t < doubtful {
+                    // Too close to call in f32 (a ray leaving this very surface): in f64.
+                    let inside = self
+                        .measure(face, ray)
+                        .is_some_and(|h| h.t >= t_min && h.t < t_max);
+                    if !inside {
+                        return ControlFlow::Continue(());
+                    }
+                }
+                *limit = accept(face, t);
+                if *limit == f32::NEG_INFINITY {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            })
+        });
+    }
+
+    /// Tests the packets of a leaf's slots and calls `hit` with each face hit in
+    /// `[t_min, t_max)` and its query distance.
+    #[inline(always)]
+    fn each_hit(
+        &self,
+        q: &RayQuery,
+        tri: &TriangleRay,
+        slots: std::ops::Range<usize>,
+        t_min: f32,
+        t_max: f32,
+        mut hit: impl FnMut(u32, f32) -> ControlFlow<()>,
+    ) -> ControlFlow<()> {
+        for block in slots.start / PACKET..slots.end / PACKET {
+            let packet = &self.packets[block];
+            let (mut lanes, t) = packet.intersect(q, tri, t_min, t_max);
+            if lanes == 0 {
+                continue;
+            }
+            let t = t.to_array();
+            while lanes != 0 {
+                let lane = lanes.trailing_zeros() as usize;
+                lanes &= lanes - 1;
+                hit(packet.faces[lane], t[lane])?;
+            }
+        }
+        ControlFlow::Continue(())
+    }
+
+    /// The hit of the ray on `face` measured in `f64` (Möller–Trumbore, as for the book's
+    /// triangles). For a ray the watertight `f32` test saw cross the face exactly at an edge,
+    /// where `f64` may fall a rounding error outside, `u` and `v` are clamped to the face.
+    fn measure(&self, face: u32, ray: &Ray) -> Option<LocalHit> {
+        let [p1, p2, p3] = self.corners[face as usize].map(|i| self.positions[i as usize]);
+        let (e1, e2) = (p2 - p1, p3 - p1);
+        let (t, u, v) = moller_trumbore(ray, p1, e1, e2).or_else(|| {
+            let pvec = ray.direction.cross(e2);
+            let det = e1.dot(pvec);
+            if det == 0.0 || !det.is_finite() {
+                return None;
+            }
+            let f = 1.0 / det;
+            let s = ray.origin - p1;
+            let q = s.cross(e1);
+            let u = (f * s.dot(pvec)).clamp(0.0, 1.0);
+            let v = (f * ray.direction.dot(q)).clamp(0.0, 1.0 - u);
+            Some((f * e2.dot(q), u, v))
+        })?;
+        Some(LocalHit {
+            t,
+            u,
+            v,
+            face,
+            leaf: 0,
+            time: ray.time,
+        })
+    }
+
+    /// The normal at a hit: the vertex normals blended by `u`, `v` on smooth faces, the face
+    /// normal otherwise.
+    #[inline]
+    pub fn normal_at(&self, hit: &LocalHit) -> Vec3 {
+        let Some(corners) = self.corners.get(hit.face as usize) else {
+            return Vec3::ZERO;
+        };
+        match self
+            .corner_normals
+            .get(hit.face as usize)
+            .filter(|n| n[0] != NONE)
+        {
+            Some(n) => {
+                let [n1, n2, n3] = n.map(|i| self.normals[i as usize]);
+                n2 * hit.u + n3 * hit.v + n1 * (1.0 - hit.u - hit.v)
+            }
+            None => {
+                let [p1, p2, p3] = corners.map(|i| self.positions[i as usize]);
+                (p3 - p1).cross(p2 - p1).normalize_or_zero()
+            }
+        }
+    }
+}
+
+/// Builds the BVH over the faces and their packets, and the mesh's `f32` tolerance.
+fn index(positions: &[Point3], corners: &[[u32; 3]]) -> (Bvh, Vec<TrianglePacket>, f64) {
+    // The frame is centred on the vertices that fit in f32 (a stray vertex at 1e300 must not
+    // drag the base point away from everything else).
+    let fits = |p: &Point3| p.is_finite() && p.abs().max_element() <= 1.0e30;
+    let mut extent = Aabb::EMPTY;
+    for p in positions.iter().filter(|p| fits(p)) {
+        extent.add_point(*p);
+    }
+    let frame = Frame::around(&extent);
+    let face_box = |c: &[u32; 3]| {
+        let [a, b, c] = c.map(|i| positions[i as usize]);
+        (a.min(b).min(c), a.max(b).max(c))
+    };
+    let refs: Vec<PrimRef> = corners
+        .par_iter()
+        .enumerate()
+        .with_min_len(4096)
+        .filter_map(|(i, c)| {
+            let (min, max) = face_box(c);
+            frame.prim_ref(i as u32, min, max)
+        })
+        .collect();
+    // The exact (f64) box of the faces the BVH holds.
+    let bounds = corners
+        .par_iter()
+        .with_min_len(4096)
+        .map(face_box)
+        .filter(|&(min, max)| frame.prim_ref(0, min, max).is_some())
+        .map(|(min, max)| Aabb::new(min, max))
+        .reduce(|| Aabb::EMPTY, |a, b| a.union(&b));
+    let bvh = crate::accel::build(refs, PACKET, frame, bounds);
+    let packets: Vec<TrianglePacket> = bvh
+        .order()
+        .par_chunks(PACKET)
+        .with_min_len(1024)
+        .map(|faces| {
+            let mut packet = TrianglePacket::EMPTY;
+            for (lane, &face) in faces.iter().enumerate() {
+                if face != NO_PRIMITIVE {
+                    let relative = corners[face as usize]
+                        .map(|i| (positions[i as usize] - frame.base).as_vec3().to_array());
+                    packet.set(lane, face, relative);
+                }
+            }
+            packet
+        })
+        .collect();
+    let size = bounds.extent().max_element();
+    let tolerance = if size.is_finite() {
+        size * F32_TOLERANCE
+    } else {
+        0.0
+    };
+    (bvh, packets, tolerance)
+}
