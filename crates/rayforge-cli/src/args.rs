@@ -3,6 +3,9 @@
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 
+/// The weight below which secondary rays are not traced, unless `--bailout` says otherwise.
+pub const DEFAULT_BAILOUT: f64 = 1.0 / 512.0;
+
 /// Usage examples and exit statuses, shown under both `--help` pages.
 macro_rules! examples {
     () => {
@@ -36,6 +39,7 @@ Render options (`rayforge render --help` describes each in full):
       --frames <A..B>       render animation frames A to B to a %04d-numbered output
       --trace-pixel <X,Y>   print every ray that pixel casts, then render as usual
       --max-depth <N>       reflection and refraction bounces [default: the scene's, else 5]
+      --bailout <WEIGHT>    leave out rays weighing less than this [default: 1/512; 0: none]
       --max-pixels <PIXELS> the largest image accepted [default: 268435456, 2^28]
       --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
       --resume              continue an interrupted render from its checkpoint
@@ -70,6 +74,85 @@ pub enum Command {
     /// Render a scene file to an image (.png, .ppm or .pfm, chosen by the output's extension).
     #[command(after_help = RENDER_EXAMPLES)]
     Render(RenderArgs),
+    /// Measure rayforge against its peers (Embree, POV-Ray, raytracer_rs) and print the tables
+    /// of times and ratios (see bench/peers/setup.sh to install the peers).
+    #[command(after_help = BENCH_EXAMPLES)]
+    Bench(BenchArgs),
+}
+
+/// The examples under `rayforge bench --help`.
+const BENCH_EXAMPLES: &str = "\
+Examples:
+  bench/peers/setup.sh ~/src/raytracer_rs     # once: install and build the peers
+  rayforge bench                              # everything, on 2 threads
+  rayforge bench primary --repeat 5
+  rayforge bench scaling --plot docs/images/scaling.png
+  rayforge bench --quick                      # tiny sizes: checks the command, measures nothing
+
+A peer that is not installed is reported as skipped. Exit status: 0 when every comparison ran
+(whether or not rayforge met its targets), 2 for bad arguments, 1 when a peer or a file failed.";
+
+/// Which comparisons `rayforge bench` runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BenchPart {
+    /// Primary-ray throughput on meshes of a million triangles and more, against Embree.
+    Primary,
+    /// BVH build rate and bytes per triangle on large meshes (Embree's build for reference).
+    Build,
+    /// Time per primary ray from a thousand to ten million triangles, with a plot.
+    Scaling,
+    /// Whole renders of scenes against POV-Ray and raytracer_rs, as processes.
+    Scenes,
+    /// All of the above.
+    All,
+}
+
+/// Arguments of `rayforge bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Which comparison to run.
+    #[arg(value_enum, default_value = "all")]
+    pub part: BenchPart,
+
+    /// Threads for both sides of every comparison (rayforge's pool, Embree's device and
+    /// tracing threads, POV-Ray's +WT, raytracer_rs's RAYON_NUM_THREADS).
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    pub threads: usize,
+
+    /// Where bench/peers/setup.sh put the peers (embree_primary, povray, raytracer_rs-*).
+    #[arg(long, value_name = "DIR", default_value = "bench/peers/build")]
+    pub peers: PathBuf,
+
+    /// Where to write meshes, rays, images, the plot and bench.md (the tables).
+    #[arg(long, value_name = "DIR", default_value = "target/bench")]
+    pub out: PathBuf,
+
+    /// Where the models beside the repository are (dragon.obj, bounding-boxes.yml); comparisons
+    /// that need one that is missing are skipped.
+    #[arg(long, value_name = "DIR", default_value = "../shared/models")]
+    pub models: PathBuf,
+
+    /// The POV-Ray scenes (cover.pov, chessboard.pov, spheres.pov, dragons.pov).
+    #[arg(long, value_name = "DIR", default_value = "bench/povray")]
+    pub povray_scenes: PathBuf,
+
+    /// Traces of each mesh per side; the fastest counts.
+    #[arg(long, value_name = "R", default_value_t = 3)]
+    pub repeat: u32,
+
+    /// Runs of each whole-scene render per side; the fastest counts (renders take seconds to
+    /// minutes, so one run each unless asked).
+    #[arg(long, value_name = "R", default_value_t = 1)]
+    pub scene_repeat: u32,
+
+    /// Also copy the scaling plot here (e.g. docs/images/scaling.png).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+
+    /// Tiny meshes and images, one trace each: checks that every step runs in seconds; the
+    /// numbers mean nothing.
+    #[arg(long)]
+    pub quick: bool,
 }
 
 /// Arguments of `rayforge render`.
@@ -129,6 +212,14 @@ pub struct RenderArgs {
     /// `max-depth`, else 5].
     #[arg(long, value_name = "N")]
     pub max_depth: Option<u32>,
+
+    /// Adaptive depth control (Phong lighting): a reflected or refracted ray that would bring
+    /// less than this fraction of its light to the pixel (the product of the reflectivities
+    /// and transparencies on its way) is not traced. The default, 1/512, changes no 8-bit
+    /// pixel by more than a step and saves the long chains of faint reflections; 0 traces
+    /// every bounce up to --max-depth, as the book does.
+    #[arg(long, value_name = "WEIGHT", default_value_t = DEFAULT_BAILOUT)]
+    pub bailout: f64,
 
     /// The largest image to accept, in pixels (width × height), as a guard against typos
     /// that would take hours or all memory.

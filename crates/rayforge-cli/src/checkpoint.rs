@@ -6,7 +6,9 @@
 //! as a record: its index, its linear colours as 64-bit floats (exactly what the renderer
 //! computed, so a resumed image is bit for bit the uninterrupted one) and a checksum. Rows are
 //! appended as they finish and flushed twice a second, so even a killed process loses at most
-//! the last half second; a torn record at the end fails its checksum and is dropped on reading.
+//! the last half second (a render's first two seconds are held in memory, and written when it
+//! is interrupted: a short render costs no writing); a torn record at the end fails its
+//! checksum and is dropped on reading.
 //!
 //! ```text
 //! header: "RAYFORGE CHECKPOINT 1\n" (22 bytes), key u64, width u64, height u64, checksum u64
@@ -20,6 +22,7 @@ use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 const MAGIC: &[u8; 22] = b"RAYFORGE CHECKPOINT 1\n";
@@ -27,6 +30,8 @@ const HEADER_LEN: u64 = 22 + 4 * 8;
 
 /// How often rows written to the log are flushed to the file.
 const FLUSH_EVERY: Duration = Duration::from_millis(500);
+/// How long the log holds rows before it starts writing them (see [`Log::record`]).
+const QUIET_START: Duration = Duration::from_secs(2);
 
 /// The checkpoint of the image written to `output`.
 pub fn path_for(output: &Path) -> PathBuf {
@@ -185,36 +190,64 @@ impl Log {
         self.file.write_all(&record)
     }
 
-    /// Writes rows from `rows` as they come, flushing every second, until every sender is
-    /// gone; then flushes and syncs the file. The first failure stops the logging (the render
-    /// goes on; the caller reports it).
-    pub fn record(mut self, rows: Receiver<(usize, Vec<Color>)>) -> Result<(), Failure> {
+    /// Writes the rows the render leaves in `rows`, collecting them every half second (the
+    /// render threads only push to the list: no thread is woken per row), until `done` is
+    /// disconnected (the render is over); then writes what is left, flushes and syncs the
+    /// file. The first failure stops the logging (the render goes on; the caller reports it).
+    ///
+    /// For its first [`QUIET_START`] the log only holds the rows: most renders finish sooner,
+    /// and writing (and checksumming) every row of a short render would take a core's time
+    /// from the render for a file deleted a moment later. When the render ends within that
+    /// time, the held rows are written only if `complete` says the image is not finished (it
+    /// was interrupted); after it, the held rows are written and the rest follow.
+    pub fn record(
+        mut self,
+        rows: &Mutex<Vec<FinishedRow>>,
+        done: Receiver<()>,
+        complete: impl Fn() -> bool,
+    ) -> Result<(), Failure> {
         let fail = |path: &Path, e: std::io::Error| {
             Failure::internal(format!(
                 "cannot write the checkpoint `{}`: {e}",
                 path.display()
             ))
         };
-        let mut flushed = Instant::now();
+        let started = Instant::now();
+        let take = || std::mem::take(&mut *rows.lock().unwrap_or_else(|e| e.into_inner()));
+        let mut held = Some(Vec::new());
         loop {
-            match rows.recv_timeout(FLUSH_EVERY) {
-                Ok((y, pixels)) => self.append(y, &pixels).map_err(|e| fail(&self.path, e))?,
-                Err(RecvTimeoutError::Timeout) => {}
-                Err(RecvTimeoutError::Disconnected) => break,
+            let over = matches!(
+                done.recv_timeout(FLUSH_EVERY),
+                Err(RecvTimeoutError::Disconnected)
+            );
+            let mut new = take();
+            if let Some(rows) = &mut held {
+                rows.append(&mut new);
+                if over && complete() {
+                    // A short render that finished: its checkpoint is about to be deleted.
+                    return Ok(());
+                }
+                if over || started.elapsed() >= QUIET_START {
+                    new = held.take().unwrap_or_default();
+                }
             }
-            // Rows may come faster than the flush interval: flush by the clock, not by gaps.
-            if flushed.elapsed() >= FLUSH_EVERY {
-                self.file.flush().map_err(|e| fail(&self.path, e))?;
-                flushed = Instant::now();
+            for (y, pixels) in new {
+                self.append(y, &pixels).map_err(|e| fail(&self.path, e))?;
+            }
+            self.file.flush().map_err(|e| fail(&self.path, e))?;
+            if over {
+                break;
             }
         }
-        self.file.flush().map_err(|e| fail(&self.path, e))?;
         self.file
             .get_ref()
             .sync_all()
             .map_err(|e| fail(&self.path, e))
     }
 }
+
+/// A finished row on its way to the log: its index and its pixels.
+pub type FinishedRow = (usize, Vec<Color>);
 
 /// FNV-1a, 64-bit, incrementally.
 struct Fnv(u64);

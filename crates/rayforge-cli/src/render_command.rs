@@ -66,8 +66,9 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
     };
     if let Some(options) = &settings.raster.resolve(scene.raster)? {
         let started = Instant::now();
-        let (canvas, stats) =
+        let (mut canvas, stats) =
             pool.install(|| rayforge::raster::render_with_stats(&camera, &scene.world, options));
+        scene.overlay.draw(&mut canvas, &camera);
         let elapsed = started.elapsed();
         let bytes = settings.format.encode(&canvas)?;
         write_atomically(output, &bytes)?;
@@ -108,6 +109,7 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
                 .max_depth
                 .or(scene.max_depth)
                 .unwrap_or(rayforge::DEFAULT_MAX_DEPTH),
+            bailout: settings.bailout,
             sampling,
             ..RenderOptions::default()
         };
@@ -129,19 +131,31 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
     }
     let progress = |rows: usize| bar.inc(rows as u64);
     let started = Instant::now();
-    let (rows_sent, rows_received) = mpsc::channel::<(usize, Vec<Color>)>();
+    let finished_rows = std::sync::Mutex::new(Vec::new());
+    let (render_running, render_over) = mpsc::channel::<()>();
+    // Set when the render returns whole, before the log learns the render is over.
+    let complete = std::sync::atomic::AtomicBool::new(false);
     let ((image, stats), logged) = std::thread::scope(|scope| {
-        let logger = scope.spawn(move || log.record(rows_received));
+        let (complete, finished_rows) = (&complete, &finished_rows);
+        let logger = scope.spawn(move || {
+            log.record(finished_rows, render_over, || {
+                complete.load(std::sync::atomic::Ordering::SeqCst)
+            })
+        });
         let rendered = {
-            // Owns the sending end: dropped after the render, which ends the log.
-            let on_row = move |y: usize, row: &[Color]| {
-                let _ = rows_sent.send((y, row.to_vec()));
+            // Dropped after the render, which ends the log.
+            let running = render_running;
+            let on_row = |y: usize, row: &[Color]| {
+                if let Ok(mut rows) = finished_rows.lock() {
+                    rows.push((y, row.to_vec()));
+                }
             };
             let options = RenderOptions {
                 max_depth: settings
                     .max_depth
                     .or(scene.max_depth)
                     .unwrap_or(rayforge::DEFAULT_MAX_DEPTH),
+                bailout: settings.bailout,
                 sampling,
                 progress: Some(&progress),
                 subsample: settings.subsample,
@@ -149,7 +163,13 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
                 finished: finished.as_ref(),
                 on_row: Some(&on_row),
             };
-            pool.install(|| render_rows(&camera, &scene.world, &options))
+            let rendered = pool.install(|| render_rows(&camera, &scene.world, &options));
+            complete.store(
+                rendered.0.is_complete(),
+                std::sync::atomic::Ordering::SeqCst,
+            );
+            drop(running);
+            rendered
         };
         let logged = logger
             .join()
@@ -169,7 +189,10 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
             checkpoint.display()
         )));
     }
-    let canvas = image.into_canvas();
+    let mut canvas = image.into_canvas();
+    // Canvas items go over the finished image, after the optics model's exposure: their
+    // colours are the scene's own.
+    scene.overlay.draw(&mut canvas, &camera);
     let bytes = settings.format.encode(&canvas)?;
     write_atomically(output, &bytes)?;
     // The image is complete: its checkpoint has done its job.
@@ -204,9 +227,10 @@ fn open_checkpoint(
         .map_err(|e| Failure::usage(format!("cannot read `{}`: {e}", settings.scene.display())))?;
     // Everything that changes a pixel; the thread count does not.
     let described = format!(
-        "{sampling:?}; max depth {:?}; subsample {:?}; frame {frame}; rayforge {}",
+        "{sampling:?}; max depth {:?}; subsample {:?}; bailout {}; frame {frame}; rayforge {}",
         settings.max_depth,
         settings.subsample,
+        settings.bailout,
         env!("CARGO_PKG_VERSION")
     );
     let key = RenderKey::new(&scene_bytes, width, height, &described);

@@ -42,6 +42,8 @@ pub struct RenderSettings {
     pub adaptive: Option<f64>,
     /// Subsampling threshold, when asked for.
     pub subsample: Option<f64>,
+    /// Adaptive depth control's weight (0: off).
+    pub bailout: f64,
     /// The animation frames to render, first and last, when asked for.
     pub frames: Option<(u64, u64)>,
     /// The pixel whose rays to print, when asked for.
@@ -121,6 +123,12 @@ impl RenderSettings {
                 )));
             }
         }
+        if !(0.0..=1.0).contains(&args.bailout) {
+            return Err(Failure::usage(format!(
+                "--bailout takes a weight from 0 to 1, found {}",
+                args.bailout
+            )));
+        }
         if let Some(threads) = args.threads {
             if threads == 0 || threads > MAX_THREADS {
                 return Err(Failure::usage(format!(
@@ -150,6 +158,7 @@ impl RenderSettings {
             spp: args.spp,
             adaptive: args.adaptive,
             subsample: args.subsample,
+            bailout: args.bailout,
             frames,
             trace_pixel: match &args.trace_pixel {
                 None => None,

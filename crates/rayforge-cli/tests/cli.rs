@@ -266,7 +266,13 @@ fn zero_or_absurd_thread_counts_are_refused() {
 fn zero_sizes_and_deep_recursion_are_refused_naming_the_flag() {
     let d = Dir::new();
     let scene = d.file("s.yml", RED_SPHERE);
-    for (flag, value) in [("--width", "0"), ("--height", "0"), ("--max-depth", "1000")] {
+    for (flag, value) in [
+        ("--width", "0"),
+        ("--height", "0"),
+        ("--max-depth", "1000"),
+        ("--bailout", "2"),
+        ("--bailout", "NaN"),
+    ] {
         let o = render(&scene, &d.path("o.png"), &[flag, value]);
         assert_eq!(o.status.code(), Some(2), "{flag} {value}");
         assert!(stderr(&o).contains(flag), "{}", stderr(&o));

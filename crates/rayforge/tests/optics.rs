@@ -171,7 +171,7 @@ fn check_polyhedron(mesh: &rayforge::geometry::Mesh, vertices: usize, triangles:
     assert_eq!(mesh.positions().len(), vertices);
     assert_eq!(mesh.faces().len(), triangles);
     let object = Object::mesh(std::sync::Arc::new(mesh.clone()));
-    for (i, face) in mesh.faces().iter().enumerate() {
+    for (i, face) in mesh.faces().enumerate() {
         let [a, b, c] = face.vertices.map(|v| mesh.positions()[v as usize]);
         let centre = (a + b + c) / 3.0;
         let hit = rayforge::geometry::LocalHit {

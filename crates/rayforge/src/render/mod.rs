@@ -5,7 +5,7 @@
 //! cancelled between rows ([`RenderOptions::cancel`]) and continued later from the rows it
 //! finished ([`RenderOptions::finished`]), giving exactly the image of an uninterrupted run.
 
-mod exposure;
+pub(crate) mod exposure;
 mod sampler;
 
 pub use sampler::{CameraSample, Sampling};
@@ -23,6 +23,9 @@ pub type RowCallback<'a> = dyn Fn(usize, &[Color]) + Sync + 'a;
 pub struct RenderOptions<'p> {
     /// How many reflection/refraction bounces to follow.
     pub max_depth: u32,
+    /// Adaptive depth control: secondary rays weighing less than this are not traced (see
+    /// [`Tracer::set_bailout`]); 0 follows every bounce.
+    pub bailout: f64,
     /// Where in each pixel the camera rays go.
     pub sampling: Sampling,
     /// Called with the number of rows just finished (from any thread).
@@ -46,6 +49,7 @@ impl Default for RenderOptions<'_> {
     fn default() -> Self {
         Self {
             max_depth: DEFAULT_MAX_DEPTH,
+            bailout: 0.0,
             sampling: Sampling::Centre,
             progress: None,
             subsample: None,
@@ -177,7 +181,11 @@ pub fn render_rows(
         .zip(done.par_iter_mut())
         .enumerate()
         .for_each_init(
-            || Tracer::new(world, &index),
+            || {
+                let mut tracer = Tracer::new(world, &index);
+                tracer.set_bailout(options.bailout);
+                tracer
+            },
             |tracer, (y, (row, done))| {
                 if *done || cancelled() {
                     return;
@@ -248,6 +256,7 @@ pub fn trace_pixel(
 ) -> (Color, Vec<String>) {
     let index = WorldIndex::build(world);
     let mut tracer = Tracer::new(world, &index);
+    tracer.set_bailout(options.bailout);
     let seed = (y * camera.hsize() + x) as u64;
     tracer.reseed(seed);
     let mut lines = Vec::new();

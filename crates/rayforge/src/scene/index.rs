@@ -6,6 +6,9 @@ use crate::math::{Aabb, Ray};
 use crate::{Intersection, World};
 use std::ops::ControlFlow;
 
+/// What [`WorldIndex::occluded_remembering`] starts from when no object is remembered.
+pub const NO_OBJECT: u32 = u32::MAX;
+
 /// Spatial index over a [`World`]'s objects. Build it once per render; it borrows nothing, so
 /// it stays valid only while the world's object list is unchanged.
 #[derive(Debug, Clone, Default)]
@@ -94,18 +97,44 @@ impl WorldIndex {
     /// Whether any shadow-casting object meets the ray with `0 <= t < distance`; stops at the
     /// first one found.
     pub fn occluded(&self, world: &World, ray: &Ray, distance: f64) -> bool {
+        let mut none = NO_OBJECT;
+        self.occluded_remembering(world, ray, distance, &mut none)
+    }
+
+    /// [`WorldIndex::occluded`], trying first the object in `last` (the blocker of an earlier
+    /// shadow ray towards the same light, or [`NO_OBJECT`]) and leaving there the blocker it
+    /// finds (or [`NO_OBJECT`] once the remembered one fails). Neighbouring points are usually shadowed by the same object, and one object's
+    /// test costs far less than a walk of the hierarchy; the answer is the same either way.
+    pub fn occluded_remembering(
+        &self,
+        world: &World,
+        ray: &Ray,
+        distance: f64,
+        last: &mut u32,
+    ) -> bool {
+        let blocks = |i: usize| {
+            let object = &world.objects[i];
+            object.casts_shadow && {
+                let local = object.ray_to_object(ray);
+                object.shape.any_hit(&local, 0.0, distance)
+            }
+        };
+        let remembered = *last as usize;
+        if remembered < world.objects.len() {
+            if blocks(remembered) {
+                return true;
+            }
+            // Out of its shadow: lit points need not try it again until something blocks.
+            *last = NO_OBJECT;
+        }
         let mut blocked = false;
         self.candidates(ray, 0.0, distance, |i, _| {
-            let object = &world.objects[i];
-            if object.casts_shadow {
-                let local = object.ray_to_object(ray);
-                blocked = object.shape.any_hit(&local, 0.0, distance);
+            if i != remembered && blocks(i) {
+                blocked = true;
+                *last = i as u32;
+                return ControlFlow::Break(());
             }
-            if blocked {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
+            ControlFlow::Continue(())
         });
         blocked
     }

@@ -65,7 +65,8 @@ pub fn lighting_with(
         }
         let diffuse = effective * material.diffuse * light_dot_normal;
         let reflect_dot_eye = reflect(-lightv, normalv).dot(eyev);
-        let specular = if reflect_dot_eye <= 0.0 {
+        // (A matte surface skips the power, the costliest step of the model.)
+        let specular = if reflect_dot_eye <= 0.0 || material.specular == 0.0 {
             Color::BLACK
         } else {
             light.intensity() * material.specular * reflect_dot_eye.powf(material.shininess)

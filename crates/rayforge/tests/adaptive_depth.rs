@@ -1,0 +1,116 @@
+//! Adaptive depth control and the shadow cache: speed-ups that must not change what the book's
+//! model computes beyond what an 8-bit pixel can show (the bailout) or at all (the cache).
+use rayforge::color::color;
+use rayforge::math::{scaling, translation};
+use rayforge::scene::WorldIndex;
+use rayforge::{point, vector, Color, Light, Material, Object, Point3, Ray, Tracer, World};
+
+/// Two facing mirrors that reflect a tenth of the light, a lamp, and a sphere between them:
+/// every camera ray bounces between the mirrors until the depth runs out.
+fn hall_of_faint_mirrors() -> World {
+    let mirror = Material {
+        color: color(0.8, 0.8, 0.9),
+        reflective: 0.1,
+        ..Material::default()
+    };
+    let mut w = World::new();
+    w.lights
+        .push(Light::point(point(0.0, 5.0, 0.0), Color::WHITE));
+    for z in [-5.0, 5.0] {
+        w.objects.push(
+            Object::cube()
+                .with_transform(translation(0.0, 0.0, z) * scaling(10.0, 10.0, 0.1))
+                .with_material(mirror.clone()),
+        );
+    }
+    w.objects.push(Object::sphere().with_material(Material {
+        reflective: 0.1,
+        ..Material::default()
+    }));
+    w
+}
+
+fn trace(world: &World, bailout: f64, ray: &Ray, depth: u32) -> (Color, u64) {
+    let index = WorldIndex::build(world);
+    let mut tracer = Tracer::new(world, &index);
+    tracer.set_bailout(bailout);
+    let c = tracer.color_at(ray, depth);
+    (c, tracer.rays_cast())
+}
+
+#[test]
+fn without_a_bailout_every_bounce_up_to_the_depth_is_traced() {
+    let w = hall_of_faint_mirrors();
+    let ray = Ray::new(point(3.0, 0.0, 0.0), vector(0.0, 0.0, 1.0));
+    let (_, shallow) = trace(&w, 0.0, &ray, 2);
+    let (_, deep) = trace(&w, 0.0, &ray, 10);
+    // Each bounce adds a reflected ray and its shadow ray.
+    assert_eq!(deep - shallow, 8 * 2);
+}
+
+#[test]
+fn rays_below_the_bailout_are_not_traced_and_change_the_colour_by_less_than_it() {
+    let w = hall_of_faint_mirrors();
+    let ray = Ray::new(point(3.0, 0.0, 0.0), vector(0.0, 0.0, 1.0));
+    let (exact, all) = trace(&w, 0.0, &ray, 10);
+    let (quick, fewer) = trace(&w, 1.0 / 512.0, &ray, 10);
+    // 0.1² is above 1/512, 0.1³ below: the camera ray and two bounces, each with its shadow ray.
+    assert_eq!(fewer, 3 * 2);
+    assert!(fewer < all);
+    for (a, b) in [
+        (exact.red, quick.red),
+        (exact.green, quick.green),
+        (exact.blue, quick.blue),
+    ] {
+        assert!(a >= b && a - b < 1.0 / 512.0, "{exact:?} vs {quick:?}");
+    }
+}
+
+#[test]
+fn the_bailout_leaves_strong_reflections_alone() {
+    // A half-mirror's reflections weigh 0.5, 0.25, …: with the bailout at 1/512, eight bounces
+    // are still traced.
+    let mut w = hall_of_faint_mirrors();
+    for o in &mut w.objects {
+        o.material.reflective = 0.5;
+    }
+    let ray = Ray::new(point(3.0, 0.0, 0.0), vector(0.0, 0.0, 1.0));
+    let (exact, _) = trace(&w, 0.0, &ray, 8);
+    let (quick, _) = trace(&w, 1.0 / 512.0, &ray, 8);
+    assert_eq!(exact, quick);
+}
+
+/// Shadow rays try the last blocker of their light first: the answer never changes, whatever
+/// the order of the points (in and out of shadows, from light to light).
+#[test]
+fn remembering_the_last_blocker_never_changes_a_shadow() {
+    let mut w = World::new();
+    w.lights
+        .push(Light::point(point(-10.0, 10.0, -10.0), Color::WHITE));
+    w.lights
+        .push(Light::point(point(10.0, 8.0, -3.0), Color::WHITE));
+    for i in 0..12 {
+        let x = (i % 4) as f64 * 2.5 - 4.0;
+        let z = (i / 4) as f64 * 2.5 - 2.0;
+        w.objects
+            .push(Object::sphere().with_transform(translation(x, 1.0, z) * scaling(0.8, 0.8, 0.8)));
+    }
+    let index = WorldIndex::build(&w);
+    let mut tracer = Tracer::new(&w, &index);
+    let mut shadowed = 0;
+    for k in 0..4000 {
+        let a = k as f64 * 0.754_877_666;
+        let p: Point3 = point((a * 7.3).sin() * 7.0, 0.0, (a * 3.1).cos() * 6.0);
+        for light in &w.lights {
+            let cached = tracer.intensity_at(light, p);
+            let plain = if w.is_shadowed(light.position(), p) {
+                0.0
+            } else {
+                1.0
+            };
+            assert_eq!(cached, plain, "point {p:?}");
+            shadowed += usize::from(plain == 0.0);
+        }
+    }
+    assert!(shadowed > 500, "the test needs shadows: {shadowed}");
+}
