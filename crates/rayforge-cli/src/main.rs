@@ -2,6 +2,7 @@
 
 mod args;
 mod atomic_write;
+mod bench;
 mod checkpoint;
 mod diagnostics;
 mod failure;
@@ -39,6 +40,10 @@ fn run() -> Result<(), Failure> {
         args::Command::Render(render) => {
             let settings = settings::RenderSettings::from_args(render)?;
             render_command::run(&settings)
+        }
+        args::Command::Bench(bench) => {
+            let settings = bench::BenchSettings::from_args(bench)?;
+            bench::run(&settings)
         }
     }
 }

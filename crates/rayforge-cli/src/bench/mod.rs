@@ -1,0 +1,214 @@
+//! `rayforge bench`: rayforge measured against its peers in one run on one machine, as ratios.
+//!
+//! Each part is a file: `primary.rs` (primary rays against Embree), `sweep.rs` (BVH build and
+//! scaling with triangle count, with the plot), `scenes.rs` (whole renders against POV-Ray
+//! and raytracer_rs). They share the meshes (`shapes.rs`), the rays (`rays.rs`), rayforge's
+//! tracing loop (`trace.rs`), the files handed to the Embree harness (`files.rs`, `embree.rs`)
+//! and the report (`report.rs`). Peers are found in the directory `bench/peers/setup.sh`
+//! fills (`peers.rs`); a missing one is a skipped row, never an error.
+
+mod embree;
+mod files;
+mod font;
+mod peers;
+mod plot;
+mod pov_mesh;
+mod primary;
+mod rays;
+mod report;
+mod scenes;
+mod shapes;
+/// Writes the committed many-spheres scenes; only their test runs it (the files are committed).
+#[cfg(test)]
+mod spheres_scene;
+mod sweep;
+mod trace;
+
+use crate::args::{BenchArgs, BenchPart};
+use crate::failure::Failure;
+use peers::Peers;
+use rayforge::geometry::Mesh;
+use rayon::ThreadPool;
+use report::Report;
+use std::path::{Path, PathBuf};
+
+/// The most threads accepted (as for `render`).
+const MAX_THREADS: usize = 1024;
+
+/// The most passes per measurement accepted: more only adds time.
+const MAX_REPEAT: u32 = 100;
+
+/// `rayforge bench`'s arguments, checked.
+#[derive(Debug, Clone)]
+pub struct BenchSettings {
+    /// Run the primary-ray comparison.
+    pub primary: bool,
+    /// Print the BVH build table.
+    pub build: bool,
+    /// Print the scaling table and plot.
+    pub scaling: bool,
+    /// Run the whole-scene comparisons.
+    pub scenes: bool,
+    /// Threads for both sides.
+    pub threads: usize,
+    /// Where the peers are.
+    pub peers: PathBuf,
+    /// Where files go.
+    pub out: PathBuf,
+    /// Where the models beside the repository are.
+    pub models: PathBuf,
+    /// Where the POV-Ray scenes are.
+    pub povray_scenes: PathBuf,
+    /// Passes per kernel measurement.
+    pub repeat: u32,
+    /// Runs per whole-scene measurement.
+    pub scene_repeat: u32,
+    /// A second place for the scaling plot.
+    pub plot: Option<PathBuf>,
+    /// Tiny sizes.
+    pub quick: bool,
+}
+
+impl BenchSettings {
+    /// Checks the arguments; each refusal names the flag.
+    pub fn from_args(args: BenchArgs) -> Result<Self, Failure> {
+        if !(1..=MAX_THREADS).contains(&args.threads) {
+            return Err(Failure::usage(format!(
+                "--threads must be from 1 to {MAX_THREADS}, found {}",
+                args.threads
+            )));
+        }
+        for (flag, value) in [
+            ("--repeat", args.repeat),
+            ("--scene-repeat", args.scene_repeat),
+        ] {
+            if !(1..=MAX_REPEAT).contains(&value) {
+                return Err(Failure::usage(format!(
+                    "{flag} must be from 1 to {MAX_REPEAT}, found {value}"
+                )));
+            }
+        }
+        let all = args.part == BenchPart::All;
+        Ok(Self {
+            primary: all || args.part == BenchPart::Primary,
+            build: all || args.part == BenchPart::Build,
+            scaling: all || args.part == BenchPart::Scaling,
+            scenes: all || args.part == BenchPart::Scenes,
+            threads: args.threads,
+            peers: args.peers,
+            out: args.out,
+            models: args.models,
+            povray_scenes: args.povray_scenes,
+            repeat: if args.quick { 1 } else { args.repeat },
+            scene_repeat: args.scene_repeat,
+            plot: args.plot,
+            quick: args.quick,
+        })
+    }
+}
+
+/// What every part needs: the settings, the peers found and the thread pool.
+pub struct Bench<'a> {
+    /// The checked arguments.
+    pub settings: &'a BenchSettings,
+    /// The peers found.
+    pub peers: Peers,
+    /// rayforge's threads, as many as the peers get.
+    pub pool: ThreadPool,
+}
+
+impl Bench<'_> {
+    /// A file in the output directory.
+    pub fn out(&self, name: &str) -> PathBuf {
+        self.settings.out.join(name)
+    }
+
+    /// The primary rays' image size: 1920×1080, or a thumbnail for `--quick`.
+    pub fn image_size(&self) -> (usize, usize) {
+        if self.settings.quick {
+            (64, 36)
+        } else {
+            (1920, 1080)
+        }
+    }
+
+    /// A line on stderr saying what is being measured (the tables go to stdout).
+    pub fn progress(&self, message: &str) {
+        eprintln!("… {message}");
+    }
+
+    /// rayforge's BVH over a soup, built on the benchmark's threads.
+    pub fn build_mesh(&self, soup: &shapes::Soup) -> Result<Mesh, Failure> {
+        self.pool
+            .install(|| soup.to_mesh())
+            .map_err(|e| Failure::internal(format!("the generated mesh is invalid: {e}")))
+    }
+
+    /// A file that could not be written, as a failure naming it.
+    pub fn write_error(&self, path: &Path, e: std::io::Error) -> Failure {
+        Failure::usage(format!("cannot write `{}`: {e}", path.display()))
+    }
+}
+
+/// Runs the parts asked for, printing each table as it is done and a summary of the targets.
+pub fn run(settings: &BenchSettings) -> Result<(), Failure> {
+    std::fs::create_dir_all(&settings.out).map_err(|e| {
+        Failure::usage(format!(
+            "cannot create --out `{}`: {e}",
+            settings.out.display()
+        ))
+    })?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(settings.threads)
+        .build()
+        .map_err(|e| {
+            Failure::internal(format!("cannot start {} threads: {e}", settings.threads))
+        })?;
+    let bench = Bench {
+        settings,
+        peers: Peers::find(&settings.peers),
+        pool,
+    };
+    let mut preamble = String::from("## rayforge bench\n\n");
+    preamble += &format!(
+        "Machine: {}, {} threads for every side{}.\n\n",
+        cpu_name(),
+        settings.threads,
+        if settings.quick {
+            "; --quick: tiny sizes, the numbers mean nothing"
+        } else {
+            ""
+        }
+    );
+    for line in bench.peers.describe() {
+        preamble += &format!("- {line}\n");
+    }
+    let mut report = Report::new(&preamble);
+    if settings.primary {
+        primary::run(&bench, &mut report)?;
+    }
+    if settings.build || settings.scaling {
+        sweep::run(&bench, &mut report, settings.build, settings.scaling)?;
+    }
+    if settings.scenes {
+        scenes::run(&bench, &mut report)?;
+    }
+    let path = bench.out("bench.md");
+    report
+        .finish(&path)
+        .map_err(|e| bench.write_error(&path, e))?;
+    Ok(())
+}
+
+/// The processor's name from /proc/cpuinfo, or "unknown CPU" where there is none.
+fn cpu_name() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|text| {
+            text.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split_once(':'))
+                .map(|(_, name)| name.split_whitespace().collect::<Vec<_>>().join(" "))
+        })
+        .unwrap_or_else(|| "unknown CPU".to_string())
+}
