@@ -114,3 +114,59 @@ fn remembering_the_last_blocker_never_changes_a_shadow() {
     }
     assert!(shadowed > 500, "the test needs shadows: {shadowed}");
 }
+
+/// Lights behind a surface cast no shadow ray (they add only their ambient term, shadowed or
+/// not): the colours are those of the book's `lighting` with `is_shadowed` asked for every
+/// light, to the bit, and fewer rays are cast.
+#[test]
+fn lights_behind_the_surface_cast_no_shadow_ray_and_change_nothing() {
+    let mut w = World::new();
+    w.lights
+        .push(Light::point(point(-10.0, 10.0, -10.0), Color::WHITE));
+    w.lights
+        .push(Light::point(point(10.0, -8.0, 3.0), color(0.3, 0.4, 0.5)));
+    w.objects.push(Object::sphere().with_material(Material {
+        color: color(0.9, 0.5, 0.2),
+        specular: 0.6,
+        ..Material::default()
+    }));
+    w.objects.push(
+        Object::sphere().with_transform(translation(-2.0, 2.0, -2.0) * scaling(0.5, 0.5, 0.5)),
+    );
+    let index = WorldIndex::build(&w);
+    let mut tracer = Tracer::new(&w, &index);
+    let (mut hits, mut behind) = (0, 0);
+    for k in 0..2000 {
+        let a = k as f64 * 0.754_877_666;
+        let origin = point((a * 7.3).sin() * 6.0, (a * 2.9).cos() * 6.0, -8.0);
+        let ray = Ray::new(origin, (point(0.0, 0.0, 0.0) - origin).normalize());
+        let xs = w.objects[0].intersections(&ray);
+        let Some(h) = rayforge::hit(&xs) else {
+            continue;
+        };
+        hits += 1;
+        let comps = rayforge::prepare_computations(h, &ray, &xs);
+        let before = tracer.rays_cast();
+        let shaded = tracer.shade_hit(&comps, 0);
+        let cast = tracer.rays_cast() - before;
+        let mut book = Color::BLACK;
+        for light in &w.lights {
+            let shadowed = w.is_shadowed(light.position(), comps.over_point);
+            book += rayforge::shading::lighting(
+                &comps.surface.material,
+                comps.surface,
+                light,
+                comps.over_point,
+                comps.eyev,
+                comps.normalv,
+                if shadowed { 0.0 } else { 1.0 },
+            );
+        }
+        assert_eq!(shaded, book, "ray {ray:?}");
+        behind += w.lights.len() as u64 - cast;
+    }
+    assert!(
+        hits > 1000 && behind > 500,
+        "{hits} hits, {behind} lights behind"
+    );
+}

@@ -8,7 +8,7 @@ use super::trace_log::{c, v};
 use super::world::LightingModel;
 use super::WorldIndex;
 use crate::math::{Point3, Ray};
-use crate::shading::{lighting_with, PointLight, SplitMix64, SpotLight};
+use crate::shading::{can_light, lighting_with, PointLight, SplitMix64, SpotLight};
 use crate::{schlick, Color, Computations, Intersection, Light, Object, World};
 
 /// The recursion limit the book's tests use (and a sensible default for renders).
@@ -166,14 +166,22 @@ impl<'w> Tracer<'w> {
         let color = material.color_at(comps.surface, comps.over_point, comps.uv, comps.time);
         let mut surface = Color::BLACK;
         for light in &self.world.lights {
-            let fraction = self.intensity_at_time(light, comps.over_point, comps.time);
-            self.note(|_| {
-                format!(
-                    "light at {}: {:.3} of it reaches the point",
-                    v(light.position()),
-                    fraction
-                )
-            });
+            // A light behind the surface adds only its ambient term, shadowed or not: no
+            // shadow ray for it.
+            let fraction = if can_light(light, comps.over_point, comps.normalv) {
+                let fraction = self.intensity_at_time(light, comps.over_point, comps.time);
+                self.note(|_| {
+                    format!(
+                        "light at {}: {:.3} of it reaches the point",
+                        v(light.position()),
+                        fraction
+                    )
+                });
+                fraction
+            } else {
+                self.note(|_| format!("light at {}: behind the surface", v(light.position())));
+                0.0
+            };
             surface += lighting_with(
                 material,
                 color,

@@ -36,6 +36,29 @@ pub fn lighting(
     )
 }
 
+/// Whether `light` can add anything beyond its ambient term at `point` (with normal `normalv`):
+/// false for a point, spot or directional light behind the surface or a spot light aimed
+/// away, where [`lighting_with`] gives the ambient term whatever the light fraction. The tracer
+/// asks this before casting a shadow ray, which the answer then cannot change. Area lights are
+/// spread out, so some of their samples may be in front: always true.
+pub fn can_light(light: &Light, point: Point3, normalv: Vec3) -> bool {
+    // The same expressions as `lighting_with`, so the two agree to the bit.
+    let faces = |lightv: Vec3| {
+        let d = lightv.dot(normalv);
+        d >= 0.0 || d.is_nan()
+    };
+    match light {
+        Light::Ambient(_) => false,
+        Light::Directional(l) => faces(l.towards.normalize_or_zero()),
+        Light::Point(l) => faces((l.position - point).normalize()),
+        Light::Spot(spot) => {
+            spot.falloff((point - spot.position).normalize_or_zero()) > 0.0
+                && faces((spot.position - point).normalize())
+        }
+        Light::Area(_) => true,
+    }
+}
+
 /// [`lighting`] with the surface colour already found (see [`Material::color_at`]) and the
 /// jitter source for area-light samples given.
 ///
