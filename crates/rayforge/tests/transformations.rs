@@ -184,3 +184,28 @@ fn chained_transformations_must_be_applied_in_reverse_order() {
     let t = translation(10.0, 5.0, 7.0) * scaling(5.0, 5.0, 5.0) * rotation_x(PI / 2.0);
     assert_vec_approx(mul_point(t, p), point(15.0, 0.0, 7.0));
 }
+
+/// Scaling-and-translation transforms take a shortcut (three products instead of nine): its
+/// answers are those of the full affine inverse, exactly.
+#[test]
+fn axis_aligned_transforms_give_the_full_inverses_answers() {
+    use glam::DAffine3;
+    use rayforge::math::{scaling, translation};
+    use rayforge::Transform;
+    let mut k = 0.0f64;
+    for _ in 0..500 {
+        k += 0.618_033_988_75;
+        let s = |a: f64| ((k * a).sin() * 3.0).abs() + 0.05;
+        let matrix = translation((k * 7.1).sin() * 9.0, (k * 3.3).cos() * 4.0, k.sin())
+            * scaling(s(1.3), -s(2.9), s(5.1));
+        let t = Transform::new(matrix);
+        let full = DAffine3::from_mat4(matrix).inverse();
+        let p = glam::DVec3::new((k * 1.7).cos() * 5.0, (k * 2.3).sin() * 7.0, k.cos() - 0.5);
+        assert_eq!(t.inverse_point(p), full.transform_point3(p));
+        assert_eq!(t.inverse_vector(p), full.transform_vector3(p));
+        assert_eq!(
+            t.normal(p),
+            (full.matrix3.transpose() * p).normalize_or_zero()
+        );
+    }
+}

@@ -21,6 +21,10 @@ pub struct Transform {
     inverse: DAffine3,
     /// Inverse transpose of the linear part: maps object-space normals to world space.
     normal: DMat3,
+    /// The linear part is diagonal (scaling, translation, mirrors: most of the book's
+    /// placements): the inverse and the normal map then take three products instead of nine,
+    /// with the same result (the skipped terms are exact zeros).
+    axis_aligned: bool,
 }
 
 impl Default for Transform {
@@ -40,6 +44,7 @@ impl Transform {
         forward: DAffine3::IDENTITY,
         inverse: DAffine3::IDENTITY,
         normal: DMat3::IDENTITY,
+        axis_aligned: true,
     };
 
     /// A transform from a matrix, or an error when it cannot be inverted.
@@ -53,11 +58,18 @@ impl Transform {
         let forward = DAffine3::from_mat4(matrix);
         let inverse = forward.inverse();
         let normal = inverse.matrix3.transpose();
+        let m = inverse.matrix3;
+        let axis_aligned = [
+            m.x_axis.y, m.x_axis.z, m.y_axis.x, m.y_axis.z, m.z_axis.x, m.z_axis.y,
+        ]
+        .iter()
+        .all(|&e| e == 0.0);
         Ok(Self {
             matrix,
             forward,
             inverse,
             normal,
+            axis_aligned,
         })
     }
 
@@ -97,13 +109,21 @@ impl Transform {
     /// Applies the inverse to a point: world space to object space.
     #[inline]
     pub fn inverse_point(&self, p: DVec3) -> DVec3 {
-        self.inverse.transform_point3(p)
+        if self.axis_aligned {
+            diagonal(&self.inverse.matrix3) * p + self.inverse.translation
+        } else {
+            self.inverse.transform_point3(p)
+        }
     }
 
     /// Applies the inverse to a vector.
     #[inline]
     pub fn inverse_vector(&self, v: DVec3) -> DVec3 {
-        self.inverse.transform_vector3(v)
+        if self.axis_aligned {
+            diagonal(&self.inverse.matrix3) * v
+        } else {
+            self.inverse.transform_vector3(v)
+        }
     }
 
     /// Maps an object-space normal to world space and normalises it (the book's inverse-transpose
@@ -111,7 +131,12 @@ impl Transform {
     /// than becoming NaN.
     #[inline]
     pub fn normal(&self, n: DVec3) -> DVec3 {
-        (self.normal * n).normalize_or_zero()
+        let world = if self.axis_aligned {
+            diagonal(&self.normal) * n
+        } else {
+            self.normal * n
+        };
+        world.normalize_or_zero()
     }
 
     /// Maps a world-space normal back to object space (the inverse of [`Transform::normal`]:
@@ -125,4 +150,10 @@ impl Transform {
     pub fn then_after(&self, inner: &Transform) -> Result<Self, SingularTransform> {
         Self::try_new(self.matrix * inner.matrix)
     }
+}
+
+/// The diagonal of a matrix, as a vector.
+#[inline]
+fn diagonal(m: &DMat3) -> DVec3 {
+    DVec3::new(m.x_axis.x, m.y_axis.y, m.z_axis.z)
 }
