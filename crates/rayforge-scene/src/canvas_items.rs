@@ -17,7 +17,7 @@
 //! [`CanvasPoint::Projected`]).
 
 use crate::material::color;
-use crate::source::{check_keys, Entry, Node, Source};
+use crate::source::{check_keys, required, Entry, Node, Source};
 use crate::SceneError;
 use glam::{DVec2, DVec3};
 use rayforge::raster::{CanvasItem, CanvasPoint, TriangleStyle};
@@ -44,13 +44,7 @@ pub fn canvas_item(
         &["add", "points", "color", "style", "intensities"]
     };
     check_keys(source, entries, what, allowed)?;
-    let get = |k: &str| {
-        entries
-            .iter()
-            .find(|e| e.name == k)
-            .map(|e| e.value)
-            .ok_or_else(|| source.error(item, k, format!("{what} needs `{k}:`")))
-    };
+    let get = |k: &str| required(source, entries, item, k, what);
     // The book draws in black unless told otherwise.
     let color = match entries.iter().find(|e| e.name == "color") {
         Some(e) => color(source, e.value, "color")?,

@@ -4,7 +4,7 @@ use crate::assets::Assets;
 use crate::defines::{is_reference, merge, Defines, Trail};
 use crate::error::SceneError;
 use crate::material::{checked, material};
-use crate::source::{as_str, check_keys, Entry, Node, Source};
+use crate::source::{as_str, check_keys, required, Entry, Node, Source};
 use crate::transform::transform_list;
 use glam::DMat4;
 use rayforge::math::{point, vector, view_transform};
@@ -111,13 +111,7 @@ fn pinhole_camera(
             "shutter",
         ],
     )?;
-    let get = |k: &str| {
-        entries
-            .iter()
-            .find(|e| e.name == k)
-            .map(|e| e.value)
-            .ok_or_else(|| source.error(item, k, format!("the camera needs `{k}:`")))
-    };
+    let get = |k: &str| required(source, entries, item, k, "the camera");
     let width = source.integer(get("width")?, "width", 1)? as usize;
     let height = source.integer(get("height")?, "height", 1)? as usize;
     let fov_node = get("field-of-view")?;
@@ -269,13 +263,7 @@ pub fn light(
         ("a point light", &["add", "type", "at", "intensity"])
     };
     check_keys(source, entries, what, allowed)?;
-    let get = |k: &str| {
-        entries
-            .iter()
-            .find(|e| e.name == k)
-            .map(|e| e.value)
-            .ok_or_else(|| source.error(item, k, format!("{what} needs `{k}:`")))
-    };
+    let get = |k: &str| required(source, entries, item, k, what);
     let intensity = crate::lights::intensity(source, get("intensity")?)?;
     if spot {
         let [x, y, z] = source.triple(get("at")?, "at")?;
@@ -721,21 +709,6 @@ fn motion_end<'n>(
         }
         (None, None) => Ok(None),
     }
-}
-
-/// The value of a required key.
-fn required<'n, 's>(
-    source: &Source<'s>,
-    entries: &[Entry<'n, 's>],
-    at: &Node<'s>,
-    key: &str,
-    what: &str,
-) -> Result<&'n Node<'s>, SceneError> {
-    entries
-        .iter()
-        .find(|e| e.name == key)
-        .map(|e| e.value)
-        .ok_or_else(|| source.error(at, key, format!("{what} needs `{key}:`")))
 }
 
 /// A CSG operand (`left:` or `right:`): a shape, group, CSG or defined object, written with

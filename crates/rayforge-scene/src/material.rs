@@ -3,7 +3,9 @@
 use crate::assets::Assets;
 use crate::defines::{is_reference, merge, Defines, Trail};
 use crate::error::SceneError;
-use crate::source::{as_str, check_keys, describe, is_mapping, is_sequence, Entry, Node, Source};
+use crate::source::{
+    as_str, check_keys, describe, is_mapping, is_sequence, required, Entry, Node, Source,
+};
 use crate::transform::transform_list;
 use rayforge::shading::{Bump, BumpKind, Filter, UvMapping, UvPattern};
 use rayforge::{Color, Material, Pattern, PatternKind, Transform};
@@ -218,13 +220,7 @@ fn matte_gloss_balance(source: &Source<'_>, node: &Node<'_>) -> Result<(Color, C
         "`matte-gloss-balance`",
         &["balance", "matte", "gloss"],
     )?;
-    let get = |k: &str| {
-        entries
-            .iter()
-            .find(|e| e.name == k)
-            .map(|e| e.value)
-            .ok_or_else(|| source.error(node, k, format!("`matte-gloss-balance` needs `{k}:`")))
-    };
+    let get = |k: &str| required(source, &entries, node, k, "`matte-gloss-balance`");
     let balance_node = get("balance")?;
     let balance = source.number(balance_node, "balance")?;
     if !(0.0..=1.0).contains(&balance) {

@@ -335,6 +335,22 @@ pub fn describe(node: &Node<'_>) -> String {
     }
 }
 
+/// The value of `key`, which `what` (the mapping at `node`) must have; when it is missing, an
+/// error that names the key and points at the mapping.
+pub fn required<'n, 's>(
+    source: &Source<'_>,
+    entries: &[Entry<'n, 's>],
+    node: &Node<'_>,
+    key: &str,
+    what: &str,
+) -> Result<&'n Node<'s>, SceneError> {
+    entries
+        .iter()
+        .find(|e| e.name == key)
+        .map(|e| e.value)
+        .ok_or_else(|| source.error(node, key, format!("{what} needs `{key}:`")))
+}
+
 /// Rejects any key not in `allowed`, naming the ones that are.
 pub fn check_keys(
     source: &Source<'_>,
