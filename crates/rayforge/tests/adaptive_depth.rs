@@ -170,3 +170,27 @@ fn lights_behind_the_surface_cast_no_shadow_ray_and_change_nothing() {
         "{hits} hits, {behind} lights behind"
     );
 }
+
+/// A shadow ray whose light is too faint, at the weight of the ray that hit, to move the pixel
+/// by the bailout is not cast either: the light counts as blocked there.
+#[test]
+fn shadow_rays_too_faint_to_show_are_left_out() {
+    let mut w = hall_of_faint_mirrors();
+    // At most 0.034 of this light reaches the eye from a mirror: enough for the camera ray
+    // (weight 1) and the first bounce (0.1), not the second (0.01: 0.00034 < 1/512).
+    w.lights
+        .push(Light::point(point(0.0, -5.0, 0.0), color(0.02, 0.02, 0.02)));
+    let ray = Ray::new(point(3.0, 0.0, 0.0), vector(0.0, 0.0, 1.0));
+    let (exact, _) = trace(&w, 0.0, &ray, 10);
+    let (quick, fewer) = trace(&w, 1.0 / 512.0, &ray, 10);
+    // Three rays (the camera's and two bounces), each with the lamp's shadow ray, and the
+    // faint light's for the first two only.
+    assert_eq!(fewer, 3 + 3 + 2);
+    for (a, b) in [
+        (exact.red, quick.red),
+        (exact.green, quick.green),
+        (exact.blue, quick.blue),
+    ] {
+        assert!(a >= b && a - b < 1.0 / 512.0, "{exact:?} vs {quick:?}");
+    }
+}
