@@ -194,3 +194,40 @@ fn shadow_rays_too_faint_to_show_are_left_out() {
         assert!(a >= b && a - b < 1.0 / 512.0, "{exact:?} vs {quick:?}");
     }
 }
+
+/// On glass that both reflects and refracts, Schlick's reflectance is part of each ray's
+/// weight: a reflection that brings 4 % of a faint mirror's light is below the bailout, though
+/// the mirror's own reflectivity is not.
+#[test]
+fn the_fresnel_share_counts_in_the_weight_of_glass_rays() {
+    let glass = |reflective: f64| {
+        let mut w = World::new();
+        w.lights
+            .push(Light::point(point(-10.0, 10.0, -10.0), Color::WHITE));
+        w.objects.push(Object::sphere().with_material(Material {
+            reflective,
+            transparency: 0.9,
+            refractive_index: 1.5,
+            ..Material::default()
+        }));
+        w
+    };
+    // Head on, Schlick's reflectance is ((1 - 1.5) / (1 + 1.5))² = 0.04.
+    let ray = Ray::new(point(0.0, 0.0, -5.0), vector(0.0, 0.0, 1.0));
+    let faint = glass(0.04); // 0.04 × 0.04 = 0.0016 < 1/512
+    let (exact, all) = trace(&faint, 0.0, &ray, 1);
+    let (quick, fewer) = trace(&faint, 1.0 / 512.0, &ray, 1);
+    assert_eq!(all - fewer, 1, "the reflected ray is left out");
+    for (a, b) in [
+        (exact.red, quick.red),
+        (exact.green, quick.green),
+        (exact.blue, quick.blue),
+    ] {
+        assert!(a >= b && a - b < 1.0 / 512.0, "{exact:?} vs {quick:?}");
+    }
+    let stronger = glass(0.1); // 0.1 × 0.04 = 0.004 ≥ 1/512
+    assert_eq!(
+        trace(&stronger, 0.0, &ray, 1).1,
+        trace(&stronger, 1.0 / 512.0, &ray, 1).1
+    );
+}

@@ -65,7 +65,8 @@ impl<'w> Tracer<'w> {
 
     /// Adaptive depth control (POV-Ray's `adc_bailout`): under the Phong model, a reflected or
     /// refracted ray whose weight (the product of the reflectivities and transparencies that
-    /// lead to it from the camera) is below `bailout` is not traced, however much depth
+    /// lead to it from the camera, with Schlick's share on surfaces that both reflect and
+    /// refract) is below `bailout` is not traced, however much depth
     /// remains; nor is a shadow ray whose light, at the weight of the ray that hit, could add
     /// less than `bailout` (the light counts as blocked: see [`most_light`]). With `1/512`,
     /// what is left out is at most about a fifth of one step of an 8-bit channel per ray
@@ -205,12 +206,16 @@ impl<'w> Tracer<'w> {
                 &mut self.jitter,
             );
         }
-        let reflected = self.reflected_color(comps, remaining);
-        let refracted = self.refracted_color(comps, remaining);
         if material.reflective > 0.0 && material.transparency > 0.0 {
+            // Fresnel's share goes into each ray's weight too, so the bailout sees what the
+            // ray really brings to the pixel.
             let reflectance = schlick(comps);
+            let reflected = self.reflected_color_sharing(comps, remaining, reflectance);
+            let refracted = self.refracted_color_sharing(comps, remaining, 1.0 - reflectance);
             surface + reflected * reflectance + refracted * (1.0 - reflectance)
         } else {
+            let reflected = self.reflected_color(comps, remaining);
+            let refracted = self.refracted_color(comps, remaining);
             surface + reflected + refracted
         }
     }
@@ -293,11 +298,22 @@ impl<'w> Tracer<'w> {
 
     /// The book's `reflected_color`: black for matte surfaces or when recursion is spent.
     pub fn reflected_color(&mut self, comps: &Computations<'_>, remaining: u32) -> Color {
+        self.reflected_color_sharing(comps, remaining, 1.0)
+    }
+
+    /// [`Tracer::reflected_color`] for a ray whose colour the caller scales by `share` (a
+    /// Fresnel factor): the bailout weighs the ray with it.
+    fn reflected_color_sharing(
+        &mut self,
+        comps: &Computations<'_>,
+        remaining: u32,
+        share: f64,
+    ) -> Color {
         let reflective = comps.surface.material.reflective;
         if remaining == 0 || reflective == 0.0 {
             return Color::BLACK;
         }
-        let Some(outer) = self.weigh(reflective, "reflected") else {
+        let Some(outer) = self.weigh(reflective * share, "reflected") else {
             return Color::BLACK;
         };
         let ray = Ray::new(comps.over_point, comps.reflectv).at_time(comps.time);
@@ -312,6 +328,16 @@ impl<'w> Tracer<'w> {
     /// The book's `refracted_color`: Snell's law from n1 into n2, black for opaque surfaces,
     /// spent recursion or total internal reflection.
     pub fn refracted_color(&mut self, comps: &Computations<'_>, remaining: u32) -> Color {
+        self.refracted_color_sharing(comps, remaining, 1.0)
+    }
+
+    /// [`Tracer::refracted_color`] for a ray whose colour the caller scales by `share`.
+    fn refracted_color_sharing(
+        &mut self,
+        comps: &Computations<'_>,
+        remaining: u32,
+        share: f64,
+    ) -> Color {
         let transparency = comps.surface.material.transparency;
         if remaining == 0 || transparency == 0.0 {
             return Color::BLACK;
@@ -324,7 +350,7 @@ impl<'w> Tracer<'w> {
         }
         let cos_t = (1.0 - sin2_t).sqrt();
         let direction = comps.normalv * (n_ratio * cos_i - cos_t) - comps.eyev * n_ratio;
-        let Some(outer) = self.weigh(transparency, "refracted") else {
+        let Some(outer) = self.weigh(transparency * share, "refracted") else {
             return Color::BLACK;
         };
         let ray = Ray::new(comps.under_point, direction).at_time(comps.time);
