@@ -38,6 +38,17 @@ fn trace(world: &World, bailout: f64, ray: &Ray, depth: u32) -> (Color, u64) {
     (c, tracer.rays_cast())
 }
 
+/// What the bailout leaves out only darkens, and by less than the bailout, in every channel.
+fn assert_darker_by_less_than_the_bailout(exact: Color, quick: Color) {
+    for (a, b) in [
+        (exact.red, quick.red),
+        (exact.green, quick.green),
+        (exact.blue, quick.blue),
+    ] {
+        assert!(a >= b && a - b < 1.0 / 512.0, "{exact:?} vs {quick:?}");
+    }
+}
+
 #[test]
 fn without_a_bailout_every_bounce_up_to_the_depth_is_traced() {
     let w = hall_of_faint_mirrors();
@@ -57,13 +68,7 @@ fn rays_below_the_bailout_are_not_traced_and_change_the_colour_by_less_than_it()
     // 0.1² is above 1/512, 0.1³ below: the camera ray and two bounces, each with its shadow ray.
     assert_eq!(fewer, 3 * 2);
     assert!(fewer < all);
-    for (a, b) in [
-        (exact.red, quick.red),
-        (exact.green, quick.green),
-        (exact.blue, quick.blue),
-    ] {
-        assert!(a >= b && a - b < 1.0 / 512.0, "{exact:?} vs {quick:?}");
-    }
+    assert_darker_by_less_than_the_bailout(exact, quick);
 }
 
 #[test]
@@ -186,13 +191,7 @@ fn shadow_rays_too_faint_to_show_are_left_out() {
     // Three rays (the camera's and two bounces), each with the lamp's shadow ray, and the
     // faint light's for the first two only.
     assert_eq!(fewer, 3 + 3 + 2);
-    for (a, b) in [
-        (exact.red, quick.red),
-        (exact.green, quick.green),
-        (exact.blue, quick.blue),
-    ] {
-        assert!(a >= b && a - b < 1.0 / 512.0, "{exact:?} vs {quick:?}");
-    }
+    assert_darker_by_less_than_the_bailout(exact, quick);
 }
 
 /// On glass that both reflects and refracts, Schlick's reflectance is part of each ray's
@@ -218,13 +217,7 @@ fn the_fresnel_share_counts_in_the_weight_of_glass_rays() {
     let (exact, all) = trace(&faint, 0.0, &ray, 1);
     let (quick, fewer) = trace(&faint, 1.0 / 512.0, &ray, 1);
     assert_eq!(all - fewer, 1, "the reflected ray is left out");
-    for (a, b) in [
-        (exact.red, quick.red),
-        (exact.green, quick.green),
-        (exact.blue, quick.blue),
-    ] {
-        assert!(a >= b && a - b < 1.0 / 512.0, "{exact:?} vs {quick:?}");
-    }
+    assert_darker_by_less_than_the_bailout(exact, quick);
     let stronger = glass(0.1); // 0.1 × 0.04 = 0.004 ≥ 1/512
     assert_eq!(
         trace(&stronger, 0.0, &ray, 1).1,
