@@ -224,3 +224,30 @@ fn the_fresnel_share_counts_in_the_weight_of_glass_rays() {
         trace(&stronger, 1.0 / 512.0, &ray, 1).1
     );
 }
+
+/// A shadow ray is weighed by how much its light can change the colour, either way: a
+/// material that subtracts light (a negative coefficient, which scenes may give) counts by
+/// its magnitude.
+#[test]
+fn a_lights_weight_is_the_most_it_can_change_the_colour() {
+    use rayforge::shading::most_light;
+    let light = Light::point(point(0.0, 5.0, 0.0), color(0.5, 1.0, 0.25));
+    let surface = color(0.8, 0.4, 1.0);
+    let plain = Material {
+        diffuse: 0.5,
+        specular: 0.25,
+        ..Material::default()
+    };
+    // diffuse: the largest of 0.4, 0.4, 0.25, times 0.5; specular: 1.0 × 0.25.
+    assert!((most_light(&plain, surface, &light) - 0.45).abs() < 1e-12);
+    let darkening = Material {
+        diffuse: -0.5,
+        specular: -0.25,
+        ..plain.clone()
+    };
+    assert!((most_light(&darkening, surface, &light) - 0.45).abs() < 1e-12);
+    assert_eq!(
+        most_light(&plain, surface, &Light::Ambient(Color::WHITE)),
+        0.0
+    );
+}

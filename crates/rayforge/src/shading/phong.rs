@@ -61,15 +61,17 @@ pub fn can_light(light: &Light, point: Point3, normalv: Vec3) -> bool {
 
 /// The most `light` can add beyond its ambient term anywhere on a surface of `material` whose
 /// colour is `surface` (the largest channel of its diffuse and specular terms, each at its
-/// peak): what adaptive depth control weighs a shadow ray by. A shadow ray whose answer can
+/// peak, in magnitude): what adaptive depth control weighs a shadow ray by. A shadow ray whose answer can
 /// move the pixel by less than the bailout is not cast (see `Tracer::set_bailout`).
 pub fn most_light(material: &Material, surface: Color, light: &Light) -> f64 {
     if matches!(light, Light::Ambient(_)) {
         return 0.0;
     }
+    // Magnitudes: a scene may give negative colours or coefficients, whose light subtracts.
+    let largest = |c: Color| c.red.abs().max(c.green.abs()).max(c.blue.abs());
     let intensity = light.intensity();
-    (surface * intensity).max_channel() * material.diffuse.max(0.0)
-        + intensity.max_channel() * material.specular.max(0.0)
+    largest(surface * intensity) * material.diffuse.abs()
+        + largest(intensity) * material.specular.abs()
 }
 
 /// [`lighting`] with the surface colour already found (see [`Material::color_at`]) and the
