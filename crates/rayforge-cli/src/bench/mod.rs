@@ -194,9 +194,7 @@ pub fn run(settings: &BenchSettings) -> Result<(), Failure> {
         scenes::run(&bench, &mut report)?;
     }
     let path = bench.out("bench.md");
-    report
-        .finish(&path)
-        .map_err(|e| bench.write_error(&path, e))?;
+    report.finish(&path)?;
     Ok(())
 }
 

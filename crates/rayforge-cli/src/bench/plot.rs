@@ -2,8 +2,8 @@
 //! tracer, drawn pixel by pixel into a PNG with the bitmap font of `font.rs`.
 
 use super::font::{descends, glyph, ADVANCE, DESCENT, HEIGHT};
+use crate::failure::Failure;
 use image::{Rgb, RgbImage};
-use std::path::Path;
 
 /// One line of the plot.
 #[derive(Debug, Clone)]
@@ -30,11 +30,13 @@ const WHITE: Rgb<u8> = Rgb([255, 255, 255]);
 const INK: Rgb<u8> = Rgb([30, 30, 30]);
 const GRID: Rgb<u8> = Rgb([225, 225, 225]);
 
-/// Draws the plot and writes it as a PNG.
-pub fn write(path: &Path, title: &str, subtitle: &str, series: &[Series]) -> Result<(), String> {
+/// Draws the plot as a PNG file's bytes.
+pub fn png(title: &str, subtitle: &str, series: &[Series]) -> Result<Vec<u8>, Failure> {
+    let mut bytes = std::io::Cursor::new(Vec::new());
     draw(title, subtitle, series)
-        .save(path)
-        .map_err(|e| format!("cannot write `{}`: {e}", path.display()))
+        .write_to(&mut bytes, image::ImageFormat::Png)
+        .map_err(|e| Failure::internal(format!("PNG encoding failed: {e}")))?;
+    Ok(bytes.into_inner())
 }
 
 /// The plot as an image.

@@ -2,6 +2,8 @@
 //! `docs/performance.md`), the targets each comparison is held to, and `bench.md`, the whole
 //! report as a file.
 
+use crate::atomic_write::write_atomically;
+use crate::failure::Failure;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -115,7 +117,7 @@ impl Report {
 
     /// Prints the summary of every target, writes the report to `path` and returns how many
     /// targets were met, missed and not measured.
-    pub fn finish(mut self, path: &Path) -> std::io::Result<(usize, usize, usize)> {
+    pub fn finish(mut self, path: &Path) -> Result<(usize, usize, usize), Failure> {
         let mut summary = Table::new(
             "Summary: the targets of the performance issue",
             &["comparison", "measured", "target", "met"],
@@ -147,7 +149,7 @@ impl Report {
             "{met} met, {missed} missed, {unknown} not measured (a peer or a model missing)."
         ));
         self.table(&summary);
-        std::fs::write(path, &self.text)?;
+        write_atomically(path, self.text.as_bytes())?;
         println!("\nreport written to {}", path.display());
         Ok((met, missed, unknown))
     }

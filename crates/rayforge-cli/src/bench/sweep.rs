@@ -1,6 +1,6 @@
 //! The build and scaling comparisons, one sweep over bumpy spheres of growing size: each is
-//! built R times (the fastest BVH build counts, on both sides; its bytes are counted), then traced with the same 1920×1080
-//! rays by rayforge and, when installed, Embree. The targets: at least 5 M triangles
+//! built R times (the fastest BVH build counts, on both sides; its bytes are counted), then
+//! traced with the same 1920×1080 rays by rayforge and, when installed, Embree. The targets: at least 5 M triangles
 //! per second built on 2 cores and at most 100 bytes per triangle beyond the vertex data for
 //! large meshes; time per primary ray no more than doubling from 1 k to 10 M triangles.
 
@@ -9,6 +9,7 @@ use super::report::{seconds, si, times, Check, Report, Table};
 use super::shapes::bumpy_sphere;
 use super::trace::{self, Traced};
 use super::{embree, files, rays, Bench};
+use crate::atomic_write::write_atomically;
 use crate::failure::Failure;
 use std::time::Instant;
 
@@ -276,19 +277,18 @@ fn scaling_table(
             points: theirs,
         });
     }
-    plot::write(
-        &plot_path,
+    let png = plot::png(
         "time per primary ray against triangle count",
         &format!(
             "bumpy spheres, {width}×{height} rays, {threads} threads, best of {}",
             bench.settings.repeat
         ),
         &series,
-    )
-    .map_err(Failure::usage)?;
+    )?;
+    write_atomically(&plot_path, &png)?;
     table.note(format!("Plot: `{}`.", plot_path.display()));
     if let Some(copy) = &bench.settings.plot {
-        std::fs::copy(&plot_path, copy).map_err(|e| bench.write_error(copy, e))?;
+        write_atomically(copy, &png)?;
         table.note(format!("Copied to `{}`.", copy.display()));
     }
     report.table(&table);

@@ -75,24 +75,32 @@ pub(super) fn moller_trumbore(
     e1: Vec3,
     e2: Vec3,
 ) -> Option<(f64, f64, f64)> {
+    plane_crossing(ray, p1, e1, e2).filter(|&(_, u, v)| inside(u, v))
+}
+
+/// Whether barycentric `u`, `v` lie on the triangle (edges included).
+#[inline]
+pub(super) fn inside(u: f64, v: f64) -> bool {
+    (0.0..=1.0).contains(&u) && v >= 0.0 && u + v <= 1.0
+}
+
+/// Where the ray crosses the plane of the triangle `p1`, `p1 + e1`, `p1 + e2`: its `t` and
+/// the barycentric `u`, `v` of the crossing, inside the triangle or not; `None` for a ray
+/// parallel to the plane.
+#[inline]
+pub(super) fn plane_crossing(ray: &Ray, p1: Point3, e1: Vec3, e2: Vec3) -> Option<(f64, f64, f64)> {
     let dir_cross_e2 = ray.direction.cross(e2);
     let det = e1.dot(dir_cross_e2);
     if det == 0.0 || !det.is_finite() {
         // The ray is parallel to the triangle's plane. (The book tests |det| < EPSILON, but
         // det scales with the triangle's area: that would reject every hit on the tiny
-        // triangles of a detailed mesh. Near-parallel rays fail the u/v tests below.)
+        // triangles of a detailed mesh. Near-parallel rays fail the u/v tests.)
         return None;
     }
     let f = 1.0 / det;
     let p1_to_origin = ray.origin - p1;
     let u = f * p1_to_origin.dot(dir_cross_e2);
-    if !(0.0..=1.0).contains(&u) {
-        return None;
-    }
     let origin_cross_e1 = p1_to_origin.cross(e1);
     let v = f * ray.direction.dot(origin_cross_e1);
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
     Some((f * e2.dot(origin_cross_e1), u, v))
 }

@@ -103,8 +103,9 @@ impl WorldIndex {
 
     /// [`WorldIndex::occluded`], trying first the object in `last` (the blocker of an earlier
     /// shadow ray towards the same light, or [`NO_OBJECT`]) and leaving there the blocker it
-    /// finds (or [`NO_OBJECT`] once the remembered one fails). Neighbouring points are usually shadowed by the same object, and one object's
-    /// test costs far less than a walk of the hierarchy; the answer is the same either way.
+    /// finds (or [`NO_OBJECT`] once the remembered one fails). Neighbouring points are usually
+    /// shadowed by the same object, and one object's test costs far less than a walk of the
+    /// hierarchy; the answer is the same either way.
     pub fn occluded_remembering(
         &self,
         world: &World,

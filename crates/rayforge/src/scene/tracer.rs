@@ -266,11 +266,17 @@ impl<'w> Tracer<'w> {
 
     /// [`Tracer::is_shadowed`] at an instant of the shutter interval.
     pub fn is_shadowed_at(&mut self, light_position: Point3, point: Point3, time: f64) -> bool {
+        let (ray, distance) = self.shadow_ray(light_position, point, time);
+        self.index.occluded(self.world, &ray, distance)
+    }
+
+    /// The shadow ray from `point` towards `light_position` (counted as cast) and the distance
+    /// to the light.
+    fn shadow_ray(&mut self, light_position: Point3, point: Point3, time: f64) -> (Ray, f64) {
         self.rays += 1;
         let to_light = light_position - point;
         let distance = to_light.length();
-        let ray = Ray::new(point, to_light / distance).at_time(time);
-        self.index.occluded(self.world, &ray, distance)
+        (Ray::new(point, to_light / distance).at_time(time), distance)
     }
 
     /// [`Tracer::is_shadowed_at`] for a sample of `light`, trying the object that last
@@ -282,10 +288,7 @@ impl<'w> Tracer<'w> {
         point: Point3,
         time: f64,
     ) -> bool {
-        self.rays += 1;
-        let to_light = light_position - point;
-        let distance = to_light.length();
-        let ray = Ray::new(point, to_light / distance).at_time(time);
+        let (ray, distance) = self.shadow_ray(light_position, point, time);
         // The light's address names it for as long as the world lives.
         let key = light as *const Light as usize;
         let slot = (key / std::mem::size_of::<Light>().max(1)) % SHADOW_HINTS;

@@ -15,7 +15,7 @@
 
 mod packet;
 
-use super::triangle::moller_trumbore;
+use super::triangle::{inside, plane_crossing};
 use super::LocalHit;
 use crate::accel::{Bvh, Frame, PrimRef, RayQuery, MAX_BLOCKS, NO_PRIMITIVE};
 use crate::math::{Aabb, Point3, Ray, Vec3};
@@ -367,19 +367,13 @@ impl Mesh {
     fn measure(&self, face: u32, ray: &Ray) -> Option<LocalHit> {
         let [p1, p2, p3] = self.corners[face as usize].map(|i| self.positions[i as usize]);
         let (e1, e2) = (p2 - p1, p3 - p1);
-        let (t, u, v) = moller_trumbore(ray, p1, e1, e2).or_else(|| {
-            let pvec = ray.direction.cross(e2);
-            let det = e1.dot(pvec);
-            if det == 0.0 || !det.is_finite() {
-                return None;
-            }
-            let f = 1.0 / det;
-            let s = ray.origin - p1;
-            let q = s.cross(e1);
-            let u = (f * s.dot(pvec)).clamp(0.0, 1.0);
-            let v = (f * ray.direction.dot(q)).clamp(0.0, 1.0 - u);
-            Some((f * e2.dot(q), u, v))
-        })?;
+        let (t, u, v) = plane_crossing(ray, p1, e1, e2)?;
+        let (u, v) = if inside(u, v) {
+            (u, v)
+        } else {
+            let u = u.clamp(0.0, 1.0);
+            (u, v.clamp(0.0, 1.0 - u))
+        };
         Some(LocalHit {
             t,
             u,
