@@ -15,9 +15,9 @@
 use super::instance::Instance;
 use super::shade::ShadeContext;
 use crate::math::{Point3, Vec3};
-use crate::scene::unshadowed_intensity;
+use crate::scene::{matte_light, unshadowed_intensity};
 use crate::shading::{lighting_with, SplitMix64};
-use crate::{Color, Light, LightingModel, Material};
+use crate::{Color, LightingModel, Material};
 
 impl ShadeContext<'_, '_> {
     /// The normal lighting uses at a point: `normal` turned towards the eye (as the ray
@@ -63,7 +63,7 @@ impl ShadeContext<'_, '_> {
                 colour * unshadowed_intensity(&self.lights, point, normal, eyev, material.shininess)
             }
             LightingModel::Optics => {
-                colour * optics_matte(&self.lights, point, normal) * material.opacity
+                colour * matte_light(&self.lights, point, normal, |_| true) * material.opacity
             }
             LightingModel::Phong => {
                 let mut jitter = SplitMix64::new(0);
@@ -85,27 +85,4 @@ impl ShadeContext<'_, '_> {
             }
         }
     }
-}
-
-/// The light reaching a point under the optics model (Fundamentals of Ray Tracing's
-/// `CalculateMatte`, every light in view): each point light's colour times the cosine of
-/// incidence over the squared distance.
-fn optics_matte(lights: &[Light], point: Point3, normal: Vec3) -> Color {
-    let mut sum = Color::BLACK;
-    for light in lights {
-        let (position, color) = match light {
-            Light::Point(l) => (l.position, l.intensity),
-            Light::Spot(l) => (l.position, l.intensity),
-            Light::Area(l) => (l.position(), l.intensity),
-            // No ambient term in this model; a directional light is a point infinitely far
-            // away, whose 1/d² leaves nothing.
-            Light::Ambient(_) | Light::Directional(_) => continue,
-        };
-        let to_light = position - point;
-        let incidence = normal.dot(to_light.normalize());
-        if incidence > 0.0 {
-            sum += color * (incidence / to_light.length_squared());
-        }
-    }
-    sum
 }

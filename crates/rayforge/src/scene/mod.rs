@@ -19,5 +19,6 @@ pub use group::{Group, Node};
 pub use index::WorldIndex;
 pub use intersection::{hit, sort_intersections, Intersection};
 pub use object::Object;
+pub use optics::matte_light;
 pub use tracer::{Tracer, DEFAULT_MAX_DEPTH};
 pub use world::{default_world, LightingModel, World};

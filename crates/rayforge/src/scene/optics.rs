@@ -158,27 +158,10 @@ impl<'w> Tracer<'w> {
     /// The book's `CalculateMatte`: every point light in view, by the cosine of incidence over
     /// the squared distance.
     fn optics_matte(&mut self, hit: &Hit<'w>, time: f64) -> Color {
-        let mut sum = Color::BLACK;
         let world = self.world;
-        for light in &world.lights {
-            let (position, color) = match light {
-                Light::Point(l) => (l.position, l.intensity),
-                Light::Spot(l) => (l.position, l.intensity),
-                Light::Area(l) => (l.position(), l.intensity),
-                // No ambient term in this model; a directional light is a point infinitely
-                // far away, whose 1/d² leaves nothing.
-                Light::Ambient(_) | Light::Directional(_) => continue,
-            };
-            if !self.optics_clear(hit.point, position, time) {
-                continue;
-            }
-            let to_light = position - hit.point;
-            let incidence = hit.normal.dot(to_light.normalize());
-            if incidence > 0.0 {
-                sum += color * (incidence / to_light.length_squared());
-            }
-        }
-        sum
+        matte_light(&world.lights, hit.point, hit.normal, |position| {
+            self.optics_clear(hit.point, position, time)
+        })
     }
 
     /// Whether nothing lies between two points (transparent solids block too).
@@ -336,4 +319,35 @@ fn polarized_reflection(n1: f64, n2: f64, cos_a1: f64, cos_a2: f64) -> f64 {
         return 1.0;
     }
     (numer * numer / denom).min(1.0)
+}
+
+/// Fundamentals of Ray Tracing's matte sum at `point`: each point light for which `in_view`
+/// holds (given its position), by its colour times the cosine of incidence over the squared
+/// distance. Spotlights and area lights count as points; ambient and directional lights add
+/// nothing in this model (a directional light is a point infinitely far away, whose 1/d²
+/// leaves nothing). The rasterizer, which casts no shadow rays, takes every light as in view.
+pub fn matte_light(
+    lights: &[Light],
+    point: Point3,
+    normal: Vec3,
+    mut in_view: impl FnMut(Point3) -> bool,
+) -> Color {
+    let mut sum = Color::BLACK;
+    for light in lights {
+        let (position, color) = match light {
+            Light::Point(l) => (l.position, l.intensity),
+            Light::Spot(l) => (l.position, l.intensity),
+            Light::Area(l) => (l.position(), l.intensity),
+            Light::Ambient(_) | Light::Directional(_) => continue,
+        };
+        if !in_view(position) {
+            continue;
+        }
+        let to_light = position - point;
+        let incidence = normal.dot(to_light.normalize());
+        if incidence > 0.0 {
+            sum += color * (incidence / to_light.length_squared());
+        }
+    }
+    sum
 }
