@@ -1,6 +1,6 @@
 //! The BVH: queries agree with a linear scan, and degenerate input builds and answers.
 use proptest::prelude::*;
-use rayforge::accel::Bvh;
+use rayforge::accel::{Bvh, NO_PRIMITIVE};
 use rayforge::math::{scaling, translation, Aabb};
 use rayforge::scene::WorldIndex;
 use rayforge::{hit, point, vector, Object, Ray, Shape, World};
@@ -103,6 +103,33 @@ fn shadow_queries_stop_at_the_first_blocker() {
     let w = world_of(&[(0, (0.0, 0.0, 0.0), 1.0), (0, (0.0, 0.0, 5.0), 1.0)]);
     assert!(w.is_shadowed(point(0.0, 0.0, -10.0), point(0.0, 0.0, 10.0)));
     assert!(!w.is_shadowed(point(0.0, 5.0, -10.0), point(0.0, 5.0, 10.0)));
+}
+
+/// Large enough that the build splits the top nodes' halves on separate threads: every box is
+/// still in the order exactly once, and a ray through each column of boxes finds it.
+#[test]
+fn a_large_parallel_build_holds_every_box_once() {
+    let side = 150;
+    let boxes: Vec<Aabb> = (0..side * side)
+        .map(|i| {
+            let (x, y) = ((i % side) as f64, (i / side) as f64);
+            Aabb::new(point(x, y, 0.0), point(x + 0.5, y + 0.5, 0.5))
+        })
+        .collect();
+    let bvh = Bvh::build(&boxes);
+    let mut order: Vec<u32> = bvh
+        .order()
+        .iter()
+        .copied()
+        .filter(|&p| p != NO_PRIMITIVE)
+        .collect();
+    order.sort_unstable();
+    assert!(order.iter().copied().eq(0..(side * side) as u32));
+    for i in (0..side * side).step_by(97) {
+        let (x, y) = ((i % side) as f64 + 0.25, (i / side) as f64 + 0.25);
+        let ray = Ray::new(point(x, y, -3.0), vector(0.0, 0.0, 1.0));
+        assert_eq!(visit_all(&bvh, &ray), [i as u32]);
+    }
 }
 
 #[test]

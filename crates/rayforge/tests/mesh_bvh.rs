@@ -1,4 +1,4 @@
-//! The mesh's four-wide BVH and single-precision packets: every query agrees with testing every
+//! The mesh's eight-wide BVH and single-precision packets: every query agrees with testing every
 //! face in `f64`, no ray slips between faces that share an edge, rays leaving a face do not
 //! hit it again, far-away rays keep their precision, and a mesh stays within its memory budget.
 use proptest::prelude::*;

@@ -1,18 +1,19 @@
-//! Building the four-wide hierarchy with the binned surface area heuristic.
+//! Building the eight-wide hierarchy with the binned surface area heuristic.
 //!
 //! Each primitive becomes a [`PrimRef`]: its box in the hierarchy's `f32` frame (widened so
 //! rounding can never make a ray miss it) with its index tucked into the spare fourth lane, 32
 //! bytes that the build reads front to back and partitions in place. A node takes a range
 //! of them and splits it in two with the SAH, then splits the child with the largest surface
-//! until it has four children (or the rest are cheaper as leaves); each child that is not a
-//! leaf becomes a node the same way. Large subtrees are built on separate threads.
+//! until it has eight children (or the rest are cheaper as leaves); each child that is not a
+//! leaf becomes a node the same way. Large subtrees are built on separate threads, and so
+//! are the two halves of a large node's first split.
 //!
 //! The SAH chooses, among [`BINS`] candidate planes per axis, the split that minimises the
 //! expected cost of a ray query, the area of each side times the work inside it. Leaves are
 //! costed in whole blocks (a mesh tests four triangles at once, so three triangles cost as
 //! much as four), which steers the build towards full blocks.
 
-use super::bvh::{leaf_blocks, leaf_reference, Bvh, Node, EMPTY, LEAF, MAX_DEPTH};
+use super::bvh::{leaf_blocks, leaf_reference, Bvh, Node, EMPTY, LEAF, MAX_DEPTH, WIDTH};
 use super::bvh::{MAX_BLOCKS, MAX_LEAF_BLOCKS, NO_PRIMITIVE};
 use crate::math::{Aabb, Point3};
 use rayon::prelude::*;
@@ -22,10 +23,10 @@ use wide::f32x4;
 const BINS: usize = 16;
 /// Cost of entering a node relative to testing one block of primitives, for blocks of
 /// several primitives tested at once (a mesh's packet of four triangles costs about as much
-/// as a node of four boxes)…
+/// as four of a node's boxes)…
 const PACKED_TRAVERSAL_COST: f32 = 1.5;
 /// …and for primitives tested one by one (a world's objects: each test moves the ray into
-/// the object's space and solves its shape, several times a node's four box tests).
+/// the object's space and solves its shape, several times a node's box tests).
 const SINGLE_TRAVERSAL_COST: f32 = 0.25;
 /// Ranges of at least twice this many primitives choose their split from a sample this
 /// large.
@@ -33,9 +34,9 @@ const SAMPLED: usize = 1024;
 /// Subtrees at least this large are built on their own thread.
 const PARALLEL_MIN: usize = 8 * 1024;
 /// Below this node depth the SAH chooses splits; deeper (only pathological input gets there)
-/// ranges are halved, so no path can exceed [`MAX_DEPTH`] nodes: halving four ways reaches
-/// a leaf within 16 more levels from 2^32 primitives. (Real scenes stay far shallower: a
-/// million triangles make about a dozen levels.)
+/// ranges are halved, so no path can exceed [`MAX_DEPTH`] nodes: halving at least four ways
+/// per node reaches a leaf within 16 more levels from 2^32 primitives. (Real scenes stay far
+/// shallower: a million triangles make fewer than a dozen levels.)
 const BALANCED_DEPTH: usize = MAX_DEPTH - 16;
 /// Boxes are widened by this fraction of their largest coordinate (their distance from the
 /// base point), far more than the rounding of the box, of a ray's origin near it and of the
@@ -87,6 +88,31 @@ impl Frame {
             base: bounds.centroid(),
             absolute_pad: (bounds.extent().max_element() * ABSOLUTE_PAD) as f32,
         }
+    }
+
+    /// The build's records of primitives `0..count`, `bounds(i)` giving the box of primitive
+    /// `i`, made in parallel; those that do not fit in `f32` are left out. (Each record is
+    /// written in its place and the few left out are squeezed out afterwards: a filtering
+    /// parallel collect would gather pieces and copy every record a second time.)
+    pub(crate) fn prim_refs(
+        &self,
+        count: usize,
+        bounds: impl Fn(usize) -> (Point3, Point3) + Sync,
+    ) -> Vec<PrimRef> {
+        let left_out = PrimRef {
+            min: f32x4::splat(f32::from_bits(NO_PRIMITIVE)),
+            max: f32x4::ZERO,
+        };
+        let mut refs: Vec<PrimRef> = (0..count)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|i| {
+                let (min, max) = bounds(i);
+                self.prim_ref(i as u32, min, max).unwrap_or(left_out)
+            })
+            .collect();
+        refs.retain(|r| r.id() != NO_PRIMITIVE);
+        refs
     }
 
     /// The build's record of primitive `id` with box `min`..`max` (world or object units);
@@ -466,6 +492,15 @@ struct Pending {
     leaf: bool,
 }
 
+impl Pending {
+    const EMPTY: Self = Self {
+        start: 0,
+        end: 0,
+        info: Info::EMPTY,
+        leaf: true,
+    };
+}
+
 struct Builder {
     block: usize,
     /// `log2(block)`: blocks are counted with a shift.
@@ -482,6 +517,77 @@ impl Builder {
         ((n + self.block as u32 - 1) >> self.block_shift) as f32
     }
 
+    /// Splits `refs` into the children of one node, written to `out` (as many as it holds,
+    /// at most [`WIDTH`]) with ranges counted from `offset`: how many there are. The child
+    /// with the largest surface is split until `out` is full or every child is better as a
+    /// leaf; a range large enough to be built in parallel is first split in two, and each
+    /// half fills half of `out` on its own thread (otherwise the top of the tree, three
+    /// passes over every primitive, would run on one thread).
+    fn children(
+        &self,
+        refs: &mut [PrimRef],
+        info: Info,
+        offset: usize,
+        depth: usize,
+        out: &mut [Pending],
+    ) -> usize {
+        let n = refs.len();
+        let whole = Pending {
+            start: offset,
+            end: offset + n,
+            info,
+            leaf: false,
+        };
+        if out.len() >= 2 && n >= PARALLEL_MIN {
+            let Some((mid, left, right)) = self.split(refs, &info, depth) else {
+                out[0] = Pending {
+                    leaf: true,
+                    ..whole
+                };
+                return 1;
+            };
+            let (left_refs, right_refs) = refs.split_at_mut(mid);
+            let half = out.len() / 2;
+            let (left_out, right_out) = out.split_at_mut(half);
+            let (l, r) = rayon::join(
+                || self.children(left_refs, left, offset, depth, left_out),
+                || self.children(right_refs, right, offset + mid, depth, right_out),
+            );
+            out.copy_within(half..half + r, l);
+            return l + r;
+        }
+        out[0] = whole;
+        let mut count = 1;
+        while count < out.len() {
+            let Some(pick) = (0..count).filter(|&i| !out[i].leaf).max_by(|&a, &b| {
+                let area = |i: usize| out[i].info.bounds.half_area();
+                area(a).total_cmp(&area(b))
+            }) else {
+                break;
+            };
+            let child = out[pick];
+            let range = child.start - offset..child.end - offset;
+            match self.split(&mut refs[range], &child.info, depth) {
+                None => out[pick].leaf = true,
+                Some((mid, left, right)) => {
+                    out.copy_within(pick + 1..count, pick + 2);
+                    out[pick] = Pending {
+                        end: child.start + mid,
+                        info: left,
+                        ..child
+                    };
+                    out[pick + 1] = Pending {
+                        start: child.start + mid,
+                        info: right,
+                        ..child
+                    };
+                    count += 1;
+                }
+            }
+        }
+        count
+    }
+
     /// Builds the subtree over `refs` (which start at `first` in the whole array), appending
     /// its nodes to `out` (the subtree's root first) and returning the reference to its root:
     /// a node index in `out`, or a leaf (naming its range of `refs`) when the whole range is
@@ -495,40 +601,8 @@ impl Builder {
         out: &mut Vec<Node>,
     ) -> u32 {
         let n = refs.len();
-        let mut children = [Pending {
-            start: 0,
-            end: n,
-            info,
-            leaf: false,
-        }; 4];
-        let mut count = 1;
-        // Split the largest child that is not a leaf until there are four.
-        while count < 4 {
-            let Some(pick) = (0..count).filter(|&i| !children[i].leaf).max_by(|&a, &b| {
-                let area = |i: usize| children[i].info.bounds.half_area();
-                area(a).total_cmp(&area(b))
-            }) else {
-                break;
-            };
-            let child = children[pick];
-            match self.split(&mut refs[child.start..child.end], &child.info, depth) {
-                None => children[pick].leaf = true,
-                Some((mid, left, right)) => {
-                    children.copy_within(pick + 1..count, pick + 2);
-                    children[pick] = Pending {
-                        end: child.start + mid,
-                        info: left,
-                        ..child
-                    };
-                    children[pick + 1] = Pending {
-                        start: child.start + mid,
-                        info: right,
-                        ..child
-                    };
-                    count += 1;
-                }
-            }
-        }
+        let mut children = [Pending::EMPTY; WIDTH];
+        let count = self.children(refs, info, 0, depth, &mut children);
         let children = &children[..count];
         if count == 1 {
             return leaf_reference(first, n);
@@ -544,7 +618,7 @@ impl Builder {
         }
         if n >= PARALLEL_MIN {
             // Each child's subtree on its own thread, into its own list, then moved here.
-            let mut parts: Vec<(usize, &mut [PrimRef], Pending)> = Vec::with_capacity(4);
+            let mut parts: Vec<(usize, &mut [PrimRef], Pending)> = Vec::with_capacity(WIDTH);
             let mut rest = refs;
             let mut at = 0;
             for (slot, child) in children.iter().enumerate() {
@@ -558,7 +632,8 @@ impl Builder {
             let built: Vec<(usize, u32, Vec<Node>)> = parts
                 .into_par_iter()
                 .map(|(slot, part, child)| {
-                    let mut nodes = Vec::new();
+                    // About one node per eight blocks: a guess that saves most regrowth.
+                    let mut nodes = Vec::with_capacity(part.len() / (8 * self.block));
                     let root =
                         self.subtree(part, child.info, first + child.start, depth + 1, &mut nodes);
                     (slot, root, nodes)

@@ -1,10 +1,13 @@
-//! A four-wide bounding volume hierarchy with single-precision boxes, walked front to back.
+//! An eight-wide bounding volume hierarchy with single-precision boxes, walked front to back.
 //!
 //! The bonus chapter "Bounding boxes and hierarchies" builds a binary tree of groups and tests
-//! one box at a time. Here every node holds four children's boxes side by side (all their
-//! minimum x, then all their maximum x, …), so one set of four-lane instructions tests a ray
-//! against all four at once; a node is 112 bytes, and the tree has about a quarter of a binary
-//! tree's nodes, so a ray makes fewer, cheaper steps and touches less memory. Boxes are `f32`
+//! one box at a time. Here every node holds eight children's boxes side by side (all their
+//! minimum x, then all their maximum x, …), so one set of eight-lane instructions tests a ray
+//! against all eight at once; a node is 224 bytes (four cache lines), and the tree is a third
+//! as deep as a binary one, so a ray makes fewer, cheaper steps. On a large mesh, whose
+//! nodes do not fit in the caches, each step down is a wait on memory: fewer levels mean
+//! fewer waits (eight children instead of four cut the growth of the time per ray from 1 k
+//! to 10 M triangles by about a tenth, see `docs/performance.md`). Boxes are `f32`
 //! relative to the centre of everything (see [`RayQuery`]), widened at build time so that
 //! rounding can never make a ray miss a box it touches.
 //!
@@ -19,7 +22,7 @@ use super::query::RayQuery;
 use crate::math::{Aabb, Point3};
 use glam::DVec3;
 use std::ops::{ControlFlow, Range};
-use wide::f32x4;
+use wide::f32x8;
 
 /// What a padding slot in the primitive order holds.
 pub const NO_PRIMITIVE: u32 = u32::MAX;
@@ -38,44 +41,48 @@ pub const MAX_BLOCKS: usize = 1 << (31 - LEAF_COUNT_BITS);
 /// The longest path from the root to a leaf the builder makes (it switches to balanced
 /// splits before a pathological input could go deeper); the walk's stack is sized by it.
 pub(crate) const MAX_DEPTH: usize = 40;
-/// A node pushes at most three children while visiting the fourth.
-const STACK_SIZE: usize = 3 * MAX_DEPTH + 1;
+/// Children per node.
+pub(crate) const WIDTH: usize = 8;
+/// One lane per child: a node's boxes are tested together.
+pub(crate) type Lanes = f32x8;
+/// A node pushes all but one of its children while visiting that one.
+const STACK_SIZE: usize = (WIDTH - 1) * MAX_DEPTH + 1;
 
-/// One node: the boxes of up to four children, lane by lane, and what each child is.
+/// One node: the boxes of up to [`WIDTH`] children, lane by lane, and what each child is.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[repr(C, align(64))]
 pub struct Node {
-    /// The four children's minimum x, y and z, then their maximum x, y and z: a ray picks
+    /// The children's minimum x, y and z, then their maximum x, y and z: a ray picks
     /// the planes it enters and leaves by index (see [`RayQuery`]), without a branch.
-    pub(crate) planes: [[f32; 4]; 6],
+    pub(crate) planes: [[f32; WIDTH]; 6],
     /// Each child: a node index, a leaf ([`LEAF`] set: first block and block count), or
     /// [`EMPTY`].
-    pub(crate) child: [u32; 4],
+    pub(crate) child: [u32; WIDTH],
 }
 
 impl Node {
     /// A node with no children.
     pub(crate) const EMPTY: Self = Self {
         planes: [
-            [f32::INFINITY; 4],
-            [f32::INFINITY; 4],
-            [f32::INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
         ],
-        child: [EMPTY; 4],
+        child: [EMPTY; WIDTH],
     };
 
     /// Which children the ray enters within `[t_min, t_max]` (bit `i` for child `i`), and
     /// where it enters each.
     #[inline(always)]
-    fn enter(&self, q: &RayQuery, t_min: f32x4, t_max: f32x4) -> (u32, f32x4) {
+    fn enter(&self, q: &RayQuery, t_min: Lanes, t_max: Lanes) -> (u32, Lanes) {
         let mut near = t_min;
         let mut far = t_max;
         for axis in 0..3 {
-            let entry = f32x4::new(self.planes[q.entry_plane[axis]]);
-            let exit = f32x4::new(self.planes[q.exit_plane[axis]]);
+            let entry = Lanes::new(self.planes[q.entry_plane[axis]]);
+            let exit = Lanes::new(self.planes[q.exit_plane[axis]]);
             let inv = q.inv_direction[axis];
             near = near.fast_max(entry.mul_sub(inv, q.origin_over_direction[axis]));
             far = far.fast_min(exit.mul_sub(inv, q.origin_over_direction[axis]));
@@ -110,7 +117,7 @@ pub struct Bvh {
     pub(crate) base: Point3,
     pub(crate) bounds: Aabb,
     /// Nodes on the longest path from the root to a leaf (0 when empty): the walk's stack
-    /// holds at most three children per node on its path, so small trees get small stacks
+    /// holds at most `WIDTH - 1` children per node on its path, so small trees get small stacks
     /// (clearing a stack sized for the deepest possible tree cost more than walking a small
     /// one).
     pub(crate) depth: usize,
@@ -193,13 +200,13 @@ impl Bvh {
     ) {
         match self.depth {
             0 => {}
-            1..=5 => self.walk_with::<16>(query, t_min, t_max, visit),
-            6..=13 => self.walk_with::<40>(query, t_min, t_max, visit),
+            1..=3 => self.walk_with::<{ (WIDTH - 1) * 3 + 1 }>(query, t_min, t_max, visit),
+            4..=9 => self.walk_with::<{ (WIDTH - 1) * 9 + 1 }>(query, t_min, t_max, visit),
             _ => self.walk_with::<STACK_SIZE>(query, t_min, t_max, visit),
         }
     }
 
-    /// [`Bvh::walk`] with a stack of `N` entries (at least `3 · depth + 1`).
+    /// [`Bvh::walk`] with a stack of `N` entries (at least `(WIDTH - 1) · depth + 1`).
     #[inline]
     fn walk_with<const N: usize>(
         &self,
@@ -208,7 +215,7 @@ impl Bvh {
         mut t_max: f32,
         mut visit: impl FnMut(Range<usize>, &mut f32) -> ControlFlow<()>,
     ) {
-        let t_min4 = f32x4::splat(t_min);
+        let t_min4 = Lanes::splat(t_min);
         let mut stack = [(0u32, 0f32); N];
         let mut top = 0usize;
         let mut current = 0u32;
@@ -221,7 +228,7 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[current as usize];
-                let (mut mask, near) = node.enter(query, t_min4, f32x4::splat(t_max));
+                let (mut mask, near) = node.enter(query, t_min4, Lanes::splat(t_max));
                 if mask != 0 {
                     let near = near.to_array();
                     // The nearest entered child is visited next; the others wait on the
@@ -232,13 +239,13 @@ impl Bvh {
                         current = node.child[first];
                         continue;
                     }
-                    let mut pending = [(0u32, 0f32); 4];
+                    let mut pending = [(0u32, 0f32); WIDTH];
                     pending[0] = (node.child[first], near[first]);
                     let mut n = 1;
                     while mask != 0 {
                         let i = mask.trailing_zeros() as usize;
                         mask &= mask - 1;
-                        // Insertion into the (at most four) entries, sorted far to near.
+                        // Insertion into the (at most WIDTH) entries, sorted far to near.
                         let entry = (node.child[i], near[i]);
                         let mut k = n;
                         while k > 0 && pending[k - 1].1 < entry.1 {

@@ -1,10 +1,10 @@
-//! Acceleration structures: a four-wide bounding volume hierarchy over anything with a
+//! Acceleration structures: an eight-wide bounding volume hierarchy over anything with a
 //! bounding box, with single-precision boxes, and the ray form its walk uses.
 
 mod build;
 mod bvh;
 mod query;
 
-pub(crate) use build::{build, Frame, PrimRef};
+pub(crate) use build::{build, Frame};
 pub use bvh::{Bvh, Node, MAX_BLOCKS, NO_PRIMITIVE};
 pub use query::RayQuery;

@@ -10,6 +10,7 @@
 //! [`RayQuery::t_below`] and [`RayQuery::t_above`] convert the caller's `f64` limits with
 //! rounding that never narrows them.
 
+use super::bvh::Lanes;
 use crate::math::Point3;
 use glam::DVec3;
 use wide::f32x4;
@@ -26,10 +27,10 @@ pub struct RayQuery {
     /// in all four lanes.
     pub(crate) origin: [f32x4; 3],
     /// `1 / direction`, clamped to ±[`MAX_SLOPE`].
-    pub(crate) inv_direction: [f32x4; 3],
+    pub(crate) inv_direction: [Lanes; 3],
     /// `origin / direction`: a slab's plane `p` is crossed at `p · inv - origin_over_direction`
     /// (one fused multiply-add where the processor has it).
-    pub(crate) origin_over_direction: [f32x4; 3],
+    pub(crate) origin_over_direction: [Lanes; 3],
     /// Per axis, which of a node's six plane rows the ray enters through (the minimum when
     /// it travels up the axis, the maximum when it travels down)…
     pub(crate) entry_plane: [usize; 3],
@@ -62,8 +63,8 @@ impl RayQuery {
         let plane = |axis: usize, far: bool| axis + 3 * usize::from(negative[axis] != far);
         Self {
             origin: o.map(f32x4::splat),
-            inv_direction: [0, 1, 2].map(|a| f32x4::splat(inv[a])),
-            origin_over_direction: [0, 1, 2].map(|a| f32x4::splat(o[a] * inv[a])),
+            inv_direction: [0, 1, 2].map(|a| Lanes::splat(inv[a])),
+            origin_over_direction: [0, 1, 2].map(|a| Lanes::splat(o[a] * inv[a])),
             entry_plane: [0, 1, 2].map(|a| plane(a, false)),
             exit_plane: [0, 1, 2].map(|a| plane(a, true)),
             direction: d,

@@ -7,8 +7,8 @@
 //! BVH's leaf order (36 bytes, plus the padding of part-filled packets) and its share of the
 //! BVH, not a transform and material per triangle.
 //!
-//! Rays are answered in two steps: the BVH walk and the packet tests run in `f32` (four boxes
-//! or four triangles per instruction), then the winning face is measured again in `f64` from
+//! Rays are answered in two steps: the BVH walk and the packet tests run in `f32` (eight boxes
+//! or four triangles at a time), then the winning face is measured again in `f64` from
 //! the original vertices, so the `t`, `u` and `v` a caller sees are as exact as the book's
 //! lone triangles. Hits within a rounding error of the caller's `t_min` (a shadow ray
 //! leaving the surface it starts on) are decided in `f64` as well.
@@ -17,7 +17,7 @@ mod packet;
 
 use super::triangle::{inside, plane_crossing};
 use super::LocalHit;
-use crate::accel::{Bvh, Frame, PrimRef, RayQuery, MAX_BLOCKS, NO_PRIMITIVE};
+use crate::accel::{Bvh, Frame, RayQuery, MAX_BLOCKS, NO_PRIMITIVE};
 use crate::math::{Aabb, Point3, Ray, Vec3};
 use packet::{TrianglePacket, TriangleRay};
 use rayon::prelude::*;
@@ -422,15 +422,7 @@ fn index(positions: &[Point3], corners: &[[u32; 3]]) -> (Bvh, Vec<TrianglePacket
         let [a, b, c] = c.map(|i| positions[i as usize]);
         (a.min(b).min(c), a.max(b).max(c))
     };
-    let refs: Vec<PrimRef> = corners
-        .par_iter()
-        .enumerate()
-        .with_min_len(4096)
-        .filter_map(|(i, c)| {
-            let (min, max) = face_box(c);
-            frame.prim_ref(i as u32, min, max)
-        })
-        .collect();
+    let refs = frame.prim_refs(corners.len(), |i| face_box(&corners[i]));
     // The exact (f64) box of the faces the BVH holds.
     let bounds = corners
         .par_iter()
