@@ -68,7 +68,8 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
     Ok(())
 }
 
-/// One mesh: rayforge's trace, then Embree's on the same files, one row and one check.
+/// One mesh: rayforge's passes and Embree's on the same files, in turns; one row and one
+/// check.
 fn compare(
     bench: &Bench,
     report: &mut Report,
@@ -84,12 +85,42 @@ fn compare(
         si(soup.triangles.len() as f64)
     ));
     let mesh = bench.build_mesh(soup)?;
-    bench.progress(&format!(
-        "{name}: tracing {} rays with rayforge",
-        si(rays.len() as f64)
-    ));
-    let ours = trace::trace(&mesh, &rays, &bench.pool, bench.settings.repeat);
+    // Both sides take turns, one pass each per round, so that the two bests come from the
+    // same stretch of the machine's time.
+    let mut ours = None;
+    let mut our_pass = || {
+        let pass = trace::trace(&mesh, &rays, &bench.pool, 1);
+        ours = Some(trace::faster(ours, pass));
+    };
+    let theirs = match bench.peers.embree.as_deref() {
+        None => {
+            bench.progress(&format!("{name}: tracing {} rays", si(rays.len() as f64)));
+            for _ in 0..bench.settings.repeat.max(1) {
+                our_pass();
+            }
+            None
+        }
+        Some(harness) => {
+            let mesh_file = bench.out(&format!("{file_stem}.rfmesh"));
+            let rays_file = bench.out(&format!("{file_stem}.rfrays"));
+            files::write_mesh(&mesh_file, soup).map_err(|e| bench.write_error(&mesh_file, e))?;
+            files::write_rays(&rays_file, &rays).map_err(|e| bench.write_error(&rays_file, e))?;
+            bench.progress(&format!(
+                "{name}: tracing {} rays with rayforge and Embree in turns",
+                si(rays.len() as f64)
+            ));
+            Some(embree::run_in_turns(
+                harness,
+                &mesh_file,
+                &rays_file,
+                bench.settings.threads,
+                bench.settings.repeat,
+                &mut our_pass,
+            ))
+        }
+    };
     drop(mesh);
+    let ours = ours.expect("at least one pass");
 
     let rate = |s: f64| format!("{}/s", si(rays.len() as f64 / s));
     let mut cells = vec![
@@ -102,7 +133,7 @@ fn compare(
         si(soup.triangles.len() as f64)
     );
     let target = format!("≥ {:.0} %", TARGET_SHARE * 100.0);
-    match bench.peers.embree.as_deref() {
+    match theirs {
         None => {
             cells.extend([
                 "skipped".into(),
@@ -118,64 +149,48 @@ fn compare(
                 met: None,
             });
         }
-        Some(harness) => {
-            let mesh_file = bench.out(&format!("{file_stem}.rfmesh"));
-            let rays_file = bench.out(&format!("{file_stem}.rfrays"));
-            files::write_mesh(&mesh_file, soup).map_err(|e| bench.write_error(&mesh_file, e))?;
-            files::write_rays(&rays_file, &rays).map_err(|e| bench.write_error(&rays_file, e))?;
-            bench.progress(&format!("{name}: tracing the same rays with Embree"));
-            match embree::run(
-                harness,
-                &mesh_file,
-                &rays_file,
-                bench.settings.threads,
-                bench.settings.repeat,
-            ) {
-                Ok(theirs) => {
-                    let share = theirs.trace_seconds / ours.seconds;
-                    let agree =
-                        trace::agree(ours.hits, ours.t_sum, theirs.hits, theirs.t_sum, rays.len());
-                    cells.extend([
-                        seconds(theirs.trace_seconds),
-                        format!("{:.0} %", share * 100.0),
-                        rate(ours.seconds),
-                        rate(theirs.trace_seconds),
-                        format!(
-                            "{} / {}{}",
-                            ours.hits,
-                            theirs.hits,
-                            if agree { "" } else { " (DISAGREE)" }
-                        ),
-                    ]);
-                    if !agree {
-                        table.note(format!(
-                            "{name}: the two sides disagree on what the rays hit (t sums {:.3} \
-                             and {:.3}): the times are not comparable.",
-                            ours.t_sum, theirs.t_sum
-                        ));
-                    }
-                    report.check(Check {
-                        what,
-                        measured: format!(
-                            "{:.0} % of Embree (Embree {})",
-                            share * 100.0,
-                            theirs.version
-                        ),
-                        target,
-                        met: agree.then_some(share >= TARGET_SHARE),
-                    });
-                }
-                Err(message) => {
-                    cells.extend(["failed".into(), "—".into(), rate(ours.seconds)]);
-                    table.note(format!("{name}: {message}"));
-                    report.check(Check {
-                        what,
-                        measured: "Embree failed".into(),
-                        target,
-                        met: None,
-                    });
-                }
+        Some(Ok(theirs)) => {
+            let share = theirs.trace_seconds / ours.seconds;
+            let agree = trace::agree(ours.hits, ours.t_sum, theirs.hits, theirs.t_sum, rays.len());
+            cells.extend([
+                seconds(theirs.trace_seconds),
+                format!("{:.0} %", share * 100.0),
+                rate(ours.seconds),
+                rate(theirs.trace_seconds),
+                format!(
+                    "{} / {}{}",
+                    ours.hits,
+                    theirs.hits,
+                    if agree { "" } else { " (DISAGREE)" }
+                ),
+            ]);
+            if !agree {
+                table.note(format!(
+                    "{name}: the two sides disagree on what the rays hit (t sums {:.3} \
+                     and {:.3}): the times are not comparable.",
+                    ours.t_sum, theirs.t_sum
+                ));
             }
+            report.check(Check {
+                what,
+                measured: format!(
+                    "{:.0} % of Embree (Embree {})",
+                    share * 100.0,
+                    theirs.version
+                ),
+                target,
+                met: agree.then_some(share >= TARGET_SHARE),
+            });
+        }
+        Some(Err(message)) => {
+            cells.extend(["failed".into(), "—".into(), rate(ours.seconds)]);
+            table.note(format!("{name}: {message}"));
+            report.check(Check {
+                what,
+                measured: "Embree failed".into(),
+                target,
+                met: None,
+            });
         }
     }
     table.row(cells);

@@ -33,6 +33,8 @@ struct Measured {
     build_seconds: f64,
     index_bytes: usize,
     traced: Option<Traced>,
+    /// The smallest mesh's fastest pass, traced in turns with this one's.
+    reference: Option<Traced>,
     embree: Option<Result<embree::EmbreeRun, String>>,
 }
 
@@ -52,6 +54,8 @@ pub fn run(bench: &Bench, report: &mut Report, build: bool, scaling: bool) -> Re
         files::write_rays(&rays_file, &rays).map_err(|e| bench.write_error(&rays_file, e))?;
     }
     let mut measured = Vec::new();
+    // The smallest mesh stays built, to be traced in turns with each larger one.
+    let mut smallest: Option<rayforge::geometry::Mesh> = None;
     for &size in &sizes {
         bench.progress(&format!(
             "sweep: bumpy sphere of {} triangles",
@@ -75,9 +79,24 @@ pub fn run(bench: &Bench, report: &mut Report, build: bool, scaling: bool) -> Re
         }
         let mesh = built.expect("built at least once");
         let index_bytes = mesh.index_bytes();
-        let traced =
-            scaling.then(|| trace::trace(&mesh, &rays, &bench.pool, bench.settings.repeat));
-        drop(mesh);
+        let repeat = bench.settings.repeat;
+        let (traced, reference) = match (scaling, &smallest) {
+            (false, _) => (None, None),
+            (true, None) => {
+                let traced = trace::trace(&mesh, &rays, &bench.pool, repeat);
+                (Some(traced), Some(traced))
+            }
+            (true, Some(reference)) => {
+                let (traced, reference) =
+                    trace::trace_alongside(&mesh, reference, &rays, &bench.pool, repeat);
+                (Some(traced), Some(reference))
+            }
+        };
+        if scaling && smallest.is_none() {
+            smallest = Some(mesh);
+        } else {
+            drop(mesh);
+        }
         let embree = match bench.peers.embree.as_deref() {
             Some(harness) => {
                 let mesh_file = bench.out("sweep.rfmesh");
@@ -100,6 +119,7 @@ pub fn run(bench: &Bench, report: &mut Report, build: bool, scaling: bool) -> Re
             build_seconds,
             index_bytes,
             traced,
+            reference,
             embree,
         });
     }
@@ -208,21 +228,22 @@ fn scaling_table(
         ],
     );
     let per_ray = |s: f64| s / ray_count as f64 * 1e9;
-    let first = measured
-        .first()
-        .and_then(|m| m.traced)
-        .map(|t| per_ray(t.seconds));
     let mut ours = Vec::new();
+    let mut growth = None;
     let mut theirs = Vec::new();
     for m in measured {
-        let Some(t) = m.traced else { continue };
+        let (Some(t), Some(reference)) = (m.traced, m.reference) else {
+            continue;
+        };
         let ns = per_ray(t.seconds);
         ours.push((m.triangles as f64, ns));
+        let relative = t.seconds / reference.seconds;
+        growth = Some(relative);
         let mut cells = vec![
             si(m.triangles as f64),
             format!("{ns:.0} ns"),
             format!("{}/s", si(ray_count as f64 / t.seconds)),
-            first.map(|f| times(ns / f)).unwrap_or_default(),
+            times(relative),
         ];
         match embree_ok(m) {
             Some(e) => {
@@ -243,11 +264,15 @@ fn scaling_table(
         }
         table.row(cells);
     }
+    table.note(
+        "Relative to smallest: each mesh's fastest pass over the fastest pass of the smallest \
+         mesh, the two traced in turns (a pass of one, then of the other, R times), so that \
+         both bests come from the same stretch of the machine's time; the smallest mesh's row \
+         is its own best.",
+    );
     skipped_or_failed(&mut table, bench, measured);
-    if let (Some(f), Some(last), Some(first_m), Some(last_m)) =
-        (first, ours.last(), measured.first(), measured.last())
+    if let (Some(growth), Some(first_m), Some(last_m)) = (growth, measured.first(), measured.last())
     {
-        let growth = last.1 / f;
         report.check(Check {
             what: format!(
                 "time per primary ray from {} to {} triangles",
