@@ -88,10 +88,7 @@ fn compare(
     // Both sides take turns, one pass each per round, so that the two bests come from the
     // same stretch of the machine's time.
     let mut ours = None;
-    let mut our_pass = || {
-        let pass = trace::trace(&mesh, &rays, &bench.pool, 1);
-        ours = Some(trace::faster(ours, pass));
-    };
+    let mut our_pass = || ours = Some(trace::faster(ours, trace::pass(&mesh, &rays, &bench.pool)));
     let theirs = match bench.peers.embree.as_deref() {
         None => {
             bench.progress(&format!("{name}: tracing {} rays", si(rays.len() as f64)));

@@ -63,7 +63,7 @@ pub fn faster(best: Option<Traced>, pass: Traced) -> Traced {
 }
 
 /// One pass over every ray, chunks shared out among the pool's threads.
-fn pass(mesh: &Mesh, rays: &[StoredRay], pool: &ThreadPool) -> Traced {
+pub fn pass(mesh: &Mesh, rays: &[StoredRay], pool: &ThreadPool) -> Traced {
     let next = AtomicUsize::new(0);
     let start = Instant::now();
     let per_thread = pool.broadcast(|_| {

@@ -91,13 +91,14 @@ impl Frame {
     }
 
     /// The build's records of primitives `0..count`, `bounds(i)` giving the box of primitive
-    /// `i`, made in parallel; those that do not fit in `f32` are left out. (Each record is
+    /// `i` (`None` for one to leave out), made in parallel; those whose boxes do not fit in
+    /// `f32` are left out too. (Each record is
     /// written in its place and the few left out are squeezed out afterwards: a filtering
     /// parallel collect would gather pieces and copy every record a second time.)
     pub(crate) fn prim_refs(
         &self,
         count: usize,
-        bounds: impl Fn(usize) -> (Point3, Point3) + Sync,
+        bounds: impl Fn(usize) -> Option<(Point3, Point3)> + Sync,
     ) -> Vec<PrimRef> {
         let left_out = PrimRef {
             min: f32x4::splat(f32::from_bits(NO_PRIMITIVE)),
@@ -107,8 +108,9 @@ impl Frame {
             .into_par_iter()
             .with_min_len(4096)
             .map(|i| {
-                let (min, max) = bounds(i);
-                self.prim_ref(i as u32, min, max).unwrap_or(left_out)
+                bounds(i)
+                    .and_then(|(min, max)| self.prim_ref(i as u32, min, max))
+                    .unwrap_or(left_out)
             })
             .collect();
         refs.retain(|r| r.id() != NO_PRIMITIVE);
@@ -140,12 +142,10 @@ pub(crate) fn from_boxes(bounds: &[Aabb], block: usize) -> Bvh {
         all = all.union(b);
     }
     let frame = Frame::around(&all);
-    let refs: Vec<PrimRef> = bounds
-        .iter()
-        .enumerate()
-        .filter(|(_, b)| !b.is_empty())
-        .filter_map(|(i, b)| frame.prim_ref(i as u32, b.min, b.max))
-        .collect();
+    let refs = frame.prim_refs(bounds.len(), |i| {
+        let b = &bounds[i];
+        (!b.is_empty()).then_some((b.min, b.max))
+    });
     build(refs, block, frame, all)
 }
 

@@ -422,7 +422,7 @@ fn index(positions: &[Point3], corners: &[[u32; 3]]) -> (Bvh, Vec<TrianglePacket
         let [a, b, c] = c.map(|i| positions[i as usize]);
         (a.min(b).min(c), a.max(b).max(c))
     };
-    let refs = frame.prim_refs(corners.len(), |i| face_box(&corners[i]));
+    let refs = frame.prim_refs(corners.len(), |i| Some(face_box(&corners[i])));
     // The exact (f64) box of the faces the BVH holds.
     let bounds = corners
         .par_iter()
