@@ -231,31 +231,40 @@ fn degenerate_meshes_build_and_answer() {
     assert_eq!(mesh.closest_hit(&ray, 0.0, f64::INFINITY), None);
     // Faces spread geometrically from 1e-3 to 1e287: one long chain for a naive SAH. Those
     // beyond 1e30 cannot be held in single precision (rays pass them by, as documented); the
-    // hierarchy's f32 frame then spans 1e30, where the faces near 1e29 are well resolved.
-    let mut positions = Vec::new();
-    let mut faces = Vec::new();
-    for i in 0..3000u32 {
-        let x = 1.0e-3 * 1.25f64.powi(i as i32);
-        positions.extend([
-            point(x, 0.0, 0.0),
-            point(x * 1.1, 1.0, 0.0),
-            point(x, 1.0, 0.0),
-        ]);
-        faces.push(MeshFace {
-            vertices: [3 * i, 3 * i + 1, 3 * i + 2],
-            normals: None,
-            texcoords: None,
-        });
+    // hierarchy's f32 frame then spans 1e30, where the faces near 1e29 are well resolved. The
+    // rays there run parallel to the axis of the spread, 10^29 units from the frame's centre:
+    // each axis in turn, since the slab test of that axis is the one at risk of overflowing.
+    for axis in 0..3 {
+        // (along the spread, across it, along the ray), in the order of this turn's axes.
+        let at = |spread: f64, across: f64, along: f64| {
+            let mut p = [0.0; 3];
+            p[axis] = spread;
+            p[(axis + 1) % 3] = across;
+            p[(axis + 2) % 3] = along;
+            point(p[0], p[1], p[2])
+        };
+        let mut positions = Vec::new();
+        let mut faces = Vec::new();
+        for i in 0..3000u32 {
+            let x = 1.0e-3 * 1.25f64.powi(i as i32);
+            positions.extend([at(x, 0.0, 0.0), at(x * 1.1, 1.0, 0.0), at(x, 1.0, 0.0)]);
+            faces.push(MeshFace {
+                vertices: [3 * i, 3 * i + 1, 3 * i + 2],
+                normals: None,
+                texcoords: None,
+            });
+        }
+        let mesh = Mesh::new(positions, Vec::new(), faces).unwrap();
+        let toward = at(0.0, 0.0, 1.0) - Point3::ZERO;
+        let x = 1.0e-3 * 1.25f64.powi(330);
+        let ray = Ray::new(at(x * 1.02, 0.5, -1.0), toward);
+        let hit = mesh
+            .closest_hit(&ray, 0.0, f64::INFINITY)
+            .unwrap_or_else(|| panic!("face 330, spread along axis {axis}"));
+        assert_eq!(hit.face, 330);
+        assert!((hit.t - 1.0).abs() < 1e-12);
+        let beyond = 1.0e-3 * 1.25f64.powi(2000);
+        let ray = Ray::new(at(beyond * 1.02, 0.5, -1.0), toward);
+        assert_eq!(mesh.closest_hit(&ray, 0.0, f64::INFINITY), None);
     }
-    let mesh = Mesh::new(positions, Vec::new(), faces).unwrap();
-    let x = 1.0e-3 * 1.25f64.powi(330);
-    let ray = Ray::new(point(x * 1.02, 0.5, -1.0), vector(0.0, 0.0, 1.0));
-    let hit = mesh
-        .closest_hit(&ray, 0.0, f64::INFINITY)
-        .expect("face 330");
-    assert_eq!(hit.face, 330);
-    assert!((hit.t - 1.0).abs() < 1e-12);
-    let beyond = 1.0e-3 * 1.25f64.powi(2000);
-    let ray = Ray::new(point(beyond * 1.02, 0.5, -1.0), vector(0.0, 0.0, 1.0));
-    assert_eq!(mesh.closest_hit(&ray, 0.0, f64::INFINITY), None);
 }

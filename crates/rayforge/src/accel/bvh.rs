@@ -18,11 +18,11 @@
 //! beyond the nearest hit found meanwhile.
 
 use super::build;
+use super::isa::{dispatch, Isa, Kernel, Lanes8};
 use super::query::RayQuery;
 use crate::math::{Aabb, Point3};
 use glam::DVec3;
 use std::ops::{ControlFlow, Range};
-use wide::f32x8;
 
 /// What a padding slot in the primitive order holds.
 pub const NO_PRIMITIVE: u32 = u32::MAX;
@@ -41,10 +41,9 @@ pub const MAX_BLOCKS: usize = 1 << (31 - LEAF_COUNT_BITS);
 /// The longest path from the root to a leaf the builder makes (it switches to balanced
 /// splits before a pathological input could go deeper); the walk's stack is sized by it.
 pub(crate) const MAX_DEPTH: usize = 40;
-/// Children per node.
+/// Children per node: one lane each of an eight-lane vector, so a node's boxes are tested
+/// together.
 pub(crate) const WIDTH: usize = 8;
-/// One lane per child: a node's boxes are tested together.
-pub(crate) type Lanes = f32x8;
 /// A node pushes all but one of its children while visiting that one.
 const STACK_SIZE: usize = (WIDTH - 1) * MAX_DEPTH + 1;
 
@@ -77,17 +76,38 @@ impl Node {
     /// Which children the ray enters within `[t_min, t_max]` (bit `i` for child `i`), and
     /// where it enters each.
     #[inline(always)]
-    fn enter(&self, q: &RayQuery, t_min: Lanes, t_max: Lanes) -> (u32, Lanes) {
+    fn enter<I: Isa>(&self, isa: I, ray: &Slabs<I>, t_min: I::F8, t_max: I::F8) -> (u32, I::F8) {
         let mut near = t_min;
         let mut far = t_max;
         for axis in 0..3 {
-            let entry = Lanes::new(self.planes[q.entry_plane[axis]]);
-            let exit = Lanes::new(self.planes[q.exit_plane[axis]]);
-            let inv = q.inv_direction[axis];
-            near = near.fast_max(entry.mul_sub(inv, q.origin_over_direction[axis]));
-            far = far.fast_min(exit.mul_sub(inv, q.origin_over_direction[axis]));
+            let entry = isa.load8(&self.planes[ray.entry_plane[axis]]);
+            let exit = isa.load8(&self.planes[ray.exit_plane[axis]]);
+            let (inv, offset) = (ray.inv_direction[axis], ray.origin_over_direction[axis]);
+            near = near.max(entry.mul_sub(inv, offset));
+            far = far.min(exit.mul_sub(inv, offset));
         }
-        (near.simd_le(far).to_bitmask(), near)
+        (near.le_bits(far), near)
+    }
+}
+
+/// What the slab test needs of a [`RayQuery`], in every lane of the set's vectors (made once
+/// per walk).
+struct Slabs<I: Isa> {
+    inv_direction: [I::F8; 3],
+    origin_over_direction: [I::F8; 3],
+    entry_plane: [usize; 3],
+    exit_plane: [usize; 3],
+}
+
+impl<I: Isa> Slabs<I> {
+    #[inline(always)]
+    fn new(isa: I, q: &RayQuery) -> Self {
+        Self {
+            inv_direction: q.inv_direction.map(|x| isa.splat8(x)),
+            origin_over_direction: q.origin_over_direction.map(|x| isa.splat8(x)),
+            entry_plane: q.entry_plane,
+            exit_plane: q.exit_plane,
+        }
     }
 }
 
@@ -189,10 +209,11 @@ impl Bvh {
     /// Visits, nearest first, the leaves whose boxes the ray enters within `[t_min, t_max]`
     /// (query distances). `visit` receives the leaf's slots of [`Bvh::order`] and the current
     /// `t_max`, which it lowers when it finds a hit (so farther boxes are skipped), and may
-    /// stop the walk with `Break`.
-    #[inline]
-    pub fn walk(
+    /// stop the walk with `Break`. Runs inside a [`Kernel`] (hence always inlined).
+    #[inline(always)]
+    pub(crate) fn walk<I: Isa>(
         &self,
+        isa: I,
         query: &RayQuery,
         t_min: f32,
         t_max: f32,
@@ -200,22 +221,24 @@ impl Bvh {
     ) {
         match self.depth {
             0 => {}
-            1..=3 => self.walk_with::<{ (WIDTH - 1) * 3 + 1 }>(query, t_min, t_max, visit),
-            4..=9 => self.walk_with::<{ (WIDTH - 1) * 9 + 1 }>(query, t_min, t_max, visit),
-            _ => self.walk_with::<STACK_SIZE>(query, t_min, t_max, visit),
+            1..=3 => self.walk_with::<I, { (WIDTH - 1) * 3 + 1 }>(isa, query, t_min, t_max, visit),
+            4..=9 => self.walk_with::<I, { (WIDTH - 1) * 9 + 1 }>(isa, query, t_min, t_max, visit),
+            _ => self.walk_with::<I, STACK_SIZE>(isa, query, t_min, t_max, visit),
         }
     }
 
     /// [`Bvh::walk`] with a stack of `N` entries (at least `(WIDTH - 1) · depth + 1`).
-    #[inline]
-    fn walk_with<const N: usize>(
+    #[inline(always)]
+    fn walk_with<I: Isa, const N: usize>(
         &self,
+        isa: I,
         query: &RayQuery,
         t_min: f32,
         mut t_max: f32,
         mut visit: impl FnMut(Range<usize>, &mut f32) -> ControlFlow<()>,
     ) {
-        let t_min4 = Lanes::splat(t_min);
+        let slabs = Slabs::new(isa, query);
+        let t_min8 = isa.splat8(t_min);
         let mut stack = [(0u32, 0f32); N];
         let mut top = 0usize;
         let mut current = 0u32;
@@ -228,7 +251,7 @@ impl Bvh {
                 }
             } else {
                 let node = &self.nodes[current as usize];
-                let (mut mask, near) = node.enter(query, t_min4, Lanes::splat(t_max));
+                let (mut mask, near) = node.enter(isa, &slabs, t_min8, isa.splat8(t_max));
                 if mask != 0 {
                     let near = near.to_array();
                     // The nearest entered child is visited next; the others wait on the
@@ -285,16 +308,49 @@ impl Bvh {
         origin: Point3,
         direction: DVec3,
         t_min: f64,
-        mut t_max: f64,
-        mut visit: impl FnMut(u32, &mut f64) -> ControlFlow<()>,
+        t_max: f64,
+        visit: impl FnMut(u32, &mut f64) -> ControlFlow<()>,
     ) {
-        let query = self.query(origin, direction);
-        self.walk(
+        dispatch(Traverse {
+            bvh: self,
+            query: self.query(origin, direction),
+            t_min,
+            t_max,
+            visit,
+        });
+    }
+}
+
+/// [`Bvh::traverse`] as a [`Kernel`].
+struct Traverse<'a, F> {
+    bvh: &'a Bvh,
+    query: RayQuery,
+    t_min: f64,
+    t_max: f64,
+    visit: F,
+}
+
+impl<F: FnMut(u32, &mut f64) -> ControlFlow<()>> Kernel for Traverse<'_, F> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<I: Isa>(self, isa: I) {
+        let Self {
+            bvh,
+            query,
+            t_min,
+            mut t_max,
+            mut visit,
+        } = self;
+        let (lower, upper) = (query.t_below(t_min), query.t_above(t_max));
+        bvh.walk(
+            isa,
             &query,
-            query.t_below(t_min),
-            query.t_above(t_max),
+            lower,
+            upper,
+            #[inline(always)]
             |slots, limit| {
-                for &primitive in &self.order[slots] {
+                for &primitive in &bvh.order[slots] {
                     if primitive == NO_PRIMITIVE {
                         continue;
                     }

@@ -3,8 +3,11 @@
 
 mod build;
 mod bvh;
+#[allow(unsafe_code)]
+mod isa;
 mod query;
 
 pub(crate) use build::{build, Frame};
 pub use bvh::{Bvh, Node, MAX_BLOCKS, NO_PRIMITIVE};
+pub(crate) use isa::{dispatch, Isa, Kernel, Lanes4};
 pub use query::RayQuery;

@@ -10,7 +10,6 @@
 //! [`RayQuery::t_below`] and [`RayQuery::t_above`] convert the caller's `f64` limits with
 //! rounding that never narrows them.
 
-use super::bvh::Lanes;
 use crate::math::Point3;
 use glam::DVec3;
 use wide::f32x4;
@@ -20,17 +19,24 @@ use wide::f32x4;
 /// whose face lies exactly on the ray still has a well-defined entry and exit.
 const MAX_SLOPE: f32 = 1.0e30;
 
+/// The most `origin / direction` may be on any axis, below `f32::MAX` by a margin. A box's
+/// plane `p` is crossed at `p · inv − origin / direction`; if the offset overflowed to ∞ (an
+/// origin 10^29 units out, a direction nearly parallel to that axis), the crossing would be
+/// `∞ − ∞` (NaN) computed in two steps, or ±∞ of the wrong sign in one fused step, and the
+/// box would be missed. Keeping the offset finite keeps the crossing's sign right whichever
+/// way it is computed: a product that overflows then outweighs the offset.
+const MAX_OFFSET: f32 = 1.0e38;
+
 /// A ray in a hierarchy's `f32` frame.
 #[derive(Debug, Clone, Copy)]
 pub struct RayQuery {
-    /// The origin relative to the base point, slid along the ray by `shift`, each coordinate
-    /// in all four lanes.
-    pub(crate) origin: [f32x4; 3],
+    /// The origin relative to the base point, slid along the ray by `shift`.
+    pub(crate) origin: [f32; 3],
     /// `1 / direction`, clamped to ±[`MAX_SLOPE`].
-    pub(crate) inv_direction: [Lanes; 3],
+    pub(crate) inv_direction: [f32; 3],
     /// `origin / direction`: a slab's plane `p` is crossed at `p · inv - origin_over_direction`
     /// (one fused multiply-add where the processor has it).
-    pub(crate) origin_over_direction: [Lanes; 3],
+    pub(crate) origin_over_direction: [f32; 3],
     /// Per axis, which of a node's six plane rows the ray enters through (the minimum when
     /// it travels up the axis, the maximum when it travels down)…
     pub(crate) entry_plane: [usize; 3],
@@ -38,8 +44,6 @@ pub struct RayQuery {
     pub(crate) exit_plane: [usize; 3],
     /// The direction in `f32` (what a triangle test sets itself up from).
     pub(crate) direction: [f32; 3],
-    /// Its reciprocal, clamped like `inv_direction`.
-    pub(crate) inv: [f32; 3],
     /// How far the origin was slid: a `t` of the query is `t - shift` of the original ray.
     pub(crate) shift: f64,
 }
@@ -53,22 +57,32 @@ impl RayQuery {
         let shift = if shift.is_finite() { shift } else { 0.0 };
         let o = (origin - base + direction * shift).as_vec3().to_array();
         let d = direction.as_vec3().to_array();
+        // The slope is clamped so that `origin · slope` stays within MAX_OFFSET. The lower
+        // clamp only bites for a ray `reach` > 10^8 units from the base whose direction (about
+        // a unit long) is within `reach` · 10^-38 of parallel to an axis: across the whole of
+        // a frame (at most 10^30 wide) it moves less along that axis than a sixth of what f32
+        // resolves at that distance, so to f32 it is parallel anyway.
+        let reach = o[0].abs().max(o[1].abs()).max(o[2].abs());
+        let slope = if reach.is_finite() && reach > MAX_OFFSET / MAX_SLOPE {
+            MAX_OFFSET / reach
+        } else {
+            MAX_SLOPE
+        };
         // One four-lane division for all three reciprocals; the clamp also turns a NaN
         // into a finite slope (`fast_max` picks its second operand over a NaN).
         let inv = (f32x4::ONE / f32x4::new([d[0], d[1], d[2], 1.0]))
-            .fast_max(f32x4::splat(-MAX_SLOPE))
-            .fast_min(f32x4::splat(MAX_SLOPE))
+            .fast_max(f32x4::splat(-slope))
+            .fast_min(f32x4::splat(slope))
             .to_array();
         let negative = [inv[0] < 0.0, inv[1] < 0.0, inv[2] < 0.0];
         let plane = |axis: usize, far: bool| axis + 3 * usize::from(negative[axis] != far);
         Self {
-            origin: o.map(f32x4::splat),
-            inv_direction: [0, 1, 2].map(|a| Lanes::splat(inv[a])),
-            origin_over_direction: [0, 1, 2].map(|a| Lanes::splat(o[a] * inv[a])),
+            origin: o,
+            inv_direction: [inv[0], inv[1], inv[2]],
+            origin_over_direction: [0, 1, 2].map(|a| o[a] * inv[a]),
             entry_plane: [0, 1, 2].map(|a| plane(a, false)),
             exit_plane: [0, 1, 2].map(|a| plane(a, true)),
             direction: d,
-            inv: [inv[0], inv[1], inv[2]],
             shift,
         }
     }

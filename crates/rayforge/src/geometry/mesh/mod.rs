@@ -17,7 +17,7 @@ mod packet;
 
 use super::triangle::{inside, plane_crossing};
 use super::LocalHit;
-use crate::accel::{Bvh, Frame, RayQuery, MAX_BLOCKS, NO_PRIMITIVE};
+use crate::accel::{dispatch, Bvh, Frame, Isa, Kernel, Lanes4, MAX_BLOCKS, NO_PRIMITIVE};
 use crate::math::{Aabb, Point3, Ray, Vec3};
 use packet::{TrianglePacket, TriangleRay};
 use rayon::prelude::*;
@@ -245,21 +245,12 @@ impl Mesh {
     }
 
     /// Every hit with `t <= t_max` (negative `t` included); boxes beyond `t_max` are skipped.
-    pub fn intersect_up_to(&self, ray: &Ray, t_max: f64, mut hit: impl FnMut(LocalHit)) {
-        let q = self.bvh.query(ray.origin, ray.direction);
-        let tri = TriangleRay::new(&q);
-        // The f32 search reaches a little past t_max, so that a hit measured in f64 at
-        // exactly t_max (the hit a closest-hit search returned) is never left out.
-        let upper = q.t_above(t_max) + self.tolerance_along(ray);
-        self.bvh.walk(&q, f32::NEG_INFINITY, upper, |slots, _| {
-            self.each_hit(&q, &tri, slots, f32::NEG_INFINITY, upper, |face, _| {
-                if let Some(h) = self.measure(face, ray) {
-                    if h.t <= t_max {
-                        hit(h);
-                    }
-                }
-                ControlFlow::Continue(())
-            })
+    pub fn intersect_up_to(&self, ray: &Ray, t_max: f64, hit: impl FnMut(LocalHit)) {
+        dispatch(EveryHit {
+            mesh: self,
+            ray,
+            t_max,
+            hit,
         });
     }
 
@@ -275,9 +266,15 @@ impl Mesh {
     #[inline]
     pub fn closest_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<LocalHit> {
         let mut best = None;
-        self.search(ray, t_min, t_max, |face, t| {
-            best = Some(face);
-            t
+        dispatch(Search {
+            mesh: self,
+            ray,
+            t_min,
+            t_max,
+            accept: |face, t| {
+                best = Some(face);
+                t
+            },
         });
         // The f32 search already placed the hit in range; a last rounding step of the f64
         // measurement must not move it out.
@@ -292,54 +289,26 @@ impl Mesh {
     #[inline]
     pub fn any_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         let mut found = false;
-        self.search(ray, t_min, t_max, |_, _| {
-            found = true;
-            f32::NEG_INFINITY
+        dispatch(Search {
+            mesh: self,
+            ray,
+            t_min,
+            t_max,
+            accept: |_, _| {
+                found = true;
+                f32::NEG_INFINITY
+            },
         });
         found
-    }
-
-    /// Walks the BVH for hits in `[t_min, t_max)`, nearest boxes first. `accept` receives each
-    /// face hit nearer than the current limit and its query distance, and returns the new
-    /// limit (its distance for a closest-hit search; −∞ stops the walk).
-    #[inline]
-    fn search(&self, ray: &Ray, t_min: f64, t_max: f64, mut accept: impl FnMut(u32, f32) -> f32) {
-        let q = self.bvh.query(ray.origin, ray.direction);
-        let tri = TriangleRay::new(&q);
-        let tolerance = self.tolerance_along(ray);
-        let (lower, upper) = (q.t_below(t_min), q.t_above(t_max));
-        let doubtful = lower + tolerance;
-        self.bvh.walk(&q, lower - tolerance, upper, |slots, limit| {
-            self.each_hit(&q, &tri, slots, lower - tolerance, *limit, |face, t| {
-                if t >= *limit {
-                    return ControlFlow::Continue(());
-                }
-                if t < doubtful {
-                    // Too close to call in f32 (a ray leaving this very surface): in f64.
-                    let inside = self
-                        .measure(face, ray)
-                        .is_some_and(|h| h.t >= t_min && h.t < t_max);
-                    if !inside {
-                        return ControlFlow::Continue(());
-                    }
-                }
-                *limit = accept(face, t);
-                if *limit == f32::NEG_INFINITY {
-                    ControlFlow::Break(())
-                } else {
-                    ControlFlow::Continue(())
-                }
-            })
-        });
     }
 
     /// Tests the packets of a leaf's slots and calls `hit` with each face hit in
     /// `[t_min, t_max)` and its query distance.
     #[inline(always)]
-    fn each_hit(
+    fn each_hit<I: Isa>(
         &self,
-        q: &RayQuery,
-        tri: &TriangleRay,
+        isa: I,
+        tri: &TriangleRay<I>,
         slots: std::ops::Range<usize>,
         t_min: f32,
         t_max: f32,
@@ -347,7 +316,7 @@ impl Mesh {
     ) -> ControlFlow<()> {
         for block in slots.start / PACKET..slots.end / PACKET {
             let packet = &self.packets[block];
-            let (mut lanes, t) = packet.intersect(q, tri, t_min, t_max);
+            let (mut lanes, t) = packet.intersect(isa, tri, t_min, t_max);
             if lanes == 0 {
                 continue;
             }
@@ -405,6 +374,126 @@ impl Mesh {
                 (p3 - p1).cross(p2 - p1).normalize_or_zero()
             }
         }
+    }
+}
+
+/// The walk for hits in `[t_min, t_max)`, nearest boxes first, as a [`Kernel`]: `accept`
+/// receives each face hit nearer than the current limit and its query distance, and returns
+/// the new limit (its distance for a closest-hit search; −∞ stops the walk).
+struct Search<'a, A> {
+    mesh: &'a Mesh,
+    ray: &'a Ray,
+    t_min: f64,
+    t_max: f64,
+    accept: A,
+}
+
+impl<A: FnMut(u32, f32) -> f32> Kernel for Search<'_, A> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<I: Isa>(self, isa: I) {
+        let Self {
+            mesh,
+            ray,
+            t_min,
+            t_max,
+            mut accept,
+        } = self;
+        let q = mesh.bvh.query(ray.origin, ray.direction);
+        let tri = TriangleRay::new(isa, &q);
+        let tolerance = mesh.tolerance_along(ray);
+        let (lower, upper) = (q.t_below(t_min), q.t_above(t_max));
+        let doubtful = lower + tolerance;
+        mesh.bvh.walk(
+            isa,
+            &q,
+            lower - tolerance,
+            upper,
+            #[inline(always)]
+            |slots, limit| {
+                mesh.each_hit(
+                    isa,
+                    &tri,
+                    slots,
+                    lower - tolerance,
+                    *limit,
+                    #[inline(always)]
+                    |face, t| {
+                        if t >= *limit {
+                            return ControlFlow::Continue(());
+                        }
+                        if t < doubtful {
+                            // Too close to call in f32 (a ray leaving this very surface): in f64.
+                            let inside = mesh
+                                .measure(face, ray)
+                                .is_some_and(|h| h.t >= t_min && h.t < t_max);
+                            if !inside {
+                                return ControlFlow::Continue(());
+                            }
+                        }
+                        *limit = accept(face, t);
+                        if *limit == f32::NEG_INFINITY {
+                            ControlFlow::Break(())
+                        } else {
+                            ControlFlow::Continue(())
+                        }
+                    },
+                )
+            },
+        );
+    }
+}
+
+/// Every hit with `t <= t_max`, negative `t` included, as a [`Kernel`].
+struct EveryHit<'a, H> {
+    mesh: &'a Mesh,
+    ray: &'a Ray,
+    t_max: f64,
+    hit: H,
+}
+
+impl<H: FnMut(LocalHit)> Kernel for EveryHit<'_, H> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<I: Isa>(self, isa: I) {
+        let Self {
+            mesh,
+            ray,
+            t_max,
+            mut hit,
+        } = self;
+        let q = mesh.bvh.query(ray.origin, ray.direction);
+        let tri = TriangleRay::new(isa, &q);
+        // The f32 search reaches a little past t_max, so that a hit measured in f64 at
+        // exactly t_max (the hit a closest-hit search returned) is never left out.
+        let upper = q.t_above(t_max) + mesh.tolerance_along(ray);
+        mesh.bvh.walk(
+            isa,
+            &q,
+            f32::NEG_INFINITY,
+            upper,
+            #[inline(always)]
+            |slots, _| {
+                mesh.each_hit(
+                    isa,
+                    &tri,
+                    slots,
+                    f32::NEG_INFINITY,
+                    upper,
+                    #[inline(always)]
+                    |face, _| {
+                        if let Some(h) = mesh.measure(face, ray) {
+                            if h.t <= t_max {
+                                hit(h);
+                            }
+                        }
+                        ControlFlow::Continue(())
+                    },
+                )
+            },
+        );
     }
 }
 

@@ -9,22 +9,24 @@
 //! through. Möller–Trumbore, used for the book's lone triangles, computes from precomputed
 //! edges and can miss both.
 
-use crate::accel::RayQuery;
-use wide::f32x4;
+use crate::accel::{Isa, Lanes4, RayQuery};
 
-/// What the watertight test needs of a ray, set up once per ray.
+/// What the watertight test needs of a ray, set up once per ray, in every lane of the set's
+/// vectors.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct TriangleRay {
+pub(crate) struct TriangleRay<I: Isa> {
     /// The axis order: the direction's dominant axis last.
     axes: [usize; 3],
-    /// The shear constants, in all lanes.
-    shear: [f32x4; 3],
+    /// The shear constants.
+    shear: [I::F4; 3],
+    /// The ray's origin (in the order of the hierarchy's axes, not `axes`).
+    origin: [I::F4; 3],
 }
 
-impl TriangleRay {
+impl<I: Isa> TriangleRay<I> {
     /// The test's set-up for a ray prepared for the BVH walk.
-    #[inline]
-    pub(crate) fn new(q: &RayQuery) -> Self {
+    #[inline(always)]
+    pub(crate) fn new(isa: I, q: &RayQuery) -> Self {
         let d = q.direction;
         // Look down the dominant axis (z after the permutation); swapping x and y when that
         // axis points backwards keeps the triangles' winding.
@@ -44,7 +46,7 @@ impl TriangleRay {
         if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        let inv = q.inv[kz];
+        let inv = q.inv_direction[kz];
         let shear = if abs[kz] > 0.0 && abs[kz].is_finite() {
             [d[kx] * inv, d[ky] * inv, inv]
         } else {
@@ -54,7 +56,8 @@ impl TriangleRay {
         };
         Self {
             axes: [kx, ky, kz],
-            shear: shear.map(f32x4::splat),
+            shear: shear.map(|x| isa.splat4(x)),
+            origin: q.origin.map(|x| isa.splat4(x)),
         }
     }
 }
@@ -90,22 +93,23 @@ impl TrianglePacket {
 
     /// Which lanes the ray hits with `t_min <= t < t_max` (bit per lane), and their `t`.
     #[inline(always)]
-    pub(crate) fn intersect(
+    pub(crate) fn intersect<I: Isa>(
         &self,
-        q: &RayQuery,
-        tri: &TriangleRay,
+        isa: I,
+        ray: &TriangleRay<I>,
         t_min: f32,
         t_max: f32,
-    ) -> (u32, f32x4) {
-        let [kx, ky, kz] = tri.axes;
-        let [sx, sy, sz] = tri.shear;
+    ) -> (u32, I::F4) {
+        let [kx, ky, kz] = ray.axes;
+        let [sx, sy, sz] = ray.shear;
+        let o = &ray.origin;
         // Corner k relative to the ray's origin, sheared so the ray runs along +z (each
         // corner is transformed alone, identically in every triangle that shares it).
         let corner = |k: usize| {
             let c = &self.corners[k];
-            let z = f32x4::new(c[kz]) - q.origin[kz];
-            let x = sx.mul_neg_add(z, f32x4::new(c[kx]) - q.origin[kx]);
-            let y = sy.mul_neg_add(z, f32x4::new(c[ky]) - q.origin[ky]);
+            let z = isa.load4(&c[kz]) - o[kz];
+            let x = sx.mul_neg_add(z, isa.load4(&c[kx]) - o[kx]);
+            let y = sy.mul_neg_add(z, isa.load4(&c[ky]) - o[ky]);
             (x, y, z)
         };
         let (ax, ay, az) = corner(0);
@@ -117,17 +121,17 @@ impl TrianglePacket {
         let u = cx * by - cy * bx;
         let v = ax * cy - ay * cx;
         let w = bx * ay - by * ax;
-        let zero = f32x4::ZERO;
-        let some_negative = u.simd_lt(zero) | v.simd_lt(zero) | w.simd_lt(zero);
-        let some_positive = u.simd_gt(zero) | v.simd_gt(zero) | w.simd_gt(zero);
+        let zero = isa.splat4(0.0);
+        let some_negative = u.lt(zero) | v.lt(zero) | w.lt(zero);
+        let some_positive = u.gt(zero) | v.gt(zero) | w.gt(zero);
         let det = u + v + w;
-        let inside = !(some_negative & some_positive) & det.simd_ne(zero);
-        if inside.to_bitmask() == 0 {
+        let inside = det.ne(zero).and_not(some_negative & some_positive);
+        if inside.bits() == 0 {
             // Most packets a ray reaches are missed: no distance to divide out.
             return (0, zero);
         }
         let t = (u * az + v * bz + w * cz) * sz / det;
-        let in_range = t.simd_ge(f32x4::splat(t_min)) & t.simd_lt(f32x4::splat(t_max));
-        ((inside & in_range).to_bitmask(), t)
+        let in_range = t.ge(isa.splat4(t_min)) & t.lt(isa.splat4(t_max));
+        ((inside & in_range).bits(), t)
     }
 }
