@@ -105,18 +105,24 @@ fn shadow_queries_stop_at_the_first_blocker() {
     assert!(!w.is_shadowed(point(0.0, 5.0, -10.0), point(0.0, 5.0, 10.0)));
 }
 
-/// Large enough that the build splits the top nodes' halves on separate threads: every box is
-/// still in the order exactly once, and a ray through each column of boxes finds it.
+/// Large enough that the build splits the top nodes' halves on separate threads and
+/// partitions the root's range in pieces (on a pool of three threads, so the pieces are
+/// uneven): every box is still in the order exactly once, and a ray through each column of
+/// boxes finds it.
 #[test]
 fn a_large_parallel_build_holds_every_box_once() {
-    let side = 150;
+    let side = 200;
     let boxes: Vec<Aabb> = (0..side * side)
         .map(|i| {
             let (x, y) = ((i % side) as f64, (i / side) as f64);
             Aabb::new(point(x, y, 0.0), point(x + 0.5, y + 0.5, 0.5))
         })
         .collect();
-    let bvh = Bvh::build(&boxes);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap();
+    let bvh = pool.install(|| Bvh::build(&boxes));
     let mut order: Vec<u32> = bvh
         .order()
         .iter()

@@ -30,7 +30,7 @@ const PACKED_TRAVERSAL_COST: f32 = 1.5;
 const SINGLE_TRAVERSAL_COST: f32 = 0.25;
 /// Ranges of at least twice this many primitives choose their split from a sample this
 /// large.
-const SAMPLED: usize = 1024;
+const SAMPLED: usize = 256;
 /// Subtrees at least this large are built on their own thread.
 const PARALLEL_MIN: usize = 8 * 1024;
 /// Below this node depth the SAH chooses splits; deeper (only pathological input gets there)
@@ -722,8 +722,48 @@ impl Builder {
 }
 
 /// Moves the primitives left of the split plane to the front: how many there are, and both
-/// sides' infos (gathered in the same pass).
+/// sides' infos (gathered in the same pass). A range too large for the caches is cut into a
+/// piece per thread, the pieces partitioned side by side, and the misplaced middle swapped
+/// across (a quarter of the range, on average): otherwise the root's split, a pass over every
+/// primitive, would leave all but one thread waiting.
 fn partition(refs: &mut [PrimRef], binning: &Binning, split: Split) -> (usize, Info, Info) {
+    partition_in_pieces(refs, binning, split, rayon::current_num_threads())
+}
+
+/// [`partition`] in (about) `pieces` pieces.
+fn partition_in_pieces(
+    refs: &mut [PrimRef],
+    binning: &Binning,
+    split: Split,
+    pieces: usize,
+) -> (usize, Info, Info) {
+    if pieces < 2 || refs.len() < 4 * PARALLEL_MIN {
+        return partition_alone(refs, binning, split);
+    }
+    let half = refs.len() / 2;
+    let (front, back) = refs.split_at_mut(half);
+    let ((front_left, front_l, front_r), (back_left, back_l, back_r)) = rayon::join(
+        || partition_in_pieces(front, binning, split, pieces / 2),
+        || partition_in_pieces(back, binning, split, pieces - pieces / 2),
+    );
+    // [front's left | front's right | back's left | back's right]: swapping the shorter of
+    // the two middle runs with the far end of the other brings every left one to the front.
+    let front_right = half - front_left;
+    let moved = front_right.min(back_left);
+    let (a, b) = refs[front_left..half + back_left].split_at_mut(front_right);
+    let (a, b) = (&mut a[..moved], &mut b[back_left - moved..]);
+    a.par_chunks_mut(PARALLEL_MIN)
+        .zip(b.par_chunks_mut(PARALLEL_MIN))
+        .for_each(|(x, y)| x.swap_with_slice(y));
+    (
+        front_left + back_left,
+        front_l.union(&back_l),
+        front_r.union(&back_r),
+    )
+}
+
+/// [`partition`] on one thread.
+fn partition_alone(refs: &mut [PrimRef], binning: &Binning, split: Split) -> (usize, Info, Info) {
     // The bin on the split's axis alone, computed exactly as `bins_of` computes it.
     let axis = split.axis;
     let (origin, scale) = (

@@ -131,17 +131,33 @@ impl Mesh {
                 })
             })
         };
-        if let Some(face) = faces
+        // One pass over the faces (a million-face model's faces take tens of megabytes, so
+        // each pass costs): the first bad face, and whether any has normals or texture
+        // coordinates.
+        let (first_bad, any_normals, any_texcoords) = faces
             .par_iter()
             .enumerate()
             .with_min_len(4096)
-            .position_first(|(i, f)| bad_index(i, f).is_some())
-        {
+            .map(|(i, f)| {
+                let bad = bad_index(i, f).is_some().then_some(i);
+                (bad, f.normals.is_some(), f.texcoords.is_some())
+            })
+            .reduce(
+                || (None, false, false),
+                |a, b| {
+                    let bad = match (a.0, b.0) {
+                        (Some(x), Some(y)) => Some(x.min(y)),
+                        (x, y) => x.or(y),
+                    };
+                    (bad, a.1 || b.1, a.2 || b.2)
+                },
+            );
+        if let Some(face) = first_bad {
             return Err(bad_index(face, &faces[face]).expect("the face just found"));
         }
         let corners: Vec<[u32; 3]> = faces.par_iter().map(|f| f.vertices).collect();
-        let optional = |pick: fn(&MeshFace) -> Option<[u32; 3]>| -> Vec<[u32; 3]> {
-            if faces.par_iter().any(|f| pick(f).is_some()) {
+        let optional = |any: bool, pick: fn(&MeshFace) -> Option<[u32; 3]>| -> Vec<[u32; 3]> {
+            if any {
                 faces
                     .par_iter()
                     .map(|f| pick(f).unwrap_or([NONE; 3]))
@@ -150,8 +166,8 @@ impl Mesh {
                 Vec::new()
             }
         };
-        let corner_normals = optional(|f| f.normals);
-        let corner_texcoords = optional(|f| f.texcoords);
+        let corner_normals = optional(any_normals, |f| f.normals);
+        let corner_texcoords = optional(any_texcoords, |f| f.texcoords);
         drop(faces);
         let (bvh, packets, tolerance) = index(&positions, &corners);
         Ok(Self {
