@@ -17,7 +17,7 @@ mod packet;
 
 use super::triangle::{inside, plane_crossing};
 use super::LocalHit;
-use crate::accel::{dispatch, Bvh, Frame, Isa, Kernel, Lanes4, MAX_BLOCKS, NO_PRIMITIVE};
+use crate::accel::{dispatch, Bvh, Frame, Isa, Kernel, Lanes4, RayQuery, MAX_BLOCKS, NO_PRIMITIVE};
 use crate::math::{Aabb, Point3, Ray, Vec3};
 use packet::{TrianglePacket, TriangleRay};
 use rayon::prelude::*;
@@ -144,13 +144,7 @@ impl Mesh {
             })
             .reduce(
                 || (None, false, false),
-                |a, b| {
-                    let bad = match (a.0, b.0) {
-                        (Some(x), Some(y)) => Some(x.min(y)),
-                        (x, y) => x.or(y),
-                    };
-                    (bad, a.1 || b.1, a.2 || b.2)
-                },
+                |a, b| (a.0.into_iter().chain(b.0).min(), a.1 || b.1, a.2 || b.2),
             );
         if let Some(face) = first_bad {
             return Err(bad_index(face, &faces[face]).expect("the face just found"));
@@ -318,32 +312,43 @@ impl Mesh {
         found
     }
 
-    /// Tests the packets of a leaf's slots and calls `hit` with each face hit in
-    /// `[t_min, t_max)` and its query distance.
+    /// Walks the BVH for the ray `q`, nearest boxes first, testing the packets of each leaf
+    /// it reaches, and calls `hit` with each face hit in `[t_min, limit)`, its query distance
+    /// and the limit (at first `t_max`), which `hit` may lower to skip farther boxes; `Break`
+    /// stops the walk.
     #[inline(always)]
-    fn each_hit<I: Isa>(
+    fn walk_faces<I: Isa>(
         &self,
         isa: I,
-        tri: &TriangleRay<I>,
-        slots: std::ops::Range<usize>,
+        q: &RayQuery,
         t_min: f32,
         t_max: f32,
-        mut hit: impl FnMut(u32, f32) -> ControlFlow<()>,
-    ) -> ControlFlow<()> {
-        for block in slots.start / PACKET..slots.end / PACKET {
-            let packet = &self.packets[block];
-            let (mut lanes, t) = packet.intersect(isa, tri, t_min, t_max);
-            if lanes == 0 {
-                continue;
-            }
-            let t = t.to_array();
-            while lanes != 0 {
-                let lane = lanes.trailing_zeros() as usize;
-                lanes &= lanes - 1;
-                hit(packet.faces[lane], t[lane])?;
-            }
-        }
-        ControlFlow::Continue(())
+        mut hit: impl FnMut(u32, f32, &mut f32) -> ControlFlow<()>,
+    ) {
+        let tri = TriangleRay::new(isa, q);
+        self.bvh.walk(
+            isa,
+            q,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |slots, limit| {
+                for block in slots.start / PACKET..slots.end / PACKET {
+                    let packet = &self.packets[block];
+                    let (mut lanes, t) = packet.intersect(isa, &tri, t_min, *limit);
+                    if lanes == 0 {
+                        continue;
+                    }
+                    let t = t.to_array();
+                    while lanes != 0 {
+                        let lane = lanes.trailing_zeros() as usize;
+                        lanes &= lanes - 1;
+                        hit(packet.faces[lane], t[lane], limit)?;
+                    }
+                }
+                ControlFlow::Continue(())
+            },
+        );
     }
 
     /// The hit of the ray on `face` measured in `f64` (Möller–Trumbore, as for the book's
@@ -417,45 +422,34 @@ impl<A: FnMut(u32, f32) -> f32> Kernel for Search<'_, A> {
             mut accept,
         } = self;
         let q = mesh.bvh.query(ray.origin, ray.direction);
-        let tri = TriangleRay::new(isa, &q);
         let tolerance = mesh.tolerance_along(ray);
         let (lower, upper) = (q.t_below(t_min), q.t_above(t_max));
         let doubtful = lower + tolerance;
-        mesh.bvh.walk(
+        mesh.walk_faces(
             isa,
             &q,
             lower - tolerance,
             upper,
             #[inline(always)]
-            |slots, limit| {
-                mesh.each_hit(
-                    isa,
-                    &tri,
-                    slots,
-                    lower - tolerance,
-                    *limit,
-                    #[inline(always)]
-                    |face, t| {
-                        if t >= *limit {
-                            return ControlFlow::Continue(());
-                        }
-                        if t < doubtful {
-                            // Too close to call in f32 (a ray leaving this very surface): in f64.
-                            let inside = mesh
-                                .measure(face, ray)
-                                .is_some_and(|h| h.t >= t_min && h.t < t_max);
-                            if !inside {
-                                return ControlFlow::Continue(());
-                            }
-                        }
-                        *limit = accept(face, t);
-                        if *limit == f32::NEG_INFINITY {
-                            ControlFlow::Break(())
-                        } else {
-                            ControlFlow::Continue(())
-                        }
-                    },
-                )
+            |face, t, limit| {
+                if t >= *limit {
+                    return ControlFlow::Continue(());
+                }
+                if t < doubtful {
+                    // Too close to call in f32 (a ray leaving this very surface): in f64.
+                    let inside = mesh
+                        .measure(face, ray)
+                        .is_some_and(|h| h.t >= t_min && h.t < t_max);
+                    if !inside {
+                        return ControlFlow::Continue(());
+                    }
+                }
+                *limit = accept(face, t);
+                if *limit == f32::NEG_INFINITY {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
             },
         );
     }
@@ -481,33 +475,22 @@ impl<H: FnMut(LocalHit)> Kernel for EveryHit<'_, H> {
             mut hit,
         } = self;
         let q = mesh.bvh.query(ray.origin, ray.direction);
-        let tri = TriangleRay::new(isa, &q);
         // The f32 search reaches a little past t_max, so that a hit measured in f64 at
         // exactly t_max (the hit a closest-hit search returned) is never left out.
         let upper = q.t_above(t_max) + mesh.tolerance_along(ray);
-        mesh.bvh.walk(
+        mesh.walk_faces(
             isa,
             &q,
             f32::NEG_INFINITY,
             upper,
             #[inline(always)]
-            |slots, _| {
-                mesh.each_hit(
-                    isa,
-                    &tri,
-                    slots,
-                    f32::NEG_INFINITY,
-                    upper,
-                    #[inline(always)]
-                    |face, _| {
-                        if let Some(h) = mesh.measure(face, ray) {
-                            if h.t <= t_max {
-                                hit(h);
-                            }
-                        }
-                        ControlFlow::Continue(())
-                    },
-                )
+            |face, _, _| {
+                if let Some(h) = mesh.measure(face, ray) {
+                    if h.t <= t_max {
+                        hit(h);
+                    }
+                }
+                ControlFlow::Continue(())
             },
         );
     }
