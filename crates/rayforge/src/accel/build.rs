@@ -15,6 +15,7 @@
 
 use super::bvh::{leaf_blocks, leaf_reference, Bvh, Node, EMPTY, LEAF, MAX_DEPTH, WIDTH};
 use super::bvh::{MAX_BLOCKS, MAX_LEAF_BLOCKS, NO_PRIMITIVE};
+use super::pages;
 use crate::math::{Aabb, Point3};
 use rayon::prelude::*;
 use wide::f32x4;
@@ -104,15 +105,12 @@ impl Frame {
             min: f32x4::splat(f32::from_bits(NO_PRIMITIVE)),
             max: f32x4::ZERO,
         };
-        let mut refs: Vec<PrimRef> = (0..count)
-            .into_par_iter()
-            .with_min_len(4096)
-            .map(|i| {
+        let mut refs: Vec<PrimRef> =
+            pages::collect((0..count).into_par_iter().with_min_len(4096).map(|i| {
                 bounds(i)
                     .and_then(|(min, max)| self.prim_ref(i as u32, min, max))
                     .unwrap_or(left_out)
-            })
-            .collect();
+            }));
         refs.retain(|r| r.id() != NO_PRIMITIVE);
         refs
     }
@@ -174,7 +172,7 @@ pub(crate) fn build(mut refs: Vec<PrimRef>, block: usize, frame: Frame, bounds: 
         },
     };
     let info = Info::of(&refs);
-    let mut nodes = Vec::with_capacity(refs.len() / (2 * block));
+    let mut nodes = pages::with_capacity(refs.len() / (2 * block));
     let root = builder.subtree(&mut refs, info, 0, 0, &mut nodes);
     if root & LEAF != 0 {
         // Everything in one leaf: the root is still a node, with one child.
@@ -214,7 +212,7 @@ fn depth_of(nodes: &[Node]) -> usize {
 /// them, so a subtree's primitives lie together), padding blocks with [`NO_PRIMITIVE`], and
 /// turns the build's leaf references (which name ranges of `refs`) into block references.
 fn lay_out_leaves(mut nodes: Vec<Node>, refs: &[PrimRef], block: usize) -> (Vec<Node>, Vec<u32>) {
-    let mut order = Vec::with_capacity(refs.len() + refs.len() / 4);
+    let mut order = pages::with_capacity(refs.len() + refs.len() / 4);
     for node in &mut nodes {
         for child in &mut node.child {
             if *child == EMPTY || *child & LEAF == 0 {
@@ -633,7 +631,7 @@ impl Builder {
                 .into_par_iter()
                 .map(|(slot, part, child)| {
                     // About one node per eight blocks: a guess that saves most regrowth.
-                    let mut nodes = Vec::with_capacity(part.len() / (8 * self.block));
+                    let mut nodes = pages::with_capacity(part.len() / (8 * self.block));
                     let root =
                         self.subtree(part, child.info, first + child.start, depth + 1, &mut nodes);
                     (slot, root, nodes)

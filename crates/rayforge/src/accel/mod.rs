@@ -5,6 +5,8 @@ mod build;
 mod bvh;
 #[allow(unsafe_code)]
 mod isa;
+#[allow(unsafe_code)]
+pub(crate) mod pages;
 mod query;
 
 pub(crate) use build::{build, Frame};

@@ -17,7 +17,8 @@ mod packet;
 
 use super::triangle::{inside, plane_crossing};
 use super::LocalHit;
-use crate::accel::{dispatch, Bvh, Frame, Isa, Kernel, Lanes4, RayQuery, MAX_BLOCKS, NO_PRIMITIVE};
+use crate::accel::{dispatch, pages, Bvh, Frame, Isa, Kernel, Lanes4, RayQuery};
+use crate::accel::{MAX_BLOCKS, NO_PRIMITIVE};
 use crate::math::{Aabb, Point3, Ray, Vec3};
 use packet::{TrianglePacket, TriangleRay};
 use rayon::prelude::*;
@@ -149,13 +150,10 @@ impl Mesh {
         if let Some(face) = first_bad {
             return Err(bad_index(face, &faces[face]).expect("the face just found"));
         }
-        let corners: Vec<[u32; 3]> = faces.par_iter().map(|f| f.vertices).collect();
+        let corners: Vec<[u32; 3]> = pages::collect(faces.par_iter().map(|f| f.vertices));
         let optional = |any: bool, pick: fn(&MeshFace) -> Option<[u32; 3]>| -> Vec<[u32; 3]> {
             if any {
-                faces
-                    .par_iter()
-                    .map(|f| pick(f).unwrap_or([NONE; 3]))
-                    .collect()
+                pages::collect(faces.par_iter().map(|f| pick(f).unwrap_or([NONE; 3])))
             } else {
                 Vec::new()
             }
@@ -520,22 +518,22 @@ fn index(positions: &[Point3], corners: &[[u32; 3]]) -> (Bvh, Vec<TrianglePacket
         .map(|(min, max)| Aabb::new(min, max))
         .reduce(|| Aabb::EMPTY, |a, b| a.union(&b));
     let bvh = crate::accel::build(refs, PACKET, frame, bounds);
-    let packets: Vec<TrianglePacket> = bvh
-        .order()
-        .par_chunks(PACKET)
-        .with_min_len(1024)
-        .map(|faces| {
-            let mut packet = TrianglePacket::EMPTY;
-            for (lane, &face) in faces.iter().enumerate() {
-                if face != NO_PRIMITIVE {
-                    let relative = corners[face as usize]
-                        .map(|i| (positions[i as usize] - frame.base).as_vec3().to_array());
-                    packet.set(lane, face, relative);
+    let packets: Vec<TrianglePacket> = pages::collect(
+        bvh.order()
+            .par_chunks(PACKET)
+            .with_min_len(1024)
+            .map(|faces| {
+                let mut packet = TrianglePacket::EMPTY;
+                for (lane, &face) in faces.iter().enumerate() {
+                    if face != NO_PRIMITIVE {
+                        let relative = corners[face as usize]
+                            .map(|i| (positions[i as usize] - frame.base).as_vec3().to_array());
+                        packet.set(lane, face, relative);
+                    }
                 }
-            }
-            packet
-        })
-        .collect();
+                packet
+            }),
+    );
     let size = bounds.extent().max_element();
     let tolerance = if size.is_finite() {
         size * F32_TOLERANCE
