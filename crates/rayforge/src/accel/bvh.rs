@@ -44,8 +44,13 @@ pub(crate) const MAX_DEPTH: usize = 40;
 /// Children per node: one lane each of an eight-lane vector, so a node's boxes are tested
 /// together.
 pub(crate) const WIDTH: usize = 8;
-/// A node pushes all but one of its children while visiting that one.
-const STACK_SIZE: usize = (WIDTH - 1) * MAX_DEPTH + 1;
+/// Stack entries a walk through a tree `depth` nodes deep needs: a node pushes all but one of
+/// its children while visiting that one, and a node's children are copied to the stack a whole
+/// [`WIDTH`] at a time (a fixed copy of two vector stores, where a copy of however many there
+/// are would be a call to `memcpy`), so there is room for a whole node's worth past the top.
+const fn stack_size(depth: usize) -> usize {
+    (WIDTH - 1) * depth + WIDTH
+}
 
 /// One node: the boxes of up to [`WIDTH`] children, lane by lane, and what each child is.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -221,13 +226,13 @@ impl Bvh {
     ) {
         match self.depth {
             0 => {}
-            1..=3 => self.walk_with::<I, { (WIDTH - 1) * 3 + 1 }>(isa, query, t_min, t_max, visit),
-            4..=9 => self.walk_with::<I, { (WIDTH - 1) * 9 + 1 }>(isa, query, t_min, t_max, visit),
-            _ => self.walk_with::<I, STACK_SIZE>(isa, query, t_min, t_max, visit),
+            1..=3 => self.walk_with::<I, { stack_size(3) }>(isa, query, t_min, t_max, visit),
+            4..=9 => self.walk_with::<I, { stack_size(9) }>(isa, query, t_min, t_max, visit),
+            _ => self.walk_with::<I, { stack_size(MAX_DEPTH) }>(isa, query, t_min, t_max, visit),
         }
     }
 
-    /// [`Bvh::walk`] with a stack of `N` entries (at least `(WIDTH - 1) · depth + 1`).
+    /// [`Bvh::walk`] with a stack of `N` entries (at least [`stack_size`] of the depth).
     #[inline(always)]
     fn walk_with<I: Isa, const N: usize>(
         &self,
@@ -278,7 +283,7 @@ impl Bvh {
                         pending[k] = entry;
                         n += 1;
                     }
-                    stack[top..top + n - 1].copy_from_slice(&pending[..n - 1]);
+                    stack[top..top + WIDTH].copy_from_slice(&pending);
                     top += n - 1;
                     current = pending[n - 1].0;
                     continue;

@@ -63,8 +63,8 @@ impl RayQuery {
         // a frame (at most 10^30 wide) it moves less along that axis than a sixth of what f32
         // resolves at that distance, so to f32 it is parallel anyway.
         let reach = o[0].abs().max(o[1].abs()).max(o[2].abs());
-        let slope = if reach.is_finite() && reach > MAX_OFFSET / MAX_SLOPE {
-            MAX_OFFSET / reach
+        let slope = if reach > MAX_OFFSET / MAX_SLOPE {
+            slope_far_away(reach)
         } else {
             MAX_SLOPE
         };
@@ -116,5 +116,18 @@ impl RayQuery {
     #[inline]
     pub fn t_of(&self, t: f32) -> f64 {
         self.shift + t as f64
+    }
+}
+
+/// The slope limit of a ray `reach` units from the base (beyond `MAX_OFFSET / MAX_SLOPE`).
+/// Out of line: almost no ray needs it, and computed in line the division would sit on every
+/// ray's path to its first box test.
+#[cold]
+#[inline(never)]
+fn slope_far_away(reach: f32) -> f32 {
+    if reach.is_finite() {
+        MAX_OFFSET / reach
+    } else {
+        MAX_SLOPE
     }
 }
