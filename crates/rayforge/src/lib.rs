@@ -9,8 +9,9 @@
 //! A second renderer, the [`raster`] module, draws the same world as triangles (a software
 //! rasterizer after *Computer Graphics from Scratch*).
 #![deny(missing_docs)]
-// One module may use `unsafe`: `accel::isa`, which calls the processor's vector instructions
-// after checking at run time that it has them. Everything else is safe code.
+// Two modules may use `unsafe`: `accel::isa`, which calls the processor's vector instructions
+// after checking at run time that it has them, and `accel::pages`, which asks the kernel for
+// huge pages under the build's large buffers. Everything else is safe code.
 #![deny(unsafe_code)]
 
 pub mod accel;
