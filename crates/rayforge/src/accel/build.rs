@@ -93,9 +93,9 @@ impl Frame {
 
     /// The build's records of primitives `0..count`, `bounds(i)` giving the box of primitive
     /// `i` (`None` for one to leave out), made in parallel; those whose boxes do not fit in
-    /// `f32` are left out too. (Each record is
-    /// written in its place and the few left out are squeezed out afterwards: a filtering
-    /// parallel collect would gather pieces and copy every record a second time.)
+    /// `f32` are left out too. (Each record is written in its place and the few left out are
+    /// squeezed out afterwards: a filtering parallel collect would gather pieces and copy
+    /// every record a second time.)
     pub(crate) fn prim_refs(
         &self,
         count: usize,

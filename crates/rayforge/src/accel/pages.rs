@@ -2,7 +2,7 @@
 //!
 //! A ten-million-triangle mesh's index is written into about a gigabyte of fresh memory
 //! (primitive records, nodes, the primitive order, triangle packets). In ordinary 4 KiB pages
-//! the kernel stops the writer at every page to clear it and map it, a quarter of a million
+//! the operating system stops the writer at every page to clear it and map it, a quarter of a million
 //! stops per gigabyte: a fifth of the build's time went there. Linux can back memory with 2 MiB
 //! pages instead, but where it is set to do so only on request (`madvise`, Debian's default)
 //! nobody asks for it. These helpers ask, for the buffers large enough to gain: each fault
@@ -30,7 +30,7 @@ pub(crate) fn collect<T: Send>(items: impl IndexedParallelIterator<Item = T>) ->
     buffer
 }
 
-/// Asks the kernel to back the whole huge pages inside `buffer`'s allocation with huge pages
+/// Asks the operating system to back the whole huge pages inside `buffer`'s allocation with huge pages
 /// (done before the memory is first written, so the first write to each maps a huge page).
 fn advise_huge_pages<T>(buffer: &Vec<T>) {
     let bytes = buffer.capacity() * std::mem::size_of::<T>();
@@ -45,7 +45,7 @@ fn advise_huge_pages<T>(buffer: &Vec<T>) {
         let end = (start + bytes) / HUGE_PAGE * HUGE_PAGE;
         if end > first {
             // SAFETY: the range lies inside the vector's own allocation, and MADV_HUGEPAGE
-            // changes only how the kernel backs it, never its contents or its mapping, so no
+            // changes only how the system backs it, never its contents or its mapping, so no
             // memory this process uses is affected. A refusal (no huge page support) is fine:
             // the memory stays in ordinary pages.
             unsafe {
