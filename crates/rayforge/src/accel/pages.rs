@@ -2,8 +2,8 @@
 //!
 //! A ten-million-triangle mesh's index is written into about a gigabyte of fresh memory
 //! (primitive records, nodes, the primitive order, triangle packets). In ordinary 4 KiB pages
-//! the operating system stops the writer at every page to clear it and map it, a quarter of a million
-//! stops per gigabyte: a fifth of the build's time went there. Linux can back memory with 2 MiB
+//! the operating system stops the writer at every page to clear it and map it, a quarter of a
+//! million stops per gigabyte: a fifth of the build's time went there. Linux can back memory with 2 MiB
 //! pages instead, but where it is set to do so only on request (`madvise`, Debian's default)
 //! nobody asks for it. These helpers ask, for the buffers large enough to gain: each fault
 //! then maps 512 times as much, and walks through the finished index miss the address
