@@ -238,6 +238,12 @@ pub struct RenderArgs {
     #[arg(long)]
     pub resume: bool,
 
+    /// For testing interruption: once this many rows are finished, the render waits for
+    /// Ctrl-C (or a termination signal) before it goes on, so a test can interrupt it at a
+    /// known point whatever the machine's speed. Hidden from the help.
+    #[arg(long, value_name = "ROWS", hide = true)]
+    pub pause_after_rows: Option<usize>,
+
     /// Print nothing but errors: no progress bar, no summary.
     #[arg(short, long)]
     pub quiet: bool,

@@ -145,9 +145,14 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
         let rendered = {
             // Dropped after the render, which ends the log.
             let running = render_running;
+            let rows_done = std::sync::atomic::AtomicUsize::new(0);
             let on_row = |y: usize, row: &[Color]| {
                 if let Ok(mut rows) = finished_rows.lock() {
                     rows.push((y, row.to_vec()));
+                }
+                let done = rows_done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
+                if settings.pause_after_rows.is_some_and(|n| done >= n) {
+                    wait_for_interrupt(stop);
                 }
             };
             let options = RenderOptions {
@@ -210,6 +215,14 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
         }
     }
     Ok(())
+}
+
+/// Holds the calling worker until `stop` is set (`--pause-after-rows`): the render then starts
+/// no more rows, so a test knows exactly which rows an interrupt saves.
+fn wait_for_interrupt(stop: &std::sync::atomic::AtomicBool) {
+    while !stop.load(std::sync::atomic::Ordering::SeqCst) {
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
 }
 
 /// The rows of the checkpoint to resume from (with `--resume`) and the log that saves new

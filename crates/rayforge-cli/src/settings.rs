@@ -54,6 +54,8 @@ pub struct RenderSettings {
     pub max_triangles: usize,
     /// Continue from the checkpoint.
     pub resume: bool,
+    /// Wait for an interrupt once this many rows are finished (a testing aid).
+    pub pause_after_rows: Option<usize>,
     /// The renderer and raster options asked for on the command line.
     pub raster: RasterRequest,
 }
@@ -167,6 +169,7 @@ impl RenderSettings {
             quiet: args.quiet,
             max_triangles: args.max_triangles,
             resume: args.resume,
+            pause_after_rows: args.pause_after_rows,
             raster,
         })
     }
