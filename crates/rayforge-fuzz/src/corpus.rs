@@ -130,14 +130,13 @@ pub fn palette_png_with(palette: &[u8]) -> Vec<u8> {
 
 /// A PNG file of these chunks, each with its length and CRC.
 pub fn png(chunks: &[(&[u8; 4], &[u8])]) -> Vec<u8> {
-    use crate::mutate::crc32;
     let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
     for (kind, data) in chunks {
         png.extend_from_slice(&(data.len() as u32).to_be_bytes());
         let mut body = kind.to_vec();
         body.extend_from_slice(data);
         png.extend_from_slice(&body);
-        png.extend_from_slice(&crc32(&body).to_be_bytes());
+        png.extend_from_slice(&crc32fast::hash(&body).to_be_bytes());
     }
     png
 }
@@ -154,6 +153,12 @@ fn adler32(bytes: &[u8]) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_chunk_carries_its_crc32() {
+        let iend = png(&[(b"IEND", &[])]);
+        assert_eq!(iend[8..], *b"\0\0\0\0IEND\xAE\x42\x60\x82");
+    }
 
     #[test]
     fn every_generated_image_decodes() {

@@ -16,9 +16,9 @@
 //! A point of three numbers is a point in front of the eye, projected (see
 //! [`CanvasPoint::Projected`]).
 
+use crate::error::SceneError;
 use crate::material::color;
 use crate::source::{check_keys, required, Entry, Node, Source};
-use crate::SceneError;
 use glam::{DVec2, DVec3};
 use rayforge::raster::{CanvasItem, CanvasPoint, TriangleStyle};
 use rayforge::Color;

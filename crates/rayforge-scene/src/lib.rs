@@ -13,14 +13,11 @@ mod canvas_items;
 mod defines;
 mod error;
 mod items;
-mod lights;
 mod material;
 pub mod obj;
 mod settings;
 mod source;
 mod transform;
-mod viewport;
-mod zoom_camera;
 
 pub use assets::{
     texture_from_bytes, MAX_IMAGE_BYTES, MAX_SCENE_TEXTURE_PIXELS, MAX_TEXTURE_PIXELS,
@@ -30,7 +27,9 @@ pub use error::{SceneError, Span};
 pub use obj::DEFAULT_MAX_TRIANGLES;
 
 use defines::Defines;
-use source::{Node, Source};
+use items::camera::CameraItem;
+use items::Contents;
+use source::Source;
 use std::path::Path;
 
 /// A scene ready to render: the world and the camera that looks at it.
@@ -173,7 +172,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
             settings = Some(settings::apply(&source, e.value, &mut read.world)?);
             continue;
         }
-        add_item(
+        items::add_item(
             &source,
             &mut defines,
             &mut assets,
@@ -187,7 +186,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         camera,
         canvas_items,
     } = read;
-    let items::CameraItem {
+    let CameraItem {
         camera,
         samples,
         anti_alias,
@@ -206,65 +205,4 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         raster: settings.and_then(|s| s.raster),
         warnings: source.take_warnings(),
     })
-}
-
-/// What the file's items add up to, as they are read.
-#[derive(Default)]
-struct Contents {
-    /// Objects and lights (and, from `world:`, the settings that go into the world).
-    world: rayforge::World,
-    /// The camera, once read.
-    camera: Option<items::CameraItem>,
-    /// `canvas-line` and `canvas-triangle` items, in order.
-    canvas_items: Vec<rayforge::raster::CanvasItem>,
-}
-
-/// One top-level item.
-fn add_item<'n, 's>(
-    source: &Source<'s>,
-    defines: &mut Defines<'n, 's>,
-    assets: &mut assets::Assets,
-    item: &'n Node<'s>,
-    read: &mut Contents,
-    frame: u64,
-) -> Result<(), SceneError> {
-    let entries = source.entries(item, "")?;
-    if entries.iter().any(|e| e.name == "define") {
-        return defines.add(source, &entries);
-    }
-    let Some(kind) = entries.iter().find(|e| e.name == "add").map(|e| e.value) else {
-        return Err(source.error(item, "", "each item needs `add:`, `define:` or `world:`"));
-    };
-    match source.string(kind, "add")? {
-        "camera" if read.camera.is_some() => {
-            return Err(source.error(kind, "add", "a second camera: a scene has exactly one"))
-        }
-        "camera" => read.camera = Some(items::camera(source, &entries, item)?),
-        "light" => read
-            .world
-            .lights
-            .push(items::light(source, &entries, item)?),
-        kind if canvas_items::CANVAS_KINDS.contains(&kind) => {
-            source.spend(item, "add")?;
-            let canvas_item = canvas_items::canvas_item(source, &entries, item, kind)?;
-            read.canvas_items.push(canvas_item);
-        }
-        _ => {
-            let mut trail = Vec::new();
-            let item = items::expand_template(source, defines, entries, kind, &mut trail)?;
-            items::add_objects(
-                source,
-                defines,
-                assets,
-                &item,
-                &items::Inherited {
-                    frame,
-                    ..items::Inherited::TOP
-                },
-                &mut trail,
-                &mut read.world.objects,
-            )?;
-        }
-    }
-    Ok(())
 }

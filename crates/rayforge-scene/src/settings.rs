@@ -9,9 +9,9 @@
 //!                             # `sphere-divisions`, `wireframe` and `texture-filter`
 //! ```
 
+use crate::error::SceneError;
 use crate::material::color;
 use crate::source::{check_keys, Entry, Node, Source};
-use crate::SceneError;
 use rayforge::raster::{RasterOptions, Shading, TextureFilter};
 use rayforge::{LightingModel, World};
 

@@ -12,22 +12,24 @@
 //! right-handed frame). This crate's cameras see +x on the left of the image when they look
 //! down -z, so the camera is this crate's with a mirror in x, and the book's scenes need no
 //! change of coordinates.
+//!
+//! Separate from the other books' cameras: it is sized by magnification rather than a field of
+//! view, mirrored, and sampled on a grid instead of by `samples`.
 
-use crate::items::{finish_camera, CameraItem};
+use crate::error::SceneError;
 use crate::source::{check_keys, Entry, Node, Source};
-use crate::SceneError;
 use rayforge::math::scaling;
 use rayforge::Camera;
 
 /// The largest `anti-alias` accepted (its square is the rays per pixel).
 const MAX_ANTI_ALIAS: u64 = 64;
 
-/// The zoom camera of an `add: camera` item that has `zoom:`.
+/// The zoom camera of an `add: camera` item that has `zoom:`, and its `anti-alias` grid size.
 pub fn camera(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
     item: &Node<'_>,
-) -> Result<CameraItem, SceneError> {
+) -> Result<(Camera, u32), SceneError> {
     check_keys(
         source,
         entries,
@@ -44,12 +46,23 @@ pub fn camera(
     if zoom <= 0.0 {
         return Err(source.error(zoom_node, "zoom", "the zoom must be positive"));
     }
-    let anti_alias = match get("anti-alias") {
-        Some(n) => source.integer(n, "anti-alias", 1)?.min(MAX_ANTI_ALIAS + 1),
-        None => 1,
+    let anti_alias = anti_alias(source, get("anti-alias"))?;
+    // The field of view spans the longer side: half of it is (longer/2) / (zoom · shorter)
+    // at distance 1.
+    let (longer, shorter) = (width.max(height) as f64, width.min(height) as f64);
+    let field_of_view = 2.0 * (longer / (2.0 * zoom * shorter)).atan();
+    let camera = Camera::new(width as usize, height as usize, field_of_view)
+        .with_transform(scaling(-1.0, 1.0, 1.0));
+    Ok((camera, anti_alias))
+}
+
+/// `anti-alias` (default 1), at most [`MAX_ANTI_ALIAS`].
+fn anti_alias(source: &Source<'_>, node: Option<&Node<'_>>) -> Result<u32, SceneError> {
+    let Some(node) = node else {
+        return Ok(1);
     };
-    if anti_alias > MAX_ANTI_ALIAS {
-        let node = get("anti-alias").unwrap_or(item);
+    let grid = source.integer(node, "anti-alias", 1)?;
+    if grid > MAX_ANTI_ALIAS {
         return Err(source.error(
             node,
             "anti-alias",
@@ -58,17 +71,5 @@ pub fn camera(
             ),
         ));
     }
-    // The field of view spans the longer side: half of it is (longer/2) / (zoom · shorter)
-    // at distance 1.
-    let (longer, shorter) = (width.max(height) as f64, width.min(height) as f64);
-    let field_of_view = 2.0 * (longer / (2.0 * zoom * shorter)).atan();
-    let camera = Camera::new(width as usize, height as usize, field_of_view)
-        .with_transform(scaling(-1.0, 1.0, 1.0));
-    let (camera, _) = finish_camera(source, entries, camera)?;
-    let n = anti_alias as u32;
-    Ok(CameraItem {
-        camera,
-        samples: n * n,
-        anti_alias: Some(n),
-    })
+    Ok(grid as u32)
 }

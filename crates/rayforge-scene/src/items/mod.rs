@@ -1,0 +1,80 @@
+//! The items of a scene file, each read by the module of its kind: `add: camera` ([`camera`]),
+//! `add: light` ([`lights`]), the canvas items, and objects ([`objects`]: shapes, groups, CSG,
+//! OBJ models and defined object templates, placed and moving).
+//!
+//! This module only dispatches each `add:` or `define:` item to its kind's reader and collects
+//! what they read; the `world:` item is the crate root's.
+
+pub mod camera;
+mod csg;
+mod groups;
+mod kinds;
+mod lights;
+mod models;
+mod motion;
+mod nesting;
+mod objects;
+mod placement;
+mod shapes;
+mod templates;
+
+use crate::assets::Assets;
+use crate::canvas_items::{canvas_item, CANVAS_KINDS};
+use crate::defines::Defines;
+use crate::error::SceneError;
+use crate::source::{Node, Source};
+use camera::CameraItem;
+
+/// What the file's items add up to, as they are read.
+#[derive(Default)]
+pub struct Contents {
+    /// Objects and lights (and, from `world:`, the settings that go into the world).
+    pub world: rayforge::World,
+    /// The camera, once read.
+    pub camera: Option<CameraItem>,
+    /// `canvas-line` and `canvas-triangle` items, in order.
+    pub canvas_items: Vec<rayforge::raster::CanvasItem>,
+}
+
+/// One top-level item.
+pub fn add_item<'n, 's>(
+    source: &Source<'s>,
+    defines: &mut Defines<'n, 's>,
+    assets: &mut Assets,
+    item: &'n Node<'s>,
+    read: &mut Contents,
+    frame: u64,
+) -> Result<(), SceneError> {
+    let entries = source.entries(item, "")?;
+    if entries.iter().any(|e| e.name == "define") {
+        return defines.add(source, &entries);
+    }
+    let Some(kind) = entries.iter().find(|e| e.name == "add").map(|e| e.value) else {
+        return Err(source.error(item, "", "each item needs `add:`, `define:` or `world:`"));
+    };
+    match source.string(kind, "add")? {
+        "camera" if read.camera.is_some() => {
+            return Err(source.error(kind, "add", "a second camera: a scene has exactly one"))
+        }
+        "camera" => read.camera = Some(camera::camera(source, &entries, item)?),
+        "light" => read
+            .world
+            .lights
+            .push(lights::light(source, &entries, item)?),
+        kind if CANVAS_KINDS.contains(&kind) => {
+            source.spend(item, "add")?;
+            let canvas_item = canvas_item(source, &entries, item, kind)?;
+            read.canvas_items.push(canvas_item);
+        }
+        _ => objects::add_objects(
+            source,
+            defines,
+            assets,
+            entries,
+            kind,
+            frame,
+            &mut read.world.objects,
+        )?,
+    }
+    Ok(())
+}

@@ -1,0 +1,77 @@
+//! Objects: an `add:` item that names a shape, group, CSG, OBJ model or defined object,
+//! expanded, checked for its kind's keys and placed, then built by its kind's reader.
+//!
+//! Separate from the readers of each kind because it is the part they share; it is also the
+//! builder that groups and CSGs are handed (see [`Builder`]) to build what they hold.
+
+use super::csg::add_csg;
+use super::groups::add_group;
+use super::kinds::keys;
+use super::models::add_model;
+use super::nesting::{Builder, Inherited};
+use super::placement::place;
+use super::shapes::{add_shape, shape};
+use super::templates::{expand_template, Expanded};
+use crate::assets::Assets;
+use crate::defines::Defines;
+use crate::error::SceneError;
+use crate::source::{check_keys, Entry, Node, Source};
+use rayforge::Object;
+
+/// Adds the objects of the top-level item with keys `entries`, whose `add:` is `kind`, to
+/// `out`, as they are at animation frame `frame`.
+pub fn add_objects<'n, 's>(
+    source: &Source<'s>,
+    defines: &Defines<'n, 's>,
+    assets: &mut Assets,
+    entries: Vec<Entry<'n, 's>>,
+    kind: &'n Node<'s>,
+    frame: u64,
+    out: &mut Vec<Object>,
+) -> Result<(), SceneError> {
+    let mut trail = Vec::new();
+    let item = expand_template(source, defines, entries, kind, &mut trail)?;
+    let mut builder = Builder {
+        source,
+        defines,
+        assets,
+        trail,
+        build: build_objects,
+    };
+    let top = Inherited {
+        frame,
+        ..Inherited::TOP
+    };
+    build_objects(&mut builder, &item, &top, out)
+}
+
+/// Builds the objects of one (expanded) `add:` item, a shape or a group, into `out`, with
+/// every enclosing group's transform baked in (the parent first: `parent * child`). The
+/// builder's trail holds the object templates being built (see [`expand_template`]).
+fn build_objects<'n, 's>(
+    builder: &mut Builder<'_, 'n, 's>,
+    item: &Expanded<'n, 's>,
+    inherited: &Inherited,
+    out: &mut Vec<Object>,
+) -> Result<(), SceneError> {
+    let source = builder.source;
+    let entries = &item.entries;
+    let kind_node = entries
+        .iter()
+        .find(|e| e.name == "add")
+        .expect("every item has `add`")
+        .value;
+    let kind = source.string(kind_node, "add")?;
+    let shape = match kind {
+        "group" | "obj" | "csg" => None,
+        _ => Some(shape(source, entries, kind_node, kind)?),
+    };
+    check_keys(source, entries, &format!("a {kind}"), &keys(kind))?;
+    let placement = place(builder, item, kind_node, inherited)?;
+    match (shape, kind) {
+        (Some(shape), _) => add_shape(source, kind_node, shape, placement, out),
+        (None, "csg") => add_csg(builder, entries, kind_node, placement, inherited, out),
+        (None, "obj") => add_model(source, builder.assets, entries, kind_node, placement, out),
+        (None, _) => add_group(builder, entries, kind_node, placement, inherited, out),
+    }
+}
