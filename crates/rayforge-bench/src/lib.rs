@@ -22,7 +22,6 @@ mod atomic_write;
 mod embree;
 pub mod failure;
 mod files;
-mod font;
 mod peers;
 mod plot;
 mod pov_mesh;

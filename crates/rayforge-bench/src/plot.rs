@@ -1,9 +1,15 @@
 //! The scaling plot: time per primary ray against triangle count (log x axis), one line per
-//! tracer, drawn pixel by pixel into a PNG with the bitmap font of `font.rs`.
+//! tracer, drawn by plotters into an RGB buffer and encoded as a PNG.
+//!
+//! The x axis is the triangle count's base-10 logarithm, so the whole decades are its ticks
+//! (labelled `1k`, `10k`, `1M`) and the steps from 2 to 9 of each its light grid lines. The
+//! text uses DejaVu Sans, embedded by the `dejavu` crate and registered once with plotters.
 
-use super::font::{descends, glyph, ADVANCE, DESCENT, HEIGHT};
 use crate::failure::Failure;
-use image::{Rgb, RgbImage};
+use image::RgbImage;
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+use std::sync::OnceLock;
 
 /// One line of the plot.
 #[derive(Debug, Clone)]
@@ -17,110 +23,141 @@ pub struct Series {
 }
 
 const WIDTH: u32 = 960;
-const HEIGHT_PX: u32 = 600;
-/// The plot area inside the margins that hold the title, the ticks' labels and the legend.
-const LEFT: i64 = 100;
-const RIGHT: i64 = 930;
-const TOP: i64 = 110;
-const BOTTOM: i64 = 525;
-/// Labels are drawn at twice the font's size.
-const SCALE: u32 = 2;
+const HEIGHT: u32 = 600;
+/// The band at the top holding the title and the subtitle.
+const HEADER: u32 = 80;
+/// Where the title and subtitle start: above the plot area's left edge.
+const TEXT_LEFT: i32 = 100;
 
-const WHITE: Rgb<u8> = Rgb([255, 255, 255]);
-const INK: Rgb<u8> = Rgb([30, 30, 30]);
-const GRID: Rgb<u8> = Rgb([225, 225, 225]);
+const INK: RGBColor = RGBColor(30, 30, 30);
+const SUBTITLE: RGBColor = RGBColor(90, 90, 90);
+const GRID: RGBColor = RGBColor(225, 225, 225);
+const MINOR_GRID: RGBColor = RGBColor(240, 240, 240);
+
+/// The font family plotters draws every label with (its default, `sans-serif`), registered
+/// with the embedded DejaVu Sans before the first plot.
+fn register_font() -> Result<(), Failure> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular())
+            .is_ok()
+    });
+    match ok {
+        true => Ok(()),
+        false => Err(Failure::internal(
+            "the embedded DejaVu Sans font is invalid",
+        )),
+    }
+}
 
 /// Draws the plot as a PNG file's bytes.
 pub fn png(title: &str, subtitle: &str, series: &[Series]) -> Result<Vec<u8>, Failure> {
     let mut bytes = std::io::Cursor::new(Vec::new());
-    draw(title, subtitle, series)
+    draw(title, subtitle, series)?
         .write_to(&mut bytes, image::ImageFormat::Png)
         .map_err(|e| Failure::internal(format!("PNG encoding failed: {e}")))?;
     Ok(bytes.into_inner())
 }
 
 /// The plot as an image.
-pub fn draw(title: &str, subtitle: &str, series: &[Series]) -> RgbImage {
-    let mut img = RgbImage::from_pixel(WIDTH, HEIGHT_PX, WHITE);
+pub fn draw(title: &str, subtitle: &str, series: &[Series]) -> Result<RgbImage, Failure> {
+    register_font()?;
+    let mut buffer = vec![0u8; (WIDTH * HEIGHT * 3) as usize];
+    draw_into(&mut buffer, title, subtitle, series)
+        .map_err(|e| Failure::internal(format!("drawing the scaling plot failed: {e}")))?;
+    Ok(RgbImage::from_raw(WIDTH, HEIGHT, buffer).expect("the buffer is WIDTH × HEIGHT RGB"))
+}
+
+/// Draws onto a `WIDTH` × `HEIGHT` RGB buffer.
+fn draw_into(
+    buffer: &mut [u8],
+    title: &str,
+    subtitle: &str,
+    series: &[Series],
+) -> Result<(), Box<dyn std::error::Error>> {
     let points = || series.iter().flat_map(|s| s.points.iter().copied());
     let (x_lo, x_hi) = decades(points().map(|p| p.0));
     let (y_max, y_step) = nice_axis(points().map(|p| p.1).fold(0.0, f64::max));
-    let px = |t: f64| LEFT as f64 + (t.log10() - x_lo) / (x_hi - x_lo) * (RIGHT - LEFT) as f64;
-    let py = |v: f64| BOTTOM as f64 - v / y_max * (BOTTOM - TOP) as f64;
 
-    text(&mut img, LEFT, 14, title, INK);
-    text(&mut img, LEFT, 40, subtitle, Rgb([90, 90, 90]));
+    let root = BitMapBackend::with_buffer(buffer, (WIDTH, HEIGHT)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (header, body) = root.split_vertically(HEADER);
+    header.draw(&Text::new(
+        title.to_string(),
+        (TEXT_LEFT, 14),
+        ("sans-serif", 26).into_font().color(&INK),
+    ))?;
+    header.draw(&Text::new(
+        subtitle.to_string(),
+        (TEXT_LEFT, 46),
+        ("sans-serif", 20).into_font().color(&SUBTITLE),
+    ))?;
 
-    // Vertical grid and x ticks at every decade, with minor ticks at 2..9 of each.
-    let mut decade = x_lo;
-    while decade <= x_hi + 1e-9 {
-        let x = px(10f64.powf(decade)).round() as i64;
-        line(&mut img, (x, TOP), (x, BOTTOM), GRID, 1);
-        line(&mut img, (x, BOTTOM), (x, BOTTOM + 8), INK, 2);
-        let label = count_label(10f64.powf(decade));
-        let w = text_width(&label) as i64;
-        text(&mut img, x - w / 2, BOTTOM + 14, &label, INK);
-        if decade < x_hi {
-            for m in 2..10 {
-                let x = px(10f64.powf(decade) * m as f64).round() as i64;
-                line(&mut img, (x, BOTTOM), (x, BOTTOM + 4), INK, 1);
-            }
+    let mut chart = ChartBuilder::on(&body)
+        .margin_top(10)
+        .margin_left(10)
+        .margin_right(30)
+        .margin_bottom(10)
+        .x_label_area_size(60)
+        .y_label_area_size(90)
+        .build_cartesian_2d(x_lo..x_hi, 0.0..y_max)?;
+    let decade_count = (x_hi - x_lo).round() as usize;
+    let y_ticks = (y_max / y_step).round() as usize + 1;
+    let x_label = |v: &f64| count_label(10f64.powf(*v));
+    let y_label = |v: &f64| number_label(*v, y_step);
+    chart
+        .configure_mesh()
+        .x_labels(decade_count + 1)
+        .y_labels(y_ticks)
+        .x_label_formatter(&x_label)
+        .y_label_formatter(&y_label)
+        .max_light_lines(0)
+        .bold_line_style(GRID)
+        .axis_style(ShapeStyle::from(INK).stroke_width(2))
+        .label_style(("sans-serif", 20).into_font().color(&INK))
+        .axis_desc_style(("sans-serif", 20).into_font().color(&INK))
+        .x_desc("triangles (log scale)")
+        .y_desc("ns per ray")
+        .draw()?;
+    // Light grid lines at 2..9 times each decade: the marks of a log axis.
+    for decade in 0..decade_count {
+        for m in 2..10 {
+            let x = x_lo + decade as f64 + (m as f64).log10();
+            chart.draw_series(LineSeries::new([(x, 0.0), (x, y_max)], MINOR_GRID))?;
         }
-        decade += 1.0;
     }
-    // Horizontal grid and y ticks.
-    let mut v = 0.0;
-    while v <= y_max + y_step * 1e-6 {
-        let y = py(v).round() as i64;
-        line(&mut img, (LEFT, y), (RIGHT, y), GRID, 1);
-        line(&mut img, (LEFT - 8, y), (LEFT, y), INK, 2);
-        let label = number_label(v, y_step);
-        let w = text_width(&label) as i64;
-        text(
-            &mut img,
-            LEFT - 14 - w,
-            y - (HEIGHT * SCALE / 2) as i64,
-            &label,
-            INK,
-        );
-        v += y_step;
-    }
-    // The axes and their names.
-    line(&mut img, (LEFT, TOP), (LEFT, BOTTOM), INK, 2);
-    line(&mut img, (LEFT, BOTTOM), (RIGHT, BOTTOM), INK, 2);
-    let x_name = "triangles (log scale)";
-    text(
-        &mut img,
-        (LEFT + RIGHT) / 2 - text_width(x_name) as i64 / 2,
-        BOTTOM + 44,
-        x_name,
-        INK,
-    );
-    text(&mut img, 8, TOP - 30, "ns per ray", INK);
 
-    // The series, then the legend in the top right corner.
     for s in series {
-        let mut pts = s.points.clone();
+        let mut pts: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .filter(|p| p.0 > 0.0)
+            .map(|&(t, ns)| (t.log10(), ns))
+            .collect();
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let color = Rgb(s.color);
-        let to_px = |p: &(f64, f64)| (px(p.0).round() as i64, py(p.1).round() as i64);
-        for pair in pts.windows(2) {
-            line(&mut img, to_px(&pair[0]), to_px(&pair[1]), color, 3);
-        }
-        for p in &pts {
-            let (x, y) = to_px(p);
-            fill_rect(&mut img, x - 5, y - 5, 11, 11, color);
-        }
+        let color = RGBColor(s.color[0], s.color[1], s.color[2]);
+        chart
+            .draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(3)))?
+            .label(s.name.as_str())
+            .legend(move |(x, y)| {
+                Rectangle::new([(x - 12, y - 3), (x + 16, y + 3)], color.filled())
+            });
+        chart
+            .draw_series(pts.iter().map(|&p| {
+                EmptyElement::at(p) + Rectangle::new([(-5, -5), (6, 6)], color.filled())
+            }))?;
     }
     // The legend goes top left, where the lines start low.
-    let mut y = TOP + 12;
-    for s in series {
-        let x = LEFT + 60;
-        fill_rect(&mut img, x - 40, y + 4, 28, 6, Rgb(s.color));
-        text(&mut img, x, y, &s.name, INK);
-        y += 26;
-    }
-    img
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .margin(20)
+        .label_font(("sans-serif", 20).into_font().color(&INK))
+        .background_style(WHITE.mix(0.9))
+        .border_style(GRID)
+        .draw()?;
+    root.present()?;
+    Ok(())
 }
 
 /// The whole decades spanning the values, as exponents (at least one decade wide).
@@ -176,69 +213,6 @@ fn number_label(v: f64, step: f64) -> String {
     format!("{v:.decimals$}")
 }
 
-fn text_width(s: &str) -> u32 {
-    s.chars().count() as u32 * ADVANCE * SCALE
-}
-
-/// Draws `s` with its top-left corner at (x, y); characters the font lacks are left blank.
-fn text(img: &mut RgbImage, x: i64, y: i64, s: &str, color: Rgb<u8>) {
-    for (i, c) in s.chars().enumerate() {
-        let Some(rows) = glyph(c) else { continue };
-        let cx = x + (i as u32 * ADVANCE * SCALE) as i64;
-        let y = if descends(c) {
-            y + (DESCENT * SCALE) as i64
-        } else {
-            y
-        };
-        for (r, bits) in rows.iter().enumerate() {
-            for col in 0..5 {
-                if bits & (1 << (4 - col)) != 0 {
-                    fill_rect(
-                        img,
-                        cx + (col * SCALE) as i64,
-                        y + (r as u32 * SCALE) as i64,
-                        SCALE,
-                        SCALE,
-                        color,
-                    );
-                }
-            }
-        }
-    }
-}
-
-fn fill_rect(img: &mut RgbImage, x: i64, y: i64, w: u32, h: u32, color: Rgb<u8>) {
-    for yy in y.max(0)..(y + h as i64).min(img.height() as i64) {
-        for xx in x.max(0)..(x + w as i64).min(img.width() as i64) {
-            img.put_pixel(xx as u32, yy as u32, color);
-        }
-    }
-}
-
-/// A line `thickness` pixels wide (Bresenham's walk, stamping a square at each step).
-fn line(img: &mut RgbImage, from: (i64, i64), to: (i64, i64), color: Rgb<u8>, thickness: u32) {
-    let (mut x, mut y) = from;
-    let (dx, dy) = ((to.0 - x).abs(), -(to.1 - y).abs());
-    let (sx, sy) = ((to.0 - x).signum(), (to.1 - y).signum());
-    let mut err = dx + dy;
-    let half = thickness as i64 / 2;
-    loop {
-        fill_rect(img, x - half, y - half, thickness, thickness, color);
-        if (x, y) == to {
-            break;
-        }
-        let e2 = 2 * err;
-        if e2 >= dy {
-            err += dy;
-            x += sx;
-        }
-        if e2 <= dx {
-            err += dx;
-            y += sy;
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -255,15 +229,27 @@ mod tests {
     }
 
     #[test]
-    fn the_plot_draws_its_series_in_their_colours() {
+    fn the_plot_draws_its_series_in_their_colours_and_its_text() {
         let s = Series {
             name: "rayforge".into(),
             color: [200, 40, 40],
             points: vec![(1e3, 100.0), (1e7, 200.0)],
         };
-        let img = draw("time per primary ray", "1920×1080 rays", &[s]);
+        let img = draw("time per primary ray", "1920×1080 rays", &[s]).unwrap();
+        assert_eq!(img.dimensions(), (WIDTH, HEIGHT));
         let red = img.pixels().filter(|p| p.0 == [200, 40, 40]).count();
         assert!(red > 500, "{red}");
-        assert_eq!(img.dimensions(), (WIDTH, HEIGHT_PX));
+        // The title's band holds text: dark pixels where there is no line or grid.
+        let header_ink = (0..HEADER)
+            .flat_map(|y| (0..WIDTH).map(move |x| (x, y)))
+            .filter(|&(x, y)| img.get_pixel(x, y).0.iter().all(|&c| c < 100))
+            .count();
+        assert!(header_ink > 200, "{header_ink}");
+    }
+
+    #[test]
+    fn an_empty_plot_still_draws_its_axes() {
+        let img = draw("t", "s", &[]).unwrap();
+        assert!(img.pixels().any(|p| p.0 == [30, 30, 30]));
     }
 }
