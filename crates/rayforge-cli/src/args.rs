@@ -69,90 +69,32 @@ pub struct Cli {
 }
 
 /// The subcommands.
+// Parsed once per run: the render arguments' size beside `bench`'s one vector costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Render a scene file to an image (.png, .ppm or .pfm, chosen by the output's extension).
     #[command(after_help = RENDER_EXAMPLES)]
     Render(RenderArgs),
     /// Measure rayforge against its peers (Embree, POV-Ray, raytracer_rs) and print the tables
-    /// of times and ratios (see bench/peers/setup.sh to install the peers).
-    #[command(after_help = BENCH_EXAMPLES)]
+    /// of times and ratios: runs the separate `rayforge-bench` program beside this one
+    /// (`rayforge bench --help` shows its options).
+    // The benchmarks live in their own crate so that this binary carries none of them; every
+    // argument, `--help` included, goes to `rayforge-bench` unread.
+    #[command(disable_help_flag = true)]
     Bench(BenchArgs),
 }
 
-/// The examples under `rayforge bench --help`.
-const BENCH_EXAMPLES: &str = "\
-Examples:
-  bench/peers/setup.sh ~/src/raytracer_rs     # once: install and build the peers
-  rayforge bench                              # everything, on 2 threads
-  rayforge bench primary --repeat 5
-  rayforge bench scaling --plot docs/images/scaling.png
-  rayforge bench --quick                      # tiny sizes: checks the command, measures nothing
-
-A peer that is not installed is reported as skipped. Exit status: 0 when every comparison ran
-(whether or not rayforge met its targets), 2 for bad arguments, 1 when a peer or a file failed.";
-
-/// Which comparisons `rayforge bench` runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum BenchPart {
-    /// Primary-ray throughput on meshes of a million triangles and more, against Embree.
-    Primary,
-    /// BVH build rate and bytes per triangle on large meshes (Embree's build for reference).
-    Build,
-    /// Time per primary ray from a thousand to ten million triangles, with a plot.
-    Scaling,
-    /// Whole renders of scenes against POV-Ray and raytracer_rs, as processes.
-    Scenes,
-    /// All of the above.
-    All,
-}
-
-/// Arguments of `rayforge bench`.
+/// Arguments of `rayforge bench`: everything after `bench`, passed to `rayforge-bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Which comparison to run.
-    #[arg(value_enum, default_value = "all")]
-    pub part: BenchPart,
-
-    /// Threads for both sides of every comparison (rayforge's pool, Embree's device and
-    /// tracing threads, POV-Ray's +WT, raytracer_rs's RAYON_NUM_THREADS).
-    #[arg(long, value_name = "N", default_value_t = 2)]
-    pub threads: usize,
-
-    /// Where bench/peers/setup.sh put the peers (embree_primary, povray, raytracer_rs-*).
-    #[arg(long, value_name = "DIR", default_value = "bench/peers/build")]
-    pub peers: PathBuf,
-
-    /// Where to write meshes, rays, images, the plot and bench.md (the tables).
-    #[arg(long, value_name = "DIR", default_value = "target/bench")]
-    pub out: PathBuf,
-
-    /// Where the models beside the repository are (dragon.obj, bounding-boxes.yml); comparisons
-    /// that need one that is missing are skipped.
-    #[arg(long, value_name = "DIR", default_value = "../shared/models")]
-    pub models: PathBuf,
-
-    /// The POV-Ray scenes (cover.pov, chessboard.pov, spheres.pov, dragons.pov).
-    #[arg(long, value_name = "DIR", default_value = "bench/povray")]
-    pub povray_scenes: PathBuf,
-
-    /// Traces of each mesh per side; the fastest counts.
-    #[arg(long, value_name = "R", default_value_t = 3)]
-    pub repeat: u32,
-
-    /// Runs of each whole-scene render per side; the fastest counts (renders take seconds to
-    /// minutes, so one run each unless asked).
-    #[arg(long, value_name = "R", default_value_t = 1)]
-    pub scene_repeat: u32,
-
-    /// Also copy the scaling plot here (e.g. docs/images/scaling.png).
-    #[arg(long, value_name = "FILE")]
-    pub plot: Option<PathBuf>,
-
-    /// Tiny meshes and images, one trace each: checks that every step runs in seconds; the
-    /// numbers mean nothing.
-    #[arg(long)]
-    pub quick: bool,
+    /// The arguments of `rayforge-bench` (see `rayforge bench --help`).
+    #[arg(
+        trailing_var_arg = true,
+        allow_hyphen_values = true,
+        value_name = "ARGS"
+    )]
+    pub args: Vec<std::ffi::OsString>,
 }
 
 /// Arguments of `rayforge render`.

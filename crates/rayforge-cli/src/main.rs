@@ -2,7 +2,7 @@
 
 mod args;
 mod atomic_write;
-mod bench;
+mod bench_command;
 mod checkpoint;
 mod diagnostics;
 mod failure;
@@ -23,7 +23,7 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     // A panic is a bug: the default hook has printed its message; say so and exit 1, not 101.
     match catch_unwind(AssertUnwindSafe(run)) {
-        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Ok(code)) => code,
         Ok(Err(failure)) => failure.report(),
         Err(_) => {
             eprintln!("internal error: rayforge panicked (a bug; please report it with the scene)");
@@ -33,17 +33,14 @@ fn main() -> ExitCode {
 }
 
 /// Parses the command line (clap prints help, or a usage error and exits 2, by itself), checks
-/// it into settings, and runs the command.
-fn run() -> Result<(), Failure> {
+/// it into settings, and runs the command; `rayforge bench` exits as `rayforge-bench` did.
+fn run() -> Result<ExitCode, Failure> {
     diagnostics::install_handler();
     match args::Cli::parse().command {
         args::Command::Render(render) => {
             let settings = settings::RenderSettings::from_args(render)?;
-            render_command::run(&settings)
+            render_command::run(&settings).map(|()| ExitCode::SUCCESS)
         }
-        args::Command::Bench(bench) => {
-            let settings = bench::BenchSettings::from_args(bench)?;
-            bench::run(&settings)
-        }
+        args::Command::Bench(bench) => bench_command::run(&bench.args),
     }
 }

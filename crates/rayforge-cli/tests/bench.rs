@@ -1,64 +1,92 @@
-//! `rayforge bench --quick` end to end, with no peers: every part runs on tiny meshes and
-//! images, prints its table and reports the missing peers as skipped. Nothing is timed here.
+//! `rayforge bench` runs the separate `rayforge-bench` program found beside `rayforge` (or on
+//! PATH), passing every argument through and exiting as it did; without it, a usage error
+//! (exit 2) that says how to build it. A copy of `rayforge` in a directory of its own stands in
+//! for an installed one.
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn repo_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+/// A copy of the `rayforge` executable alone in a new directory.
+fn lone_rayforge() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let name = Path::new(env!("CARGO_BIN_EXE_rayforge"))
+        .file_name()
+        .unwrap();
+    let copy = dir.path().join(name);
+    std::fs::copy(env!("CARGO_BIN_EXE_rayforge"), &copy).unwrap();
+    (dir, copy)
 }
 
-fn bench(args: &[&str], peers: &Path, out: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rayforge"))
-        .current_dir(repo_root())
+fn bench(rayforge: &Path, args: &[&str]) -> Output {
+    Command::new(rayforge)
         .arg("bench")
         .args(args)
-        .arg("--peers")
-        .arg(peers)
-        .arg("--out")
-        .arg(out)
-        // No models: the dragon comparisons are skipped, as they are where shared/ is absent.
-        .arg("--models")
-        .arg(peers.join("no-models"))
+        // Nothing on PATH either: only what lies beside the copy counts.
+        .env("PATH", "")
         .output()
         .expect("runs")
 }
 
 #[test]
-fn a_quick_run_without_peers_prints_every_table_and_skips_the_peers() {
-    let dir = tempfile::tempdir().unwrap();
-    let peers = dir.path().join("peers");
-    std::fs::create_dir(&peers).unwrap();
-    let out = dir.path().join("out");
-    let o = bench(&["--quick"], &peers, &out);
-    let stdout = String::from_utf8_lossy(&o.stdout);
+fn without_rayforge_bench_the_error_says_how_to_build_it() {
+    let (_dir, rayforge) = lone_rayforge();
+    let o = bench(&rayforge, &["--quick"]);
+    assert_eq!(o.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "{stdout}\n{stderr}");
-    for title in [
-        "### Primary rays against Embree",
-        "### BVH build",
-        "### Time per primary ray against triangle count",
-        "### Whole renders",
-        "### Summary",
-    ] {
-        assert!(stdout.contains(title), "no `{title}` in:\n{stdout}");
-    }
-    // rayforge's own rows are there, the peers' are skipped with the way to install them.
-    assert!(stdout.contains("| bumpy sphere"), "{stdout}");
-    assert!(stdout.contains("| cover"), "{stdout}");
-    assert!(stdout.contains("skipped"), "{stdout}");
-    assert!(stdout.contains("bench/peers/setup.sh"), "{stdout}");
-    assert!(stdout.contains("not measured"), "{stdout}");
-    assert!(out.join("bench.md").is_file());
-    assert!(out.join("scaling.png").is_file());
-    assert!(out.join("scenes/cover-rayforge-1spp-depth5.png").is_file());
+    assert!(
+        stderr.contains("cargo build --release -p rayforge-bench"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("rayforge-bench"), "{stderr}");
+    // `--help` goes to the missing program too, and gets the same answer.
+    assert_eq!(bench(&rayforge, &["--help"]).status.code(), Some(2));
 }
 
 #[test]
-fn bad_bench_arguments_are_refused_with_exit_2() {
-    let dir = tempfile::tempdir().unwrap();
-    let o = bench(&["build", "--threads", "0"], dir.path(), dir.path());
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("--threads"));
-    let o = bench(&["nonsense"], dir.path(), dir.path());
-    assert_eq!(o.status.code(), Some(2));
+fn rayforge_help_still_describes_bench() {
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .args(["help", "bench"])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let help = String::from_utf8_lossy(&o.stdout);
+    assert!(help.contains("rayforge-bench"), "{help}");
+}
+
+/// A stand-in `rayforge-bench` (a shell script) beside the copy: it prints its arguments one a
+/// line and exits with status 7.
+#[cfg(unix)]
+#[test]
+fn arguments_and_the_exit_status_pass_through() {
+    use std::os::unix::fs::PermissionsExt;
+    let (dir, rayforge) = lone_rayforge();
+    let stand_in = dir.path().join("rayforge-bench");
+    std::fs::write(
+        &stand_in,
+        "#!/bin/sh\nfor a in \"$@\"; do echo \"[$a]\"; done\nexit 7\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&stand_in, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let o = bench(&rayforge, &["scaling", "--help", "--plot", "a b.png", "-q"]);
+    assert_eq!(o.status.code(), Some(7));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stdout),
+        "[scaling]\n[--help]\n[--plot]\n[a b.png]\n[-q]\n"
+    );
+}
+
+/// With the real program built beside `rayforge` (as `cargo test --workspace` leaves it),
+/// `rayforge bench --help` is its help.
+#[test]
+fn rayforge_bench_help_comes_from_rayforge_bench_when_built() {
+    let name = format!("rayforge-bench{}", std::env::consts::EXE_SUFFIX);
+    let beside = Path::new(env!("CARGO_BIN_EXE_rayforge")).with_file_name(name);
+    if !beside.is_file() {
+        eprintln!("{} is not built; nothing to compare", beside.display());
+        return;
+    }
+    let o = bench(Path::new(env!("CARGO_BIN_EXE_rayforge")), &["--help"]);
+    assert!(o.status.success());
+    let help = String::from_utf8_lossy(&o.stdout);
+    assert!(help.contains("Usage: rayforge-bench"), "{help}");
+    assert!(help.contains("--scene-repeat"), "{help}");
 }

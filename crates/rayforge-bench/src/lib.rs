@@ -1,4 +1,9 @@
-//! `rayforge bench`: rayforge measured against its peers in one run on one machine, as ratios.
+//! `rayforge-bench` (and `rayforge bench`, which runs it): rayforge measured against its peers
+//! in one run on one machine, as ratios.
+//!
+//! A crate of its own so that the `rayforge` binary users ship carries none of it: not the
+//! harness files, the JSON the Embree harness prints, nor the plotting. The library holds
+//! everything; `main.rs` only parses the arguments and reports the outcome.
 //!
 //! Each part is a file: `primary.rs` (primary rays against Embree), `sweep.rs` (BVH build and
 //! scaling with triangle count, with the plot), `scenes.rs` (whole renders against POV-Ray
@@ -7,9 +12,16 @@
 //! and the report (`report.rs`). Peers are found in the directory `bench/peers/setup.sh`
 //! fills (`peers.rs`); a missing one is a skipped row, never an error.
 
+// Every public item says what it measures or means: the tables are read by people who did not
+// write them. Nothing here needs `unsafe`; the tracer's own unsafe code stays in `rayforge`.
+#![deny(missing_docs)]
+#![forbid(unsafe_code)]
+
+pub mod args;
+mod atomic_write;
 mod embree;
+pub mod failure;
 mod files;
-mod font;
 mod peers;
 mod plot;
 mod pov_mesh;
@@ -24,8 +36,8 @@ mod spheres_scene;
 mod sweep;
 mod trace;
 
-use crate::args::{BenchArgs, BenchPart};
-use crate::failure::Failure;
+use args::{BenchArgs, BenchPart};
+use failure::Failure;
 use peers::Peers;
 use rayforge::geometry::Mesh;
 use rayon::ThreadPool;
@@ -38,7 +50,7 @@ const MAX_THREADS: usize = 1024;
 /// The most passes per measurement accepted: more only adds time.
 const MAX_REPEAT: u32 = 100;
 
-/// `rayforge bench`'s arguments, checked.
+/// The arguments, checked.
 #[derive(Debug, Clone)]
 pub struct BenchSettings {
     /// Run the primary-ray comparison.
@@ -59,6 +71,8 @@ pub struct BenchSettings {
     pub models: PathBuf,
     /// Where the POV-Ray scenes are.
     pub povray_scenes: PathBuf,
+    /// The `rayforge` executable to time whole renders with, when given.
+    pub rayforge: Option<PathBuf>,
     /// Passes per kernel measurement.
     pub repeat: u32,
     /// Runs per whole-scene measurement.
@@ -88,6 +102,12 @@ impl BenchSettings {
                 )));
             }
         }
+        if let Some(path) = args.rayforge.as_deref().filter(|p| !p.is_file()) {
+            return Err(Failure::usage(format!(
+                "--rayforge `{}` is not a file",
+                path.display()
+            )));
+        }
         let all = args.part == BenchPart::All;
         Ok(Self {
             primary: all || args.part == BenchPart::Primary,
@@ -99,6 +119,7 @@ impl BenchSettings {
             out: args.out,
             models: args.models,
             povray_scenes: args.povray_scenes,
+            rayforge: args.rayforge,
             repeat: if args.quick { 1 } else { args.repeat },
             scene_repeat: args.scene_repeat,
             plot: args.plot,
@@ -108,7 +129,7 @@ impl BenchSettings {
 }
 
 /// What every part needs: the settings, the peers found and the thread pool.
-pub struct Bench<'a> {
+pub(crate) struct Bench<'a> {
     /// The checked arguments.
     pub settings: &'a BenchSettings,
     /// The peers found.

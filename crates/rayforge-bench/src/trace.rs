@@ -103,7 +103,7 @@ pub fn agree(hits_a: u64, t_sum_a: f64, hits_b: u64, t_sum_b: f64, rays: usize) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::{rays::framing_rays, shapes::bumpy_sphere};
+    use crate::{rays::framing_rays, shapes::bumpy_sphere};
 
     #[test]
     fn any_thread_count_finds_the_same_hits() {

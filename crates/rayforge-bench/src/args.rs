@@ -1,0 +1,111 @@
+//! The command line as clap sees it: raw arguments, checked later into
+//! [`BenchSettings`](crate::BenchSettings). `rayforge bench ARGS` runs `rayforge-bench ARGS`, so
+//! these are the arguments of both.
+
+use clap::{Parser, ValueEnum};
+use std::path::PathBuf;
+
+/// The examples under `--help`.
+const EXAMPLES: &str = "\
+Examples:
+  bench/peers/setup.sh ~/src/raytracer_rs     # once: install and build the peers
+  rayforge bench                              # everything, on 2 threads
+  rayforge bench primary --repeat 5
+  rayforge bench scaling --plot docs/images/scaling.png
+  rayforge bench --quick                      # tiny sizes: checks the command, measures nothing
+
+`rayforge bench ARGS` runs this program, `rayforge-bench ARGS`, found beside `rayforge`; build
+both with `cargo build --release -p rayforge-cli -p rayforge-bench`.
+
+A peer that is not installed is reported as skipped. Exit status: 0 when every comparison ran
+(whether or not rayforge met its targets), 2 for bad arguments, 1 when a peer or a file failed.";
+
+/// Measure rayforge against its peers (Embree, POV-Ray, raytracer_rs) and print the tables of
+/// times and ratios (see bench/peers/setup.sh to install the peers).
+#[derive(Debug, Parser)]
+#[command(name = "rayforge-bench", version, long_about = None, after_help = EXAMPLES)]
+pub struct BenchArgs {
+    /// Which comparison to run.
+    #[arg(value_enum, default_value = "all")]
+    pub part: BenchPart,
+
+    /// Threads for both sides of every comparison (rayforge's pool, Embree's device and
+    /// tracing threads, POV-Ray's +WT, raytracer_rs's RAYON_NUM_THREADS).
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    pub threads: usize,
+
+    /// Where bench/peers/setup.sh put the peers (embree_primary, povray, raytracer_rs-*).
+    #[arg(long, value_name = "DIR", default_value = "bench/peers/build")]
+    pub peers: PathBuf,
+
+    /// Where to write meshes, rays, images, the plot and bench.md (the tables).
+    #[arg(long, value_name = "DIR", default_value = "target/bench")]
+    pub out: PathBuf,
+
+    /// Where the models beside the repository are (dragon.obj, bounding-boxes.yml); comparisons
+    /// that need one that is missing are skipped.
+    #[arg(long, value_name = "DIR", default_value = "../shared/models")]
+    pub models: PathBuf,
+
+    /// The POV-Ray scenes (cover.pov, chessboard.pov, spheres.pov, dragons.pov).
+    #[arg(long, value_name = "DIR", default_value = "bench/povray")]
+    pub povray_scenes: PathBuf,
+
+    /// The `rayforge` executable whose whole renders are timed [default: the one beside
+    /// rayforge-bench, else `rayforge` on PATH].
+    #[arg(long, value_name = "FILE")]
+    pub rayforge: Option<PathBuf>,
+
+    /// Traces of each mesh per side; the fastest counts.
+    #[arg(long, value_name = "R", default_value_t = 3)]
+    pub repeat: u32,
+
+    /// Runs of each whole-scene render per side; the fastest counts (renders take seconds to
+    /// minutes, so one run each unless asked).
+    #[arg(long, value_name = "R", default_value_t = 1)]
+    pub scene_repeat: u32,
+
+    /// Also copy the scaling plot here (e.g. docs/images/scaling.png).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+
+    /// Tiny meshes and images, one trace each: checks that every step runs in seconds; the
+    /// numbers mean nothing.
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// Which comparisons to run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BenchPart {
+    /// Primary-ray throughput on meshes of a million triangles and more, against Embree.
+    Primary,
+    /// BVH build rate and bytes per triangle on large meshes (Embree's build for reference).
+    Build,
+    /// Time per primary ray from a thousand to ten million triangles, with a plot.
+    Scaling,
+    /// Whole renders of scenes against POV-Ray and raytracer_rs, as processes.
+    Scenes,
+    /// All of the above.
+    All,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_command_line_definition_is_consistent() {
+        use clap::CommandFactory;
+        BenchArgs::command().debug_assert();
+    }
+
+    #[test]
+    fn the_defaults_are_those_of_rayforge_bench() {
+        let args = BenchArgs::try_parse_from(["rayforge-bench"]).unwrap();
+        assert_eq!(args.part, BenchPart::All);
+        assert_eq!((args.threads, args.repeat, args.scene_repeat), (2, 3, 1));
+        assert_eq!(args.peers, PathBuf::from("bench/peers/build"));
+        assert!(!args.quick && args.plot.is_none() && args.rayforge.is_none());
+    }
+}
