@@ -15,6 +15,7 @@
 #![deny(unsafe_code)]
 
 pub mod accel;
+pub mod book;
 pub mod camera;
 pub mod canvas;
 pub mod color;
@@ -25,17 +26,17 @@ pub mod render;
 pub mod scene;
 pub mod shading;
 
+pub use book::{lighting, BookMaterial, BookPattern, BookWorld, Tracer};
 pub use camera::Camera;
 pub use canvas::Canvas;
 pub use color::Color;
 pub use geometry::Shape;
 pub use math::{point, vector, Matrix4, Point3, Ray, Transform, Vec3, EPSILON};
+pub use render::DEFAULT_MAX_DEPTH;
 pub use scene::{
     default_world, hit, intersection_allowed, prepare_computations, schlick, Computations, Csg,
-    CsgOperation, Group, Intersection, LightingModel, Node, Object, Tracer, World,
-    DEFAULT_MAX_DEPTH,
+    CsgOperation, Group, Intersection, LightingModel, Node, Object, World,
 };
 pub use shading::{
-    lighting, lighting_with, AreaLight, Light, Material, Pattern, PatternKind, PointLight,
-    SpotLight,
+    lighting_with, AreaLight, Light, Material, Pattern, PatternKind, PointLight, SpotLight,
 };

@@ -121,7 +121,7 @@ impl ShadeContext<'_, '_> {
                     }
                 }
             }
-            _ => pattern.color_at_object(surface, point),
+            _ => pattern.nested_at(surface.world_to_object(point)),
         }
     }
 

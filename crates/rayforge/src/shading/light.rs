@@ -2,7 +2,7 @@
 //! (the bonus chapter "Rendering soft shadows"), spotlights (chapter 17), and the ambient and
 //! directional lights of Computer Graphics from Scratch.
 
-use super::jitter::Jitter;
+use crate::math::random::Jitter;
 use crate::math::{Point3, Vec3};
 use crate::Color;
 
