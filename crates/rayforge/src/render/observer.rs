@@ -7,9 +7,8 @@
 //! [`TraceLog`], which writes each event as a readable line, indented by depth.
 
 use crate::color::Color;
-use crate::geometry::Shape;
 use crate::math::{Point3, Vec3};
-use crate::scene::{Computations, Object, World};
+use crate::scene::{Computations, Object, Shape, World};
 use std::fmt;
 
 /// What an integrator says about the ray it is tracing. Every method does nothing by default.

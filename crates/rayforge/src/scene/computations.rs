@@ -2,7 +2,7 @@
 //! once, and Schlick's approximation of the Fresnel effect.
 
 use crate::math::{reflect, Point3, Ray, Vec3, EPSILON};
-use crate::{Intersection, Object};
+use crate::scene::{Intersection, Object};
 
 /// The state of an intersection, ready for shading.
 ///

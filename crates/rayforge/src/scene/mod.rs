@@ -1,6 +1,7 @@
-//! The built scene: objects and their shapes, groups, CSG solids, intersections and the
+//! The built scene: objects and their shapes (the [`Shape`] enum over the primitives of
+//! [`crate::geometry`], meshes and CSG solids), groups, CSG solids, intersections and the
 //! computations prepared at a hit, the world and its acceleration index. Nothing here traces a
-//! ray to a colour: that is [`crate::render`]'s integrators' work.
+//! ray to a colour: that is the integrators' work, in the `render` module.
 
 mod computations;
 mod csg;
@@ -8,6 +9,7 @@ mod group;
 mod index;
 mod intersection;
 mod object;
+mod shape;
 mod world;
 
 pub use computations::{prepare_computations, prepare_computations_with, schlick, Computations};
@@ -16,4 +18,5 @@ pub use group::{Group, Node};
 pub use index::{WorldIndex, NO_OBJECT};
 pub use intersection::{hit, sort_intersections, Intersection};
 pub use object::Object;
+pub use shape::Shape;
 pub use world::{default_world, LightingModel, World};

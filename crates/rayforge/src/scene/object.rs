@@ -4,7 +4,8 @@ use crate::color::Color;
 use crate::geometry::LocalHit;
 use crate::geometry::Triangle;
 use crate::math::{Aabb, Motion, Point3, Ray, SingularTransform, Transform, Vec3};
-use crate::{Intersection, Material, Shape};
+use crate::scene::{Intersection, Shape};
+use crate::shading::Material;
 use std::borrow::Cow;
 
 /// A shape with its transform and material.

@@ -1,5 +1,5 @@
 //! The world (chapter 7): objects and lights, and how its hits are lit (its lighting model).
-//! The book's one-call entry points that trace it live in [`crate::book`].
+//! The book's one-call entry points that trace it live in the crate's `book` facade.
 
 use super::intersection::{sort_intersections, Intersection};
 use super::object::Object;

@@ -22,10 +22,10 @@
 
 use super::{Integrator, TraceState};
 use crate::color::Color;
-use crate::geometry::{LocalHit, Shape};
+use crate::geometry::LocalHit;
 use crate::math::{Point3, Ray, Vec3};
 use crate::render::observer::{RayDetail, Secondary, TraceObserver};
-use crate::scene::Object;
+use crate::scene::{Object, Shape};
 use crate::shading::cgfs::{add, scale, CgfsLighting, Rgb};
 use crate::shading::Light;
 use std::ops::ControlFlow;

@@ -22,10 +22,10 @@
 
 use super::{Integrator, TraceState};
 use crate::color::Color;
-use crate::geometry::{LocalHit, Shape};
+use crate::geometry::LocalHit;
 use crate::math::{Point3, Ray, Vec3};
 use crate::render::observer::{RayDetail, TraceObserver};
-use crate::scene::Object;
+use crate::scene::{Object, Shape};
 use crate::shading::optics::{matte_light, polarized_reflection};
 use std::ops::ControlFlow;
 
