@@ -21,7 +21,7 @@ mod state;
 mod whitted;
 
 pub use cgfs::Cgfs;
-pub use optics::{Optics, MAX_DEPTH as OPTICS_MAX_DEPTH};
+pub use optics::Optics;
 pub use state::TraceState;
 pub use whitted::Whitted;
 
