@@ -1,5 +1,6 @@
-//! The Phong reflection model (chapter 6), with the pattern hook of chapter 10 and the soft
-//! shadows bonus chapter's light fraction and area-light sampling.
+//! The Phong reflection model (chapter 6) with the soft-shadows bonus chapter's light fraction
+//! and area-light sampling, on a surface colour already found (the book's `lighting`, which
+//! finds it from the object, is in the crate's `book` facade).
 
 use super::light::Light;
 use super::material::Material;
@@ -9,9 +10,9 @@ use crate::math::{reflect, Point3, Vec3};
 
 /// Whether `light` can add anything beyond its ambient term at `point` (with normal `normalv`):
 /// false for a point, spot or directional light behind the surface or a spot light aimed
-/// away, where [`lighting_with`] gives the ambient term whatever the light fraction. The tracer
-/// asks this before casting a shadow ray, which the answer then cannot change. Area lights are
-/// spread out, so some of their samples may be in front: always true.
+/// away, where [`lighting_with`] gives the ambient term whatever the light fraction. The Whitted
+/// integrator asks this before casting a shadow ray, which the answer then cannot change. Area
+/// lights are spread out, so some of their samples may be in front: always true.
 pub fn can_light(light: &Light, point: Point3, normalv: Vec3) -> bool {
     // The same expressions as `lighting_with`, so the two agree to the bit.
     let faces = |lightv: Vec3| {
