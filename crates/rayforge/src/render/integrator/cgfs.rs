@@ -33,22 +33,20 @@ use std::ops::ControlFlow;
 /// The book's `EPSILON`: where secondary rays start counting hits.
 const EPSILON: f64 = 0.001;
 
-/// Computer Graphics from Scratch's lighting models ([`crate::scene::LightingModel::Flat`] and
-/// [`crate::scene::LightingModel::Cgfs`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Cgfs {
-    /// Whether hits are lit (the full model) or shown in their own colour (the first stage).
-    lit: bool,
-}
+/// Computer Graphics from Scratch's lighting models: with `LIT` false, the first stage
+/// ([`crate::scene::LightingModel::Flat`]: the nearest surface's colour, unlit); with `LIT`
+/// true, the full model ([`crate::scene::LightingModel::Cgfs`]: lights, shadows, reflections and
+/// refraction). The stage is a constant, so each is compiled on its own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Cgfs<const LIT: bool>;
 
-impl Cgfs {
-    /// The first stage: the nearest surface's colour, unlit.
-    pub const FLAT: Self = Self { lit: false };
-    /// The full model: lights, shadows, reflections (and refraction).
-    pub const LIT: Self = Self { lit: true };
-}
+/// Computer Graphics from Scratch's first stage: the nearest surface's colour, unlit.
+pub type CgfsFlat = Cgfs<false>;
 
-impl Integrator for Cgfs {
+/// Computer Graphics from Scratch's full model: lights, shadows, reflections (and refraction).
+pub type CgfsLit = Cgfs<true>;
+
+impl<const LIT: bool> Integrator for Cgfs<LIT> {
     /// The colour a camera ray sees, clamped and rounded to a whole step of the 0–255 scale
     /// (and returned on this crate's 0–1 scale).
     #[inline]
@@ -59,11 +57,7 @@ impl Integrator for Cgfs {
         max_depth: u32,
         observer: &mut O,
     ) -> Option<Color> {
-        let mut pass = Pass {
-            state,
-            observer,
-            lit: self.lit,
-        };
+        let mut pass = Pass::<'_, '_, O, LIT> { state, observer };
         let rgb = pass.trace(
             ray.origin,
             ray.direction,
@@ -120,14 +114,13 @@ fn intersect_ray_sphere(origin: Point3, direction: Vec3, centre: Point3, radius:
     [(-k2 + root) / (2.0 * k1), (-k2 - root) / (2.0 * k1)]
 }
 
-/// One camera ray's trace: the shared state, the observer told about it and the stage.
-struct Pass<'a, 'w, O> {
+/// One camera ray's trace at stage `LIT`: the shared state and the observer told about it.
+struct Pass<'a, 'w, O, const LIT: bool> {
     state: &'a mut TraceState<'w>,
     observer: &'a mut O,
-    lit: bool,
 }
 
-impl<'w, O: TraceObserver> Pass<'_, 'w, O> {
+impl<'w, O: TraceObserver, const LIT: bool> Pass<'_, 'w, O, LIT> {
     /// The book's `TraceRay`, on the 0–255 scale.
     fn trace(
         &mut self,
@@ -153,7 +146,7 @@ impl<'w, O: TraceObserver> Pass<'_, 'w, O> {
             surface.surface_color(hit.point, None, time).to_array(),
             255.0,
         );
-        if !self.lit {
+        if !LIT {
             return color;
         }
         let view = direction * -1.0;

@@ -1,7 +1,8 @@
 //! Integrators: what colour a camera ray brings back, one lighting model each.
 //!
 //! - [`Whitted`]: The Ray Tracer Challenge's Phong model, shadows, reflection and refraction;
-//! - [`Cgfs`]: Computer Graphics from Scratch's model, unlit (`Flat`) or lit, bit for bit;
+//! - [`Cgfs`]: Computer Graphics from Scratch's model, unlit ([`CgfsFlat`]) or lit ([`CgfsLit`]),
+//!   bit for bit;
 //! - [`Optics`]: Fundamentals of Ray Tracing's matte, gloss and Fresnel optics.
 //!
 //! They all work on a [`TraceState`]: the world and its index, the scratch buffers, the count of
@@ -20,7 +21,7 @@ mod optics;
 mod state;
 mod whitted;
 
-pub use cgfs::Cgfs;
+pub use cgfs::{Cgfs, CgfsFlat, CgfsLit};
 pub use optics::Optics;
 pub use state::TraceState;
 pub use whitted::Whitted;
@@ -65,8 +66,8 @@ pub trait IntegratorJob {
 pub fn dispatch<J: IntegratorJob>(model: LightingModel, job: J) -> J::Output {
     match model {
         LightingModel::Phong => job.run(Whitted),
-        LightingModel::Flat => job.run(Cgfs::FLAT),
-        LightingModel::Cgfs => job.run(Cgfs::LIT),
+        LightingModel::Flat => job.run(Cgfs::<false>),
+        LightingModel::Cgfs => job.run(Cgfs::<true>),
         LightingModel::Optics => job.run(Optics),
     }
 }
