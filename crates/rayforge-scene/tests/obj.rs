@@ -1,4 +1,5 @@
 //! Chapter 15: the OBJ file parser, and OBJ models in scene files.
+use rayforge::book::BookMaterial;
 use rayforge::color::color;
 use rayforge::{hit, prepare_computations, Ray};
 use rayforge::{point, vector, Shape};

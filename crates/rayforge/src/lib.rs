@@ -5,9 +5,25 @@
 //! `prepare_computations`, `shade_hit`, `color_at`, …) so the book's scenarios read naturally as tests.
 //!
 //! The pipeline: a [`World`] of [`Object`]s and [`Light`]s is seen through a [`Camera`]; the
-//! [`render`](render::render) loop traces rays in parallel tiles into a [`Canvas`] of linear colours.
-//! A second renderer, the [`raster`] module, draws the same world as triangles (a software
-//! rasterizer after *Computer Graphics from Scratch*).
+//! [`render`](render::render) loop traces rays in parallel rows into a [`Canvas`] of linear
+//! colours, each camera ray's colour found by the [integrator](render::integrator) of the world's
+//! lighting model. A second renderer, the [`raster`] module, draws the same world as triangles (a
+//! software rasterizer after *Computer Graphics from Scratch*).
+//!
+//! The modules form layers, each using only its own layer and those below:
+//!
+//! | layer | modules | what they hold |
+//! |---|---|---|
+//! | 0 | [`color`], [`math`] | colours; points, vectors, matrices, rays, random numbers |
+//! | 1 | [`accel`], [`camera`], [`canvas`] | the BVH; cameras and their samples; images |
+//! | 2 | [`geometry`] | primitive shapes in object space, meshes |
+//! | 3 | [`shading`] | materials, patterns, textures, lights, each lighting model's local terms |
+//! | 4 | [`scene`] | objects, the `Shape` enum, groups, CSG, intersections, the world, its index |
+//! | 5 | [`render`], [`raster`] | integrators, sampler and render loop; the rasterizer |
+//! | 6 | [`book`] | the book's one-call entry points (`color_at`, `shade_hit`, …), used by tests |
+//!
+//! Inside the crate, modules name each other by their paths (`crate::scene::Object`), never by
+//! the re-exports below, which are for users of the crate.
 #![deny(missing_docs)]
 // Two modules may use `unsafe`: `accel::isa`, which calls the processor's vector instructions
 // after checking at run time that it has them, and `accel::pages`, which asks the kernel for
@@ -15,6 +31,7 @@
 #![deny(unsafe_code)]
 
 pub mod accel;
+pub mod book;
 pub mod camera;
 pub mod canvas;
 pub mod color;
@@ -25,17 +42,16 @@ pub mod render;
 pub mod scene;
 pub mod shading;
 
+pub use book::{lighting, BookMaterial, BookPattern, BookWorld, Tracer};
 pub use camera::Camera;
 pub use canvas::Canvas;
 pub use color::Color;
-pub use geometry::Shape;
 pub use math::{point, vector, Matrix4, Point3, Ray, Transform, Vec3, EPSILON};
+pub use render::DEFAULT_MAX_DEPTH;
 pub use scene::{
     default_world, hit, intersection_allowed, prepare_computations, schlick, Computations, Csg,
-    CsgOperation, Group, Intersection, LightingModel, Node, Object, Tracer, World,
-    DEFAULT_MAX_DEPTH,
+    CsgOperation, Group, Intersection, LightingModel, Node, Object, Shape, World,
 };
 pub use shading::{
-    lighting, lighting_with, AreaLight, Light, Material, Pattern, PatternKind, PointLight,
-    SpotLight,
+    lighting_with, AreaLight, Light, Material, Pattern, PatternKind, PointLight, SpotLight,
 };

@@ -1,5 +1,6 @@
 //! Adaptive depth control and the shadow cache: speed-ups that must not change what the book's
 //! model computes beyond what an 8-bit pixel can show (the bailout) or at all (the cache).
+use rayforge::book::BookWorld;
 use rayforge::color::color;
 use rayforge::math::{scaling, translation};
 use rayforge::scene::WorldIndex;
@@ -157,7 +158,7 @@ fn lights_behind_the_surface_cast_no_shadow_ray_and_change_nothing() {
         let mut book = Color::BLACK;
         for light in &w.lights {
             let shadowed = w.is_shadowed(light.position(), comps.over_point);
-            book += rayforge::shading::lighting(
+            book += rayforge::book::lighting(
                 &comps.surface.material,
                 comps.surface,
                 light,

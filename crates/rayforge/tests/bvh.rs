@@ -1,6 +1,7 @@
 //! The BVH: queries agree with a linear scan, and degenerate input builds and answers.
 use proptest::prelude::*;
 use rayforge::accel::{Bvh, NO_PRIMITIVE};
+use rayforge::book::BookWorld;
 use rayforge::math::{scaling, translation, Aabb};
 use rayforge::scene::WorldIndex;
 use rayforge::{hit, point, vector, Object, Ray, Shape, World};

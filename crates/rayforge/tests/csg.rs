@@ -1,6 +1,7 @@
 //! Chapter 16: constructive solid geometry.
 mod common;
 use common::*;
+use rayforge::book::BookWorld;
 use rayforge::color::color;
 use rayforge::geometry::LocalHit;
 use rayforge::math::translation;

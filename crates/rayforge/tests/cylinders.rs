@@ -3,6 +3,7 @@
 #![allow(clippy::approx_constant)]
 mod common;
 use common::*;
+use rayforge::book::BookWorld;
 use rayforge::math::{scaling, translation};
 use rayforge::{
     hit, point, prepare_computations, vector, Color, Light, Object, Point3, Ray, Shape, Vec3, World,

@@ -60,7 +60,7 @@ fn a_directional_light_shades_like_a_point_light_infinitely_far_away() {
 /// Computer Graphics from Scratch's intensity with every light visible (the rasterizer's).
 #[test]
 fn the_unshadowed_cgfs_intensity_sums_ambient_diffuse_and_specular() {
-    use rayforge::scene::unshadowed_intensity;
+    use rayforge::shading::unshadowed_intensity;
     use rayforge::shading::DirectionalLight;
     let lights = [
         Light::Ambient(color(0.2, 0.2, 0.2)),

@@ -3,6 +3,7 @@
 #![allow(clippy::approx_constant)]
 mod common;
 use common::*;
+use rayforge::book::BookPattern;
 use rayforge::color::color;
 use rayforge::math::{rotation_y, scaling, translation};
 use rayforge::{

@@ -3,6 +3,7 @@
 //! Fresnel bounds, camera rays, patterns that move with their objects).
 use glam::DMat4;
 use proptest::prelude::*;
+use rayforge::book::{BookPattern, BookWorld};
 use rayforge::color::color;
 use rayforge::math::{
     rotation_x, rotation_y, rotation_z, scaling, shearing, translation, view_transform,

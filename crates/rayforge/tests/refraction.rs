@@ -3,6 +3,7 @@
 #![allow(clippy::approx_constant)]
 mod common;
 use common::*;
+use rayforge::book::BookWorld;
 use rayforge::color::color;
 use rayforge::math::{scaling, translation};
 use rayforge::{

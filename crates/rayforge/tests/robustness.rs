@@ -1,6 +1,7 @@
 //! Numerical robustness: a scene far from the origin renders like the original, rays that
 //! graze spheres, cubes and triangles give finite answers, and coincident surfaces do not
 //! speckle.
+use rayforge::book::BookWorld;
 use rayforge::color::color;
 use rayforge::math::{scaling, translation, view_transform};
 use rayforge::render::{render, RenderOptions};

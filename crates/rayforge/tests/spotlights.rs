@@ -1,6 +1,7 @@
 //! Spotlights (a chapter 17 "next step"): a cone of light with a soft edge.
 mod common;
 use common::*;
+use rayforge::book::BookWorld;
 use rayforge::color::color;
 use rayforge::{lighting, point, vector, Light, Material, Object, SpotLight, World};
 

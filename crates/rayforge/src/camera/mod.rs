@@ -2,8 +2,10 @@
 //! thin lens (focal blur) and a shutter (motion blur) from chapter 17; or Computer Graphics from
 //! Scratch's viewport camera.
 
+mod sample;
 mod viewport;
 
+pub use sample::CameraSample;
 pub use viewport::Viewport;
 
 use crate::math::{Point3, Ray, Transform};
@@ -180,7 +182,7 @@ impl Camera {
 
     /// The ray for one camera sample: through its image point, from its lens point, at its
     /// instant of the shutter interval.
-    pub fn ray_for_sample(&self, sample: &crate::render::CameraSample) -> Ray {
+    pub fn ray_for_sample(&self, sample: &CameraSample) -> Ray {
         let (open, close) = self.shutter;
         self.ray_through_lens(sample.x, sample.y, sample.lens_u, sample.lens_v)
             .at_time(open + (close - open) * sample.time)

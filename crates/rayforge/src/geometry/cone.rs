@@ -4,13 +4,7 @@ use super::cylinder::caps;
 use crate::math::{roots::solve_quadratic, Point3, Ray, Vec3, EPSILON};
 
 /// Side hits within `minimum < y < maximum`, then cap hits (discs of radius |y|).
-pub(super) fn intersect(
-    ray: &Ray,
-    minimum: f64,
-    maximum: f64,
-    closed: bool,
-    mut hit: impl FnMut(f64),
-) {
+pub fn intersect(ray: &Ray, minimum: f64, maximum: f64, closed: bool, mut hit: impl FnMut(f64)) {
     let (o, d) = (ray.origin, ray.direction);
     let a = d.x * d.x - d.y * d.y + d.z * d.z;
     let b = 2.0 * (o.x * d.x - o.y * d.y + o.z * d.z);
@@ -38,7 +32,7 @@ pub(super) fn intersect(
 
 /// Outward on the sides; ±y on the caps. At the apex the normal is the zero vector (the
 /// book's answer; there is no tangent plane there).
-pub(super) fn normal_at(point: Point3, minimum: f64, maximum: f64) -> Vec3 {
+pub fn normal_at(point: Point3, minimum: f64, maximum: f64) -> Vec3 {
     let dist = point.x * point.x + point.z * point.z;
     if dist < maximum * maximum && point.y >= maximum - EPSILON {
         Vec3::Y

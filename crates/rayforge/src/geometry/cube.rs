@@ -3,7 +3,7 @@
 use crate::math::{Point3, Ray, Vec3};
 
 /// The slab method: the ray is inside the cube between the largest entry and smallest exit.
-pub(super) fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
+pub fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
     let mut tmin = f64::NEG_INFINITY;
     let mut tmax = f64::INFINITY;
     for axis in 0..3 {
@@ -36,7 +36,7 @@ fn slab(origin: f64, direction: f64) -> Option<(f64, f64)> {
 }
 
 /// The normal is the axis of the largest absolute coordinate (the face the point lies on).
-pub(super) fn normal_at(point: Point3) -> Vec3 {
+pub fn normal_at(point: Point3) -> Vec3 {
     let abs = point.abs();
     let max = abs.max_element();
     if max == abs.x {

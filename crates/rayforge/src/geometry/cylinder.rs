@@ -3,13 +3,7 @@
 use crate::math::{roots::solve_quadratic, Point3, Ray, Vec3, EPSILON};
 
 /// Side hits within `minimum < y < maximum` (exclusive, as the book has it), then cap hits.
-pub(super) fn intersect(
-    ray: &Ray,
-    minimum: f64,
-    maximum: f64,
-    closed: bool,
-    mut hit: impl FnMut(f64),
-) {
+pub fn intersect(ray: &Ray, minimum: f64, maximum: f64, closed: bool, mut hit: impl FnMut(f64)) {
     let (o, d) = (ray.origin, ray.direction);
     let a = d.x * d.x + d.z * d.z;
     // A ray parallel to the axis can only meet the caps.
@@ -59,7 +53,7 @@ pub(super) fn caps(
 }
 
 /// Outward on the sides; ±y within `EPSILON` of a cap.
-pub(super) fn normal_at(point: Point3, minimum: f64, maximum: f64) -> Vec3 {
+pub fn normal_at(point: Point3, minimum: f64, maximum: f64) -> Vec3 {
     let dist = point.x * point.x + point.z * point.z;
     if dist < 1.0 && point.y >= maximum - EPSILON {
         Vec3::Y

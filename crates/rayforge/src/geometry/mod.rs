@@ -1,19 +1,20 @@
-//! Shapes in object space: each file holds one shape's intersection and normal.
+//! Primitive shapes in object space: each file holds one shape's intersection and normal (and
+//! meshes their own BVH), with the hit record they all produce, [`LocalHit`].
 //!
-//! [`Shape`] is a closed enum (no virtual calls on the hot path); every method is one `match`
-//! forwarding to the shape's own module. Rays arrive already in object space; transforms are the
-//! business of [`crate::Object`].
+//! The closed enum over them, `Shape` (which also names CSG solids, built of scene objects),
+//! lives one layer up, in the `scene` module. Rays arrive already in object space; transforms are
+//! the business of the scene's objects.
 
-mod cone;
-mod cube;
-mod cylinder;
+pub mod cone;
+pub mod cube;
+pub mod cylinder;
 mod mesh;
-mod plane;
+pub mod plane;
 mod polyhedra;
-mod ring;
-mod sphere;
+pub mod ring;
+pub mod sphere;
 mod tessellate;
-mod torus;
+pub mod torus;
 mod triangle;
 
 pub use mesh::{Mesh, MeshError, MeshFace};
@@ -21,8 +22,6 @@ pub use polyhedra::{dodecahedron, icosahedron};
 pub use tessellate::sphere_mesh;
 pub use torus::toroidal_map;
 pub use triangle::Triangle;
-
-use std::sync::Arc;
 
 /// One intersection in object space: the distance and where on the surface it is.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -52,250 +51,6 @@ impl LocalHit {
             face: 0,
             leaf: 0,
             time: 0.0,
-        }
-    }
-}
-
-use crate::math::{Aabb, Point3, Ray, Vec3};
-
-/// A primitive shape in its own object space.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Shape {
-    /// The unit sphere at the origin (chapter 5).
-    Sphere,
-    /// The xz plane through the origin, normal +y (chapter 9).
-    Plane,
-    /// The axis-aligned cube from -1 to 1 on every axis (chapter 12).
-    Cube,
-    /// The radius-1 cylinder around y between `minimum` and `maximum` (chapter 13).
-    Cylinder {
-        /// Lowest y of the side (exclusive); `-∞` for an infinite cylinder.
-        minimum: f64,
-        /// Highest y of the side (exclusive); `+∞` for an infinite cylinder.
-        maximum: f64,
-        /// Whether the ends are capped.
-        closed: bool,
-    },
-    /// A triangle, flat or smooth (chapter 15). Boxed: it is far larger than the other shapes.
-    Triangle(Box<Triangle>),
-    /// A triangle mesh with its own BVH (an OBJ file's faces), shared between instances.
-    Mesh(Arc<Mesh>),
-    /// A constructive solid geometry solid (chapter 16), shared between instances.
-    Csg(Arc<crate::scene::Csg>),
-    /// The double-napped cone x² + z² = y² between `minimum` and `maximum` (chapter 13).
-    Cone {
-        /// Lowest y (exclusive); `-∞` for an infinite cone.
-        minimum: f64,
-        /// Highest y (exclusive); `+∞` for an infinite cone.
-        maximum: f64,
-        /// Whether the ends are capped.
-        closed: bool,
-    },
-    /// A torus around the y axis: a tube of radius `minor` around a circle of radius `major` in
-    /// the xz plane (Fundamentals of Ray Tracing, chapter 13).
-    Torus {
-        /// Radius of the tube's centre circle (Cross's A).
-        major: f64,
-        /// Radius of the tube (Cross's B).
-        minor: f64,
-    },
-    /// A flat ring in the xz plane around the y axis, between two radii (Fundamentals of Ray
-    /// Tracing's thin ring; with `inner` 0, its thin disc). No thickness, no volume.
-    Ring {
-        /// Radius of the hole (0 for a disc).
-        inner: f64,
-        /// Outer radius.
-        outer: f64,
-    },
-}
-
-impl Shape {
-    /// The infinite, open cylinder of chapter 13.
-    pub const CYLINDER: Shape = Shape::Cylinder {
-        minimum: f64::NEG_INFINITY,
-        maximum: f64::INFINITY,
-        closed: false,
-    };
-
-    /// The infinite, open double cone of chapter 13.
-    pub const CONE: Shape = Shape::Cone {
-        minimum: f64::NEG_INFINITY,
-        maximum: f64::INFINITY,
-        closed: false,
-    };
-
-    /// The book's `local_intersect`: calls `hit(t)` for every intersection of the object-space
-    /// `ray` with the shape, in no particular order (negative `t` included: refraction needs the
-    /// whole list).
-    #[inline]
-    pub fn intersect(&self, ray: &Ray, mut hit: impl FnMut(f64)) {
-        self.intersect_hits(ray, |h| hit(h.t));
-    }
-
-    /// Like [`Shape::intersect`], with where on the surface each hit is (barycentric `u`, `v`
-    /// on triangles, and the face of a mesh).
-    #[inline]
-    pub fn intersect_hits(&self, ray: &Ray, mut hit: impl FnMut(LocalHit)) {
-        let time = ray.time;
-        let mut hit = |h: LocalHit| hit(LocalHit { time, ..h });
-        let mut hit_t = |t| hit(LocalHit::at(t));
-        match self {
-            Shape::Sphere => sphere::intersect(ray, &mut hit_t),
-            Shape::Plane => plane::intersect(ray, &mut hit_t),
-            Shape::Cube => cube::intersect(ray, &mut hit_t),
-            Shape::Triangle(triangle) => triangle.intersect(ray, |t, u, v| {
-                hit(LocalHit {
-                    t,
-                    u,
-                    v,
-                    ..LocalHit::default()
-                })
-            }),
-            Shape::Mesh(mesh) => mesh.intersect(ray, hit),
-            Shape::Csg(csg) => csg.intersect(ray, &mut hit),
-            Shape::Cylinder {
-                minimum,
-                maximum,
-                closed,
-            } => cylinder::intersect(ray, *minimum, *maximum, *closed, &mut hit_t),
-            Shape::Cone {
-                minimum,
-                maximum,
-                closed,
-            } => cone::intersect(ray, *minimum, *maximum, *closed, &mut hit_t),
-            Shape::Torus { major, minor } => torus::intersect(ray, *major, *minor, &mut hit_t),
-            Shape::Ring { inner, outer } => ring::intersect(ray, *inner, *outer, &mut hit_t),
-        }
-    }
-
-    /// The nearest hit with `t_min <= t < t_max`. Meshes prune their BVH as hits are found;
-    /// other shapes pick from their few hits.
-    #[inline]
-    pub fn closest_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<LocalHit> {
-        if let Shape::Mesh(mesh) = self {
-            return mesh.closest_hit(ray, t_min, t_max);
-        }
-        let mut best = None;
-        let mut limit = t_max;
-        self.intersect_hits(ray, |h| {
-            if h.t >= t_min && h.t < limit {
-                limit = h.t;
-                best = Some(h);
-            }
-        });
-        best
-    }
-
-    /// Every hit with `t <= t_max`, negative ones included (what refraction's containers need);
-    /// meshes skip the parts of their BVH beyond `t_max`.
-    #[inline]
-    pub fn hits_up_to(&self, ray: &Ray, t_max: f64, mut hit: impl FnMut(LocalHit)) {
-        match self {
-            Shape::Mesh(mesh) => mesh.intersect_up_to(ray, t_max, hit),
-            _ => self.intersect_hits(ray, |h| {
-                if h.t <= t_max {
-                    hit(h)
-                }
-            }),
-        }
-    }
-
-    /// Whether any hit lies in `t_min <= t < t_max` (shadow rays); meshes stop at the first.
-    #[inline]
-    pub fn any_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
-        if let Shape::Mesh(mesh) = self {
-            return mesh.any_hit(ray, t_min, t_max);
-        }
-        let mut found = false;
-        self.intersect_hits(ray, |h| found |= h.t >= t_min && h.t < t_max);
-        found
-    }
-
-    /// The book's `local_normal_at`: the object-space normal at an object-space point on the
-    /// surface (not normalised for every shape: the caller normalises after the normal
-    /// transform). Smooth triangles and meshes need the hit: see [`Shape::normal_at_hit`].
-    #[inline]
-    pub fn normal_at(&self, point: Point3) -> Vec3 {
-        self.normal_at_hit(point, &LocalHit::default())
-    }
-
-    /// The object-space normal at a hit (smooth triangles interpolate with its `u`, `v`).
-    #[inline]
-    pub fn normal_at_hit(&self, point: Point3, hit: &LocalHit) -> Vec3 {
-        match self {
-            Shape::Triangle(triangle) => triangle.normal_at(hit.u, hit.v),
-            Shape::Mesh(mesh) => mesh.normal_at(hit),
-            Shape::Csg(csg) => csg.normal_at(point, hit),
-            Shape::Sphere => sphere::normal_at(point),
-            Shape::Plane => plane::normal_at(point),
-            Shape::Cube => cube::normal_at(point),
-            Shape::Cylinder {
-                minimum, maximum, ..
-            } => cylinder::normal_at(point, *minimum, *maximum),
-            Shape::Cone {
-                minimum, maximum, ..
-            } => cone::normal_at(point, *minimum, *maximum),
-            Shape::Torus { major, .. } => torus::normal_at(point, *major),
-            Shape::Ring { .. } => ring::normal_at(point),
-        }
-    }
-
-    /// The surface's own texture coordinates at a hit, where it has them (meshes with `vt`).
-    pub fn surface_uv(&self, hit: &LocalHit) -> Option<(f64, f64)> {
-        match self {
-            Shape::Mesh(mesh) => mesh.texcoord_at(hit),
-            _ => None,
-        }
-    }
-
-    /// Whether the shape encloses a volume (surfaces with no thickness, a ring or a lone
-    /// triangle, do not: nothing is ever inside them).
-    pub fn has_volume(&self) -> bool {
-        !matches!(self, Shape::Ring { .. } | Shape::Triangle(_))
-    }
-
-    /// The book's `bounds_of(shape)`: the object-space box around the shape (infinite along the
-    /// axes where the shape is unbounded).
-    pub fn bounds(&self) -> Aabb {
-        let unit = Aabb::new(Point3::splat(-1.0), Point3::ONE);
-        match self {
-            Shape::Sphere | Shape::Cube => unit,
-            Shape::Plane => Aabb::new(
-                Point3::new(f64::NEG_INFINITY, 0.0, f64::NEG_INFINITY),
-                Point3::new(f64::INFINITY, 0.0, f64::INFINITY),
-            ),
-            Shape::Cylinder {
-                minimum, maximum, ..
-            } => Aabb::new(
-                Point3::new(-1.0, *minimum, -1.0),
-                Point3::new(1.0, *maximum, 1.0),
-            ),
-            Shape::Cone {
-                minimum, maximum, ..
-            } => {
-                let r = minimum.abs().max(maximum.abs());
-                Aabb::new(Point3::new(-r, *minimum, -r), Point3::new(r, *maximum, r))
-            }
-            Shape::Torus { major, minor } => {
-                let (outer, r) = (major + minor, *minor);
-                Aabb::new(
-                    Point3::new(-outer, -r, -outer),
-                    Point3::new(outer, r, outer),
-                )
-            }
-            Shape::Ring { outer, .. } => Aabb::new(
-                Point3::new(-outer, 0.0, -outer),
-                Point3::new(*outer, 0.0, *outer),
-            ),
-            Shape::Mesh(mesh) => mesh.bounds(),
-            Shape::Csg(csg) => csg.bounds(),
-            Shape::Triangle(t) => {
-                let mut b = Aabb::EMPTY;
-                for p in [t.p1, t.p2, t.p3] {
-                    b.add_point(p);
-                }
-                b
-            }
         }
     }
 }

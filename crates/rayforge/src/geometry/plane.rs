@@ -3,7 +3,7 @@
 use crate::math::{Point3, Ray, Vec3, EPSILON};
 
 /// One hit where the ray crosses y = 0; rays parallel to (or within) the plane miss it.
-pub(super) fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
+pub fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
     if ray.direction.y.abs() < EPSILON {
         return;
     }
@@ -11,6 +11,6 @@ pub(super) fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
 }
 
 /// The plane's normal is +y everywhere.
-pub(super) fn normal_at(_point: Point3) -> Vec3 {
+pub fn normal_at(_point: Point3) -> Vec3 {
     Vec3::Y
 }

@@ -5,7 +5,7 @@
 use crate::math::{Point3, Ray, Vec3, EPSILON};
 
 /// The one hit of the ray with the ring, if it crosses the plane between the circles.
-pub(super) fn intersect(ray: &Ray, inner: f64, outer: f64, mut hit: impl FnMut(f64)) {
+pub fn intersect(ray: &Ray, inner: f64, outer: f64, mut hit: impl FnMut(f64)) {
     let (o, d) = (ray.origin, ray.direction);
     if d.y.abs() < EPSILON {
         return;
@@ -19,6 +19,6 @@ pub(super) fn intersect(ray: &Ray, inner: f64, outer: f64, mut hit: impl FnMut(f
 }
 
 /// The ring's normal: +y (the side a ray comes from is the caller's business).
-pub(super) fn normal_at(_point: Point3) -> Vec3 {
+pub fn normal_at(_point: Point3) -> Vec3 {
     Vec3::Y
 }

@@ -3,7 +3,7 @@
 use crate::math::{roots::solve_quadratic, Point3, Ray, Vec3};
 
 /// Both roots of `|o + t·d|² = 1`, tangent rays giving the same `t` twice (as the book expects).
-pub(super) fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
+pub fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
     let a = ray.direction.length_squared();
     let b = 2.0 * ray.direction.dot(ray.origin);
     let c = ray.origin.length_squared() - 1.0;
@@ -14,6 +14,6 @@ pub(super) fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
 }
 
 /// The normal of the unit sphere is the point itself.
-pub(super) fn normal_at(point: Point3) -> Vec3 {
+pub fn normal_at(point: Point3) -> Vec3 {
     point
 }

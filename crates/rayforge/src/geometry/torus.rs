@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 /// direction is made unit length and the origin moved to the ray's point nearest the centre, so
 /// the cubic term vanishes and every root lies within `R + r` of zero. A ray that starts a
 /// million units away then loses no more precision than one that starts next to the torus.
-pub(super) fn intersect(ray: &Ray, major: f64, minor: f64, mut hit: impl FnMut(f64)) {
+pub fn intersect(ray: &Ray, major: f64, minor: f64, mut hit: impl FnMut(f64)) {
     let length = ray.direction.length();
     if length.is_nan() || length <= 0.0 || !length.is_finite() {
         return;
@@ -46,7 +46,7 @@ pub(super) fn intersect(ray: &Ray, major: f64, minor: f64, mut hit: impl FnMut(f
 
 /// The normal points away from the nearest point of the centre circle (Cross's construction:
 /// `P − Q` with `Q = R·(x, 0, z)/|(x, 0, z)|`).
-pub(super) fn normal_at(p: Point3, major: f64) -> Vec3 {
+pub fn normal_at(p: Point3, major: f64) -> Vec3 {
     let radial = p.x.hypot(p.z);
     if radial == 0.0 {
         // Only a spindle torus (r > R) has surface on its axis: the normal is along it.

@@ -165,7 +165,7 @@ pub fn shearing(xy: f64, xz: f64, yx: f64, yz: f64, zx: f64, zy: f64) -> DMat4 {
 /// `view_transform(from, to, up)`: orients the world relative to an eye at `from` looking at `to`.
 ///
 /// The result is singular when `up` is parallel to the line of sight (or `from == to`); callers
-/// that take user input check that with [`crate::Transform::try_new`].
+/// that take user input check that with [`crate::math::Transform::try_new`].
 pub fn view_transform(from: DVec3, to: DVec3, up: DVec3) -> DMat4 {
     let forward = (to - from).normalize_or_zero();
     let left = forward.cross(up.normalize_or_zero());

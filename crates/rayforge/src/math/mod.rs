@@ -8,6 +8,7 @@
 mod aabb;
 mod matrix;
 mod motion;
+pub mod random;
 mod ray;
 pub mod roots;
 mod transform;
@@ -19,6 +20,7 @@ pub use matrix::{
     view_transform, BookMatrix,
 };
 pub use motion::Motion;
+pub use random::{Jitter, SplitMix64};
 pub use ray::Ray;
 pub use transform::{SingularTransform, Transform};
 pub use tuple::Tuple;

@@ -6,7 +6,8 @@
 //! when its centre `(x + 0.5, y + 0.5)` is inside the triangle.
 
 use super::edge::{Coverage, FixedPoint, PixelRect, SUBPIXEL_BITS};
-use crate::{Canvas, Color};
+use crate::canvas::Canvas;
+use crate::color::Color;
 use glam::DVec2;
 
 /// The book's `DrawFilledTriangle(P0, P1, P2, color)`, either winding.

@@ -8,7 +8,7 @@ use super::tessellate::{refine, tessellate, Tessellation, EXTENT};
 use super::Projection;
 use crate::math::{Point3, Transform};
 use crate::scene::Csg;
-use crate::{Object, Shape, World};
+use crate::scene::{Object, Shape, World};
 use glam::{DAffine3, DMat3};
 use std::sync::Arc;
 

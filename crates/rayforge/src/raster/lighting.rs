@@ -14,10 +14,13 @@
 
 use super::instance::Instance;
 use super::shade::ShadeContext;
+use crate::color::Color;
+use crate::math::random::SplitMix64;
 use crate::math::{Point3, Vec3};
-use crate::scene::{matte_light, unshadowed_intensity};
-use crate::shading::{lighting_with, SplitMix64};
-use crate::{Color, LightingModel, Material};
+use crate::scene::LightingModel;
+use crate::shading::cgfs::unshadowed_intensity;
+use crate::shading::optics::matte_light;
+use crate::shading::{lighting_with, Material};
 
 impl ShadeContext<'_, '_> {
     /// The normal lighting uses at a point: `normal` turned towards the eye (as the ray

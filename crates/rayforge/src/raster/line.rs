@@ -3,7 +3,8 @@
 //! Coordinates are the canvas's own: pixel `(0, 0)` is the top-left one, y grows downwards (the
 //! book centres its canvas and points y up; the algorithm does not care).
 
-use crate::{Canvas, Color};
+use crate::canvas::Canvas;
+use crate::color::Color;
 use glam::IVec2;
 
 /// The book's `Interpolate(i0, d0, i1, d1)`: the values of the linear function with

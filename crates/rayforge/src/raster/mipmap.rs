@@ -11,8 +11,8 @@
 //! exactly the ray tracer's.
 
 use super::options::TextureFilter;
-use crate::shading::Texture;
-use crate::Color;
+use crate::color::Color;
+use crate::shading::{TexelGrid, Texture};
 
 /// One level: a `width × height` image, row 0 at the top.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,37 +50,21 @@ impl Level {
         }
     }
 
-    /// Texel-space position of (u, v).
-    #[inline]
-    fn position(&self, u: f64, v: f64) -> (f64, f64) {
-        (
-            clamp_unit(u) * (self.width - 1) as f64,
-            (1.0 - clamp_unit(v)) * (self.height - 1) as f64,
-        )
+    /// The level as a grid to sample.
+    fn grid(&self) -> TexelGrid<'_> {
+        TexelGrid {
+            texels: &self.texels,
+            width: self.width,
+            height: self.height,
+        }
     }
 
     fn nearest(&self, u: f64, v: f64) -> Color {
-        let (x, y) = self.position(u, v);
-        self.texel(x.round() as usize, y.round() as usize)
+        self.grid().nearest(u, v)
     }
 
     fn bilinear(&self, u: f64, v: f64) -> Color {
-        let (x, y) = self.position(u, v);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let (x0, y0) = (x0 as usize, y0 as usize);
-        let top = self.texel(x0, y0).lerp(self.texel(x0 + 1, y0), fx);
-        let bottom = self.texel(x0, y0 + 1).lerp(self.texel(x0 + 1, y0 + 1), fx);
-        top.lerp(bottom, fy)
-    }
-}
-
-/// Coordinates outside [0, 1] (and NaN) clamp to the nearest edge, as [`Texture::sample`].
-fn clamp_unit(t: f64) -> f64 {
-    if t.is_nan() {
-        0.0
-    } else {
-        t.clamp(0.0, 1.0)
+        self.grid().bilinear(u, v)
     }
 }
 

@@ -1,8 +1,8 @@
 //! A second renderer: a software rasterizer after *Computer Graphics from Scratch*, part II.
 //!
 //! The ray tracer asks, for every pixel, which surface it sees; the rasterizer asks, for every
-//! triangle, which pixels it covers. It draws the same [`World`](crate::World) through the same
-//! [`Camera`](crate::Camera), so the two images line up pixel for pixel, but it can only draw
+//! triangle, which pixels it covers. It draws the same [`World`](crate::scene::World) through the same
+//! [`Camera`](crate::camera::Camera), so the two images line up pixel for pixel, but it can only draw
 //! triangles: every analytic shape is tessellated first ([`tessellate()`]).
 //!
 //! The pipeline, one file per stage:
@@ -17,13 +17,13 @@
 //! 5. `tile`: each tile fills a depth buffer on 1/z and a triangle id per pixel with the
 //!    fixed-point edge functions of [`edge`], then shades each visible pixel once (`shade`):
 //!    flat, Gouraud or Phong, with the scene's materials and lights through the ray tracer's own
-//!    [`lighting_with`](crate::lighting_with), and textures (image textures, mapped patterns
+//!    [`lighting_with`](crate::shading::lighting_with), and textures (image textures, mapped patterns
 //!    and cube maps, `surface`) read perspective-correctly with nearest, bilinear or trilinear
 //!    (MIP-mapped) filtering (`mipmap`).
 //!
 //! The 2D drawing functions of the book's first chapters ([`draw_line`], [`interpolate`],
 //! [`draw_wireframe_triangle`], [`draw_filled_triangle`], [`draw_shaded_triangle`]) work on any
-//! [`Canvas`](crate::Canvas) and share the coverage rule of the 3D path. [`mod@book2d`] holds
+//! [`Canvas`](crate::canvas::Canvas) and share the coverage rule of the 3D path. [`mod@book2d`] holds
 //! the book's own versions, approximations and all, to the pixel; scenes draw with them through
 //! canvas items ([`Overlay`]), over the image of either renderer.
 //!

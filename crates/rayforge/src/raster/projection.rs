@@ -9,7 +9,7 @@
 //! pixel centre meets projects back to that pixel centre, so the two renderers line up.
 
 use super::clip::ClipPlane;
-use crate::Camera;
+use crate::camera::Camera;
 use glam::{DAffine3, DMat4, DVec2, DVec3};
 
 /// A camera ready for rasterizing.

@@ -21,8 +21,10 @@ use super::mipmap::MipChain;
 use super::options::{Shading, TextureFilter};
 use super::vertex::ViewVertex;
 use super::Projection;
+use crate::color::Color;
 use crate::math::{Point3, Vec3};
-use crate::{Color, Light, LightingModel};
+use crate::scene::LightingModel;
+use crate::shading::Light;
 use glam::DVec3;
 use std::collections::HashMap;
 

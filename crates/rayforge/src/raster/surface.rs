@@ -7,9 +7,10 @@ use super::instance::Instance;
 use super::mipmap::MipChain;
 use super::options::TextureFilter;
 use super::shade::ShadeContext;
+use crate::color::Color;
 use crate::math::Point3;
+use crate::scene::Object;
 use crate::shading::{CubeFace, PatternKind, Texture, UvPattern};
-use crate::{Color, Object};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -121,7 +122,7 @@ impl ShadeContext<'_, '_> {
                     }
                 }
             }
-            _ => pattern.color_at_object(surface, point),
+            _ => pattern.nested_at(surface.world_to_object(point)),
         }
     }
 

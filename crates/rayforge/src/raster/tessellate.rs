@@ -14,7 +14,7 @@
 use crate::geometry::{Mesh, MeshFace};
 use crate::math::{Aabb, Point3, Vec3};
 use crate::scene::Csg;
-use crate::Shape;
+use crate::scene::Shape;
 use std::borrow::Cow;
 use std::f64::consts::{PI, TAU};
 

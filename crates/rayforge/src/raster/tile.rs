@@ -7,7 +7,7 @@ use super::bin::{Tiles, TILE_HEIGHT, TILE_WIDTH};
 use super::edge::{Coverage, PixelRect};
 use super::line::line_pixels_in;
 use super::shade::{Face, ShadeContext};
-use crate::Color;
+use crate::color::Color;
 use glam::IVec2;
 
 /// No triangle covers the pixel.

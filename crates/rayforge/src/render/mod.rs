@@ -4,16 +4,31 @@
 //! and any order in which rows finish. That also makes renders resumable: a render can be
 //! cancelled between rows ([`RenderOptions::cancel`]) and continued later from the rows it
 //! finished ([`RenderOptions::finished`]), giving exactly the image of an uninterrupted run.
+//!
+//! What colour a camera ray brings back is the business of the [`integrator`] chosen from the
+//! world's lighting model, once per render; what happens on the way can be watched through an
+//! [`observer`] (what [`trace_pixel`] does).
 
 pub(crate) mod exposure;
+pub mod integrator;
+pub mod observer;
 mod sampler;
 
-pub use sampler::{CameraSample, Sampling};
+pub use integrator::{Integrator, TraceState};
+pub use observer::{NoTrace, TraceLog, TraceObserver};
+pub use sampler::Sampling;
 
-use crate::scene::WorldIndex;
-use crate::{Camera, Canvas, Color, LightingModel, Tracer, World, DEFAULT_MAX_DEPTH};
+use crate::camera::Camera;
+use crate::canvas::Canvas;
+use crate::color::Color;
+use crate::math::Ray;
+use crate::scene::{World, WorldIndex};
+use integrator::{dispatch, IntegratorJob};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+/// The recursion limit the book's tests use (and a sensible default for renders).
+pub const DEFAULT_MAX_DEPTH: u32 = 5;
 
 /// Called with a finished row's index and pixels.
 pub type RowCallback<'a> = dyn Fn(usize, &[Color]) + Sync + 'a;
@@ -24,7 +39,7 @@ pub struct RenderOptions<'p> {
     /// How many reflection/refraction bounces to follow.
     pub max_depth: u32,
     /// Adaptive depth control: secondary rays weighing less than this are not traced (see
-    /// [`Tracer::set_bailout`]); 0 follows every bounce.
+    /// [`TraceState::set_bailout`]); 0 follows every bounce.
     pub bailout: f64,
     /// Where in each pixel the camera rays go.
     pub sampling: Sampling,
@@ -162,14 +177,51 @@ pub fn render_rows(
     world: &World,
     options: &RenderOptions<'_>,
 ) -> (PartialImage, RenderStats) {
+    dispatch(
+        world.lighting,
+        RenderRows {
+            camera,
+            world,
+            options,
+        },
+    )
+}
+
+/// [`render_rows`] as a job for [`dispatch`]: the loop compiled for each integrator.
+struct RenderRows<'a, 'p> {
+    camera: &'a Camera,
+    world: &'a World,
+    options: &'a RenderOptions<'p>,
+}
+
+impl IntegratorJob for RenderRows<'_, '_> {
+    type Output = (PartialImage, RenderStats);
+
+    fn run<I: Integrator>(self, integrator: I) -> Self::Output {
+        let RenderRows {
+            camera,
+            world,
+            options,
+        } = self;
+        render_rows_with(integrator, camera, world, options)
+    }
+}
+
+/// [`render_rows`] with `integrator`.
+fn render_rows_with<I: Integrator>(
+    integrator: I,
+    camera: &Camera,
+    world: &World,
+    options: &RenderOptions<'_>,
+) -> (PartialImage, RenderStats) {
     let (width, height) = (camera.hsize(), camera.vsize());
     let mut image = match options.finished {
         Some(p) if (p.width(), p.height()) == (width, height) => p.clone(),
         _ => PartialImage::new(width, height),
     };
     let rays = AtomicU64::new(0);
-    // The optics model's brightest sample (as bits: positive floats order like integers) and
-    // its pixels with no usable sample.
+    // Under automatic exposure, the brightest sample (as bits: positive floats order like
+    // integers) and the pixels with no usable sample.
     let brightest = AtomicU64::new(0);
     let ambiguous = std::sync::Mutex::new(Vec::new());
     let index = WorldIndex::build(world);
@@ -182,26 +234,40 @@ pub fn render_rows(
         .enumerate()
         .for_each_init(
             || {
-                let mut tracer = Tracer::new(world, &index);
-                tracer.set_bailout(options.bailout);
-                tracer
+                let mut state = TraceState::new(world, &index);
+                state.set_bailout(options.bailout);
+                // The brightest channel of every sample this thread has traced.
+                (state, 0.0f64)
             },
-            |tracer, (y, (row, done))| {
+            |(state, thread_brightest), (y, (row, done))| {
                 if *done || cancelled() {
                     return;
                 }
-                let before = tracer.rays_cast();
+                let before = state.rays_cast();
                 let mut trace = |x: usize| {
                     let seed = (y * width + x) as u64;
-                    tracer.reseed(seed);
-                    let mut samples = 0;
+                    state.reseed(seed);
+                    let (mut samples, mut bad) = (0, 0);
                     let color = options.sampling.pixel(x, y, seed, |sample| {
                         samples += 1;
-                        tracer.color_at(&camera.ray_for_sample(&sample), options.max_depth)
+                        let ray = camera.ray_for_sample(&sample);
+                        match integrator.radiance(state, &ray, options.max_depth, &mut NoTrace) {
+                            Some(c) => {
+                                if I::AUTO_EXPOSURE {
+                                    *thread_brightest =
+                                        thread_brightest.max(c.red).max(c.green).max(c.blue);
+                                }
+                                c
+                            }
+                            None => {
+                                bad += 1;
+                                Color::BLACK
+                            }
+                        }
                     });
-                    // Ambiguous samples are black: average the others, or leave the pixel to
-                    // its neighbours when there are none.
-                    match tracer.ambiguous_samples() {
+                    // Samples with no colour are black: average the others, or leave the
+                    // pixel to its neighbours when there are none.
+                    match bad {
                         0 => color,
                         bad if bad < samples => color * (samples as f64 / (samples - bad) as f64),
                         _ => {
@@ -221,8 +287,8 @@ pub fn render_rows(
                     Some(threshold) => subsample_row(row, threshold, trace),
                 }
                 *done = true;
-                rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);
-                brightest.fetch_max(tracer.brightest().to_bits(), Ordering::Relaxed);
+                rays.fetch_add(state.rays_cast() - before, Ordering::Relaxed);
+                brightest.fetch_max(thread_brightest.to_bits(), Ordering::Relaxed);
                 if let Some(on_row) = options.on_row {
                     on_row(y, row);
                 }
@@ -232,7 +298,7 @@ pub fn render_rows(
             },
         );
     let mut ambiguous = ambiguous.into_inner().unwrap_or_default();
-    if world.lighting == LightingModel::Optics && image.is_complete() {
+    if I::AUTO_EXPOSURE && image.is_complete() {
         ambiguous.sort_unstable();
         exposure::repair_ambiguous(&mut image.canvas, &ambiguous);
         exposure::expose(&mut image.canvas, f64::from_bits(brightest.into_inner()));
@@ -254,25 +320,61 @@ pub fn trace_pixel(
     x: usize,
     y: usize,
 ) -> (Color, Vec<String>) {
-    let index = WorldIndex::build(world);
-    let mut tracer = Tracer::new(world, &index);
-    tracer.set_bailout(options.bailout);
-    let seed = (y * camera.hsize() + x) as u64;
-    tracer.reseed(seed);
-    let mut lines = Vec::new();
-    let mut samples = 0;
-    let color = options.sampling.pixel(x, y, seed, |sample| {
-        samples += 1;
-        lines.push(format!(
-            "sample {samples}: image point ({:.4}, {:.4}), lens ({:.3}, {:.3}), time {:.3}",
-            sample.x, sample.y, sample.lens_u, sample.lens_v, sample.time
-        ));
-        tracer.start_log();
-        let color = tracer.color_at(&camera.ray_for_sample(&sample), options.max_depth);
-        lines.extend(tracer.take_log().into_iter().map(|l| format!("  {l}")));
-        color
-    });
-    (color, lines)
+    dispatch(
+        world.lighting,
+        TracePixel {
+            camera,
+            world,
+            options,
+            x,
+            y,
+        },
+    )
+}
+
+/// [`trace_pixel`] as a job for [`dispatch`].
+struct TracePixel<'a, 'p> {
+    camera: &'a Camera,
+    world: &'a World,
+    options: &'a RenderOptions<'p>,
+    x: usize,
+    y: usize,
+}
+
+impl IntegratorJob for TracePixel<'_, '_> {
+    type Output = (Color, Vec<String>);
+
+    fn run<I: Integrator>(self, integrator: I) -> Self::Output {
+        let TracePixel {
+            camera,
+            world,
+            options,
+            x,
+            y,
+        } = self;
+        let index = WorldIndex::build(world);
+        let mut state = TraceState::new(world, &index);
+        state.set_bailout(options.bailout);
+        let seed = (y * camera.hsize() + x) as u64;
+        state.reseed(seed);
+        let mut lines = Vec::new();
+        let mut samples = 0;
+        let color = options.sampling.pixel(x, y, seed, |sample| {
+            samples += 1;
+            lines.push(format!(
+                "sample {samples}: image point ({:.4}, {:.4}), lens ({:.3}, {:.3}), time {:.3}",
+                sample.x, sample.y, sample.lens_u, sample.lens_v, sample.time
+            ));
+            let mut log = TraceLog::new(world);
+            let ray = camera.ray_for_sample(&sample);
+            let color = integrator
+                .radiance(&mut state, &ray, options.max_depth, &mut log)
+                .unwrap_or(Color::BLACK);
+            lines.extend(log.into_lines().into_iter().map(|l| format!("  {l}")));
+            color
+        });
+        (color, lines)
+    }
 }
 
 /// Fills a row by tracing its even pixels (and the last), then each odd pixel from its two
@@ -301,8 +403,23 @@ impl Camera {
     }
 }
 
-/// The colour of one pixel (for tests and tools that need a single sample).
+/// The colour of one pixel (for tests and tools that need a single sample): the camera ray
+/// through its centre, `max_depth` bounces deep (black for a sample with no colour).
 pub fn render_pixel(camera: &Camera, world: &World, x: usize, y: usize, max_depth: u32) -> Color {
     let index = WorldIndex::build(world);
-    Tracer::new(world, &index).color_at(&camera.ray_for_pixel(x, y), max_depth)
+    let mut state = TraceState::new(world, &index);
+    let ray = camera.ray_for_pixel(x, y);
+    dispatch(world.lighting, OneRay(&mut state, &ray, max_depth)).unwrap_or(Color::BLACK)
+}
+
+/// One camera ray traced with the world's integrator, unobserved: a job for [`dispatch`].
+pub struct OneRay<'a, 'w>(pub &'a mut TraceState<'w>, pub &'a Ray, pub u32);
+
+impl IntegratorJob for OneRay<'_, '_> {
+    type Output = Option<Color>;
+
+    fn run<I: Integrator>(self, integrator: I) -> Self::Output {
+        let OneRay(state, ray, max_depth) = self;
+        integrator.radiance(state, ray, max_depth, &mut NoTrace)
+    }
 }

@@ -3,46 +3,19 @@
 //! Every choice here is a pure function of the pixel (its seed is its index), so images are
 //! identical for any thread count and any order in which pixels are rendered.
 
-use crate::shading::{Jitter, SplitMix64};
-use crate::Color;
+use crate::camera::CameraSample;
+use crate::color::Color;
+use crate::math::random::{Jitter, SplitMix64};
 
-/// Where one camera ray goes: a point of the image, a point of the lens and an instant.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CameraSample {
-    /// Horizontal image position in pixels (0 is the left edge of the image).
-    pub x: f64,
-    /// Vertical image position in pixels (0 is the top edge).
-    pub y: f64,
-    /// Point of the lens, each coordinate in [0, 1) (0.5, 0.5 is its centre).
-    pub lens_u: f64,
-    /// See `lens_u`.
-    pub lens_v: f64,
-    /// Instant, as a fraction of the shutter interval in [0, 1) (0.5 is its middle).
-    pub time: f64,
-}
-
-impl CameraSample {
-    /// Through image point (`x`, `y`), from the lens's centre, half way through the shutter.
-    pub fn centred(x: f64, y: f64) -> Self {
-        Self {
-            x,
-            y,
-            lens_u: 0.5,
-            lens_v: 0.5,
-            time: 0.5,
-        }
-    }
-
-    /// Through image point (`x`, `y`) with the lens point drawn from `lens` and the instant
-    /// from `shutter` (separate streams, so adding motion blur changes no lens sample).
-    fn drawn(x: f64, y: f64, lens: &mut SplitMix64, shutter: &mut SplitMix64) -> Self {
-        Self {
-            x,
-            y,
-            lens_u: lens.next_offset(),
-            lens_v: lens.next_offset(),
-            time: shutter.next_offset(),
-        }
+/// A camera sample through image point (`x`, `y`) with the lens point drawn from `lens` and
+/// the instant from `shutter` (separate streams, so adding motion blur changes no lens sample).
+fn drawn(x: f64, y: f64, lens: &mut SplitMix64, shutter: &mut SplitMix64) -> CameraSample {
+    CameraSample {
+        x,
+        y,
+        lens_u: lens.next_offset(),
+        lens_v: lens.next_offset(),
+        time: shutter.next_offset(),
     }
 }
 
@@ -112,7 +85,7 @@ impl Sampling {
                     for i in 0..n {
                         let dx = (i as f64 + rng.next_offset()) * cell;
                         let dy = (j as f64 + rng.next_offset()) * cell;
-                        let sample = CameraSample::drawn(x + dx, y + dy, &mut rng, &mut shutter);
+                        let sample = drawn(x + dx, y + dy, &mut rng, &mut shutter);
                         sum += trace(sample);
                     }
                 }
@@ -131,7 +104,7 @@ impl Sampling {
                 sum / (n * n) as f64
             }
             Sampling::Adaptive { threshold, depth } => {
-                let mut at = |px, py| trace(CameraSample::drawn(px, py, &mut rng, &mut shutter));
+                let mut at = |px, py| trace(drawn(px, py, &mut rng, &mut shutter));
                 adaptive(x, y, 1.0, threshold, depth, &mut at)
             }
         }

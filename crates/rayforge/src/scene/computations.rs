@@ -2,7 +2,7 @@
 //! once, and Schlick's approximation of the Fresnel effect.
 
 use crate::math::{reflect, Point3, Ray, Vec3, EPSILON};
-use crate::{Intersection, Object};
+use crate::scene::{Intersection, Object};
 
 /// The state of an intersection, ready for shading.
 ///
@@ -47,7 +47,7 @@ pub struct Computations<'a> {
 /// The book's `prepare_computations(hit, ray, xs)`.
 ///
 /// `xs` must be sorted by `t` and contain `hit`; it is only read to find the refractive indices
-/// on either side of the hit. Allocates a containers list; the tracer uses
+/// on either side of the hit. Allocates a containers list; the Whitted integrator uses
 /// [`prepare_computations_with`] and a reused one.
 pub fn prepare_computations<'a>(
     hit: Intersection<'a>,

@@ -12,7 +12,7 @@
 
 use crate::geometry::LocalHit;
 use crate::math::{Aabb, Point3, Ray, SingularTransform, Transform, Vec3};
-use crate::{Node, Object, Shape};
+use crate::scene::{Node, Object, Shape};
 use smallvec::SmallVec;
 use std::sync::Arc;
 

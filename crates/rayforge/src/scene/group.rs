@@ -9,7 +9,7 @@
 //! flattened child equal the book's recursive versions.
 
 use crate::math::{Aabb, Motion, SingularTransform, Transform};
-use crate::Object;
+use crate::scene::Object;
 
 /// A node of a scene tree: a shape, or a group of nodes.
 #[derive(Debug, Clone, PartialEq)]

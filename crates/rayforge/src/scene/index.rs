@@ -1,12 +1,14 @@
 //! The world's acceleration index: a BVH over every bounded object, plus the unbounded ones
 //! (planes, infinite cylinders and cones) that are tested on every ray.
 
+use super::intersection::{sort_intersections, Intersection};
+use super::object::Object;
+use super::world::World;
 use crate::accel::Bvh;
 use crate::math::{Aabb, Ray};
-use crate::{Intersection, World};
 use std::ops::ControlFlow;
 
-/// What [`WorldIndex::occluded_remembering`] starts from when no object is remembered.
+/// What [`WorldIndex::blocked`] starts from when no object is remembered.
 pub const NO_OBJECT: u32 = u32::MAX;
 
 /// Spatial index over a [`World`]'s objects. Build it once per render; it borrows nothing, so
@@ -91,46 +93,38 @@ impl WorldIndex {
             });
             ControlFlow::Continue(())
         });
-        super::sort_intersections(out);
+        sort_intersections(out);
     }
 
-    /// Whether any shadow-casting object meets the ray with `0 <= t < distance`; stops at the
-    /// first one found.
-    pub fn occluded(&self, world: &World, ray: &Ray, distance: f64) -> bool {
-        let mut none = NO_OBJECT;
-        self.occluded_remembering(world, ray, distance, &mut none)
-    }
-
-    /// [`WorldIndex::occluded`], trying first the object in `last` (the blocker of an earlier
-    /// shadow ray towards the same light, or [`NO_OBJECT`]) and leaving there the blocker it
-    /// finds (or [`NO_OBJECT`] once the remembered one fails). Neighbouring points are usually
-    /// shadowed by the same object, and one object's test costs far less than a walk of the
-    /// hierarchy; the answer is the same either way.
-    pub fn occluded_remembering(
+    /// Whether any object for which `blocks` holds lies along `ray` (the shadow test of every
+    /// lighting model, each with its own rule in `blocks`), visiting the objects that might
+    /// meet the ray within `[t_min, t_max]`; stops at the first blocker.
+    ///
+    /// Tries first the object in `last` (the blocker of an earlier shadow ray towards the same
+    /// light, or [`NO_OBJECT`]) and leaves there the blocker it finds (or [`NO_OBJECT`] once
+    /// the remembered one fails). Neighbouring points are usually shadowed by the same object,
+    /// and one object's test costs far less than a walk of the hierarchy; the answer is the
+    /// same either way.
+    pub fn blocked<'w>(
         &self,
-        world: &World,
+        world: &'w World,
         ray: &Ray,
-        distance: f64,
+        t_min: f64,
+        t_max: f64,
         last: &mut u32,
+        mut blocks: impl FnMut(&'w Object) -> bool,
     ) -> bool {
-        let blocks = |i: usize| {
-            let object = &world.objects[i];
-            object.casts_shadow && {
-                let local = object.ray_to_object(ray);
-                object.shape.any_hit(&local, 0.0, distance)
-            }
-        };
         let remembered = *last as usize;
         if remembered < world.objects.len() {
-            if blocks(remembered) {
+            if blocks(&world.objects[remembered]) {
                 return true;
             }
             // Out of its shadow: lit points need not try it again until something blocks.
             *last = NO_OBJECT;
         }
         let mut blocked = false;
-        self.candidates(ray, 0.0, distance, |i, _| {
-            if i != remembered && blocks(i) {
+        self.candidates(ray, t_min, t_max, |i, _| {
+            if i != remembered && blocks(&world.objects[i]) {
                 blocked = true;
                 *last = i as u32;
                 return ControlFlow::Break(());

@@ -1,7 +1,7 @@
 //! Intersections and hits (chapter 5).
 
 use crate::geometry::LocalHit;
-use crate::Object;
+use crate::scene::Object;
 
 /// A ray meeting an object at distance `t`. The object is referenced, so identity (which object,
 /// not which values) is available to refraction's container tracking.

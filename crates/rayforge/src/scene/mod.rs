@@ -1,24 +1,22 @@
-//! Objects in the world, intersections, and the Whitted tracer that shades them.
+//! The built scene: objects and their shapes (the [`Shape`] enum over the primitives of
+//! [`crate::geometry`], meshes and CSG solids), groups, CSG solids, intersections and the
+//! computations prepared at a hit, the world and its acceleration index. Nothing here traces a
+//! ray to a colour: that is the integrators' work, in the `render` module.
 
-mod cgfs;
 mod computations;
 mod csg;
 mod group;
 mod index;
 mod intersection;
 mod object;
-mod optics;
-mod trace_log;
-mod tracer;
+mod shape;
 mod world;
 
-pub use cgfs::unshadowed_intensity;
-pub use computations::{prepare_computations, schlick, Computations};
+pub use computations::{prepare_computations, prepare_computations_with, schlick, Computations};
 pub use csg::{intersection_allowed, Csg, CsgOperation};
 pub use group::{Group, Node};
-pub use index::WorldIndex;
+pub use index::{WorldIndex, NO_OBJECT};
 pub use intersection::{hit, sort_intersections, Intersection};
 pub use object::Object;
-pub use optics::matte_light;
-pub use tracer::{Tracer, DEFAULT_MAX_DEPTH};
+pub use shape::Shape;
 pub use world::{default_world, LightingModel, World};

@@ -1,9 +1,11 @@
 //! An object: a shape placed in the world by a transform, with a material (chapters 5–9).
 
+use crate::color::Color;
 use crate::geometry::LocalHit;
 use crate::geometry::Triangle;
 use crate::math::{Aabb, Motion, Point3, Ray, SingularTransform, Transform, Vec3};
-use crate::{Intersection, Material, Shape};
+use crate::scene::{Intersection, Shape};
+use crate::shading::Material;
 use std::borrow::Cow;
 
 /// A shape with its transform and material.
@@ -155,6 +157,15 @@ impl Object {
     #[inline]
     pub fn world_to_object_at(&self, point: Point3, time: f64) -> Point3 {
         self.transform_at(time).inverse_point(point)
+    }
+
+    /// The surface colour of this object's material at a world-space point (on the object as it
+    /// was at `time`): the texture at the surface's coordinates `uv` when both exist, else the
+    /// pattern at the point in object space, else the plain colour.
+    #[inline]
+    pub fn surface_color(&self, point: Point3, uv: Option<(f64, f64)>, time: f64) -> Color {
+        self.material
+            .surface_color(uv, || self.world_to_object_at(point, time))
     }
 
     /// The ray in object space (where the object is at the ray's time): what the book's

@@ -1,9 +1,11 @@
-//! The world (chapter 7): objects and lights, with the book's one-call entry points.
+//! The world (chapter 7): objects and lights, and how its hits are lit (its lighting model).
+//! The book's one-call entry points that trace it live in the crate's `book` facade.
 
-use super::tracer::Tracer;
-use super::WorldIndex;
-use crate::math::{point, scaling, Point3, Ray};
-use crate::{Color, Computations, Intersection, Light, Material, Object};
+use super::intersection::{sort_intersections, Intersection};
+use super::object::Object;
+use crate::color::Color;
+use crate::math::{point, scaling, Ray};
+use crate::shading::{Light, Material};
 
 /// Everything in the scene that rays can meet or be lit by.
 #[derive(Debug, Clone, PartialEq)]
@@ -68,37 +70,7 @@ impl World {
         for object in &self.objects {
             object.intersect(ray, xs);
         }
-        super::sort_intersections(xs);
-    }
-
-    /// The book's `color_at(world, ray, remaining)`.
-    pub fn color_at(&self, ray: &Ray, remaining: u32) -> Color {
-        Tracer::new(self, &WorldIndex::build(self)).color_at(ray, remaining)
-    }
-
-    /// The book's `shade_hit(world, comps, remaining)`.
-    pub fn shade_hit(&self, comps: &Computations<'_>, remaining: u32) -> Color {
-        Tracer::new(self, &WorldIndex::build(self)).shade_hit(comps, remaining)
-    }
-
-    /// The book's `reflected_color(world, comps, remaining)`.
-    pub fn reflected_color(&self, comps: &Computations<'_>, remaining: u32) -> Color {
-        Tracer::new(self, &WorldIndex::build(self)).reflected_color(comps, remaining)
-    }
-
-    /// The book's `refracted_color(world, comps, remaining)`.
-    pub fn refracted_color(&self, comps: &Computations<'_>, remaining: u32) -> Color {
-        Tracer::new(self, &WorldIndex::build(self)).refracted_color(comps, remaining)
-    }
-
-    /// The book's `intensity_at(light, point, world)`.
-    pub fn intensity_at(&self, light: &crate::Light, point: Point3) -> f64 {
-        Tracer::new(self, &WorldIndex::build(self)).intensity_at(light, point)
-    }
-
-    /// The book's `is_shadowed(world, light_position, point)`.
-    pub fn is_shadowed(&self, light_position: Point3, point: Point3) -> bool {
-        Tracer::new(self, &WorldIndex::build(self)).is_shadowed(light_position, point)
+        sort_intersections(xs);
     }
 }
 

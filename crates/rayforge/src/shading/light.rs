@@ -2,9 +2,9 @@
 //! (the bonus chapter "Rendering soft shadows"), spotlights (chapter 17), and the ambient and
 //! directional lights of Computer Graphics from Scratch.
 
-use super::jitter::Jitter;
+use crate::color::Color;
+use crate::math::random::Jitter;
 use crate::math::{Point3, Vec3};
-use crate::Color;
 
 /// A point light: no size, so its shadows are hard.
 #[derive(Debug, Clone, Copy, PartialEq)]

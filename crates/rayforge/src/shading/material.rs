@@ -1,8 +1,10 @@
 //! The Phong material (chapters 6, 10 and 11).
 
-use super::{Bump, Pattern, UvPattern};
+use super::bump::Bump;
+use super::pattern::Pattern;
+use super::texture::UvPattern;
+use crate::color::Color;
 use crate::math::Point3;
-use crate::{Color, Object};
 
 /// Surface properties: Phong coefficients, a colour or pattern, reflection and refraction.
 #[derive(Debug, Clone, PartialEq)]
@@ -66,20 +68,20 @@ impl Material {
 }
 
 impl Material {
-    /// The surface colour at a world-space point (on `object` as it was at `time`): the texture
-    /// at the surface's coordinates when both exist, else the pattern, else the plain colour.
-    pub fn color_at(
+    /// The surface colour: the texture at the surface's own coordinates `uv` when both exist,
+    /// else the pattern at the object-space point `object_point` gives (asked only then), else
+    /// the plain colour.
+    #[inline]
+    pub fn surface_color(
         &self,
-        object: &Object,
-        point: Point3,
         uv: Option<(f64, f64)>,
-        time: f64,
+        object_point: impl FnOnce() -> Point3,
     ) -> Color {
         if let (Some(texture), Some((u, v))) = (&self.texture, uv) {
             return texture.uv_pattern_at(u, v) * self.color;
         }
         match &self.pattern {
-            Some(pattern) => pattern.nested_at(object.world_to_object_at(point, time)),
+            Some(pattern) => pattern.nested_at(object_point()),
             None => self.color,
         }
     }

@@ -1,21 +1,31 @@
-//! Materials, patterns, lights and the Phong lighting model.
+//! What surfaces and lights are, and how light meets a surface at one point: materials,
+//! patterns, textures, bumps and lights, and the local illumination of each lighting model:
+//! [`phong`](lighting_with) (The Ray Tracer Challenge), [`cgfs`] (Computer Graphics from
+//! Scratch) and [`optics`] (Fundamentals of Ray Tracing). The ray tracer's integrators and the
+//! rasterizer both light points with them; neither shadows nor secondary rays are known here.
 
 mod bump;
+pub mod cgfs;
 mod jitter;
 mod light;
 mod material;
 mod noise;
+pub mod optics;
 mod pattern;
 mod phong;
 mod texture;
 
+pub use crate::math::random::{Jitter, SplitMix64};
 pub use bump::{Bump, BumpKind};
-pub use jitter::{Jitter, Sequence, SplitMix64};
+pub use cgfs::unshadowed_intensity;
+pub use jitter::Sequence;
 pub use light::{AreaLight, DirectionalLight, Light, PointLight, SpotLight};
 pub use material::Material;
 pub use noise::perlin_noise;
+pub use optics::matte_light;
 pub use pattern::{Pattern, PatternKind};
-pub use phong::{can_light, lighting, lighting_with, most_light};
+pub use phong::{can_light, lighting_with, most_light};
 pub use texture::{
-    cylindrical_map, planar_map, spherical_map, CubeFace, Filter, Texture, UvMapping, UvPattern,
+    cylindrical_map, planar_map, spherical_map, CubeFace, Filter, TexelGrid, Texture, UvMapping,
+    UvPattern,
 };

@@ -6,8 +6,8 @@
 
 use super::noise::perlin_noise;
 use super::texture::{CubeFace, UvMapping, UvPattern};
+use crate::color::Color;
 use crate::math::{Point3, Transform};
-use crate::{Color, Object};
 
 /// A pattern with its transform.
 #[derive(Debug, Clone, PartialEq)]
@@ -149,11 +149,6 @@ impl Pattern {
     #[inline]
     pub fn nested_at(&self, parent_point: Point3) -> Color {
         self.pattern_at(self.transform.inverse_point(parent_point))
-    }
-
-    /// The book's `pattern_at_shape(pattern, object, world_point)`.
-    pub fn color_at_object(&self, object: &Object, world_point: Point3) -> Color {
-        self.nested_at(object.world_to_object(world_point))
     }
 }
 

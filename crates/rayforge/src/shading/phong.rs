@@ -1,46 +1,18 @@
-//! The Phong reflection model (chapter 6), with the pattern hook of chapter 10 and the soft
-//! shadows bonus chapter's light fraction and area-light sampling.
+//! The Phong reflection model (chapter 6) with the soft-shadows bonus chapter's light fraction
+//! and area-light sampling, on a surface colour already found (the book's `lighting`, which
+//! finds it from the object, is in the crate's `book` facade).
 
-use super::jitter::{Jitter, SplitMix64};
-use super::{Light, Material};
+use super::light::Light;
+use super::material::Material;
+use crate::color::Color;
+use crate::math::random::Jitter;
 use crate::math::{reflect, Point3, Vec3};
-use crate::{Color, Object};
-
-/// The book's `lighting(material, object, light, point, eyev, normalv, light_fraction)`.
-///
-/// `light_fraction` replaces chapter 8's `in_shadow` flag: the fraction of the light that
-/// reaches the point (0.0 in shadow, 1.0 fully lit; between for a partly hidden area light).
-/// Ambient light is never shadowed. A jittered area light draws its sample offsets from a
-/// fixed seed here; renders use [`lighting_with`] and a per-pixel generator.
-#[allow(clippy::too_many_arguments)]
-pub fn lighting(
-    material: &Material,
-    object: &Object,
-    light: &Light,
-    point: Point3,
-    eyev: Vec3,
-    normalv: Vec3,
-    light_fraction: f64,
-) -> Color {
-    let mut jitter = SplitMix64::new(0);
-    let surface = material.color_at(object, point, None, 0.0);
-    lighting_with(
-        material,
-        surface,
-        light,
-        point,
-        eyev,
-        normalv,
-        light_fraction,
-        &mut jitter,
-    )
-}
 
 /// Whether `light` can add anything beyond its ambient term at `point` (with normal `normalv`):
 /// false for a point, spot or directional light behind the surface or a spot light aimed
-/// away, where [`lighting_with`] gives the ambient term whatever the light fraction. The tracer
-/// asks this before casting a shadow ray, which the answer then cannot change. Area lights are
-/// spread out, so some of their samples may be in front: always true.
+/// away, where [`lighting_with`] gives the ambient term whatever the light fraction. The Whitted
+/// integrator asks this before casting a shadow ray, which the answer then cannot change. Area
+/// lights are spread out, so some of their samples may be in front: always true.
 pub fn can_light(light: &Light, point: Point3, normalv: Vec3) -> bool {
     // The same expressions as `lighting_with`, so the two agree to the bit.
     let faces = |lightv: Vec3| {
@@ -62,7 +34,7 @@ pub fn can_light(light: &Light, point: Point3, normalv: Vec3) -> bool {
 /// The most `light` can add beyond its ambient term anywhere on a surface of `material` whose
 /// colour is `surface` (the largest channel of its diffuse and specular terms, each at its
 /// peak, in magnitude): what adaptive depth control weighs a shadow ray by. A shadow ray whose answer can
-/// move the pixel by less than the bailout is not cast (see `Tracer::set_bailout`).
+/// move the pixel by less than the bailout is not cast (see `TraceState::set_bailout` in the render module).
 pub fn most_light(material: &Material, surface: Color, light: &Light) -> f64 {
     if matches!(light, Light::Ambient(_)) {
         return 0.0;
@@ -74,8 +46,8 @@ pub fn most_light(material: &Material, surface: Color, light: &Light) -> f64 {
         + largest(intensity) * material.specular.abs()
 }
 
-/// [`lighting`] with the surface colour already found (see [`Material::color_at`]) and the
-/// jitter source for area-light samples given.
+/// The book's `lighting` with the surface colour already found (see
+/// [`Material::surface_color`]) and the jitter source for area-light samples given.
 ///
 /// An area light's diffuse and specular terms are averaged over one sample point per cell
 /// (the bonus chapter's algorithm); a point light is its own single sample.

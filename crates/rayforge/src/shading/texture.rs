@@ -1,8 +1,8 @@
 //! Texture mapping (the bonus chapter "Texture mapping"): 2D patterns on (u, v), the mappings
 //! that turn a 3D point into (u, v), cube maps, and image textures.
 
+use crate::color::Color;
 use crate::math::Point3;
-use crate::Color;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -167,28 +167,74 @@ impl Texture {
         &self.pixels
     }
 
-    fn texel(&self, x: usize, y: usize) -> Color {
-        self.pixels[y.min(self.height - 1) * self.width + x.min(self.width - 1)]
+    /// The pixels as an image to sample.
+    fn image(&self) -> TexelGrid<'_> {
+        TexelGrid {
+            texels: &self.pixels,
+            width: self.width,
+            height: self.height,
+        }
     }
 
-    /// The colour at (u, v), u to the right and v up, both wrapping into [0, 1].
+    /// The colour at (u, v), u to the right and v up, both clamped into [0, 1].
     pub fn sample(&self, u: f64, v: f64) -> Color {
-        let (u, v) = (clamp_unit(u), clamp_unit(v));
-        // The book's convention: u = 0 is the left column, v = 0 the bottom row, and the ends
-        // of the range land on the centres of the edge pixels.
-        let x = u * (self.width - 1) as f64;
-        let y = (1.0 - v) * (self.height - 1) as f64;
         match self.filter {
-            Filter::Nearest => self.texel(x.round() as usize, y.round() as usize),
-            Filter::Bilinear => {
-                let (x0, y0) = (x.floor(), y.floor());
-                let (fx, fy) = (x - x0, y - y0);
-                let (x0, y0) = (x0 as usize, y0 as usize);
-                let top = self.texel(x0, y0).lerp(self.texel(x0 + 1, y0), fx);
-                let bottom = self.texel(x0, y0 + 1).lerp(self.texel(x0 + 1, y0 + 1), fx);
-                top.lerp(bottom, fy)
-            }
+            Filter::Nearest => self.image().nearest(u, v),
+            Filter::Bilinear => self.image().bilinear(u, v),
         }
+    }
+}
+
+/// A `width × height` grid of linear colours, row-major from the top-left, read at texture
+/// coordinates: what a [`Texture`] and each level of the rasterizer's MIP maps sample, by the
+/// same functions so that the two agree to the bit.
+///
+/// The book's convention: u = 0 is the left column, v = 0 the bottom row, and the ends of the
+/// range land on the centres of the edge texels; coordinates outside [0, 1] (and NaN) clamp to
+/// the nearest edge.
+#[derive(Debug, Clone, Copy)]
+pub struct TexelGrid<'a> {
+    /// The texels, row-major from the top-left (at least `width × height` of them).
+    pub texels: &'a [Color],
+    /// Texels per row (at least 1).
+    pub width: usize,
+    /// Rows (at least 1).
+    pub height: usize,
+}
+
+impl TexelGrid<'_> {
+    /// The texel at (x, y), clamped to the grid.
+    #[inline]
+    fn texel(&self, x: usize, y: usize) -> Color {
+        self.texels[y.min(self.height - 1) * self.width + x.min(self.width - 1)]
+    }
+
+    /// Texel-space position of (u, v).
+    #[inline]
+    fn position(&self, u: f64, v: f64) -> (f64, f64) {
+        (
+            clamp_unit(u) * (self.width - 1) as f64,
+            (1.0 - clamp_unit(v)) * (self.height - 1) as f64,
+        )
+    }
+
+    /// The texel nearest to (u, v).
+    #[inline]
+    pub fn nearest(&self, u: f64, v: f64) -> Color {
+        let (x, y) = self.position(u, v);
+        self.texel(x.round() as usize, y.round() as usize)
+    }
+
+    /// The four texels around (u, v), blended by distance (bilinear filtering).
+    #[inline]
+    pub fn bilinear(&self, u: f64, v: f64) -> Color {
+        let (x, y) = self.position(u, v);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as usize, y0 as usize);
+        let top = self.texel(x0, y0).lerp(self.texel(x0 + 1, y0), fx);
+        let bottom = self.texel(x0, y0 + 1).lerp(self.texel(x0 + 1, y0 + 1), fx);
+        top.lerp(bottom, fy)
     }
 }
 

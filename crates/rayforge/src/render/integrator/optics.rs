@@ -1,9 +1,9 @@
-//! The optics model of Don Cross's *Fundamentals of Ray Tracing*, chosen per scene.
+//! The optics model of Don Cross's *Fundamentals of Ray Tracing* as an integrator.
 //!
 //! Each solid has a matte colour (the material's `color`), a gloss colour, an opacity and a
 //! refractive index. A ray arriving at a hit with intensity `I` (a colour) splits:
 //! - matte: `opacity · matte · I · Σ (n·l̂)/d² · light colour` over the point lights in view, at
-//!   distance `d` (no ambient term, no specular highlight);
+//!   distance `d` (no ambient term, no specular highlight: [`crate::shading::optics`]);
 //! - refraction: the transparent part `(1 - opacity) · I`, less the Fresnel reflection `Fr`
 //!   (the mean of the s and p polarisations; 1 under total internal reflection), goes on
 //!   through the surface by Snell's law into the index of whatever solid contains the point
@@ -11,17 +11,22 @@
 //! - reflection: one mirror ray carries `(transparency · Fr + opacity · gloss) · I`.
 //!
 //! Rays go no deeper than 20 bounces and stop once every channel of their intensity is below
-//! 0.001. Transparent solids still cast full shadows. The image is exposed automatically by
-//! the render loop: every channel divided by the brightest one of all the samples.
+//! 0.001. Transparent solids still cast full shadows. The image is exposed automatically after
+//! the render: every channel divided by the brightest one of all the samples
+//! ([`Integrator::AUTO_EXPOSURE`]).
 //!
 //! Hits closer than `1e-6` are ignored (secondary rays start on the surface), and a hit tied
-//! with another one (squared distances within `1e-6`) is *ambiguous*: the ray is abandoned and
-//! the render loop repairs its pixel from its neighbours, as the book does.
+//! with another one (squared distances within `1e-6`) is *ambiguous*: the ray is abandoned
+//! (the sample has no colour) and the render loop repairs its pixel from its neighbours, as the
+//! book does.
 
-use super::trace_log::{c, v};
-use super::tracer::Tracer;
+use super::{Integrator, TraceState};
+use crate::color::Color;
+use crate::geometry::LocalHit;
 use crate::math::{Point3, Ray, Vec3};
-use crate::{Color, Light, Object};
+use crate::render::observer::{RayDetail, TraceObserver};
+use crate::scene::{Object, Shape};
+use crate::shading::optics::{matte_light, polarized_reflection};
 use std::ops::ControlFlow;
 
 /// The book's `EPSILON`: the smallest distance that counts as a hit, and the tie tolerance.
@@ -33,6 +38,37 @@ const MIN_INTENSITY: f64 = 0.001;
 /// How far past a hit the containment test looks for the medium beyond.
 const SMALL_SHIFT: f64 = 0.001;
 
+/// Fundamentals of Ray Tracing's lighting model ([`crate::scene::LightingModel::Optics`]).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Optics;
+
+impl Integrator for Optics {
+    const AUTO_EXPOSURE: bool = true;
+
+    /// The colour a camera ray sees (unexposed), or `None` when some ray on its way met two
+    /// surfaces at the same distance. Its own depth limit, [`MAX_DEPTH`], replaces `max_depth`.
+    #[inline]
+    fn radiance<O: TraceObserver>(
+        &self,
+        state: &mut TraceState<'_>,
+        ray: &Ray,
+        _max_depth: u32,
+        observer: &mut O,
+    ) -> Option<Color> {
+        let ambient = state.world.ambient_index;
+        let mut pass = Pass { state, observer };
+        pass.trace(
+            ray.origin,
+            ray.direction,
+            ambient,
+            Color::WHITE,
+            0,
+            ray.time,
+        )
+        .ok()
+    }
+}
+
 /// The nearest hit of a ray in the optics model.
 struct Hit<'w> {
     surface: &'w Object,
@@ -42,29 +78,21 @@ struct Hit<'w> {
 }
 
 /// Why a ray found no colour.
-pub(super) struct Ambiguous;
+struct Ambiguous;
 
 fn significant(c: Color) -> bool {
     c.red >= MIN_INTENSITY || c.green >= MIN_INTENSITY || c.blue >= MIN_INTENSITY
 }
 
-impl<'w> Tracer<'w> {
-    /// The colour a camera ray sees (unexposed), or `Ambiguous` when some ray on its way met
-    /// two surfaces at the same distance.
-    pub(super) fn optics_color_at(&mut self, ray: &Ray) -> Result<Color, Ambiguous> {
-        let ambient = self.world.ambient_index;
-        self.optics_trace(
-            ray.origin,
-            ray.direction,
-            ambient,
-            Color::WHITE,
-            0,
-            ray.time,
-        )
-    }
+/// One camera ray's trace: the shared state and the observer told about it.
+struct Pass<'a, 'w, O> {
+    state: &'a mut TraceState<'w>,
+    observer: &'a mut O,
+}
 
+impl<'w, O: TraceObserver> Pass<'_, 'w, O> {
     /// The book's `TraceRay`.
-    fn optics_trace(
+    fn trace(
         &mut self,
         vantage: Point3,
         direction: Vec3,
@@ -73,44 +101,31 @@ impl<'w> Tracer<'w> {
         depth: u32,
         time: f64,
     ) -> Result<Color, Ambiguous> {
-        self.rays += 1;
-        self.note(|_| {
-            format!(
-                "ray from {} along {}, in a medium of index {index}, carrying {}",
-                v(vantage),
-                v(direction),
-                c(intensity)
-            )
-        });
-        match self.optics_closest(vantage, direction, time) {
+        self.state.rays += 1;
+        self.observer
+            .ray_cast(vantage, direction, RayDetail::Medium { index, intensity });
+        match self.closest(vantage, direction, time) {
             Err(Ambiguous) => {
-                self.note(|_| "ambiguous: two surfaces at the same distance".to_string());
+                self.observer.ambiguous();
                 Err(Ambiguous)
             }
             Ok(None) => {
-                self.note(|t| format!("miss: background {}", c(t.world.background)));
-                Ok(intensity * self.world.background)
+                let background = self.state.world.background;
+                self.observer.missed(background);
+                Ok(intensity * background)
             }
             Ok(Some(hit)) => {
-                self.note(|t| {
-                    format!(
-                        "hit {}: point {}, normal {}",
-                        t.describe(hit.surface),
-                        v(hit.point),
-                        v(hit.normal)
-                    )
-                });
-                self.deeper();
-                let color =
-                    self.optics_lighting(&hit, direction, index, intensity, depth + 1, time);
-                self.shallower();
+                self.observer.hit(hit.surface, hit.point, hit.normal);
+                self.observer.enter();
+                let color = self.lighting(&hit, direction, index, intensity, depth + 1, time);
+                self.observer.leave();
                 color
             }
         }
     }
 
     /// The book's `CalculateLighting`.
-    fn optics_lighting(
+    fn lighting(
         &mut self,
         hit: &Hit<'w>,
         direction: Vec3,
@@ -127,21 +142,15 @@ impl<'w> Tracer<'w> {
         let opacity = material.opacity;
         let transparency = 1.0 - opacity;
         if opacity > 0.0 {
-            let matte = material.color_at(hit.surface, hit.point, None, time);
-            let light = self.optics_matte(hit, time);
-            self.note(|_| format!("matte: light arriving {}, opacity {opacity}", c(light)));
+            let matte = hit.surface.surface_color(hit.point, None, time);
+            let light = self.matte(hit, time);
+            self.observer.matte(light, opacity);
             sum += matte * intensity * light * opacity;
         }
         let mut fresnel = 0.0;
         if transparency > 0.0 {
-            let (refracted, reflected_share) = self.optics_refraction(
-                hit,
-                direction,
-                index,
-                intensity * transparency,
-                depth,
-                time,
-            )?;
+            let (refracted, reflected_share) =
+                self.refraction(hit, direction, index, intensity * transparency, depth, time)?;
             sum += refracted;
             fresnel = reflected_share;
         }
@@ -150,48 +159,39 @@ impl<'w> Tracer<'w> {
         if significant(reflection) {
             let n = hit.normal;
             let mirror = direction - n * (2.0 * direction.dot(n));
-            sum += self.optics_trace(hit.point, mirror, index, reflection, depth, time)?;
+            sum += self.trace(hit.point, mirror, index, reflection, depth, time)?;
         }
         Ok(sum)
     }
 
     /// The book's `CalculateMatte`: every point light in view, by the cosine of incidence over
-    /// the squared distance.
-    fn optics_matte(&mut self, hit: &Hit<'w>, time: f64) -> Color {
-        let world = self.world;
+    /// the squared distance. In view means nothing at all lies between (transparent solids
+    /// block too).
+    fn matte(&mut self, hit: &Hit<'w>, time: f64) -> Color {
+        let world = self.state.world;
         matte_light(&world.lights, hit.point, hit.normal, |position| {
-            self.optics_clear(hit.point, position, time)
+            let gap = position - hit.point;
+            let distance = gap.length();
+            let ray = Ray::new(hit.point, gap / distance).at_time(time);
+            let blocks = |object: &Object| {
+                let mut found = false;
+                let local = object.ray_to_object(&ray);
+                object.shape.intersect_hits(&local, |h| {
+                    if h.t > EPSILON && h.t < distance {
+                        found = true;
+                    }
+                });
+                found
+            };
+            !self
+                .state
+                .shadow_test(&ray, EPSILON, distance, None, blocks)
         })
-    }
-
-    /// Whether nothing lies between two points (transparent solids block too).
-    fn optics_clear(&mut self, from: Point3, to: Point3, time: f64) -> bool {
-        self.rays += 1;
-        let gap = to - from;
-        let distance = gap.length();
-        let ray = Ray::new(from, gap / distance).at_time(time);
-        let world = self.world;
-        let mut clear = true;
-        self.index.candidates(&ray, EPSILON, distance, |i, _| {
-            let object = &world.objects[i];
-            let local = object.ray_to_object(&ray);
-            object.shape.intersect_hits(&local, |h| {
-                if h.t > EPSILON && h.t < distance {
-                    clear = false;
-                }
-            });
-            if clear {
-                ControlFlow::Continue(())
-            } else {
-                ControlFlow::Break(())
-            }
-        });
-        clear
     }
 
     /// The book's `CalculateRefraction`: the refracted ray's colour and the Fresnel reflection
     /// factor (which the caller adds to the mirror ray).
-    fn optics_refraction(
+    fn refraction(
         &mut self,
         hit: &Hit<'w>,
         direction: Vec3,
@@ -204,15 +204,15 @@ impl<'w> Tracer<'w> {
         let cos_a1 = d.dot(hit.normal).clamp(-1.0, 1.0);
         let sin_a1 = (1.0 - cos_a1 * cos_a1).sqrt();
         let beyond = hit.point + d * SMALL_SHIFT;
-        let target = self
-            .world
+        let world = self.state.world;
+        let target = world
             .objects
             .iter()
             .find(|o| o.contains(beyond))
-            .map_or(self.world.ambient_index, |o| {
+            .map_or(world.ambient_index, |o| {
                 o.surface_containing(beyond).material.refractive_index
             });
-        self.note(|_| format!("refraction from index {index} into {target}"));
+        self.observer.refraction(index, target);
         let ratio = index / target;
         let sin_a2 = ratio * sin_a1;
         if sin_a2.abs() >= 1.0 {
@@ -230,10 +230,10 @@ impl<'w> Tracer<'w> {
         };
         let cos_i = cos_a1.abs();
         let bent = d * ratio + n * (ratio * cos_i - cos_a2.abs());
-        let rs = polarized_reflection(index, target, cos_a1, cos_a2);
-        let rp = polarized_reflection(index, target, cos_a2, cos_a1);
+        let rs = polarized_reflection(index, target, cos_a1, cos_a2, EPSILON);
+        let rp = polarized_reflection(index, target, cos_a2, cos_a1, EPSILON);
         let fresnel = (rs + rp) / 2.0;
-        let color = self.optics_trace(
+        let color = self.trace(
             hit.point,
             bent,
             target,
@@ -245,19 +245,20 @@ impl<'w> Tracer<'w> {
     }
 
     /// The nearest hit beyond `EPSILON`, or `Ambiguous` when two surfaces tie for it.
-    fn optics_closest(
+    fn closest(
         &self,
         vantage: Point3,
         direction: Vec3,
         time: f64,
     ) -> Result<Option<Hit<'w>>, Ambiguous> {
-        let world = self.world;
+        let world = self.state.world;
         let length = direction.length();
         let ray = Ray::new(vantage, direction / length).at_time(time);
         // (distance, object, local hit) of the best and whether another ties with it.
-        let mut best: Option<(f64, usize, crate::geometry::LocalHit)> = None;
+        let mut best: Option<(f64, usize, LocalHit)> = None;
         let mut tied = false;
-        self.index
+        self.state
+            .index
             .candidates(&ray, EPSILON, f64::INFINITY, |i, limit| {
                 let object = &world.objects[i];
                 let local = object.ray_to_object(&ray);
@@ -291,7 +292,7 @@ impl<'w> Tracer<'w> {
             // A set operation's surface may be a primitive's inside (the bite out of a
             // difference): its normal must point out of the solid, which refraction and the
             // matte term rely on.
-            if matches!(object.shape, crate::Shape::Csg(_))
+            if matches!(object.shape, Shape::Csg(_))
                 && object.contains(point + normal * (1e-6 * (1.0 + point.abs().max_element())))
             {
                 normal = -normal;
@@ -307,47 +308,4 @@ impl<'w> Tracer<'w> {
             }
         }))
     }
-}
-
-/// One polarisation's Fresnel reflection (the book's `PolarizedReflection`).
-fn polarized_reflection(n1: f64, n2: f64, cos_a1: f64, cos_a2: f64) -> f64 {
-    let left = n1 * cos_a1;
-    let right = n2 * cos_a2;
-    let numer = left - right;
-    let denom = (left + right) * (left + right);
-    if denom < EPSILON {
-        return 1.0;
-    }
-    (numer * numer / denom).min(1.0)
-}
-
-/// Fundamentals of Ray Tracing's matte sum at `point`: each point light for which `in_view`
-/// holds (given its position), by its colour times the cosine of incidence over the squared
-/// distance. Spotlights and area lights count as points; ambient and directional lights add
-/// nothing in this model (a directional light is a point infinitely far away, whose 1/d²
-/// leaves nothing). The rasterizer, which casts no shadow rays, takes every light as in view.
-pub fn matte_light(
-    lights: &[Light],
-    point: Point3,
-    normal: Vec3,
-    mut in_view: impl FnMut(Point3) -> bool,
-) -> Color {
-    let mut sum = Color::BLACK;
-    for light in lights {
-        let (position, color) = match light {
-            Light::Point(l) => (l.position, l.intensity),
-            Light::Spot(l) => (l.position, l.intensity),
-            Light::Area(l) => (l.position(), l.intensity),
-            Light::Ambient(_) | Light::Directional(_) => continue,
-        };
-        if !in_view(position) {
-            continue;
-        }
-        let to_light = position - point;
-        let incidence = normal.dot(to_light.normalize());
-        if incidence > 0.0 {
-            sum += color * (incidence / to_light.length_squared());
-        }
-    }
-    sum
 }
