@@ -7,6 +7,7 @@
 //! (deterministic: no random numbers to carry between the two files), over a reflective floor,
 //! under two point lights.
 
+use rayforge::math::random::{Jitter, SplitMix64};
 use std::fmt::Write as _;
 
 /// Spheres per side of the grid.
@@ -36,15 +37,15 @@ struct Ball {
     material: usize,
 }
 
-/// SplitMix64: a well-mixed hash of the sphere's index and which value is wanted.
+/// A well-mixed number in [0, 1) from the sphere's index and which value is wanted: the first
+/// draw of the library's SplitMix64 from a seed made of both (its first step adds the golden
+/// ratio, which the seed takes back, so the mixed state is `i·φ + k·c`).
 fn hash(i: u64, k: u64) -> f64 {
-    let mut z = i
-        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+    const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
+    let state = i
+        .wrapping_mul(GOLDEN)
         .wrapping_add(k.wrapping_mul(0xBF58_476D_1CE4_E5B9));
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    (z >> 11) as f64 / (1u64 << 53) as f64
+    SplitMix64::new(state.wrapping_sub(GOLDEN)).next_offset()
 }
 
 /// Rounds to 4 decimals, so both files print exactly the same numbers.

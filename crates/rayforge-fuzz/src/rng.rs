@@ -1,22 +1,21 @@
-//! The fuzzer's random numbers: SplitMix64, seeded, so a run is repeatable from its seed.
+//! The fuzzer's random numbers: the renderer's SplitMix64, seeded, so a run is repeatable from
+//! its seed, with the choices a mutator makes (an index, a one-in-n chance, an element).
 
-/// A small, fast, seedable generator (SplitMix64).
+use rayforge::math::random::SplitMix64;
+
+/// A seedable generator of the fuzzer's choices.
 #[derive(Debug, Clone)]
-pub struct Rng(u64);
+pub struct Rng(SplitMix64);
 
 impl Rng {
     /// A generator whose whole sequence follows from `seed`.
     pub fn new(seed: u64) -> Self {
-        Self(seed)
+        Self(SplitMix64::new(seed))
     }
 
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// A number in `0..n` (0 when `n` is 0).
