@@ -10,7 +10,7 @@
 //! the ends of the range on the centres of the edge texels; so the level-0 bilinear sample is
 //! exactly the ray tracer's.
 
-use super::options::TextureFilter;
+use crate::options::TextureFilter;
 use crate::shading::Texture;
 use crate::Color;
 

@@ -18,10 +18,10 @@
 use super::bin::{Chunk, ClippedPiece, CLIPPED};
 use super::instance::Instance;
 use super::mipmap::MipChain;
-use super::options::{Shading, TextureFilter};
 use super::vertex::ViewVertex;
 use super::Projection;
 use crate::math::{Point3, Vec3};
+use crate::options::{Shading, TextureFilter};
 use crate::{Color, Light, LightingModel};
 use glam::DVec3;
 use std::collections::HashMap;

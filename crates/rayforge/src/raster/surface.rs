@@ -5,9 +5,9 @@
 
 use super::instance::Instance;
 use super::mipmap::MipChain;
-use super::options::TextureFilter;
 use super::shade::ShadeContext;
 use crate::math::Point3;
+use crate::options::TextureFilter;
 use crate::shading::{CubeFace, PatternKind, Texture, UvPattern};
 use crate::{Color, Object};
 use std::collections::HashMap;

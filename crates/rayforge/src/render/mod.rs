@@ -1,17 +1,20 @@
-//! The parallel render loop: rows of the image traced on every core into a [`Canvas`].
+//! The parallel render loop: rows of the image traced on every core into a [`Film`].
 //!
 //! Each pixel is a pure function of the scene, so the image is identical for any thread count
 //! and any order in which rows finish. That also makes renders resumable: a render can be
 //! cancelled between rows ([`RenderOptions::cancel`]) and continued later from the rows it
 //! finished ([`RenderOptions::finished`]), giving exactly the image of an uninterrupted run.
+//! The film is developed into the image ([`develop`]) once the render is complete.
 
-pub(crate) mod exposure;
 mod sampler;
 
 pub use sampler::{CameraSample, Sampling};
 
-use crate::scene::WorldIndex;
-use crate::{Camera, Canvas, Color, LightingModel, Tracer, World, DEFAULT_MAX_DEPTH};
+use crate::camera::Camera;
+use crate::canvas::Canvas;
+use crate::color::Color;
+use crate::film::{develop, Exposure, Film, SharedFilm};
+use crate::scene::{LightingModel, Tracer, World, WorldIndex, DEFAULT_MAX_DEPTH};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -70,10 +73,10 @@ pub struct RenderStats {
     pub ambiguous: u64,
 }
 
-/// An image whose rows may not all be rendered yet: a canvas and which of its rows are done.
+/// An image whose rows may not all be rendered yet: a film and which of its rows are done.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PartialImage {
-    canvas: Canvas,
+    film: Film,
     done: Vec<bool>,
 }
 
@@ -81,19 +84,19 @@ impl PartialImage {
     /// A `width` × `height` image with no rows done.
     pub fn new(width: usize, height: usize) -> Self {
         Self {
-            canvas: Canvas::new(width, height),
+            film: Film::new(width, height),
             done: vec![false; height],
         }
     }
 
     /// Width in pixels.
     pub fn width(&self) -> usize {
-        self.canvas.width()
+        self.film.width()
     }
 
     /// Height in pixels.
     pub fn height(&self) -> usize {
-        self.canvas.height()
+        self.film.height()
     }
 
     /// Whether row `y` is done (false past the last row).
@@ -101,21 +104,21 @@ impl PartialImage {
         self.done.get(y).copied().unwrap_or(false)
     }
 
-    /// Row `y`'s pixels, if it is done.
+    /// Row `y`'s sums of weighted colours, if it is done: the ray tracer gives each pixel one
+    /// estimate of weight 1 (see [`render_rows`]), so these are the row's pixels as
+    /// [`RenderOptions::on_row`] handed them out.
     pub fn row(&self, y: usize) -> Option<&[Color]> {
-        let w = self.width();
-        self.is_done(y)
-            .then(|| &self.canvas.pixels()[y * w..(y + 1) * w])
+        self.is_done(y).then(|| self.film.row_sums(y))
     }
 
-    /// Marks row `y` done with these pixels. False (and nothing changes) when `y` is past the
-    /// last row or `pixels` is not one row long.
+    /// Marks row `y` done with these pixels, each an estimate of weight 1 (replacing whatever
+    /// the row held). False (and nothing changes) when `y` is past the last row or `pixels` is
+    /// not one row long.
     pub fn set_row(&mut self, y: usize, pixels: &[Color]) -> bool {
-        let w = self.width();
-        if y >= self.height() || pixels.len() != w {
+        if y >= self.height() || pixels.len() != self.width() {
             return false;
         }
-        self.canvas.pixels_mut()[y * w..(y + 1) * w].copy_from_slice(pixels);
+        self.film.replace_row(y, pixels);
         self.done[y] = true;
         true
     }
@@ -130,116 +133,135 @@ impl PartialImage {
         self.done.iter().all(|&d| d)
     }
 
-    /// The pixels so far (rows not done are black).
-    pub fn canvas(&self) -> &Canvas {
-        &self.canvas
+    /// The film so far (rows not done have no samples).
+    pub fn film(&self) -> &Film {
+        &self.film
     }
 
-    /// The canvas, whether complete or not.
-    pub fn into_canvas(self) -> Canvas {
-        self.canvas
+    /// The film, whether complete or not.
+    pub fn into_film(self) -> Film {
+        self.film
     }
 }
 
-/// Renders `world` through `camera` on the current rayon thread pool.
+/// How `world`'s films are developed: the optics model exposes automatically (and repairs
+/// the pixels its ties left without a sample); the book's other models keep their colours.
+pub fn exposure(world: &World) -> Exposure {
+    match world.lighting {
+        LightingModel::Optics => Exposure::Automatic,
+        _ => Exposure::Fixed,
+    }
+}
+
+/// Renders `world` through `camera` on the current rayon thread pool and develops the film.
 ///
 /// With a [`RenderOptions::cancel`] flag that gets set, the canvas holds only the rows that
-/// were finished; [`render_rows`] says which.
+/// were finished, not exposed; [`render_rows`] says which.
 pub fn render(
     camera: &Camera,
     world: &World,
     options: &RenderOptions<'_>,
 ) -> (Canvas, RenderStats) {
     let (image, stats) = render_rows(camera, world, options);
-    (image.into_canvas(), stats)
+    let exposure = if image.is_complete() {
+        exposure(world)
+    } else {
+        Exposure::Fixed
+    };
+    (develop(image.film(), exposure), stats)
 }
 
 /// Renders the rows of the image not already in [`RenderOptions::finished`], until done or
-/// cancelled; the image says which rows are done. The statistics count the rays of this call
-/// only.
+/// cancelled, into a film to develop ([`develop`] with [`exposure`]); the image says which
+/// rows are done. The statistics count the rays of this call only.
+///
+/// Each pixel's samples are averaged as they always were ([`Sampling::pixel`]) and the film
+/// receives that estimate as one sample of weight 1 at the pixel (weight 0 when none of its
+/// samples was usable, for developing to repair), under the box filter. Splatting each camera
+/// sample into the film on its own would add the samples in another order and change the
+/// images' last bits; the estimate of weight 1 resolves to exactly today's colour. Each worker
+/// adds a finished row to a [`SharedFilm`], one lock per row.
 pub fn render_rows(
     camera: &Camera,
     world: &World,
     options: &RenderOptions<'_>,
 ) -> (PartialImage, RenderStats) {
     let (width, height) = (camera.hsize(), camera.vsize());
-    let mut image = match options.finished {
+    let PartialImage { film, mut done } = match options.finished {
         Some(p) if (p.width(), p.height()) == (width, height) => p.clone(),
         _ => PartialImage::new(width, height),
     };
+    let film = SharedFilm::from(film);
     let rays = AtomicU64::new(0);
-    // The optics model's brightest sample (as bits: positive floats order like integers) and
-    // its pixels with no usable sample.
-    let brightest = AtomicU64::new(0);
-    let ambiguous = std::sync::Mutex::new(Vec::new());
+    // The optics model's pixels with no usable sample.
+    let ambiguous_pixels = AtomicU64::new(0);
     let index = WorldIndex::build(world);
     let cancelled = || options.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    let PartialImage { canvas, done } = &mut image;
-    canvas
-        .pixels_mut()
-        .par_chunks_mut(width.max(1))
-        .zip(done.par_iter_mut())
-        .enumerate()
-        .for_each_init(
-            || {
-                let mut tracer = Tracer::new(world, &index);
-                tracer.set_bailout(options.bailout);
-                tracer
-            },
-            |tracer, (y, (row, done))| {
-                if *done || cancelled() {
-                    return;
-                }
-                let before = tracer.rays_cast();
-                let mut trace = |x: usize| {
-                    let seed = (y * width + x) as u64;
-                    tracer.reseed(seed);
-                    let mut samples = 0;
-                    let color = options.sampling.pixel(x, y, seed, |sample| {
-                        samples += 1;
-                        tracer.color_at(&camera.ray_for_sample(&sample), options.max_depth)
-                    });
-                    // Ambiguous samples are black: average the others, or leave the pixel to
-                    // its neighbours when there are none.
-                    match tracer.ambiguous_samples() {
-                        0 => color,
-                        bad if bad < samples => color * (samples as f64 / (samples - bad) as f64),
-                        _ => {
-                            if let Ok(mut list) = ambiguous.lock() {
-                                list.push(y * width + x);
-                            }
-                            Color::BLACK
-                        }
+    done.par_iter_mut().enumerate().for_each_init(
+        || {
+            let mut tracer = Tracer::new(world, &index);
+            tracer.set_bailout(options.bailout);
+            tracer
+        },
+        |tracer, (y, done)| {
+            if *done || cancelled() {
+                return;
+            }
+            let before = tracer.rays_cast();
+            let mut row = vec![Color::BLACK; width];
+            let mut ambiguous = Vec::new();
+            let mut trace = |x: usize| {
+                let seed = (y * width + x) as u64;
+                tracer.reseed(seed);
+                let mut samples = 0;
+                let color = options.sampling.pixel(x, y, seed, |sample| {
+                    samples += 1;
+                    tracer.color_at(&camera.ray_for_sample(&sample), options.max_depth)
+                });
+                // Ambiguous samples are black: average the others, or leave the pixel to
+                // its neighbours when there are none.
+                match tracer.ambiguous_samples() {
+                    0 => color,
+                    bad if bad < samples => color * (samples as f64 / (samples - bad) as f64),
+                    _ => {
+                        ambiguous.push(x);
+                        Color::BLACK
                     }
-                };
-                match options.subsample {
-                    None => {
-                        for (x, pixel) in row.iter_mut().enumerate() {
-                            *pixel = trace(x);
-                        }
+                }
+            };
+            match options.subsample {
+                None => {
+                    for (x, pixel) in row.iter_mut().enumerate() {
+                        *pixel = trace(x);
                     }
-                    Some(threshold) => subsample_row(row, threshold, trace),
                 }
-                *done = true;
-                rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);
-                brightest.fetch_max(tracer.brightest().to_bits(), Ordering::Relaxed);
-                if let Some(on_row) = options.on_row {
-                    on_row(y, row);
-                }
-                if let Some(progress) = options.progress {
-                    progress(1);
-                }
-            },
-        );
-    let mut ambiguous = ambiguous.into_inner().unwrap_or_default();
-    if world.lighting == LightingModel::Optics && image.is_complete() {
-        ambiguous.sort_unstable();
-        exposure::repair_ambiguous(&mut image.canvas, &ambiguous);
-        exposure::expose(&mut image.canvas, f64::from_bits(brightest.into_inner()));
-    }
+                Some(threshold) => subsample_row(&mut row, threshold, trace),
+            }
+            let mut part = Film::new(width, 1);
+            for (x, &pixel) in row.iter().enumerate() {
+                let weight = if ambiguous.contains(&x) { 0.0 } else { 1.0 };
+                part.add_pixel(x, 0, pixel, weight);
+            }
+            part.note_brightest(tracer.brightest());
+            // The part is this film's width and one row: adding it cannot be refused.
+            *done = film.add(y, &part).is_ok();
+            rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);
+            ambiguous_pixels.fetch_add(ambiguous.len() as u64, Ordering::Relaxed);
+            if let Some(on_row) = options.on_row {
+                on_row(y, &row);
+            }
+            if let Some(progress) = options.progress {
+                progress(1);
+            }
+        },
+    );
+    let image = PartialImage {
+        film: film.into_film(),
+        done,
+    };
     let stats = RenderStats {
         rays: rays.into_inner(),
-        ambiguous: ambiguous.len() as u64,
+        ambiguous: ambiguous_pixels.into_inner(),
     };
     (image, stats)
 }
