@@ -259,7 +259,17 @@ impl Film {
     /// wider filter, samples near a seam between slices reach pixels on both sides, whose sums
     /// are then added in another order than one render would have: equal to within rounding.
     pub fn merge(&mut self, other: &Film) -> Result<(), FilmError> {
-        self.check_compatible(other, other.height)?;
+        if (other.width, other.height) != (self.width, self.height) {
+            return Err(FilmError::SizeMismatch(
+                other.width,
+                other.height,
+                self.width,
+                self.height,
+            ));
+        }
+        if other.filter != self.filter {
+            return Err(FilmError::FilterMismatch(other.filter, self.filter));
+        }
         for (sum, o) in self.sums.iter_mut().zip(&other.sums) {
             *sum = *sum + *o;
         }
@@ -267,23 +277,6 @@ impl Film {
             *weight += o;
         }
         self.note_brightest(other.brightest);
-        Ok(())
-    }
-
-    /// Checks that `other` can be added to this film's rows: the same width and filter, and
-    /// this film `height` rows high.
-    fn check_compatible(&self, other: &Film, height: usize) -> Result<(), FilmError> {
-        if (other.width, other.height) != (self.width, height) {
-            return Err(FilmError::SizeMismatch(
-                other.width,
-                other.height,
-                self.width,
-                height,
-            ));
-        }
-        if other.filter != self.filter {
-            return Err(FilmError::FilterMismatch(other.filter, self.filter));
-        }
         Ok(())
     }
 }
