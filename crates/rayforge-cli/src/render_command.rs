@@ -12,7 +12,7 @@ use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::color::Color;
 use rayforge::film::{develop, Film};
-use rayforge::raster::RasterOptions;
+use rayforge::options::RasterOptions;
 use rayforge::render::{render_rows, PartialImage, RenderOptions, RenderStats, Sampling};
 use rayforge_scene::{LoadOptions, Scene};
 use rayon::ThreadPool;

@@ -5,9 +5,11 @@
 //! `prepare_computations`, `shade_hit`, `color_at`, …) so the book's scenarios read naturally as tests.
 //!
 //! The pipeline: a [`World`] of [`Object`]s and [`Light`]s is seen through a [`Camera`]; the
-//! [`render`](render::render) loop traces rays in parallel tiles into a [`Canvas`] of linear colours.
+//! [`render`](render::render) loop traces rays in parallel rows into a [`film`] of weighted
+//! linear colours, which is developed ([`film::develop`]) into a [`Canvas`] for the encoders.
 //! A second renderer, the [`raster`] module, draws the same world as triangles (a software
-//! rasterizer after *Computer Graphics from Scratch*).
+//! rasterizer after *Computer Graphics from Scratch*) into a film too. Canvas items
+//! ([`draw2d`]) are drawn over the image of either.
 #![deny(missing_docs)]
 // Two modules may use `unsafe`: `accel::isa`, which calls the processor's vector instructions
 // after checking at run time that it has them, and `accel::pages`, which asks the kernel for

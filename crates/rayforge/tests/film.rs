@@ -142,7 +142,11 @@ fn the_box_filter_gives_a_sample_to_the_pixel_it_lies_in() {
     film.add_sample(1.0, 1.999, Color::WHITE, 2.0);
     film.add_sample(1.5, 0.5, Color::new(1.0, 0.0, 0.0), 1.0);
     assert_eq!(film.weight(1, 1), 2.0);
-    assert_eq!(film.weight(0, 1), 0.0, "a sample on a border counts for one pixel");
+    assert_eq!(
+        film.weight(0, 1),
+        0.0,
+        "a sample on a border counts for one pixel"
+    );
     assert_eq!(film.weight(1, 0), 1.0);
     assert_eq!(film.weights().iter().sum::<f64>(), 3.0);
 }
@@ -247,7 +251,11 @@ fn reading_refuses_what_is_not_a_whole_undamaged_film() {
 #[test]
 fn a_header_asking_for_unbounded_memory_is_refused_before_allocating() {
     let bytes = sample_film().to_bytes();
-    for (width, height) in [(u64::MAX, 2u64), (1 << 20, 1 << 20), (MAX_FILM_PIXELS + 1, 1)] {
+    for (width, height) in [
+        (u64::MAX, 2u64),
+        (1 << 20, 1 << 20),
+        (MAX_FILM_PIXELS + 1, 1),
+    ] {
         let mut huge = bytes[..45].to_vec();
         huge[12..20].copy_from_slice(&width.to_le_bytes());
         huge[20..28].copy_from_slice(&height.to_le_bytes());

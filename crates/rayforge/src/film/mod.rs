@@ -204,7 +204,7 @@ impl Film {
     /// before the film sees them).
     pub fn add_pixel(&mut self, x: usize, y: usize, color: Color, weight: f64) {
         let i = y * self.width + x;
-        self.sums[i] = self.sums[i] + color * weight;
+        self.sums[i] += color * weight;
         self.weights[i] += weight;
     }
 
@@ -271,7 +271,7 @@ impl Film {
             return Err(FilmError::FilterMismatch(other.filter, self.filter));
         }
         for (sum, o) in self.sums.iter_mut().zip(&other.sums) {
-            *sum = *sum + *o;
+            *sum += *o;
         }
         for (weight, o) in self.weights.iter_mut().zip(&other.weights) {
             *weight += o;

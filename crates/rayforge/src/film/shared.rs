@@ -88,7 +88,7 @@ impl SharedFilm {
         for (y, row) in self.rows[first..first + part.height].iter().enumerate() {
             let mut row = lock(row);
             for (sum, s) in row.sums.iter_mut().zip(part.row_sums(y)) {
-                *sum = *sum + *s;
+                *sum += *s;
             }
             for (weight, w) in row.weights.iter_mut().zip(part.row_weights(y)) {
                 *weight += w;
@@ -97,12 +97,6 @@ impl SharedFilm {
         self.brightest
             .fetch_max(part.brightest.to_bits(), Ordering::Relaxed);
         Ok(())
-    }
-
-    /// Notes the brightest channel of samples added (see [`Film::note_brightest`]).
-    pub fn note_brightest(&self, brightest: f64) {
-        self.brightest
-            .fetch_max(brightest.to_bits(), Ordering::Relaxed);
     }
 
     /// An owned copy of the film as it is now, row by row (see the type's documentation), to

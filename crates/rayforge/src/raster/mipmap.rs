@@ -10,9 +10,9 @@
 //! the ends of the range on the centres of the edge texels; so the level-0 bilinear sample is
 //! exactly the ray tracer's.
 
+use crate::color::Color;
 use crate::options::TextureFilter;
 use crate::shading::Texture;
-use crate::Color;
 
 /// One level: a `width × height` image, row 0 at the top.
 #[derive(Debug, Clone, PartialEq)]

@@ -20,9 +20,11 @@ use super::instance::Instance;
 use super::mipmap::MipChain;
 use super::vertex::ViewVertex;
 use super::Projection;
+use crate::color::Color;
 use crate::math::{Point3, Vec3};
 use crate::options::{Shading, TextureFilter};
-use crate::{Color, Light, LightingModel};
+use crate::scene::LightingModel;
+use crate::shading::Light;
 use glam::DVec3;
 use std::collections::HashMap;
 

@@ -6,10 +6,11 @@
 use super::instance::Instance;
 use super::mipmap::MipChain;
 use super::shade::ShadeContext;
+use crate::color::Color;
 use crate::math::Point3;
 use crate::options::TextureFilter;
+use crate::scene::Object;
 use crate::shading::{CubeFace, PatternKind, Texture, UvPattern};
-use crate::{Color, Object};
 use std::collections::HashMap;
 use std::sync::Arc;
 
