@@ -197,64 +197,67 @@ pub fn render_rows(
     let ambiguous_pixels = AtomicU64::new(0);
     let index = WorldIndex::build(world);
     let cancelled = || options.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    done.par_iter_mut().enumerate().for_each_init(
-        || {
-            let mut tracer = Tracer::new(world, &index);
-            tracer.set_bailout(options.bailout);
-            tracer
-        },
-        |tracer, (y, done)| {
-            if *done || cancelled() {
-                return;
-            }
-            let before = tracer.rays_cast();
-            let mut row = vec![Color::BLACK; width];
-            let mut ambiguous = Vec::new();
-            let mut trace = |x: usize| {
-                let seed = (y * width + x) as u64;
-                tracer.reseed(seed);
-                let mut samples = 0;
-                let color = options.sampling.pixel(x, y, seed, |sample| {
-                    samples += 1;
-                    tracer.color_at(&camera.ray_for_sample(&sample), options.max_depth)
-                });
-                // Ambiguous samples are black: average the others, or leave the pixel to
-                // its neighbours when there are none.
-                match tracer.ambiguous_samples() {
-                    0 => color,
-                    bad if bad < samples => color * (samples as f64 / (samples - bad) as f64),
-                    _ => {
-                        ambiguous.push(x);
-                        Color::BLACK
-                    }
+    (0..height)
+        .into_par_iter()
+        .zip(done.par_iter_mut())
+        .for_each_init(
+            || {
+                let mut tracer = Tracer::new(world, &index);
+                tracer.set_bailout(options.bailout);
+                tracer
+            },
+            |tracer, (y, done)| {
+                if *done || cancelled() {
+                    return;
                 }
-            };
-            match options.subsample {
-                None => {
-                    for (x, pixel) in row.iter_mut().enumerate() {
-                        *pixel = trace(x);
+                let before = tracer.rays_cast();
+                let mut row = vec![Color::BLACK; width];
+                let mut ambiguous = Vec::new();
+                let mut trace = |x: usize| {
+                    let seed = (y * width + x) as u64;
+                    tracer.reseed(seed);
+                    let mut samples = 0;
+                    let color = options.sampling.pixel(x, y, seed, |sample| {
+                        samples += 1;
+                        tracer.color_at(&camera.ray_for_sample(&sample), options.max_depth)
+                    });
+                    // Ambiguous samples are black: average the others, or leave the pixel to
+                    // its neighbours when there are none.
+                    match tracer.ambiguous_samples() {
+                        0 => color,
+                        bad if bad < samples => color * (samples as f64 / (samples - bad) as f64),
+                        _ => {
+                            ambiguous.push(x);
+                            Color::BLACK
+                        }
                     }
+                };
+                match options.subsample {
+                    None => {
+                        for (x, pixel) in row.iter_mut().enumerate() {
+                            *pixel = trace(x);
+                        }
+                    }
+                    Some(threshold) => subsample_row(&mut row, threshold, trace),
                 }
-                Some(threshold) => subsample_row(&mut row, threshold, trace),
-            }
-            let mut part = Film::new(width, 1);
-            for (x, &pixel) in row.iter().enumerate() {
-                let weight = if ambiguous.contains(&x) { 0.0 } else { 1.0 };
-                part.add_pixel(x, 0, pixel, weight);
-            }
-            part.note_brightest(tracer.brightest());
-            // The part is this film's width and one row: adding it cannot be refused.
-            *done = film.add(y, &part).is_ok();
-            rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);
-            ambiguous_pixels.fetch_add(ambiguous.len() as u64, Ordering::Relaxed);
-            if let Some(on_row) = options.on_row {
-                on_row(y, &row);
-            }
-            if let Some(progress) = options.progress {
-                progress(1);
-            }
-        },
-    );
+                let mut part = Film::new(width, 1);
+                for (x, &pixel) in row.iter().enumerate() {
+                    let weight = if ambiguous.contains(&x) { 0.0 } else { 1.0 };
+                    part.add_pixel(x, 0, pixel, weight);
+                }
+                part.note_brightest(tracer.brightest());
+                // The part is this film's width and one row: adding it cannot be refused.
+                *done = film.add(y, &part).is_ok();
+                rays.fetch_add(tracer.rays_cast() - before, Ordering::Relaxed);
+                ambiguous_pixels.fetch_add(ambiguous.len() as u64, Ordering::Relaxed);
+                if let Some(on_row) = options.on_row {
+                    on_row(y, &row);
+                }
+                if let Some(progress) = options.progress {
+                    progress(1);
+                }
+            },
+        );
     let image = PartialImage {
         film: film.into_film(),
         done,
