@@ -1,5 +1,6 @@
-//! `rayforge render`: load the scene, render it on a thread pool (saving finished rows to a
-//! checkpoint, stopping cleanly on Ctrl-C), write the image, summarise.
+//! `rayforge render`: load the scene, render it into a film on a thread pool (the ray tracer
+//! saving finished rows to a checkpoint and stopping cleanly on Ctrl-C), develop the film into
+//! the image, draw the scene's canvas items over it, write it, summarise.
 
 use crate::atomic_write::{check_writable, write_atomically};
 use crate::checkpoint::{self, Log, RenderKey};
