@@ -40,7 +40,7 @@ const PIXEL_LEN: usize = 32;
 const CHUNK_PIXELS: usize = 1 << 14;
 
 impl Film {
-    /// Writes the film in the film file format (see [`mod@self`]'s layout).
+    /// Writes the film in the film file format (see [the layout](crate::film::file)).
     pub fn write_to(&self, out: &mut impl Write) -> Result<(), FilmError> {
         let mut crc = crc32fast::Hasher::new();
         let mut put = |bytes: &[u8]| -> std::io::Result<()> {
@@ -83,7 +83,8 @@ impl Film {
         out
     }
 
-    /// Reads a film written by [`write_to`](Self::write_to), checking it (see [`mod@self`]).
+    /// Reads a film written by [`write_to`](Self::write_to), checking it (see
+    /// [the layout](crate::film::file)).
     /// Reads exactly the film's bytes: whatever follows is left in `input`.
     pub fn read_from(input: &mut impl Read) -> Result<Film, FilmError> {
         let mut crc = crc32fast::Hasher::new();

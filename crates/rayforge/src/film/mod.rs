@@ -19,7 +19,7 @@
 //! unchanged.
 
 mod develop;
-mod file;
+pub mod file;
 mod filter;
 mod shared;
 
