@@ -1,5 +1,6 @@
-//! `rayforge render`: load the scene, render it on a thread pool (saving finished rows to a
-//! checkpoint, stopping cleanly on Ctrl-C), write the image, summarise.
+//! `rayforge render`: load the scene, render it into a film on a thread pool (the ray tracer
+//! saving finished rows to a checkpoint and stopping cleanly on Ctrl-C), develop the film into
+//! the image, draw the scene's canvas items over it, write it, summarise.
 
 use crate::atomic_write::{check_writable, write_atomically};
 use crate::checkpoint::{self, Log, RenderKey};
@@ -8,11 +9,18 @@ use crate::failure::Failure;
 use crate::progress::row_bar;
 use crate::settings::RenderSettings;
 use crate::summary::{raster_summary_line, summary_line};
-use rayforge::render::{render_rows, PartialImage, RenderOptions, Sampling};
-use rayforge::Color;
-use rayforge_scene::LoadOptions;
+use rayforge::camera::Camera;
+use rayforge::canvas::Canvas;
+use rayforge::color::Color;
+use rayforge::film::{develop, Film};
+use rayforge::options::RasterOptions;
+use rayforge::render::{render_rows, PartialImage, RenderOptions, RenderStats, Sampling};
+use rayforge_scene::{LoadOptions, Scene};
+use rayon::ThreadPool;
 use std::path::Path;
-use std::sync::mpsc;
+use std::sync::atomic::Ordering::SeqCst;
+use std::sync::atomic::{AtomicBool, AtomicUsize};
+use std::sync::{mpsc, Mutex};
 use std::time::Instant;
 
 /// Runs the render command: one image, or with `--frames` every frame of an animation not
@@ -38,6 +46,21 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
 fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<(), Failure> {
     // Cheap checks first: a long render must not end in "cannot write".
     check_writable(output)?;
+    let (scene, camera) = load_scene(settings, frame)?;
+    let pool = thread_pool(settings)?;
+    if let Some(options) = &settings.raster.resolve(scene.raster)? {
+        return raster_render(settings, &scene, &camera, &pool, options, output);
+    }
+    let options = ray_options(settings, &scene);
+    if let Some((x, y)) = settings.trace_pixel {
+        trace_pixel(settings, &scene, &camera, &options, x, y)?;
+    }
+    ray_render(settings, &scene, &camera, &pool, options, output, frame)
+}
+
+/// Reads the scene (printing its warnings) and the camera to render it through, resized to
+/// `--width`/`--height` when they ask for another size.
+fn load_scene(settings: &RenderSettings, frame: u64) -> Result<(Scene, Camera), Failure> {
     let load = LoadOptions {
         max_triangles: settings.max_triangles,
         frame,
@@ -51,43 +74,74 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
         .size
         .resolve(scene.camera.hsize(), scene.camera.vsize())?;
     let camera = if (width, height) == (scene.camera.hsize(), scene.camera.vsize()) {
-        scene.camera
+        scene.camera.clone()
     } else {
         scene.camera.resized(width, height)
     };
-    let pool = {
-        let mut builder = rayon::ThreadPoolBuilder::new();
-        if let Some(n) = settings.threads {
-            builder = builder.num_threads(n);
-        }
-        builder
-            .build()
-            .map_err(|e| Failure::internal(format!("cannot start worker threads: {e}")))?
-    };
-    if let Some(options) = &settings.raster.resolve(scene.raster)? {
-        let started = Instant::now();
-        let (mut canvas, stats) =
-            pool.install(|| rayforge::raster::render_with_stats(&camera, &scene.world, options));
-        scene.overlay.draw(&mut canvas, &camera);
-        let elapsed = started.elapsed();
-        let bytes = settings.format.encode(&canvas)?;
-        write_atomically(output, &bytes)?;
-        if !settings.quiet {
-            eprintln!(
-                "{}",
-                raster_summary_line(
-                    canvas.width(),
-                    canvas.height(),
-                    elapsed,
-                    stats.triangles,
-                    stats.drawn,
-                    output
-                )
-            );
-        }
-        return Ok(());
+    Ok((scene, camera))
+}
+
+/// The worker threads: `--threads` of them, or one per core.
+fn thread_pool(settings: &RenderSettings) -> Result<ThreadPool, Failure> {
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = settings.threads {
+        builder = builder.num_threads(n);
     }
-    let sampling = match settings.adaptive {
+    builder
+        .build()
+        .map_err(|e| Failure::internal(format!("cannot start worker threads: {e}")))
+}
+
+/// The rasterizer's render: the film drawn, developed and written, and a summary line.
+fn raster_render(
+    settings: &RenderSettings,
+    scene: &Scene,
+    camera: &Camera,
+    pool: &ThreadPool,
+    options: &RasterOptions,
+    output: &Path,
+) -> Result<(), Failure> {
+    let started = Instant::now();
+    let (film, stats) =
+        pool.install(|| rayforge::raster::render_film(camera, &scene.world, options));
+    let canvas = develop_with_overlay(scene, camera, &film);
+    let elapsed = started.elapsed();
+    write_image(settings, &canvas, output)?;
+    if !settings.quiet {
+        eprintln!(
+            "{}",
+            raster_summary_line(
+                canvas.width(),
+                canvas.height(),
+                elapsed,
+                stats.triangles,
+                stats.drawn,
+                output
+            )
+        );
+    }
+    Ok(())
+}
+
+/// The ray tracer's options that change pixels: depth, bailout, sampling, subsampling (the
+/// same for `--trace-pixel` and the render, so the traced pixel is the rendered one).
+fn ray_options<'p>(settings: &RenderSettings, scene: &Scene) -> RenderOptions<'p> {
+    RenderOptions {
+        max_depth: settings
+            .max_depth
+            .or(scene.max_depth)
+            .unwrap_or(rayforge::DEFAULT_MAX_DEPTH),
+        bailout: settings.bailout,
+        sampling: sampling(settings, scene),
+        subsample: settings.subsample,
+        ..RenderOptions::default()
+    }
+}
+
+/// Where in each pixel the camera rays go: `--adaptive`, `--spp`, or the scene camera's own
+/// grid (`anti-alias`) or sample count.
+fn sampling(settings: &RenderSettings, scene: &Scene) -> Sampling {
+    match settings.adaptive {
         // Three levels of splitting: at most 64 sub-squares, about 4 rays each, per pixel.
         Some(threshold) => Sampling::Adaptive {
             threshold,
@@ -97,92 +151,64 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
             (None, Some(per_side)) => Sampling::Grid { per_side },
             (spp, _) => Sampling::with_samples(spp.unwrap_or(scene.samples)),
         },
-    };
-    if let Some((x, y)) = settings.trace_pixel {
-        if x >= width || y >= height {
-            return Err(Failure::usage(format!(
-                "--trace-pixel {x},{y} is outside the {width}×{height} image"
-            )));
-        }
-        let options = RenderOptions {
-            max_depth: settings
-                .max_depth
-                .or(scene.max_depth)
-                .unwrap_or(rayforge::DEFAULT_MAX_DEPTH),
-            bailout: settings.bailout,
-            sampling,
-            ..RenderOptions::default()
-        };
-        let (color, lines) = rayforge::render::trace_pixel(&camera, &scene.world, &options, x, y);
-        println!("pixel ({x}, {y}) of `{}`:", settings.scene.display());
-        for line in lines {
-            println!("  {line}");
-        }
-        println!(
-            "  pixel colour [{:.4}, {:.4}, {:.4}]",
-            color.red, color.green, color.blue
-        );
     }
-    let (finished, log) = open_checkpoint(settings, output, frame, width, height, &sampling)?;
-    let stop = crate::interrupt::stop_flag(settings.quiet);
-    let bar = row_bar(camera.vsize(), settings.quiet);
-    if let Some(f) = &finished {
-        bar.set_position(f.finished_rows() as u64);
+}
+
+/// `--trace-pixel`: prints every ray the pixel's samples cast, and its colour.
+fn trace_pixel(
+    settings: &RenderSettings,
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions<'_>,
+    x: usize,
+    y: usize,
+) -> Result<(), Failure> {
+    let (width, height) = (camera.hsize(), camera.vsize());
+    if x >= width || y >= height {
+        return Err(Failure::usage(format!(
+            "--trace-pixel {x},{y} is outside the {width}×{height} image"
+        )));
     }
-    let progress = |rows: usize| bar.inc(rows as u64);
+    let (color, lines) = rayforge::render::trace_pixel(camera, &scene.world, options, x, y);
+    println!("pixel ({x}, {y}) of `{}`:", settings.scene.display());
+    for line in lines {
+        println!("  {line}");
+    }
+    println!(
+        "  pixel colour [{:.4}, {:.4}, {:.4}]",
+        color.red, color.green, color.blue
+    );
+    Ok(())
+}
+
+/// The ray tracer's render: resumed from the checkpoint with `--resume`, saving finished rows
+/// to it, stopping cleanly on Ctrl-C; once complete, the image written, the checkpoint
+/// removed and a summary printed.
+fn ray_render(
+    settings: &RenderSettings,
+    scene: &Scene,
+    camera: &Camera,
+    pool: &ThreadPool,
+    options: RenderOptions<'_>,
+    output: &Path,
+    frame: u64,
+) -> Result<(), Failure> {
+    let (width, height) = (camera.hsize(), camera.vsize());
+    let (finished, log) =
+        open_checkpoint(settings, output, frame, width, height, &options.sampling)?;
     let started = Instant::now();
-    let finished_rows = std::sync::Mutex::new(Vec::new());
-    let (render_running, render_over) = mpsc::channel::<()>();
-    // Set when the render returns whole, before the log learns the render is over.
-    let complete = std::sync::atomic::AtomicBool::new(false);
-    let ((image, stats), logged) = std::thread::scope(|scope| {
-        let (complete, finished_rows) = (&complete, &finished_rows);
-        let logger = scope.spawn(move || {
-            log.record(finished_rows, render_over, || {
-                complete.load(std::sync::atomic::Ordering::SeqCst)
-            })
-        });
-        let rendered = {
-            // Dropped after the render, which ends the log.
-            let running = render_running;
-            let rows_done = std::sync::atomic::AtomicUsize::new(0);
-            let on_row = |y: usize, row: &[Color]| {
-                if let Ok(mut rows) = finished_rows.lock() {
-                    rows.push((y, row.to_vec()));
-                }
-                let done = rows_done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
-                if settings.pause_after_rows.is_some_and(|n| done >= n) {
-                    wait_for_interrupt(stop);
-                }
-            };
-            let options = RenderOptions {
-                max_depth: settings
-                    .max_depth
-                    .or(scene.max_depth)
-                    .unwrap_or(rayforge::DEFAULT_MAX_DEPTH),
-                bailout: settings.bailout,
-                sampling,
-                progress: Some(&progress),
-                subsample: settings.subsample,
-                cancel: Some(stop),
-                finished: finished.as_ref(),
-                on_row: Some(&on_row),
-            };
-            let rendered = pool.install(|| render_rows(&camera, &scene.world, &options));
-            complete.store(
-                rendered.0.is_complete(),
-                std::sync::atomic::Ordering::SeqCst,
-            );
-            drop(running);
-            rendered
-        };
-        let logged = logger
-            .join()
-            .unwrap_or_else(|_| Err(Failure::internal("the checkpoint writer failed")));
-        (rendered, logged)
-    });
+    let (image, stats, logged) = render_logged(
+        settings,
+        scene,
+        camera,
+        pool,
+        RenderOptions {
+            finished: finished.as_ref(),
+            ..options
+        },
+        log,
+    );
     let elapsed = started.elapsed();
-    bar.finish_and_clear();
     let checkpoint = checkpoint::path_for(output);
     if !image.is_complete() {
         // Interrupted: the rows are in the checkpoint, unless writing it failed.
@@ -194,12 +220,8 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
             checkpoint.display()
         )));
     }
-    let mut canvas = image.into_canvas();
-    // Canvas items go over the finished image, after the optics model's exposure: their
-    // colours are the scene's own.
-    scene.overlay.draw(&mut canvas, &camera);
-    let bytes = settings.format.encode(&canvas)?;
-    write_atomically(output, &bytes)?;
+    let canvas = develop_with_overlay(scene, camera, image.film());
+    write_image(settings, &canvas, output)?;
     // The image is complete: its checkpoint has done its job.
     let _ = std::fs::remove_file(&checkpoint);
     if !settings.quiet {
@@ -217,10 +239,83 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
     Ok(())
 }
 
+/// Renders on `pool` with a progress bar, handing each finished row to `log`, which writes
+/// them on a thread of its own; Ctrl-C stops the render between rows (`--pause-after-rows`
+/// holds it until then). Returns the image, the statistics and how the logging went.
+fn render_logged(
+    settings: &RenderSettings,
+    scene: &Scene,
+    camera: &Camera,
+    pool: &ThreadPool,
+    options: RenderOptions<'_>,
+    log: Log,
+) -> (PartialImage, RenderStats, Result<(), Failure>) {
+    let stop = crate::interrupt::stop_flag(settings.quiet);
+    let bar = row_bar(camera.vsize(), settings.quiet);
+    if let Some(f) = options.finished {
+        bar.set_position(f.finished_rows() as u64);
+    }
+    let progress = |rows: usize| bar.inc(rows as u64);
+    let finished_rows = Mutex::new(Vec::new());
+    let (render_running, render_over) = mpsc::channel::<()>();
+    // Set when the render returns whole, before the log learns the render is over.
+    let complete = AtomicBool::new(false);
+    let ((image, stats), logged) = std::thread::scope(|scope| {
+        let (complete, finished_rows) = (&complete, &finished_rows);
+        let logger =
+            scope.spawn(move || log.record(finished_rows, render_over, || complete.load(SeqCst)));
+        let rendered = {
+            // Dropped after the render, which ends the log.
+            let running = render_running;
+            let rows_done = AtomicUsize::new(0);
+            let on_row = |y: usize, row: &[Color]| {
+                if let Ok(mut rows) = finished_rows.lock() {
+                    rows.push((y, row.to_vec()));
+                }
+                let done = rows_done.fetch_add(1, SeqCst) + 1;
+                if settings.pause_after_rows.is_some_and(|n| done >= n) {
+                    wait_for_interrupt(stop);
+                }
+            };
+            let options = RenderOptions {
+                progress: Some(&progress),
+                cancel: Some(stop),
+                on_row: Some(&on_row),
+                ..options
+            };
+            let rendered = pool.install(|| render_rows(camera, &scene.world, &options));
+            complete.store(rendered.0.is_complete(), SeqCst);
+            drop(running);
+            rendered
+        };
+        let logged = logger
+            .join()
+            .unwrap_or_else(|_| Err(Failure::internal("the checkpoint writer failed")));
+        (rendered, logged)
+    });
+    bar.finish_and_clear();
+    (image, stats, logged)
+}
+
+/// The film developed (the optics model's exposure when the scene asks for it), with the
+/// scene's canvas items drawn over it: after the exposure, as their colours are the scene's
+/// own.
+fn develop_with_overlay(scene: &Scene, camera: &Camera, film: &Film) -> Canvas {
+    let mut canvas = develop(film, rayforge::render::exposure(&scene.world));
+    scene.overlay.draw(&mut canvas, camera);
+    canvas
+}
+
+/// Encodes the image in the output's format and writes it atomically.
+fn write_image(settings: &RenderSettings, canvas: &Canvas, output: &Path) -> Result<(), Failure> {
+    let bytes = settings.format.encode(canvas)?;
+    write_atomically(output, &bytes)
+}
+
 /// Holds the calling worker until `stop` is set (`--pause-after-rows`): the render then starts
 /// no more rows, so a test knows exactly which rows an interrupt saves.
-fn wait_for_interrupt(stop: &std::sync::atomic::AtomicBool) {
-    while !stop.load(std::sync::atomic::Ordering::SeqCst) {
+fn wait_for_interrupt(stop: &AtomicBool) {
+    while !stop.load(SeqCst) {
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
 }

@@ -20,7 +20,7 @@ use crate::error::SceneError;
 use crate::material::color;
 use crate::source::{check_keys, required, Entry, Node, Source};
 use glam::{DVec2, DVec3};
-use rayforge::raster::{CanvasItem, CanvasPoint, TriangleStyle};
+use rayforge::draw2d::{CanvasItem, CanvasPoint, TriangleStyle};
 use rayforge::Color;
 
 /// The item kinds this module reads.

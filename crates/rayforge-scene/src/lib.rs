@@ -47,10 +47,10 @@ pub struct Scene {
     /// Reflection and refraction bounces, when the scene's `world:` item sets `max-depth`.
     pub max_depth: Option<u32>,
     /// The rasterizer's options, when the scene's `world:` item says `renderer: raster`.
-    pub raster: Option<rayforge::raster::RasterOptions>,
+    pub raster: Option<rayforge::options::RasterOptions>,
     /// The canvas items (`add: canvas-line`, `add: canvas-triangle`), drawn over the image by
     /// either renderer.
-    pub overlay: rayforge::raster::Overlay,
+    pub overlay: rayforge::draw2d::Overlay,
     /// Problems in the file that the reader worked around (each located like an error).
     pub warnings: Vec<SceneError>,
 }
@@ -194,7 +194,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         SceneError::new(path, "the scene has no camera: add an item `- add: camera`")
     })?;
     // Canvas coordinates are pixels of the camera's canvas.
-    let overlay = rayforge::raster::Overlay::new(canvas_items, camera.hsize(), camera.vsize());
+    let overlay = rayforge::draw2d::Overlay::new(canvas_items, camera.hsize(), camera.vsize());
     Ok(Scene {
         overlay,
         world,

@@ -12,7 +12,7 @@
 use crate::error::SceneError;
 use crate::material::color;
 use crate::source::{check_keys, Entry, Node, Source};
-use rayforge::raster::{RasterOptions, Shading, TextureFilter};
+use rayforge::options::{RasterOptions, Shading, TextureFilter};
 use rayforge::{LightingModel, World};
 
 /// The deepest recursion a scene may ask for (as `--max-depth` allows).

@@ -1,6 +1,6 @@
 //! The canvas (chapter 2): a grid of linear colours, and the book's PPM (P3) encoding.
 
-use crate::Color;
+use crate::color::Color;
 use std::fmt::Write as _;
 
 /// A width × height grid of colours, row 0 at the top.

@@ -5,17 +5,20 @@
 //! `prepare_computations`, `shade_hit`, `color_at`, …) so the book's scenarios read naturally as tests.
 //!
 //! The pipeline: a [`World`] of [`Object`]s and [`Light`]s is seen through a [`Camera`]; the
-//! [`render`](render::render) loop traces rays in parallel rows into a [`Canvas`] of linear
-//! colours, each camera ray's colour found by the [integrator](render::integrator) of the world's
-//! lighting model. A second renderer, the [`raster`] module, draws the same world as triangles (a
-//! software rasterizer after *Computer Graphics from Scratch*).
+//! [`render`](render::render) loop traces rays in parallel rows into a [`film`] of weighted
+//! linear colours, each camera ray's colour found by the [integrator](render::integrator) of the
+//! world's lighting model; the film is developed ([`film::develop`]) into a [`Canvas`] for the
+//! encoders. A second renderer, the [`raster`] module, draws the same world as triangles (a
+//! software rasterizer after *Computer Graphics from Scratch*) into a film too. Canvas items
+//! ([`draw2d`]) are drawn over the image of either.
 //!
-//! The modules form layers, each using only its own layer and those below:
+//! The modules form layers, each using only its own layer and those below (checked by
+//! `tests/layers.rs`):
 //!
 //! | layer | modules | what they hold |
 //! |---|---|---|
 //! | 0 | [`color`], [`math`] | colours; points, vectors, matrices, rays, random numbers |
-//! | 1 | [`accel`], [`camera`], [`canvas`] | the BVH; cameras and their samples; images |
+//! | 1 | [`accel`], [`camera`], [`canvas`], [`film`], [`draw2d`], [`options`] | the BVH; cameras and their samples; images; films and their development; 2D drawing and canvas items; renderer options |
 //! | 2 | [`geometry`] | primitive shapes in object space, meshes |
 //! | 3 | [`shading`] | materials, patterns, textures, lights, each lighting model's local terms |
 //! | 4 | [`scene`] | objects, the `Shape` enum, groups, CSG, intersections, the world, its index |
@@ -35,8 +38,11 @@ pub mod book;
 pub mod camera;
 pub mod canvas;
 pub mod color;
+pub mod draw2d;
+pub mod film;
 pub mod geometry;
 pub mod math;
+pub mod options;
 pub mod raster;
 pub mod render;
 pub mod scene;

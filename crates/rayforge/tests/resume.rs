@@ -112,7 +112,10 @@ fn a_cancelled_render_resumed_equals_an_uninterrupted_one() {
         30 - 7,
         "finished rows are not traced again"
     );
-    assert_eq!(bits(resumed.canvas().pixels()), bits(whole.pixels()));
+    assert_eq!(
+        bits(resumed.film().resolve().pixels()),
+        bits(whole.pixels())
+    );
     let all = render_rows(
         &camera,
         &world,
@@ -138,7 +141,12 @@ fn a_render_cancelled_before_it_starts_renders_nothing() {
         },
     );
     assert_eq!((image.finished_rows(), stats.rays), (0, 0));
-    assert!(image.canvas().pixels().iter().all(|c| *c == Color::BLACK));
+    assert!(image
+        .film()
+        .resolve()
+        .pixels()
+        .iter()
+        .all(|c| *c == Color::BLACK));
 }
 
 #[test]
@@ -156,7 +164,7 @@ fn finished_rows_of_another_size_are_ignored() {
     );
     assert!(image.is_complete());
     assert_eq!(
-        bits(image.canvas().pixels()),
+        bits(image.film().resolve().pixels()),
         bits(camera.render(&world).pixels())
     );
 }

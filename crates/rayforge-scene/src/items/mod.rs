@@ -33,7 +33,7 @@ pub struct Contents {
     /// The camera, once read.
     pub camera: Option<CameraItem>,
     /// `canvas-line` and `canvas-triangle` items, in order.
-    pub canvas_items: Vec<rayforge::raster::CanvasItem>,
+    pub canvas_items: Vec<rayforge::draw2d::CanvasItem>,
 }
 
 /// One top-level item.

@@ -10,8 +10,8 @@
 //! the ends of the range on the centres of the edge texels; so the level-0 bilinear sample is
 //! exactly the ray tracer's.
 
-use super::options::TextureFilter;
 use crate::color::Color;
+use crate::options::TextureFilter;
 use crate::shading::{TexelGrid, Texture};
 
 /// One level: a `width × height` image, row 0 at the top.

@@ -23,9 +23,10 @@
 //!
 //! The 2D drawing functions of the book's first chapters ([`draw_line`], [`interpolate`],
 //! [`draw_wireframe_triangle`], [`draw_filled_triangle`], [`draw_shaded_triangle`]) work on any
-//! [`Canvas`](crate::canvas::Canvas) and share the coverage rule of the 3D path. [`mod@book2d`] holds
-//! the book's own versions, approximations and all, to the pixel; scenes draw with them through
-//! canvas items ([`Overlay`]), over the image of either renderer.
+//! [`Canvas`](crate::canvas::Canvas) and share the coverage rule of the 3D path. [`mod@book2d`]
+//! (in [`draw2d`](crate::draw2d), below both renderers) holds the book's own versions,
+//! approximations and all, to the pixel; scenes draw with them through canvas items
+//! ([`Overlay`]), over the image of either renderer.
 //!
 //! What a rasterizer cannot show: shadows, reflection and refraction need rays, so surfaces are
 //! lit as if nothing stood between them and each light, mirrors and glass look like the opaque
@@ -37,7 +38,6 @@
 //! the image is the same bytes for any thread count.
 
 mod bin;
-pub mod book2d;
 pub mod clip;
 pub mod edge;
 mod fill;
@@ -45,8 +45,6 @@ mod instance;
 mod lighting;
 mod line;
 mod mipmap;
-mod options;
-mod overlay;
 mod projection;
 mod render;
 mod shade;
@@ -59,8 +57,9 @@ pub use clip::{clip_triangle, ClipPlane, ClipVertex, Clipped, SphereSide};
 pub use fill::{draw_filled_triangle, draw_shaded_triangle};
 pub use line::{draw_line, draw_wireframe_triangle, interpolate, Interpolate};
 pub use mipmap::MipChain;
-pub use options::{RasterOptions, Shading, TextureFilter};
-pub use overlay::{CanvasItem, CanvasPoint, Overlay, TriangleStyle};
+// Canvas items and the options are below both renderers; here too, for users of the rasterizer.
+pub use crate::draw2d::{book2d, CanvasItem, CanvasPoint, Overlay, TriangleStyle};
+pub use crate::options::{RasterOptions, Shading, TextureFilter};
 pub use projection::Projection;
-pub use render::{render, render_with_stats, RasterStats};
+pub use render::{render, render_film, render_with_stats, RasterStats};
 pub use tessellate::{generate_sphere, refine, tessellate, Tessellation};

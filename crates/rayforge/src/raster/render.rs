@@ -1,15 +1,18 @@
-//! The rasterizer's entry point: a world through a camera into a canvas.
+//! The rasterizer's entry point: a world through a camera into a film, and developed.
 
 use super::bin::{bin_all, BinContext, Tiles, TILE_HEIGHT};
 use super::edge::subpixel_bits;
 use super::instance::instances;
-use super::options::RasterOptions;
 use super::shade::{raster_lights, ShadeContext};
 use super::surface::build_mips;
 use super::tile::{draw_tile, draw_wireframe_tile, TileBuffers};
 use super::vertex::transform_vertices;
 use super::Projection;
-use crate::{Camera, Canvas, LightingModel, World};
+use crate::camera::Camera;
+use crate::canvas::Canvas;
+use crate::film::{develop, Exposure, Film};
+use crate::options::RasterOptions;
+use crate::scene::{LightingModel, World};
 use rayon::prelude::*;
 
 /// What a raster render did, for tests and summaries.
@@ -27,7 +30,7 @@ pub struct RasterStats {
     pub drawn: u64,
 }
 
-/// Rasterizes `world` through `camera` on the current rayon thread pool.
+/// Rasterizes `world` through `camera` on the current rayon thread pool, developed.
 pub fn render(camera: &Camera, world: &World, options: &RasterOptions) -> Canvas {
     render_with_stats(camera, world, options).0
 }
@@ -38,10 +41,24 @@ pub fn render_with_stats(
     world: &World,
     options: &RasterOptions,
 ) -> (Canvas, RasterStats) {
+    let (film, stats) = render_film(camera, world, options);
+    // The optics model's automatic exposure, as the ray tracer's film gets it: the image
+    // divided by its brightest channel (one sample per pixel: the brightest pixel).
+    let exposure = match world.lighting {
+        LightingModel::Optics => Exposure::Automatic,
+        _ => Exposure::Fixed,
+    };
+    (develop(&film, exposure), stats)
+}
+
+/// Rasterizes `world` through `camera` into a film, with counts of what was drawn. Every pixel
+/// is one sample of weight 1 (the colour its nearest triangle shades it), under the box
+/// filter: the tiles draw finished colours, which the film takes as they are.
+pub fn render_film(camera: &Camera, world: &World, options: &RasterOptions) -> (Film, RasterStats) {
     let (width, height) = (camera.hsize(), camera.vsize());
     let mut canvas = Canvas::new(width, height);
     if width == 0 || height == 0 {
-        return (canvas, RasterStats::default());
+        return (Film::from_canvas(&canvas), RasterStats::default());
     }
     let projection = Projection::new(camera, options.near);
     let bits = subpixel_bits(width, height);
@@ -84,7 +101,7 @@ pub fn render_with_stats(
         bits,
         vertex_light: Vec::new(),
     };
-    if options.shading == super::Shading::Gouraud && !options.wireframe {
+    if options.shading == crate::options::Shading::Gouraud && !options.wireframe {
         ctx.light_vertices();
     }
     let background = world.background;
@@ -101,10 +118,5 @@ pub fn render_with_stats(
                 }
             }
         });
-    if world.lighting == LightingModel::Optics {
-        // The optics model's automatic exposure, as the ray tracer applies it: the image
-        // divided by its brightest channel (one sample per pixel: the brightest pixel).
-        crate::render::exposure::expose(&mut canvas, 0.0);
-    }
-    (canvas, stats)
+    (Film::from_canvas(&canvas), stats)
 }

@@ -18,11 +18,11 @@
 use super::bin::{Chunk, ClippedPiece, CLIPPED};
 use super::instance::Instance;
 use super::mipmap::MipChain;
-use super::options::{Shading, TextureFilter};
 use super::vertex::ViewVertex;
 use super::Projection;
 use crate::color::Color;
 use crate::math::{Point3, Vec3};
+use crate::options::{Shading, TextureFilter};
 use crate::scene::LightingModel;
 use crate::shading::Light;
 use glam::DVec3;

@@ -5,10 +5,10 @@
 
 use super::instance::Instance;
 use super::mipmap::MipChain;
-use super::options::TextureFilter;
 use super::shade::ShadeContext;
 use crate::color::Color;
 use crate::math::Point3;
+use crate::options::TextureFilter;
 use crate::scene::Object;
 use crate::shading::{CubeFace, PatternKind, Texture, UvPattern};
 use std::collections::HashMap;

@@ -1,15 +1,15 @@
-//! The parallel render loop: rows of the image traced on every core into a [`Canvas`].
+//! The parallel render loop: rows of the image traced on every core into a [`Film`].
 //!
 //! Each pixel is a pure function of the scene, so the image is identical for any thread count
 //! and any order in which rows finish. That also makes renders resumable: a render can be
 //! cancelled between rows ([`RenderOptions::cancel`]) and continued later from the rows it
 //! finished ([`RenderOptions::finished`]), giving exactly the image of an uninterrupted run.
+//! The film is developed into the image ([`develop`]) once the render is complete.
 //!
 //! What colour a camera ray brings back is the business of the [`integrator`] chosen from the
 //! world's lighting model, once per render; what happens on the way can be watched through an
 //! [`observer`] (what [`trace_pixel`] does).
 
-pub(crate) mod exposure;
 pub mod integrator;
 pub mod observer;
 mod sampler;
@@ -21,6 +21,7 @@ pub use sampler::Sampling;
 use crate::camera::Camera;
 use crate::canvas::Canvas;
 use crate::color::Color;
+use crate::film::{develop, Exposure, Film, SharedFilm};
 use crate::math::Ray;
 use crate::scene::{World, WorldIndex};
 use integrator::{dispatch, IntegratorJob};
@@ -85,10 +86,10 @@ pub struct RenderStats {
     pub ambiguous: u64,
 }
 
-/// An image whose rows may not all be rendered yet: a canvas and which of its rows are done.
+/// An image whose rows may not all be rendered yet: a film and which of its rows are done.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PartialImage {
-    canvas: Canvas,
+    film: Film,
     done: Vec<bool>,
 }
 
@@ -96,19 +97,19 @@ impl PartialImage {
     /// A `width` × `height` image with no rows done.
     pub fn new(width: usize, height: usize) -> Self {
         Self {
-            canvas: Canvas::new(width, height),
+            film: Film::new(width, height),
             done: vec![false; height],
         }
     }
 
     /// Width in pixels.
     pub fn width(&self) -> usize {
-        self.canvas.width()
+        self.film.width()
     }
 
     /// Height in pixels.
     pub fn height(&self) -> usize {
-        self.canvas.height()
+        self.film.height()
     }
 
     /// Whether row `y` is done (false past the last row).
@@ -116,21 +117,21 @@ impl PartialImage {
         self.done.get(y).copied().unwrap_or(false)
     }
 
-    /// Row `y`'s pixels, if it is done.
+    /// Row `y`'s sums of weighted colours, if it is done: the ray tracer gives each pixel one
+    /// estimate of weight 1 (see [`render_rows`]), so these are the row's pixels as
+    /// [`RenderOptions::on_row`] handed them out.
     pub fn row(&self, y: usize) -> Option<&[Color]> {
-        let w = self.width();
-        self.is_done(y)
-            .then(|| &self.canvas.pixels()[y * w..(y + 1) * w])
+        self.is_done(y).then(|| self.film.row_sums(y))
     }
 
-    /// Marks row `y` done with these pixels. False (and nothing changes) when `y` is past the
-    /// last row or `pixels` is not one row long.
+    /// Marks row `y` done with these pixels, each an estimate of weight 1 (replacing whatever
+    /// the row held). False (and nothing changes) when `y` is past the last row or `pixels` is
+    /// not one row long.
     pub fn set_row(&mut self, y: usize, pixels: &[Color]) -> bool {
-        let w = self.width();
-        if y >= self.height() || pixels.len() != w {
+        if y >= self.height() || pixels.len() != self.width() {
             return false;
         }
-        self.canvas.pixels_mut()[y * w..(y + 1) * w].copy_from_slice(pixels);
+        self.film.replace_row(y, pixels);
         self.done[y] = true;
         true
     }
@@ -145,33 +146,64 @@ impl PartialImage {
         self.done.iter().all(|&d| d)
     }
 
-    /// The pixels so far (rows not done are black).
-    pub fn canvas(&self) -> &Canvas {
-        &self.canvas
+    /// The film so far (rows not done have no samples).
+    pub fn film(&self) -> &Film {
+        &self.film
     }
 
-    /// The canvas, whether complete or not.
-    pub fn into_canvas(self) -> Canvas {
-        self.canvas
+    /// The film, whether complete or not.
+    pub fn into_film(self) -> Film {
+        self.film
     }
 }
 
-/// Renders `world` through `camera` on the current rayon thread pool.
+/// How `world`'s films are developed: an integrator with automatic exposure (the optics
+/// model's) has its film exposed by the brightest sample, and the pixels its ties left without
+/// a sample repaired; the book's other models keep their colours.
+pub fn exposure(world: &World) -> Exposure {
+    /// Asks the world's integrator whether its images are exposed automatically.
+    struct AutoExposure;
+    impl IntegratorJob for AutoExposure {
+        type Output = bool;
+        fn run<I: Integrator>(self, _: I) -> bool {
+            I::AUTO_EXPOSURE
+        }
+    }
+    if dispatch(world.lighting, AutoExposure) {
+        Exposure::Automatic
+    } else {
+        Exposure::Fixed
+    }
+}
+
+/// Renders `world` through `camera` on the current rayon thread pool and develops the film.
 ///
 /// With a [`RenderOptions::cancel`] flag that gets set, the canvas holds only the rows that
-/// were finished; [`render_rows`] says which.
+/// were finished, not exposed; [`render_rows`] says which.
 pub fn render(
     camera: &Camera,
     world: &World,
     options: &RenderOptions<'_>,
 ) -> (Canvas, RenderStats) {
     let (image, stats) = render_rows(camera, world, options);
-    (image.into_canvas(), stats)
+    let exposure = if image.is_complete() {
+        exposure(world)
+    } else {
+        Exposure::Fixed
+    };
+    (develop(image.film(), exposure), stats)
 }
 
 /// Renders the rows of the image not already in [`RenderOptions::finished`], until done or
-/// cancelled; the image says which rows are done. The statistics count the rays of this call
-/// only.
+/// cancelled, into a film to develop ([`develop`] with [`exposure`]); the image says which
+/// rows are done. The statistics count the rays of this call only.
+///
+/// Each pixel's samples are averaged as they always were ([`Sampling::pixel`]) and the film
+/// receives that estimate as one sample of weight 1 at the pixel (weight 0 when none of its
+/// samples was usable, for developing to repair), under the box filter. Splatting each camera
+/// sample into the film on its own would add the samples in another order and change the
+/// images' last bits; the estimate of weight 1 resolves to exactly today's colour. Each worker
+/// adds a finished row to a [`SharedFilm`], one lock per row.
 pub fn render_rows(
     camera: &Camera,
     world: &World,
@@ -215,23 +247,19 @@ fn render_rows_with<I: Integrator>(
     options: &RenderOptions<'_>,
 ) -> (PartialImage, RenderStats) {
     let (width, height) = (camera.hsize(), camera.vsize());
-    let mut image = match options.finished {
+    let PartialImage { film, mut done } = match options.finished {
         Some(p) if (p.width(), p.height()) == (width, height) => p.clone(),
         _ => PartialImage::new(width, height),
     };
+    let film = SharedFilm::from(film);
     let rays = AtomicU64::new(0);
-    // Under automatic exposure, the brightest sample (as bits: positive floats order like
-    // integers) and the pixels with no usable sample.
-    let brightest = AtomicU64::new(0);
-    let ambiguous = std::sync::Mutex::new(Vec::new());
+    // The pixels with no usable sample (the optics model's ties).
+    let ambiguous_pixels = AtomicU64::new(0);
     let index = WorldIndex::build(world);
     let cancelled = || options.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
-    let PartialImage { canvas, done } = &mut image;
-    canvas
-        .pixels_mut()
-        .par_chunks_mut(width.max(1))
+    (0..height)
+        .into_par_iter()
         .zip(done.par_iter_mut())
-        .enumerate()
         .for_each_init(
             || {
                 let mut state = TraceState::new(world, &index);
@@ -239,11 +267,13 @@ fn render_rows_with<I: Integrator>(
                 // The brightest channel of every sample this thread has traced.
                 (state, 0.0f64)
             },
-            |(state, thread_brightest), (y, (row, done))| {
+            |(state, thread_brightest), (y, done)| {
                 if *done || cancelled() {
                     return;
                 }
                 let before = state.rays_cast();
+                let mut row = vec![Color::BLACK; width];
+                let mut ambiguous = Vec::new();
                 let mut trace = |x: usize| {
                     let seed = (y * width + x) as u64;
                     state.reseed(seed);
@@ -271,9 +301,7 @@ fn render_rows_with<I: Integrator>(
                         0 => color,
                         bad if bad < samples => color * (samples as f64 / (samples - bad) as f64),
                         _ => {
-                            if let Ok(mut list) = ambiguous.lock() {
-                                list.push(y * width + x);
-                            }
+                            ambiguous.push(x);
                             Color::BLACK
                         }
                     }
@@ -284,28 +312,33 @@ fn render_rows_with<I: Integrator>(
                             *pixel = trace(x);
                         }
                     }
-                    Some(threshold) => subsample_row(row, threshold, trace),
+                    Some(threshold) => subsample_row(&mut row, threshold, trace),
                 }
-                *done = true;
+                let mut part = Film::new(width, 1);
+                for (x, &pixel) in row.iter().enumerate() {
+                    let weight = if ambiguous.contains(&x) { 0.0 } else { 1.0 };
+                    part.add_pixel(x, 0, pixel, weight);
+                }
+                part.note_brightest(*thread_brightest);
+                // The part is this film's width and one row: adding it cannot be refused.
+                *done = film.add(y, &part).is_ok();
                 rays.fetch_add(state.rays_cast() - before, Ordering::Relaxed);
-                brightest.fetch_max(thread_brightest.to_bits(), Ordering::Relaxed);
+                ambiguous_pixels.fetch_add(ambiguous.len() as u64, Ordering::Relaxed);
                 if let Some(on_row) = options.on_row {
-                    on_row(y, row);
+                    on_row(y, &row);
                 }
                 if let Some(progress) = options.progress {
                     progress(1);
                 }
             },
         );
-    let mut ambiguous = ambiguous.into_inner().unwrap_or_default();
-    if I::AUTO_EXPOSURE && image.is_complete() {
-        ambiguous.sort_unstable();
-        exposure::repair_ambiguous(&mut image.canvas, &ambiguous);
-        exposure::expose(&mut image.canvas, f64::from_bits(brightest.into_inner()));
-    }
+    let image = PartialImage {
+        film: film.into_film(),
+        done,
+    };
     let stats = RenderStats {
         rays: rays.into_inner(),
-        ambiguous: ambiguous.len() as u64,
+        ambiguous: ambiguous_pixels.into_inner(),
     };
     (image, stats)
 }

@@ -1,5 +1,9 @@
 //! What the rasterizer can be asked to do differently: how surfaces are shaded, how finely
 //! curved shapes are cut into triangles, how textures are filtered.
+//!
+//! Plain data, below both renderers, so that a scene reader can say which renderer a scene
+//! asks for and with which options (`Option<RasterOptions>`: none for the ray tracer) without
+//! depending on the rasterizer itself. The [`raster`](crate::raster) module re-exports them.
 
 /// Where the lighting equation is evaluated (the book's "Shading" chapter).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -28,7 +32,7 @@ pub enum TextureFilter {
     Trilinear,
 }
 
-/// Options for [`render`](super::render).
+/// Options for the rasterizer's `render`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RasterOptions {
     /// Flat, Gouraud or Phong shading.

@@ -3,12 +3,12 @@
 //! book's chapters "Lines", "Filled triangles" and "Shaded triangles" write them and its demos
 //! (`demos/raster-02.html` … `raster-05.html` in the author's repository) run them. Scenes
 //! draw with them through canvas items (`add: canvas-line`, `add: canvas-triangle`, see
-//! [`Overlay`](super::Overlay)), so that the book's figures come out pixel for pixel.
+//! [`Overlay`](super::overlay::Overlay)), so that the book's figures come out pixel for pixel.
 //!
-//! Why not [`draw_line`](super::draw_line) and [`draw_filled_triangle`](super::draw_filled_triangle):
-//! those serve the 3D pipeline, and are exact where the book approximates: they round lines to
-//! the nearest pixel and cover triangles by the top-left rule, so that triangles sharing an edge
-//! neither overlap nor leave gaps. The book's scanline triangles do both (each row runs from
+//! Why not the rasterizer's `draw_line` and `draw_filled_triangle`: those serve the 3D
+//! pipeline, and are exact where the book approximates: they round lines to the nearest pixel
+//! and cover triangles by the top-left rule, so that triangles sharing an edge neither overlap
+//! nor leave gaps. The book's scanline triangles do both (each row runs from
 //! `x_left` to `x_right` inclusive), its outline does not quite match its fill (the book points
 //! this out), and its `Interpolate` adds the slope once per step, so rounding accumulates. To
 //! reproduce its figures these functions repeat its arithmetic in its order:
@@ -30,7 +30,8 @@
 //! [`EXACT_SKIP`] of them (so the arithmetic stays the book's) and by one multiplication beyond
 //! that. A shape however large costs about as much as its visible part.
 
-use crate::{Canvas, Color};
+use crate::canvas::Canvas;
+use crate::color::Color;
 use glam::DVec2;
 
 /// The most steps of an [`Interpolation`] skipped one addition at a time; more are skipped by

@@ -9,7 +9,9 @@
 //! scene lists them.
 
 use super::book2d;
-use crate::{Camera, Canvas, Color};
+use crate::camera::Camera;
+use crate::canvas::Canvas;
+use crate::color::Color;
 use glam::{DVec2, DVec3};
 
 /// Where a corner of a canvas item is.
