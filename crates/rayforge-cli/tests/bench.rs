@@ -90,3 +90,50 @@ fn rayforge_bench_help_comes_from_rayforge_bench_when_built() {
     assert!(help.contains("Usage: rayforge-bench"), "{help}");
     assert!(help.contains("--scene-repeat"), "{help}");
 }
+
+/// The user's way in, end to end: `rayforge bench --quick` runs the benchmark laboratory
+/// (every part on tiny inputs, the peers missing and reported as skipped, whole renders by this
+/// very `rayforge`), prints its tables and draws its plot. `cargo test --workspace` builds
+/// `rayforge-bench` beside `rayforge`; a run of this package alone may not, and says so.
+#[test]
+fn rayforge_bench_quick_runs_the_laboratory_through_rayforge() {
+    let name = format!("rayforge-bench{}", std::env::consts::EXE_SUFFIX);
+    let beside = Path::new(env!("CARGO_BIN_EXE_rayforge")).with_file_name(name);
+    if !beside.is_file() {
+        eprintln!("{} is not built; run cargo test --workspace", beside.display());
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (peers, out) = (dir.path().join("peers"), dir.path().join("out"));
+    std::fs::create_dir(&peers).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."))
+        .arg("bench")
+        .arg("--quick")
+        .arg("--peers")
+        .arg(&peers)
+        .arg("--out")
+        .arg(&out)
+        .arg("--models")
+        .arg(peers.join("no-models"))
+        .env("PATH", "")
+        .output()
+        .expect("runs");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    for title in [
+        "### Primary rays against Embree",
+        "### BVH build",
+        "### Whole renders",
+        "### Summary",
+    ] {
+        assert!(stdout.contains(title), "no `{title}` in:\n{stdout}");
+    }
+    assert!(stdout.contains("| cover"), "the whole renders ran: {stdout}");
+    let plot = image::open(out.join("scaling.png")).expect("the plot is a PNG");
+    assert!(plot.width() > 100 && plot.height() > 100);
+}
