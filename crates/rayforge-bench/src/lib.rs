@@ -18,9 +18,7 @@
 #![forbid(unsafe_code)]
 
 pub mod args;
-mod atomic_write;
 mod embree;
-pub mod failure;
 mod files;
 mod peers;
 mod plot;
@@ -37,7 +35,7 @@ mod sweep;
 mod trace;
 
 use args::{BenchArgs, BenchPart};
-use failure::Failure;
+use rayforge_cli::failure::Failure;
 use peers::Peers;
 use rayforge::geometry::Mesh;
 use rayon::ThreadPool;

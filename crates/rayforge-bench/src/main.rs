@@ -3,7 +3,7 @@
 
 use clap::Parser;
 use rayforge_bench::args::BenchArgs;
-use rayforge_bench::failure::{Failure, EXIT_INTERNAL};
+use rayforge_cli::failure::{Failure, EXIT_INTERNAL};
 use rayforge_bench::BenchSettings;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::process::ExitCode;

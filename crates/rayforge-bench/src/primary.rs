@@ -5,7 +5,7 @@
 use super::report::{seconds, si, Check, Report, Table};
 use super::shapes::{bumpy_sphere, read_obj, subdivide_until, Soup};
 use super::{embree, files, rays, trace, Bench};
-use crate::failure::Failure;
+use rayforge_cli::failure::Failure;
 
 /// rayforge's throughput as a share of Embree's that the issue asks for.
 const TARGET_SHARE: f64 = 0.5;

@@ -2,8 +2,8 @@
 //! `docs/performance.md`), the targets each comparison is held to, and `bench.md`, the whole
 //! report as a file.
 
-use crate::atomic_write::write_atomically;
-use crate::failure::Failure;
+use rayforge_cli::atomic_write::write_atomically;
+use rayforge_cli::failure::Failure;
 use std::fmt::Write as _;
 use std::path::Path;
 

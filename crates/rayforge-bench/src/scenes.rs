@@ -7,7 +7,7 @@
 use super::peers::skipped_hint;
 use super::report::{seconds, si, times, Check, Report, Table};
 use super::{pov_mesh, Bench};
-use crate::failure::Failure;
+use rayforge_cli::failure::Failure;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
@@ -462,9 +462,14 @@ mod tests {
 
     #[test]
     fn the_ray_count_is_read_back_from_the_summary_line() {
-        // The line as `rayforge render` prints it (its summary.rs); the end-to-end test in
-        // tests/quick.rs reads a real one back when `rayforge` is built beside this program.
-        let line = "rendered 1080×1080 in 0.90 s, 10.6 M rays/s (9.5 M rays) → c.png";
+        // The line as `rayforge render` prints it, from the command's own summary.
+        let line = rayforge_cli::summary::summary_line(
+            1080,
+            1080,
+            std::time::Duration::from_millis(900),
+            9_500_000,
+            Path::new("c.png"),
+        );
         let stderr = format!("progress…\n{line}\n");
         assert_eq!(rays_from_summary(&stderr), Some(9.5e6));
         assert_eq!(rays_from_summary("nothing"), None);

@@ -9,8 +9,8 @@ use super::report::{seconds, si, times, Check, Report, Table};
 use super::shapes::bumpy_sphere;
 use super::trace::{self, Traced};
 use super::{embree, files, rays, Bench};
-use crate::atomic_write::write_atomically;
-use crate::failure::Failure;
+use rayforge_cli::atomic_write::write_atomically;
+use rayforge_cli::failure::Failure;
 use std::time::Instant;
 
 /// Build rate the issue asks for, in triangles per second.

@@ -1,0 +1,36 @@
+//! The `rayforge` command as a library: the binary (`main.rs`) only turns [`run`]'s result into
+//! an exit code. Its file writing ([`atomic_write`]), failures and exit codes ([`failure`]) and
+//! render summary ([`summary`]) are public so that the benchmark program, `rayforge-bench`,
+//! writes its reports and reads `rayforge render`'s summary line the same way, from one copy.
+
+mod args;
+pub mod atomic_write;
+mod bench_command;
+mod checkpoint;
+mod diagnostics;
+pub mod failure;
+mod format;
+mod frames;
+mod interrupt;
+mod progress;
+mod render_command;
+mod settings;
+mod sizing;
+pub mod summary;
+
+use clap::Parser;
+use failure::Failure;
+use std::process::ExitCode;
+
+/// Parses the command line (clap prints help, or a usage error and exits 2, by itself), checks
+/// it into settings, and runs the command; `rayforge bench` exits as `rayforge-bench` did.
+pub fn run() -> Result<ExitCode, Failure> {
+    diagnostics::install_handler();
+    match args::Cli::parse().command {
+        args::Command::Render(render) => {
+            let settings = settings::RenderSettings::from_args(render)?;
+            render_command::run(&settings).map(|()| ExitCode::SUCCESS)
+        }
+        args::Command::Bench(bench) => bench_command::run(&bench.args),
+    }
+}
