@@ -35,9 +35,9 @@ mod sweep;
 mod trace;
 
 use args::{BenchArgs, BenchPart};
-use rayforge_cli::failure::Failure;
 use peers::Peers;
 use rayforge::geometry::Mesh;
+use rayforge_cli::failure::Failure;
 use rayon::ThreadPool;
 use report::Report;
 use std::path::{Path, PathBuf};

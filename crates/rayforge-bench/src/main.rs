@@ -3,8 +3,8 @@
 
 use clap::Parser;
 use rayforge_bench::args::BenchArgs;
-use rayforge_cli::failure::{Failure, EXIT_INTERNAL};
 use rayforge_bench::BenchSettings;
+use rayforge_cli::failure::{Failure, EXIT_INTERNAL};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::process::ExitCode;
 

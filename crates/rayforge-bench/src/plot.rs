@@ -5,10 +5,10 @@
 //! (labelled `1k`, `10k`, `1M`) and the steps from 2 to 9 of each its light grid lines. The
 //! text uses DejaVu Sans, embedded by the `dejavu` crate and registered once with plotters.
 
-use rayforge_cli::failure::Failure;
 use image::RgbImage;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
+use rayforge_cli::failure::Failure;
 use std::sync::OnceLock;
 
 /// One line of the plot.

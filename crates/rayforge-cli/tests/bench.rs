@@ -100,7 +100,10 @@ fn rayforge_bench_quick_runs_the_laboratory_through_rayforge() {
     let name = format!("rayforge-bench{}", std::env::consts::EXE_SUFFIX);
     let beside = Path::new(env!("CARGO_BIN_EXE_rayforge")).with_file_name(name);
     if !beside.is_file() {
-        eprintln!("{} is not built; run cargo test --workspace", beside.display());
+        eprintln!(
+            "{} is not built; run cargo test --workspace",
+            beside.display()
+        );
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -133,7 +136,10 @@ fn rayforge_bench_quick_runs_the_laboratory_through_rayforge() {
     ] {
         assert!(stdout.contains(title), "no `{title}` in:\n{stdout}");
     }
-    assert!(stdout.contains("| cover"), "the whole renders ran: {stdout}");
+    assert!(
+        stdout.contains("| cover"),
+        "the whole renders ran: {stdout}"
+    );
     let plot = image::open(out.join("scaling.png")).expect("the plot is a PNG");
     assert!(plot.width() > 100 && plot.height() > 100);
 }
