@@ -340,3 +340,45 @@ fn developing_with_automatic_exposure_repairs_empty_pixels_and_exposes() {
     );
     assert_eq!(exposed.pixel_at(2, 0), Color::new(step(1.0), 0.0, 0.0));
 }
+
+/// The film a render fills can be looked at while it runs: each snapshot, taken as a row is
+/// finished, holds that row whole, and the film at the end is the one `render_rows` makes.
+#[test]
+fn a_render_can_be_watched_through_snapshots_of_its_film() {
+    use rayforge::math::{point, vector, view_transform};
+    use rayforge::render::{render_rows, render_rows_into, RenderOptions};
+    use rayforge::Camera;
+    use std::sync::Mutex;
+
+    let world = rayforge::default_world();
+    let camera = Camera::new(9, 7, std::f64::consts::FRAC_PI_2).with_transform(view_transform(
+        point(0.0, 0.0, -5.0),
+        point(0.0, 0.0, 0.0),
+        vector(0.0, 1.0, 0.0),
+    ));
+    let film = SharedFilm::from(Film::new(9, 7));
+    let mut done = vec![false; 7];
+    let seen = Mutex::new(Vec::new());
+    let on_row = |y: usize, _: &[Color]| {
+        let snapshot = film.snapshot();
+        let whole = (0..9).all(|x| snapshot.weight(x, y) == 1.0);
+        seen.lock().unwrap().push((y, whole));
+    };
+    let options = RenderOptions {
+        on_row: Some(&on_row),
+        ..RenderOptions::default()
+    };
+    render_rows_into(&camera, &world, &options, &film, &mut done).expect("the camera's size");
+    let mut seen = seen.into_inner().unwrap();
+    seen.sort_unstable();
+    assert_eq!(seen, (0..7).map(|y| (y, true)).collect::<Vec<_>>());
+    assert!(done.iter().all(|&d| d));
+    let (image, _) = render_rows(&camera, &world, &RenderOptions::default());
+    assert_eq!(bits(&film.snapshot()), bits(image.film()));
+
+    // A film or a row list of another size is refused before anything is traced.
+    let small = SharedFilm::from(Film::new(3, 7));
+    let plain = RenderOptions::default();
+    assert!(render_rows_into(&camera, &world, &plain, &small, &mut [false; 7]).is_err());
+    assert!(render_rows_into(&camera, &world, &plain, &film, &mut [false; 2]).is_err());
+}

@@ -21,7 +21,7 @@ pub use sampler::Sampling;
 use crate::camera::Camera;
 use crate::canvas::Canvas;
 use crate::color::Color;
-use crate::film::{develop, Exposure, Film, SharedFilm};
+use crate::film::{develop, Exposure, Film, FilmError, SharedFilm};
 use crate::math::Ray;
 use crate::scene::{World, WorldIndex};
 use integrator::{dispatch, IntegratorJob};
@@ -77,7 +77,7 @@ impl Default for RenderOptions<'_> {
 }
 
 /// What a render produced besides the image.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct RenderStats {
     /// Every ray cast: camera, reflected, refracted and shadow rays.
     pub rays: u64,
@@ -209,49 +209,89 @@ pub fn render_rows(
     world: &World,
     options: &RenderOptions<'_>,
 ) -> (PartialImage, RenderStats) {
-    dispatch(
-        world.lighting,
-        RenderRows {
-            camera,
-            world,
-            options,
-        },
-    )
-}
-
-/// [`render_rows`] as a job for [`dispatch`]: the loop compiled for each integrator.
-struct RenderRows<'a, 'p> {
-    camera: &'a Camera,
-    world: &'a World,
-    options: &'a RenderOptions<'p>,
-}
-
-impl IntegratorJob for RenderRows<'_, '_> {
-    type Output = (PartialImage, RenderStats);
-
-    fn run<I: Integrator>(self, integrator: I) -> Self::Output {
-        let RenderRows {
-            camera,
-            world,
-            options,
-        } = self;
-        render_rows_with(integrator, camera, world, options)
-    }
-}
-
-/// [`render_rows`] with `integrator`.
-fn render_rows_with<I: Integrator>(
-    integrator: I,
-    camera: &Camera,
-    world: &World,
-    options: &RenderOptions<'_>,
-) -> (PartialImage, RenderStats) {
     let (width, height) = (camera.hsize(), camera.vsize());
     let PartialImage { film, mut done } = match options.finished {
         Some(p) if (p.width(), p.height()) == (width, height) => p.clone(),
         _ => PartialImage::new(width, height),
     };
     let film = SharedFilm::from(film);
+    // The film and the rows are the camera's size: the render cannot refuse them.
+    let stats = render_rows_into(camera, world, options, &film, &mut done).unwrap_or_default();
+    let image = PartialImage {
+        film: film.into_film(),
+        done,
+    };
+    (image, stats)
+}
+
+/// [`render_rows`] into a film the caller holds, so that it can look at the image while the
+/// render runs: another thread may take [`SharedFilm::snapshot`]s at any moment (a live
+/// preview, a progress image). Rows marked in `done` are left alone; each row finished is added
+/// to `film` and then marked. [`RenderOptions::finished`] is not read here: the film and `done`
+/// are the starting point. Refused when `film` is not the camera's size or `done` not one entry
+/// per row.
+pub fn render_rows_into(
+    camera: &Camera,
+    world: &World,
+    options: &RenderOptions<'_>,
+    film: &SharedFilm,
+    done: &mut [bool],
+) -> Result<RenderStats, FilmError> {
+    let (width, height) = (camera.hsize(), camera.vsize());
+    if (film.width(), film.height()) != (width, height) || done.len() != height {
+        return Err(FilmError::SizeMismatch(
+            film.width(),
+            done.len(),
+            width,
+            height,
+        ));
+    }
+    Ok(dispatch(
+        world.lighting,
+        RenderRows {
+            camera,
+            world,
+            options,
+            film,
+            done,
+        },
+    ))
+}
+
+/// [`render_rows_into`] as a job for [`dispatch`]: the loop compiled for each integrator.
+struct RenderRows<'a, 'p> {
+    camera: &'a Camera,
+    world: &'a World,
+    options: &'a RenderOptions<'p>,
+    film: &'a SharedFilm,
+    done: &'a mut [bool],
+}
+
+impl IntegratorJob for RenderRows<'_, '_> {
+    type Output = RenderStats;
+
+    fn run<I: Integrator>(self, integrator: I) -> Self::Output {
+        let RenderRows {
+            camera,
+            world,
+            options,
+            film,
+            done,
+        } = self;
+        render_rows_with(integrator, camera, world, options, film, done)
+    }
+}
+
+/// [`render_rows_into`] with `integrator`.
+fn render_rows_with<I: Integrator>(
+    integrator: I,
+    camera: &Camera,
+    world: &World,
+    options: &RenderOptions<'_>,
+    film: &SharedFilm,
+    done: &mut [bool],
+) -> RenderStats {
+    let (width, height) = (camera.hsize(), camera.vsize());
     let rays = AtomicU64::new(0);
     // The pixels with no usable sample (the optics model's ties).
     let ambiguous_pixels = AtomicU64::new(0);
@@ -332,15 +372,10 @@ fn render_rows_with<I: Integrator>(
                 }
             },
         );
-    let image = PartialImage {
-        film: film.into_film(),
-        done,
-    };
-    let stats = RenderStats {
+    RenderStats {
         rays: rays.into_inner(),
         ambiguous: ambiguous_pixels.into_inner(),
-    };
-    (image, stats)
+    }
 }
 
 /// Traces pixel (`x`, `y`) exactly as the render would (the same samples, seeded the same way)
