@@ -2,12 +2,12 @@
 //! once each.
 
 use crate::error::SceneError;
+use crate::files::read_bounded;
 use crate::obj::{read_obj_file_with_limit, to_meshes};
 use rayforge::geometry::Mesh;
 use rayforge::shading::{Filter, Texture};
 use rayforge::{Color, Material};
 use std::collections::HashMap;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -122,29 +122,6 @@ fn cached_texture(cache: &mut Textures, path: &Path) -> Result<Arc<Texture>, Sce
     let texture = Arc::new(texture);
     cache.by_path.insert(path.to_path_buf(), texture.clone());
     Ok(texture)
-}
-
-/// Reads a whole file of at most `limit` bytes; the error is the reason, for the caller to
-/// put in context. Refuses what is not a regular file (a directory, `/dev/zero`, a pipe that
-/// would never end) and stops reading past the limit, so neither a huge file nor an endless
-/// device can take all memory.
-pub(crate) fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
-    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
-    if !meta.is_file() {
-        return Err("it is not a regular file".into());
-    }
-    if meta.len() > limit {
-        return Err(format!("it is {} bytes; the limit is {limit}", meta.len()));
-    }
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    file.take(limit + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| e.to_string())?;
-    if bytes.len() as u64 > limit {
-        return Err(format!("it grew past the limit of {limit} bytes"));
-    }
-    Ok(bytes)
 }
 
 /// Decodes an image file's bytes (PNG, JPEG or PPM/PGM/PBM, told apart by their contents) into

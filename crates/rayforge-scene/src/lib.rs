@@ -12,6 +12,7 @@ mod budget;
 mod canvas_items;
 mod defines;
 mod error;
+mod files;
 mod items;
 mod material;
 pub mod obj;
@@ -88,7 +89,7 @@ pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
 
 /// [`load_file`] within `options`' limits.
 pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
-    let bytes = assets::read_bounded(path, MAX_SCENE_BYTES)
+    let bytes = files::read_bounded(path, MAX_SCENE_BYTES)
         .map_err(|e| SceneError::new(path, format!("cannot read the scene file: {e}")))?;
     let text = String::from_utf8(bytes)
         .map_err(|_| SceneError::new(path, "the scene file is not UTF-8 text"))?;

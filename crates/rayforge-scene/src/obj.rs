@@ -111,7 +111,7 @@ pub fn read_obj_file_with_limit(
 }
 
 fn read_text(path: &Path) -> Result<String, SceneError> {
-    let bytes = crate::assets::read_bounded(path, MAX_MODEL_BYTES)
+    let bytes = crate::files::read_bounded(path, MAX_MODEL_BYTES)
         .map_err(|e| SceneError::new(path, format!("cannot read `{}`: {e}", path.display())))?;
     String::from_utf8(bytes).map_err(|_| SceneError::new(path, "not a UTF-8 text file"))
 }
