@@ -9,19 +9,13 @@ use std::path::{Path, PathBuf};
 /// A module's path inside the crate, `""` for the root (`lib.rs`).
 type Module = String;
 
+/// Every `.rs` file under `dir`, sorted.
 fn rust_files(dir: &Path) -> Vec<PathBuf> {
-    let mut files = Vec::new();
-    let mut pending = vec![dir.to_path_buf()];
-    while let Some(d) = pending.pop() {
-        for entry in std::fs::read_dir(&d).expect("source directory readable") {
-            let path = entry.expect("directory entry").path();
-            if path.is_dir() {
-                pending.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                files.push(path);
-            }
-        }
-    }
+    let mut files: Vec<PathBuf> = walkdir::WalkDir::new(dir)
+        .into_iter()
+        .map(|entry| entry.expect("source directory readable").into_path())
+        .filter(|path| path.extension().is_some_and(|e| e == "rs"))
+        .collect();
     files.sort();
     files
 }
@@ -51,6 +45,15 @@ fn parent(module: &str) -> String {
     module
         .rsplit_once("::")
         .map_or(String::new(), |(p, _)| p.to_string())
+}
+
+/// The absolute path of `tail` inside module `base`.
+fn below(base: &str, tail: &[String]) -> Vec<String> {
+    base.split("::")
+        .filter(|s| !s.is_empty())
+        .map(str::to_string)
+        .chain(tail.iter().cloned())
+        .collect()
 }
 
 /// The longest module that `path` (absolute, from the crate root) starts with.
@@ -111,23 +114,11 @@ fn imports(modules: &BTreeSet<Module>, own: &str, source: &str) -> BTreeSet<Modu
                         base = parent(&base);
                         tail = &tail[1..];
                     }
-                    let absolute: Vec<String> = base
-                        .split("::")
-                        .filter(|s| !s.is_empty())
-                        .map(str::to_string)
-                        .chain(tail.iter().cloned())
-                        .collect();
-                    Some(resolve(modules, &absolute))
+                    Some(resolve(modules, &below(&base, tail)))
                 }
                 // A path through a child module (`use camera::CameraItem;` in `items`).
                 Some(first) if path.len() > 1 && modules.contains(&join(own, first)) => {
-                    let absolute: Vec<String> = own
-                        .split("::")
-                        .filter(|s| !s.is_empty())
-                        .map(str::to_string)
-                        .chain(path.iter().cloned())
-                        .collect();
-                    Some(resolve(modules, &absolute))
+                    Some(resolve(modules, &below(own, &path)))
                 }
                 _ => None,
             };
