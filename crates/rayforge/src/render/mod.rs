@@ -313,7 +313,8 @@ fn render_rows_with<I: Integrator>(
                 }
                 let before = state.rays_cast();
                 let mut row = vec![Color::BLACK; width];
-                let mut ambiguous = Vec::new();
+                // Each pixel's weight in the film: 0 for one left to its neighbours.
+                let mut weights = vec![1.0; width];
                 let mut trace = |x: usize| {
                     let seed = (y * width + x) as u64;
                     state.reseed(seed);
@@ -341,7 +342,7 @@ fn render_rows_with<I: Integrator>(
                         0 => color,
                         bad if bad < samples => color * (samples as f64 / (samples - bad) as f64),
                         _ => {
-                            ambiguous.push(x);
+                            weights[x] = 0.0;
                             Color::BLACK
                         }
                     }
@@ -355,15 +356,15 @@ fn render_rows_with<I: Integrator>(
                     Some(threshold) => subsample_row(&mut row, threshold, trace),
                 }
                 let mut part = Film::new(width, 1);
-                for (x, &pixel) in row.iter().enumerate() {
-                    let weight = if ambiguous.contains(&x) { 0.0 } else { 1.0 };
+                for (x, (&pixel, &weight)) in row.iter().zip(&weights).enumerate() {
                     part.add_pixel(x, 0, pixel, weight);
                 }
                 part.note_brightest(*thread_brightest);
                 // The part is this film's width and one row: adding it cannot be refused.
                 *done = film.add(y, &part).is_ok();
                 rays.fetch_add(state.rays_cast() - before, Ordering::Relaxed);
-                ambiguous_pixels.fetch_add(ambiguous.len() as u64, Ordering::Relaxed);
+                let left_out = weights.iter().filter(|&&w| w == 0.0).count();
+                ambiguous_pixels.fetch_add(left_out as u64, Ordering::Relaxed);
                 if let Some(on_row) = options.on_row {
                     on_row(y, &row);
                 }
