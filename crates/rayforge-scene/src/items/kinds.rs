@@ -11,6 +11,7 @@ use crate::source::{Node, Source};
 pub const SHAPE_KINDS: &[&str] = &[
     "sphere",
     "plane",
+    "rectangle",
     "cube",
     "cylinder",
     "cone",

@@ -1,4 +1,4 @@
-//! The primitive shapes: `sphere`, `plane`, `cube`, `cylinder`, `cone`, `torus`, `ring`,
+//! The primitive shapes: `sphere`, `plane`, `rectangle`, `cube`, `cylinder`, `cone`, `torus`, `ring`,
 //! `disc` and Fundamentals of Ray Tracing's `icosahedron` and `dodecahedron`, with their own
 //! keys.
 //!
@@ -24,6 +24,7 @@ pub fn shape(
         "sphere" => Ok(Shape::Sphere),
         "plane" => Ok(Shape::Plane),
         "cube" => Ok(Shape::Cube),
+        "rectangle" => Ok(Shape::Rectangle),
         "cylinder" => quadric(source, entries, |minimum, maximum, closed| {
             Shape::Cylinder {
                 minimum,

@@ -11,6 +11,7 @@ pub mod cylinder;
 mod mesh;
 pub mod plane;
 mod polyhedra;
+pub mod rectangle;
 pub mod ring;
 pub mod sphere;
 mod tessellate;

@@ -55,6 +55,7 @@ enum ModelKey {
     Sphere,
     Cube,
     Plane,
+    Rectangle,
     Cylinder(u64, u64, bool),
     Cone(u64, u64, bool),
     Torus(u64, u64),
@@ -67,6 +68,7 @@ fn model_key(shape: &Shape) -> Option<ModelKey> {
         Shape::Sphere => ModelKey::Sphere,
         Shape::Cube => ModelKey::Cube,
         Shape::Plane => ModelKey::Plane,
+        Shape::Rectangle => ModelKey::Rectangle,
         Shape::Cylinder {
             minimum,
             maximum,

@@ -263,6 +263,16 @@ fn plane() -> Tessellation<'static> {
     t
 }
 
+/// The rectangle: the square from -1 to 1 in x and z, normal +y, as two triangles.
+fn rectangle() -> Tessellation<'static> {
+    let mut t = Tessellation::empty(false);
+    for (x, z) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+        t.vertex(Point3::new(x, 0.0, z), Vec3::Y);
+    }
+    t.quad([0, 1, 2, 3], Vec3::Y);
+    t
+}
+
 /// A surface of revolution about y between `min` and `max`: radius `radius(y)` and the normal
 /// at angle `a` given by `normal(a, y)`; bands between the grid [`levels`], each with its own
 /// rings (so a cone's two nappes get their own normals at the apex). Capped ends are fans.
@@ -446,6 +456,7 @@ pub fn tessellate(shape: &Shape, divisions: u32) -> Tessellation<'_> {
         Shape::Sphere => generate_sphere(divisions),
         Shape::Cube => cube(),
         Shape::Plane => plane(),
+        Shape::Rectangle => rectangle(),
         Shape::Cylinder {
             minimum,
             maximum,

@@ -330,6 +330,7 @@ fn kind(shape: &Shape) -> &'static str {
         Shape::Cone { .. } => "cone",
         Shape::Torus { .. } => "torus",
         Shape::Ring { .. } => "ring",
+        Shape::Rectangle => "rectangle",
         Shape::Triangle(_) => "triangle",
         Shape::Mesh(_) => "mesh",
         Shape::Csg(_) => "csg",

@@ -7,7 +7,7 @@
 //! the business of [`super::Object`].
 
 use super::csg::Csg;
-use crate::geometry::{cone, cube, cylinder, plane, ring, sphere, torus};
+use crate::geometry::{cone, cube, cylinder, plane, rectangle, ring, sphere, torus};
 use crate::geometry::{LocalHit, Mesh, Triangle};
 use crate::math::{Aabb, Point3, Ray, Vec3};
 use std::sync::Arc;
@@ -61,6 +61,9 @@ pub enum Shape {
         /// Outer radius.
         outer: f64,
     },
+    /// The square from -1 to 1 in x and z of the xz plane, normal +y: a bounded plane (the
+    /// walls and lights of the path tracer's reference scenes). No thickness, no volume.
+    Rectangle,
 }
 
 impl Shape {
@@ -119,6 +122,7 @@ impl Shape {
             } => cone::intersect(ray, *minimum, *maximum, *closed, &mut hit_t),
             Shape::Torus { major, minor } => torus::intersect(ray, *major, *minor, &mut hit_t),
             Shape::Ring { inner, outer } => ring::intersect(ray, *inner, *outer, &mut hit_t),
+            Shape::Rectangle => rectangle::intersect(ray, &mut hit_t),
         }
     }
 
@@ -191,6 +195,7 @@ impl Shape {
             } => cone::normal_at(point, *minimum, *maximum),
             Shape::Torus { major, .. } => torus::normal_at(point, *major),
             Shape::Ring { .. } => ring::normal_at(point),
+            Shape::Rectangle => rectangle::normal_at(point),
         }
     }
 
@@ -205,7 +210,10 @@ impl Shape {
     /// Whether the shape encloses a volume (surfaces with no thickness, a ring or a lone
     /// triangle, do not: nothing is ever inside them).
     pub fn has_volume(&self) -> bool {
-        !matches!(self, Shape::Ring { .. } | Shape::Triangle(_))
+        !matches!(
+            self,
+            Shape::Ring { .. } | Shape::Triangle(_) | Shape::Rectangle
+        )
     }
 
     /// The book's `bounds_of(shape)`: the object-space box around the shape (infinite along the
@@ -241,6 +249,7 @@ impl Shape {
                 Point3::new(-outer, 0.0, -outer),
                 Point3::new(*outer, 0.0, *outer),
             ),
+            Shape::Rectangle => Aabb::new(Point3::new(-1.0, 0.0, -1.0), Point3::new(1.0, 0.0, 1.0)),
             Shape::Mesh(mesh) => mesh.bounds(),
             Shape::Csg(csg) => csg.bounds(),
             Shape::Triangle(t) => {
