@@ -6,6 +6,7 @@
 //! four-component [`Tuple`] exists for chapter 1's teaching API.
 
 mod aabb;
+mod frame;
 mod matrix;
 mod motion;
 pub mod random;
@@ -15,6 +16,7 @@ mod transform;
 mod tuple;
 
 pub use aabb::Aabb;
+pub use frame::Frame;
 pub use matrix::{
     matrix2, matrix3, matrix4, rotation_x, rotation_y, rotation_z, scaling, shearing, translation,
     view_transform, BookMatrix,

@@ -4,6 +4,7 @@
 //! Scratch) and [`optics`] (Fundamentals of Ray Tracing). The ray tracer's integrators and the
 //! rasterizer both light points with them; neither shadows nor secondary rays are known here.
 
+pub mod bsdf;
 mod bump;
 pub mod cgfs;
 mod jitter;

@@ -1,0 +1,39 @@
+//! Lambertian reflection: the same radiance in every direction, `f = ρ/π`.
+//!
+//! Directions are in the local frame with both in the upper hemisphere (the dispatcher mirrors
+//! two-sided materials there).
+
+use super::BsdfSample;
+use crate::color::Color;
+use crate::math::Vec3;
+use std::f64::consts::{FRAC_1_PI, TAU};
+
+/// `f · cos θi = ρ cos θi / π`.
+pub(super) fn eval(albedo: Color, wi: Vec3) -> Color {
+    albedo * (wi.z.max(0.0) * FRAC_1_PI)
+}
+
+/// The cosine-weighted density `cos θi / π` with which [`sample`] draws `wi`.
+pub(super) fn pdf(wi: Vec3) -> f64 {
+    wi.z.max(0.0) * FRAC_1_PI
+}
+
+/// A direction drawn proportionally to `cos θ` over the upper hemisphere (Malley's method: a
+/// uniform point on the unit disk lifted onto the hemisphere).
+pub(super) fn cosine_hemisphere(u: [f64; 2]) -> Vec3 {
+    let r = u[0].clamp(0.0, 1.0).sqrt();
+    let phi = TAU * u[1];
+    Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u[0]).max(0.0).sqrt())
+}
+
+/// Samples `wi` by [`cosine_hemisphere`]; the weight `f cos / pdf` is the albedo itself.
+pub(super) fn sample(albedo: Color, u: [f64; 2]) -> Option<BsdfSample> {
+    let wi = cosine_hemisphere(u);
+    let pdf = pdf(wi);
+    (pdf > 0.0).then_some(BsdfSample {
+        wi,
+        weight: albedo,
+        pdf,
+        delta: false,
+    })
+}

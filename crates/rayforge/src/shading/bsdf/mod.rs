@@ -1,0 +1,350 @@
+//! The path tracer's materials: bidirectional scattering distribution functions (BSDFs) as a
+//! closed set, [`Bsdf`], each able to evaluate `f cos θ`, give the density with which it samples
+//! directions, and sample one.
+//!
+//! Written by hand rather than taken from a crate: the books this renderer follows ask us to
+//! understand the mathematics of light, and no crate offers physically based BSDFs in `f64` for
+//! our colour and vector types. The formulas are the published ones (Walter et al. 2007 for
+//! rough refraction, Heitz 2014/2018 and Dupuy & Benyoub 2023 for GGX and its visible normals,
+//! the exact Fresnel equations), and the renders are compared with Mitsuba 3 pixel by pixel, so
+//! the conventions follow it where there is a choice (separable Smith shadowing, radiance
+//! scaling across refraction, the linear plastic model).
+//!
+//! Every function works in the local shading frame ([`Frame`](crate::math::Frame)): the normal
+//! is +Z, all directions are unit vectors pointing away from the surface, `wo` towards the
+//! viewer (the previous path vertex) and `wi` towards the light (the next vertex).
+//! Opaque materials ([`Bsdf::Diffuse`], [`Bsdf::Conductor`], [`Bsdf::Plastic`]) are two-sided:
+//! with `wo` below the surface both directions are mirrored above first, and directions on
+//! opposite sides scatter nothing. No function returns NaN or infinity.
+
+mod conductor;
+mod dielectric;
+mod diffuse;
+pub mod fresnel;
+mod metals;
+mod microfacet;
+mod plastic;
+mod thin;
+
+#[cfg(test)]
+mod chi2;
+#[cfg(test)]
+mod tests;
+
+pub use metals::{metal, METAL_NAMES};
+
+use crate::color::Color;
+use crate::math::Vec3;
+
+/// GGX widths below this are treated as perfectly smooth: the distribution would be too narrow
+/// to evaluate or sample in floating point, and a mirror is what it looks like anyway.
+pub const MIN_ALPHA: f64 = 1e-4;
+
+/// A surface's scattering, one variant per kind of material. A closed enum (not a trait object)
+/// so that materials are plain `Copy` data the integrator matches on without allocation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Bsdf {
+    /// Lambertian reflection: matte surfaces, the same radiance seen from every direction.
+    Diffuse {
+        /// The fraction of light reflected, per channel.
+        albedo: Color,
+    },
+    /// A metal: complex index `eta + i k` per channel, reflection by the exact conductor
+    /// Fresnel equations; `alpha` is the GGX width (below [`MIN_ALPHA`]: a perfect mirror).
+    Conductor {
+        /// Real part of the complex index of refraction, per channel.
+        eta: Color,
+        /// Imaginary part (extinction coefficient), per channel.
+        k: Color,
+        /// GGX width (not squared from a roughness).
+        alpha: f64,
+        /// A specular tint multiplying the Fresnel reflectance (white for a physical metal).
+        tint: Color,
+    },
+    /// A boundary between two dielectrics (glass, water), reflecting and refracting.
+    Dielectric {
+        /// Interior index over exterior index (the interior is below the surface, −Z).
+        eta: f64,
+        /// GGX width (below [`MIN_ALPHA`]: a smooth boundary).
+        alpha: f64,
+        /// Multiplies both reflection and transmission (white for clear glass).
+        tint: Color,
+    },
+    /// A thin dielectric sheet (a window pane): reflects, or transmits without bending, with
+    /// the inter-reflections inside the sheet summed (`R' = R + T²R/(1 − R²)`).
+    ThinDielectric {
+        /// The sheet's index over the surrounding index.
+        eta: f64,
+        /// Multiplies both reflection and transmission.
+        tint: Color,
+    },
+    /// Plastic: a smooth or GGX-rough dielectric coat over a Lambertian base, energy-conserving
+    /// (see the `plastic` module for the model).
+    Plastic {
+        /// The base's albedo.
+        diffuse: Color,
+        /// The coat's index over the outside index.
+        eta: f64,
+        /// The coat's GGX width (below [`MIN_ALPHA`]: a smooth coat).
+        alpha: f64,
+        /// Multiplies the coat's reflection (white for a physical coat).
+        specular: Color,
+    },
+}
+
+/// One direction drawn by [`Bsdf::sample`], with what the path tracer needs to continue.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BsdfSample {
+    /// The sampled direction towards the next vertex, unit, in the local frame.
+    pub wi: Vec3,
+    /// `f(wo, wi) · |cos θi| / pdf`: what multiplies the path's throughput.
+    pub weight: Color,
+    /// Solid-angle density of `wi`; for a delta lobe, the discrete probability of choosing it
+    /// (and `delta` is true).
+    pub pdf: f64,
+    /// Whether `wi` came from a delta (perfectly specular) lobe: light sampling can never find
+    /// such a direction, so multiple importance sampling must skip it.
+    pub delta: bool,
+}
+
+/// Whether a GGX width means "perfectly smooth" (also for NaN or negative widths).
+#[inline]
+pub(crate) fn is_smooth(alpha: f64) -> bool {
+    alpha.is_nan() || alpha < MIN_ALPHA
+}
+
+/// The mirror direction of `w` about the normal +Z.
+#[inline]
+pub(crate) fn mirror(w: Vec3) -> Vec3 {
+    Vec3::new(-w.x, -w.y, w.z)
+}
+
+#[inline]
+fn flip_z(w: Vec3) -> Vec3 {
+    Vec3::new(w.x, w.y, -w.z)
+}
+
+/// For two-sided opaque materials: the pair mirrored so that `wo` is above, or `None` when the
+/// directions lie on opposite sides (or in the surface plane).
+fn upper_pair(wo: Vec3, wi: Vec3) -> Option<(Vec3, Vec3)> {
+    if wo.z > 0.0 && wi.z > 0.0 {
+        Some((wo, wi))
+    } else if wo.z < 0.0 && wi.z < 0.0 {
+        Some((flip_z(wo), flip_z(wi)))
+    } else {
+        None
+    }
+}
+
+fn finite_color(c: Color) -> Color {
+    if c.red.is_finite() && c.green.is_finite() && c.blue.is_finite() {
+        c
+    } else {
+        Color::BLACK
+    }
+}
+
+fn finite_or_zero(x: f64) -> f64 {
+    if x.is_finite() && x > 0.0 {
+        x
+    } else {
+        0.0
+    }
+}
+
+fn valid_direction(w: Vec3) -> bool {
+    w.is_finite() && w.length_squared() > 0.0
+}
+
+impl Bsdf {
+    /// `f(wo, wi) · |cos θi|` for the non-delta parts (black for purely specular materials):
+    /// what light sampling multiplies a light's radiance by.
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Color {
+        if !valid_direction(wo) || !valid_direction(wi) {
+            return Color::BLACK;
+        }
+        let value = match *self {
+            Self::Diffuse { albedo } => match upper_pair(wo, wi) {
+                Some((_, wi)) => diffuse::eval(albedo, wi),
+                None => Color::BLACK,
+            },
+            Self::Conductor {
+                eta,
+                k,
+                alpha,
+                tint,
+            } => match upper_pair(wo, wi) {
+                Some((wo, wi)) => conductor::Conductor {
+                    eta,
+                    k,
+                    alpha,
+                    tint,
+                }
+                .eval(wo, wi),
+                None => Color::BLACK,
+            },
+            Self::Dielectric { eta, alpha, tint } => {
+                dielectric::Dielectric { eta, alpha, tint }.eval(wo, wi)
+            }
+            Self::ThinDielectric { .. } => Color::BLACK,
+            Self::Plastic {
+                diffuse,
+                eta,
+                alpha,
+                specular,
+            } => match upper_pair(wo, wi) {
+                Some((wo, wi)) => plastic::Plastic {
+                    diffuse,
+                    eta,
+                    alpha,
+                    specular,
+                }
+                .eval(wo, wi),
+                None => Color::BLACK,
+            },
+        };
+        finite_color(value)
+    }
+
+    /// The solid-angle density with which [`sample`](Self::sample) chooses `wi` among its
+    /// non-delta parts, including the probability of picking that part: what multiple
+    /// importance sampling weighs light samples against.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f64 {
+        if !valid_direction(wo) || !valid_direction(wi) {
+            return 0.0;
+        }
+        let pdf = match *self {
+            Self::Diffuse { .. } => upper_pair(wo, wi).map_or(0.0, |(_, wi)| diffuse::pdf(wi)),
+            Self::Conductor {
+                eta,
+                k,
+                alpha,
+                tint,
+            } => upper_pair(wo, wi).map_or(0.0, |(wo, wi)| {
+                conductor::Conductor {
+                    eta,
+                    k,
+                    alpha,
+                    tint,
+                }
+                .pdf(wo, wi)
+            }),
+            Self::Dielectric { eta, alpha, tint } => {
+                dielectric::Dielectric { eta, alpha, tint }.pdf(wo, wi)
+            }
+            Self::ThinDielectric { .. } => 0.0,
+            Self::Plastic {
+                diffuse,
+                eta,
+                alpha,
+                specular,
+            } => upper_pair(wo, wi).map_or(0.0, |(wo, wi)| {
+                plastic::Plastic {
+                    diffuse,
+                    eta,
+                    alpha,
+                    specular,
+                }
+                .pdf(wo, wi)
+            }),
+        };
+        finite_or_zero(pdf)
+    }
+
+    /// Samples `wi` for `wo`, choosing a lobe with `u_lobe` in `[0, 1)` and the direction with
+    /// `u` in `[0, 1)²`. `None` when sampling fails (a reflection that would go below an opaque
+    /// surface, a degenerate `wo`): the path ends there.
+    pub fn sample(&self, wo: Vec3, u_lobe: f64, u: [f64; 2]) -> Option<BsdfSample> {
+        if !valid_direction(wo) || wo.z == 0.0 {
+            return None;
+        }
+        let below = wo.z < 0.0;
+        let up = if below { flip_z(wo) } else { wo };
+        let opaque = |s: Option<BsdfSample>| {
+            s.map(|s| BsdfSample {
+                wi: if below { flip_z(s.wi) } else { s.wi },
+                ..s
+            })
+        };
+        let sample = match *self {
+            Self::Diffuse { albedo } => opaque(diffuse::sample(albedo, u)),
+            Self::Conductor {
+                eta,
+                k,
+                alpha,
+                tint,
+            } => opaque(
+                conductor::Conductor {
+                    eta,
+                    k,
+                    alpha,
+                    tint,
+                }
+                .sample(up, u),
+            ),
+            Self::Dielectric { eta, alpha, tint } => {
+                dielectric::Dielectric { eta, alpha, tint }.sample(wo, u_lobe, u)
+            }
+            Self::ThinDielectric { eta, tint } => thin::sample(eta, tint, wo, u_lobe),
+            Self::Plastic {
+                diffuse,
+                eta,
+                alpha,
+                specular,
+            } => opaque(
+                plastic::Plastic {
+                    diffuse,
+                    eta,
+                    alpha,
+                    specular,
+                }
+                .sample(up, u_lobe, u),
+            ),
+        }?;
+        let ok = valid_direction(sample.wi)
+            && sample.pdf.is_finite()
+            && sample.pdf > 0.0
+            && sample.weight.red.is_finite()
+            && sample.weight.green.is_finite()
+            && sample.weight.blue.is_finite();
+        ok.then_some(sample)
+    }
+
+    /// Whether every lobe is a delta: the integrator then skips light sampling, which could
+    /// never hit a direction the material scatters into.
+    pub fn is_delta(&self) -> bool {
+        match *self {
+            Self::Diffuse { .. } | Self::Plastic { .. } => false,
+            Self::Conductor { alpha, .. } | Self::Dielectric { alpha, .. } => is_smooth(alpha),
+            Self::ThinDielectric { .. } => true,
+        }
+    }
+
+    /// Whether the material has any non-delta lobe, i.e. whether next-event estimation (light
+    /// sampling) can contribute at all. Smooth plastic has one (its base) besides its delta coat.
+    pub fn has_non_delta_lobe(&self) -> bool {
+        !self.is_delta()
+    }
+
+    /// The colour a denoiser's albedo image shows: the diffuse albedo, a metal's reflectance at
+    /// normal incidence times its tint, a dielectric's tint, plastic's reflectance head-on
+    /// (`F₀ s + (1 − F₀) ρ`).
+    pub fn albedo(&self) -> Color {
+        match *self {
+            Self::Diffuse { albedo } => albedo,
+            Self::Conductor { eta, k, tint, .. } => {
+                tint.hadamard(fresnel::conductor_normal(eta, k))
+            }
+            Self::Dielectric { tint, .. } | Self::ThinDielectric { tint, .. } => tint,
+            Self::Plastic {
+                diffuse,
+                eta,
+                specular,
+                ..
+            } => {
+                let f0 = fresnel::dielectric(1.0, eta).reflectance;
+                specular * f0 + diffuse * (1.0 - f0)
+            }
+        }
+    }
+}

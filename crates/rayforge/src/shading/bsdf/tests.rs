@@ -1,0 +1,436 @@
+//! The BSDFs checked as a whole: sampling agrees with the pdf (chi-square), energy is
+//! conserved, evaluation is reciprocal, and nothing returns NaN or infinity.
+
+use super::{chi2, fresnel, metal, Bsdf};
+use crate::color::Color;
+use crate::math::random::{Jitter, SplitMix64};
+use crate::math::Vec3;
+
+fn aluminium() -> (Color, Color) {
+    metal("aluminium").expect("aluminium is listed")
+}
+
+fn conductor(alpha: f64) -> Bsdf {
+    let (eta, k) = aluminium();
+    Bsdf::Conductor {
+        eta,
+        k,
+        alpha,
+        tint: Color::WHITE,
+    }
+}
+
+fn dielectric(alpha: f64) -> Bsdf {
+    Bsdf::Dielectric {
+        eta: 1.5,
+        alpha,
+        tint: Color::WHITE,
+    }
+}
+
+fn plastic(alpha: f64, diffuse: Color) -> Bsdf {
+    Bsdf::Plastic {
+        diffuse,
+        eta: 1.5,
+        alpha,
+        specular: Color::WHITE,
+    }
+}
+
+/// A unit direction at `cos_theta` from +Z in the x–z plane (negative: below the surface).
+fn at(cos_theta: f64) -> Vec3 {
+    Vec3::new(
+        (1.0 - cos_theta * cos_theta).max(0.0).sqrt(),
+        0.0,
+        cos_theta,
+    )
+}
+
+fn random_direction(rng: &mut SplitMix64) -> Vec3 {
+    let z = 2.0 * rng.next_offset() - 1.0;
+    let phi = std::f64::consts::TAU * rng.next_offset();
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+#[test]
+fn sampling_matches_the_pdf_by_chi_square() {
+    let configurations: Vec<(&str, Bsdf, f64)> = vec![
+        (
+            "diffuse",
+            Bsdf::Diffuse {
+                albedo: Color::new(0.8, 0.6, 0.4),
+            },
+            1.0,
+        ),
+        ("conductor α 0.2", conductor(0.2), 1.0),
+        ("conductor α 0.6", conductor(0.6), 1.0),
+        ("dielectric α 0.3 outside", dielectric(0.3), 1.0),
+        ("dielectric α 0.3 inside", dielectric(0.3), -1.0),
+        (
+            "rough plastic α 0.3",
+            plastic(0.3, Color::new(0.5, 0.3, 0.2)),
+            1.0,
+        ),
+        (
+            "smooth plastic",
+            plastic(0.0, Color::new(0.5, 0.3, 0.2)),
+            1.0,
+        ),
+        (
+            "rough plastic from below",
+            plastic(0.5, Color::new(0.5, 0.3, 0.2)),
+            -1.0,
+        ),
+    ];
+    let cosines = [0.9, 0.5, 0.15];
+    let tests = configurations.len() * cosines.len();
+    let threshold = 0.01 / tests as f64;
+    let mut seed = 1;
+    for (name, bsdf, side) in &configurations {
+        for cos in cosines {
+            seed += 1;
+            let wo = at(cos * side);
+            let p = chi2::p_value(bsdf, wo, 40_000, seed)
+                .unwrap_or_else(|e| panic!("{name}, cos θo {cos}: {e}"));
+            assert!(
+                p > threshold,
+                "{name}, cos θo {cos}: p-value {p} below {threshold}"
+            );
+        }
+    }
+}
+
+/// The mean of the sample weights for `wo`, counting energy (flux), not radiance: refracted
+/// samples get the `1/η²` radiance scaling undone.
+fn directional_albedo(bsdf: &Bsdf, wo: Vec3, samples: usize, seed: u64) -> Color {
+    let mut rng = SplitMix64::new(seed);
+    let mut sum = Color::BLACK;
+    for _ in 0..samples {
+        let u_lobe = rng.next_offset();
+        let u = [rng.next_offset(), rng.next_offset()];
+        if let Some(s) = bsdf.sample(wo, u_lobe, u) {
+            let mut w = s.weight;
+            if let Bsdf::Dielectric { eta, .. } = bsdf {
+                if s.wi.z * wo.z < 0.0 {
+                    let eta_ti = if wo.z > 0.0 { *eta } else { 1.0 / eta };
+                    w = w * (eta_ti * eta_ti);
+                }
+            }
+            sum += w;
+        }
+    }
+    sum / samples as f64
+}
+
+#[test]
+fn no_material_creates_energy() {
+    let white = Color::WHITE;
+    let materials = [
+        Bsdf::Diffuse { albedo: white },
+        conductor(0.0),
+        conductor(0.05),
+        conductor(0.3),
+        conductor(1.0),
+        dielectric(0.0),
+        dielectric(0.1),
+        dielectric(0.5),
+        dielectric(1.0),
+        Bsdf::ThinDielectric {
+            eta: 1.5,
+            tint: white,
+        },
+        plastic(0.0, white),
+        plastic(0.05, white),
+        plastic(0.3, white),
+        plastic(1.0, white),
+    ];
+    for (i, bsdf) in materials.iter().enumerate() {
+        for cos in [1.0, 0.8, 0.5, 0.2, 0.05, -0.3, -0.9] {
+            let albedo = directional_albedo(bsdf, at(cos), 20_000, 100 + i as u64);
+            assert!(
+                albedo.max_channel() <= 1.01,
+                "{bsdf:?} at cos θo {cos}: albedo {albedo:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn lossless_materials_keep_all_the_energy() {
+    for cos in [1.0, 0.7, 0.3, 0.05, -0.4, -0.95] {
+        let wo = at(cos);
+        let diffuse = directional_albedo(
+            &Bsdf::Diffuse {
+                albedo: Color::WHITE,
+            },
+            wo,
+            20_000,
+            1,
+        );
+        assert!(
+            (diffuse - Color::WHITE).max_channel().abs() < 0.01,
+            "{diffuse:?}"
+        );
+        let thin = directional_albedo(
+            &Bsdf::ThinDielectric {
+                eta: 1.5,
+                tint: Color::WHITE,
+            },
+            wo,
+            20_000,
+            2,
+        );
+        assert!(
+            (thin - Color::WHITE).max_channel().abs() < 1e-12,
+            "{thin:?}"
+        );
+        let glass = directional_albedo(&dielectric(0.0), wo, 20_000, 3);
+        assert!(
+            (glass - Color::WHITE).max_channel().abs() < 1e-12,
+            "{glass:?}"
+        );
+    }
+}
+
+#[test]
+fn smooth_glass_reflects_the_fresnel_fraction_and_scales_refracted_radiance() {
+    let glass = dielectric(0.0);
+    for cos in [0.9, 0.4, 0.1, -0.9, -0.7] {
+        let wo = at(cos);
+        let f = fresnel::dielectric(cos, 1.5).reflectance;
+        let mut rng = SplitMix64::new(9);
+        let n = 20_000;
+        let mut reflected = 0;
+        for _ in 0..n {
+            let s = glass
+                .sample(wo, rng.next_offset(), [0.5, 0.5])
+                .expect("smooth glass always scatters");
+            assert!(s.delta);
+            if s.wi.z * wo.z > 0.0 {
+                reflected += 1;
+                assert!((s.pdf - f).abs() < 1e-12);
+                assert_eq!(s.weight, Color::WHITE);
+            } else {
+                let eta_ti: f64 = if cos > 0.0 { 1.5 } else { 1.0 / 1.5 };
+                assert!((s.pdf - (1.0 - f)).abs() < 1e-12);
+                assert!((s.weight.red - 1.0 / (eta_ti * eta_ti)).abs() < 1e-12);
+                // Snell's law.
+                let sin_o = (1.0 - wo.z * wo.z).sqrt();
+                let sin_i = (1.0 - s.wi.z * s.wi.z).sqrt();
+                assert!((sin_o - eta_ti * sin_i).abs() < 1e-12);
+                assert!((s.wi.length() - 1.0).abs() < 1e-12);
+            }
+        }
+        let fraction = reflected as f64 / n as f64;
+        let sigma = (f * (1.0 - f) / n as f64).sqrt().max(1e-4);
+        assert!(
+            (fraction - f).abs() < 5.0 * sigma,
+            "cos {cos}: {fraction} vs {f}"
+        );
+    }
+    // Beyond the critical angle from inside, everything is reflected.
+    let s = glass.sample(at(-0.3), 0.999, [0.5, 0.5]).expect("reflects");
+    assert!(s.wi.z < 0.0 && s.pdf == 1.0);
+}
+
+#[test]
+fn a_smooth_metal_reflects_its_exact_fresnel_reflectance() {
+    let (eta, k) = aluminium();
+    let mirror = conductor(0.0);
+    for cos in [1.0, 0.7, 0.3, 0.05] {
+        let s = mirror.sample(at(cos), 0.3, [0.2, 0.7]).expect("reflects");
+        let f = fresnel::conductor(cos, eta, k);
+        assert!(s.delta && s.pdf == 1.0);
+        assert!((s.weight - f).max_channel().abs() < 1e-15);
+        assert!(s.weight.max_channel() < 1.0);
+        assert!((s.wi - Vec3::new(-at(cos).x, 0.0, cos)).length() < 1e-15);
+    }
+}
+
+#[test]
+fn plastic_reflects_its_coat_and_what_the_coat_lets_through() {
+    for diffuse in [Color::WHITE, Color::new(0.5, 0.25, 0.0)] {
+        let bsdf = plastic(0.0, diffuse);
+        for cos in [1.0, 0.6, 0.2] {
+            let f = fresnel::dielectric(cos, 1.5).reflectance;
+            let expected = Color::WHITE * f + diffuse * (1.0 - f);
+            let albedo = directional_albedo(&bsdf, at(cos), 40_000, 5);
+            assert!(
+                (albedo - expected)
+                    .to_array()
+                    .iter()
+                    .all(|d| d.abs() < 0.01),
+                "cos {cos}: {albedo:?} vs {expected:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn evaluation_is_reciprocal() {
+    let mut rng = SplitMix64::new(11);
+    let colour = Color::new(0.7, 0.5, 0.3);
+    let opaque = [
+        Bsdf::Diffuse { albedo: colour },
+        conductor(0.2),
+        conductor(0.7),
+        plastic(0.0, colour),
+        plastic(0.3, colour),
+    ];
+    let mut checked = 0;
+    for _ in 0..2000 {
+        let wo = random_direction(&mut rng);
+        let wi = random_direction(&mut rng);
+        for bsdf in opaque
+            .iter()
+            .chain([dielectric(0.3), dielectric(0.8)].iter())
+        {
+            let forward = bsdf.eval(wo, wi) / wi.z.abs();
+            let backward = bsdf.eval(wi, wo) / wo.z.abs();
+            let crossing = wo.z * wi.z < 0.0;
+            // f(wo, wi)/η_o² = f(wi, wo)/η_i² for transmission.
+            let backward = match bsdf {
+                Bsdf::Dielectric { eta, .. } if crossing => {
+                    let (eta_o, eta_i) = if wo.z > 0.0 { (1.0, *eta) } else { (*eta, 1.0) };
+                    backward * (eta_o * eta_o / (eta_i * eta_i))
+                }
+                _ => backward,
+            };
+            let scale = forward.max_channel().max(backward.max_channel());
+            if scale > 0.0 {
+                checked += 1;
+            }
+            assert!(
+                (forward - backward)
+                    .to_array()
+                    .iter()
+                    .all(|d| d.abs() <= 1e-9 * scale.max(1e-300)),
+                "{bsdf:?}: {forward:?} vs {backward:?} for {wo} {wi}"
+            );
+        }
+    }
+    assert!(checked > 3000, "only {checked} non-zero pairs");
+}
+
+#[test]
+fn opaque_materials_are_two_sided() {
+    let colour = Color::new(0.7, 0.5, 0.3);
+    let wo = Vec3::new(0.3, 0.2, 0.9).normalize();
+    let wi = Vec3::new(-0.5, 0.1, 0.8).normalize();
+    let flip = |v: Vec3| Vec3::new(v.x, v.y, -v.z);
+    for bsdf in [
+        Bsdf::Diffuse { albedo: colour },
+        conductor(0.3),
+        plastic(0.2, colour),
+    ] {
+        assert_eq!(bsdf.eval(wo, wi), bsdf.eval(flip(wo), flip(wi)));
+        assert_eq!(bsdf.pdf(wo, wi), bsdf.pdf(flip(wo), flip(wi)));
+        assert_eq!(bsdf.eval(wo, flip(wi)), Color::BLACK);
+        assert_eq!(bsdf.pdf(flip(wo), wi), 0.0);
+        let s = bsdf.sample(flip(wo), 0.7, [0.3, 0.6]).expect("scatters");
+        assert!(s.wi.z < 0.0, "{bsdf:?} sampled through the surface");
+    }
+}
+
+#[test]
+fn nothing_returns_nan_or_infinity() {
+    let colour = Color::new(0.9, 0.5, 0.1);
+    let mut materials = vec![Bsdf::Diffuse { albedo: colour }];
+    for alpha in [0.0, 1e-5, 1e-4, 1e-3, 0.3, 1.0, 3.0, f64::NAN, -1.0] {
+        materials.push(conductor(alpha));
+        materials.push(Bsdf::Dielectric {
+            eta: 1.5,
+            alpha,
+            tint: colour,
+        });
+        materials.push(Bsdf::Dielectric {
+            eta: 1.0,
+            alpha,
+            tint: colour,
+        });
+        materials.push(Bsdf::Dielectric {
+            eta: 0.7,
+            alpha,
+            tint: colour,
+        });
+        materials.push(plastic(alpha, colour));
+    }
+    materials.push(Bsdf::ThinDielectric {
+        eta: 1.5,
+        tint: colour,
+    });
+    materials.push(Bsdf::ThinDielectric {
+        eta: 1.0,
+        tint: colour,
+    });
+    let mut special = vec![
+        Vec3::Z,
+        -Vec3::Z,
+        Vec3::X,
+        -Vec3::Y,
+        Vec3::new(1.0, 0.0, 1e-12).normalize(),
+        Vec3::new(1.0, 0.0, -1e-12).normalize(),
+        Vec3::new(1.0, 0.0, 1e-300),
+        Vec3::new(-1.0, 0.0, 1e-300),
+        Vec3::new(1e-9, 0.0, 1.0).normalize(),
+    ];
+    let mut rng = SplitMix64::new(21);
+    for _ in 0..60 {
+        special.push(random_direction(&mut rng));
+    }
+    let finite = |c: Color| c.to_array().iter().all(|x| x.is_finite() && *x >= 0.0);
+    for bsdf in &materials {
+        for &wo in &special {
+            for &wi in &special {
+                let e = bsdf.eval(wo, wi);
+                assert!(finite(e), "{bsdf:?} eval {wo} {wi}: {e:?}");
+                let p = bsdf.pdf(wo, wi);
+                assert!(p.is_finite() && p >= 0.0, "{bsdf:?} pdf {wo} {wi}: {p}");
+            }
+            for _ in 0..20 {
+                let u = [rng.next_offset(), rng.next_offset()];
+                for u in [u, [0.0, 0.0], [0.999_999_999_999, 0.999_999_999_999]] {
+                    if let Some(s) = bsdf.sample(wo, rng.next_offset(), u) {
+                        assert!(finite(s.weight), "{bsdf:?} weight at {wo}: {s:?}");
+                        assert!(s.pdf.is_finite() && s.pdf > 0.0, "{bsdf:?} {s:?}");
+                        assert!((s.wi.length() - 1.0).abs() < 1e-9, "{bsdf:?} {s:?}");
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn delta_flags_and_albedos() {
+    let colour = Color::new(0.6, 0.4, 0.2);
+    assert!(conductor(0.0).is_delta() && !conductor(0.0).has_non_delta_lobe());
+    assert!(conductor(5e-5).is_delta());
+    assert!(!conductor(0.2).is_delta() && conductor(0.2).has_non_delta_lobe());
+    assert!(dielectric(0.0).is_delta() && !dielectric(0.3).is_delta());
+    assert!(Bsdf::ThinDielectric {
+        eta: 1.5,
+        tint: colour
+    }
+    .is_delta());
+    assert!(!plastic(0.0, colour).is_delta() && plastic(0.0, colour).has_non_delta_lobe());
+    assert!(!Bsdf::Diffuse { albedo: colour }.is_delta());
+    // Purely specular materials have nothing for light sampling to evaluate.
+    let (wo, wi) = (at(0.6), Vec3::new(-0.8, 0.0, 0.6));
+    assert_eq!(conductor(0.0).eval(wo, wi), Color::BLACK);
+    assert_eq!(dielectric(0.0).pdf(wo, wi), 0.0);
+
+    assert_eq!(Bsdf::Diffuse { albedo: colour }.albedo(), colour);
+    let (eta, k) = aluminium();
+    assert_eq!(conductor(0.3).albedo(), fresnel::conductor_normal(eta, k));
+    assert_eq!(dielectric(0.0).albedo(), Color::WHITE);
+    let f0 = 0.04;
+    let expected = Color::WHITE * f0 + colour * (1.0 - f0);
+    assert!(
+        (plastic(0.1, colour).albedo() - expected)
+            .max_channel()
+            .abs()
+            < 1e-12
+    );
+}
