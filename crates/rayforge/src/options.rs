@@ -1,9 +1,12 @@
-//! What the rasterizer can be asked to do differently: how surfaces are shaded, how finely
-//! curved shapes are cut into triangles, how textures are filtered.
+//! What the rasterizer can be asked to do differently (how surfaces are shaded, how finely
+//! curved shapes are cut into triangles, how textures are filtered) and how the path tracer
+//! samples.
 //!
-//! Plain data, below both renderers, so that a scene reader can say which renderer a scene
-//! asks for and with which options (`Option<RasterOptions>`: none for the ray tracer) without
-//! depending on the rasterizer itself. The [`raster`](crate::raster) module re-exports them.
+//! Plain data, below the renderers, so that a scene reader can say which renderer a scene
+//! asks for and with which options (`Option<RasterOptions>`, `Option<PathOptions>`) without
+//! depending on the renderers themselves. The [`raster`](crate::raster) module re-exports them.
+
+use crate::film::PixelFilter;
 
 /// Where the lighting equation is evaluated (the book's "Shading" chapter).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -73,6 +76,53 @@ impl Default for RasterOptions {
             wireframe: false,
             backface_culling: true,
             near: Self::DEFAULT_NEAR,
+        }
+    }
+}
+
+/// Where a path tracer's random numbers come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SamplerKind {
+    /// Independent uniform numbers, hashed from the pixel, the sample index and the dimension:
+    /// the plain Monte Carlo baseline.
+    Independent,
+    /// Owen-scrambled Sobol points (Burley 2020), a different scramble per pixel and per four
+    /// dimensions: the error falls faster than with independent numbers.
+    #[default]
+    Sobol,
+}
+
+/// How the path tracer renders: its random numbers, its pixel filter, how deep paths go and
+/// the seed that picks one of many equally good images.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathOptions {
+    /// Where the random numbers come from.
+    pub sampler: SamplerKind,
+    /// How samples are weighed within their pixel (each sample belongs to one pixel, drawn
+    /// over the filter's support and weighed by it).
+    pub filter: PixelFilter,
+    /// The most bounces a path takes (Russian roulette ends most long before).
+    pub max_depth: u32,
+    /// Bounces before Russian roulette may end a path.
+    pub roulette_depth: u32,
+    /// The seed: renders with different seeds are independent estimates of the same image.
+    pub seed: u64,
+}
+
+impl PathOptions {
+    /// The deepest path by default: in practice unbounded (Russian roulette ends paths long
+    /// before), but a limit all the same, so that no scene can trap a path forever.
+    pub const DEFAULT_MAX_DEPTH: u32 = 1024;
+}
+
+impl Default for PathOptions {
+    fn default() -> Self {
+        Self {
+            sampler: SamplerKind::Sobol,
+            filter: PixelFilter::Box,
+            max_depth: Self::DEFAULT_MAX_DEPTH,
+            roulette_depth: 3,
+            seed: 0,
         }
     }
 }

@@ -2,6 +2,7 @@
 
 use super::bump::Bump;
 use super::pattern::Pattern;
+use super::physical::Physical;
 use super::texture::UvPattern;
 use crate::color::Color;
 use crate::math::Point3;
@@ -37,6 +38,12 @@ pub struct Material {
     pub gloss: Color,
     /// How much light the surface stops, from 0 (clear) to 1 (opaque), in the optics model.
     pub opacity: f64,
+    /// Light the surface gives off, as radiance from the side its normal faces: what makes
+    /// an object a light for the path tracer (the book's renderers ignore it).
+    pub emission: Color,
+    /// The path tracer's material, when the scene names one; `None` gives the book's
+    /// parameters their physical meaning (see [`super::Scattering`]).
+    pub physical: Option<Physical>,
 }
 
 impl Material {
@@ -55,6 +62,8 @@ impl Material {
         refractive_index: 1.0,
         gloss: Color::BLACK,
         opacity: 1.0,
+        emission: Color::BLACK,
+        physical: None,
     };
 
     /// The book's `glass_sphere()` material: fully transparent, index 1.5.

@@ -14,6 +14,7 @@ mod noise;
 pub mod optics;
 mod pattern;
 mod phong;
+mod physical;
 mod texture;
 
 pub use crate::math::random::{Jitter, SplitMix64};
@@ -25,6 +26,7 @@ pub use material::Material;
 pub use noise::perlin_noise;
 pub use optics::matte_light;
 pub use pattern::{Pattern, PatternKind};
+pub use physical::{Layer, Physical, Scattering};
 pub use phong::{can_light, lighting_with, most_light};
 pub use texture::{
     cylindrical_map, planar_map, spherical_map, CubeFace, Filter, TexelGrid, Texture, UvMapping,

@@ -70,6 +70,12 @@ pub enum Bsdf {
         /// Multiplies both reflection and transmission (white for clear glass).
         tint: Color,
     },
+    /// A perfect mirror reflecting the share `tint` of the light whatever the angle: the
+    /// book's `reflective` surfaces, which know no Fresnel term. Two-sided.
+    Mirror {
+        /// The share reflected, per channel.
+        tint: Color,
+    },
     /// A thin dielectric sheet (a window pane): reflects, or transmits without bending, with
     /// the inter-reflections inside the sheet summed (`R' = R + T²R/(1 − R²)`).
     ThinDielectric {
@@ -186,7 +192,7 @@ impl Bsdf {
             Self::Dielectric { eta, alpha, tint } => {
                 dielectric::Dielectric { eta, alpha, tint }.eval(wo, wi)
             }
-            Self::ThinDielectric { .. } => Color::BLACK,
+            Self::ThinDielectric { .. } | Self::Mirror { .. } => Color::BLACK,
             Self::Plastic {
                 diffuse,
                 eta,
@@ -232,7 +238,7 @@ impl Bsdf {
             Self::Dielectric { eta, alpha, tint } => {
                 dielectric::Dielectric { eta, alpha, tint }.pdf(wo, wi)
             }
-            Self::ThinDielectric { .. } => 0.0,
+            Self::ThinDielectric { .. } | Self::Mirror { .. } => 0.0,
             Self::Plastic {
                 diffuse,
                 eta,
@@ -286,6 +292,12 @@ impl Bsdf {
                 dielectric::Dielectric { eta, alpha, tint }.sample(wo, u_lobe, u)
             }
             Self::ThinDielectric { eta, tint } => thin::sample(eta, tint, wo, u_lobe),
+            Self::Mirror { tint } => opaque(Some(BsdfSample {
+                wi: mirror(up),
+                weight: tint,
+                pdf: 1.0,
+                delta: true,
+            })),
             Self::Plastic {
                 diffuse,
                 eta,
@@ -316,7 +328,7 @@ impl Bsdf {
         match *self {
             Self::Diffuse { .. } | Self::Plastic { .. } => false,
             Self::Conductor { alpha, .. } | Self::Dielectric { alpha, .. } => is_smooth(alpha),
-            Self::ThinDielectric { .. } => true,
+            Self::ThinDielectric { .. } | Self::Mirror { .. } => true,
         }
     }
 
@@ -335,7 +347,9 @@ impl Bsdf {
             Self::Conductor { eta, k, tint, .. } => {
                 tint.hadamard(fresnel::conductor_normal(eta, k))
             }
-            Self::Dielectric { tint, .. } | Self::ThinDielectric { tint, .. } => tint,
+            Self::Dielectric { tint, .. }
+            | Self::ThinDielectric { tint, .. }
+            | Self::Mirror { tint } => tint,
             Self::Plastic {
                 diffuse,
                 eta,

@@ -434,3 +434,19 @@ fn delta_flags_and_albedos() {
             < 1e-12
     );
 }
+
+#[test]
+fn the_book_mirror_reflects_its_tint_about_the_normal_from_either_side() {
+    let tint = Color::new(0.9, 0.5, 0.25);
+    let mirror = Bsdf::Mirror { tint };
+    for wo in [Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.0, -0.6, -0.8)] {
+        let s = mirror.sample(wo, 0.3, [0.1, 0.7]).unwrap();
+        assert!(s.delta);
+        assert_eq!(s.weight, tint);
+        assert!((s.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-12);
+        assert_eq!(mirror.eval(wo, s.wi), Color::BLACK);
+        assert_eq!(mirror.pdf(wo, s.wi), 0.0);
+    }
+    assert!(mirror.is_delta());
+    assert_eq!(mirror.albedo(), tint);
+}

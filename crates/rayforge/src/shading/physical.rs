@@ -1,0 +1,367 @@
+//! What a material means to the path tracer: the [`Bsdf`] it scatters light with.
+//!
+//! A scene may name a physical material outright ([`Physical`]: a metal, glass, plastic, …),
+//! whose colour comes from the material's colour, pattern or texture at the hit. Otherwise the
+//! book's parameters are given a physical meaning ([`Scattering::phong`], [`Scattering::cgfs`],
+//! [`Scattering::optics`]), so every scene written for the books renders under the path tracer
+//! too, as a stack of at most three layers, each a [`Bsdf`] with a share of the light:
+//!
+//! - a share `transparency` of smooth dielectric with the material's refractive index (relative
+//!   to the world's ambient index), Fresnel's reflection included;
+//! - of the rest, a share `reflective` of perfect mirror;
+//! - the rest is the diffuse base: Lambert with albedo `colour × diffuse`, under a clear coat
+//!   (plastic, index 1.5) of strength `specular` and GGX width `√(2 / (shininess + 2))` (the
+//!   width whose highlight matches a Blinn–Phong lobe of that exponent) when the material has
+//!   a specular highlight.
+//!
+//! The book's `ambient` term has no physical meaning and is dropped: the path tracer's indirect
+//! light is what ambient stood for.
+//!
+//! A path picks one layer per hit with probability proportional to its share and weighs what
+//! it finds by the sum of the shares over that probability, which estimates the sum of the
+//! layers without bias (and keeps next-event estimation and multiple importance sampling
+//! within the one layer chosen).
+
+use super::bsdf::Bsdf;
+use super::material::Material;
+use crate::color::Color;
+
+/// A material the path tracer understands directly, named in the scene (its colour, pattern or
+/// texture gives the colour at each hit).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Physical {
+    /// Lambertian: the colour is the albedo.
+    Diffuse,
+    /// A metal of complex index `eta + i k` per channel, GGX width `alpha` (0: polished); the
+    /// colour tints its reflection (white for the metal itself).
+    Conductor {
+        /// Real part of the index, per channel.
+        eta: Color,
+        /// Extinction coefficient, per channel.
+        k: Color,
+        /// GGX width.
+        alpha: f64,
+    },
+    /// Glass and other dielectrics: index `eta` inside (relative to the world's ambient index),
+    /// GGX width `alpha` (0: smooth); the colour tints what passes and reflects.
+    Dielectric {
+        /// Refractive index inside.
+        eta: f64,
+        /// GGX width.
+        alpha: f64,
+    },
+    /// A thin sheet of dielectric (a window pane, a soap film) that does not bend light.
+    ThinDielectric {
+        /// The sheet's refractive index.
+        eta: f64,
+    },
+    /// Plastic: a clear coat of index `eta` and GGX width `alpha` over a diffuse base of the
+    /// colour.
+    Plastic {
+        /// The coat's refractive index.
+        eta: f64,
+        /// The coat's GGX width.
+        alpha: f64,
+    },
+    /// A perfect mirror reflecting the colour's share of the light at every angle.
+    Mirror,
+}
+
+impl Physical {
+    /// The scattering of this material with `colour` at the hit, where the world's ambient
+    /// index is `ambient_index`.
+    pub fn bsdf(self, colour: Color, ambient_index: f64) -> Bsdf {
+        let relative = |eta: f64| eta / ambient_index.max(1e-6);
+        match self {
+            Physical::Diffuse => Bsdf::Diffuse {
+                albedo: clamp_unit(colour),
+            },
+            Physical::Conductor { eta, k, alpha } => Bsdf::Conductor {
+                eta,
+                k,
+                alpha,
+                tint: colour,
+            },
+            Physical::Dielectric { eta, alpha } => Bsdf::Dielectric {
+                eta: relative(eta),
+                alpha,
+                tint: colour,
+            },
+            Physical::ThinDielectric { eta } => Bsdf::ThinDielectric {
+                eta: relative(eta),
+                tint: colour,
+            },
+            Physical::Plastic { eta, alpha } => Bsdf::Plastic {
+                diffuse: clamp_unit(colour),
+                eta: relative(eta),
+                alpha,
+                specular: Color::WHITE,
+            },
+            Physical::Mirror => Bsdf::Mirror { tint: colour },
+        }
+    }
+}
+
+/// Every channel limited to [0, 1]: an albedo above 1 would create light.
+fn clamp_unit(c: Color) -> Color {
+    Color::new(
+        c.red.clamp(0.0, 1.0),
+        c.green.clamp(0.0, 1.0),
+        c.blue.clamp(0.0, 1.0),
+    )
+}
+
+/// The most layers a material's scattering has (dielectric, mirror, base).
+const MAX_LAYERS: usize = 3;
+
+/// A material's scattering at one hit: up to three [`Bsdf`] layers, each with its share of the
+/// light (see the [module](self)). Plain `Copy` data, built per hit without allocating.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scattering {
+    layers: [(f64, Bsdf); MAX_LAYERS],
+    len: usize,
+    total: f64,
+}
+
+/// One layer chosen from a [`Scattering`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Layer {
+    /// The layer's scattering.
+    pub bsdf: Bsdf,
+    /// What to multiply its contributions by: the sum of the shares over the probability of
+    /// choosing it (1 for a material of one layer).
+    pub scale: f64,
+}
+
+impl Scattering {
+    /// A material of one layer.
+    pub fn single(bsdf: Bsdf) -> Self {
+        Self {
+            layers: [(1.0, bsdf); MAX_LAYERS],
+            len: 1,
+            total: 1.0,
+        }
+    }
+
+    /// Layers with their shares; shares that are not positive and finite are left out. No
+    /// layer at all scatters nothing (a black diffuse surface).
+    fn layered(parts: &[(f64, Bsdf)]) -> Self {
+        let black = Bsdf::Diffuse {
+            albedo: Color::BLACK,
+        };
+        let mut out = Self {
+            layers: [(0.0, black); MAX_LAYERS],
+            len: 0,
+            total: 0.0,
+        };
+        for &(share, bsdf) in parts {
+            if share.is_finite() && share > 0.0 && out.len < MAX_LAYERS {
+                out.layers[out.len] = (share, bsdf);
+                out.len += 1;
+                out.total += share;
+            }
+        }
+        if out.len == 0 {
+            return Self::single(black);
+        }
+        out
+    }
+
+    /// The Ray Tracer Challenge's material (the Phong model) given a physical meaning: see the
+    /// [module](self). `colour` is the surface colour at the hit.
+    pub fn phong(material: &Material, colour: Color, ambient_index: f64) -> Self {
+        let albedo = clamp_unit(colour * material.diffuse.max(0.0));
+        let coat = (material.specular > 0.0 && material.shininess > 0.0)
+            .then(|| material.specular.min(1.0));
+        Self::book(material, albedo, coat, ambient_index)
+    }
+
+    /// Computer Graphics from Scratch's material: the colour is the albedo (the book has no
+    /// diffuse weight), a specular exponent (`shininess`, negative for matte) makes a full
+    /// clear coat, `reflective` a mirror.
+    pub fn cgfs(material: &Material, colour: Color, ambient_index: f64) -> Self {
+        let coat = (material.shininess > 0.0).then_some(1.0);
+        Self::book(material, clamp_unit(colour), coat, ambient_index)
+    }
+
+    /// Fundamentals of Ray Tracing's material: a share `1 − opacity` of dielectric of the
+    /// material's index; the opaque share is a matte surface of the colour plus a mirror of the
+    /// gloss colour, added as the book adds them.
+    pub fn optics(material: &Material, colour: Color, ambient_index: f64) -> Self {
+        let opacity = material.opacity.clamp(0.0, 1.0);
+        let glass = Physical::Dielectric {
+            eta: material.refractive_index.max(1e-3),
+            alpha: 0.0,
+        }
+        .bsdf(Color::WHITE, ambient_index);
+        let gloss = material.gloss;
+        let gloss_share = opacity * clamp_unit(gloss).max_channel();
+        let mirror = Bsdf::Mirror {
+            tint: clamp_unit(gloss) * (1.0 / clamp_unit(gloss).max_channel().max(1e-12)),
+        };
+        Self::layered(&[
+            (1.0 - opacity, glass),
+            (
+                opacity,
+                Bsdf::Diffuse {
+                    albedo: clamp_unit(colour),
+                },
+            ),
+            (gloss_share, mirror),
+        ])
+    }
+
+    /// The stack of the Phong and CGFS models: dielectric, mirror, then the base (plastic with
+    /// a coat of strength `coat`, or Lambert).
+    fn book(material: &Material, albedo: Color, coat: Option<f64>, ambient_index: f64) -> Self {
+        let t = material.transparency.clamp(0.0, 1.0);
+        let r = material.reflective.clamp(0.0, 1.0);
+        let base = match coat {
+            Some(strength) => Bsdf::Plastic {
+                diffuse: albedo,
+                eta: 1.5,
+                alpha: (2.0 / (material.shininess + 2.0)).sqrt(),
+                specular: Color::WHITE * strength,
+            },
+            None => Bsdf::Diffuse { albedo },
+        };
+        let glass = Physical::Dielectric {
+            eta: material.refractive_index.max(1e-3),
+            alpha: 0.0,
+        }
+        .bsdf(Color::WHITE, ambient_index);
+        Self::layered(&[
+            (t, glass),
+            (r * (1.0 - t), Bsdf::Mirror { tint: Color::WHITE }),
+            ((1.0 - t) * (1.0 - r), base),
+        ])
+    }
+
+    /// The layer a path follows, chosen by `u` in [0, 1), and `u` rescaled to [0, 1) within
+    /// that layer's range (so the caller can reuse it for the layer's own lobe choice).
+    #[inline]
+    pub fn pick(&self, u: f64) -> (Layer, f64) {
+        if self.len == 1 {
+            return (
+                Layer {
+                    bsdf: self.layers[0].1,
+                    scale: self.total,
+                },
+                u,
+            );
+        }
+        let target = u * self.total;
+        let mut start = 0.0;
+        for (i, &(share, bsdf)) in self.layers[..self.len].iter().enumerate() {
+            let end = start + share;
+            if target < end || i + 1 == self.len {
+                let rescaled = ((target - start) / share).clamp(0.0, 1.0 - f64::EPSILON);
+                return (
+                    Layer {
+                        bsdf,
+                        scale: self.total / share,
+                    },
+                    rescaled,
+                );
+            }
+            start = end;
+        }
+        unreachable!("a scattering has at least one layer")
+    }
+
+    /// What a denoiser's albedo image shows: the layers' albedos weighed by their shares.
+    pub fn albedo(&self) -> Color {
+        self.layers[..self.len]
+            .iter()
+            .fold(Color::BLACK, |sum, &(share, bsdf)| sum + bsdf.albedo() * share)
+    }
+
+    /// Whether every layer is a mirror or smooth glass (nothing for light sampling to find).
+    pub fn is_delta(&self) -> bool {
+        self.layers[..self.len].iter().all(|(_, b)| b.is_delta())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_book_material_is_a_stack_whose_shares_sum_to_one() {
+        let m = Material {
+            transparency: 0.5,
+            reflective: 0.5,
+            ..Material::DEFAULT
+        };
+        let s = Scattering::phong(&m, Color::WHITE, 1.0);
+        assert_eq!(s.len, 3);
+        assert!((s.total - 1.0).abs() < 1e-12);
+        // Glass takes the first half of u, the mirror the next quarter, the base the rest.
+        let (glass, u) = Scattering::pick(&s, 0.25);
+        assert!(matches!(glass.bsdf, Bsdf::Dielectric { .. }));
+        assert!((glass.scale - 2.0).abs() < 1e-12 && (u - 0.5).abs() < 1e-12);
+        assert!(matches!(s.pick(0.6).0.bsdf, Bsdf::Mirror { .. }));
+        assert!(matches!(s.pick(0.9).0.bsdf, Bsdf::Plastic { .. }));
+    }
+
+    #[test]
+    fn a_matte_book_material_is_lambert_with_colour_times_diffuse() {
+        let m = Material {
+            specular: 0.0,
+            diffuse: 0.5,
+            ..Material::DEFAULT
+        };
+        let s = Scattering::phong(&m, Color::new(1.0, 0.5, 0.2), 1.0);
+        let (layer, _) = s.pick(0.7);
+        assert_eq!(
+            layer.bsdf,
+            Bsdf::Diffuse {
+                albedo: Color::new(0.5, 0.25, 0.1)
+            }
+        );
+        assert_eq!(layer.scale, 1.0);
+        assert_eq!(s.albedo(), Color::new(0.5, 0.25, 0.1));
+    }
+
+    #[test]
+    fn the_picked_layers_estimate_the_sum_of_the_layers() {
+        // Picking layer i with probability share/total and scaling by total/share gives back
+        // each share on average.
+        let m = Material {
+            transparency: 0.3,
+            reflective: 0.6,
+            ..Material::DEFAULT
+        };
+        let s = Scattering::phong(&m, Color::WHITE, 1.0);
+        let n = 10_000;
+        let mut glass = 0.0;
+        for i in 0..n {
+            let (layer, u) = s.pick((i as f64 + 0.5) / n as f64);
+            assert!((0.0..1.0).contains(&u));
+            if matches!(layer.bsdf, Bsdf::Dielectric { .. }) {
+                glass += layer.scale / n as f64;
+            }
+        }
+        assert!((glass - 1.0).abs() < 1e-3, "{glass}");
+    }
+
+    #[test]
+    fn a_named_metal_keeps_its_index_and_is_tinted_by_the_colour() {
+        let (eta, k) = super::super::bsdf::metal("aluminium").unwrap();
+        let b = Physical::Conductor {
+            eta,
+            k,
+            alpha: 0.2,
+        }
+        .bsdf(Color::WHITE, 1.0);
+        assert_eq!(
+            b,
+            Bsdf::Conductor {
+                eta,
+                k,
+                alpha: 0.2,
+                tint: Color::WHITE
+            }
+        );
+    }
+}
