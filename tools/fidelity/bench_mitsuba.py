@@ -61,6 +61,22 @@ def worker(variant, threads, scenes, spp, repeats):
     print(json.dumps(rows))
 
 
+def print_table(rows, scenes, spp):
+    import mitsuba
+
+    print(f"\nMitsuba {mitsuba.__version__}, {spp} spp per render, {os.cpu_count()} CPU(s) visible; "
+          "Msamples/s = pixels x spp / wall time; per CPU-s = divided by the process CPU time "
+          "(less sensitive to other load on the machine)\n")
+    print("| scene | size | variant | threads | Msamples/s | Msamples per CPU-s | render s | cpu/wall "
+          "| first render s (JIT) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for r in sorted(rows, key=lambda r: (scenes.index(r["scene"]), r["variant"], r["threads"])):
+        first = f"{r['first']:.2f}" if r["first"] is not None else "-"
+        print(f"| {r['scene']} | {r['size']}x{r['size']} | {r['variant']} | {r['threads']} | "
+              f"{r['rate'] / 1e6:.3f} | {r['rate'] / r['cpu_ratio'] / 1e6:.3f} | {r['time']:.2f} | "
+              f"{r['cpu_ratio']:.2f} | {first} |")
+
+
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--spp", type=int, default=64)
@@ -70,11 +86,18 @@ if __name__ == "__main__":
                     default=["furnace", "furnace-closed", "cornell", "spheres-materials", "envmap"])
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--json", help="also write all rows to this JSON file")
+    ap.add_argument("--from-json", help="only print the table of an earlier --json file")
     ap.add_argument("--worker", nargs=2, metavar=("VARIANT", "THREADS"), help=argparse.SUPPRESS)
     args = ap.parse_args()
 
     if args.worker:
         worker(args.worker[0], int(args.worker[1]), args.scenes, args.spp, args.repeats)
+        sys.exit(0)
+
+    if args.from_json:
+        with open(args.from_json) as f:
+            rows = json.load(f)
+        print_table(rows, args.scenes, rows[0]["spp"] if rows else args.spp)
         sys.exit(0)
 
     env = dict(os.environ)
@@ -94,11 +117,4 @@ if __name__ == "__main__":
         with open(args.json, "w") as f:
             json.dump(rows, f, indent=1)
 
-    print(f"\nMitsuba {__import__('mitsuba').__version__}, {args.spp} spp per render, "
-          f"{os.cpu_count()} CPU(s) visible; Msamples/s = pixels x spp / wall time\n")
-    print("| scene | size | variant | threads | Msamples/s | render s | cpu/wall | first render s (JIT) |")
-    print("|---|---|---|---|---|---|---|---|")
-    for r in sorted(rows, key=lambda r: (args.scenes.index(r["scene"]), r["variant"], r["threads"])):
-        first = f"{r['first']:.2f}" if r["first"] is not None else "-"
-        print(f"| {r['scene']} | {r['size']}x{r['size']} | {r['variant']} | {r['threads']} | "
-              f"{r['rate'] / 1e6:.3f} | {r['time']:.2f} | {r['cpu_ratio']:.2f} | {first} |")
+    print_table(rows, args.scenes, args.spp)

@@ -65,7 +65,7 @@ def main():
         t_load = time.perf_counter() - t0
         size = ms.image_size(name)
         print(f"{name}: {size}x{size}, {args.batches} batches x {args.spp} spp "
-              f"({passes} pass(es) of {parts}), variant {args.variant}, {args.threads} thread(s), "
+              f"({passes} mi.render call(s) of {max(parts)} spp or fewer), variant {args.variant}, {args.threads} thread(s), "
               f"scene load {t_load:.2f} s", flush=True)
 
         if jit and not args.no_warmup:
