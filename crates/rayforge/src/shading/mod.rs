@@ -1,11 +1,12 @@
 //! What surfaces and lights are, and how light meets a surface at one point: materials,
-//! patterns, textures, bumps and lights, and the local illumination of each lighting model:
+//! patterns, textures, bumps, lights and environment maps, and the local illumination of each lighting model:
 //! [`phong`](lighting_with) (The Ray Tracer Challenge), [`cgfs`] (Computer Graphics from
 //! Scratch) and [`optics`] (Fundamentals of Ray Tracing). The ray tracer's integrators and the
 //! rasterizer both light points with them; neither shadows nor secondary rays are known here.
 
 mod bump;
 pub mod cgfs;
+mod environment;
 mod jitter;
 mod light;
 mod material;
@@ -18,6 +19,7 @@ mod texture;
 pub use crate::math::random::{Jitter, SplitMix64};
 pub use bump::{Bump, BumpKind};
 pub use cgfs::unshadowed_intensity;
+pub use environment::{EnvironmentError, EnvironmentMap};
 pub use jitter::Sequence;
 pub use light::{AreaLight, DirectionalLight, Light, PointLight, SpotLight};
 pub use material::Material;
