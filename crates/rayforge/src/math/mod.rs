@@ -1,4 +1,4 @@
-//! Vectors, points, matrices, transforms, rays and root solvers.
+//! Vectors, points, matrices, transforms, rays, root solvers and sampling distributions.
 //!
 //! Geometry is f64 throughout (the book's precision). Points and vectors are both [`glam::DVec3`]:
 //! the book's `w` component is carried by *which* function transforms them
@@ -6,16 +6,20 @@
 //! four-component [`Tuple`] exists for chapter 1's teaching API.
 
 mod aabb;
+pub mod distribution;
 mod frame;
 mod matrix;
 mod motion;
 pub mod random;
 mod ray;
 pub mod roots;
+#[cfg(test)]
+pub(crate) mod stats;
 mod transform;
 mod tuple;
 
 pub use aabb::Aabb;
+pub use distribution::{Distribution1D, Distribution2D, DistributionError};
 pub use frame::Frame;
 pub use matrix::{
     matrix2, matrix3, matrix4, rotation_x, rotation_y, rotation_z, scaling, shearing, translation,

@@ -1,5 +1,5 @@
 //! What surfaces and lights are, and how light meets a surface at one point: materials,
-//! patterns, textures, bumps and lights, and the local illumination of each lighting model:
+//! patterns, textures, bumps, lights and environment maps, and the local illumination of each lighting model:
 //! [`phong`](lighting_with) (The Ray Tracer Challenge), [`cgfs`] (Computer Graphics from
 //! Scratch) and [`optics`] (Fundamentals of Ray Tracing). The ray tracer's integrators and the
 //! rasterizer both light points with them; neither shadows nor secondary rays are known here.
@@ -7,6 +7,7 @@
 pub mod bsdf;
 mod bump;
 pub mod cgfs;
+mod environment;
 mod jitter;
 mod light;
 mod material;
@@ -20,14 +21,15 @@ mod texture;
 pub use crate::math::random::{Jitter, SplitMix64};
 pub use bump::{Bump, BumpKind};
 pub use cgfs::unshadowed_intensity;
+pub use environment::{EnvironmentError, EnvironmentMap};
 pub use jitter::Sequence;
 pub use light::{AreaLight, DirectionalLight, Light, PointLight, SpotLight};
 pub use material::Material;
 pub use noise::perlin_noise;
 pub use optics::matte_light;
 pub use pattern::{Pattern, PatternKind};
-pub use physical::{Layer, Physical, Scattering};
 pub use phong::{can_light, lighting_with, most_light};
+pub use physical::{Layer, Physical, Scattering};
 pub use texture::{
     cylindrical_map, planar_map, spherical_map, CubeFace, Filter, TexelGrid, Texture, UvMapping,
     UvPattern,

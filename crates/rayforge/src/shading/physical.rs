@@ -273,7 +273,9 @@ impl Scattering {
     pub fn albedo(&self) -> Color {
         self.layers[..self.len]
             .iter()
-            .fold(Color::BLACK, |sum, &(share, bsdf)| sum + bsdf.albedo() * share)
+            .fold(Color::BLACK, |sum, &(share, bsdf)| {
+                sum + bsdf.albedo() * share
+            })
     }
 
     /// Whether every layer is a mirror or smooth glass (nothing for light sampling to find).
@@ -348,12 +350,7 @@ mod tests {
     #[test]
     fn a_named_metal_keeps_its_index_and_is_tinted_by_the_colour() {
         let (eta, k) = super::super::bsdf::metal("aluminium").unwrap();
-        let b = Physical::Conductor {
-            eta,
-            k,
-            alpha: 0.2,
-        }
-        .bsdf(Color::WHITE, 1.0);
+        let b = Physical::Conductor { eta, k, alpha: 0.2 }.bsdf(Color::WHITE, 1.0);
         assert_eq!(
             b,
             Bsdf::Conductor {
