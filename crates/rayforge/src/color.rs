@@ -31,6 +31,13 @@ impl Color {
         Self::new(self.red * o.red, self.green * o.green, self.blue * o.blue)
     }
 
+    /// The luminance of linear Rec. 709 RGB: how bright the colour looks, which is what
+    /// importance sampling (of lights, of skies) should follow.
+    #[inline]
+    pub fn luminance(self) -> f64 {
+        0.2126 * self.red + 0.7152 * self.green + 0.0722 * self.blue
+    }
+
     /// The largest of the three channels.
     pub fn max_channel(self) -> f64 {
         self.red.max(self.green).max(self.blue)

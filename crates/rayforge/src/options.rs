@@ -121,7 +121,7 @@ impl Default for PathOptions {
             sampler: SamplerKind::Sobol,
             filter: PixelFilter::Box,
             max_depth: Self::DEFAULT_MAX_DEPTH,
-            roulette_depth: 3,
+            roulette_depth: 5,
             seed: 0,
         }
     }

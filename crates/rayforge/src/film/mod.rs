@@ -208,6 +208,15 @@ impl Film {
         self.weights[i] += weight;
     }
 
+    /// Adds to pixel (`x`, `y`) a sum of weighted colours `weighted_sum` whose weights sum to
+    /// `weight`, without the filter: for a renderer that gathers each pixel's samples itself
+    /// and adds them at once (the path tracer, whose samples each belong to one pixel).
+    pub fn add_pixel_sum(&mut self, x: usize, y: usize, weighted_sum: Color, weight: f64) {
+        let i = y * self.width + x;
+        self.sums[i] += weighted_sum;
+        self.weights[i] += weight;
+    }
+
     /// Replaces row `y` with `pixels`, each one sample of weight 1 (a row read back from the
     /// command line's checkpoint, which saves pixel estimates).
     pub(crate) fn replace_row(&mut self, y: usize, pixels: &[Color]) {

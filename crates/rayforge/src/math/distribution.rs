@@ -155,6 +155,21 @@ impl Distribution1D {
         (index, self.probabilities[index])
     }
 
+    /// [`sample_discrete`](Self::sample_discrete), and also `u` rescaled to `[0, 1)` within the
+    /// chosen bin's share of the unit interval: a fresh random number for the choices that
+    /// follow (a light's point after the light), uniform and independent of the bin.
+    pub fn sample_discrete_reused(&self, u: f64) -> (usize, f64, f64) {
+        let u = unit(u);
+        let index = self.bin_of(u);
+        let (start, end) = (self.cdf[index], self.cdf[index + 1]);
+        let rest = if end > start {
+            ((u - start) / (end - start)).clamp(0.0, ONE_MINUS_EPSILON)
+        } else {
+            0.0
+        };
+        (index, self.probabilities[index], rest)
+    }
+
     /// The bin `x` in `[0, 1)` falls in (ends clamped), as [`pdf`](Self::pdf) finds it.
     fn bin_at(&self, x: f64) -> usize {
         let n = self.len();

@@ -139,6 +139,15 @@ impl Transform {
         world.normalize_or_zero()
     }
 
+    /// How much this transform stretches a small patch of surface whose object-space normal is
+    /// `n` (unit): `|det M| · |M⁻ᵀ n|`, the length of the cofactor matrix times `n`. The path
+    /// tracer turns a density over an object's own surface into one over its surface in the
+    /// world with it.
+    #[inline]
+    pub fn area_scale(&self, n: DVec3) -> f64 {
+        self.forward.matrix3.determinant().abs() * (self.normal * n).length()
+    }
+
     /// Maps a world-space normal back to object space (the inverse of [`Transform::normal`]:
     /// the transpose of the linear part), normalised.
     #[inline]

@@ -12,6 +12,7 @@
 
 pub mod integrator;
 pub mod observer;
+pub mod path;
 mod sampler;
 
 pub use integrator::{Integrator, TraceState};

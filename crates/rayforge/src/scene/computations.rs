@@ -107,7 +107,7 @@ pub fn prepare_computations_with<'a>(
 /// error; past about 1e9 from the origin that error outgrows `EPSILON` and surfaces would
 /// shadow themselves (acne), so the offset grows with the point's largest coordinate, staying
 /// some 45 steps of the coordinates' resolution. Nearer scenes keep exactly `EPSILON`.
-fn surface_offset(point: Point3) -> f64 {
+pub fn surface_offset(point: Point3) -> f64 {
     EPSILON.max(point.abs().max_element() * 1e-14)
 }
 

@@ -5,6 +5,7 @@
 
 mod computations;
 mod csg;
+mod emitters;
 mod group;
 mod index;
 mod intersection;
@@ -12,8 +13,11 @@ mod object;
 mod shape;
 mod world;
 
-pub use computations::{prepare_computations, prepare_computations_with, schlick, Computations};
+pub use computations::{
+    prepare_computations, prepare_computations_with, schlick, surface_offset, Computations,
+};
 pub use csg::{intersection_allowed, Csg, CsgOperation};
+pub use emitters::{Emitters, LightSample};
 pub use group::{Group, Node};
 pub use index::{WorldIndex, NO_OBJECT};
 pub use intersection::{hit, sort_intersections, Intersection};

@@ -5,7 +5,8 @@ use super::intersection::{sort_intersections, Intersection};
 use super::object::Object;
 use crate::color::Color;
 use crate::math::{point, scaling, Ray};
-use crate::shading::{Light, Material};
+use crate::shading::{EnvironmentMap, Light, Material};
+use std::sync::Arc;
 
 /// Everything in the scene that rays can meet or be lit by.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,6 +21,9 @@ pub struct World {
     pub lighting: LightingModel,
     /// The refractive index of empty space (the optics model's ambient index; 1 by default).
     pub ambient_index: f64,
+    /// Light arriving from every direction far away (an equirectangular sky), for the path
+    /// tracer; without one, the path tracer takes the background as a constant sky.
+    pub environment: Option<Arc<EnvironmentMap>>,
 }
 
 /// How a world's hits are shaded: which book's lighting model (chosen per scene).
@@ -47,6 +51,7 @@ impl Default for World {
             background: Color::BLACK,
             lighting: LightingModel::Phong,
             ambient_index: 1.0,
+            environment: None,
         }
     }
 }

@@ -64,13 +64,6 @@ pub enum EnvironmentError {
     NotRotation(String),
 }
 
-/// The luminance of linear Rec. 709 RGB: how bright a colour looks, which is what sampling
-/// should follow.
-#[inline]
-fn luminance(c: Color) -> f64 {
-    0.2126 * c.red + 0.7152 * c.green + 0.0722 * c.blue
-}
-
 /// Radiance arriving from every direction, read from an equirectangular image (see the module
 /// documentation for the exact convention), so that scenes can be lit by a photographed or
 /// simulated sky; with importance sampling by luminance, so that its bright parts are found.
@@ -309,7 +302,7 @@ fn row_theta(row: usize, height: usize) -> f64 {
 /// never left out), plus a floor of a thousandth of the mean so the density is positive
 /// everywhere, times `cos θⱼ − cos θⱼ₊₁` (its share of solid angle).
 fn sampling_distribution(width: usize, height: usize, texels: &[Color]) -> Distribution2D {
-    let lum: Vec<f64> = texels.iter().map(|&c| luminance(c)).collect();
+    let lum: Vec<f64> = texels.iter().map(|&c| Color::luminance(c)).collect();
     let mean = lum.iter().sum::<f64>() / lum.len() as f64;
     let floor = if mean.is_finite() { 1e-3 * mean } else { 0.0 };
     let mut weights = Vec::with_capacity(width * (height - 1));
@@ -638,8 +631,8 @@ mod tests {
     #[test]
     fn quadrature_agrees_with_the_exact_average() {
         let map = test_map(16, 9, 4);
-        let luminance_average = integrate(800, |d| luminance(map.radiance(d))) / (4.0 * PI);
-        let exact = luminance(map.average_radiance());
+        let luminance_average = integrate(800, |d| Color::luminance(map.radiance(d))) / (4.0 * PI);
+        let exact = Color::luminance(map.average_radiance());
         assert!(
             (luminance_average - exact).abs() < 1e-3 * exact,
             "{luminance_average} {exact}"
@@ -677,7 +670,7 @@ mod tests {
             let phi = 2.0 * PI * rng.next_offset();
             let r = (1.0 - z * z).sqrt();
             let d = Vec3::new(r * phi.cos(), z, r * phi.sin());
-            if luminance(map.radiance(d)) > 0.0 {
+            if Color::luminance(map.radiance(d)) > 0.0 {
                 assert!(map.pdf(d) > 0.0, "{d}");
             }
         }

@@ -41,9 +41,36 @@ pub struct Material {
     /// Light the surface gives off, as radiance from the side its normal faces: what makes
     /// an object a light for the path tracer (the book's renderers ignore it).
     pub emission: Color,
+    /// Which side of the surface gives off the emission.
+    pub emission_side: EmissionSide,
     /// The path tracer's material, when the scene names one; `None` gives the book's
     /// parameters their physical meaning (see [`super::Scattering`]).
     pub physical: Option<Physical>,
+}
+
+/// Which side of an emitting surface gives off light.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EmissionSide {
+    /// The side the normal faces (out of a closed shape): a lamp.
+    #[default]
+    Front,
+    /// The other side (into a closed shape): a glowing room seen from inside.
+    Back,
+    /// Both sides (a thin glowing sheet).
+    Both,
+}
+
+impl EmissionSide {
+    /// Whether light leaves towards a direction whose cosine with the surface's normal is
+    /// `cos`.
+    #[inline]
+    pub fn emits_towards(self, cos: f64) -> bool {
+        match self {
+            EmissionSide::Front => cos > 0.0,
+            EmissionSide::Back => cos < 0.0,
+            EmissionSide::Both => cos != 0.0,
+        }
+    }
 }
 
 impl Material {
@@ -63,6 +90,7 @@ impl Material {
         gloss: Color::BLACK,
         opacity: 1.0,
         emission: Color::BLACK,
+        emission_side: EmissionSide::Front,
         physical: None,
     };
 

@@ -38,7 +38,10 @@ impl SampleStream {
     /// The stream of sample `index` of pixel (`x`, `y`) in a render seeded with `seed`.
     #[inline]
     pub fn new(kind: SamplerKind, seed: u64, x: u32, y: u32, index: u64) -> Self {
-        let pixel = mix(mix(seed, u64::from(x)), u64::from(y) ^ 0x5DEE_CE66_D1CE_4E5B);
+        let pixel = mix(
+            mix(seed, u64::from(x)),
+            u64::from(y) ^ 0x5DEE_CE66_D1CE_4E5B,
+        );
         Self {
             kind,
             pixel,
@@ -70,6 +73,12 @@ impl SampleStream {
                 f64::from(value)
             }
         }
+    }
+
+    /// Goes on from dimension `dimension` (each path vertex starts its numbers at a fixed one).
+    #[inline]
+    pub fn seek(&mut self, dimension: u32) {
+        self.dimension = dimension;
     }
 
     /// The next two numbers, from one pair of dimensions (so a Sobol pair is stratified in 2D).

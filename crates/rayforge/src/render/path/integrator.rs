@@ -1,0 +1,286 @@
+//! Unidirectional path tracing: from the camera, bounce by bounce, with next-event estimation
+//! (a light sampled at every vertex that is not a perfect mirror or smooth glass) and multiple
+//! importance sampling between light sampling and BSDF sampling by the power heuristic (Veach
+//! 1997), Russian roulette after a few bounces, radiance in linear RGB.
+//!
+//! A path's random numbers come from its [`SampleStream`] in a fixed layout, so a Sobol
+//! sampler stratifies each vertex's choices together: the camera takes the first
+//! [`CAMERA_DIMENSIONS`], then each vertex [`VERTEX_DIMENSIONS`] (layer, light, light point,
+//! direction, roulette).
+
+use super::sampler::SampleStream;
+use crate::color::Color;
+use crate::math::{Frame, Point3, Ray, Vec3};
+use crate::scene::{surface_offset, Emitters, LightingModel, Object, World, WorldIndex, NO_OBJECT};
+use crate::shading::Scattering;
+
+/// Dimensions a camera sample uses: the image point, the lens point, the instant (and one
+/// spare, so that vertices start on a group of four).
+pub const CAMERA_DIMENSIONS: u32 = 8;
+/// Dimensions each path vertex uses.
+pub const VERTEX_DIMENSIONS: u32 = 8;
+
+/// What a path tracer thread works with: the world, its index and lights, and the last object
+/// that blocked a shadow ray (tried first by the next).
+pub struct PathContext<'w> {
+    /// The world traced.
+    pub world: &'w World,
+    /// Its index.
+    pub index: &'w WorldIndex,
+    /// Its lights.
+    pub emitters: &'w Emitters,
+    /// The most bounces.
+    pub max_depth: u32,
+    /// Bounces before Russian roulette.
+    pub roulette_depth: u32,
+    /// The last blocker of a shadow ray.
+    hint: u32,
+    /// Rays cast so far.
+    pub rays: u64,
+}
+
+/// What the first surface a camera ray meets looks like, for a denoiser.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FirstHit {
+    /// Its albedo (the sky's radiance where the ray escapes).
+    pub albedo: Color,
+    /// Its shading normal facing the camera, in world space (zero where the ray escapes).
+    pub normal: Vec3,
+}
+
+/// The power heuristic with exponent 2: the weight of a sample drawn with density `a` when
+/// another strategy would have drawn it with density `b`.
+#[inline]
+fn power_heuristic(a: f64, b: f64) -> f64 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 && a2.is_finite() {
+        a2 / (a2 + b2)
+    } else if a.is_infinite() {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// The index of `object` in `world.objects` (it is always one of them).
+#[inline]
+fn object_index(world: &World, object: &Object) -> usize {
+    let size = std::mem::size_of::<Object>().max(1);
+    (object as *const Object as usize).wrapping_sub(world.objects.as_ptr() as usize) / size
+}
+
+/// A point nudged off its surface to the side of `normal` that `direction` leaves by.
+#[inline]
+fn offset_towards(point: Point3, normal: Vec3, direction: Vec3) -> Point3 {
+    let side = if normal.dot(direction) >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
+    point + normal * (side * surface_offset(point))
+}
+
+impl<'w> PathContext<'w> {
+    /// A context for tracing `world`, whose index and lights these are.
+    pub fn new(
+        world: &'w World,
+        index: &'w WorldIndex,
+        emitters: &'w Emitters,
+        max_depth: u32,
+        roulette_depth: u32,
+    ) -> Self {
+        Self {
+            world,
+            index,
+            emitters,
+            max_depth,
+            roulette_depth,
+            hint: NO_OBJECT,
+            rays: 0,
+        }
+    }
+
+    /// Whether something lies along `ray` closer than `distance`.
+    fn occluded(&mut self, ray: &Ray, distance: f64) -> bool {
+        self.rays += 1;
+        let world = self.world;
+        self.index
+            .blocked(world, ray, 0.0, distance, &mut self.hint, |object| {
+                object.casts_shadow && {
+                    let local = object.ray_to_object(ray);
+                    object.shape.any_hit(&local, 0.0, distance)
+                }
+            })
+    }
+
+    /// The radiance arriving along the camera ray `ray`, and what its first hit looks like.
+    pub fn radiance(&mut self, ray: Ray, stream: &mut SampleStream) -> (Color, FirstHit) {
+        let world = self.world;
+        let mut ray = Ray {
+            direction: ray.direction.normalize_or_zero(),
+            ..ray
+        };
+        let mut radiance = Color::BLACK;
+        let mut throughput = Color::WHITE;
+        let mut first = FirstHit::default();
+        // The density of the direction just sampled, and whether it was a delta (the camera
+        // ray counts as one: what it sees is taken as it is).
+        let mut bsdf_pdf = 0.0;
+        let mut specular = true;
+        let mut from = ray.origin;
+        let mut depth = 0;
+        loop {
+            self.rays += 1;
+            let Some(hit) = self.index.closest_hit(world, &ray) else {
+                let sky = self.emitters.sky_radiance(ray.direction);
+                let weight = if specular {
+                    1.0
+                } else {
+                    power_heuristic(bsdf_pdf, self.emitters.sky_pdf(ray.direction))
+                };
+                radiance += throughput.hadamard(sky) * weight;
+                if depth == 0 {
+                    first.albedo = sky;
+                }
+                break;
+            };
+            let point = ray.position(hit.t);
+            let wo = -ray.direction;
+            let surface = hit.object.surface(hit.leaf);
+            let material = &surface.material;
+            let geometric = hit.object.normal_at_hit(point, &hit);
+            let shading = match &material.bump {
+                Some(bump) => {
+                    let transform = surface.transform_at(hit.time);
+                    bump.perturb(geometric, transform.inverse_point(point), &transform)
+                }
+                None => geometric,
+            };
+
+            // Light given off here, towards where the path came from.
+            let emission = material.emission;
+            if emission.max_channel() > 0.0
+                && material.emission_side.emits_towards(geometric.dot(wo))
+            {
+                let weight = if specular {
+                    1.0
+                } else {
+                    let index = object_index(world, hit.object);
+                    let light_pdf = self.emitters.object_pdf(
+                        world,
+                        index,
+                        from,
+                        point,
+                        ray.direction,
+                        hit.face,
+                    );
+                    power_heuristic(bsdf_pdf, light_pdf)
+                };
+                radiance += throughput.hadamard(emission) * weight;
+            }
+            if depth >= self.max_depth {
+                break;
+            }
+
+            let colour =
+                surface.surface_color(point, surface.shape.surface_uv(&hit.local()), hit.time);
+            let scattering = match material.physical {
+                Some(physical) => Scattering::single(physical.bsdf(colour, world.ambient_index)),
+                None => match world.lighting {
+                    LightingModel::Phong => {
+                        Scattering::phong(material, colour, world.ambient_index)
+                    }
+                    LightingModel::Flat | LightingModel::Cgfs => {
+                        Scattering::cgfs(material, colour, world.ambient_index)
+                    }
+                    LightingModel::Optics => {
+                        Scattering::optics(material, colour, world.ambient_index)
+                    }
+                },
+            };
+            if depth == 0 {
+                first.albedo = scattering.albedo();
+                first.normal = if shading.dot(wo) < 0.0 {
+                    -shading
+                } else {
+                    shading
+                };
+            }
+
+            // This vertex's numbers, in a fixed layout.
+            stream.seek(CAMERA_DIMENSIONS + depth * VERTEX_DIMENSIONS);
+            let (layer, u_lobe) = scattering.pick(stream.next_1d());
+            let u_light = stream.next_1d();
+            let u_point = stream.next_2d();
+            let u_direction = stream.next_2d();
+            let u_roulette = stream.next_1d();
+
+            let frame = Frame::from_normal(shading);
+            let wo_local = frame.to_local(wo);
+            let bsdf = layer.bsdf;
+
+            // Next-event estimation.
+            if !bsdf.is_delta() {
+                if let Some(light) = self.emitters.sample(world, point, u_light, u_point) {
+                    let wi_local = frame.to_local(light.direction);
+                    let f = bsdf.eval(wo_local, wi_local) * layer.scale;
+                    if f.max_channel() > 0.0 {
+                        let origin = offset_towards(point, geometric, light.direction);
+                        let shadow = Ray {
+                            origin,
+                            direction: light.direction,
+                            time: ray.time,
+                            t_min: 0.0,
+                        };
+                        let reach = if light.distance.is_finite() {
+                            let end = origin + light.direction * light.distance;
+                            light.distance - 2.0 * surface_offset(end)
+                        } else {
+                            f64::INFINITY
+                        };
+                        if reach > 0.0 && !self.occluded(&shadow, reach) {
+                            let weight = if light.delta {
+                                1.0
+                            } else {
+                                power_heuristic(light.pdf, bsdf.pdf(wo_local, wi_local))
+                            };
+                            radiance += throughput.hadamard(f).hadamard(light.radiance)
+                                * (weight / light.pdf);
+                        }
+                    }
+                }
+            }
+
+            // The next direction.
+            let Some(sample) = bsdf.sample(wo_local, u_lobe, u_direction) else {
+                break;
+            };
+            throughput = throughput.hadamard(sample.weight) * layer.scale;
+            bsdf_pdf = sample.pdf;
+            specular = sample.delta;
+            let direction = frame.to_world(sample.wi).normalize_or_zero();
+            from = point;
+            ray = Ray {
+                origin: offset_towards(point, geometric, direction),
+                direction,
+                time: ray.time,
+                t_min: 0.0,
+            };
+            depth += 1;
+
+            // Russian roulette: a path carrying little light ends with a probability that
+            // grows as it dims, and one that survives carries more, so the mean is unchanged.
+            if depth >= self.roulette_depth {
+                let survive = throughput.max_channel().min(0.95);
+                if !(survive > 0.0) || u_roulette >= survive {
+                    break;
+                }
+                throughput = throughput * (1.0 / survive);
+            }
+            if throughput.max_channel() <= 0.0 {
+                break;
+            }
+        }
+        (radiance, first)
+    }
+}

@@ -1,0 +1,218 @@
+//! The path tracer: a physically based renderer behind the same scene files as the book's
+//! ray tracer. Where the books stop (no indirect light, no glossy reflection, no light from
+//! emitting surfaces or a sky), it follows light along whole paths ([`PathContext`]) with the
+//! materials of [`crate::shading::bsdf`] and the lights of [`crate::scene::Emitters`].
+//!
+//! Every sample is a pure function of the pixel, its index and the seed ([`SampleStream`]), so
+//! the image is the same for any thread count, and any range of sample indices
+//! ([`PathJob::samples`]) can be rendered on its own, on another machine even, and the films
+//! merged into exactly the film of one render over the union.
+//!
+//! Each sample belongs to one pixel: it is drawn over the pixel filter's support around the
+//! pixel's centre and weighed by the filter there (uniformly over the pixel, at weight 1, for
+//! the box filter), and the film divides the weighted sum by the sum of the weights. No sample
+//! is shared between pixels, so no two threads ever add to one pixel and rows finish in any
+//! order without changing a bit.
+
+mod integrator;
+mod sampler;
+
+pub use integrator::{FirstHit, PathContext, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS};
+pub use sampler::SampleStream;
+
+use crate::camera::{Camera, CameraSample};
+use crate::color::Color;
+use crate::film::{Film, FilmError, PixelFilter, SharedFilm};
+use crate::options::PathOptions;
+use crate::scene::{Emitters, World, WorldIndex};
+use rayon::prelude::*;
+use std::ops::Range;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+/// What to render with the path tracer.
+#[derive(Clone)]
+pub struct PathJob<'p> {
+    /// The sampler, filter, depth and seed.
+    pub options: PathOptions,
+    /// Which samples of every pixel, by index: `0..spp` for a whole render; disjoint ranges
+    /// rendered apart merge into the render of their union.
+    pub samples: Range<u64>,
+    /// Called with the number of rows just finished (from any thread).
+    pub progress: Option<&'p (dyn Fn(usize) + Sync)>,
+    /// Checked before each row is started: once set, no more rows are started.
+    pub cancel: Option<&'p AtomicBool>,
+}
+
+/// The images a denoiser wants beside the beauty image: the albedo and the normal of the
+/// first surface each camera ray meets, averaged over the pixel's samples.
+pub struct Aovs {
+    /// Albedo (box filter).
+    pub albedo: SharedFilm,
+    /// World-space normal facing the camera, each component in [-1, 1] (box filter).
+    pub normal: SharedFilm,
+}
+
+impl Aovs {
+    /// Empty albedo and normal films of `width` × `height`.
+    pub fn new(width: usize, height: usize) -> Self {
+        Self {
+            albedo: SharedFilm::from(Film::new(width, height)),
+            normal: SharedFilm::from(Film::new(width, height)),
+        }
+    }
+}
+
+/// What a path traced render did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PathStats {
+    /// Rays cast: camera rays, bounces and shadow rays.
+    pub rays: u64,
+    /// Camera samples traced.
+    pub samples: u64,
+    /// Samples whose radiance was not finite (a NaN or an infinity from a degenerate scene),
+    /// left out of their pixel rather than poisoning it.
+    pub discarded: u64,
+}
+
+/// Where within the filter's support a sample goes, from two numbers in [0, 1): its offset
+/// from the pixel's centre and its weight.
+#[inline]
+fn filter_offset(filter: PixelFilter, [u, v]: [f64; 2]) -> (f64, f64, f64) {
+    match filter {
+        PixelFilter::Box => (u - 0.5, v - 0.5, 1.0),
+        _ => {
+            let r = filter.radius();
+            let (dx, dy) = ((2.0 * u - 1.0) * r, (2.0 * v - 1.0) * r);
+            (dx, dy, filter.weight(dx, dy))
+        }
+    }
+}
+
+/// Path traces `world` through `camera` into `film` (and the `aovs`, when given), the rows not
+/// marked in `done`, marking each as it is finished. Refused when the films are not the
+/// camera's size, `done` is not one entry per row, or `film`'s filter is not the job's.
+pub fn render_path(
+    camera: &Camera,
+    world: &World,
+    job: &PathJob<'_>,
+    film: &SharedFilm,
+    aovs: Option<&Aovs>,
+    done: &mut [bool],
+) -> Result<PathStats, FilmError> {
+    let (width, height) = (camera.hsize(), camera.vsize());
+    let mismatch = |w: usize, h: usize| (w, h) != (width, height);
+    if mismatch(film.width(), film.height())
+        || done.len() != height
+        || aovs.is_some_and(|a| {
+            mismatch(a.albedo.width(), a.albedo.height())
+                || mismatch(a.normal.width(), a.normal.height())
+        })
+    {
+        return Err(FilmError::SizeMismatch(
+            film.width(),
+            done.len(),
+            width,
+            height,
+        ));
+    }
+    let filter = job.options.filter.checked()?;
+    // Adding a row of the job's filter to the film checks the film's filter too.
+    Film::with_filter(width, 1, filter)?;
+    let index = WorldIndex::build(world);
+    let emitters = Emitters::new(world);
+    let rays = AtomicU64::new(0);
+    let samples = AtomicU64::new(0);
+    let discarded = AtomicU64::new(0);
+    let cancelled = || job.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+    let options = job.options;
+    let mut failure = None;
+    let failures: Vec<Option<FilmError>> = (0..height)
+        .into_par_iter()
+        .zip(done.par_iter_mut())
+        .map_init(
+            || {
+                PathContext::new(
+                    world,
+                    &index,
+                    &emitters,
+                    options.max_depth,
+                    options.roulette_depth.max(1),
+                )
+            },
+            |context, (y, done)| {
+                if *done || cancelled() {
+                    return None;
+                }
+                let before = context.rays;
+                let mut beauty = Film::with_filter(width, 1, filter).ok()?;
+                let mut albedo = Film::new(width, 1);
+                let mut normal = Film::new(width, 1);
+                let mut row_discarded = 0;
+                for x in 0..width {
+                    let mut sum = Color::BLACK;
+                    let mut weights = 0.0;
+                    let (mut albedo_sum, mut normal_sum) = (Color::BLACK, Color::BLACK);
+                    for s in job.samples.clone() {
+                        let mut stream =
+                            SampleStream::new(options.sampler, options.seed, x as u32, y as u32, s);
+                        let (dx, dy, weight) = filter_offset(filter, stream.next_2d());
+                        let [lens_u, lens_v] = stream.next_2d();
+                        let time = stream.next_1d();
+                        let sample = CameraSample {
+                            x: x as f64 + 0.5 + dx,
+                            y: y as f64 + 0.5 + dy,
+                            lens_u,
+                            lens_v,
+                            time,
+                        };
+                        let ray = camera.ray_for_sample(&sample);
+                        let (radiance, first) = context.radiance(ray, &mut stream);
+                        let finite = radiance.red.is_finite()
+                            && radiance.green.is_finite()
+                            && radiance.blue.is_finite();
+                        if finite {
+                            sum += radiance * weight;
+                            weights += weight;
+                        } else {
+                            row_discarded += 1;
+                        }
+                        albedo_sum += first.albedo;
+                        normal_sum += Color::new(first.normal.x, first.normal.y, first.normal.z);
+                    }
+                    beauty.add_pixel_sum(x, 0, sum, weights);
+                    let n = job.samples.end.saturating_sub(job.samples.start) as f64;
+                    albedo.add_pixel_sum(x, 0, albedo_sum, n);
+                    normal.add_pixel_sum(x, 0, normal_sum, n);
+                }
+                if let Err(e) = film.add(y, &beauty) {
+                    return Some(e);
+                }
+                if let Some(aovs) = aovs {
+                    if let Err(e) = aovs.albedo.add(y, &albedo).and(aovs.normal.add(y, &normal)) {
+                        return Some(e);
+                    }
+                }
+                *done = true;
+                rays.fetch_add(context.rays - before, Ordering::Relaxed);
+                let n = job.samples.end.saturating_sub(job.samples.start);
+                samples.fetch_add(n * width as u64, Ordering::Relaxed);
+                discarded.fetch_add(row_discarded, Ordering::Relaxed);
+                if let Some(progress) = job.progress {
+                    progress(1);
+                }
+                None
+            },
+        )
+        .collect();
+    for f in failures.into_iter().flatten() {
+        failure.get_or_insert(f);
+    }
+    match failure {
+        Some(e) => Err(e),
+        None => Ok(PathStats {
+            rays: rays.into_inner(),
+            samples: samples.into_inner(),
+            discarded: discarded.into_inner(),
+        }),
+    }
+}

@@ -1,0 +1,563 @@
+//! Everything that gives off light, as the path tracer samples it: the book's lights, objects
+//! whose material emits, and the sky (an environment map, or the background as a constant sky).
+//!
+//! Next-event estimation picks one emitter per path vertex, with a probability proportional to
+//! an estimate of its power ([`Emitters::sample`]), and a point or direction on it. A path that
+//! finds an emitter by scattering asks how likely light sampling would have been to choose that
+//! point ([`Emitters::object_pdf`], [`Emitters::sky_pdf`]), so that multiple importance sampling
+//! can weigh the two ways of finding it.
+//!
+//! What each kind of light means physically:
+//! - The book's point, spot, directional and area lights keep the book's meaning: no fall-off
+//!   with distance, each giving a surface facing it the irradiance `π · intensity · cos θ`, so
+//!   a white Lambertian surface is as bright as the book's diffuse term makes it. Under the
+//!   optics model, whose lights fall off with the square of the distance, point and spot
+//!   lights do too (`π · intensity / d²`). The area light is an invisible rectangle whose
+//!   points are such lights, sampled by area: only its light is seen.
+//! - An emitting object gives off radiance `emission` from the side its normal faces (or the
+//!   other side, or both: [`EmissionSide`]). Spheres,
+//!   cubes, rectangles, rings and discs, triangles, meshes and finite cylinders are sampled by
+//!   area; other emitting shapes (cones, tori, planes, CSG solids) are found only by the paths
+//!   that hit them, which is unbiased but noisier.
+//! - The sky: the world's environment map, importance-sampled by luminance, else the
+//!   background as light of constant radiance from every direction (found by the paths that
+//!   escape: sampling the BSDF follows a uniform sky as well as light sampling could).
+//! - The cgfs model's ambient light has no physical meaning and is left out: the path tracer's
+//!   indirect light is what it stood for.
+
+use super::object::Object;
+use super::shape::Shape;
+use super::world::{LightingModel, World};
+use crate::color::Color;
+use crate::geometry::{rectangle, Mesh};
+use crate::math::{Distribution1D, Point3, Transform, Vec3};
+use crate::shading::{EmissionSide, EnvironmentMap, Light, SpotLight};
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+/// Marks an object that is not a sampled emitter.
+const NOT_SAMPLED: u32 = u32::MAX;
+
+/// One direction towards light from a point, chosen by [`Emitters::sample`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightSample {
+    /// Unit direction from the point towards the light.
+    pub direction: Vec3,
+    /// How far the light is along it (infinite for the sky and directional lights).
+    pub distance: f64,
+    /// The radiance arriving along `direction`; for a delta light (a point, a direction), the
+    /// irradiance it gives a surface facing it, per unit of `pdf`.
+    pub radiance: Color,
+    /// The solid-angle density of `direction` times the probability of picking this emitter;
+    /// for a delta light, that probability alone.
+    pub pdf: f64,
+    /// Whether the light is a point or a direction, which scattering can never find.
+    pub delta: bool,
+}
+
+/// Where points are drawn on an emitting shape: uniformly by its own (object-space) area.
+#[derive(Debug, Clone)]
+enum Surface {
+    Sphere,
+    Cube,
+    Rectangle,
+    Ring {
+        inner: f64,
+        outer: f64,
+    },
+    Triangle {
+        p1: Point3,
+        e1: Vec3,
+        e2: Vec3,
+    },
+    Mesh {
+        mesh: Arc<Mesh>,
+        faces: Distribution1D,
+    },
+    Cylinder {
+        minimum: f64,
+        maximum: f64,
+        closed: bool,
+    },
+}
+
+impl Surface {
+    /// The sampler of `shape`, if it is one that can be sampled by area.
+    fn of(shape: &Shape) -> Option<Self> {
+        Some(match shape {
+            Shape::Sphere => Surface::Sphere,
+            Shape::Cube => Surface::Cube,
+            Shape::Rectangle => Surface::Rectangle,
+            Shape::Ring { inner, outer } => Surface::Ring {
+                inner: *inner,
+                outer: *outer,
+            },
+            Shape::Triangle(t) => Surface::Triangle {
+                p1: t.p1,
+                e1: t.e1,
+                e2: t.e2,
+            },
+            Shape::Mesh(mesh) => {
+                let areas: Vec<f64> = mesh
+                    .faces()
+                    .map(|f| {
+                        let [a, b, c] = mesh.corners(&f);
+                        (b - a).cross(c - a).length() / 2.0
+                    })
+                    .collect();
+                Surface::Mesh {
+                    mesh: Arc::clone(mesh),
+                    faces: Distribution1D::new(&areas).ok()?,
+                }
+            }
+            Shape::Cylinder {
+                minimum,
+                maximum,
+                closed,
+            } if minimum.is_finite() && maximum.is_finite() && maximum > minimum => {
+                Surface::Cylinder {
+                    minimum: *minimum,
+                    maximum: *maximum,
+                    closed: *closed,
+                }
+            }
+            _ => return None,
+        })
+    }
+
+    /// The object-space area.
+    fn area(&self) -> f64 {
+        match self {
+            Surface::Sphere => 4.0 * PI,
+            Surface::Cube => 24.0,
+            Surface::Rectangle => 4.0,
+            Surface::Ring { inner, outer } => PI * (outer * outer - inner * inner),
+            Surface::Triangle { e1, e2, .. } => e1.cross(*e2).length() / 2.0,
+            Surface::Mesh { faces, .. } => faces.integral() * faces.len() as f64,
+            Surface::Cylinder {
+                minimum,
+                maximum,
+                closed,
+            } => 2.0 * PI * (maximum - minimum) + if *closed { 2.0 * PI } else { 0.0 },
+        }
+    }
+
+    /// A point uniformly by area and the unit object-space normal there, from `pick` (which
+    /// part of the surface) and `u`.
+    fn sample(&self, pick: f64, [u, v]: [f64; 2]) -> (Point3, Vec3) {
+        match self {
+            Surface::Sphere => {
+                let z = 1.0 - 2.0 * u;
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                let phi = 2.0 * PI * v;
+                let p = Point3::new(r * phi.cos(), r * phi.sin(), z);
+                (p, p)
+            }
+            Surface::Cube => {
+                let face = ((pick * 6.0) as usize).min(5);
+                let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+                let sign = if face % 2 == 0 { 1.0 } else { -1.0 };
+                let (p, n) = match face / 2 {
+                    0 => (Point3::new(sign, a, b), Vec3::X * sign),
+                    1 => (Point3::new(a, sign, b), Vec3::Y * sign),
+                    _ => (Point3::new(a, b, sign), Vec3::Z * sign),
+                };
+                (p, n)
+            }
+            Surface::Rectangle => (rectangle::point_at(u, v), Vec3::Y),
+            Surface::Ring { inner, outer } => {
+                let r = (inner * inner + u * (outer * outer - inner * inner)).sqrt();
+                let phi = 2.0 * PI * v;
+                (Point3::new(r * phi.cos(), 0.0, r * phi.sin()), Vec3::Y)
+            }
+            Surface::Triangle { p1, e1, e2 } => triangle_point(*p1, *e1, *e2, u, v),
+            Surface::Mesh { mesh, faces } => {
+                let (face, _) = faces.sample_discrete(pick);
+                let [a, b, c] = mesh.corners(&mesh.face(face));
+                triangle_point(a, b - a, c - a, u, v)
+            }
+            Surface::Cylinder {
+                minimum,
+                maximum,
+                closed,
+            } => {
+                let side = 2.0 * PI * (maximum - minimum);
+                let phi = 2.0 * PI * v;
+                let caps = if *closed { 2.0 * PI } else { 0.0 };
+                let at = pick * (side + caps);
+                if at < side || !closed {
+                    let y = minimum + u * (maximum - minimum);
+                    let n = Vec3::new(phi.cos(), 0.0, phi.sin());
+                    (Point3::new(n.x, y, n.z), n)
+                } else {
+                    let (y, n) = if at < side + PI {
+                        (*minimum, -Vec3::Y)
+                    } else {
+                        (*maximum, Vec3::Y)
+                    };
+                    let r = u.sqrt();
+                    (Point3::new(r * phi.cos(), y, r * phi.sin()), n)
+                }
+            }
+        }
+    }
+
+    /// The unit object-space geometric normal at `point` of face `face` (for meshes).
+    fn normal_at(&self, shape: &Shape, point: Point3, face: u32) -> Vec3 {
+        match self {
+            Surface::Triangle { e1, e2, .. } => e1.cross(*e2).normalize_or_zero(),
+            Surface::Mesh { mesh, .. } => {
+                let [a, b, c] = mesh.corners(&mesh.face(face as usize));
+                (b - a).cross(c - a).normalize_or_zero()
+            }
+            _ => shape.normal_at(point).normalize_or_zero(),
+        }
+    }
+}
+
+/// A point of the triangle `p1`, `p1 + e1`, `p1 + e2`, uniformly by area, and its normal.
+fn triangle_point(p1: Point3, e1: Vec3, e2: Vec3, u: f64, v: f64) -> (Point3, Vec3) {
+    let su = u.sqrt();
+    let (b1, b2) = ((1.0 - v) * su, v * su);
+    (p1 + e1 * b1 + e2 * b2, e1.cross(e2).normalize_or_zero())
+}
+
+/// One light source as next-event estimation sees it.
+#[derive(Debug, Clone)]
+enum Emitter {
+    /// A book point light, or a spotlight (its cone in `spot`).
+    Point {
+        position: Point3,
+        intensity: Color,
+        falloff: bool,
+        spot: Option<SpotLight>,
+    },
+    /// Parallel light from `towards` (unit).
+    Directional { towards: Vec3, irradiance: Color },
+    /// The book's area light: a rectangle of no-fall-off points, sampled by area.
+    BookArea {
+        corner: Point3,
+        side_u: Vec3,
+        side_v: Vec3,
+        intensity: Color,
+        falloff: bool,
+    },
+    /// The world's object `object`, whose material emits `emission`.
+    Surface {
+        object: u32,
+        surface: Surface,
+        emission: Color,
+        side: EmissionSide,
+    },
+    /// The sky.
+    Sky,
+}
+
+/// The lights of a world as the path tracer samples them (see the [module](self)).
+#[derive(Debug, Clone)]
+pub struct Emitters {
+    list: Vec<Emitter>,
+    /// Which emitter to pick, by power; `None` when nothing emits.
+    pick: Option<Distribution1D>,
+    /// Per world object, its index in `list`, or [`NOT_SAMPLED`].
+    by_object: Vec<u32>,
+    /// The sky's index in `list`, if the sky gives light.
+    sky: Option<u32>,
+    /// The sky when there is no environment map.
+    background: Color,
+    environment: Option<Arc<EnvironmentMap>>,
+}
+
+impl Emitters {
+    /// The emitters of `world`.
+    pub fn new(world: &World) -> Self {
+        let radius = scene_radius(world);
+        let falloff = world.lighting == LightingModel::Optics;
+        let disc = PI * radius * radius;
+        let mut list = Vec::new();
+        let mut power = Vec::new();
+        for light in &world.lights {
+            let (emitter, p) = match *light {
+                Light::Point(l) => (
+                    Emitter::Point {
+                        position: l.position,
+                        intensity: l.intensity * PI,
+                        falloff,
+                        spot: None,
+                    },
+                    l.intensity.luminance() * PI * if falloff { 4.0 * PI } else { disc },
+                ),
+                Light::Spot(l) => (
+                    Emitter::Point {
+                        position: l.position,
+                        intensity: l.intensity * PI,
+                        falloff,
+                        spot: Some(l),
+                    },
+                    l.intensity.luminance() * PI * if falloff { 4.0 * PI } else { disc },
+                ),
+                Light::Directional(l) => (
+                    Emitter::Directional {
+                        towards: l.towards.normalize_or_zero(),
+                        irradiance: l.intensity * PI,
+                    },
+                    l.intensity.luminance() * PI * disc,
+                ),
+                Light::Area(l) => (
+                    Emitter::BookArea {
+                        corner: l.corner,
+                        side_u: l.uvec * f64::from(l.usteps),
+                        side_v: l.vvec * f64::from(l.vsteps),
+                        intensity: l.intensity * PI,
+                        falloff,
+                    },
+                    l.intensity.luminance() * PI * if falloff { 4.0 * PI } else { disc },
+                ),
+                Light::Ambient(_) => continue,
+            };
+            list.push(emitter);
+            power.push(p);
+        }
+        let mut by_object = vec![NOT_SAMPLED; world.objects.len()];
+        for (i, object) in world.objects.iter().enumerate() {
+            let emission = object.material.emission;
+            if emission.max_channel() <= 0.0 || object.motion.is_some() {
+                continue;
+            }
+            let Some(surface) = Surface::of(&object.shape) else {
+                continue;
+            };
+            let det = object.transform.matrix().determinant().abs();
+            let area = surface.area() * det.powf(2.0 / 3.0);
+            by_object[i] = list.len() as u32;
+            list.push(Emitter::Surface {
+                object: i as u32,
+                surface,
+                emission,
+                side: object.material.emission_side,
+            });
+            power.push(emission.luminance() * PI * area);
+        }
+        // A constant sky is not sampled as a light: BSDF sampling follows it as well as any
+        // light sampling could (perfectly, for a diffuse surface), and a white furnace then
+        // has no variance at all. A map is sampled by its luminance.
+        let sky_power = world
+            .environment
+            .as_ref()
+            .map_or(0.0, |map| map.average_radiance().luminance() * PI * disc);
+        let sky = (sky_power > 0.0).then(|| {
+            list.push(Emitter::Sky);
+            power.push(sky_power);
+            (list.len() - 1) as u32
+        });
+        let pick = Distribution1D::new(&power)
+            .ok()
+            .filter(|d| d.integral() > 0.0);
+        Self {
+            list,
+            pick,
+            by_object,
+            sky,
+            background: world.background,
+            environment: world.environment.clone(),
+        }
+    }
+
+    /// Whether anything can be sampled.
+    pub fn is_empty(&self) -> bool {
+        self.pick.is_none()
+    }
+
+    /// The radiance of the sky along `direction` (what a path that escapes sees).
+    #[inline]
+    pub fn sky_radiance(&self, direction: Vec3) -> Color {
+        match &self.environment {
+            Some(map) => map.radiance(direction),
+            None => self.background,
+        }
+    }
+
+    /// The density with which [`sample`](Self::sample) chooses `direction` towards the sky.
+    pub fn sky_pdf(&self, direction: Vec3) -> f64 {
+        let (Some(sky), Some(pick)) = (self.sky, &self.pick) else {
+            return 0.0;
+        };
+        match &self.environment {
+            Some(map) => pick.probability(sky as usize) * map.pdf(direction),
+            None => 0.0,
+        }
+    }
+
+    /// The density (per solid angle at `from`) with which [`sample`](Self::sample) chooses the
+    /// point `point` of world object `index`, seen along unit `direction` from `from`, where
+    /// the object-space hit was on face `face`; 0 for objects not sampled.
+    pub fn object_pdf(
+        &self,
+        world: &World,
+        index: usize,
+        from: Point3,
+        point: Point3,
+        direction: Vec3,
+        face: u32,
+    ) -> f64 {
+        let (Some(&slot), Some(pick)) = (self.by_object.get(index), &self.pick) else {
+            return 0.0;
+        };
+        let Some(Emitter::Surface {
+            surface, object, ..
+        }) = self.list.get(slot as usize)
+        else {
+            return 0.0;
+        };
+        let object = &world.objects[*object as usize];
+        let local = object.transform.inverse_point(point);
+        let n_local = surface.normal_at(&object.shape, local, face);
+        let (area_pdf, normal) = area_density(surface, &object.transform, n_local);
+        let cos = normal.dot(direction).abs();
+        if cos <= 0.0 {
+            return 0.0;
+        }
+        pick.probability(slot as usize) * area_pdf * (point - from).length_squared() / cos
+    }
+
+    /// Picks an emitter with `pick` and a point or direction on it with `u`, for lighting
+    /// `point` in `world` at shutter instant `time`; `None` when nothing emits or the choice
+    /// gives no light (the back of a one-sided emitter, a point outside a spotlight's cone).
+    pub fn sample(
+        &self,
+        world: &World,
+        point: Point3,
+        pick: f64,
+        u: [f64; 2],
+    ) -> Option<LightSample> {
+        let distribution = self.pick.as_ref()?;
+        let (slot, probability, rest) = distribution.sample_discrete_reused(pick);
+        match &self.list[slot] {
+            Emitter::Point {
+                position,
+                intensity,
+                falloff,
+                spot,
+            } => {
+                let to_light = *position - point;
+                let distance = to_light.length();
+                let direction = to_light / distance;
+                let cone = spot.map_or(1.0, |s| s.falloff(-direction));
+                let mut radiance = *intensity * cone;
+                if *falloff {
+                    radiance = radiance * (1.0 / (distance * distance));
+                }
+                (radiance.max_channel() > 0.0 && distance > 0.0).then_some(LightSample {
+                    direction,
+                    distance,
+                    radiance,
+                    pdf: probability,
+                    delta: true,
+                })
+            }
+            Emitter::Directional {
+                towards,
+                irradiance,
+            } => Some(LightSample {
+                direction: *towards,
+                distance: f64::INFINITY,
+                radiance: *irradiance,
+                pdf: probability,
+                delta: true,
+            }),
+            Emitter::BookArea {
+                corner,
+                side_u,
+                side_v,
+                intensity,
+                falloff,
+            } => {
+                let on_light = *corner + *side_u * u[0] + *side_v * u[1];
+                let to_light = on_light - point;
+                let distance = to_light.length();
+                let mut radiance = *intensity;
+                if *falloff {
+                    radiance = radiance * (1.0 / (distance * distance));
+                }
+                (distance > 0.0).then(|| LightSample {
+                    direction: to_light / distance,
+                    distance,
+                    radiance,
+                    pdf: probability,
+                    delta: true,
+                })
+            }
+            Emitter::Surface {
+                object,
+                surface,
+                emission,
+                side,
+            } => {
+                let object: &Object = &world.objects[*object as usize];
+                let (local, n_local) = surface.sample(rest, u);
+                let on_light = object.transform.point(local);
+                let (area_pdf, normal) = area_density(surface, &object.transform, n_local);
+                let to_light = on_light - point;
+                let distance_squared = to_light.length_squared();
+                let distance = distance_squared.sqrt();
+                if distance <= 0.0 || area_pdf <= 0.0 {
+                    return None;
+                }
+                let direction = to_light / distance;
+                let cos = -normal.dot(direction);
+                if !side.emits_towards(cos) {
+                    return None;
+                }
+                let cos = cos.abs();
+                Some(LightSample {
+                    direction,
+                    distance,
+                    radiance: *emission,
+                    pdf: probability * area_pdf * distance_squared / cos,
+                    delta: false,
+                })
+            }
+            Emitter::Sky => {
+                let (direction, radiance, pdf) = self.environment.as_ref()?.sample(u)?;
+                Some(LightSample {
+                    direction,
+                    distance: f64::INFINITY,
+                    radiance,
+                    pdf: probability * pdf,
+                    delta: false,
+                })
+            }
+        }
+    }
+}
+
+/// The world-space area density of a point sampled uniformly on `surface` whose object-space
+/// normal is `n_local`, and the unit world normal there.
+fn area_density(surface: &Surface, transform: &Transform, n_local: Vec3) -> (f64, Vec3) {
+    let scale = transform.area_scale(n_local) * surface.area();
+    let density = if scale > 0.0 && scale.is_finite() {
+        1.0 / scale
+    } else {
+        0.0
+    };
+    (density, transform.normal(n_local))
+}
+
+/// The radius of a sphere around the world's bounded objects (1 when there are none): the
+/// scale against which lights that do not fall off, and the sky, are weighed.
+fn scene_radius(world: &World) -> f64 {
+    let mut lo = Point3::splat(f64::INFINITY);
+    let mut hi = Point3::splat(f64::NEG_INFINITY);
+    for object in &world.objects {
+        let b = object.bounds();
+        if b.min.is_finite() && b.max.is_finite() {
+            lo = lo.min(b.min);
+            hi = hi.max(b.max);
+        }
+    }
+    if lo.x <= hi.x {
+        ((hi - lo).length() / 2.0).max(1e-3)
+    } else {
+        1.0
+    }
+}

@@ -1,0 +1,120 @@
+//! The path tracer against answers known in closed form, at small sizes: a closed glowing
+//! room, white and grey furnaces. Each test renders a few pixels at a fixed seed and fails
+//! when any pixel leaves the interval the issue states.
+
+use rayforge::film::{Film, SharedFilm};
+use rayforge::math::{scaling, view_transform};
+use rayforge::options::{PathOptions, SamplerKind};
+use rayforge::render::path::{render_path, PathJob};
+use rayforge::shading::{EmissionSide, Material, Physical};
+use rayforge::{point, vector, Camera, Color, Object, World};
+
+/// Renders `world` through `camera` at `spp` samples per pixel with `sampler`.
+fn render(world: &World, camera: &Camera, spp: u64, sampler: SamplerKind) -> Film {
+    let job = PathJob {
+        options: PathOptions {
+            sampler,
+            ..PathOptions::default()
+        },
+        samples: 0..spp,
+        progress: None,
+        cancel: None,
+    };
+    let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
+    let mut done = vec![false; camera.vsize()];
+    render_path(camera, world, &job, &film, None, &mut done).unwrap();
+    assert!(done.iter().all(|&d| d));
+    film.into_film()
+}
+
+fn diffuse(albedo: f64) -> Material {
+    Material {
+        color: Color::new(albedo, albedo, albedo),
+        physical: Some(Physical::Diffuse),
+        ..Material::DEFAULT
+    }
+}
+
+/// Every pixel's channels, resolved.
+fn pixels(film: &Film) -> Vec<f64> {
+    let canvas = film.resolve();
+    let mut out = Vec::new();
+    for y in 0..canvas.height() {
+        for x in 0..canvas.width() {
+            let c = canvas.pixel_at(x, y);
+            out.extend([c.red, c.green, c.blue]);
+        }
+    }
+    out
+}
+
+#[test]
+fn inside_a_closed_sphere_of_albedo_half_that_emits_half_every_pixel_is_one() {
+    // L = Le + a L  ⇒  L = 0.5 / (1 − 0.5) = 1 everywhere inside.
+    let sphere = Object::sphere()
+        .with_transform(scaling(10.0, 10.0, 10.0))
+        .with_material(Material {
+            emission: Color::new(0.5, 0.5, 0.5),
+            emission_side: EmissionSide::Back,
+            ..diffuse(0.5)
+        });
+    let world = World {
+        objects: vec![sphere],
+        ..World::default()
+    };
+    let camera = Camera::new(6, 6, 1.2).with_transform(view_transform(
+        point(0.0, 0.0, 0.0),
+        point(0.0, 0.0, 1.0),
+        vector(0.0, 1.0, 0.0),
+    ));
+    for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
+        for (i, v) in pixels(&render(&world, &camera, 256, sampler))
+            .into_iter()
+            .enumerate()
+        {
+            assert!((v - 1.0).abs() <= 0.025, "{sampler:?}: channel {i} is {v}");
+        }
+    }
+}
+
+/// A sphere of `albedo` in a sky of radiance 1, seen whole by a small camera.
+fn furnace(albedo: f64) -> (World, Camera) {
+    let world = World {
+        objects: vec![Object::sphere().with_material(diffuse(albedo))],
+        background: Color::WHITE,
+        ..World::default()
+    };
+    let camera = Camera::new(6, 6, 0.8).with_transform(view_transform(
+        point(0.0, 0.0, 4.0),
+        point(0.0, 0.0, 0.0),
+        vector(0.0, 1.0, 0.0),
+    ));
+    (world, camera)
+}
+
+#[test]
+fn the_white_furnace_vanishes() {
+    // An object that loses nothing in a uniform sky is invisible: every pixel is 1.
+    let (world, camera) = furnace(1.0);
+    for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
+        for (i, v) in pixels(&render(&world, &camera, 64, sampler))
+            .into_iter()
+            .enumerate()
+        {
+            assert!((v - 1.0).abs() <= 0.01, "{sampler:?}: channel {i} is {v}");
+        }
+    }
+}
+
+#[test]
+fn a_grey_convex_object_in_the_furnace_shows_its_albedo() {
+    // A convex object sees only the sky: one bounce, L = albedo × 1 on the sphere, 1 beside.
+    let (world, camera) = furnace(0.8);
+    let values = pixels(&render(&world, &camera, 64, SamplerKind::Sobol));
+    // The 6 × 6 image spans 0.8 rad; the sphere (radius 1, 4 units away) spans 0.51 in the
+    // middle, and the corner pixels lie wholly beside it.
+    let centre = (3 * 6 + 3) * 3;
+    assert!((values[centre] - 0.8).abs() <= 0.01, "{}", values[centre]);
+    assert!((values[0] - 1.0).abs() <= 1e-12, "the corner sees the sky: {}", values[0]);
+}
+
