@@ -113,8 +113,12 @@ fn read_exr(bytes: &[u8], max_pixels: u64) -> Result<HdrImage, String> {
             .iter()
             .find(|h| !h.deep && has(h, "R") && has(h, "G") && has(h, "B"))
             .ok_or("it has no layer with R, G and B channels")?;
-        let size = header.layer_size;
-        check_size(size.width() as u64, size.height() as u64, max_pixels)?;
+        // Every layer is held to the limit, not only the one read: the decoder reads each
+        // layer's table of chunk offsets, whose length follows from the layer's size.
+        for h in std::iter::once(header).chain(&meta.headers) {
+            let size = h.layer_size;
+            check_size(size.width() as u64, size.height() as u64, max_pixels)?;
+        }
         let image = read()
             .no_deep_data()
             .largest_resolution_level()
