@@ -13,6 +13,9 @@ mod canvas_items;
 mod defines;
 mod error;
 mod files;
+// Environment-map images; no scene item reads them yet, so nothing outside its tests calls it.
+#[allow(dead_code)]
+mod hdr;
 mod items;
 mod material;
 pub mod obj;
