@@ -44,8 +44,13 @@ Render options (`rayforge render --help` describes each in full):
       --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
       --resume              continue an interrupted render from its checkpoint
   -q, --quiet               no progress bar and no summary
-      --renderer <NAME>     ray (the ray tracer) or raster (triangles; no shadows, mirrors
-                            or glass) [default: ray]
+      --renderer <NAME>     ray (the ray tracer), raster (triangles; no shadows, mirrors
+                            or glass) or path (the path tracer) [default: ray]
+      --seed <N>            path only: the seed of its random numbers [default: 0]
+      --sampler <NAME>      path only: sobol or independent [default: sobol]
+      --filter <NAME>       path only: box, tent or gaussian pixel filter [default: box]
+      --filter-radius <PX>  path only: the tent or Gaussian filter's radius [default: 1.5]
+      --aovs                path only: also write the first hit's albedo and normal
       --shading <MODE>      raster only: flat, gouraud or phong [default: phong]
       --sphere-divisions <N> raster only: sphere resolution (N+1 rings of N) [default: 48]
       --texture-filter <F>  raster only: nearest, bilinear or trilinear [default: trilinear]
@@ -190,13 +195,40 @@ pub struct RenderArgs {
     #[arg(short, long)]
     pub quiet: bool,
 
-    /// Which renderer draws the scene: `ray`, the Whitted ray tracer, or `raster`, a
-    /// software rasterizer (Computer Graphics from Scratch, part II) that draws every shape as
+    /// Which renderer draws the scene: `ray`, the Whitted ray tracer; `raster`, a software
+    /// rasterizer (Computer Graphics from Scratch, part II) that draws every shape as
     /// triangles, much faster, with the same camera, materials and lights but no shadows,
-    /// reflection, refraction or anti-aliasing.
+    /// reflection, refraction or anti-aliasing; or `path`, a physically based path tracer
+    /// (indirect light, glossy and rough materials, emitting surfaces, environment maps).
     /// [default: the scene's `renderer`, else ray]
     #[arg(long, value_name = "NAME", value_enum)]
     pub renderer: Option<Renderer>,
+
+    /// Path tracer: the seed of its random numbers [default: the scene's `seed`, else 0].
+    /// Renders with different seeds are independent estimates of the same image.
+    #[arg(long, value_name = "N")]
+    pub seed: Option<u64>,
+
+    /// Path tracer: `sobol` (Owen-scrambled Sobol points) or `independent` random numbers
+    /// [default: the scene's `sampler`, else sobol].
+    #[arg(long, value_name = "NAME", value_enum)]
+    pub sampler: Option<SamplerArg>,
+
+    /// Path tracer: how samples are weighed in their pixel: `box` (a plain average over the
+    /// pixel), `tent` or `gaussian` [default: the scene's `filter`, else box].
+    #[arg(long, value_name = "NAME", value_enum)]
+    pub filter: Option<PixelFilterArg>,
+
+    /// Path tracer: the tent or Gaussian filter's radius in pixels, above 0 and at most 8
+    /// [default: 1.5].
+    #[arg(long, value_name = "PIXELS")]
+    pub filter_radius: Option<f64>,
+
+    /// Path tracer: also write the albedo and the normal of the first surface each pixel
+    /// sees, for denoisers, beside the image (`out.albedo.pfm` and `out.normal.pfm` for
+    /// `out.pfm`; the normals as (n + 1) / 2 in an 8-bit image).
+    #[arg(long)]
+    pub aovs: bool,
 
     /// How the rasterizer shades: `flat` (one colour per triangle), `gouraud` (lit at the
     /// vertices, blended) or `phong` (lit at every pixel). Needs --renderer raster.
@@ -227,6 +259,28 @@ pub enum Renderer {
     Ray,
     /// The software rasterizer.
     Raster,
+    /// The physically based path tracer.
+    Path,
+}
+
+/// The path tracer's samplers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SamplerArg {
+    /// Owen-scrambled Sobol points.
+    Sobol,
+    /// Independent random numbers.
+    Independent,
+}
+
+/// The path tracer's pixel filters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PixelFilterArg {
+    /// Each sample within its pixel, weight 1.
+    Box,
+    /// A pyramid.
+    Tent,
+    /// A Gaussian.
+    Gaussian,
 }
 
 /// Shading modes of the rasterizer.

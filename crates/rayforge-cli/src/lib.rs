@@ -12,6 +12,7 @@ pub mod failure;
 mod format;
 mod frames;
 mod interrupt;
+mod path_command;
 mod progress;
 mod render_command;
 mod settings;

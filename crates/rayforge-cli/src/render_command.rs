@@ -7,7 +7,7 @@ use crate::checkpoint::{self, Log, RenderKey};
 use crate::diagnostics::{print_warning, scene_failure};
 use crate::failure::Failure;
 use crate::progress::row_bar;
-use crate::settings::RenderSettings;
+use crate::settings::{Chosen, RenderSettings};
 use crate::summary::{raster_summary_line, summary_line};
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
@@ -48,8 +48,16 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
     check_writable(output)?;
     let (scene, camera) = load_scene(settings, frame)?;
     let pool = thread_pool(settings)?;
-    if let Some(options) = &settings.raster.resolve(scene.raster)? {
-        return raster_render(settings, &scene, &camera, &pool, options, output);
+    match settings.choose(scene.raster, scene.path)? {
+        Chosen::Raster(options) => {
+            return raster_render(settings, &scene, &camera, &pool, &options, output)
+        }
+        Chosen::Path(options) => {
+            return crate::path_command::path_render(
+                settings, &scene, &camera, &pool, options, output,
+            )
+        }
+        Chosen::Ray => {}
     }
     let options = ray_options(settings, &scene);
     if let Some((x, y)) = settings.trace_pixel {

@@ -1,14 +1,20 @@
 //! Validated settings: what the render command runs with, checked before any work starts.
 
-use crate::args::{FilterArg, RenderArgs, Renderer, ShadingArg};
+use crate::args::{FilterArg, PixelFilterArg, RenderArgs, Renderer, SamplerArg, ShadingArg};
 use crate::failure::Failure;
 use crate::format::ImageFormat;
 use crate::sizing::SizeRequest;
+use rayforge::film::PixelFilter;
+use rayforge::options::{PathOptions, SamplerKind};
 use rayforge::raster::{RasterOptions, Shading, TextureFilter};
 use std::path::PathBuf;
 
-/// Most camera rays per pixel accepted on the command line.
+/// Most camera rays per pixel accepted on the command line: the Whitted renderer's grid of 64
+/// × 64; the path tracer's references go further.
 const MAX_SPP: u32 = 4096;
+
+/// Most samples per pixel the path tracer accepts on the command line (2²⁰).
+const MAX_PATH_SPP: u32 = 1 << 20;
 
 /// Deepest recursion accepted: every bounce can spawn two rays, so deep limits explode.
 const MAX_DEPTH_LIMIT: u32 = 64;
@@ -58,6 +64,154 @@ pub struct RenderSettings {
     pub pause_after_rows: Option<usize>,
     /// The renderer and raster options asked for on the command line.
     pub raster: RasterRequest,
+    /// The path tracer's options asked for on the command line.
+    pub path: PathRequest,
+}
+
+/// The renderer that draws a scene, with its options: the command line's choice, else the
+/// scene's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Chosen {
+    /// The Whitted ray tracer.
+    Ray,
+    /// The rasterizer.
+    Raster(RasterOptions),
+    /// The path tracer.
+    Path(PathOptions),
+}
+
+/// The path tracer's flags given on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PathRequest {
+    /// `--seed`.
+    pub seed: Option<u64>,
+    /// `--sampler`.
+    pub sampler: Option<SamplerKind>,
+    /// `--filter` with `--filter-radius`.
+    pub filter: Option<PixelFilter>,
+    /// `--aovs`.
+    pub aovs: bool,
+}
+
+impl PathRequest {
+    /// The path flag given, if any.
+    fn flag(&self) -> Option<&'static str> {
+        [
+            ("--seed", self.seed.is_some()),
+            ("--sampler", self.sampler.is_some()),
+            ("--filter", self.filter.is_some()),
+            ("--aovs", self.aovs),
+        ]
+        .into_iter()
+        .find_map(|(flag, given)| given.then_some(flag))
+    }
+}
+
+/// The default radius of the tent and Gaussian filters, in pixels.
+pub const DEFAULT_FILTER_RADIUS: f64 = 1.5;
+
+/// The path tracer's flags, checked.
+fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
+    let radius = args.filter_radius.unwrap_or(DEFAULT_FILTER_RADIUS);
+    if !(radius > 0.0 && radius <= rayforge::film::MAX_FILTER_RADIUS) {
+        return Err(Failure::usage(format!(
+            "--filter-radius must be above 0 and at most {}, found {radius}",
+            rayforge::film::MAX_FILTER_RADIUS
+        )));
+    }
+    let filter = match args.filter {
+        None if args.filter_radius.is_some() => {
+            return Err(Failure::usage(
+                "--filter-radius needs --filter tent or --filter gaussian",
+            ))
+        }
+        None => None,
+        Some(PixelFilterArg::Box) if args.filter_radius.is_some() => {
+            return Err(Failure::usage(
+                "the box filter is one pixel wide: --filter-radius needs --filter tent or gaussian",
+            ))
+        }
+        Some(PixelFilterArg::Box) => Some(PixelFilter::Box),
+        Some(PixelFilterArg::Tent) => Some(PixelFilter::Tent { radius }),
+        Some(PixelFilterArg::Gaussian) => Some(PixelFilter::Gaussian { radius }),
+    };
+    Ok(PathRequest {
+        seed: args.seed,
+        sampler: args.sampler.map(|s| match s {
+            SamplerArg::Sobol => SamplerKind::Sobol,
+            SamplerArg::Independent => SamplerKind::Independent,
+        }),
+        filter,
+        aovs: args.aovs,
+    })
+}
+
+impl RenderSettings {
+    /// Whether `--aovs` asks for the albedo and normal images.
+    pub fn aovs(&self) -> bool {
+        self.path.aovs
+    }
+
+    /// The renderer that draws a scene whose `world:` item asks for the rasterizer with
+    /// `scene_raster` or the path tracer with `scene_path` (the command line's `--renderer`
+    /// wins), with the command line's options over the scene's. Each renderer's flags are
+    /// refused with another renderer.
+    pub fn choose(
+        &self,
+        scene_raster: Option<RasterOptions>,
+        scene_path: Option<PathOptions>,
+    ) -> Result<Chosen, Failure> {
+        let renderer = self.raster.renderer.unwrap_or(if scene_raster.is_some() {
+            Renderer::Raster
+        } else if scene_path.is_some() {
+            Renderer::Path
+        } else {
+            Renderer::Ray
+        });
+        if renderer != Renderer::Path {
+            if let Some(flag) = self.path.flag() {
+                return Err(Failure::usage(format!(
+                    "{flag} applies to the path tracer: add --renderer path"
+                )));
+            }
+        }
+        match renderer {
+            Renderer::Ray => self.raster.resolve(None, false).map(|_| Chosen::Ray),
+            Renderer::Raster => self
+                .raster
+                .resolve(scene_raster, true)
+                .map(|o| Chosen::Raster(o.unwrap_or_default())),
+            Renderer::Path => {
+                self.raster.resolve(None, false)?;
+                for (flag, given) in [
+                    ("--adaptive", self.adaptive.is_some()),
+                    ("--subsample", self.subsample.is_some()),
+                    ("--trace-pixel", self.trace_pixel.is_some()),
+                    ("--resume", self.resume),
+                ] {
+                    if given {
+                        return Err(Failure::usage(format!(
+                            "{flag} applies to the ray tracer, not to --renderer path"
+                        )));
+                    }
+                }
+                let mut options = scene_path.unwrap_or_default();
+                if let Some(depth) = self.max_depth {
+                    options.max_depth = depth;
+                }
+                if let Some(seed) = self.path.seed {
+                    options.seed = seed;
+                }
+                if let Some(sampler) = self.path.sampler {
+                    options.sampler = sampler;
+                }
+                if let Some(filter) = self.path.filter {
+                    options.filter = filter;
+                }
+                Ok(Chosen::Path(options))
+            }
+        }
+    }
 }
 
 /// The highest `--max-triangles` accepted: meshes index their vertices with 32-bit numbers.
@@ -102,9 +256,19 @@ impl RenderSettings {
         };
         let size = SizeRequest::new(args.width, args.height, args.max_pixels)?;
         if let Some(spp) = args.spp {
-            if spp == 0 || spp > MAX_SPP {
+            let most = if args.renderer == Some(Renderer::Path) {
+                MAX_PATH_SPP
+            } else {
+                MAX_SPP
+            };
+            if spp == 0 || spp > most {
                 return Err(Failure::usage(format!(
-                    "--spp must be between 1 and {MAX_SPP}, found {spp}"
+                    "--spp must be between 1 and {most}, found {spp}{}",
+                    if most == MAX_SPP {
+                        format!(" ({MAX_PATH_SPP} with --renderer path)")
+                    } else {
+                        String::new()
+                    }
                 )));
             }
         }
@@ -150,6 +314,7 @@ impl RenderSettings {
             )));
         }
         let raster = raster_request(&args)?;
+        let path = path_request(&args)?;
         Ok(Self {
             scene: args.scene,
             output: args.output,
@@ -171,6 +336,7 @@ impl RenderSettings {
             resume: args.resume,
             pause_after_rows: args.pause_after_rows,
             raster,
+            path,
         })
     }
 }
@@ -206,16 +372,15 @@ impl RasterRequest {
         .find_map(|(flag, given)| given.then_some(flag))
     }
 
-    /// The rasterizer's options when the rasterizer draws the scene (`--renderer raster`, or
-    /// the scene's choice when the command line makes none), `None` for the ray tracer. The
-    /// command line's raster flags win over the scene's; they are refused with the ray tracer,
-    /// and the ray tracer's sampling flags with the rasterizer.
-    pub fn resolve(&self, scene: Option<RasterOptions>) -> Result<Option<RasterOptions>, Failure> {
-        let raster = match self.renderer {
-            Some(Renderer::Ray) => false,
-            Some(Renderer::Raster) => true,
-            None => scene.is_some(),
-        };
+    /// The rasterizer's options when `raster` (the rasterizer draws the scene), `None` for
+    /// the other renderers. The command line's raster flags win over the scene's; they are
+    /// refused with the other renderers, and the ray tracer's sampling flags with the
+    /// rasterizer.
+    fn resolve(
+        &self,
+        scene: Option<RasterOptions>,
+        raster: bool,
+    ) -> Result<Option<RasterOptions>, Failure> {
         if !raster {
             if let Some(flag) = self.raster_flag() {
                 return Err(Failure::usage(format!(

@@ -40,6 +40,26 @@ pub fn raster_summary_line(
     )
 }
 
+/// E.g. `path traced 256×256 at 64 spp in 3.10 s, 1.4 M samples/s (21.0 M rays) → out.pfm`.
+pub fn path_summary_line(
+    width: usize,
+    height: usize,
+    spp: u64,
+    elapsed: Duration,
+    samples: u64,
+    rays: u64,
+    output: &Path,
+) -> String {
+    let rate = samples as f64 / elapsed.as_secs_f64().max(1e-9);
+    format!(
+        "path traced {width}×{height} at {spp} spp in {:.2} s, {} samples/s ({} rays) → {}",
+        elapsed.as_secs_f64(),
+        si(rate),
+        si(rays as f64),
+        output.display()
+    )
+}
+
 /// A count with an SI prefix and one decimal: `4.1 M`, `950.0 k`, `12`.
 fn si(v: f64) -> String {
     match v {

@@ -115,6 +115,9 @@ fn a_grey_convex_object_in_the_furnace_shows_its_albedo() {
     // middle, and the corner pixels lie wholly beside it.
     let centre = (3 * 6 + 3) * 3;
     assert!((values[centre] - 0.8).abs() <= 0.01, "{}", values[centre]);
-    assert!((values[0] - 1.0).abs() <= 1e-12, "the corner sees the sky: {}", values[0]);
+    assert!(
+        (values[0] - 1.0).abs() <= 1e-12,
+        "the corner sees the sky: {}",
+        values[0]
+    );
 }
-

@@ -1,5 +1,11 @@
-//! The Ray Tracer Challenge's camera: `add: camera` with `field-of-view`, `from`, `to` and
-//! `up`, and optionally the thin lens of depth of field (`aperture`, `focal-distance`).
+//! The Ray Tracer Challenge's camera: `add: camera` with `field-of-view` (radians, or
+//! `field-of-view-degrees`), `from`, `to` and `up`, optionally the thin lens of depth of field
+//! (`aperture`, `focal-distance`), and `handedness`.
+//!
+//! The book's world is left-handed: the image's right is `up × forward`. Scenes written for
+//! right-handed renderers (pbrt, Mitsuba, the path tracer's reference scenes) put the image's
+//! right along `forward × up`; `handedness: right` mirrors the camera's x axis so that they
+//! render as their authors saw them instead of mirrored.
 //!
 //! Separate from the other books' cameras: it is the one placed by a view transform, and the
 //! one with a lens.
@@ -15,6 +21,8 @@ const KEYS: &[&str] = &[
     "width",
     "height",
     "field-of-view",
+    "field-of-view-degrees",
+    "handedness",
     "from",
     "to",
     "up",
@@ -34,8 +42,53 @@ pub fn camera(
     let get = |k: &str| required(source, entries, item, k, "the camera");
     let width = source.integer(get("width")?, "width", 1)? as usize;
     let height = source.integer(get("height")?, "height", 1)? as usize;
-    let fov = field_of_view(source, get("field-of-view")?)?;
-    let view = view(source, entries, item)?;
+    let fov = match entries.iter().find(|e| e.name == "field-of-view-degrees") {
+        Some(e) if entries.iter().any(|e| e.name == "field-of-view") => {
+            return Err(source.error(
+                e.key,
+                "field-of-view-degrees",
+                "give `field-of-view` (radians) or `field-of-view-degrees`, not both",
+            ))
+        }
+        Some(e) => {
+            let degrees = source.number(e.value, "field-of-view-degrees")?;
+            if !(degrees > 0.0 && degrees < 180.0) {
+                return Err(source.error(
+                    e.value,
+                    "field-of-view-degrees",
+                    format!(
+                        "the field of view must lie between 0 and 180 degrees, found {degrees}"
+                    ),
+                ));
+            }
+            degrees.to_radians()
+        }
+        None => field_of_view(source, get("field-of-view")?)?,
+    };
+    let mut view = view(source, entries, item)?;
+    if let Some(e) = entries.iter().find(|e| e.name == "handedness") {
+        match source.string(e.value, "handedness")? {
+            "left" => {}
+            "right" => {
+                // Mirror the camera's own x axis: the image's right becomes forward × up.
+                let mirror = Transform::new(rayforge::math::scaling(-1.0, 1.0, 1.0));
+                view = mirror.then_after(&view).map_err(|e| {
+                    source.error(
+                        item,
+                        "handedness",
+                        format!("the view transform is singular: {e}"),
+                    )
+                })?;
+            }
+            other => {
+                return Err(source.error(
+                    e.value,
+                    "handedness",
+                    format!("unknown handedness `{other}`; expected left (the book's) or right"),
+                ))
+            }
+        }
+    }
     let camera = Camera::new(width, height, fov).with_transform_of(view);
     lens(source, entries, item, camera)
 }

@@ -1,0 +1,178 @@
+//! `rayforge render --renderer path`: the path tracer's render, from the film to the files: the
+//! image (linear in PFM, sRGB-encoded in PNG and PPM, which are for looking at), and with
+//! `--aovs` the albedo and normal images beside it for denoisers.
+
+use crate::atomic_write::write_atomically;
+use crate::failure::Failure;
+use crate::format::ImageFormat;
+use crate::progress::row_bar;
+use crate::settings::RenderSettings;
+use crate::summary::path_summary_line;
+use rayforge::camera::Camera;
+use rayforge::canvas::Canvas;
+use rayforge::color::Color;
+use rayforge::film::{Film, SharedFilm};
+use rayforge::options::PathOptions;
+use rayforge::render::path::{render_path, Aovs, PathJob};
+use rayforge_scene::Scene;
+use rayon::ThreadPool;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Samples per pixel when neither `--spp` nor the camera's `samples` asks for more than one:
+/// a path-traced image of one sample is mostly noise.
+pub const DEFAULT_PATH_SPP: u32 = 64;
+
+/// The samples per pixel: `--spp`, else the camera's `samples` when above 1, else
+/// [`DEFAULT_PATH_SPP`].
+fn samples_per_pixel(settings: &RenderSettings, scene: &Scene) -> u64 {
+    let spp = settings.spp.unwrap_or(if scene.samples > 1 {
+        scene.samples
+    } else {
+        DEFAULT_PATH_SPP
+    });
+    u64::from(spp.max(1))
+}
+
+/// Path traces the scene and writes the image (and the AOVs); a summary line after.
+pub fn path_render(
+    settings: &RenderSettings,
+    scene: &Scene,
+    camera: &Camera,
+    pool: &ThreadPool,
+    options: PathOptions,
+    output: &Path,
+) -> Result<(), Failure> {
+    let (width, height) = (camera.hsize(), camera.vsize());
+    let spp = samples_per_pixel(settings, scene);
+    let film = Film::with_filter(width, height, options.filter)
+        .map_err(|e| Failure::usage(format!("{e}")))?;
+    let film = SharedFilm::from(film);
+    let aovs = settings.aovs().then(|| Aovs::new(width, height));
+    let aov_paths = settings.aovs().then(|| aov_paths(output));
+    if let Some((albedo, normal)) = &aov_paths {
+        crate::atomic_write::check_writable(albedo)?;
+        crate::atomic_write::check_writable(normal)?;
+    }
+    let stop = crate::interrupt::stop_flag(settings.quiet);
+    let bar = row_bar(height, settings.quiet);
+    let progress = |rows: usize| bar.inc(rows as u64);
+    let job = PathJob {
+        options,
+        samples: 0..spp,
+        progress: Some(&progress),
+        cancel: Some(stop),
+    };
+    let mut done = vec![false; height];
+    let started = Instant::now();
+    let stats = pool
+        .install(|| render_path(camera, &scene.world, &job, &film, aovs.as_ref(), &mut done))
+        .map_err(|e| Failure::internal(format!("the path tracer refused its film: {e}")))?;
+    let elapsed = started.elapsed();
+    bar.finish_and_clear();
+    let finished = done.iter().filter(|&&d| d).count();
+    if finished < height {
+        return Err(Failure::Interrupted(format!(
+            "interrupted after {finished} of {height} rows; nothing was written"
+        )));
+    }
+    let mut canvas = film.into_film().resolve();
+    encode_for(settings.format, &mut canvas);
+    scene.overlay.draw(&mut canvas, camera);
+    write_atomically(output, &settings.format.encode(&canvas)?)?;
+    if let (Some(aovs), Some((albedo_path, normal_path))) = (aovs, aov_paths) {
+        let mut albedo = aovs.albedo.into_film().resolve();
+        encode_for(settings.format, &mut albedo);
+        write_atomically(&albedo_path, &settings.format.encode(&albedo)?)?;
+        let mut normal = aovs.normal.into_film().resolve();
+        if settings.format != ImageFormat::Pfm {
+            // [-1, 1] into [0, 1], as normal maps store them.
+            for c in normal.pixels_mut() {
+                *c = (*c + Color::WHITE) * 0.5;
+            }
+        }
+        write_atomically(&normal_path, &settings.format.encode(&normal)?)?;
+    }
+    if !settings.quiet {
+        eprintln!(
+            "{}",
+            path_summary_line(
+                width,
+                height,
+                spp,
+                elapsed,
+                stats.samples,
+                stats.rays,
+                output
+            )
+        );
+        if stats.discarded > 0 {
+            eprintln!(
+                "{} samples whose radiance was not a finite number were left out",
+                stats.discarded
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Where `--aovs` writes the albedo and the normal: beside the image, `out.albedo.pfm` and
+/// `out.normal.pfm` for `out.pfm`.
+pub fn aov_paths(output: &Path) -> (PathBuf, PathBuf) {
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = output
+        .extension()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let named = |aov: &str| output.with_file_name(format!("{stem}.{aov}.{ext}"));
+    (named("albedo"), named("normal"))
+}
+
+/// Radiance as the format wants it: linear for PFM; for the 8-bit formats, encoded with the
+/// sRGB transfer curve (a display shows code values, not radiance).
+fn encode_for(format: ImageFormat, canvas: &mut Canvas) {
+    if format == ImageFormat::Pfm {
+        return;
+    }
+    for c in canvas.pixels_mut() {
+        *c = Color::new(srgb(c.red), srgb(c.green), srgb(c.blue));
+    }
+}
+
+/// The sRGB transfer curve (IEC 61966-2-1) of a linear value, clamped to [0, 1] first.
+fn srgb(linear: f64) -> f64 {
+    let v = if linear.is_nan() {
+        0.0
+    } else {
+        linear.clamp(0.0, 1.0)
+    };
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_aovs_go_beside_the_image() {
+        let (a, n) = aov_paths(Path::new("out/cornell.pfm"));
+        assert_eq!(a, Path::new("out/cornell.albedo.pfm"));
+        assert_eq!(n, Path::new("out/cornell.normal.pfm"));
+    }
+
+    #[test]
+    fn the_srgb_curve_meets_its_fixed_points() {
+        assert_eq!(srgb(0.0), 0.0);
+        assert!((srgb(1.0) - 1.0).abs() < 1e-12);
+        assert!((srgb(0.18) - 0.4614).abs() < 1e-3);
+        assert_eq!(srgb(5.0), srgb(1.0));
+        assert_eq!(srgb(f64::NAN), 0.0);
+    }
+}
