@@ -1,5 +1,7 @@
 //! The path tracer's keys: `emission` and the physical material `type:` (with `metal`, `eta`,
-//! `k`, `alpha`, `roughness`, `refractive-index`).
+//! `k`, `alpha`, `roughness`, `refractive-index`), and `renderer: path` with its `world:` keys.
+use rayforge::film::PixelFilter;
+use rayforge::options::{PathOptions, SamplerKind};
 use rayforge::shading::bsdf::{metal, METAL_NAMES};
 use rayforge::shading::Physical;
 use rayforge::{Color, Material};
@@ -33,6 +35,11 @@ fn indent(lines: &str) -> String {
 
 fn physical(lines: &str) -> Option<Physical> {
     material(lines).expect("the material is read").physical
+}
+
+/// The `world:` item holding `lines`: the first is line 9.
+fn world(lines: &str) -> Result<Scene, SceneError> {
+    load(&format!("- world:\n{}", indent(lines)))
 }
 
 #[track_caller]
@@ -475,4 +482,158 @@ fn an_extension_must_fit_the_type_it_inherits() {
         e.message.contains("does not apply to `type: dielectric`"),
         "{e}"
     );
+}
+
+// The `world:` item.
+
+#[test]
+fn renderer_path_gives_the_path_tracers_defaults() {
+    let scene = world("renderer: path").unwrap();
+    assert_eq!(scene.path, Some(PathOptions::default()));
+    assert_eq!(
+        scene.path.unwrap().max_depth,
+        PathOptions::DEFAULT_MAX_DEPTH
+    );
+    assert_eq!((scene.raster, scene.max_depth), (None, None));
+    for other in ["renderer: ray", "renderer: raster", "lighting: phong"] {
+        assert_eq!(world(other).unwrap().path, None, "{other}");
+    }
+    assert_eq!(load("").unwrap().path, None);
+}
+
+#[test]
+fn the_path_tracers_keys_are_read() {
+    let scene = world(
+        "renderer: path\nsampler: independent\nfilter: tent\nfilter-radius: 2\nseed: 42\nroulette-depth: 5\nmax-depth: 10",
+    )
+    .unwrap();
+    assert_eq!(
+        scene.path,
+        Some(PathOptions {
+            sampler: SamplerKind::Independent,
+            filter: PixelFilter::Tent { radius: 2.0 },
+            max_depth: 10,
+            roulette_depth: 5,
+            seed: 42,
+        })
+    );
+    // `max-depth` is still given to the other renderers' setting too.
+    assert_eq!(scene.max_depth, Some(10));
+    let path = |lines: &str| {
+        world(&format!("renderer: path\n{lines}"))
+            .unwrap()
+            .path
+            .unwrap()
+    };
+    assert_eq!(path("sampler: sobol").sampler, SamplerKind::Sobol);
+    assert_eq!(path("filter: box").filter, PixelFilter::Box);
+    assert_eq!(
+        path("filter: tent").filter,
+        PixelFilter::Tent { radius: 1.5 }
+    );
+    assert_eq!(
+        path("filter: gaussian").filter,
+        PixelFilter::Gaussian { radius: 1.5 }
+    );
+    assert_eq!(
+        path("filter-radius: 8\nfilter: gaussian").filter,
+        PixelFilter::Gaussian { radius: 8.0 }
+    );
+    assert_eq!(path("seed: 0").seed, 0);
+    assert_eq!(path("seed: 9007199254740992").seed, 1 << 53);
+    assert_eq!(path("max-depth: 0").max_depth, 0);
+    assert_eq!(path("roulette-depth: 1").roulette_depth, 1);
+}
+
+#[test]
+fn the_path_tracers_keys_need_renderer_path() {
+    for key in [
+        "sampler: sobol",
+        "filter: box",
+        "filter-radius: 1",
+        "seed: 1",
+        "roulette-depth: 2",
+    ] {
+        let name = key.split(':').next().unwrap();
+        assert_error(world(key), 9, 5, name, "add `renderer: path`");
+        assert_error(
+            world(&format!("renderer: raster\n{key}")),
+            10,
+            5,
+            name,
+            "applies to the path tracer",
+        );
+    }
+    // And the rasterizer's keys are not the path tracer's.
+    assert_error(
+        world("renderer: path\nwireframe: true"),
+        10,
+        5,
+        "wireframe",
+        "add `renderer: raster`",
+    );
+}
+
+#[test]
+fn an_unknown_renderer_lists_path() {
+    assert_error(
+        world("renderer: photon"),
+        9,
+        15,
+        "renderer",
+        "expected ray, raster or path",
+    );
+}
+
+#[test]
+fn bad_path_tracer_values_are_errors_naming_the_key() {
+    let path = |lines: &str| world(&format!("renderer: path\n{lines}"));
+    assert_error(
+        path("sampler: halton"),
+        10,
+        14,
+        "sampler",
+        "sobol or independent",
+    );
+    assert_error(
+        path("filter: mitchell"),
+        10,
+        13,
+        "filter",
+        "box, tent or gaussian",
+    );
+    assert_error(
+        path("filter: box\nfilter-radius: 2"),
+        11,
+        5,
+        "filter-radius",
+        "box filter has no radius",
+    );
+    assert_error(
+        path("filter-radius: 2"),
+        10,
+        5,
+        "filter-radius",
+        "needs `filter: tent`",
+    );
+    for radius in ["0", "-1", "8.5"] {
+        assert_error(
+            path(&format!("filter: tent\nfilter-radius: {radius}")),
+            11,
+            20,
+            "filter-radius",
+            "at most 8",
+        );
+    }
+    assert_error(path("seed: -1"), 10, 11, "seed", "whole number");
+    assert_error(path("seed: 1.5"), 10, 11, "seed", "whole number");
+    assert_error(path("seed: 1e20"), 10, 11, "seed", "whole number");
+    assert_error(
+        path("roulette-depth: 0"),
+        10,
+        21,
+        "roulette-depth",
+        "at least 1",
+    );
+    assert_error(path("max-depth: 65"), 10, 16, "max-depth", "the limit 64");
 }
