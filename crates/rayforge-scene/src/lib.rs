@@ -52,6 +52,9 @@ pub struct Scene {
     pub max_depth: Option<u32>,
     /// The rasterizer's options, when the scene's `world:` item says `renderer: raster`.
     pub raster: Option<rayforge::options::RasterOptions>,
+    /// The path tracer's options, when the scene's `world:` item says `renderer: path`
+    /// (`max-depth` included, as `max_depth`).
+    pub path: Option<rayforge::options::PathOptions>,
     /// The canvas items (`add: canvas-line`, `add: canvas-triangle`), drawn over the image by
     /// either renderer.
     pub overlay: rayforge::draw2d::Overlay,
@@ -206,7 +209,8 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         samples,
         anti_alias,
         max_depth: settings.as_ref().and_then(|s| s.max_depth),
-        raster: settings.and_then(|s| s.raster),
+        raster: settings.as_ref().and_then(|s| s.raster),
+        path: settings.and_then(|s| s.path),
         warnings: source.take_warnings(),
     })
 }

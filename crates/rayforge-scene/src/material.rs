@@ -4,10 +4,11 @@ use crate::assets::Assets;
 use crate::defines::{is_reference, merge, Defines, Trail};
 use crate::error::SceneError;
 use crate::source::{
-    as_str, check_keys, describe, is_mapping, is_sequence, required, Entry, Node, Source,
+    as_str, check_keys, describe, is_mapping, is_number, is_sequence, required, Entry, Node, Source,
 };
 use crate::transform::transform_list;
-use rayforge::shading::{Bump, BumpKind, Filter, UvMapping, UvPattern};
+use rayforge::shading::bsdf::{metal, METAL_NAMES};
+use rayforge::shading::{Bump, BumpKind, Filter, Physical, UvMapping, UvPattern};
 use rayforge::{Color, Material, Pattern, PatternKind, Transform};
 
 /// The keys a material may have.
@@ -25,7 +26,33 @@ const MATERIAL_KEYS: &[&str] = &[
     "gloss",
     "opacity",
     "matte-gloss-balance",
+    "emission",
+    "type",
+    "metal",
+    "eta",
+    "k",
+    "alpha",
+    "roughness",
 ];
+
+/// The path tracer's material types (`type:`), as scene files name them.
+const PHYSICAL_TYPES: &[&str] = &[
+    "diffuse",
+    "conductor",
+    "dielectric",
+    "thin-dielectric",
+    "plastic",
+    "mirror",
+];
+
+/// The keys that only a physical material (`type:`) reads; which apply depends on the type.
+const PHYSICAL_KEYS: &[&str] = &["metal", "eta", "k", "alpha", "roughness"];
+
+/// The metal a conductor is when it names neither `metal` nor `eta` and `k`.
+const DEFAULT_METAL: &str = "aluminium";
+
+/// The refractive index of a dielectric, thin dielectric or plastic without `refractive-index`.
+const DEFAULT_PHYSICAL_INDEX: f64 = 1.5;
 
 /// The pattern types, as scene files name them.
 const PATTERN_TYPES: &[&str] = &[
@@ -67,7 +94,7 @@ pub fn material<'n, 's>(
     let entries = material_entries(source, defines, node)?;
     check_keys(source, &entries, "a material", MATERIAL_KEYS)?;
     let mut m = base.clone();
-    for Entry { name, value, .. } in entries {
+    for &Entry { name, value, .. } in &entries {
         let number = || source.number(value, name);
         match name {
             "color" => m.color = color(source, value, name)?,
@@ -86,10 +113,222 @@ pub fn material<'n, 's>(
                 m.color = matte;
                 m.gloss = gloss;
             }
+            "emission" => m.emission = emission(source, value)?,
+            // The path tracer's material, read below from all its keys together.
+            "type" | "metal" | "eta" | "k" | "alpha" | "roughness" => {}
             _ => m.pattern = Some(pattern(source, defines, assets, value)?),
         }
     }
+    if let Some(physical) = physical(source, &entries)? {
+        m.physical = Some(physical);
+    }
     Ok(m)
+}
+
+/// `emission`: `[r, g, b]`, or one number meaning grey; no channel negative.
+fn emission(source: &Source<'_>, node: &Node<'_>) -> Result<Color, SceneError> {
+    let c = if is_sequence(node) {
+        color(source, node, "emission")?
+    } else if is_number(node) {
+        let v = source.number(node, "emission")?;
+        Color::new(v, v, v)
+    } else {
+        return Err(source.error(
+            node,
+            "emission",
+            format!(
+                "expected a colour [r, g, b] or one number, found {}",
+                describe(node)
+            ),
+        ));
+    };
+    if c.red < 0.0 || c.green < 0.0 || c.blue < 0.0 {
+        return Err(source.error(node, "emission", "emitted light cannot be negative"));
+    }
+    Ok(c)
+}
+
+/// The path tracer's material from `type` and the keys it takes (`metal`, `eta`, `k`,
+/// `alpha`, `roughness`, `refractive-index`); `None` without `type`, when no key only a
+/// physical material reads may be given.
+fn physical(
+    source: &Source<'_>,
+    entries: &[Entry<'_, '_>],
+) -> Result<Option<Physical>, SceneError> {
+    let find = |k: &str| entries.iter().find(|e| e.name == k);
+    let Some(type_entry) = find("type") else {
+        if let Some(e) = entries.iter().find(|e| PHYSICAL_KEYS.contains(&e.name)) {
+            return Err(source.error(
+                e.key,
+                e.name,
+                format!(
+                    "`{}` applies to the path tracer's materials: add a `type:` that takes it \
+                     ({})",
+                    e.name,
+                    types_taking(e.name)
+                ),
+            ));
+        }
+        return Ok(None);
+    };
+    let kind = source.string(type_entry.value, "type")?;
+    let allowed: &[&str] = match kind {
+        "conductor" => PHYSICAL_KEYS,
+        "dielectric" | "plastic" => &["alpha", "roughness"],
+        "diffuse" | "thin-dielectric" | "mirror" => &[],
+        other => {
+            return Err(source.error(
+                type_entry.value,
+                "type",
+                format!(
+                    "unknown material type `{other}`; expected one of: {}",
+                    PHYSICAL_TYPES.join(", ")
+                ),
+            ))
+        }
+    };
+    if let Some(e) = entries
+        .iter()
+        .find(|e| PHYSICAL_KEYS.contains(&e.name) && !allowed.contains(&e.name))
+    {
+        return Err(source.error(
+            e.key,
+            e.name,
+            format!(
+                "`{}` does not apply to `type: {kind}` (it applies to {})",
+                e.name,
+                types_taking(e.name)
+            ),
+        ));
+    }
+    let index = || -> Result<f64, SceneError> {
+        match find("refractive-index") {
+            Some(e) => {
+                let index = source.number(e.value, "refractive-index")?;
+                if !(1.0..=9.0).contains(&index) {
+                    return Err(source.error(
+                        e.value,
+                        "refractive-index",
+                        format!("a refractive index lies between 1 and 9 (for `type: {kind}`)"),
+                    ));
+                }
+                Ok(index)
+            }
+            None => Ok(DEFAULT_PHYSICAL_INDEX),
+        }
+    };
+    let physical = match kind {
+        "diffuse" => Physical::Diffuse,
+        "mirror" => Physical::Mirror,
+        "thin-dielectric" => Physical::ThinDielectric { eta: index()? },
+        "dielectric" => Physical::Dielectric {
+            eta: index()?,
+            alpha: alpha(source, entries)?,
+        },
+        "plastic" => Physical::Plastic {
+            eta: index()?,
+            alpha: alpha(source, entries)?,
+        },
+        _ => {
+            let (eta, k) = conductor_index(source, entries)?;
+            Physical::Conductor {
+                eta,
+                k,
+                alpha: alpha(source, entries)?,
+            }
+        }
+    };
+    Ok(Some(physical))
+}
+
+/// The types that take the physical key `key`, for messages.
+fn types_taking(key: &str) -> &'static str {
+    match key {
+        "alpha" | "roughness" => "`type: conductor`, `dielectric` and `plastic`",
+        _ => "`type: conductor`",
+    }
+}
+
+/// The GGX width from `alpha` (0 to 1) or `roughness` (0 to 1, alpha = roughness²); 0 (smooth)
+/// without either.
+fn alpha(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<f64, SceneError> {
+    let find = |k: &str| entries.iter().find(|e| e.name == k);
+    let (a, r) = (find("alpha"), find("roughness"));
+    if let (Some(a), Some(r)) = (a, r) {
+        let second = if a.key.span.start.index() > r.key.span.start.index() {
+            a
+        } else {
+            r
+        };
+        return Err(source.error(
+            second.key,
+            second.name,
+            "give `alpha` or `roughness` (alpha = roughness²), not both",
+        ));
+    }
+    let Some(e) = a.or(r) else {
+        return Ok(0.0);
+    };
+    let v = source.number(e.value, e.name)?;
+    if !(0.0..=1.0).contains(&v) {
+        return Err(source.error(
+            e.value,
+            e.name,
+            format!("`{}` lies between 0 (polished) and 1", e.name),
+        ));
+    }
+    Ok(if e.name == "roughness" { v * v } else { v })
+}
+
+/// A conductor's complex index: `metal: NAME`, or `eta` and `k` given together; aluminium
+/// without either.
+fn conductor_index(
+    source: &Source<'_>,
+    entries: &[Entry<'_, '_>],
+) -> Result<(Color, Color), SceneError> {
+    let find = |k: &str| entries.iter().find(|e| e.name == k);
+    let (eta, k) = (find("eta"), find("k"));
+    if let Some(m) = find("metal") {
+        if let Some(e) = eta.or(k) {
+            return Err(source.error(e.key, e.name, "give `metal` or `eta` and `k`, not both"));
+        }
+        let name = source.string(m.value, "metal")?;
+        return metal(name).ok_or_else(|| {
+            source.error(
+                m.value,
+                "metal",
+                format!(
+                    "unknown metal `{name}`; expected one of: {}",
+                    METAL_NAMES.join(", ")
+                ),
+            )
+        });
+    }
+    match (eta, k) {
+        (None, None) => Ok(metal(DEFAULT_METAL).expect("the default metal is in the table")),
+        (Some(e), None) | (None, Some(e)) => {
+            let other = if e.name == "eta" { "k" } else { "eta" };
+            Err(source.error(
+                e.key,
+                e.name,
+                format!(
+                    "`{}` needs `{other}` too: a metal's index is eta + i·k, per channel",
+                    e.name
+                ),
+            ))
+        }
+        (Some(eta), Some(k)) => {
+            let eta_c = color(source, eta.value, "eta")?;
+            if eta_c.red <= 0.0 || eta_c.green <= 0.0 || eta_c.blue <= 0.0 {
+                return Err(source.error(eta.value, "eta", "`eta` must be positive"));
+            }
+            let k_c = color(source, k.value, "k")?;
+            if k_c.red < 0.0 || k_c.green < 0.0 || k_c.blue < 0.0 {
+                return Err(source.error(k.value, "k", "`k` cannot be negative"));
+            }
+            Ok((eta_c, k_c))
+        }
+    }
 }
 
 /// Bumps on the normal: `type: waves` (`amplitude`, `wavelength`), `type: noise`

@@ -5,14 +5,17 @@
 //!     lighting: cgfs          # phong (the default), flat or cgfs
 //!     background: [0, 0, 0]   # the colour of rays that hit nothing (default black)
 //!     max-depth: 3            # reflection and refraction bounces (default 5; `--max-depth` wins)
-//!     renderer: raster        # ray (the default) or raster; then optionally `shading`,
-//!                             # `sphere-divisions`, `wireframe` and `texture-filter`
+//!     renderer: raster        # ray (the default), raster or path; raster then optionally
+//!                             # `shading`, `sphere-divisions`, `wireframe` and
+//!                             # `texture-filter`; path `sampler`, `filter`, `filter-radius`,
+//!                             # `seed` and `roulette-depth`
 //! ```
 
 use crate::error::SceneError;
 use crate::material::color;
 use crate::source::{check_keys, Entry, Node, Source};
-use rayforge::options::{RasterOptions, Shading, TextureFilter};
+use rayforge::film::{PixelFilter, MAX_FILTER_RADIUS};
+use rayforge::options::{PathOptions, RasterOptions, SamplerKind, Shading, TextureFilter};
 use rayforge::{LightingModel, World};
 
 /// The deepest recursion a scene may ask for (as `--max-depth` allows).
@@ -25,10 +28,28 @@ pub struct Settings {
     pub max_depth: Option<u32>,
     /// The rasterizer's options, when `renderer: raster`.
     pub raster: Option<RasterOptions>,
+    /// The path tracer's options, when `renderer: path` (its `max_depth` is `max-depth`, or
+    /// [`PathOptions::DEFAULT_MAX_DEPTH`]).
+    pub path: Option<PathOptions>,
 }
 
 /// The keys that only the rasterizer reads.
 const RASTER_KEYS: &[&str] = &["shading", "sphere-divisions", "wireframe", "texture-filter"];
+
+/// The keys that only the path tracer reads.
+const PATH_KEYS: &[&str] = &[
+    "sampler",
+    "filter",
+    "filter-radius",
+    "seed",
+    "roulette-depth",
+];
+
+/// The radius of a tent or Gaussian pixel filter without `filter-radius`, in pixels.
+pub const DEFAULT_FILTER_RADIUS: f64 = 1.5;
+
+/// The largest `seed` (every whole number up to it is exact in a YAML float too).
+const MAX_SEED: f64 = 9_007_199_254_740_992.0; // 2^53
 
 /// Applies a `world:` mapping to `world`; returns the rest of what it says.
 pub fn apply(
@@ -37,29 +58,34 @@ pub fn apply(
     world: &mut World,
 ) -> Result<Settings, SceneError> {
     let entries = source.entries(node, "world")?;
-    let raster = match entries.iter().find(|e| e.name == "renderer") {
-        Some(e) => match source.string(e.value, "renderer")? {
-            "ray" => None,
-            "raster" => Some(raster_options(source, &entries)?),
+    let (mut raster, mut path) = (None, None);
+    if let Some(e) = entries.iter().find(|e| e.name == "renderer") {
+        match source.string(e.value, "renderer")? {
+            "ray" => {}
+            "raster" => raster = Some(raster_options(source, &entries)?),
+            "path" => path = Some(path_options(source, &entries)?),
             other => {
                 return Err(source.error(
                     e.value,
                     "renderer",
-                    format!("unknown renderer `{other}`; expected ray or raster"),
+                    format!("unknown renderer `{other}`; expected ray, raster or path"),
                 ))
             }
-        },
-        None => None,
-    };
-    if raster.is_none() {
-        if let Some(e) = entries.iter().find(|e| RASTER_KEYS.contains(&e.name)) {
+        }
+    }
+    let foreign = [
+        (raster.is_none(), RASTER_KEYS, "the rasterizer", "raster"),
+        (path.is_none(), PATH_KEYS, "the path tracer", "path"),
+    ];
+    for (absent, keys, renderer, name) in foreign {
+        if !absent {
+            continue;
+        }
+        if let Some(e) = entries.iter().find(|e| keys.contains(&e.name)) {
             return Err(source.error(
                 e.key,
                 e.name,
-                format!(
-                    "`{}` applies to the rasterizer: add `renderer: raster`",
-                    e.name
-                ),
+                format!("`{}` applies to {renderer}: add `renderer: {name}`", e.name),
             ));
         }
     }
@@ -77,6 +103,11 @@ pub fn apply(
             "sphere-divisions",
             "wireframe",
             "texture-filter",
+            "sampler",
+            "filter",
+            "filter-radius",
+            "seed",
+            "roulette-depth",
         ],
     )?;
     let mut max_depth = None;
@@ -125,7 +156,100 @@ pub fn apply(
             _ => {} // the renderer's keys, read above
         }
     }
-    Ok(Settings { max_depth, raster })
+    if let Some(path) = &mut path {
+        path.max_depth = max_depth.unwrap_or(PathOptions::DEFAULT_MAX_DEPTH);
+    }
+    Ok(Settings {
+        max_depth,
+        raster,
+        path,
+    })
+}
+
+/// The path tracer's options from `sampler`, `filter`, `filter-radius`, `seed` and
+/// `roulette-depth` (`max-depth` is read with the other renderers' keys).
+fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOptions, SceneError> {
+    let mut options = PathOptions::default();
+    let radius = entries.iter().find(|e| e.name == "filter-radius");
+    if let Some(r) = radius.filter(|_| !entries.iter().any(|e| e.name == "filter")) {
+        return Err(source.error(
+            r.key,
+            "filter-radius",
+            "`filter-radius` needs `filter: tent` or `filter: gaussian`",
+        ));
+    }
+    for e in entries {
+        match e.name {
+            "sampler" => {
+                options.sampler = match source.string(e.value, "sampler")? {
+                    "sobol" => SamplerKind::Sobol,
+                    "independent" => SamplerKind::Independent,
+                    other => {
+                        return Err(source.error(
+                            e.value,
+                            "sampler",
+                            format!("unknown sampler `{other}`; expected sobol or independent"),
+                        ))
+                    }
+                }
+            }
+            "filter" => {
+                let name = source.string(e.value, "filter")?;
+                if !matches!(name, "box" | "tent" | "gaussian") {
+                    return Err(source.error(
+                        e.value,
+                        "filter",
+                        format!("unknown pixel filter `{name}`; expected box, tent or gaussian"),
+                    ));
+                }
+                let radius = match radius {
+                    Some(r) if name == "box" => {
+                        return Err(source.error(
+                            r.key,
+                            "filter-radius",
+                            "the box filter has no radius (it is the pixel itself)",
+                        ))
+                    }
+                    Some(r) => {
+                        let v = source.number(r.value, "filter-radius")?;
+                        if !(v > 0.0 && v <= MAX_FILTER_RADIUS) {
+                            return Err(source.error(
+                                r.value,
+                                "filter-radius",
+                                format!(
+                                    "a filter's radius is above 0 and at most \
+                                     {MAX_FILTER_RADIUS} pixels"
+                                ),
+                            ));
+                        }
+                        v
+                    }
+                    None => DEFAULT_FILTER_RADIUS,
+                };
+                options.filter = match name {
+                    "tent" => PixelFilter::Tent { radius },
+                    "gaussian" => PixelFilter::Gaussian { radius },
+                    _ => PixelFilter::Box,
+                };
+            }
+            "seed" => {
+                let v = source.number(e.value, "seed")?;
+                if v.fract() != 0.0 || !(0.0..=MAX_SEED).contains(&v) {
+                    return Err(source.error(
+                        e.value,
+                        "seed",
+                        format!("expected a whole number from 0 to 2^53, found {v}"),
+                    ));
+                }
+                options.seed = v as u64;
+            }
+            "roulette-depth" => {
+                options.roulette_depth = source.integer(e.value, "roulette-depth", 1)? as u32;
+            }
+            _ => {}
+        }
+    }
+    Ok(options)
 }
 
 /// The rasterizer's options from `shading`, `sphere-divisions`, `wireframe`, `texture-filter`.

@@ -308,6 +308,14 @@ pub fn is_sequence(node: &Node<'_>) -> bool {
     matches!(node.data, YamlData::Sequence(_))
 }
 
+/// Whether the node is a number (integer or float, finite or not).
+pub fn is_number(node: &Node<'_>) -> bool {
+    matches!(
+        node.data,
+        YamlData::Value(Scalar::Integer(_) | Scalar::FloatingPoint(_))
+    )
+}
+
 /// Whether the node is a mapping.
 pub fn is_mapping(node: &Node<'_>) -> bool {
     matches!(node.data, YamlData::Mapping(_))

@@ -34,7 +34,7 @@ fn assert_error(e: &SceneError, line: usize, column: usize, key: Option<&str>, w
 fn an_unknown_kind_is_named_with_the_kinds_there_are() {
     let e = error("- add: teapot\n");
     assert_error(&e, 8, 8, Some("add"), "unknown kind `teapot`");
-    assert!(e.message.contains("sphere, plane, cube"), "{e}");
+    assert!(e.message.contains("sphere, plane, rectangle, cube"), "{e}");
 }
 
 #[test]

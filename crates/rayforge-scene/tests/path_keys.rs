@@ -1,0 +1,639 @@
+//! The path tracer's keys: `emission` and the physical material `type:` (with `metal`, `eta`,
+//! `k`, `alpha`, `roughness`, `refractive-index`), and `renderer: path` with its `world:` keys.
+use rayforge::film::PixelFilter;
+use rayforge::options::{PathOptions, SamplerKind};
+use rayforge::shading::bsdf::{metal, METAL_NAMES};
+use rayforge::shading::Physical;
+use rayforge::{Color, Material};
+use rayforge_scene::{load_str, Scene, SceneError};
+use std::path::Path;
+
+/// Seven lines: what the tests add begins on line 8.
+const CAMERA: &str = "- add: camera
+  width: 10
+  height: 10
+  field-of-view: 1
+  from: [0, 0, -5]
+  to: [0, 0, 0]
+  up: [0, 1, 0]
+";
+
+fn load(body: &str) -> Result<Scene, SceneError> {
+    load_str(&format!("{CAMERA}{body}"), Path::new("scene.yml"))
+}
+
+/// The material of a sphere whose material mapping holds `lines` (each indented by the caller's
+/// four spaces): the first line of the mapping is line 10.
+fn material(lines: &str) -> Result<Material, SceneError> {
+    let body = format!("- add: sphere\n  material:\n{}", indent(lines));
+    load(&body).map(|s| s.world.objects[0].material.clone())
+}
+
+fn indent(lines: &str) -> String {
+    lines.lines().map(|l| format!("    {l}\n")).collect()
+}
+
+fn physical(lines: &str) -> Option<Physical> {
+    material(lines).expect("the material is read").physical
+}
+
+/// The `world:` item holding `lines`: the first is line 9.
+fn world(lines: &str) -> Result<Scene, SceneError> {
+    load(&format!("- world:\n{}", indent(lines)))
+}
+
+#[track_caller]
+fn assert_error(
+    result: Result<impl std::fmt::Debug, SceneError>,
+    line: usize,
+    column: usize,
+    key: &str,
+    words: &str,
+) -> SceneError {
+    let e = result.expect_err("the scene must be rejected");
+    let span = e.span.unwrap_or_else(|| panic!("no position in: {e}"));
+    assert_eq!((span.line, span.column), (line, column), "{e}");
+    assert_eq!(e.key.as_deref(), Some(key), "{e}");
+    assert!(e.message.contains(words), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with(&format!("scene.yml:{line}:{column}: ")),
+        "{e}"
+    );
+    e
+}
+
+// Emission.
+
+#[test]
+fn emission_is_a_colour_or_one_grey_number_and_black_by_default() {
+    let m = material("emission: [4, 2, 0.5]").unwrap();
+    assert_eq!(m.emission, Color::new(4.0, 2.0, 0.5));
+    assert_eq!(
+        material("emission: 3").unwrap().emission,
+        Color::new(3.0, 3.0, 3.0)
+    );
+    assert_eq!(material("emission: 0").unwrap().emission, Color::BLACK);
+    assert_eq!(material("color: [1, 0, 0]").unwrap().emission, Color::BLACK);
+}
+
+#[test]
+fn emission_is_not_negative_nor_text() {
+    assert_error(
+        material("emission: [1, -1, 1]"),
+        10,
+        15,
+        "emission",
+        "negative",
+    );
+    assert_error(material("emission: -2"), 10, 15, "emission", "negative");
+    assert_error(
+        material("emission: bright"),
+        10,
+        15,
+        "emission",
+        "or one number",
+    );
+    assert_error(
+        material("emission: [1, 1]"),
+        10,
+        15,
+        "emission",
+        "3 numbers",
+    );
+    assert_error(material("emission: .inf"), 10, 15, "emission", "finite");
+}
+
+// Material types.
+
+#[test]
+fn without_type_a_material_is_the_books() {
+    assert_eq!(physical("color: [1, 0, 0]"), None);
+    assert_eq!(physical("transparency: 1\nrefractive-index: 0.5"), None);
+}
+
+#[test]
+fn diffuse_and_mirror_take_nothing_more() {
+    assert_eq!(physical("type: diffuse"), Some(Physical::Diffuse));
+    assert_eq!(
+        physical("type: mirror\ncolor: [0.9, 0.9, 0.9]"),
+        Some(Physical::Mirror)
+    );
+}
+
+#[test]
+fn a_conductor_is_polished_aluminium_by_default() {
+    let (eta, k) = metal("aluminium").unwrap();
+    assert_eq!(
+        physical("type: conductor"),
+        Some(Physical::Conductor { eta, k, alpha: 0.0 })
+    );
+}
+
+#[test]
+fn a_conductor_names_its_metal_or_gives_eta_and_k() {
+    let (eta, k) = metal("gold").unwrap();
+    assert_eq!(
+        physical("type: conductor\nmetal: gold\nalpha: 0.2"),
+        Some(Physical::Conductor { eta, k, alpha: 0.2 })
+    );
+    for name in METAL_NAMES {
+        let (eta, k) = metal(name).unwrap();
+        assert_eq!(
+            physical(&format!("type: conductor\nmetal: {name}")),
+            Some(Physical::Conductor { eta, k, alpha: 0.0 })
+        );
+    }
+    assert_eq!(
+        physical("type: conductor\neta: [0.2, 0.4, 1.5]\nk: [3, 2.5, 2]\nroughness: 0.5"),
+        Some(Physical::Conductor {
+            eta: Color::new(0.2, 0.4, 1.5),
+            k: Color::new(3.0, 2.5, 2.0),
+            alpha: 0.25
+        })
+    );
+}
+
+#[test]
+fn dielectrics_and_plastic_default_to_index_one_and_a_half_and_smooth() {
+    assert_eq!(
+        physical("type: dielectric"),
+        Some(Physical::Dielectric {
+            eta: 1.5,
+            alpha: 0.0
+        })
+    );
+    assert_eq!(
+        physical("type: thin-dielectric"),
+        Some(Physical::ThinDielectric { eta: 1.5 })
+    );
+    assert_eq!(
+        physical("type: plastic"),
+        Some(Physical::Plastic {
+            eta: 1.5,
+            alpha: 0.0
+        })
+    );
+}
+
+#[test]
+fn dielectrics_and_plastic_take_the_refractive_index_and_a_width() {
+    assert_eq!(
+        physical("type: dielectric\nrefractive-index: 1.33\nalpha: 0.1"),
+        Some(Physical::Dielectric {
+            eta: 1.33,
+            alpha: 0.1
+        })
+    );
+    assert_eq!(
+        physical("type: thin-dielectric\nrefractive-index: 1.2"),
+        Some(Physical::ThinDielectric { eta: 1.2 })
+    );
+    assert_eq!(
+        physical("refractive-index: 2\ntype: plastic\nroughness: 0.3"),
+        Some(Physical::Plastic {
+            eta: 2.0,
+            alpha: 0.3 * 0.3
+        })
+    );
+    // The book's keys are read as before beside a type.
+    let m = material("type: dielectric\nrefractive-index: 1.33\ntransparency: 0.5").unwrap();
+    assert_eq!((m.refractive_index, m.transparency), (1.33, 0.5));
+}
+
+#[test]
+fn an_unknown_type_lists_the_types() {
+    let e = assert_error(
+        material("type: metal"),
+        10,
+        11,
+        "type",
+        "unknown material type",
+    );
+    assert!(
+        e.message
+            .contains("diffuse, conductor, dielectric, thin-dielectric, plastic, mirror"),
+        "{e}"
+    );
+    assert_error(material("type: [1]"), 10, 11, "type", "expected a name");
+}
+
+#[test]
+fn an_unknown_metal_lists_the_metals() {
+    let e = assert_error(
+        material("type: conductor\nmetal: unobtainium"),
+        11,
+        12,
+        "metal",
+        "unknown metal `unobtainium`",
+    );
+    assert!(e.message.contains(&METAL_NAMES.join(", ")), "{e}");
+}
+
+#[test]
+fn keys_of_another_type_are_errors_naming_the_key() {
+    assert_error(
+        material("type: dielectric\nmetal: gold"),
+        11,
+        5,
+        "metal",
+        "does not apply to `type: dielectric`",
+    );
+    assert_error(
+        material("type: plastic\nk: [1, 1, 1]"),
+        11,
+        5,
+        "k",
+        "does not apply to `type: plastic`",
+    );
+    assert_error(
+        material("type: thin-dielectric\nalpha: 0.1"),
+        11,
+        5,
+        "alpha",
+        "does not apply to `type: thin-dielectric`",
+    );
+    assert_error(
+        material("type: mirror\nroughness: 0.1"),
+        11,
+        5,
+        "roughness",
+        "does not apply",
+    );
+    assert_error(
+        material("metal: gold\ntype: diffuse"),
+        10,
+        5,
+        "metal",
+        "does not apply to `type: diffuse`",
+    );
+}
+
+#[test]
+fn physical_keys_without_a_type_are_errors() {
+    let e = assert_error(material("alpha: 0.1"), 10, 5, "alpha", "add a `type:`");
+    assert!(e.message.contains("conductor"), "{e}");
+    assert_error(
+        material("color: [1, 1, 1]\nmetal: gold"),
+        11,
+        5,
+        "metal",
+        "add a `type:`",
+    );
+    assert_error(material("eta: [1, 1, 1]"), 10, 5, "eta", "add a `type:`");
+}
+
+#[test]
+fn alpha_and_roughness_together_are_an_error() {
+    assert_error(
+        material("type: conductor\nalpha: 0.1\nroughness: 0.2"),
+        12,
+        5,
+        "roughness",
+        "not both",
+    );
+    assert_error(
+        material("type: dielectric\nroughness: 0.2\nalpha: 0.1"),
+        12,
+        5,
+        "alpha",
+        "not both",
+    );
+}
+
+#[test]
+fn alpha_and_roughness_lie_between_zero_and_one() {
+    assert_error(
+        material("type: conductor\nalpha: 1.5"),
+        11,
+        12,
+        "alpha",
+        "between 0",
+    );
+    assert_error(
+        material("type: plastic\nroughness: -0.1"),
+        11,
+        16,
+        "roughness",
+        "between 0",
+    );
+    assert_error(
+        material("type: plastic\nalpha: rough"),
+        11,
+        12,
+        "alpha",
+        "expected a number",
+    );
+    assert_eq!(
+        physical("type: conductor\nalpha: 1"),
+        Some(Physical::Conductor {
+            eta: metal("aluminium").unwrap().0,
+            k: metal("aluminium").unwrap().1,
+            alpha: 1.0
+        })
+    );
+}
+
+#[test]
+fn a_conductor_index_is_a_metal_or_eta_and_k_together() {
+    assert_error(
+        material("type: conductor\neta: [1, 1, 1]"),
+        11,
+        5,
+        "eta",
+        "needs `k`",
+    );
+    assert_error(
+        material("type: conductor\nk: [1, 1, 1]"),
+        11,
+        5,
+        "k",
+        "needs `eta`",
+    );
+    assert_error(
+        material("type: conductor\nmetal: gold\neta: [1, 1, 1]\nk: [1, 1, 1]"),
+        12,
+        5,
+        "eta",
+        "not both",
+    );
+    assert_error(
+        material("type: conductor\neta: [1, 0, 1]\nk: [1, 1, 1]"),
+        11,
+        10,
+        "eta",
+        "positive",
+    );
+    assert_error(
+        material("type: conductor\neta: [1, 1, 1]\nk: [1, -1, 1]"),
+        12,
+        8,
+        "k",
+        "negative",
+    );
+    assert_error(
+        material("type: conductor\neta: 1\nk: [1, 1, 1]"),
+        11,
+        10,
+        "eta",
+        "expected a list",
+    );
+}
+
+#[test]
+fn a_physical_refractive_index_lies_between_one_and_nine() {
+    assert_error(
+        material("type: dielectric\nrefractive-index: 0.5"),
+        11,
+        23,
+        "refractive-index",
+        "between 1 and 9",
+    );
+    assert_error(
+        material("refractive-index: 10\ntype: thin-dielectric"),
+        10,
+        23,
+        "refractive-index",
+        "between 1 and 9",
+    );
+    assert_error(
+        material("type: plastic\nrefractive-index: 0.9"),
+        11,
+        23,
+        "refractive-index",
+        "between 1 and 9",
+    );
+}
+
+// Through defines.
+
+const DEFINES: &str = "- define: gold
+  value:
+    type: conductor
+    metal: gold
+    emission: 2
+- define: brushed-gold
+  extend: gold
+  value:
+    roughness: 0.5
+- define: glass
+  value:
+    type: dielectric
+    refractive-index: 1.4
+- define: frosted
+  extend: glass
+  value:
+    alpha: 0.3
+- define: plain
+  extend: glass
+  value:
+    type: diffuse
+";
+
+fn defined(name: &str) -> Material {
+    load(&format!("{DEFINES}- add: sphere\n  material: {name}\n"))
+        .expect("the scene loads")
+        .world
+        .objects[0]
+        .material
+        .clone()
+}
+
+#[test]
+fn defined_materials_carry_the_new_keys_and_extend_them() {
+    let (eta, k) = metal("gold").unwrap();
+    let gold = defined("gold");
+    assert_eq!(
+        gold.physical,
+        Some(Physical::Conductor { eta, k, alpha: 0.0 })
+    );
+    assert_eq!(gold.emission, Color::new(2.0, 2.0, 2.0));
+    let brushed = defined("brushed-gold");
+    assert_eq!(
+        brushed.physical,
+        Some(Physical::Conductor {
+            eta,
+            k,
+            alpha: 0.25
+        })
+    );
+    assert_eq!(brushed.emission, Color::new(2.0, 2.0, 2.0));
+    assert_eq!(
+        defined("frosted").physical,
+        Some(Physical::Dielectric {
+            eta: 1.4,
+            alpha: 0.3
+        })
+    );
+    // Overriding the type keeps the book's refractive index, which a diffuse surface ignores.
+    assert_eq!(defined("plain").physical, Some(Physical::Diffuse));
+}
+
+#[test]
+fn an_extension_must_fit_the_type_it_inherits() {
+    // `metal` comes from `gold` (line 11), which `shiny-glass` re-types as a dielectric.
+    let e = load(&format!(
+        "{DEFINES}- define: shiny-glass\n  extend: gold\n  value:\n    type: dielectric\n- add: sphere\n  material: shiny-glass\n"
+    ))
+    .unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("metal"), "{e}");
+    assert_eq!(e.span.unwrap().line, 11, "{e}");
+    assert!(
+        e.message.contains("does not apply to `type: dielectric`"),
+        "{e}"
+    );
+}
+
+// The `world:` item.
+
+#[test]
+fn renderer_path_gives_the_path_tracers_defaults() {
+    let scene = world("renderer: path").unwrap();
+    assert_eq!(scene.path, Some(PathOptions::default()));
+    assert_eq!(
+        scene.path.unwrap().max_depth,
+        PathOptions::DEFAULT_MAX_DEPTH
+    );
+    assert_eq!((scene.raster, scene.max_depth), (None, None));
+    for other in ["renderer: ray", "renderer: raster", "lighting: phong"] {
+        assert_eq!(world(other).unwrap().path, None, "{other}");
+    }
+    assert_eq!(load("").unwrap().path, None);
+}
+
+#[test]
+fn the_path_tracers_keys_are_read() {
+    let scene = world(
+        "renderer: path\nsampler: independent\nfilter: tent\nfilter-radius: 2\nseed: 42\nroulette-depth: 5\nmax-depth: 10",
+    )
+    .unwrap();
+    assert_eq!(
+        scene.path,
+        Some(PathOptions {
+            sampler: SamplerKind::Independent,
+            filter: PixelFilter::Tent { radius: 2.0 },
+            max_depth: 10,
+            roulette_depth: 5,
+            seed: 42,
+        })
+    );
+    // `max-depth` is still given to the other renderers' setting too.
+    assert_eq!(scene.max_depth, Some(10));
+    let path = |lines: &str| {
+        world(&format!("renderer: path\n{lines}"))
+            .unwrap()
+            .path
+            .unwrap()
+    };
+    assert_eq!(path("sampler: sobol").sampler, SamplerKind::Sobol);
+    assert_eq!(path("filter: box").filter, PixelFilter::Box);
+    assert_eq!(
+        path("filter: tent").filter,
+        PixelFilter::Tent { radius: 1.5 }
+    );
+    assert_eq!(
+        path("filter: gaussian").filter,
+        PixelFilter::Gaussian { radius: 1.5 }
+    );
+    assert_eq!(
+        path("filter-radius: 8\nfilter: gaussian").filter,
+        PixelFilter::Gaussian { radius: 8.0 }
+    );
+    assert_eq!(path("seed: 0").seed, 0);
+    assert_eq!(path("seed: 9007199254740992").seed, 1 << 53);
+    assert_eq!(path("max-depth: 0").max_depth, 0);
+    assert_eq!(path("roulette-depth: 1").roulette_depth, 1);
+}
+
+#[test]
+fn the_path_tracers_keys_need_renderer_path() {
+    for key in [
+        "sampler: sobol",
+        "filter: box",
+        "filter-radius: 1",
+        "seed: 1",
+        "roulette-depth: 2",
+    ] {
+        let name = key.split(':').next().unwrap();
+        assert_error(world(key), 9, 5, name, "add `renderer: path`");
+        assert_error(
+            world(&format!("renderer: raster\n{key}")),
+            10,
+            5,
+            name,
+            "applies to the path tracer",
+        );
+    }
+    // And the rasterizer's keys are not the path tracer's.
+    assert_error(
+        world("renderer: path\nwireframe: true"),
+        10,
+        5,
+        "wireframe",
+        "add `renderer: raster`",
+    );
+}
+
+#[test]
+fn an_unknown_renderer_lists_path() {
+    assert_error(
+        world("renderer: photon"),
+        9,
+        15,
+        "renderer",
+        "expected ray, raster or path",
+    );
+}
+
+#[test]
+fn bad_path_tracer_values_are_errors_naming_the_key() {
+    let path = |lines: &str| world(&format!("renderer: path\n{lines}"));
+    assert_error(
+        path("sampler: halton"),
+        10,
+        14,
+        "sampler",
+        "sobol or independent",
+    );
+    assert_error(
+        path("filter: mitchell"),
+        10,
+        13,
+        "filter",
+        "box, tent or gaussian",
+    );
+    assert_error(
+        path("filter: box\nfilter-radius: 2"),
+        11,
+        5,
+        "filter-radius",
+        "box filter has no radius",
+    );
+    assert_error(
+        path("filter-radius: 2"),
+        10,
+        5,
+        "filter-radius",
+        "needs `filter: tent`",
+    );
+    for radius in ["0", "-1", "8.5"] {
+        assert_error(
+            path(&format!("filter: tent\nfilter-radius: {radius}")),
+            11,
+            20,
+            "filter-radius",
+            "at most 8",
+        );
+    }
+    assert_error(path("seed: -1"), 10, 11, "seed", "whole number");
+    assert_error(path("seed: 1.5"), 10, 11, "seed", "whole number");
+    assert_error(path("seed: 1e20"), 10, 11, "seed", "whole number");
+    assert_error(
+        path("roulette-depth: 0"),
+        10,
+        21,
+        "roulette-depth",
+        "at least 1",
+    );
+    assert_error(path("max-depth: 65"), 10, 16, "max-depth", "the limit 64");
+}
