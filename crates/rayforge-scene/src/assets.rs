@@ -47,6 +47,11 @@ impl Assets {
         }
     }
 
+    /// The most pixels the scene's images may hold (an environment map is held to it too).
+    pub fn max_texture_pixels(&self) -> u64 {
+        self.textures.max_pixels
+    }
+
     /// Where a file named in the scene is.
     pub fn resolve(&self, name: &str) -> PathBuf {
         self.base.join(name)

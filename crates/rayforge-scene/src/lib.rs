@@ -11,10 +11,9 @@ mod assets;
 mod budget;
 mod canvas_items;
 mod defines;
+mod environment;
 mod error;
 mod files;
-// Environment-map images; no scene item reads them yet, so nothing outside its tests calls it.
-#[allow(dead_code)]
 mod hdr;
 mod items;
 mod material;
@@ -176,7 +175,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
                 };
                 return Err(source.error(e.key, "world", message));
             }
-            settings = Some(settings::apply(&source, e.value, &mut read.world)?);
+            settings = Some(settings::apply(&source, e.value, &mut read.world, &assets)?);
             continue;
         }
         items::add_item(

@@ -8,7 +8,7 @@ use crate::source::{
 };
 use crate::transform::transform_list;
 use rayforge::shading::bsdf::{metal, METAL_NAMES};
-use rayforge::shading::{Bump, BumpKind, Filter, Physical, UvMapping, UvPattern};
+use rayforge::shading::{Bump, BumpKind, EmissionSide, Filter, Physical, UvMapping, UvPattern};
 use rayforge::{Color, Material, Pattern, PatternKind, Transform};
 
 /// The keys a material may have.
@@ -27,6 +27,7 @@ const MATERIAL_KEYS: &[&str] = &[
     "opacity",
     "matte-gloss-balance",
     "emission",
+    "emission-side",
     "type",
     "metal",
     "eta",
@@ -114,6 +115,23 @@ pub fn material<'n, 's>(
                 m.gloss = gloss;
             }
             "emission" => m.emission = emission(source, value)?,
+            "emission-side" => {
+                m.emission_side = match source.string(value, name)? {
+                    "front" => EmissionSide::Front,
+                    "back" => EmissionSide::Back,
+                    "both" => EmissionSide::Both,
+                    other => {
+                        return Err(source.error(
+                            value,
+                            name,
+                            format!(
+                                "unknown emission side `{other}`; expected front (where the \
+                                 normal points), back or both"
+                            ),
+                        ))
+                    }
+                }
+            }
             // The path tracer's material, read below from all its keys together.
             "type" | "metal" | "eta" | "k" | "alpha" | "roughness" => {}
             _ => m.pattern = Some(pattern(source, defines, assets, value)?),

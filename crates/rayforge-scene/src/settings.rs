@@ -11,6 +11,8 @@
 //!                             # `seed` and `roulette-depth`
 //! ```
 
+use crate::assets::Assets;
+use crate::environment::environment;
 use crate::error::SceneError;
 use crate::material::color;
 use crate::source::{check_keys, Entry, Node, Source};
@@ -56,6 +58,7 @@ pub fn apply(
     source: &Source<'_>,
     node: &Node<'_>,
     world: &mut World,
+    assets: &Assets,
 ) -> Result<Settings, SceneError> {
     let entries = source.entries(node, "world")?;
     let (mut raster, mut path) = (None, None);
@@ -108,6 +111,7 @@ pub fn apply(
             "filter-radius",
             "seed",
             "roulette-depth",
+            "environment",
         ],
     )?;
     let mut max_depth = None;
@@ -130,6 +134,7 @@ pub fn apply(
                     }
                 }
             }
+            "environment" => world.environment = Some(environment(source, e.value, assets)?),
             "background" => world.background = color(source, e.value, "background")?,
             "ambient-index" => {
                 let index = source.number(e.value, "ambient-index")?;

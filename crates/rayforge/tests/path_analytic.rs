@@ -121,3 +121,58 @@ fn a_grey_convex_object_in_the_furnace_shows_its_albedo() {
         values[0]
     );
 }
+
+#[test]
+fn a_floor_far_from_a_square_light_gets_the_light_its_form_factor_gives() {
+    // A floor point lit at a grazing angle by a 2 × 2 light: the shadow ray must not stop on
+    // the light's own surface. The floor's radiance is albedo/π times the irradiance, which a
+    // fine quadrature over the light gives.
+    use rayforge::math::{rotation_x, translation};
+    use rayforge::render::path::{PathContext, SampleStream};
+    use rayforge::scene::{Emitters, WorldIndex};
+    use rayforge::{Ray, Shape};
+    let floor = Object::new(Shape::Rectangle)
+        .with_transform(scaling(10.0, 1.0, 10.0))
+        .with_material(diffuse(0.5));
+    let light = Object::new(Shape::Rectangle)
+        .with_transform(translation(0.0, 3.0, 0.5) * rotation_x(std::f64::consts::PI))
+        .with_material(Material {
+            emission: Color::new(15.0, 15.0, 15.0),
+            ..diffuse(0.0)
+        });
+    let world = World {
+        objects: vec![floor, light],
+        ..World::default()
+    };
+    let (emitters, index) = (Emitters::new(&world), WorldIndex::build(&world));
+    let mut context = PathContext::new(&world, &index, &emitters, 64, 5);
+    for z in [0.0, -3.0, -6.0, -9.0] {
+        // Irradiance by the midpoint rule over 200 × 200 patches of the light.
+        let n = 200;
+        let mut irradiance = 0.0;
+        for i in 0..n {
+            for j in 0..n {
+                let x = -1.0 + 2.0 * (i as f64 + 0.5) / n as f64;
+                let lz = -0.5 + 2.0 * (j as f64 + 0.5) / n as f64;
+                let d = point(x, 3.0, lz) - point(0.0, 0.0, z);
+                let r2 = d.length_squared();
+                let cos = d.y / r2.sqrt();
+                irradiance += 15.0 * cos * cos / r2 * (4.0 / (n * n) as f64);
+            }
+        }
+        let expected = 0.5 / std::f64::consts::PI * irradiance;
+        let from = point(0.0, 1.5, 5.0);
+        let ray = Ray::new(from, (point(0.0, 0.0, z) - from).normalize());
+        let samples = 4096;
+        let mut sum = 0.0;
+        for s in 0..samples {
+            let mut stream = SampleStream::new(SamplerKind::Sobol, 0, 0, 0, s);
+            sum += context.radiance(ray, &mut stream).0.red;
+        }
+        let mean = sum / samples as f64;
+        assert!(
+            (mean - expected).abs() <= 0.01 * expected,
+            "at z = {z}: {mean}, expected {expected}"
+        );
+    }
+}

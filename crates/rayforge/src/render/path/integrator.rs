@@ -226,17 +226,22 @@ impl<'w> PathContext<'w> {
                     let f = bsdf.eval(wo_local, wi_local) * layer.scale;
                     if f.max_channel() > 0.0 {
                         let origin = offset_towards(point, geometric, light.direction);
+                        // Towards the light's point from the nudged origin, stopping just short
+                        // of it: measured from the point itself, a shadow ray leaving at a
+                        // grazing angle would meet the light's own surface before its end.
+                        let (direction, reach) = if light.distance.is_finite() {
+                            let target = point + light.direction * light.distance;
+                            let to_target = target - origin;
+                            let length = to_target.length();
+                            (to_target / length, length - 2.0 * surface_offset(target))
+                        } else {
+                            (light.direction, f64::INFINITY)
+                        };
                         let shadow = Ray {
                             origin,
-                            direction: light.direction,
+                            direction,
                             time: ray.time,
                             t_min: 0.0,
-                        };
-                        let reach = if light.distance.is_finite() {
-                            let end = origin + light.direction * light.distance;
-                            light.distance - 2.0 * surface_offset(end)
-                        } else {
-                            f64::INFINITY
                         };
                         if reach > 0.0 && !self.occluded(&shadow, reach) {
                             let weight = if light.delta {
