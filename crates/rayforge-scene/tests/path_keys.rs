@@ -637,3 +637,20 @@ fn bad_path_tracer_values_are_errors_naming_the_key() {
     );
     assert_error(path("max-depth: 65"), 10, 16, "max-depth", "the limit 64");
 }
+
+#[test]
+fn a_right_handed_camera_puts_forward_cross_up_on_the_image_right() {
+    let yaml = "- add: camera\n  width: 11\n  height: 11\n  field-of-view-degrees: 60\n  handedness: right\n  from: [0, 0, 3.9]\n  to: [0, 0, 0]\n  up: [0, 1, 0]\n";
+    let scene = rayforge_scene::load_str(yaml, std::path::Path::new("camera.yml")).unwrap();
+    // Looking down −z with +y up, forward × up is +x: the rightmost pixel looks that way.
+    let right = scene.camera.ray_for_pixel(10, 5).direction;
+    assert!(right.x > 0.0, "{right:?}");
+    let yaml = yaml.replace("handedness: right", "handedness: up");
+    let err = rayforge_scene::load_str(&yaml, std::path::Path::new("camera.yml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("handedness") && err.contains("line 5"),
+        "{err}"
+    );
+}

@@ -162,6 +162,29 @@ pub fn shearing(xy: f64, xz: f64, yx: f64, yz: f64, zx: f64, zy: f64) -> DMat4 {
     ])
 }
 
+/// The view of right-handed renderers (pbrt, Mitsuba): an eye at `from` looking at `to`, the
+/// image's right along `forward × up`, and the orientation orthonormal (lengths and angles
+/// kept; a mirror, as the camera's own frame is the book's left-handed one).
+///
+/// The book's [`view_transform`] differs twice: its image's right is `up × forward` (a
+/// left-handed world), and it does not normalise `forward × up`, so a camera whose `up` is not
+/// perpendicular to its line of sight sees a field wider than its field of view says (by
+/// `1 / sin` of the angle between them). Its scenes are kept as the book renders them; scenes
+/// written for right-handed renderers ask for this one (the camera's `handedness: right`).
+pub fn look_at(from: DVec3, to: DVec3, up: DVec3) -> DMat4 {
+    let forward = (to - from).normalize_or_zero();
+    let right = forward.cross(up).normalize_or_zero();
+    let true_up = right.cross(forward);
+    // The camera looks down its −z, and its image's right is its −x (see `Camera`).
+    let orientation = matrix4([
+        [-right.x, -right.y, -right.z, 0.0],
+        [true_up.x, true_up.y, true_up.z, 0.0],
+        [-forward.x, -forward.y, -forward.z, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ]);
+    orientation * translation(-from.x, -from.y, -from.z)
+}
+
 /// `view_transform(from, to, up)`: orients the world relative to an eye at `from` looking at `to`.
 ///
 /// The result is singular when `up` is parallel to the line of sight (or `from == to`); callers
@@ -177,4 +200,35 @@ pub fn view_transform(from: DVec3, to: DVec3, up: DVec3) -> DMat4 {
         [0.0, 0.0, 0.0, 1.0],
     ]);
     orientation * translation(-from.x, -from.y, -from.z)
+}
+
+#[cfg(test)]
+mod look_at_tests {
+    use super::*;
+
+    #[test]
+    fn look_at_is_orthonormal_and_its_image_right_is_forward_cross_up() {
+        // A camera looking down and ahead: the book's view would widen the field by 2 %.
+        let (from, to, up) = (
+            DVec3::new(0.0, 1.5, 5.0),
+            DVec3::new(0.0, 0.5, 0.0),
+            DVec3::Y,
+        );
+        let m = look_at(from, to, up);
+        let linear = glam::DMat3::from_mat4(m);
+        assert!((linear * linear.transpose() - glam::DMat3::IDENTITY)
+            .abs_diff_eq(glam::DMat3::ZERO, 1e-12));
+        // A mirror, not a rotation: the book's camera has its image's right along its own −x
+        // in a left-handed frame, and this camera's right is forward × up in a right-handed one.
+        assert!((linear.determinant() + 1.0).abs() < 1e-12);
+        // The camera's −x (the image's right) is forward × up in the world.
+        let forward = (to - from).normalize();
+        let right = forward.cross(up).normalize();
+        let image_right = linear.transpose() * DVec3::NEG_X;
+        assert!((image_right - right).length() < 1e-12);
+        // The eye goes to the origin, the target onto the camera's −z.
+        assert!(m.transform_point3(from).length() < 1e-12);
+        let t = m.transform_point3(to);
+        assert!(t.x.abs() < 1e-12 && t.y.abs() < 1e-12 && t.z < 0.0);
+    }
 }

@@ -22,8 +22,8 @@ pub use aabb::Aabb;
 pub use distribution::{Distribution1D, Distribution2D, DistributionError};
 pub use frame::Frame;
 pub use matrix::{
-    matrix2, matrix3, matrix4, rotation_x, rotation_y, rotation_z, scaling, shearing, translation,
-    view_transform, BookMatrix,
+    look_at, matrix2, matrix3, matrix4, rotation_x, rotation_y, rotation_z, scaling, shearing,
+    translation, view_transform, BookMatrix,
 };
 pub use motion::Motion;
 pub use random::{Jitter, SplitMix64};

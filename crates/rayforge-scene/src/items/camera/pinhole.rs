@@ -4,15 +4,16 @@
 //!
 //! The book's world is left-handed: the image's right is `up × forward`. Scenes written for
 //! right-handed renderers (pbrt, Mitsuba, the path tracer's reference scenes) put the image's
-//! right along `forward × up`; `handedness: right` mirrors the camera's x axis so that they
-//! render as their authors saw them instead of mirrored.
+//! right along `forward × up`; `handedness: right` places the camera as those renderers do
+//! ([`look_at`]) so that they render as their authors saw them, not mirrored (nor widened: see
+//! [`look_at`] for the book view's other difference).
 //!
 //! Separate from the other books' cameras: it is the one placed by a view transform, and the
 //! one with a lens.
 
 use crate::error::SceneError;
 use crate::source::{check_keys, required, Entry, Node, Source};
-use rayforge::math::{point, vector, view_transform};
+use rayforge::math::{look_at, point, vector, view_transform};
 use rayforge::{Camera, Transform};
 
 /// The keys the book's camera accepts.
@@ -65,21 +66,11 @@ pub fn camera(
         }
         None => field_of_view(source, get("field-of-view")?)?,
     };
-    let mut view = view(source, entries, item)?;
-    if let Some(e) = entries.iter().find(|e| e.name == "handedness") {
-        match source.string(e.value, "handedness")? {
-            "left" => {}
-            "right" => {
-                // Mirror the camera's own x axis: the image's right becomes forward × up.
-                let mirror = Transform::new(rayforge::math::scaling(-1.0, 1.0, 1.0));
-                view = mirror.then_after(&view).map_err(|e| {
-                    source.error(
-                        item,
-                        "handedness",
-                        format!("the view transform is singular: {e}"),
-                    )
-                })?;
-            }
+    let right_handed = match entries.iter().find(|e| e.name == "handedness") {
+        None => false,
+        Some(e) => match source.string(e.value, "handedness")? {
+            "left" => false,
+            "right" => true,
             other => {
                 return Err(source.error(
                     e.value,
@@ -87,8 +78,9 @@ pub fn camera(
                     format!("unknown handedness `{other}`; expected left (the book's) or right"),
                 ))
             }
-        }
-    }
+        },
+    };
+    let view = view(source, entries, item, right_handed)?;
     let camera = Camera::new(width, height, fov).with_transform_of(view);
     lens(source, entries, item, camera)
 }
@@ -106,11 +98,13 @@ fn field_of_view(source: &Source<'_>, node: &Node<'_>) -> Result<f64, SceneError
     Ok(fov)
 }
 
-/// The view transform from `from`, `to` and `up`.
+/// The view transform from `from`, `to` and `up`: the book's, or with `right_handed` that of
+/// right-handed renderers ([`look_at`]).
 fn view(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
     item: &Node<'_>,
+    right_handed: bool,
 ) -> Result<Transform, SceneError> {
     let get = |k: &str| required(source, entries, item, k, "the camera");
     let [fx, fy, fz] = source.triple(get("from")?, "from")?;
@@ -129,7 +123,12 @@ fn view(
             "`up` is zero or parallel to the direction of view",
         ));
     }
-    Transform::try_new(view_transform(from, to, up))
+    let matrix = if right_handed {
+        look_at(from, to, up)
+    } else {
+        view_transform(from, to, up)
+    };
+    Transform::try_new(matrix)
         .map_err(|e| source.error(item, "up", format!("the view transform is singular: {e}")))
 }
 

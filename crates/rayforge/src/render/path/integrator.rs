@@ -277,7 +277,7 @@ impl<'w> PathContext<'w> {
             // grows as it dims, and one that survives carries more, so the mean is unchanged.
             if depth >= self.roulette_depth {
                 let survive = throughput.max_channel().min(0.95);
-                if !(survive > 0.0) || u_roulette >= survive {
+                if survive.is_nan() || survive <= 0.0 || u_roulette >= survive {
                     break;
                 }
                 throughput = throughput * (1.0 / survive);
