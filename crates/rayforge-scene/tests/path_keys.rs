@@ -650,7 +650,7 @@ fn a_right_handed_camera_puts_forward_cross_up_on_the_image_right() {
         .unwrap_err()
         .to_string();
     assert!(
-        err.contains("handedness") && err.contains("line 5"),
+        err.contains("handedness") && err.contains("camera.yml:5:"),
         "{err}"
     );
 }
