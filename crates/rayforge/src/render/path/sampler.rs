@@ -26,6 +26,11 @@ pub struct SampleStream {
     index: u64,
     /// The next dimension to draw.
     dimension: u32,
+    /// The Sobol sampler's four numbers of the group of dimensions `group` (a Sobol point's
+    /// four dimensions cost one call, computed side by side).
+    cached: [f32; 4],
+    /// Which group `cached` holds (`u32::MAX`: none yet).
+    group: u32,
 }
 
 /// Mixes `a` and `b` into 64 well-spread bits (SplitMix64's finaliser on their combination).
@@ -47,6 +52,8 @@ impl SampleStream {
             pixel,
             index,
             dimension: 0,
+            cached: [0.0; 4],
+            group: u32::MAX,
         }
     }
 
@@ -61,16 +68,20 @@ impl SampleStream {
                 (bits >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
             }
             SamplerKind::Sobol => {
-                // Each group of four dimensions, and each block of 2¹⁶ samples, has a
-                // scramble of its own.
-                let block = self.index >> 16;
-                let scramble = mix(mix(self.pixel, u64::from(d / 4)), block);
-                let value = sobol_burley::sample(
-                    (self.index & 0xFFFF) as u32,
-                    d % 4,
-                    (scramble ^ (scramble >> 32)) as u32,
-                );
-                f64::from(value)
+                let group = d / 4;
+                if group != self.group {
+                    // Each group of four dimensions, and each block of 2¹⁶ samples, has a
+                    // scramble of its own.
+                    let block = self.index >> 16;
+                    let scramble = mix(mix(self.pixel, u64::from(group)), block);
+                    self.cached = sobol_burley::sample_4d(
+                        (self.index & 0xFFFF) as u32,
+                        0,
+                        (scramble ^ (scramble >> 32)) as u32,
+                    );
+                    self.group = group;
+                }
+                f64::from(self.cached[(d % 4) as usize])
             }
         }
     }
