@@ -1,0 +1,109 @@
+//! The path tracer behind every scene file: each scene shipped under `scenes/` renders under
+//! it (tiny, a few samples) to finite pixels, and the reference scenes of `scenes/pbr/` give
+//! the answers they are built to give.
+
+use rayforge::film::{Film, SharedFilm};
+use rayforge::options::PathOptions;
+use rayforge::render::path::{render_path, PathJob};
+use rayforge_scene::Scene;
+use std::path::{Path, PathBuf};
+
+/// The scenes shipped in the repository (those reading models from `../shared`, which a fresh
+/// clone lacks, are left out when it is missing).
+fn shipped_scenes() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let mut scenes: Vec<PathBuf> = walkdir::WalkDir::new(root)
+        .into_iter()
+        .filter_map(Result::ok)
+        .map(|e| e.into_path())
+        .filter(|p| p.extension().is_some_and(|e| e == "yml"))
+        .collect();
+    scenes.sort();
+    scenes
+}
+
+/// The film of `scene` path traced at `width` × `height` with `spp` samples per pixel.
+fn render(scene: &Scene, width: usize, height: usize, spp: u64) -> Film {
+    let camera = scene.camera.resized(width, height);
+    let job = PathJob {
+        options: scene.path.unwrap_or_default(),
+        samples: 0..spp,
+        progress: None,
+        cancel: None,
+    };
+    let film = SharedFilm::from(Film::with_filter(width, height, job.options.filter).unwrap());
+    let mut done = vec![false; height];
+    render_path(&camera, &scene.world, &job, &film, None, &mut done).unwrap();
+    film.into_film()
+}
+
+#[test]
+fn every_shipped_scene_renders_under_the_path_tracer() {
+    let mut rendered = 0;
+    for path in shipped_scenes() {
+        let scene = match rayforge_scene::load_file(&path) {
+            Ok(scene) => scene,
+            // Only the scenes reading the models beside the repository may fail to load.
+            Err(e) if e.to_string().contains("shared") => continue,
+            Err(e) => panic!("{}: {e}", path.display()),
+        };
+        let canvas = render(&scene, 6, 4, 2).resolve();
+        for c in canvas.pixels() {
+            assert!(
+                c.red.is_finite() && c.green.is_finite() && c.blue.is_finite(),
+                "{}: {c:?}",
+                path.display()
+            );
+        }
+        rendered += 1;
+    }
+    assert!(rendered >= 50, "only {rendered} scenes rendered");
+}
+
+fn reference(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes/pbr")
+        .join(format!("{name}.yml"));
+    rayforge_scene::load_file(&path).unwrap()
+}
+
+#[test]
+fn the_reference_scenes_ask_for_the_path_tracer_with_a_box_filter() {
+    for name in [
+        "furnace",
+        "furnace-closed",
+        "cornell",
+        "spheres-materials",
+        "envmap",
+    ] {
+        let scene = reference(name);
+        let options = scene.path.expect("renderer: path");
+        assert_eq!(options.filter, rayforge::film::PixelFilter::Box, "{name}");
+        assert_eq!(options.max_depth, PathOptions::DEFAULT_MAX_DEPTH, "{name}");
+    }
+    let envmap = reference("envmap");
+    let sky = envmap.world.environment.as_ref().expect("the sky map");
+    assert_eq!((sky.width(), sky.height()), (64, 32));
+}
+
+#[test]
+fn the_closed_furnace_is_one_everywhere() {
+    // 0.2 / (1 − 0.8) = 1 in every pixel. Russian roulette makes single samples noisy here
+    // (paths are long: each carries 0.8 of the last), so the test takes the image's mean, 4096
+    // samples, and bounds each pixel's loosely.
+    let canvas = render(&reference("furnace-closed"), 4, 4, 256).resolve();
+    let mean = canvas.pixels().iter().map(|c| c.red).sum::<f64>() / 16.0;
+    assert!((mean - 1.0).abs() < 0.02, "mean {mean}");
+    for c in canvas.pixels() {
+        assert!((c.red - 1.0).abs() < 0.15, "{c:?}");
+        assert_eq!((c.red, c.red), (c.green, c.blue));
+    }
+}
+
+#[test]
+fn the_furnace_sphere_shows_its_albedo_and_the_sky_is_one() {
+    let canvas = render(&reference("furnace"), 9, 9, 16).resolve();
+    // The corner sees the sky alone; the centre the sphere, which sees the sky alone.
+    assert_eq!(canvas.pixel_at(0, 0).red, 1.0);
+    assert!((canvas.pixel_at(4, 4).red - 0.8).abs() < 1e-9);
+}
