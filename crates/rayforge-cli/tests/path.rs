@@ -101,6 +101,7 @@ fn aovs_write_the_first_hits_albedo_and_normal_beside_the_image() {
     assert_eq!((albedo.len(), normal.len()), (12 * 12 * 3, 12 * 12 * 3));
     // Pixels that see only the floor have its normal (+y) and its white albedo; those that see
     // only the red wall, +x and red.
+    let normal = &normal;
     let pixels = |n: [f32; 3]| {
         (0..144).filter(move |&i| (0..3).all(|c| (normal[3 * i + c] - n[c]).abs() < 1e-6))
     };
