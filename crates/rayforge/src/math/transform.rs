@@ -139,13 +139,19 @@ impl Transform {
         world.normalize_or_zero()
     }
 
-    /// How much this transform stretches a small patch of surface whose object-space normal is
-    /// `n` (unit): `|det M| · |M⁻ᵀ n|`, the length of the cofactor matrix times `n`. The path
-    /// tracer turns a density over an object's own surface into one over its surface in the
-    /// world with it.
+    /// The absolute determinant of the linear part: how much the transform scales volumes.
     #[inline]
-    pub fn area_scale(&self, n: DVec3) -> f64 {
-        self.forward.matrix3.determinant().abs() * (self.normal * n).length()
+    pub fn volume_scale(&self) -> f64 {
+        self.forward.matrix3.determinant().abs()
+    }
+
+    /// An object-space normal mapped to world space by the inverse transpose, not normalised:
+    /// its length times [`volume_scale`](Self::volume_scale) is how much the transform
+    /// stretches a small patch of surface with that (unit) normal, which the path tracer needs
+    /// to turn a density over an object's own surface into one over its surface in the world.
+    #[inline]
+    pub fn normal_unnormalised(&self, n: DVec3) -> DVec3 {
+        self.normal * n
     }
 
     /// Maps a world-space normal back to object space (the inverse of [`Transform::normal`]:

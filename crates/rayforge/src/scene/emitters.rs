@@ -246,6 +246,8 @@ enum Emitter {
     Surface {
         object: u32,
         surface: Surface,
+        /// The surface's object-space area times its transform's volume scale.
+        scaled_area: f64,
         emission: Color,
         side: EmissionSide,
     },
@@ -327,11 +329,12 @@ impl Emitters {
             let Some(surface) = Surface::of(&object.shape) else {
                 continue;
             };
-            let det = object.transform.matrix().determinant().abs();
+            let det = object.transform.volume_scale();
             let area = surface.area() * det.powf(2.0 / 3.0);
             by_object[i] = list.len() as u32;
             list.push(Emitter::Surface {
                 object: i as u32,
+                scaled_area: surface.area() * det,
                 surface,
                 emission,
                 side: object.material.emission_side,
@@ -404,7 +407,10 @@ impl Emitters {
             return 0.0;
         };
         let Some(Emitter::Surface {
-            surface, object, ..
+            surface,
+            object,
+            scaled_area,
+            ..
         }) = self.list.get(slot as usize)
         else {
             return 0.0;
@@ -412,7 +418,7 @@ impl Emitters {
         let object = &world.objects[*object as usize];
         let local = object.transform.inverse_point(point);
         let n_local = surface.normal_at(&object.shape, local, face);
-        let (area_pdf, normal) = area_density(surface, &object.transform, n_local);
+        let (area_pdf, normal) = area_density(*scaled_area, &object.transform, n_local);
         let cos = normal.dot(direction).abs();
         if cos <= 0.0 {
             return 0.0;
@@ -490,13 +496,14 @@ impl Emitters {
             Emitter::Surface {
                 object,
                 surface,
+                scaled_area,
                 emission,
                 side,
             } => {
                 let object: &Object = &world.objects[*object as usize];
                 let (local, n_local) = surface.sample(rest, u);
                 let on_light = object.transform.point(local);
-                let (area_pdf, normal) = area_density(surface, &object.transform, n_local);
+                let (area_pdf, normal) = area_density(*scaled_area, &object.transform, n_local);
                 let to_light = on_light - point;
                 let distance_squared = to_light.length_squared();
                 let distance = distance_squared.sqrt();
@@ -531,16 +538,19 @@ impl Emitters {
     }
 }
 
-/// The world-space area density of a point sampled uniformly on `surface` whose object-space
-/// normal is `n_local`, and the unit world normal there.
-fn area_density(surface: &Surface, transform: &Transform, n_local: Vec3) -> (f64, Vec3) {
-    let scale = transform.area_scale(n_local) * surface.area();
-    let density = if scale > 0.0 && scale.is_finite() {
-        1.0 / scale
+/// The world-space area density of a point sampled uniformly on a surface of object-space area
+/// times volume scale `scaled_area` whose object-space normal is `n_local`, and the unit world
+/// normal there.
+#[inline]
+fn area_density(scaled_area: f64, transform: &Transform, n_local: Vec3) -> (f64, Vec3) {
+    let normal = transform.normal_unnormalised(n_local);
+    let length = normal.length();
+    let scale = length * scaled_area;
+    if scale > 0.0 && scale.is_finite() {
+        (1.0 / scale, normal / length)
     } else {
-        0.0
-    };
-    (density, transform.normal(n_local))
+        (0.0, Vec3::ZERO)
+    }
 }
 
 /// The radius of a sphere around the world's bounded objects (1 when there are none): the

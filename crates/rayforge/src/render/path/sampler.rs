@@ -11,7 +11,10 @@
 //!   sequence's first four dimensions under its own scramble, seeded from the pixel and the
 //!   group, so every pixel and every path vertex is stratified within itself and decorrelated
 //!   from the others. The crate's sequences hold 2¹⁶ points; later samples continue under
-//!   another scramble.
+//!   another scramble. Past the first [`SOBOL_DIMENSIONS`] (the camera and the first three
+//!   bounces) the numbers are hashed like the independent sampler's: so deep in a path the
+//!   light has been scattered so much that stratifying its choices no longer lowers the
+//!   error, and a Sobol point costs several times a hash.
 
 use crate::math::random::SplitMix64;
 use crate::options::SamplerKind;
@@ -32,6 +35,9 @@ pub struct SampleStream {
     /// Which group `cached` holds (`u32::MAX`: none yet).
     group: u32,
 }
+
+/// Dimensions drawn from Sobol points by the Sobol sampler; later ones are hashed.
+pub const SOBOL_DIMENSIONS: u32 = 32;
 
 /// Mixes `a` and `b` into 64 well-spread bits (SplitMix64's finaliser on their combination).
 #[inline]
@@ -62,28 +68,24 @@ impl SampleStream {
     pub fn next_1d(&mut self) -> f64 {
         let d = self.dimension;
         self.dimension = self.dimension.wrapping_add(1);
-        match self.kind {
-            SamplerKind::Independent => {
-                let bits = mix(mix(self.pixel, self.index), u64::from(d));
-                (bits >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-            }
-            SamplerKind::Sobol => {
-                let group = d / 4;
-                if group != self.group {
-                    // Each group of four dimensions, and each block of 2¹⁶ samples, has a
-                    // scramble of its own.
-                    let block = self.index >> 16;
-                    let scramble = mix(mix(self.pixel, u64::from(group)), block);
-                    self.cached = sobol_burley::sample_4d(
-                        (self.index & 0xFFFF) as u32,
-                        0,
-                        (scramble ^ (scramble >> 32)) as u32,
-                    );
-                    self.group = group;
-                }
-                f64::from(self.cached[(d % 4) as usize])
-            }
+        if self.kind == SamplerKind::Independent || d >= SOBOL_DIMENSIONS {
+            let bits = mix(mix(self.pixel, self.index), u64::from(d));
+            return (bits >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
         }
+        let group = d / 4;
+        if group != self.group {
+            // Each group of four dimensions, and each block of 2¹⁶ samples, has a scramble of
+            // its own.
+            let block = self.index >> 16;
+            let scramble = mix(mix(self.pixel, u64::from(group)), block);
+            self.cached = sobol_burley::sample_4d(
+                (self.index & 0xFFFF) as u32,
+                0,
+                (scramble ^ (scramble >> 32)) as u32,
+            );
+            self.group = group;
+        }
+        f64::from(self.cached[(d % 4) as usize])
     }
 
     /// Goes on from dimension `dimension` (each path vertex starts its numbers at a fixed one).
