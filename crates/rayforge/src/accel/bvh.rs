@@ -108,8 +108,17 @@ impl<I: Isa> Slabs<I> {
     #[inline(always)]
     fn new(isa: I, q: &RayQuery) -> Self {
         Self {
-            inv_direction: q.inv_direction.map(|x| isa.splat8(x)),
-            origin_over_direction: q.origin_over_direction.map(|x| isa.splat8(x)),
+            // Not `array::map`: see `RayQuery::new`.
+            inv_direction: [
+                isa.splat8(q.inv_direction[0]),
+                isa.splat8(q.inv_direction[1]),
+                isa.splat8(q.inv_direction[2]),
+            ],
+            origin_over_direction: [
+                isa.splat8(q.origin_over_direction[0]),
+                isa.splat8(q.origin_over_direction[1]),
+                isa.splat8(q.origin_over_direction[2]),
+            ],
             entry_plane: q.entry_plane,
             exit_plane: q.exit_plane,
         }

@@ -125,6 +125,7 @@ pub fn render_path(
     let discarded = AtomicU64::new(0);
     let cancelled = || job.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let options = job.options;
+    let still = camera.aperture() == 0.0 && world.objects.iter().all(|o| o.motion.is_none());
     let mut failure = None;
     let failures: Vec<Option<FilmError>> = (0..height)
         .into_par_iter()
@@ -156,8 +157,12 @@ pub fn render_path(
                         let mut stream =
                             SampleStream::new(options.sampler, options.seed, x as u32, y as u32, s);
                         let (dx, dy, weight) = filter_offset(filter, stream.next_2d());
-                        let [lens_u, lens_v] = stream.next_2d();
-                        let time = stream.next_1d();
+                        // A pinhole over a still world needs no lens point nor instant.
+                        let ([lens_u, lens_v], time) = if still {
+                            ([0.5, 0.5], 0.5)
+                        } else {
+                            (stream.next_2d(), stream.next_1d())
+                        };
                         let sample = CameraSample {
                             x: x as f64 + 0.5 + dx,
                             y: y as f64 + 0.5 + dy,

@@ -27,6 +27,8 @@ pub struct SampleStream {
     pixel: u64,
     /// The sample's index within the pixel.
     index: u64,
+    /// A hash of `pixel` and `index`, which hashed numbers start from.
+    sample: u64,
     /// The next dimension to draw.
     dimension: u32,
     /// The Sobol sampler's four numbers of the group of dimensions `group` (a Sobol point's
@@ -57,6 +59,7 @@ impl SampleStream {
             kind,
             pixel,
             index,
+            sample: mix(pixel, index),
             dimension: 0,
             cached: [0.0; 4],
             group: u32::MAX,
@@ -69,7 +72,7 @@ impl SampleStream {
         let d = self.dimension;
         self.dimension = self.dimension.wrapping_add(1);
         if self.kind == SamplerKind::Independent || d >= SOBOL_DIMENSIONS {
-            let bits = mix(mix(self.pixel, self.index), u64::from(d));
+            let bits = mix(self.sample, u64::from(d));
             return (bits >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
         }
         let group = d / 4;
