@@ -176,3 +176,34 @@ fn a_floor_far_from_a_square_light_gets_the_light_its_form_factor_gives() {
         );
     }
 }
+
+#[test]
+fn sample_ranges_rendered_apart_merge_into_the_render_of_their_union() {
+    // Samples are numbered per pixel: 0..5 and 5..12 rendered apart and merged give the film
+    // of 0..12 (to rounding: the sums are added in another order).
+    let (world, camera) = furnace(0.5);
+    let render_range = |samples: std::ops::Range<u64>| {
+        let job = PathJob {
+            options: PathOptions::default(),
+            samples,
+            progress: None,
+            cancel: None,
+        };
+        let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
+        let mut done = vec![false; camera.vsize()];
+        render_path(&camera, &world, &job, &film, None, &mut done).unwrap();
+        film.into_film()
+    };
+    let mut merged = render_range(0..5);
+    merged.merge(&render_range(5..12)).unwrap();
+    let whole = render_range(0..12);
+    for (a, b) in merged.sums().iter().zip(whole.sums()) {
+        assert!(
+            (a.red - b.red).abs() <= 1e-12 * b.red.abs().max(1.0),
+            "{a:?} {b:?}"
+        );
+    }
+    assert_eq!(merged.weights(), whole.weights());
+    // And a range is not the whole: the first five samples alone differ.
+    assert_ne!(render_range(0..5).sums(), whole.sums());
+}
