@@ -2,10 +2,13 @@
 //! outputs (linear PFM, the albedo and normal images), determinism across threads and seeds,
 //! and refusals of flags that belong to other renderers.
 
-mod support;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use support::repo;
+
+/// The repository's root, where the scenes are.
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
 
 fn rayforge() -> Command {
     Command::new(env!("CARGO_BIN_EXE_rayforge"))
