@@ -28,6 +28,7 @@ const MATERIAL_KEYS: &[&str] = &[
     "matte-gloss-balance",
     "emission",
     "emission-side",
+    "two-sided",
     "type",
     "metal",
     "eta",
@@ -115,6 +116,7 @@ pub fn material<'n, 's>(
                 m.gloss = gloss;
             }
             "emission" => m.emission = emission(source, value)?,
+            "two-sided" => m.two_sided = source.boolean(value, name)?,
             "emission-side" => {
                 m.emission_side = match source.string(value, name)? {
                     "front" => EmissionSide::Front,

@@ -654,3 +654,20 @@ fn a_right_handed_camera_puts_forward_cross_up_on_the_image_right() {
         "{err}"
     );
 }
+
+#[test]
+fn emission_side_and_two_sided_are_read() {
+    let yaml = "- add: cube\n  material:\n    emission: 0.2\n    emission-side: back\n    two-sided: false\n- add: camera\n  width: 2\n  height: 2\n  field-of-view: 1\n  from: [0, 0, -5]\n  to: [0, 0, 0]\n  up: [0, 1, 0]\n";
+    let scene = rayforge_scene::load_str(yaml, std::path::Path::new("sides.yml")).unwrap();
+    let m = &scene.world.objects[0].material;
+    assert_eq!(m.emission_side, rayforge::shading::EmissionSide::Back);
+    assert!(!m.two_sided);
+    let bad = yaml.replace("emission-side: back", "emission-side: inside");
+    let err = rayforge_scene::load_str(&bad, std::path::Path::new("sides.yml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("sides.yml:4:") && err.contains("emission side"),
+        "{err}"
+    );
+}

@@ -207,3 +207,38 @@ fn sample_ranges_rendered_apart_merge_into_the_render_of_their_union() {
     // And a range is not the whole: the first five samples alone differ.
     assert_ne!(render_range(0..5).sums(), whole.sums());
 }
+
+#[test]
+fn a_one_sided_surface_is_black_from_behind() {
+    // A grey square facing up, in a white sky, seen from below: two-sided its back returns half
+    // the sky (it sees only sky on that side); with `two_sided: false` it is black.
+    let from_below = |two_sided: bool| {
+        let square = Object::new(rayforge::Shape::Rectangle)
+            .with_transform(scaling(10.0, 1.0, 10.0))
+            .with_material(Material {
+                two_sided,
+                ..diffuse(0.5)
+            });
+        let world = World {
+            objects: vec![square],
+            background: Color::WHITE,
+            ..World::default()
+        };
+        let camera = Camera::new(2, 2, 0.5).with_transform(view_transform(
+            point(0.0, -2.0, 0.0),
+            point(0.0, 0.0, 0.0),
+            vector(0.0, 0.0, 1.0),
+        ));
+        pixels(&render(&world, &camera, 16, SamplerKind::Sobol))
+    };
+    assert!(
+        from_below(true).iter().all(|&v| (v - 0.5).abs() < 1e-12),
+        "{:?}",
+        from_below(true)
+    );
+    assert!(
+        from_below(false).iter().all(|&v| v == 0.0),
+        "{:?}",
+        from_below(false)
+    );
+}

@@ -43,6 +43,10 @@ pub struct Material {
     pub emission: Color,
     /// Which side of the surface gives off the emission.
     pub emission_side: EmissionSide,
+    /// Whether the surface scatters light on both sides (the default, as the books' surfaces
+    /// do) or only on the side its normal faces, its back black (as in Mitsuba and pbrt, where
+    /// the back of a lamp gives nothing back): for the path tracer.
+    pub two_sided: bool,
     /// The path tracer's material, when the scene names one; `None` gives the book's
     /// parameters their physical meaning (see [`super::Scattering`]).
     pub physical: Option<Physical>,
@@ -91,6 +95,7 @@ impl Material {
         opacity: 1.0,
         emission: Color::BLACK,
         emission_side: EmissionSide::Front,
+        two_sided: true,
         physical: None,
     };
 

@@ -181,6 +181,13 @@ impl<'w> PathContext<'w> {
             if depth >= self.max_depth {
                 break;
             }
+            // A one-sided surface seen from behind is black: it scatters nothing.
+            if !material.two_sided && geometric.dot(wo) < 0.0 {
+                if depth == 0 {
+                    first.normal = -geometric;
+                }
+                break;
+            }
 
             let colour =
                 surface.surface_color(point, surface.shape.surface_uv(&hit.local()), hit.time);
