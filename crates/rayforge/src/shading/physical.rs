@@ -18,9 +18,9 @@
 //! light is what ambient stood for.
 //!
 //! A path picks one layer per hit with probability proportional to its share and weighs what
-//! it finds by the sum of the shares over that probability, which estimates the sum of the
-//! layers without bias (and keeps next-event estimation and multiple importance sampling
-//! within the one layer chosen).
+//! it finds by its share over that probability (which is the sum of all the shares), which
+//! estimates the shares' weighted sum of the layers without bias (and keeps next-event
+//! estimation and multiple importance sampling within the one layer chosen).
 
 use super::bsdf::Bsdf;
 use super::material::Material;
@@ -128,8 +128,8 @@ pub struct Scattering {
 pub struct Layer {
     /// The layer's scattering.
     pub bsdf: Bsdf,
-    /// What to multiply its contributions by: the sum of the shares over the probability of
-    /// choosing it (1 for a material of one layer).
+    /// What to multiply its contributions by: its share over the probability of choosing it,
+    /// that is the sum of all the shares (1 for a material of one layer).
     pub scale: f64,
 }
 
@@ -259,7 +259,7 @@ impl Scattering {
                 return (
                     Layer {
                         bsdf,
-                        scale: self.total / share,
+                        scale: self.total,
                     },
                     rescaled,
                 );
@@ -301,7 +301,7 @@ mod tests {
         // Glass takes the first half of u, the mirror the next quarter, the base the rest.
         let (glass, u) = Scattering::pick(&s, 0.25);
         assert!(matches!(glass.bsdf, Bsdf::Dielectric { .. }));
-        assert!((glass.scale - 2.0).abs() < 1e-12 && (u - 0.5).abs() < 1e-12);
+        assert!((glass.scale - 1.0).abs() < 1e-12 && (u - 0.5).abs() < 1e-12);
         assert!(matches!(s.pick(0.6).0.bsdf, Bsdf::Mirror { .. }));
         assert!(matches!(s.pick(0.9).0.bsdf, Bsdf::Plastic { .. }));
     }
@@ -327,8 +327,8 @@ mod tests {
 
     #[test]
     fn the_picked_layers_estimate_the_sum_of_the_layers() {
-        // Picking layer i with probability share/total and scaling by total/share gives back
-        // each share on average.
+        // Picking layer i with probability share/total and scaling by total gives back each
+        // share on average: the material is the shares' weighted sum of its layers.
         let m = Material {
             transparency: 0.3,
             reflective: 0.6,
@@ -344,7 +344,7 @@ mod tests {
                 glass += layer.scale / n as f64;
             }
         }
-        assert!((glass - 1.0).abs() < 1e-3, "{glass}");
+        assert!((glass - 0.3).abs() < 1e-3, "{glass}");
     }
 
     #[test]
