@@ -4,7 +4,7 @@
     python3 tools/fidelity/convergence.py --scene cornell --out /work/fidelity-data/convergence \
         [--ref-spp 512 --ref-batches 8 --ref-seed0 1000] \
         [--spps 16:4,32:4,64:2,128:2,256:1,512:1,1024:1] [--samplers sobol,independent] \
-        [--threads 2] [--bin PATH] [--reuse]
+        [--threads 2] [--width W] [--bin PATH] [--reuse]
 
 1. The reference: --ref-batches independent renders of --ref-spp spp each (Sobol, seeds
    ref-seed0 ..), NAME.ref.bK.pfm; their mean is the reference image R (ref-spp x
@@ -50,7 +50,8 @@ def parse_spps(text):
 def render(args, scene_path, path, spp, seed, sampler):
     if args.reuse and os.path.exists(path):
         return float("nan")
-    wall, rt, _ = render_one(args.bin, scene_path, path, spp, seed, sampler, args.threads)
+    extra = ["--width", str(args.width)] if args.width else []
+    wall, rt, _ = render_one(args.bin, scene_path, path, spp, seed, sampler, args.threads, extra)
     return rt if rt is not None else wall
 
 
@@ -75,6 +76,8 @@ def main():
                     help="SPP:RENDERS,... (renders with different seeds per sample count)")
     ap.add_argument("--samplers", default="sobol,independent")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--width", type=int, default=0, help="render at this width (the scene's camera "
+                    "otherwise); a smaller image makes the study cheaper")
     ap.add_argument("--bin", default=None)
     ap.add_argument("--split", type=int, default=128, help="also fit slopes below and above this spp")
     ap.add_argument("--reuse", action="store_true", help="keep renders whose files exist")
