@@ -93,7 +93,9 @@ fn segments(text: &str) -> Vec<String> {
 /// The modules `source`, the text of module `own`, imports.
 fn imports(modules: &BTreeSet<Module>, own: &str, source: &str) -> BTreeSet<Module> {
     let mut found = BTreeSet::new();
-    for line in source.lines() {
+    // A file's test module (`#[cfg(test)]`, at its end by the crate's convention) is not part
+    // of the reader: its `use super::*` means the file's own module, not its parent.
+    for line in source.lines().take_while(|l| l.trim() != "#[cfg(test)]") {
         let code = line.split("//").next().unwrap_or("");
         let mut rest = code;
         while let Some(i) = rest.find(|c: char| c.is_ascii_alphabetic()) {

@@ -79,6 +79,12 @@ pub(crate) fn gamma_q(a: f64, x: f64) -> f64 {
     }
 }
 
+/// The probability that a chi-square variable with `dof` degrees of freedom exceeds
+/// `statistic`: the p-value of a chi-square test whose bins a caller has pooled itself.
+pub(crate) fn chi_square_tail(statistic: f64, dof: usize) -> f64 {
+    gamma_q(dof as f64 / 2.0, statistic / 2.0)
+}
+
 /// The p-value of Pearson's chi-square test that `counts` were drawn with the probabilities
 /// `expected` (which sum to 1). Bins expecting fewer than five samples are pooled with their
 /// neighbours (the test's approximation needs that many); a sample in a bin of probability
@@ -126,6 +132,24 @@ mod tests {
         assert!((ln_gamma(5.0) - 24f64.ln()).abs() < 1e-13);
         assert!((ln_gamma(0.5) - std::f64::consts::PI.sqrt().ln()).abs() < 1e-13);
         assert!((ln_gamma(0.25) - 3.625_609_908_221_908f64.ln()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_chi_square_tail_matches_closed_forms() {
+        // Two degrees of freedom: an exponential tail.
+        for x in [0.1_f64, 1.0, 5.0, 30.0] {
+            assert!(
+                (chi_square_tail(x, 2) - (-x / 2.0).exp()).abs() < 1e-13,
+                "{x}"
+            );
+        }
+        // Q(1/2, x/2) = erfc(√(x/2)); the median of χ²₁ is 0.454936…
+        assert!((chi_square_tail(0.454_936_423_119_572_8, 1) - 0.5).abs() < 1e-9);
+        // Four degrees of freedom: e^(−x/2)(1 + x/2).
+        for x in [0.5_f64, 3.0, 12.0, 60.0] {
+            let q = (-x / 2.0).exp() * (1.0 + x / 2.0);
+            assert!((chi_square_tail(x, 4) - q).abs() < 1e-13, "{x}");
+        }
     }
 
     #[test]

@@ -205,21 +205,28 @@ impl Surface {
     /// The unit object-space geometric normal at `point` of face `face` (for meshes).
     fn normal_at(&self, shape: &Shape, point: Point3, face: u32) -> Vec3 {
         match self {
-            Surface::Triangle { e1, e2, .. } => e1.cross(*e2).normalize_or_zero(),
+            Surface::Triangle { e1, e2, .. } => face_normal(*e1, *e2),
             Surface::Mesh { mesh, .. } => {
                 let [a, b, c] = mesh.corners(&mesh.face(face as usize));
-                (b - a).cross(c - a).normalize_or_zero()
+                face_normal(b - a, c - a)
             }
             _ => shape.normal_at(point).normalize_or_zero(),
         }
     }
 }
 
+/// The unit normal of the face with edges `e1` and `e2` from its first corner, oriented as the
+/// book's triangles and the meshes orient theirs (`e2 × e1`), so that the side an emitting
+/// face lights is the one its hits see as its front.
+fn face_normal(e1: Vec3, e2: Vec3) -> Vec3 {
+    e2.cross(e1).normalize_or_zero()
+}
+
 /// A point of the triangle `p1`, `p1 + e1`, `p1 + e2`, uniformly by area, and its normal.
 fn triangle_point(p1: Point3, e1: Vec3, e2: Vec3, u: f64, v: f64) -> (Point3, Vec3) {
     let su = u.sqrt();
     let (b1, b2) = ((1.0 - v) * su, v * su);
-    (p1 + e1 * b1 + e2 * b2, e1.cross(e2).normalize_or_zero())
+    (p1 + e1 * b1 + e2 * b2, face_normal(e1, e2))
 }
 
 /// One light source as next-event estimation sees it.
@@ -569,5 +576,141 @@ fn scene_radius(world: &World) -> f64 {
         ((hi - lo).length() / 2.0).max(1e-3)
     } else {
         1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::icosahedron;
+    use crate::math::{point, rotation_x, rotation_y, scaling, translation, Ray};
+    use crate::shading::Material;
+
+    fn lamp(shape: Shape, matrix: glam::DMat4, side: EmissionSide) -> Object {
+        Object::new(shape)
+            .with_transform(matrix)
+            .with_material(Material {
+                emission: Color::WHITE,
+                emission_side: side,
+                ..Material::DEFAULT
+            })
+    }
+
+    /// Every shape sampled by area, placed by a transform that stretches it.
+    fn lamps(side: EmissionSide) -> Vec<Object> {
+        let stretch = translation(0.5, -0.2, 0.3) * rotation_y(0.7) * scaling(1.5, 0.6, 1.1);
+        vec![
+            lamp(Shape::Sphere, stretch, side),
+            lamp(Shape::Cube, stretch * rotation_x(0.4), side),
+            lamp(Shape::Rectangle, stretch, side),
+            lamp(
+                Shape::Ring {
+                    inner: 0.3,
+                    outer: 1.0,
+                },
+                stretch,
+                side,
+            ),
+            lamp(
+                Shape::Triangle(Box::new(crate::geometry::Triangle::new(
+                    point(0.0, 1.0, 0.0),
+                    point(-1.0, 0.0, 0.0),
+                    point(1.0, 0.0, 0.0),
+                ))),
+                stretch,
+                side,
+            ),
+            lamp(Shape::Mesh(Arc::new(icosahedron())), stretch, side),
+            lamp(
+                Shape::Cylinder {
+                    minimum: -0.5,
+                    maximum: 0.5,
+                    closed: true,
+                },
+                stretch,
+                side,
+            ),
+        ]
+    }
+
+    #[test]
+    fn a_sampled_point_has_the_density_a_path_that_hits_it_is_told() {
+        let from = point(4.0, 3.0, -5.0);
+        for object in lamps(EmissionSide::Both) {
+            let world = World {
+                objects: vec![object],
+                ..World::default()
+            };
+            let emitters = Emitters::new(&world);
+            let mut rng = SplitMixStream(12345);
+            let mut checked = 0;
+            for _ in 0..500 {
+                let u = [rng.next(), rng.next()];
+                let Some(s) = emitters.sample(&world, from, rng.next(), u) else {
+                    continue;
+                };
+                // The first hit along the sampled direction: where a path would arrive.
+                let ray = Ray::new(from, s.direction);
+                let object = &world.objects[0];
+                let Some(hit) =
+                    object
+                        .shape
+                        .closest_hit(&object.ray_to_object(&ray), 1e-9, f64::INFINITY)
+                else {
+                    panic!("{:?}: a sampled direction misses", object.shape);
+                };
+                if (hit.t - s.distance).abs() > 1e-6 * s.distance {
+                    continue; // the sampled point lies behind another part of the shape
+                }
+                let at = ray.position(hit.t);
+                let pdf = emitters.object_pdf(&world, 0, from, at, s.direction, hit.face);
+                assert!(
+                    (pdf - s.pdf).abs() <= 1e-6 * s.pdf,
+                    "{:?}: sampled with {} but told {pdf}",
+                    object.shape,
+                    s.pdf
+                );
+                checked += 1;
+            }
+            assert!(checked > 100, "{:?}: {checked}", world.objects[0].shape);
+        }
+    }
+
+    #[test]
+    fn a_one_sided_lamp_lights_only_the_side_its_hits_see_as_front() {
+        // Each flat lamp faces its hits' normal; from a point on that side, light samples
+        // arrive, from the other side none.
+        for object in lamps(EmissionSide::Front).into_iter().skip(2).take(3) {
+            let centre = object.transform.point(Point3::new(0.0, 0.3, 0.0));
+            let hit_normal = object.normal_at(object.transform.point(Point3::new(0.0, 0.2, 0.0)));
+            let world = World {
+                objects: vec![object],
+                ..World::default()
+            };
+            let emitters = Emitters::new(&world);
+            let front = centre + hit_normal * 3.0;
+            let back = centre - hit_normal * 3.0;
+            let count = |at: Point3| {
+                (0..64)
+                    .filter(|i| {
+                        let u = [(i % 8) as f64 / 8.0 + 0.06, (i / 8) as f64 / 8.0 + 0.06];
+                        emitters.sample(&world, at, 0.5, u).is_some()
+                    })
+                    .count()
+            };
+            assert!(count(front) > 0, "{:?}", world.objects[0].shape);
+            assert_eq!(count(back), 0, "{:?}", world.objects[0].shape);
+        }
+    }
+
+    /// Numbers in [0, 1) for the tests.
+    struct SplitMixStream(u64);
+    impl SplitMixStream {
+        fn next(&mut self) -> f64 {
+            use crate::math::random::{Jitter, SplitMix64};
+            let mut g = SplitMix64::new(self.0);
+            self.0 = g.next_u64();
+            g.next_offset()
+        }
     }
 }

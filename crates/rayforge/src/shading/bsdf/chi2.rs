@@ -2,12 +2,13 @@
 //! test their BSDFs: sampled directions are binned over the sphere in (cos θ, φ), each bin's
 //! expected count is the pdf integrated over it numerically, bins expecting fewer than five
 //! samples are pooled, and the statistic's p-value comes from the chi-square distribution
-//! (a regularised incomplete gamma function, written out below). Delta samples and failed
+//! (`math::stats`'s incomplete gamma function). Delta samples and failed
 //! samples get a bin each, expected from their discrete probability and the pdf's deficit.
 
 use super::Bsdf;
 use crate::color::Color;
 use crate::math::random::{Jitter, SplitMix64};
+use crate::math::stats::chi_square_tail;
 use crate::math::Vec3;
 use std::f64::consts::TAU;
 
@@ -15,70 +16,6 @@ const COS_BINS: usize = 10;
 const PHI_BINS: usize = 20;
 /// Midpoint-rule sub-cells per bin and axis when integrating the pdf.
 const SUB: usize = 40;
-
-/// `ln Γ(x)` for `x > 0`: shifted up by the recurrence `Γ(x + 1) = x Γ(x)` until Stirling's
-/// series is accurate to double precision.
-pub(super) fn ln_gamma(mut x: f64) -> f64 {
-    let mut shift = 0.0;
-    while x < 15.0 {
-        shift -= x.ln();
-        x += 1.0;
-    }
-    let inv = 1.0 / x;
-    let inv2 = inv * inv;
-    let series = inv * (1.0 / 12.0 - inv2 * (1.0 / 360.0 - inv2 * (1.0 / 1260.0 - inv2 / 1680.0)));
-    shift + (x - 0.5) * x.ln() - x + 0.5 * TAU.ln() + series
-}
-
-/// The regularised upper incomplete gamma function `Q(a, x) = Γ(a, x) / Γ(a)`: by its power
-/// series for `x < a + 1`, by its continued fraction (evaluated with Lentz's method) beyond.
-pub(super) fn gamma_q(a: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        return 1.0;
-    }
-    let prefactor = (-x + a * x.ln() - ln_gamma(a)).exp();
-    if x < a + 1.0 {
-        let mut term = 1.0 / a;
-        let mut sum = term;
-        let mut n = 1.0;
-        while term.abs() > sum.abs() * 1e-16 && n < 10_000.0 {
-            term *= x / (a + n);
-            sum += term;
-            n += 1.0;
-        }
-        (1.0 - prefactor * sum).clamp(0.0, 1.0)
-    } else {
-        let tiny = 1e-300;
-        let mut b = x + 1.0 - a;
-        let mut c = 1.0 / tiny;
-        let mut d = 1.0 / b;
-        let mut h = d;
-        for i in 1..10_000 {
-            let an = -(i as f64) * (i as f64 - a);
-            b += 2.0;
-            d = an * d + b;
-            if d.abs() < tiny {
-                d = tiny;
-            }
-            c = b + an / c;
-            if c.abs() < tiny {
-                c = tiny;
-            }
-            d = 1.0 / d;
-            let delta = d * c;
-            h *= delta;
-            if (delta - 1.0).abs() < 1e-16 {
-                break;
-            }
-        }
-        (prefactor * h).clamp(0.0, 1.0)
-    }
-}
-
-/// The probability that a chi-square variable with `dof` degrees of freedom exceeds `chi2`.
-pub(super) fn chi2_p_value(chi2: f64, dof: usize) -> f64 {
-    gamma_q(dof as f64 / 2.0, chi2 / 2.0)
-}
 
 fn direction(cos_theta: f64, phi: f64) -> Vec3 {
     let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
@@ -213,7 +150,7 @@ fn p_value_against(
         return Ok(1.0);
     }
     let chi2: f64 = pooled.iter().map(|(e, o)| (o - e) * (o - e) / e).sum();
-    Ok(chi2_p_value(chi2, pooled.len() - 1))
+    Ok(chi_square_tail(chi2, pooled.len() - 1))
 }
 
 #[cfg(test)]
@@ -233,29 +170,5 @@ mod tests {
         let wrong = p_value_against(&rough(0.3), &rough(0.36), wo, 20_000, 5).expect("runs");
         assert!(right > 1e-3, "{right}");
         assert!(wrong < 1e-6, "{wrong}");
-    }
-
-    #[test]
-    fn ln_gamma_matches_known_values() {
-        assert!(ln_gamma(1.0).abs() < 1e-13, "{}", ln_gamma(1.0));
-        assert!(ln_gamma(2.0).abs() < 1e-13);
-        assert!((ln_gamma(0.5) - std::f64::consts::PI.sqrt().ln()).abs() < 1e-13);
-        assert!((ln_gamma(10.0) - 362_880f64.ln()).abs() < 1e-12);
-        assert!((ln_gamma(30.5) - 72.953_471_184_169_4).abs() < 1e-9);
-    }
-
-    #[test]
-    fn chi_square_tail_matches_closed_forms() {
-        // Two degrees of freedom: an exponential tail.
-        for x in [0.1_f64, 1.0, 5.0, 30.0] {
-            assert!((chi2_p_value(x, 2) - (-x / 2.0).exp()).abs() < 1e-13, "{x}");
-        }
-        // Q(1/2, x/2) = erfc(√(x/2)); the median of χ²₁ is 0.454936…
-        assert!((chi2_p_value(0.454_936_423_119_572_8, 1) - 0.5).abs() < 1e-9);
-        // Four degrees of freedom: e^(−x/2)(1 + x/2).
-        for x in [0.5_f64, 3.0, 12.0, 60.0] {
-            let q = (-x / 2.0).exp() * (1.0 + x / 2.0);
-            assert!((chi2_p_value(x, 4) - q).abs() < 1e-13, "{x}");
-        }
     }
 }
