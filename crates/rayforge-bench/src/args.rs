@@ -12,6 +12,7 @@ Examples:
   rayforge bench                              # everything, on 2 threads
   rayforge bench primary --repeat 5
   rayforge bench scaling --plot docs/images/scaling.png
+  rayforge bench pbr --pbr-reference /work/fidelity-data   # the path tracer against Mitsuba 3
   rayforge bench --quick                      # tiny sizes: checks the command, measures nothing
 
 `rayforge bench ARGS` runs this program, `rayforge-bench ARGS`, found beside `rayforge`; build
@@ -69,6 +70,24 @@ pub struct BenchArgs {
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
 
+    /// pbr: samples per pixel of every render timed (Mitsuba's equal-time renders take as
+    /// many as fit in rayforge's time for these).
+    #[arg(long, value_name = "N", default_value_t = 64)]
+    pub pbr_spp: u32,
+
+    /// pbr: rounds of renders (every configuration once per round, in turn); the median counts.
+    #[arg(long, value_name = "R", default_value_t = 3)]
+    pub pbr_repeat: u32,
+
+    /// pbr: the Mitsuba reference images, NAME.mitsuba-hi.b0.pfm (preferred) or
+    /// NAME.mitsuba.mean.pfm (see tools/fidelity/README.md).
+    #[arg(long, value_name = "DIR", default_value = "../fidelity-data")]
+    pub pbr_reference: PathBuf,
+
+    /// pbr: the Python that imports Mitsuba 3 and runs tools/fidelity/bench_mitsuba.py.
+    #[arg(long, value_name = "FILE", default_value = "python3")]
+    pub python: PathBuf,
+
     /// Tiny meshes and images, one trace each: checks that every step runs in seconds; the
     /// numbers mean nothing.
     #[arg(long)]
@@ -86,7 +105,10 @@ pub enum BenchPart {
     Scaling,
     /// Whole renders of scenes against POV-Ray and raytracer_rs, as processes.
     Scenes,
-    /// All of the above.
+    /// The path tracer against Mitsuba 3: samples per second and error at equal time on the
+    /// five scenes of scenes/pbr (skipped when Python cannot import mitsuba).
+    Pbr,
+    /// All of the above (pbr only where Mitsuba is found).
     All,
 }
 
@@ -107,5 +129,6 @@ mod tests {
         assert_eq!((args.threads, args.repeat, args.scene_repeat), (2, 3, 1));
         assert_eq!(args.peers, PathBuf::from("bench/peers/build"));
         assert!(!args.quick && args.plot.is_none() && args.rayforge.is_none());
+        assert_eq!((args.pbr_spp, args.pbr_repeat), (64, 3));
     }
 }

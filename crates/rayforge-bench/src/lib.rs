@@ -7,7 +7,7 @@
 //!
 //! Each part is a file: `primary.rs` (primary rays against Embree), `sweep.rs` (BVH build and
 //! scaling with triangle count, with the plot), `scenes.rs` (whole renders against POV-Ray
-//! and raytracer_rs). They share the meshes (`shapes.rs`), the rays (`rays.rs`), rayforge's
+//! and raytracer_rs), `pbr.rs` (the path tracer against Mitsuba 3). They share the meshes (`shapes.rs`), the rays (`rays.rs`), rayforge's
 //! tracing loop (`trace.rs`), the files handed to the Embree harness (`files.rs`, `embree.rs`)
 //! and the report (`report.rs`). Peers are found in the directory `bench/peers/setup.sh`
 //! fills (`peers.rs`); a missing one is a skipped row, never an error.
@@ -20,6 +20,7 @@
 pub mod args;
 mod embree;
 mod files;
+mod pbr;
 mod peers;
 mod plot;
 mod pov_mesh;
@@ -59,6 +60,8 @@ pub struct BenchSettings {
     pub scaling: bool,
     /// Run the whole-scene comparisons.
     pub scenes: bool,
+    /// Run the path tracer against Mitsuba 3.
+    pub pbr: bool,
     /// Threads for both sides.
     pub threads: usize,
     /// Where the peers are.
@@ -77,9 +80,20 @@ pub struct BenchSettings {
     pub scene_repeat: u32,
     /// A second place for the scaling plot.
     pub plot: Option<PathBuf>,
+    /// Samples per pixel of the path tracer's renders.
+    pub pbr_spp: u32,
+    /// Rounds of the path tracer's renders.
+    pub pbr_repeat: u32,
+    /// Where the Mitsuba reference images are.
+    pub pbr_reference: PathBuf,
+    /// The Python with Mitsuba 3.
+    pub python: PathBuf,
     /// Tiny sizes.
     pub quick: bool,
 }
+
+/// The most samples per pixel accepted for `--pbr-spp`.
+const MAX_PBR_SPP: u32 = 1 << 16;
 
 impl BenchSettings {
     /// Checks the arguments; each refusal names the flag.
@@ -93,12 +107,19 @@ impl BenchSettings {
         for (flag, value) in [
             ("--repeat", args.repeat),
             ("--scene-repeat", args.scene_repeat),
+            ("--pbr-repeat", args.pbr_repeat),
         ] {
             if !(1..=MAX_REPEAT).contains(&value) {
                 return Err(Failure::usage(format!(
                     "{flag} must be from 1 to {MAX_REPEAT}, found {value}"
                 )));
             }
+        }
+        if !(1..=MAX_PBR_SPP).contains(&args.pbr_spp) {
+            return Err(Failure::usage(format!(
+                "--pbr-spp must be from 1 to {MAX_PBR_SPP}, found {}",
+                args.pbr_spp
+            )));
         }
         if let Some(path) = args.rayforge.as_deref().filter(|p| !p.is_file()) {
             return Err(Failure::usage(format!(
@@ -112,6 +133,7 @@ impl BenchSettings {
             build: all || args.part == BenchPart::Build,
             scaling: all || args.part == BenchPart::Scaling,
             scenes: all || args.part == BenchPart::Scenes,
+            pbr: all || args.part == BenchPart::Pbr,
             threads: args.threads,
             peers: args.peers,
             out: args.out,
@@ -121,6 +143,10 @@ impl BenchSettings {
             repeat: if args.quick { 1 } else { args.repeat },
             scene_repeat: args.scene_repeat,
             plot: args.plot,
+            pbr_spp: if args.quick { 2 } else { args.pbr_spp },
+            pbr_repeat: if args.quick { 1 } else { args.pbr_repeat },
+            pbr_reference: args.pbr_reference,
+            python: args.python,
             quick: args.quick,
         })
     }
@@ -211,6 +237,9 @@ pub fn run(settings: &BenchSettings) -> Result<(), Failure> {
     }
     if settings.scenes {
         scenes::run(&bench, &mut report)?;
+    }
+    if settings.pbr {
+        pbr::run(&bench, &mut report)?;
     }
     let path = bench.out("bench.md");
     report.finish(&path)?;

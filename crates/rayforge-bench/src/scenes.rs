@@ -436,7 +436,7 @@ const RAYFORGE: &str = if cfg!(windows) {
 /// The `rayforge` executable whose renders are timed: `--rayforge` (checked to be a file with
 /// the other arguments), else the one beside this program (cargo builds both into the same
 /// directory), else the first on PATH; `None` when there is none.
-fn rayforge_executable(given: Option<&Path>) -> Option<PathBuf> {
+pub(crate) fn rayforge_executable(given: Option<&Path>) -> Option<PathBuf> {
     if let Some(path) = given {
         return Some(path.to_path_buf());
     }

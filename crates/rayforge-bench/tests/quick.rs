@@ -27,6 +27,10 @@ fn bench(args: &[&str], peers: &Path, out: &Path) -> Output {
         // No models: the dragon comparisons are skipped, as they are where shared/ is absent.
         .arg("--models")
         .arg(peers.join("no-models"))
+        // No Mitsuba: the path tracer's comparison is skipped, as it is where Python cannot
+        // import mitsuba; tests never depend on it.
+        .arg("--python")
+        .arg(peers.join("no-python"))
         // No `rayforge` on PATH: only the one beside the program counts.
         .env("PATH", "")
         .output()
@@ -48,6 +52,7 @@ fn a_quick_run_without_peers_prints_every_table_and_skips_the_peers() {
         "### BVH build",
         "### Time per primary ray against triangle count",
         "### Whole renders",
+        "### The path tracer against Mitsuba 3",
         "### Summary",
     ] {
         assert!(stdout.contains(title), "no `{title}` in:\n{stdout}");
@@ -57,6 +62,10 @@ fn a_quick_run_without_peers_prints_every_table_and_skips_the_peers() {
     assert!(stdout.contains("skipped"), "{stdout}");
     assert!(stdout.contains("bench/peers/setup.sh"), "{stdout}");
     assert!(stdout.contains("not measured"), "{stdout}");
+    assert!(
+        stdout.contains("Skipped: Mitsuba 3 was not found"),
+        "{stdout}"
+    );
     assert!(out.join("bench.md").is_file());
     assert!(out.join("scaling.png").is_file());
     if rayforge_beside().is_some() {
@@ -113,6 +122,25 @@ fn a_quick_scaling_run_draws_the_plot_where_asked() {
 }
 
 #[test]
+fn the_pbr_part_without_mitsuba_is_a_note_not_a_failure() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = bench(&["pbr"], dir.path(), &out);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("### The path tracer against Mitsuba 3"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("Skipped: Mitsuba 3 was not found"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("pip install mitsuba"), "{stdout}");
+    assert!(!stdout.contains("### Whole renders"), "{stdout}");
+}
+
+#[test]
 fn bad_bench_arguments_are_refused_with_exit_2() {
     let dir = tempfile::tempdir().unwrap();
     let o = bench(&["build", "--threads", "0"], dir.path(), dir.path());
@@ -123,6 +151,9 @@ fn bad_bench_arguments_are_refused_with_exit_2() {
     let o = bench(&["--rayforge", "no-such-file"], dir.path(), dir.path());
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--rayforge"));
+    let o = bench(&["pbr", "--pbr-spp", "0"], dir.path(), dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--pbr-spp"));
 }
 
 #[test]
@@ -148,6 +179,11 @@ fn the_help_lists_every_option_and_the_parts() {
         "build",
         "scaling",
         "scenes",
+        "pbr",
+        "--pbr-spp",
+        "--pbr-repeat",
+        "--pbr-reference",
+        "--python",
     ] {
         assert!(help.contains(word), "no `{word}` in:\n{help}");
     }
