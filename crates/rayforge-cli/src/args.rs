@@ -29,7 +29,7 @@ Exit status: 0 on success, 2 for bad input (arguments, the scene file, the outpu
 const OVERVIEW: &str = concat!(
     "\
 Render options (`rayforge render --help` describes each in full):
-  -o, --output <FILE>       the image to write: .png, .ppm or .pfm, by extension
+  -o, --output <FILE>       the image to write: .png, .ppm, .pfm or .exr, by extension
       --width <PIXELS>      image width (keeps the camera's field of view; alone, its aspect ratio)
       --height <PIXELS>     image height (likewise)
       --threads <N>         worker threads [default: all cores]
@@ -78,7 +78,7 @@ pub struct Cli {
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Render a scene file to an image (.png, .ppm or .pfm, chosen by the output's extension).
+    /// Render a scene file to an image (.png, .ppm, .pfm or .exr, chosen by the output's extension).
     #[command(after_help = RENDER_EXAMPLES)]
     Render(RenderArgs),
     /// Measure rayforge against its peers (Embree, POV-Ray, raytracer_rs) and print the tables
@@ -109,7 +109,8 @@ pub struct RenderArgs {
     pub scene: PathBuf,
 
     /// Where to write the image. The extension picks the format: .png (8-bit), .ppm (the
-    /// book's plain P3) or .pfm (linear 32-bit float RGB, for exact comparisons).
+    /// book's plain P3), .pfm (linear 32-bit float RGB, for exact comparisons) or .exr
+    /// (OpenEXR, linear 32-bit float RGB, for compositors, viewers and denoisers).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
 

@@ -13,6 +13,9 @@ pub enum ImageFormat {
     Ppm,
     /// Portable Float Map: linear 32-bit float RGB, unclamped.
     Pfm,
+    /// OpenEXR: linear 32-bit float RGB, unclamped (what compositors, viewers and denoisers
+    /// read).
+    Exr,
 }
 
 impl ImageFormat {
@@ -26,11 +29,17 @@ impl ImageFormat {
             Some("png") => Ok(Self::Png),
             Some("ppm") => Ok(Self::Ppm),
             Some("pfm") => Ok(Self::Pfm),
+            Some("exr") => Ok(Self::Exr),
             _ => Err(Failure::usage(format!(
-                "cannot tell the image format of `{}`: use a .png, .ppm or .pfm extension",
+                "cannot tell the image format of `{}`: use a .png, .ppm, .pfm or .exr extension",
                 path.display()
             ))),
         }
+    }
+
+    /// Whether the format keeps linear radiance (the float formats) rather than display values.
+    pub fn is_linear(self) -> bool {
+        matches!(self, Self::Pfm | Self::Exr)
     }
 
     /// The encoded file.
@@ -38,6 +47,7 @@ impl ImageFormat {
         match self {
             Self::Ppm => Ok(canvas.to_ppm().into_bytes()),
             Self::Pfm => Ok(to_pfm(canvas)),
+            Self::Exr => to_exr(canvas),
             Self::Png => to_png(canvas),
         }
     }
@@ -60,6 +70,23 @@ fn to_png(canvas: &Canvas) -> Result<Vec<u8>, Failure> {
     )
     .map_err(|e| Failure::internal(format!("PNG encoding failed: {e}")))?;
     Ok(bytes)
+}
+
+/// OpenEXR of the canvas's linear colours, one layer of 32-bit float R, G and B, written by the
+/// `exr` crate into memory (the caller writes the file atomically).
+fn to_exr(canvas: &Canvas) -> Result<Vec<u8>, Failure> {
+    use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
+    let width = canvas.width();
+    let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+        let c = canvas.pixels()[y * width + x];
+        (c.red as f32, c.green as f32, c.blue as f32)
+    });
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    Image::from_channels((width, canvas.height()), channels)
+        .write()
+        .to_buffered(&mut bytes)
+        .map_err(|e| Failure::internal(format!("OpenEXR encoding failed: {e}")))?;
+    Ok(bytes.into_inner())
 }
 
 /// PFM: a text header (`PF` for colour, the size, `-1.0` for little-endian), then the linear
@@ -93,6 +120,10 @@ mod tests {
             ImageFormat::from_path(Path::new("x.pfm")).ok(),
             Some(ImageFormat::Pfm)
         );
+        assert_eq!(
+            ImageFormat::from_path(Path::new("x.EXR")).ok(),
+            Some(ImageFormat::Exr)
+        );
         assert!(ImageFormat::from_path(Path::new("x.jpg")).is_err());
         assert!(ImageFormat::from_path(Path::new("png")).is_err());
     }
@@ -109,5 +140,29 @@ mod tests {
             .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
             .collect();
         assert_eq!(floats, [0.0, 0.0, 0.0, 0.25, 0.5, 2.0]);
+    }
+
+    #[test]
+    fn exr_round_trips_linear_floats_top_row_first() {
+        use exr::prelude::{read_first_rgba_layer_from_file, Vec2};
+        let mut canvas = Canvas::new(3, 2);
+        canvas.write_pixel(0, 0, Color::new(0.25, 0.5, 2.0));
+        canvas.write_pixel(2, 1, Color::new(17.5, 0.0, 1e-3));
+        let bytes = to_exr(&canvas).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("x.exr");
+        std::fs::write(&path, bytes).unwrap();
+        let image = read_first_rgba_layer_from_file(
+            &path,
+            |size, _| vec![[0.0f32; 3]; size.width() * size.height()],
+            |pixels: &mut Vec<[f32; 3]>, Vec2(x, y), (r, g, b, _): (f32, f32, f32, f32)| {
+                pixels[y * 3 + x] = [r, g, b]
+            },
+        )
+        .unwrap();
+        let pixels = image.layer_data.channel_data.pixels;
+        assert_eq!(pixels[0], [0.25, 0.5, 2.0]);
+        assert_eq!(pixels[5], [17.5, 0.0, 1e-3]);
+        assert_eq!(pixels[1], [0.0, 0.0, 0.0]);
     }
 }

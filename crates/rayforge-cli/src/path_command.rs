@@ -85,7 +85,7 @@ pub fn path_render(
         encode_for(settings.format, &mut albedo);
         write_atomically(&albedo_path, &settings.format.encode(&albedo)?)?;
         let mut normal = aovs.normal.into_film().resolve();
-        if settings.format != ImageFormat::Pfm {
+        if !settings.format.is_linear() {
             // [-1, 1] into [0, 1], as normal maps store them.
             for c in normal.pixels_mut() {
                 *c = (*c + Color::WHITE) * 0.5;
@@ -131,10 +131,10 @@ pub fn aov_paths(output: &Path) -> (PathBuf, PathBuf) {
     (named("albedo"), named("normal"))
 }
 
-/// Radiance as the format wants it: linear for PFM; for the 8-bit formats, encoded with the
-/// sRGB transfer curve (a display shows code values, not radiance).
+/// Radiance as the format wants it: linear for PFM and OpenEXR; for the 8-bit formats,
+/// encoded with the sRGB transfer curve (a display shows code values, not radiance).
 fn encode_for(format: ImageFormat, canvas: &mut Canvas) {
-    if format == ImageFormat::Pfm {
+    if format.is_linear() {
         return;
     }
     for c in canvas.pixels_mut() {

@@ -204,7 +204,11 @@ fn an_unknown_extension_is_refused_before_rendering() {
     let scene = d.file("s.yml", RED_SPHERE);
     let o = render(&scene, &d.path("out.gif"), &[]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains(".png, .ppm or .pfm"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(".png, .ppm, .pfm or .exr"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]

@@ -187,3 +187,25 @@ fn path_flags_are_refused_with_the_other_renderers_and_with_each_other() {
     }
     assert!(!image.exists());
 }
+
+#[test]
+fn an_exr_holds_the_same_linear_floats_as_the_pfm() {
+    let dir = temp();
+    let (pfm, exr) = (out(&dir, "f.pfm"), out(&dir, "f.exr"));
+    for image in [&pfm, &exr] {
+        let (ok, stderr) = render("scenes/pbr/spheres-materials.yml", image, SMALL);
+        assert!(ok, "{stderr}");
+    }
+    let floats = pfm_floats(&pfm);
+    let read = exr::prelude::read_first_rgba_layer_from_file(
+        &exr,
+        |size, _| vec![0.0f32; size.width() * size.height() * 3],
+        |pixels: &mut Vec<f32>, exr::prelude::Vec2(x, y), (r, g, b, _): (f32, f32, f32, f32)| {
+            // PFM rows run bottom to top; put the EXR's in the same order.
+            let i = ((11 - y) * 12 + x) * 3;
+            pixels[i..i + 3].copy_from_slice(&[r, g, b]);
+        },
+    )
+    .unwrap();
+    assert_eq!(read.layer_data.channel_data.pixels, floats);
+}
