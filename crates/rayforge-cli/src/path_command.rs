@@ -48,8 +48,8 @@ pub fn path_render(
     let film = Film::with_filter(width, height, options.filter)
         .map_err(|e| Failure::usage(format!("{e}")))?;
     let film = SharedFilm::from(film);
-    let aovs = settings.aovs().then(|| Aovs::new(width, height));
-    let aov_paths = settings.aovs().then(|| aov_paths(output));
+    let aovs = settings.path.aovs.then(|| Aovs::new(width, height));
+    let aov_paths = settings.path.aovs.then(|| aov_paths(output));
     if let Some((albedo, normal)) = &aov_paths {
         crate::atomic_write::check_writable(albedo)?;
         crate::atomic_write::check_writable(normal)?;

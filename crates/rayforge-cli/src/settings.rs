@@ -96,23 +96,28 @@ pub struct PathRequest {
 impl PathRequest {
     /// The path flag given, if any.
     fn flag(&self) -> Option<&'static str> {
-        [
+        first_given([
             ("--seed", self.seed.is_some()),
             ("--sampler", self.sampler.is_some()),
             ("--filter", self.filter.is_some()),
             ("--aovs", self.aovs),
-        ]
-        .into_iter()
-        .find_map(|(flag, given)| given.then_some(flag))
+        ])
     }
 }
 
-/// The default radius of the tent and Gaussian filters, in pixels.
-pub const DEFAULT_FILTER_RADIUS: f64 = 1.5;
+/// The first of `flags` (each a flag's name and whether it was given) that was given: what a
+/// refusal of flags that belong to another renderer names.
+fn first_given<const N: usize>(flags: [(&'static str, bool); N]) -> Option<&'static str> {
+    flags
+        .into_iter()
+        .find_map(|(flag, given)| given.then_some(flag))
+}
 
 /// The path tracer's flags, checked.
 fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
-    let radius = args.filter_radius.unwrap_or(DEFAULT_FILTER_RADIUS);
+    let radius = args
+        .filter_radius
+        .unwrap_or(PathOptions::DEFAULT_FILTER_RADIUS);
     if !(radius > 0.0 && radius <= rayforge::film::MAX_FILTER_RADIUS) {
         return Err(Failure::usage(format!(
             "--filter-radius must be above 0 and at most {}, found {radius}",
@@ -147,11 +152,6 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
 }
 
 impl RenderSettings {
-    /// Whether `--aovs` asks for the albedo and normal images.
-    pub fn aovs(&self) -> bool {
-        self.path.aovs
-    }
-
     /// The renderer that draws a scene whose `world:` item asks for the rasterizer with
     /// `scene_raster` or the path tracer with `scene_path` (the command line's `--renderer`
     /// wins), with the command line's options over the scene's. Each renderer's flags are
@@ -183,17 +183,15 @@ impl RenderSettings {
                 .map(|o| Chosen::Raster(o.unwrap_or_default())),
             Renderer::Path => {
                 self.raster.resolve(None, false)?;
-                for (flag, given) in [
+                if let Some(flag) = first_given([
                     ("--adaptive", self.adaptive.is_some()),
                     ("--subsample", self.subsample.is_some()),
                     ("--trace-pixel", self.trace_pixel.is_some()),
                     ("--resume", self.resume),
-                ] {
-                    if given {
-                        return Err(Failure::usage(format!(
-                            "{flag} applies to the ray tracer, not to --renderer path"
-                        )));
-                    }
+                ]) {
+                    return Err(Failure::usage(format!(
+                        "{flag} applies to the ray tracer, not to --renderer path"
+                    )));
                 }
                 let mut options = scene_path.unwrap_or_default();
                 if let Some(depth) = self.max_depth {
@@ -362,14 +360,12 @@ pub struct RasterRequest {
 impl RasterRequest {
     /// The raster flag given, if any.
     fn raster_flag(&self) -> Option<&'static str> {
-        [
+        first_given([
             ("--shading", self.shading.is_some()),
             ("--sphere-divisions", self.sphere_divisions.is_some()),
             ("--texture-filter", self.filter.is_some()),
             ("--wireframe", self.wireframe),
-        ]
-        .into_iter()
-        .find_map(|(flag, given)| given.then_some(flag))
+        ])
     }
 
     /// The rasterizer's options when `raster` (the rasterizer draws the scene), `None` for

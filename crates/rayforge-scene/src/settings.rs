@@ -47,9 +47,6 @@ const PATH_KEYS: &[&str] = &[
     "roulette-depth",
 ];
 
-/// The radius of a tent or Gaussian pixel filter without `filter-radius`, in pixels.
-pub const DEFAULT_FILTER_RADIUS: f64 = 1.5;
-
 /// The largest `seed` (every whole number up to it is exact in a YAML float too).
 const MAX_SEED: f64 = 9_007_199_254_740_992.0; // 2^53
 
@@ -229,7 +226,7 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
                         }
                         v
                     }
-                    None => DEFAULT_FILTER_RADIUS,
+                    None => PathOptions::DEFAULT_FILTER_RADIUS,
                 };
                 options.filter = match name {
                     "tent" => PixelFilter::Tent { radius },

@@ -113,6 +113,10 @@ impl PathOptions {
     /// The deepest path by default: in practice unbounded (Russian roulette ends paths long
     /// before), but a limit all the same, so that no scene can trap a path forever.
     pub const DEFAULT_MAX_DEPTH: u32 = 1024;
+
+    /// The radius of a tent or Gaussian pixel filter when the scene or the command line gives
+    /// none, in pixels.
+    pub const DEFAULT_FILTER_RADIUS: f64 = 1.5;
 }
 
 impl Default for PathOptions {

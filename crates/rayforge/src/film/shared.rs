@@ -50,6 +50,11 @@ impl From<Film> for SharedFilm {
 }
 
 impl SharedFilm {
+    /// How samples are spread over the pixels (every part added must have the same).
+    pub fn filter(&self) -> PixelFilter {
+        self.filter
+    }
+
     /// Width in pixels.
     pub fn width(&self) -> usize {
         self.width

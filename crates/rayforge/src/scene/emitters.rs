@@ -283,6 +283,10 @@ impl Emitters {
         let radius = scene_radius(world);
         let falloff = world.lighting == LightingModel::Optics;
         let disc = PI * radius * radius;
+        // A book light's power: its irradiance π·I over a sphere (falling off) or, not falling
+        // off, over the scene's cross-section.
+        let point_power =
+            |intensity: Color| intensity.luminance() * PI * if falloff { 4.0 * PI } else { disc };
         let mut list = Vec::new();
         let mut power = Vec::new();
         for light in &world.lights {
@@ -294,7 +298,7 @@ impl Emitters {
                         falloff,
                         spot: None,
                     },
-                    l.intensity.luminance() * PI * if falloff { 4.0 * PI } else { disc },
+                    point_power(l.intensity),
                 ),
                 Light::Spot(l) => (
                     Emitter::Point {
@@ -303,7 +307,7 @@ impl Emitters {
                         falloff,
                         spot: Some(l),
                     },
-                    l.intensity.luminance() * PI * if falloff { 4.0 * PI } else { disc },
+                    point_power(l.intensity),
                 ),
                 Light::Directional(l) => (
                     Emitter::Directional {
@@ -320,7 +324,7 @@ impl Emitters {
                         intensity: l.intensity * PI,
                         falloff,
                     },
-                    l.intensity.luminance() * PI * if falloff { 4.0 * PI } else { disc },
+                    point_power(l.intensity),
                 ),
                 Light::Ambient(_) => continue,
             };

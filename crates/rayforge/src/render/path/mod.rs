@@ -116,21 +116,22 @@ pub fn render_path(
         ));
     }
     let filter = job.options.filter.checked()?;
-    // Adding a row of the job's filter to the film checks the film's filter too.
-    Film::with_filter(width, 1, filter)?;
+    if film.filter() != filter {
+        return Err(FilmError::FilterMismatch(filter, film.filter()));
+    }
     let index = WorldIndex::build(world);
     let emitters = Emitters::new(world);
     let rays = AtomicU64::new(0);
-    let samples = AtomicU64::new(0);
     let discarded = AtomicU64::new(0);
+    let rows = AtomicU64::new(0);
     let cancelled = || job.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let options = job.options;
+    let spp = job.samples.end.saturating_sub(job.samples.start);
     let still = camera.aperture() == 0.0 && world.objects.iter().all(|o| o.motion.is_none());
-    let mut failure = None;
-    let failures: Vec<Option<FilmError>> = (0..height)
+    (0..height)
         .into_par_iter()
         .zip(done.par_iter_mut())
-        .map_init(
+        .try_for_each_init(
             || {
                 PathContext::new(
                     world,
@@ -140,12 +141,12 @@ pub fn render_path(
                     options.roulette_depth.max(1),
                 )
             },
-            |context, (y, done)| {
+            |context, (y, done)| -> Result<(), FilmError> {
                 if *done || cancelled() {
-                    return None;
+                    return Ok(());
                 }
                 let before = context.rays;
-                let mut beauty = Film::with_filter(width, 1, filter).ok()?;
+                let mut beauty = Film::with_filter(width, 1, filter)?;
                 let mut albedo = Film::new(width, 1);
                 let mut normal = Film::new(width, 1);
                 let mut row_discarded = 0;
@@ -185,39 +186,27 @@ pub fn render_path(
                         normal_sum += Color::new(first.normal.x, first.normal.y, first.normal.z);
                     }
                     beauty.add_pixel_sum(x, 0, sum, weights);
-                    let n = job.samples.end.saturating_sub(job.samples.start) as f64;
-                    albedo.add_pixel_sum(x, 0, albedo_sum, n);
-                    normal.add_pixel_sum(x, 0, normal_sum, n);
+                    albedo.add_pixel_sum(x, 0, albedo_sum, spp as f64);
+                    normal.add_pixel_sum(x, 0, normal_sum, spp as f64);
                 }
-                if let Err(e) = film.add(y, &beauty) {
-                    return Some(e);
-                }
+                film.add(y, &beauty)?;
                 if let Some(aovs) = aovs {
-                    if let Err(e) = aovs.albedo.add(y, &albedo).and(aovs.normal.add(y, &normal)) {
-                        return Some(e);
-                    }
+                    aovs.albedo.add(y, &albedo)?;
+                    aovs.normal.add(y, &normal)?;
                 }
                 *done = true;
                 rays.fetch_add(context.rays - before, Ordering::Relaxed);
-                let n = job.samples.end.saturating_sub(job.samples.start);
-                samples.fetch_add(n * width as u64, Ordering::Relaxed);
+                rows.fetch_add(1, Ordering::Relaxed);
                 discarded.fetch_add(row_discarded, Ordering::Relaxed);
                 if let Some(progress) = job.progress {
                     progress(1);
                 }
-                None
+                Ok(())
             },
-        )
-        .collect();
-    for f in failures.into_iter().flatten() {
-        failure.get_or_insert(f);
-    }
-    match failure {
-        Some(e) => Err(e),
-        None => Ok(PathStats {
-            rays: rays.into_inner(),
-            samples: samples.into_inner(),
-            discarded: discarded.into_inner(),
-        }),
-    }
+        )?;
+    Ok(PathStats {
+        rays: rays.into_inner(),
+        samples: rows.into_inner() * spp * width as u64,
+        discarded: discarded.into_inner(),
+    })
 }

@@ -24,6 +24,27 @@ struct Oriented {
     flipped: bool,
 }
 
+/// A rough boundary's microfacet for a pair of directions (see `Dielectric::facet`).
+struct Facet {
+    o: Oriented,
+    ggx: Ggx,
+    h: Vec3,
+    is_reflection: bool,
+    cos_oh: f64,
+    cos_ih: f64,
+    /// Fresnel reflectance at the microfacet.
+    f: f64,
+}
+
+impl Facet {
+    /// `(wo·h + η wi·h)²`, the refraction Jacobian's denominator, when it is usable.
+    fn refraction_denominator(&self) -> Option<f64> {
+        let denom = self.cos_oh + self.o.eta * self.cos_ih;
+        let denom2 = denom * denom;
+        (!denom2.is_nan() && denom2 > 1e-300).then_some(denom2)
+    }
+}
+
 fn orient(wo: Vec3, wi: Vec3, eta: f64) -> Oriented {
     if wo.z < 0.0 {
         let flip = Vec3::new(1.0, 1.0, -1.0);
@@ -73,62 +94,65 @@ impl Dielectric {
     }
 
     fn eval_scalar(&self, wo: Vec3, wi: Vec3) -> f64 {
-        if is_smooth(self.alpha) || wo.z == 0.0 {
-            return 0.0;
-        }
-        let o = orient(wo, wi, self.eta);
-        let Some((h, is_reflection)) = half_vector(o.wo, o.wi, o.eta) else {
+        let Some(m) = self.facet(wo, wi) else {
             return 0.0;
         };
-        let ggx = Ggx { alpha: self.alpha };
-        let cos_oh = o.wo.dot(h);
-        let cos_ih = o.wi.dot(h);
-        let g = ggx.g1(o.wo, h) * ggx.g1(o.wi, h);
+        let g = m.ggx.g1(m.o.wo, m.h) * m.ggx.g1(m.o.wi, m.h);
         if g <= 0.0 {
             return 0.0;
         }
-        let f = fresnel::dielectric(cos_oh, o.eta).reflectance;
-        let d = ggx.d(h);
-        if is_reflection {
-            f * d * g / (4.0 * o.wo.z)
+        let d = m.ggx.d(m.h);
+        if m.is_reflection {
+            m.f * d * g / (4.0 * m.o.wo.z)
+        } else if let Some(denom2) = m.refraction_denominator() {
+            (m.cos_ih * m.cos_oh).abs() * (1.0 - m.f) * d * g / (m.o.wo.z * denom2)
         } else {
-            let denom = cos_oh + o.eta * cos_ih;
-            let denom2 = denom * denom;
-            if denom2.is_nan() || denom2 <= 1e-300 {
-                return 0.0;
-            }
-            (cos_ih * cos_oh).abs() * (1.0 - f) * d * g / (o.wo.z * denom2)
+            0.0
         }
+    }
+
+    /// What evaluating and the density of a rough boundary share for the pair `wo`, `wi`: the
+    /// pair turned to the outside, the microfacet normal joining them, and its Fresnel
+    /// reflectance; `None` for a smooth boundary or no such normal.
+    fn facet(&self, wo: Vec3, wi: Vec3) -> Option<Facet> {
+        if is_smooth(self.alpha) || wo.z == 0.0 {
+            return None;
+        }
+        let o = orient(wo, wi, self.eta);
+        let (h, is_reflection) = half_vector(o.wo, o.wi, o.eta)?;
+        let (cos_oh, cos_ih) = (o.wo.dot(h), o.wi.dot(h));
+        Some(Facet {
+            ggx: Ggx { alpha: self.alpha },
+            h,
+            is_reflection,
+            cos_oh,
+            cos_ih,
+            f: fresnel::dielectric(cos_oh, o.eta).reflectance,
+            o,
+        })
     }
 
     /// The density of [`sample`](Self::sample)'s `wi`: the visible-normal density, times the
     /// probability `F` or `1 − F` of choosing reflection or transmission at that normal, times
     /// the Jacobian from normals to directions (`1/(4 wo·h)` or `η² |wi·h| / (wo·h + η wi·h)²`).
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f64 {
-        if is_smooth(self.alpha) || wo.z == 0.0 {
-            return 0.0;
-        }
-        let o = orient(wo, wi, self.eta);
-        let Some((h, is_reflection)) = half_vector(o.wo, o.wi, o.eta) else {
+        let Some(m) = self.facet(wo, wi) else {
             return 0.0;
         };
-        let ggx = Ggx { alpha: self.alpha };
-        let cos_oh = o.wo.dot(h);
-        let cos_ih = o.wi.dot(h);
-        if cos_oh <= 0.0 || (is_reflection && cos_ih <= 0.0) || (!is_reflection && cos_ih >= 0.0) {
+        let (cos_oh, cos_ih) = (m.cos_oh, m.cos_ih);
+        if cos_oh <= 0.0
+            || (m.is_reflection && cos_ih <= 0.0)
+            || (!m.is_reflection && cos_ih >= 0.0)
+        {
             return 0.0;
         }
-        let f = fresnel::dielectric(cos_oh, o.eta).reflectance;
-        let visible = ggx.visible_pdf(o.wo, h);
-        if is_reflection {
-            f * visible / (4.0 * cos_oh)
+        let visible = m.ggx.visible_pdf(m.o.wo, m.h);
+        if m.is_reflection {
+            m.f * visible / (4.0 * cos_oh)
+        } else if let Some(denom2) = m.refraction_denominator() {
+            (1.0 - m.f) * visible * m.o.eta * m.o.eta * cos_ih.abs() / denom2
         } else {
-            let denom = cos_oh + o.eta * cos_ih;
-            let denom2 = denom * denom;
-            if denom2.is_nan() || denom2 <= 1e-300 {
-                return 0.0;
-            }
-            (1.0 - f) * visible * o.eta * o.eta * cos_ih.abs() / denom2
+            0.0
         }
     }
 
