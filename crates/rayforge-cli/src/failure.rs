@@ -1,6 +1,11 @@
 //! Why the command failed, and the exit code that says so: 2 for bad input, 1 for the rest.
 
+use rayforge_scene::clip_to;
 use std::process::ExitCode;
+
+/// How many characters of a one-line message are printed at most: messages quote arguments
+/// and paths, which may be any length.
+const MAX_MESSAGE_CHARS: usize = 2000;
 
 /// Exit status for input the user can fix: arguments, the scene file, the output path.
 pub const EXIT_INPUT: u8 = 2;
@@ -40,7 +45,7 @@ impl Failure {
     pub fn report(self) -> ExitCode {
         match self {
             Failure::Input(message) => {
-                eprintln!("error: {message}");
+                eprintln!("error: {}", clip_to(&message, MAX_MESSAGE_CHARS));
                 ExitCode::from(EXIT_INPUT)
             }
             Failure::Scene(report) => {
@@ -48,7 +53,7 @@ impl Failure {
                 ExitCode::from(EXIT_INPUT)
             }
             Failure::Internal(message) => {
-                eprintln!("internal error: {message}");
+                eprintln!("internal error: {}", clip_to(&message, MAX_MESSAGE_CHARS));
                 ExitCode::from(EXIT_INTERNAL)
             }
             Failure::Interrupted(message) => {

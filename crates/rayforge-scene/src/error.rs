@@ -1,5 +1,6 @@
 //! Scene errors: which file, where in it, which key, and what is wrong.
 
+use std::borrow::Cow;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -55,14 +56,85 @@ impl SceneError {
 
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.path.display())?;
+        write!(f, "{}", clip(&self.path.display().to_string()))?;
         if let Some(span) = self.span {
             write!(f, ":{}:{}", span.line, span.column)?;
         }
         write!(f, ": ")?;
         if let Some(key) = &self.key {
-            write!(f, "`{key}`: ")?;
+            write!(f, "`{}`: ", clip(key))?;
         }
-        write!(f, "{}", self.message)
+        write!(f, "{}", clip(&self.message))
+    }
+}
+
+/// How many characters of a message, key or path an error shows at most.
+pub const MAX_SHOWN_CHARS: usize = 400;
+
+/// `text` as an error shows it: whole when it is at most [`MAX_SHOWN_CHARS`] characters,
+/// otherwise its beginning and end around a note of how much was left out. Messages quote the
+/// user's input (a name, a path, a line), and that input may be megabytes long; the beginning
+/// says what went wrong and the end usually why, so both are kept.
+pub fn clip(text: &str) -> Cow<'_, str> {
+    clip_to(text, MAX_SHOWN_CHARS)
+}
+
+/// `text` cut as [`clip`] cuts it, to at most `max_chars` characters (and the note).
+pub fn clip_to(text: &str, max_chars: usize) -> Cow<'_, str> {
+    // Cheap test first: a short text in bytes is short in characters.
+    if text.len() <= max_chars || text.chars().nth(max_chars).is_none() {
+        return Cow::Borrowed(text);
+    }
+    let half = (max_chars / 2).max(1);
+    let head_end = text.char_indices().nth(half).map_or(text.len(), |(i, _)| i);
+    let tail_start = text
+        .char_indices()
+        .rev()
+        .nth(half - 1)
+        .map_or(head_end, |(i, _)| i.max(head_end));
+    Cow::Owned(format!(
+        "{} … ({} bytes left out) … {}",
+        &text[..head_end],
+        tail_start - head_end,
+        &text[tail_start..]
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_text_is_shown_whole() {
+        assert_eq!(clip("unknown key `colr`"), "unknown key `colr`");
+        let exactly = "é".repeat(MAX_SHOWN_CHARS);
+        assert_eq!(clip(&exactly), exactly.as_str());
+    }
+
+    #[test]
+    fn long_text_keeps_its_beginning_and_end() {
+        let name = format!(
+            "unknown name `{}` (define it first)",
+            "x".repeat(50_000_000)
+        );
+        let shown = clip(&name);
+        assert!(
+            shown.chars().count() < MAX_SHOWN_CHARS + 60,
+            "{}",
+            shown.len()
+        );
+        assert!(shown.starts_with("unknown name `xxx"));
+        assert!(shown.ends_with("xxx` (define it first)"));
+        assert!(shown.contains("bytes left out"));
+    }
+
+    #[test]
+    fn multibyte_text_is_cut_on_character_boundaries() {
+        let text = "ж".repeat(10_000);
+        let shown = clip(&text);
+        assert!(shown.contains(&format!(
+            "({} bytes left out)",
+            (10_000 - MAX_SHOWN_CHARS) * 2
+        )));
     }
 }

@@ -26,7 +26,7 @@ pub use assets::{
     texture_from_bytes, MAX_IMAGE_BYTES, MAX_SCENE_TEXTURE_PIXELS, MAX_TEXTURE_PIXELS,
     MAX_TEXTURE_SIDE,
 };
-pub use error::{SceneError, Span};
+pub use error::{clip, clip_to, SceneError, Span, MAX_SHOWN_CHARS};
 pub use obj::DEFAULT_MAX_TRIANGLES;
 
 use defines::Defines;
