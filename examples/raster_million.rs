@@ -32,7 +32,13 @@ fn main() {
     let started = std::time::Instant::now();
     let mut last = None;
     for _ in 0..frames {
-        last = Some(raster::render_with_stats(&camera, &world, &options));
+        match raster::render_with_stats(&camera, &world, &options) {
+            Ok(frame) => last = Some(frame),
+            Err(e) => {
+                eprintln!("{e}");
+                std::process::exit(2);
+            }
+        }
     }
     if let Some((canvas, stats)) = last {
         eprintln!(

@@ -42,6 +42,7 @@ Render options (`rayforge render --help` describes each in full):
       --bailout <WEIGHT>    leave out rays weighing less than this [default: 1/512; 0: none]
       --max-pixels <PIXELS> the largest image accepted [default: 268435456, 2^28]
       --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
+      --max-rays-per-sample <N> the most rays one camera ray may lead to [default: 4194304]
       --resume              continue an interrupted render from its checkpoint
   -q, --quiet               no progress bar and no summary
       --renderer <NAME>     ray (the ray tracer), raster (triangles; no shadows, mirrors
@@ -53,6 +54,7 @@ Render options (`rayforge render --help` describes each in full):
       --aovs                path only: also write the first hit's albedo and normal
       --shading <MODE>      raster only: flat, gouraud or phong [default: phong]
       --sphere-divisions <N> raster only: sphere resolution (N+1 rings of N) [default: 48]
+      --max-raster-triangles <N> raster only: the most triangles a frame may hold [default: 2^25]
       --texture-filter <F>  raster only: nearest, bilinear or trilinear [default: trilinear]
       --wireframe           raster only: draw the triangles' edges
 
@@ -180,6 +182,13 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N", default_value_t = rayforge_scene::DEFAULT_MAX_TRIANGLES)]
     pub max_triangles: usize,
 
+    /// The most rays one camera ray may lead to, its reflections, refractions and shadow rays
+    /// all counted, in every lighting model: a guard against ray trees that would never end
+    /// (a box of mirrors and glass many bounces deep doubles at every bounce). A render that
+    /// needs more stops with an error naming the pixel.
+    #[arg(long, value_name = "N", default_value_t = rayforge::render::DEFAULT_MAX_RAYS_PER_SAMPLE)]
+    pub max_rays_per_sample: u64,
+
     /// Continue an interrupted render: the rows saved in <FILE>.rayforge-checkpoint are kept
     /// and only the others are rendered, giving the same image as an uninterrupted run. Refused
     /// when the checkpoint was made from another scene file or other settings.
@@ -241,6 +250,13 @@ pub struct RenderArgs {
     /// 48]. Needs --renderer raster.
     #[arg(long, value_name = "N")]
     pub sphere_divisions: Option<u32>,
+
+    /// The most triangles the rasterizer may hold for one frame, all objects' tessellations
+    /// together (each placement counted), about 100 bytes each: a guard against sphere
+    /// resolutions that would take all memory [default: 33554432, 2^25]. Needs --renderer
+    /// raster.
+    #[arg(long, value_name = "N")]
+    pub max_raster_triangles: Option<u64>,
 
     /// How the rasterizer filters textures: `nearest`, `bilinear` or `trilinear` (MIP-mapped)
     /// [default: trilinear]. Needs --renderer raster.

@@ -110,8 +110,9 @@ fn raster_render(
     output: &Path,
 ) -> Result<(), Failure> {
     let started = Instant::now();
-    let (film, stats) =
-        pool.install(|| rayforge::raster::render_film(camera, &scene.world, options));
+    let (film, stats) = pool
+        .install(|| rayforge::raster::render_film(camera, &scene.world, options))
+        .map_err(|e| Failure::usage(e.to_string()))?;
     let canvas = develop_with_overlay(scene, camera, &film);
     let elapsed = started.elapsed();
     write_image(settings, &canvas, output)?;
@@ -142,6 +143,7 @@ fn ray_options<'p>(settings: &RenderSettings, scene: &Scene) -> RenderOptions<'p
         bailout: settings.bailout,
         sampling: sampling(settings, scene),
         subsample: settings.subsample,
+        max_rays_per_sample: settings.max_rays_per_sample,
         ..RenderOptions::default()
     }
 }
@@ -218,6 +220,19 @@ fn ray_render(
     );
     let elapsed = started.elapsed();
     let checkpoint = checkpoint::path_for(output);
+    if let Some((x, y)) = stats.over_budget {
+        logged?;
+        return Err(Failure::usage(format!(
+            "pixel ({x}, {y}): a camera ray there leads to more than {} rays (reflections, \
+             refractions and shadow rays), the limit set by --max-rays-per-sample (lower \
+             --max-depth or raise --bailout). {} of {} rows are saved in `{}`: --resume with \
+             a higher --max-rays-per-sample continues from them",
+            settings.max_rays_per_sample,
+            image.finished_rows(),
+            image.height(),
+            checkpoint.display()
+        )));
+    }
     if !image.is_complete() {
         // Interrupted: the rows are in the checkpoint, unless writing it failed.
         logged?;

@@ -58,6 +58,8 @@ pub struct RenderSettings {
     pub quiet: bool,
     /// The mesh size limit.
     pub max_triangles: usize,
+    /// The most rays one camera ray may lead to.
+    pub max_rays_per_sample: u64,
     /// Continue from the checkpoint.
     pub resume: bool,
     /// Wait for an interrupt once this many rows are finished (a testing aid).
@@ -311,6 +313,11 @@ impl RenderSettings {
                 args.max_triangles
             )));
         }
+        if args.max_rays_per_sample == 0 {
+            return Err(Failure::usage(
+                "--max-rays-per-sample must be at least 1, found 0",
+            ));
+        }
         let raster = raster_request(&args)?;
         let path = path_request(&args)?;
         Ok(Self {
@@ -331,6 +338,7 @@ impl RenderSettings {
             },
             quiet: args.quiet,
             max_triangles: args.max_triangles,
+            max_rays_per_sample: args.max_rays_per_sample,
             resume: args.resume,
             pause_after_rows: args.pause_after_rows,
             raster,
@@ -349,6 +357,8 @@ pub struct RasterRequest {
     pub shading: Option<Shading>,
     /// `--sphere-divisions`, when given.
     pub sphere_divisions: Option<u32>,
+    /// `--max-raster-triangles`, when given.
+    pub max_triangles: Option<u64>,
     /// `--texture-filter`, when given.
     pub filter: Option<TextureFilter>,
     /// `--wireframe`.
@@ -363,6 +373,7 @@ impl RasterRequest {
         first_given([
             ("--shading", self.shading.is_some()),
             ("--sphere-divisions", self.sphere_divisions.is_some()),
+            ("--max-raster-triangles", self.max_triangles.is_some()),
             ("--texture-filter", self.filter.is_some()),
             ("--wireframe", self.wireframe),
         ])
@@ -397,6 +408,9 @@ impl RasterRequest {
         if let Some(divisions) = self.sphere_divisions {
             options.sphere_divisions = divisions;
         }
+        if let Some(max_triangles) = self.max_triangles {
+            options.max_triangles = max_triangles;
+        }
         if let Some(filter) = self.filter {
             options.filter = filter;
         }
@@ -416,6 +430,11 @@ fn raster_request(args: &RenderArgs) -> Result<RasterRequest, Failure> {
             )));
         }
     }
+    if args.max_raster_triangles == Some(0) {
+        return Err(Failure::usage(
+            "--max-raster-triangles must be at least 1, found 0",
+        ));
+    }
     Ok(RasterRequest {
         renderer: args.renderer,
         shading: args.shading.map(|s| match s {
@@ -424,6 +443,7 @@ fn raster_request(args: &RenderArgs) -> Result<RasterRequest, Failure> {
             ShadingArg::Phong => Shading::Phong,
         }),
         sphere_divisions: args.sphere_divisions,
+        max_triangles: args.max_raster_triangles,
         filter: args.texture_filter.map(|f| match f {
             FilterArg::Nearest => TextureFilter::Nearest,
             FilterArg::Bilinear => TextureFilter::Bilinear,

@@ -28,7 +28,9 @@ fn raster_million(c: &mut Criterion) {
             ..RasterOptions::default()
         };
         group.bench_function(name, |b| {
-            b.iter(|| raster::render(&camera, &world, &options))
+            b.iter(|| {
+                raster::render(&camera, &world, &options).expect("within the triangle budget")
+            })
         });
     }
     group.finish();
@@ -58,7 +60,7 @@ fn raster_spheres(c: &mut Criterion) {
     let mut group = c.benchmark_group("raster_scene_1920x1080");
     group.sample_size(10);
     group.bench_function("25_spheres_and_a_plane", |b| {
-        b.iter(|| raster::render(&camera, &world, &options))
+        b.iter(|| raster::render(&camera, &world, &options).expect("within the triangle budget"))
     });
     group.finish();
 }

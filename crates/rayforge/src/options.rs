@@ -57,6 +57,10 @@ pub struct RasterOptions {
     /// Distance of the near clipping plane in front of the eye. The ray tracer has none; the
     /// rasterizer must not divide by z ≈ 0, so this is small.
     pub near: f64,
+    /// The most triangles a frame may hold, all objects' tessellations together (each
+    /// placement counted: its vertices are transformed into the frame's own arrays). About
+    /// 100 bytes each, so the default bounds a frame at about 3.4 GB.
+    pub max_triangles: u64,
 }
 
 impl RasterOptions {
@@ -65,6 +69,9 @@ impl RasterOptions {
     pub const DEFAULT_SPHERE_DIVISIONS: u32 = 48;
     /// The default near-plane distance.
     pub const DEFAULT_NEAR: f64 = 1e-3;
+    /// The default of [`RasterOptions::max_triangles`]: 2²⁵, as many as one sphere at the
+    /// largest resolution (4096 divisions); the Stanford dragon has 871 thousand.
+    pub const DEFAULT_MAX_TRIANGLES: u64 = 1 << 25;
 }
 
 impl Default for RasterOptions {
@@ -76,6 +83,7 @@ impl Default for RasterOptions {
             wireframe: false,
             backface_culling: true,
             near: Self::DEFAULT_NEAR,
+            max_triangles: Self::DEFAULT_MAX_TRIANGLES,
         }
     }
 }

@@ -44,7 +44,7 @@ fn rasterized(world: &World) -> Canvas {
         sphere_divisions: 128,
         ..RasterOptions::default()
     };
-    raster::render(&camera(), world, &options)
+    raster::render(&camera(), world, &options).expect("within the triangle budget")
 }
 
 fn brightest(canvas: &Canvas) -> f64 {

@@ -51,7 +51,7 @@ fn the_default_world_lines_up_with_the_ray_tracer() {
         sphere_divisions: 64,
         ..RasterOptions::default()
     };
-    let drawn = raster::render(&c, &w, &options);
+    let drawn = raster::render(&c, &w, &options).expect("within the triangle budget");
     let mut differ = 0;
     for y in 0..41 {
         for x in 0..41 {
@@ -92,7 +92,8 @@ fn the_nearer_surface_hides_the_farther_in_either_order() {
     let near = square(-1.0, red).with_transform(scaling(0.5, 0.5, 1.0));
     let far = square(1.0, green).with_transform(scaling(3.0, 3.0, 1.0));
     for objects in [vec![near.clone(), far.clone()], vec![far, near]] {
-        let image = raster::render(&camera(21), &world(objects), &RasterOptions::default());
+        let image = raster::render(&camera(21), &world(objects), &RasterOptions::default())
+            .expect("within the triangle budget");
         assert_eq!(image.pixel_at(10, 10), red, "the near square in front");
         assert_eq!(image.pixel_at(3, 10), green, "the far one around it");
         assert_eq!(
@@ -114,7 +115,8 @@ fn intersecting_surfaces_meet_where_their_depths_cross() {
         &camera(41),
         &world(vec![flat, tilted]),
         &RasterOptions::default(),
-    );
+    )
+    .expect("within the triangle budget");
     // rotation_y turns +x towards -z (nearer the camera at z = -5) on one side only.
     let (left, right) = (image.pixel_at(14, 20), image.pixel_at(26, 20));
     assert_ne!(left, right);
@@ -135,8 +137,10 @@ fn back_face_culling_skips_hidden_faces_only() {
         backface_culling: false,
         ..on
     };
-    let (a, stats_on) = raster::render_with_stats(&camera(48), &w, &on);
-    let (b, stats_off) = raster::render_with_stats(&camera(48), &w, &off);
+    let (a, stats_on) =
+        raster::render_with_stats(&camera(48), &w, &on).expect("within the triangle budget");
+    let (b, stats_off) =
+        raster::render_with_stats(&camera(48), &w, &off).expect("within the triangle budget");
     assert_eq!(a, b, "culling changes no pixel of closed shapes");
     assert_eq!(stats_off.culled, 0);
     // About half of each closed shape faces away.
@@ -154,7 +158,8 @@ fn from_inside_a_closed_shape_its_faces_are_drawn() {
     let room = Object::cube()
         .with_transform(scaling(10.0, 10.0, 10.0))
         .with_material(matte(Color::new(0.5, 0.5, 0.5)));
-    let image = raster::render(&camera(9), &world(vec![room]), &RasterOptions::default());
+    let image = raster::render(&camera(9), &world(vec![room]), &RasterOptions::default())
+        .expect("within the triangle budget");
     assert!(image
         .pixels()
         .iter()
@@ -183,7 +188,8 @@ fn a_floor_through_the_near_plane_is_clipped_not_dropped() {
             shading,
             ..RasterOptions::default()
         };
-        let (image, stats) = raster::render_with_stats(&c, &w, &options);
+        let (image, stats) =
+            raster::render_with_stats(&c, &w, &options).expect("within the triangle budget");
         assert!(stats.clipped > 0);
         let differ = (0..40 * 40)
             .filter(|i| !close(image.pixels()[*i], traced.pixels()[*i], 1e-9))
@@ -291,7 +297,7 @@ fn the_image_is_the_same_for_any_thread_count() {
                 .num_threads(threads)
                 .build()
                 .unwrap()
-                .install(|| raster::render(&c, &w, &options))
+                .install(|| raster::render(&c, &w, &options).expect("within the triangle budget"))
         };
         let one = render(1);
         assert_eq!(one.to_rgb8(), render(3).to_rgb8());
@@ -313,6 +319,7 @@ fn flat_gouraud_and_phong_agree_at_a_vertex_and_differ_between() {
                 ..RasterOptions::default()
             },
         )
+        .expect("within the triangle budget")
     };
     let (flat, gouraud, phong) = (
         render(Shading::Flat),
@@ -343,7 +350,8 @@ fn wireframe_draws_edges_only() {
         wireframe: true,
         ..RasterOptions::default()
     };
-    let image = raster::render(&camera(41), &world(vec![square(0.0, red)]), &options);
+    let image = raster::render(&camera(41), &world(vec![square(0.0, red)]), &options)
+        .expect("within the triangle budget");
     let inked = image.pixels().iter().filter(|&&p| p == red).count();
     // The outline and one diagonal of a square about 14 pixels across.
     assert!((55..=90).contains(&inked), "{inked}");
@@ -398,7 +406,7 @@ fn texture_coordinates_are_perspective_correct() {
         filter: TextureFilter::Bilinear,
         ..RasterOptions::default()
     };
-    let drawn = raster::render(&c, &w, &options);
+    let drawn = raster::render(&c, &w, &options).expect("within the triangle budget");
     let mut compared = 0;
     for y in 0..40 {
         for x in 0..40 {
@@ -451,6 +459,7 @@ fn trilinear_filtering_averages_a_minified_checkerboard() {
                 ..RasterOptions::default()
             },
         )
+        .expect("within the triangle budget")
     };
     let (nearest, trilinear) = (
         render(TextureFilter::Nearest),
@@ -488,7 +497,8 @@ fn a_csg_difference_shows_the_hole() {
     let w = world(vec![solid]);
     let c = camera(41);
     let traced = c.render(&w);
-    let drawn = raster::render(&c, &w, &RasterOptions::default());
+    let drawn =
+        raster::render(&c, &w, &RasterOptions::default()).expect("within the triangle budget");
     // In the middle, the hole's wall (the sphere's inside, green); at the corners, the cube.
     assert_eq!(drawn.pixel_at(20, 20), Color::new(0.0, 1.0, 0.0));
     assert_eq!(drawn.pixel_at(13, 13), Color::new(1.0, 0.0, 0.0));
@@ -536,8 +546,8 @@ fn a_resized_viewport_camera_rasterizes_the_same_view_at_the_new_size() {
     let native = Camera::viewport(60, 60, Viewport::BOOK).unwrap();
     let options = RasterOptions::default();
     assert_eq!(
-        raster::render(&resized, &w, &options),
-        raster::render(&native, &w, &options)
+        raster::render(&resized, &w, &options).expect("within the triangle budget"),
+        raster::render(&native, &w, &options).expect("within the triangle budget")
     );
     assert_eq!(resized.pixel_size(), native.pixel_size());
 }

@@ -175,7 +175,8 @@ fn render_cube_map(texture: Texture, filter: TextureFilter) -> Vec<Color> {
         filter,
         ..RasterOptions::default()
     };
-    let canvas = rayforge::raster::render(&camera, &world, &options);
+    let canvas =
+        rayforge::raster::render(&camera, &world, &options).expect("within the triangle budget");
     canvas
         .pixels()
         .iter()

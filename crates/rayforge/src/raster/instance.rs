@@ -4,8 +4,9 @@
 //! whole by its bounding sphere.
 
 use super::clip::{ClipPlane, SphereSide};
-use super::tessellate::{refine, tessellate, Tessellation, EXTENT};
+use super::tessellate::{face_count, refine, refined_face_count, tessellate, Tessellation, EXTENT};
 use super::Projection;
+use super::RasterError;
 use crate::math::{Point3, Transform};
 use crate::scene::Csg;
 use crate::scene::{Object, Shape, World};
@@ -95,15 +96,30 @@ struct Models<'w> {
 impl<'w> Models<'w> {
     /// The model of a shape, its faces cut so that no edge is longer than `max_edge` (object
     /// units; 0 for no refinement: only CSG primitives are refined, see [`refine`]).
-    fn get(&mut self, shape: &'w Shape, divisions: u32, max_edge: f64) -> Arc<Model<'w>> {
+    /// Refused, before any of it is made, when the model alone would have more than `budget`
+    /// triangles.
+    fn get(
+        &mut self,
+        shape: &'w Shape,
+        divisions: u32,
+        max_edge: f64,
+        budget: u64,
+    ) -> Result<Arc<Model<'w>>, RasterError> {
         let key = model_key(shape).map(|k| (k, max_edge.to_bits()));
         if let Some(key) = key {
             if let Some((_, model)) = self.shared.iter().find(|(k, _)| *k == key) {
-                return Arc::clone(model);
+                return Ok(Arc::clone(model));
             }
+        }
+        let too_many = || RasterError::TooManyTriangles { limit: budget };
+        if face_count(shape, divisions) > budget {
+            return Err(too_many());
         }
         let mut mesh = tessellate(shape, divisions);
         if max_edge > 0.0 {
+            if refined_face_count(&mesh, max_edge) > budget {
+                return Err(too_many());
+            }
             mesh = refine(&mesh, max_edge);
         }
         let sphere = mesh.bounding_sphere();
@@ -111,7 +127,7 @@ impl<'w> Models<'w> {
         if let Some(key) = key {
             self.shared.push((key, Arc::clone(&model)));
         }
-        model
+        Ok(model)
     }
 }
 
@@ -132,14 +148,31 @@ fn stretch(m: &DMat3) -> f64 {
 }
 
 /// Every object of `world` as instances, without those wholly outside the view, with vertex
-/// and normal offsets assigned in scene order.
+/// and normal offsets assigned in scene order. Refused when the instances together would have
+/// more than `max_triangles` triangles: each instance's vertices are transformed into arrays of
+/// the frame's own, so memory grows with the sum (64 spheres at 4096 divisions asked for 51 GB).
 pub(crate) fn instances<'w>(
     world: &'w World,
     projection: &Projection,
     divisions: u32,
     culling: bool,
-) -> Vec<Instance<'w>> {
+    max_triangles: u64,
+) -> Result<Vec<Instance<'w>>, RasterError> {
+    // Every object's triangles first, counted without making them (before culling and CSG
+    // refinement, which only remove and add a few): a scene far over the limit is refused
+    // before its first model is made.
+    let estimate = world
+        .objects
+        .iter()
+        .map(|object| face_count(&object.shape, divisions))
+        .fold(0u64, u64::saturating_add);
+    if estimate > max_triangles {
+        return Err(RasterError::TooManyTriangles {
+            limit: max_triangles,
+        });
+    }
     let mut models = Models::default();
+    let mut triangles = 0u64;
     let mut out = Vec::new();
     let (mut vertex_base, mut normal_base) = (0, 0);
     for object in &world.objects {
@@ -180,7 +213,12 @@ pub(crate) fn instances<'w>(
                 }
                 None => 0.0,
             };
-            let model = models.get(&surface.shape, divisions, max_edge);
+            let model = models.get(
+                &surface.shape,
+                divisions,
+                max_edge,
+                max_triangles - triangles,
+            )?;
             let to_view =
                 *projection.world_to_view_affine() * DAffine3::from_mat4(transform.matrix());
             let (centre, radius) = model.sphere;
@@ -206,6 +244,12 @@ pub(crate) fn instances<'w>(
             } else {
                 -1
             };
+            triangles += model.mesh.faces.len() as u64;
+            if triangles > max_triangles {
+                return Err(RasterError::TooManyTriangles {
+                    limit: max_triangles,
+                });
+            }
             let vertices = model.mesh.positions.len();
             let normals = model.mesh.normals.len();
             out.push(Instance {
@@ -225,5 +269,5 @@ pub(crate) fn instances<'w>(
             normal_base += normals;
         }
     }
-    out
+    Ok(out)
 }

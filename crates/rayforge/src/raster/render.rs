@@ -30,9 +30,29 @@ pub struct RasterStats {
     pub drawn: u64,
 }
 
+/// Why a raster render was refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum RasterError {
+    /// The scene's objects, tessellated, would have more triangles than
+    /// [`RasterOptions::max_triangles`] (checked before they are made).
+    #[error(
+        "the scene's objects, tessellated at this sphere resolution, have more than {limit} \
+         triangles; lower --sphere-divisions (or the scene's `sphere-divisions`) or raise \
+         --max-raster-triangles"
+    )]
+    TooManyTriangles {
+        /// The limit.
+        limit: u64,
+    },
+}
+
 /// Rasterizes `world` through `camera` on the current rayon thread pool, developed.
-pub fn render(camera: &Camera, world: &World, options: &RasterOptions) -> Canvas {
-    render_with_stats(camera, world, options).0
+pub fn render(
+    camera: &Camera,
+    world: &World,
+    options: &RasterOptions,
+) -> Result<Canvas, RasterError> {
+    Ok(render_with_stats(camera, world, options)?.0)
 }
 
 /// [`render`], with counts of what was drawn.
@@ -40,30 +60,40 @@ pub fn render_with_stats(
     camera: &Camera,
     world: &World,
     options: &RasterOptions,
-) -> (Canvas, RasterStats) {
-    let (film, stats) = render_film(camera, world, options);
+) -> Result<(Canvas, RasterStats), RasterError> {
+    let (film, stats) = render_film(camera, world, options)?;
     // The optics model's automatic exposure, as the ray tracer's film gets it: the image
     // divided by its brightest channel (one sample per pixel: the brightest pixel).
     let exposure = match world.lighting {
         LightingModel::Optics => Exposure::Automatic,
         _ => Exposure::Fixed,
     };
-    (develop(&film, exposure), stats)
+    Ok((develop(&film, exposure), stats))
 }
 
 /// Rasterizes `world` through `camera` into a film, with counts of what was drawn. Every pixel
 /// is one sample of weight 1 (the colour its nearest triangle shades it), under the box
 /// filter: the tiles draw finished colours, which the film takes as they are.
-pub fn render_film(camera: &Camera, world: &World, options: &RasterOptions) -> (Film, RasterStats) {
+pub fn render_film(
+    camera: &Camera,
+    world: &World,
+    options: &RasterOptions,
+) -> Result<(Film, RasterStats), RasterError> {
     let (width, height) = (camera.hsize(), camera.vsize());
     let mut canvas = Canvas::new(width, height);
     if width == 0 || height == 0 {
-        return (Film::from_canvas(&canvas), RasterStats::default());
+        return Ok((Film::from_canvas(&canvas), RasterStats::default()));
     }
     let projection = Projection::new(camera, options.near);
     let bits = subpixel_bits(width, height);
     let divisions = options.sphere_divisions.max(3);
-    let instances = instances(world, &projection, divisions, options.backface_culling);
+    let instances = instances(
+        world,
+        &projection,
+        divisions,
+        options.backface_culling,
+        options.max_triangles,
+    )?;
     let (vertices, normals) = transform_vertices(&instances, &projection, bits);
     let tiles = Tiles::new(width, height);
     let chunks = bin_all(&BinContext {
@@ -118,5 +148,5 @@ pub fn render_film(camera: &Camera, world: &World, options: &RasterOptions) -> (
                 }
             }
         });
-    (Film::from_canvas(&canvas), stats)
+    Ok((Film::from_canvas(&canvas), stats))
 }

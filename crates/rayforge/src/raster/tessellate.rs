@@ -399,15 +399,7 @@ pub fn refine(t: &Tessellation<'_>, max_edge: f64) -> Tessellation<'static> {
     let mut out = Tessellation::empty(t.closed);
     for face in t.faces.iter() {
         let p = t.corners(face);
-        let longest = (p[1] - p[0])
-            .length()
-            .max((p[2] - p[1]).length())
-            .max((p[0] - p[2]).length());
-        let k = if max_edge > 0.0 && longest.is_finite() {
-            ((longest / max_edge).ceil() as u32).clamp(1, MAX_REFINE)
-        } else {
-            1
-        };
+        let k = refinement(p, max_edge);
         let n = face.normals.map(|n| n.map(|i| t.normals[i as usize]));
         let uv = face.texcoords.map(|c| c.map(|i| t.texcoords[i as usize]));
         let first = out.positions.len() as u32;
@@ -446,6 +438,66 @@ pub fn refine(t: &Tessellation<'_>, max_edge: f64) -> Tessellation<'static> {
         }
     }
     out
+}
+
+/// How many triangles [`tessellate`] makes of `shape` at most, counted without making them, so
+/// that a render can refuse a scene whose tessellation would not fit in memory before it
+/// allocates any of it (a sphere at 4096 divisions is 33 million triangles, 3.4 GB).
+pub fn face_count(shape: &Shape, divisions: u32) -> u64 {
+    let d = u64::from(divisions.max(3));
+    match shape {
+        Shape::Sphere => 2 * d * d,
+        Shape::Torus { .. } => 4 * d * d,
+        Shape::Ring { .. } => 8 * d,
+        Shape::Cube => 12,
+        Shape::Rectangle => 2,
+        Shape::Triangle(_) => 1,
+        Shape::Plane => {
+            let n = levels(-EXTENT, EXTENT).len() as u64;
+            2 * (n - 1) * (n - 1)
+        }
+        Shape::Cylinder {
+            minimum,
+            maximum,
+            closed,
+        }
+        | Shape::Cone {
+            minimum,
+            maximum,
+            closed,
+        } => {
+            let bands = levels(*minimum, *maximum).len().saturating_sub(1) as u64;
+            let caps = if *closed { 2 * d } else { 0 };
+            bands * 2 * d + caps
+        }
+        Shape::Mesh(mesh) => Tessellation::of_mesh(mesh).faces.len() as u64,
+        Shape::Csg(c) => c
+            .leaves()
+            .iter()
+            .map(|leaf| face_count(&leaf.shape, divisions))
+            .sum(),
+    }
+}
+
+/// How many triangles [`refine`] makes of `t` with `max_edge`, counted without making them.
+pub fn refined_face_count(t: &Tessellation<'_>, max_edge: f64) -> u64 {
+    t.faces
+        .iter()
+        .map(|face| u64::from(refinement(t.corners(face), max_edge)).pow(2))
+        .sum()
+}
+
+/// How many pieces [`refine`] cuts each side of a triangle with corners `p` into.
+fn refinement(p: [Point3; 3], max_edge: f64) -> u32 {
+    let longest = (p[1] - p[0])
+        .length()
+        .max((p[2] - p[1]).length())
+        .max((p[0] - p[2]).length());
+    if max_edge > 0.0 && longest.is_finite() {
+        ((longest / max_edge).ceil() as u32).clamp(1, MAX_REFINE)
+    } else {
+        1
+    }
 }
 
 /// Any shape as triangles in its own object space. `divisions` sets the resolution of curved

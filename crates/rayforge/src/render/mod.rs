@@ -15,7 +15,7 @@ pub mod observer;
 pub mod path;
 mod sampler;
 
-pub use integrator::{Integrator, TraceState};
+pub use integrator::{Integrator, Stopped, TraceState, DEFAULT_MAX_RAYS_PER_SAMPLE};
 pub use observer::{NoTrace, TraceLog, TraceObserver};
 pub use sampler::Sampling;
 
@@ -51,9 +51,13 @@ pub struct RenderOptions<'p> {
     /// fill each pixel between two traced ones with their average when no channel of the two
     /// differs by more than this threshold (trace it otherwise). `None` traces every pixel.
     pub subsample: Option<f64>,
-    /// Checked before each row is started: once it is set, no more rows are started, and the
-    /// render returns when the rows in progress are done ([`render_rows`] says which).
+    /// Checked before each row is started and every few thousand rays inside a pixel's work:
+    /// once it is set, no more rows are started, the rows in progress are abandoned, and the
+    /// render returns at once ([`render_rows`] says which rows are done).
     pub cancel: Option<&'p AtomicBool>,
+    /// The most rays one camera ray may lead to (see [`TraceState::set_ray_budget`]); a
+    /// sample past it stops the render, and [`RenderStats::over_budget`] names its pixel.
+    pub max_rays_per_sample: u64,
     /// Rows already rendered (read back from a checkpoint, say), copied instead of traced. A
     /// partial image of another size than the camera's is ignored.
     pub finished: Option<&'p PartialImage>,
@@ -71,6 +75,7 @@ impl Default for RenderOptions<'_> {
             progress: None,
             subsample: None,
             cancel: None,
+            max_rays_per_sample: DEFAULT_MAX_RAYS_PER_SAMPLE,
             finished: None,
             on_row: None,
         }
@@ -85,6 +90,9 @@ pub struct RenderStats {
     /// Pixels none of whose samples could be traced (the optics model's ties between two
     /// surfaces), repaired from their neighbours.
     pub ambiguous: u64,
+    /// A pixel (x, y) one of whose camera rays led to more than
+    /// [`RenderOptions::max_rays_per_sample`] rays: the render stopped there, unfinished.
+    pub over_budget: Option<(usize, usize)>,
 }
 
 /// An image whose rows may not all be rendered yet: a film and which of its rows are done.
@@ -297,7 +305,13 @@ fn render_rows_with<I: Integrator>(
     // The pixels with no usable sample (the optics model's ties).
     let ambiguous_pixels = AtomicU64::new(0);
     let index = WorldIndex::build(world);
-    let cancelled = || options.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+    // Set by the first thread whose sample goes over the ray budget: every thread stops.
+    let failed = AtomicBool::new(false);
+    // The index of the lowest pixel found over the budget (u64::MAX: none).
+    let over_budget = AtomicU64::new(u64::MAX);
+    let cancelled = || {
+        failed.load(Ordering::Relaxed) || options.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+    };
     (0..height)
         .into_par_iter()
         .zip(done.par_iter_mut())
@@ -305,11 +319,13 @@ fn render_rows_with<I: Integrator>(
             || {
                 let mut state = TraceState::new(world, &index);
                 state.set_bailout(options.bailout);
+                state.set_ray_budget(options.max_rays_per_sample);
+                state.set_stop_flags([options.cancel, Some(&failed)]);
                 // The brightest channel of every sample this thread has traced.
                 (state, 0.0f64)
             },
             |(state, thread_brightest), (y, done)| {
-                if *done || cancelled() {
+                if *done || cancelled() || state.stopped().is_some() {
                     return;
                 }
                 let before = state.rays_cast();
@@ -323,7 +339,14 @@ fn render_rows_with<I: Integrator>(
                     let color = options.sampling.pixel(x, y, seed, |sample| {
                         samples += 1;
                         let ray = camera.ray_for_sample(&sample);
-                        match integrator.radiance(state, &ray, options.max_depth, &mut NoTrace) {
+                        state.begin_sample();
+                        let radiance =
+                            integrator.radiance(state, &ray, options.max_depth, &mut NoTrace);
+                        if state.stopped() == Some(Stopped::OverBudget) {
+                            over_budget.fetch_min((y * width + x) as u64, Ordering::Relaxed);
+                            failed.store(true, Ordering::Relaxed);
+                        }
+                        match radiance {
                             Some(c) => {
                                 if I::AUTO_EXPOSURE {
                                     *thread_brightest =
@@ -356,6 +379,11 @@ fn render_rows_with<I: Integrator>(
                     }
                     Some(threshold) => subsample_row(&mut row, threshold, trace),
                 }
+                if state.stopped().is_some() {
+                    // Stopped inside the row: its pixels are not all whole; it is left undone.
+                    rays.fetch_add(state.rays_cast() - before, Ordering::Relaxed);
+                    return;
+                }
                 let mut part = Film::new(width, 1);
                 for (x, (&pixel, &weight)) in row.iter().zip(&weights).enumerate() {
                     part.add_pixel(x, 0, pixel, weight);
@@ -374,11 +402,21 @@ fn render_rows_with<I: Integrator>(
                 }
             },
         );
+    let over_budget = over_budget.into_inner();
     RenderStats {
         rays: rays.into_inner(),
         ambiguous: ambiguous_pixels.into_inner(),
+        over_budget: (over_budget != u64::MAX).then(|| {
+            (
+                (over_budget % width as u64) as usize,
+                (over_budget / width as u64) as usize,
+            )
+        }),
     }
 }
+
+/// How many lines [`trace_pixel`]'s record of one pixel keeps at most (about 10 MB of text).
+pub const MAX_TRACE_LINES: usize = 100_000;
 
 /// Traces pixel (`x`, `y`) exactly as the render would (the same samples, seeded the same way)
 /// and records every ray each sample casts: what `--trace-pixel` prints. Returns the pixel's
@@ -425,6 +463,8 @@ impl IntegratorJob for TracePixel<'_, '_> {
         let index = WorldIndex::build(world);
         let mut state = TraceState::new(world, &index);
         state.set_bailout(options.bailout);
+        state.set_ray_budget(options.max_rays_per_sample);
+        state.set_stop_flags([options.cancel, None]);
         let seed = (y * camera.hsize() + x) as u64;
         state.reseed(seed);
         let mut lines = Vec::new();
@@ -435,12 +475,25 @@ impl IntegratorJob for TracePixel<'_, '_> {
                 "sample {samples}: image point ({:.4}, {:.4}), lens ({:.3}, {:.3}), time {:.3}",
                 sample.x, sample.y, sample.lens_u, sample.lens_v, sample.time
             ));
-            let mut log = TraceLog::new(world);
+            let mut log = TraceLog::new(world, MAX_TRACE_LINES.saturating_sub(lines.len()));
             let ray = camera.ray_for_sample(&sample);
+            state.begin_sample();
             let color = integrator
                 .radiance(&mut state, &ray, options.max_depth, &mut log)
                 .unwrap_or(Color::BLACK);
             lines.extend(log.into_lines().into_iter().map(|l| format!("  {l}")));
+            match state.stopped() {
+                Some(Stopped::OverBudget) => lines.push(format!(
+                    "  stopped: this camera ray led to more than {} rays (--max-rays-per-sample)",
+                    options.max_rays_per_sample
+                )),
+                Some(Stopped::Cancelled) => lines.push("  stopped: interrupted".to_string()),
+                None => {}
+            }
+            // Each sample has its own budget; an interrupt stops them all.
+            if state.stopped() == Some(Stopped::OverBudget) {
+                state.resume();
+            }
             color
         });
         (color, lines)
@@ -479,7 +532,14 @@ pub fn render_pixel(camera: &Camera, world: &World, x: usize, y: usize, max_dept
     let index = WorldIndex::build(world);
     let mut state = TraceState::new(world, &index);
     let ray = camera.ray_for_pixel(x, y);
-    dispatch(world.lighting, OneRay(&mut state, &ray, max_depth)).unwrap_or(Color::BLACK)
+    render_one_ray(&mut state, &ray, max_depth)
+}
+
+/// One camera ray traced on `state` with its world's integrator, `max_depth` bounces deep
+/// (black for a sample with no colour): for tests and tools that drive a state themselves.
+pub fn render_one_ray(state: &mut TraceState<'_>, ray: &Ray, max_depth: u32) -> Color {
+    let lighting = state.world().lighting;
+    dispatch(lighting, OneRay(state, ray, max_depth)).unwrap_or(Color::BLACK)
 }
 
 /// One camera ray traced with the world's integrator, unobserved: a job for [`dispatch`].

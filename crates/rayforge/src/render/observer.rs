@@ -161,26 +161,44 @@ impl TraceObserver for NoTrace {}
 pub struct TraceLog<'w> {
     world: &'w World,
     lines: Vec<String>,
+    /// How many lines the record keeps at most.
+    capacity: usize,
+    /// Events past the capacity, counted but not written.
+    left_out: u64,
     depth: usize,
 }
 
 impl<'w> TraceLog<'w> {
-    /// An empty record for rays traced through `world`.
-    pub fn new(world: &'w World) -> Self {
+    /// An empty record for rays traced through `world`, keeping at most `capacity` lines: a
+    /// ray tree may hold millions of rays, and a record of them all would fill memory long
+    /// before anyone could read it.
+    pub fn new(world: &'w World, capacity: usize) -> Self {
         Self {
             world,
             lines: Vec::new(),
+            capacity,
+            left_out: 0,
             depth: 0,
         }
     }
 
-    /// The lines written.
-    pub fn into_lines(self) -> Vec<String> {
+    /// The lines written, and a last one saying how many events were left out, if any.
+    pub fn into_lines(mut self) -> Vec<String> {
+        if self.left_out > 0 {
+            self.lines.push(format!(
+                "… and {} more events, not shown (the record keeps {} lines)",
+                self.left_out, self.capacity
+            ));
+        }
         self.lines
     }
 
     /// Writes a line at the current depth.
     fn note(&mut self, text: String) {
+        if self.lines.len() >= self.capacity {
+            self.left_out += 1;
+            return;
+        }
         let line = format!("{}{}", "  ".repeat(self.depth), text);
         self.lines.push(line);
     }

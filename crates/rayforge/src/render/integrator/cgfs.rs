@@ -131,7 +131,9 @@ impl<'w, O: TraceObserver, const LIT: bool> Pass<'_, 'w, O, LIT> {
         depth: u32,
         time: f64,
     ) -> Rgb {
-        self.state.rays += 1;
+        if !self.state.count_ray() {
+            return [0.0; 3];
+        }
         self.observer
             .ray_cast(origin, direction, RayDetail::Between { t_min, t_max });
         let world = self.state.world;

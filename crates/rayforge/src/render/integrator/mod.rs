@@ -23,7 +23,7 @@ mod whitted;
 
 pub use cgfs::{Cgfs, CgfsFlat, CgfsLit};
 pub use optics::Optics;
-pub use state::TraceState;
+pub use state::{Stopped, TraceState, DEFAULT_MAX_RAYS_PER_SAMPLE};
 pub use whitted::Whitted;
 
 use super::observer::TraceObserver;

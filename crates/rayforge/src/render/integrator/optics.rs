@@ -101,7 +101,9 @@ impl<'w, O: TraceObserver> Pass<'_, 'w, O> {
         depth: u32,
         time: f64,
     ) -> Result<Color, Ambiguous> {
-        self.state.rays += 1;
+        if !self.state.count_ray() {
+            return Ok(Color::BLACK);
+        }
         self.observer
             .ray_cast(vantage, direction, RayDetail::Medium { index, intensity });
         match self.closest(vantage, direction, time) {

@@ -98,7 +98,9 @@ impl<'w, O: TraceObserver> Pass<'_, 'w, O> {
     /// surfaces n1 = n2 = 1 in the computations: nothing reads them there.)
     fn color_at(&mut self, ray: &Ray, remaining: u32) -> Color {
         let state = &mut *self.state;
-        state.rays += 1;
+        if !state.count_ray() {
+            return Color::BLACK;
+        }
         self.observer
             .ray_cast(ray.origin, ray.direction, RayDetail::Plain);
         let Some(hit) = state.index.closest_hit(state.world, ray) else {

@@ -29,6 +29,9 @@ use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
+/// How many samples of a pixel are taken between two looks at the stop flag.
+const CANCEL_CHECK_SAMPLES: u64 = 64;
+
 /// What to render with the path tracer.
 #[derive(Clone)]
 pub struct PathJob<'p> {
@@ -155,6 +158,11 @@ pub fn render_path(
                     let mut weights = 0.0;
                     let (mut albedo_sum, mut normal_sum) = (Color::BLACK, Color::BLACK);
                     for s in job.samples.clone() {
+                        // A pixel may take millions of samples: a stop is heeded inside it,
+                        // and the row, unfinished, is left undone.
+                        if s % CANCEL_CHECK_SAMPLES == 0 && cancelled() {
+                            return Ok(());
+                        }
                         let mut stream =
                             SampleStream::new(options.sampler, options.seed, x as u32, y as u32, s);
                         let (dx, dy, weight) = filter_offset(filter, stream.next_2d());
