@@ -104,12 +104,12 @@ pub fn material<'n, 's>(
             "diffuse" => m.diffuse = number()?,
             "specular" => m.specular = number()?,
             "shininess" => m.shininess = number()?,
-            "reflective" => m.reflective = number()?,
-            "transparency" => m.transparency = number()?,
+            "reflective" => m.reflective = fraction(source, value, name)?,
+            "transparency" => m.transparency = fraction(source, value, name)?,
             "refractive-index" => m.refractive_index = number()?,
             "bump" => m.bump = Some(bump(source, defines, assets, value)?),
-            "gloss" => m.gloss = color(source, value, name)?,
-            "opacity" => m.opacity = number()?,
+            "gloss" => m.gloss = fractions(source, value, name)?,
+            "opacity" => m.opacity = fraction(source, value, name)?,
             "matte-gloss-balance" => {
                 let (matte, gloss) = matte_gloss_balance(source, value)?;
                 m.color = matte;
@@ -486,8 +486,36 @@ fn matte_gloss_balance(source: &Source<'_>, node: &Node<'_>) -> Result<(Color, C
         return Err(source.error(balance_node, "balance", "the balance lies between 0 and 1"));
     }
     let matte = color(source, get("matte")?, "matte")?;
-    let gloss = color(source, get("gloss")?, "gloss")?;
+    let gloss = fractions(source, get("gloss")?, "gloss")?;
     Ok((matte * (1.0 - balance), gloss * balance))
+}
+
+/// A share of light from 0 to 1: `reflective`, `transparency`, `opacity`. More than 1 (or
+/// less than 0) would make a secondary ray carry more light than the ray that spawned it, so
+/// weights would grow with every bounce and no bailout could ever prune the ray tree.
+fn fraction(source: &Source<'_>, node: &Node<'_>, key: &str) -> Result<f64, SceneError> {
+    let value = source.number(node, key)?;
+    if !(0.0..=1.0).contains(&value) {
+        return Err(source.error(
+            node,
+            key,
+            format!("expected a share of light from 0 to 1, found {value}"),
+        ));
+    }
+    Ok(value)
+}
+
+/// A colour of shares from 0 to 1 (`gloss`), for the same reason as [`fraction`].
+fn fractions(source: &Source<'_>, node: &Node<'_>, key: &str) -> Result<Color, SceneError> {
+    let [r, g, b] = source.triple(node, key)?;
+    if [r, g, b].iter().any(|c| !(0.0..=1.0).contains(c)) {
+        return Err(source.error(
+            node,
+            key,
+            format!("expected a share of light from 0 to 1 in each channel, found [{r}, {g}, {b}]"),
+        ));
+    }
+    Ok(Color::new(r, g, b))
 }
 
 /// `[r, g, b]`.

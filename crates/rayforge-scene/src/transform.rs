@@ -42,6 +42,10 @@ pub fn transform_list<'n, 's>(
             trail.pop();
             m
         } else {
+            // Each entry costs a matrix product every time the list is used, so each is a
+            // part of the scene's budget: a defined list of thousands of entries used
+            // thousands of times would otherwise load for minutes.
+            source.spend(entry, "transform")?;
             operation(source, entry)?
         };
         // Later entries act after earlier ones: they multiply on the left.
