@@ -21,7 +21,7 @@ pub fn check_writable(path: &Path) -> Result<(), Failure> {
                 &format!("the directory `{}` does not exist", dir.display()),
             ));
         }
-        Err(e) => return Err(cannot_write(path, &reason(&e))),
+        Err(e) => return Err(cannot_write(path, &reason(&e, path))),
         Ok(meta) if !meta.is_dir() => {
             return Err(cannot_write(
                 path,
@@ -38,12 +38,12 @@ pub fn check_writable(path: &Path) -> Result<(), Failure> {
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
     let mut file = temporary_beside(path)?;
     file.write_all(bytes)
-        .map_err(|e| cannot_write(path, &reason(&e)))?;
+        .map_err(|e| cannot_write(path, &reason(&e, path)))?;
     file.as_file()
         .sync_all()
-        .map_err(|e| cannot_write(path, &reason(&e)))?;
+        .map_err(|e| cannot_write(path, &reason(&e, path)))?;
     file.persist(path)
-        .map_err(|e| cannot_write(path, &reason(&e.error)))?;
+        .map_err(|e| cannot_write(path, &reason(&e.error, path)))?;
     Ok(())
 }
 
@@ -57,7 +57,7 @@ fn temporary_beside(path: &Path) -> Result<NamedTempFile, Failure> {
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
     builder
         .tempfile_in(directory_of(path))
-        .map_err(|e| cannot_write(path, &reason(&e)))
+        .map_err(|e| cannot_write(path, &reason(&e, path)))
 }
 
 /// The directory a relative or absolute file path lies in (`.` for a bare file name).
@@ -74,11 +74,15 @@ fn cannot_write(path: &Path, reason: &str) -> Failure {
 
 /// Why an I/O operation failed, without the name of the temporary file (which tempfile adds
 /// to its errors, and which means nothing to the user).
-fn reason(e: &io::Error) -> String {
+fn reason(e: &io::Error, path: &Path) -> String {
     match e.kind() {
         io::ErrorKind::PermissionDenied => "permission denied".into(),
         io::ErrorKind::ReadOnlyFilesystem => "the file system is read-only".into(),
         io::ErrorKind::StorageFull => "no space left on the device".into(),
+        // A directory that exists but takes no new files (`/proc`) says "not found" too.
+        io::ErrorKind::NotFound if directory_of(path).is_dir() => {
+            "the directory takes no new files".into()
+        }
         io::ErrorKind::NotFound => "the directory does not exist".into(),
         // A plain OS error carries no path of its own: its message is the best there is.
         _ if e.raw_os_error().is_some() => e.to_string(),

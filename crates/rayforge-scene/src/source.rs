@@ -45,7 +45,14 @@ impl<'s> Source<'s> {
         source.check_nesting()?;
         let docs = MarkedYaml::load_from_str(text).map_err(|e| {
             let m = e.marker();
-            let span = source.span_at(m.index(), m.line(), m.col(), 0);
+            let mut span = source.span_at(m.index(), m.line(), m.col(), 0);
+            if e.info().contains("tab") {
+                // saphyr marks where the token that holds the tab began (the end of the
+                // line before, for a tab that indents); the user needs the tab itself.
+                if let Some(tab) = source.text[span.offset..].find('\t') {
+                    span = source.position_of(span.offset + tab);
+                }
+            }
             SceneError::new(path, format!("not valid YAML: {}", e.info())).at(span)
         })?;
         Ok((source, docs))
@@ -115,6 +122,19 @@ impl<'s> Source<'s> {
             column: col + 1,
             offset,
             len: end.saturating_sub(offset),
+        }
+    }
+
+    /// The position (line, column in characters) of byte `offset`, one character long.
+    fn position_of(&self, offset: usize) -> Span {
+        let before = &self.text[..offset];
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let len = self.text[offset..].chars().next().map_or(0, char::len_utf8);
+        Span {
+            line: before.matches('\n').count() + 1,
+            column: before[line_start..].chars().count() + 1,
+            offset,
+            len,
         }
     }
 

@@ -111,13 +111,19 @@ fn ring(source: &Source<'_>, entries: &[Entry<'_, '_>], kind: &str) -> Result<Sh
         }
     }
     if inner >= outer {
-        let node = entries
+        // Blame the key the file has: the inner radius if given, else the outer one.
+        let blamed = entries
             .iter()
             .find(|e| e.name == "inner-radius")
-            .map_or(entries[0].value, |e| e.value);
+            .or_else(|| {
+                entries
+                    .iter()
+                    .find(|e| matches!(e.name, "outer-radius" | "radius"))
+            });
+        let (node, key) = blamed.map_or((entries[0].value, kind), |e| (e.value, e.name));
         return Err(source.error(
             node,
-            "inner-radius",
+            key,
             format!("the inner radius {inner} must be smaller than the outer {outer}"),
         ));
     }

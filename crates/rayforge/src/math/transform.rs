@@ -7,10 +7,29 @@ use glam::{DAffine3, DMat3, DMat4, DVec3};
 
 /// A matrix that cannot be inverted (determinant zero, or not finite), so cannot place an object.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
-#[error("the transform is singular (determinant {determinant}) and cannot be inverted")]
+#[error("{}", self.explain())]
 pub struct SingularTransform {
     /// The offending determinant.
     pub determinant: f64,
+}
+
+impl SingularTransform {
+    /// Why the matrix cannot place an object: flat (determinant 0 or tiny), or so large that
+    /// its determinant overflows (a scale of 1e300), which is not the same mistake.
+    fn explain(&self) -> String {
+        if self.determinant.is_finite() {
+            format!(
+                "the transform is singular (determinant {}) and cannot be inverted",
+                self.determinant
+            )
+        } else {
+            format!(
+                "the transform is too large (its determinant is {}): a scale, shear or \
+                 translation past what 64-bit numbers can invert",
+                self.determinant
+            )
+        }
+    }
 }
 
 /// An invertible affine transform: `world_from_object`, its inverse and the normal matrix.

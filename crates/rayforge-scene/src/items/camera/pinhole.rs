@@ -113,10 +113,26 @@ fn view(
     let up_node = get("up")?;
     let [ux, uy, uz] = source.triple(up_node, "up")?;
     let (from, to, up) = (point(fx, fy, fz), point(tx, ty, tz), vector(ux, uy, uz));
-    if from == to {
-        return Err(source.error(to_node, "to", "the camera looks at its own position"));
+    // A view direction shorter than this share of the coordinates is lost in their rounding.
+    let reach = from
+        .abs()
+        .max_element()
+        .max(to.abs().max_element())
+        .max(1.0);
+    let sight = to - from;
+    if sight.length() <= 1e-9 * reach {
+        return Err(source.error(
+            to_node,
+            "to",
+            format!(
+                "the camera looks at its own position (`to` is {:e} from `from`)",
+                sight.length()
+            ),
+        ));
     }
-    if (to - from).cross(up).length_squared() < 1e-18 {
+    if up.length_squared() == 0.0
+        || sight.normalize().cross(up.normalize()).length_squared() < 1e-18
+    {
         return Err(source.error(
             up_node,
             "up",

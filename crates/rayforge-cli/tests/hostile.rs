@@ -1,0 +1,256 @@
+//! Hostile input through the command (the reliability issue's findings): errors whose column
+//! is past 65 535 or that quote megabytes of input, ray trees that would never end, frames the
+//! rasterizer could not hold, and `--trace-pixel` on a tree of millions of rays. Each gets a
+//! clear error (or a bounded answer) in bounded time and output.
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+struct Dir(tempfile::TempDir);
+
+impl Dir {
+    fn new() -> Self {
+        Dir(tempfile::tempdir().unwrap())
+    }
+    fn file(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.0.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.path().join(name)
+    }
+}
+
+fn render(scene: &Path, out: &Path, extra: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("render")
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .args(extra)
+        .output()
+        .expect("runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+const CAMERA: &str = "
+- add: camera
+  width: 4
+  height: 3
+  field-of-view: 1.0
+  from: [0, 0, 0]
+  to: [0, 0, 1]
+  up: [0, 1, 0]
+- add: light
+  at: [0, 2, 0]
+  intensity: [1, 1, 1]
+";
+
+/// A glass cube inside a mirror cube, the camera inside both: each ray that meets the glass
+/// splits in two and none leaves, so one camera ray is a tree of 2^depth rays.
+fn mirror_box(lighting: &str) -> String {
+    format!(
+        "- world:\n    lighting: {lighting}\n{CAMERA}
+- add: cube
+  transform: [[scale, 5, 5, 5]]
+  material: {{ color: [0.2, 0.2, 0.2], reflective: 1 }}
+- add: cube
+  transform: [[scale, 3, 3, 3]]
+  material: {{ reflective: 0.5, transparency: 0.5, refractive-index: 1.5 }}
+"
+    )
+}
+
+#[test]
+fn an_error_past_column_65535_is_shown_without_a_panic() {
+    let d = Dir::new();
+    let scene = d.file(
+        "long.yml",
+        &format!(
+            "{CAMERA}- add: sphere\n  material: {{ color: [1, 1, 1], {}bogus: 1 }}\n",
+            " ".repeat(70_000)
+        ),
+    );
+    let o = render(&scene, &d.path("out.png"), &[]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains(":13:70033: `bogus`: unknown key"), "{err}");
+    // The line is shown cut to a window around the error, with its real line number.
+    assert!(err.contains("13 │ …"), "{err}");
+    assert!(err.len() < 4_000, "{} bytes of stderr", err.len());
+    assert!(!d.path("out.png").exists());
+}
+
+#[test]
+fn a_name_of_megabytes_is_quoted_in_part() {
+    let d = Dir::new();
+    let name = "m".repeat(5_000_000);
+    let scene = d.file(
+        "name.yml",
+        &format!("{CAMERA}- add: sphere\n  material: {name}\n"),
+    );
+    let o = render(&scene, &d.path("out.png"), &[]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        err.contains("is not defined"),
+        "{}",
+        &err[..err.len().min(2000)]
+    );
+    assert!(err.contains("bytes left out"));
+    assert!(err.len() < 4_000, "{} bytes of stderr", err.len());
+}
+
+#[test]
+fn a_ray_tree_that_never_ends_is_stopped_by_the_ray_budget_in_every_model() {
+    let d = Dir::new();
+    for (lighting, extra) in [("cgfs", &[][..]), ("phong", &["--bailout", "0"][..])] {
+        let scene = d.file("box.yml", &mirror_box(lighting));
+        let out = d.path("box.png");
+        let started = Instant::now();
+        let mut args = vec!["--max-depth", "64", "--max-rays-per-sample", "50000"];
+        args.extend(extra);
+        let o = render(&scene, &out, &args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{lighting}: {err}");
+        assert!(err.contains("error: pixel ("), "{lighting}: {err}");
+        assert!(
+            err.contains("more than 50000 rays") && err.contains("--max-rays-per-sample"),
+            "{lighting}: {err}"
+        );
+        assert!(!out.exists(), "{lighting}");
+        assert!(started.elapsed() < Duration::from_secs(60), "{lighting}");
+        let _ = std::fs::remove_file(d.path("box.png.rayforge-checkpoint"));
+    }
+}
+
+#[test]
+fn shares_of_light_past_one_are_refused_where_they_are_written() {
+    let d = Dir::new();
+    for (material, key) in [
+        ("reflective: 5", "reflective"),
+        ("transparency: 5", "transparency"),
+        ("opacity: -1", "opacity"),
+        ("gloss: [5, 5, 5]", "gloss"),
+    ] {
+        let scene = d.file(
+            "shares.yml",
+            &format!("{CAMERA}- add: sphere\n  material: {{ {material} }}\n"),
+        );
+        let o = render(&scene, &d.path("out.png"), &[]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{material}: {err}");
+        assert!(
+            err.contains("shares.yml:13:") && err.contains(&format!("`{key}`")),
+            "{material}: {err}"
+        );
+        assert!(err.contains("share of light from 0 to 1"), "{err}");
+    }
+}
+
+#[test]
+fn an_interrupt_stops_a_render_inside_one_pixel() {
+    let d = Dir::new();
+    let scene = d.file("box.yml", &mirror_box("cgfs"));
+    let out = d.path("box.png");
+    // Each pixel is a tree of 2^64 rays and the budget is far away: only the stop flag,
+    // looked at inside the pixel, can end this render.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .args(["render", "--max-depth", "64", "--max-rays-per-sample"])
+        .arg("100000000000")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Time for the process to start and set its handler; no row can finish meanwhile.
+    std::thread::sleep(Duration::from_secs(2));
+    let signalled = Instant::now();
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        assert!(
+            signalled.elapsed() < Duration::from_secs(20),
+            "still running 20 s after SIGINT"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(status.code(), Some(130));
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_frame_the_rasterizer_could_not_hold_is_refused_at_once() {
+    let d = Dir::new();
+    let spheres: String = (0..64)
+        .map(|i| format!("- add: sphere\n  transform: [[translate, {i}, 0, 10]]\n"))
+        .collect();
+    let scene = d.file("spheres.yml", &format!("{CAMERA}{spheres}"));
+    let started = Instant::now();
+    let o = render(
+        &scene,
+        &d.path("out.png"),
+        &["--renderer", "raster", "--sphere-divisions", "4096"],
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("--max-raster-triangles"), "{err}");
+    assert!(started.elapsed() < Duration::from_secs(10));
+    assert!(!d.path("out.png").exists());
+}
+
+#[test]
+fn trace_pixel_on_a_tree_of_millions_of_rays_prints_a_bounded_record() {
+    let d = Dir::new();
+    let scene = d.file("box.yml", &mirror_box("cgfs"));
+    let o = render(
+        &scene,
+        &d.path("out.png"),
+        &[
+            "--trace-pixel",
+            "1,1",
+            "--max-depth",
+            "64",
+            "--max-rays-per-sample",
+            "300000",
+        ],
+    );
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("more events, not shown"),
+        "{}",
+        &out[out.len().saturating_sub(500)..]
+    );
+    assert!(out.contains("stopped: this camera ray led to more than 300000 rays"));
+    assert!(
+        out.lines().count() < 100_100,
+        "{} lines",
+        out.lines().count()
+    );
+    // The render that follows stops at the same budget.
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn an_output_in_a_directory_that_takes_no_files_is_not_called_missing() {
+    let d = Dir::new();
+    let scene = d.file("s.yml", &format!("{CAMERA}- add: sphere\n"));
+    let o = render(&scene, Path::new("/proc/out.png"), &[]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("the directory takes no new files"), "{err}");
+    let o = render(&scene, &d.path("missing/out.png"), &[]);
+    assert!(stderr(&o).contains("does not exist"), "{}", stderr(&o));
+}
