@@ -18,7 +18,7 @@ pub struct ObjTriangle {
     pub vertices: [u32; 3],
     /// Corner normals, in [`ObjFile::normals`], when every corner has one.
     pub normals: Option<[u32; 3]>,
-    /// Corner texture coordinates, in [`ObjFile::texcoords`], when every corner has valid ones.
+    /// Corner texture coordinates, in [`ObjFile::texcoords`], when every corner has them.
     pub texcoords: Option<[u32; 3]>,
     /// The material in force (`usemtl`), in [`ObjFile::material_names`].
     pub material: Option<u32>,
@@ -256,6 +256,7 @@ pub fn parse_obj_with_limit(
     let mut group_index: HashMap<String, usize> = HashMap::from([(String::new(), 0)]);
     let mut material_index: HashMap<String, u32> = HashMap::new();
     let mut corners: Vec<Corner> = Vec::with_capacity(8);
+    let texcoords_named = statements(text, path).any(|(_, keyword)| keyword == "vt");
     for (line, keyword) in statements(text, path) {
         match keyword {
             "v" => {
@@ -276,7 +277,7 @@ pub fn parse_obj_with_limit(
             "f" => {
                 corners.clear();
                 for (col, word) in line.words().skip(1) {
-                    corners.push(corner(&line, &obj, col, word)?);
+                    corners.push(corner(&line, &obj, texcoords_named, col, word)?);
                 }
                 if corners.len() < 3 {
                     return Err(line.error(
@@ -352,9 +353,19 @@ struct Corner {
     texcoord: Option<u32>,
 }
 
-fn corner(line: &Line<'_>, obj: &ObjFile, col: usize, word: &str) -> Result<Corner, SceneError> {
+/// The corner `word` of a face, at column `col` of `line`. Every index must name an entry read
+/// before it; texture indices too, unless the file has no `vt` at all (`texcoords_named`
+/// false): then they name nothing and are ignored, as the book's parser ignores texture
+/// indices altogether (its "faces with normals" file uses 0 and 102).
+fn corner(
+    line: &Line<'_>,
+    obj: &ObjFile,
+    texcoords_named: bool,
+    col: usize,
+    word: &str,
+) -> Result<Corner, SceneError> {
     let mut parts = word.split('/');
-    let resolve = |part: &str, count: usize, what: &str| -> Result<u32, SceneError> {
+    let resolve = |part: &str, count: usize, what: &str, plural: &str| {
         let err = |message: String| line.error(col, word.len(), "f", message);
         let n: i64 = part
             .parse()
@@ -363,21 +374,30 @@ fn corner(line: &Line<'_>, obj: &ObjFile, col: usize, word: &str) -> Result<Corn
         let index = if n > 0 { n - 1 } else { count as i64 + n };
         if n == 0 || index < 0 || index >= count as i64 {
             return Err(err(format!(
-                "{what} index {n} is out of range (there are {count} {what}s so far)"
+                "{what} index {n} is out of range (there are {count} {plural} so far)"
             )));
         }
         Ok(index as u32)
     };
-    let vertex = resolve(parts.next().unwrap_or(""), obj.vertices.len(), "vertex")?;
-    // Texture indices that name no texture coordinate are ignored, as the book's parser
-    // ignores texture indices altogether (its "faces with normals" file uses 0 and 102).
+    let vertex = resolve(
+        parts.next().unwrap_or(""),
+        obj.vertices.len(),
+        "vertex",
+        "vertices",
+    )?;
     let texcoord = match parts.next() {
         Some("") | None => None,
-        Some(t) => resolve(t, obj.texcoords.len(), "texture coordinate").ok(),
+        Some(_) if !texcoords_named => None,
+        Some(t) => Some(resolve(
+            t,
+            obj.texcoords.len(),
+            "texture coordinate",
+            "texture coordinates",
+        )?),
     };
     let normal = match parts.next() {
         Some("") | None => None,
-        Some(n) => Some(resolve(n, obj.normals.len(), "normal")?),
+        Some(n) => Some(resolve(n, obj.normals.len(), "normal", "normals")?),
     };
     if parts.next().is_some() {
         return Err(line.error(
