@@ -42,6 +42,7 @@ Render options (`rayforge render --help` describes each in full):
       --bailout <WEIGHT>    leave out rays weighing less than this [default: 1/512; 0: none]
       --max-pixels <PIXELS> the largest image accepted [default: 268435456, 2^28]
       --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
+      --allow-outside       let the scene name files outside its folder
       --resume              continue an interrupted render from its checkpoint
   -q, --quiet               no progress bar and no summary
       --renderer <NAME>     ray (the ray tracer), raster (triangles; no shadows, mirrors
@@ -179,6 +180,13 @@ pub struct RenderArgs {
     /// coordinates): a guard against models that would take all memory.
     #[arg(long, value_name = "N", default_value_t = rayforge_scene::DEFAULT_MAX_TRIANGLES)]
     pub max_triangles: usize,
+
+    /// Let the scene name files outside its own folder (models, material libraries, images,
+    /// environment maps). Without it, an absolute path, a `..` that climbs out of the scene
+    /// file's folder or a symbolic link that leads out is an error, so that a scene from
+    /// elsewhere cannot make rayforge read other files.
+    #[arg(long)]
+    pub allow_outside: bool,
 
     /// Continue an interrupted render: the rows saved in <FILE>.rayforge-checkpoint are kept
     /// and only the others are rendered, giving the same image as an uninterrupted run. Refused

@@ -58,6 +58,8 @@ pub struct RenderSettings {
     pub quiet: bool,
     /// The mesh size limit.
     pub max_triangles: usize,
+    /// Whether the scene may name files outside its folder.
+    pub allow_outside: bool,
     /// Continue from the checkpoint.
     pub resume: bool,
     /// Wait for an interrupt once this many rows are finished (a testing aid).
@@ -331,6 +333,7 @@ impl RenderSettings {
             },
             quiet: args.quiet,
             max_triangles: args.max_triangles,
+            allow_outside: args.allow_outside,
             resume: args.resume,
             pause_after_rows: args.pause_after_rows,
             raster,
