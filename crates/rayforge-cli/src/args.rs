@@ -43,6 +43,7 @@ Render options (`rayforge render --help` describes each in full):
       --max-pixels <PIXELS> the largest image accepted [default: 268435456, 2^28]
       --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
       --max-rays-per-sample <N> the most rays one camera ray may lead to [default: 4194304]
+      --allow-outside       let the scene name files outside its folder
       --resume              continue an interrupted render from its checkpoint
   -q, --quiet               no progress bar and no summary
       --renderer <NAME>     ray (the ray tracer), raster (triangles; no shadows, mirrors
@@ -188,6 +189,13 @@ pub struct RenderArgs {
     /// needs more stops with an error naming the pixel.
     #[arg(long, value_name = "N", default_value_t = rayforge::render::DEFAULT_MAX_RAYS_PER_SAMPLE)]
     pub max_rays_per_sample: u64,
+
+    /// Let the scene name files outside its own folder (models, material libraries, images,
+    /// environment maps). Without it, an absolute path, a `..` that climbs out of the scene
+    /// file's folder or a symbolic link that leads out is an error, so that a scene from
+    /// elsewhere cannot make rayforge read other files.
+    #[arg(long)]
+    pub allow_outside: bool,
 
     /// Continue an interrupted render: the rows saved in <FILE>.rayforge-checkpoint are kept
     /// and only the others are rendered, giving the same image as an uninterrupted run. Refused

@@ -71,6 +71,7 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
 fn load_scene(settings: &RenderSettings, frame: u64) -> Result<(Scene, Camera), Failure> {
     let load = LoadOptions {
         max_triangles: settings.max_triangles,
+        allow_outside: settings.allow_outside,
         frame,
         ..LoadOptions::default()
     };

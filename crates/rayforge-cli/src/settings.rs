@@ -60,6 +60,8 @@ pub struct RenderSettings {
     pub max_triangles: usize,
     /// The most rays one camera ray may lead to.
     pub max_rays_per_sample: u64,
+    /// Whether the scene may name files outside its folder.
+    pub allow_outside: bool,
     /// Continue from the checkpoint.
     pub resume: bool,
     /// Wait for an interrupt once this many rows are finished (a testing aid).
@@ -339,6 +341,7 @@ impl RenderSettings {
             quiet: args.quiet,
             max_triangles: args.max_triangles,
             max_rays_per_sample: args.max_rays_per_sample,
+            allow_outside: args.allow_outside,
             resume: args.resume,
             pause_after_rows: args.pause_after_rows,
             raster,

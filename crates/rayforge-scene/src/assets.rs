@@ -1,12 +1,17 @@
-//! Files a scene refers to (OBJ meshes, images), found relative to the scene file and read
-//! once each.
+//! Files a scene refers to (OBJ meshes, images, environment maps), found inside the scene
+//! file's folder and read once each, within the scene's limits on triangles and on the memory
+//! its images take.
 
 use crate::error::SceneError;
-use crate::files::read_bounded;
-use crate::obj::{read_obj_file_with_limit, to_meshes};
+use crate::files::{read_bounded, Folder};
+use crate::hdr::{read_hdr_image, HdrImage};
+use crate::images::{
+    decode, ImageMemory, COLOR_BYTES, ENVIRONMENT_BYTES_PER_TEXEL, MAX_IMAGE_BYTES,
+};
+use crate::obj::{read_obj_in, to_meshes};
 use rayforge::geometry::Mesh;
-use rayforge::shading::{Filter, Texture};
-use rayforge::{Color, Material};
+use rayforge::shading::Texture;
+use rayforge::Material;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -17,7 +22,7 @@ pub type ObjMeshes = Arc<Vec<(Arc<Mesh>, Option<Material>)>>;
 /// Loaded assets, keyed by path: a model used by several items is read and indexed once, and
 /// its instances share the mesh.
 pub struct Assets {
-    base: PathBuf,
+    folder: Folder,
     meshes: HashMap<PathBuf, ObjMeshes>,
     textures: Textures,
     /// The most triangles the scene's models may hold together.
@@ -27,34 +32,31 @@ pub struct Assets {
 }
 
 impl Assets {
-    /// Assets for the scene file at `scene_path` (relative names resolve beside it), whose
-    /// models together may hold at most `max_triangles` triangles and whose images at most
-    /// `max_texture_pixels` pixels.
-    pub fn new(scene_path: &Path, max_triangles: usize, max_texture_pixels: u64) -> Self {
+    /// Assets for the scene file at `scene_path`: names resolve in its folder and must stay
+    /// inside it unless `allow_outside`; its models together may hold at most `max_triangles`
+    /// triangles and its images (textures and environment maps) take at most
+    /// `max_image_memory` bytes.
+    pub fn new(
+        scene_path: &Path,
+        allow_outside: bool,
+        max_triangles: usize,
+        max_image_memory: u64,
+    ) -> Self {
         Self {
-            base: scene_path
-                .parent()
-                .map(Path::to_path_buf)
-                .unwrap_or_default(),
+            folder: Folder::of_file(scene_path, allow_outside),
             meshes: HashMap::new(),
             textures: Textures {
                 by_path: HashMap::new(),
-                pixels: 0,
-                max_pixels: max_texture_pixels,
+                memory: ImageMemory::new(max_image_memory),
             },
             max_triangles,
             triangles: 0,
         }
     }
 
-    /// The most pixels the scene's images may hold (an environment map is held to it too).
-    pub fn max_texture_pixels(&self) -> u64 {
-        self.textures.max_pixels
-    }
-
-    /// Where a file named in the scene is.
+    /// Where a file named in the scene is (whether it may be read is checked when it is).
     pub fn resolve(&self, name: &str) -> PathBuf {
-        self.base.join(name)
+        self.folder.named().join(name)
     }
 
     /// The meshes of an OBJ file, read on first use.
@@ -62,11 +64,15 @@ impl Assets {
         if let Some(m) = self.meshes.get(path) {
             return Ok(m.clone());
         }
-        let textures = &mut self.textures;
+        self.folder
+            .check(path)
+            .map_err(|e| SceneError::new(path, e))?;
+        let (folder, textures) = (&self.folder, &mut self.textures);
         // One model is held to the limit as it is read; then the scene's total is.
-        let obj = read_obj_file_with_limit(
+        let obj = read_obj_in(
             path,
-            &mut |image| cached_texture(textures, image),
+            folder,
+            &mut |image| cached_texture(textures, folder, image),
             self.max_triangles,
         )?;
         let triangles: usize = obj.groups.iter().map(|g| g.triangles.len()).sum();
@@ -89,106 +95,49 @@ impl Assets {
     /// An image texture (PNG, JPEG, PPM/PGM/PBM), read on first use. Bytes become colours as
     /// they are (byte / 255), as the book's canvas-backed image patterns read them.
     pub fn texture(&mut self, path: &Path) -> Result<Arc<Texture>, SceneError> {
-        cached_texture(&mut self.textures, path)
+        cached_texture(&mut self.textures, &self.folder, path)
+    }
+
+    /// An environment map (OpenEXR, Radiance HDR or PFM), within what is left of the images'
+    /// memory; the error is the reason, for the caller to place at the `file:` that names it.
+    pub fn environment_image(&mut self, path: &Path) -> Result<HdrImage, String> {
+        self.folder.check(path)?;
+        let memory = &mut self.textures.memory;
+        let image = read_hdr_image(path, memory.room()).map_err(|e| e.to_string())?;
+        memory.hold((image.width * image.height) as u64 * ENVIRONMENT_BYTES_PER_TEXEL);
+        Ok(image)
     }
 }
 
-/// The images a scene has read, and how many pixels they hold together.
+/// The images a scene has read, and the memory they take.
 struct Textures {
     by_path: HashMap<PathBuf, Arc<Texture>>,
-    pixels: u64,
-    max_pixels: u64,
+    memory: ImageMemory,
 }
 
-/// An image texture from `cache`, read and added on first use, within the cache's limit on
-/// the pixels of all the scene's images.
-fn cached_texture(cache: &mut Textures, path: &Path) -> Result<Arc<Texture>, SceneError> {
+/// An image texture from `cache`, read and added on first use if `folder` allows it, within
+/// the cache's limit on the memory of all the scene's images.
+fn cached_texture(
+    cache: &mut Textures,
+    folder: &Folder,
+    path: &Path,
+) -> Result<Arc<Texture>, SceneError> {
     if let Some(t) = cache.by_path.get(path) {
         return Ok(t.clone());
     }
-    let bytes = read_bounded(path, MAX_IMAGE_BYTES).map_err(|e| {
-        SceneError::new(
-            path,
-            format!("cannot read the image `{}`: {e}", path.display()),
-        )
-    })?;
-    let (texture, pixels) = decode(&bytes, path)?;
-    cache.pixels += pixels;
-    if cache.pixels > cache.max_pixels {
-        return Err(SceneError::new(
-            path,
-            format!(
-                "with this image the scene's images hold {} pixels together, more than the \
-                 limit of {}",
-                cache.pixels, cache.max_pixels
-            ),
-        ));
-    }
-    let texture = Arc::new(texture);
-    cache.by_path.insert(path.to_path_buf(), texture.clone());
-    Ok(texture)
-}
-
-/// Decodes an image file's bytes (PNG, JPEG or PPM/PGM/PBM, told apart by their contents) into
-/// a texture, as scene files' `image` patterns and MTL `map_Kd` read them; `path` names the file
-/// in errors. Images over [`MAX_TEXTURE_SIDE`] on a side or [`MAX_TEXTURE_PIXELS`] in all are
-/// refused before they are decoded.
-pub fn texture_from_bytes(bytes: &[u8], path: &Path) -> Result<Texture, SceneError> {
-    decode(bytes, path).map(|(texture, _)| texture)
-}
-
-/// [`texture_from_bytes`], with the number of pixels.
-fn decode(bytes: &[u8], path: &Path) -> Result<(Texture, u64), SceneError> {
-    let fail = |e: &dyn std::fmt::Display| {
+    let fail = |e: String| {
         SceneError::new(
             path,
             format!("cannot read the image `{}`: {e}", path.display()),
         )
     };
-    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| fail(&e))?;
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(MAX_TEXTURE_SIDE);
-    limits.max_image_height = Some(MAX_TEXTURE_SIDE);
-    reader.limits(limits);
-    // The decoders are third-party code fed untrusted bytes: a panic in one is a broken image,
-    // reported as such, not a crash of the renderer.
-    let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(
-        move || -> Result<_, String> {
-            use image::ImageDecoder;
-            let decoder = reader.into_decoder().map_err(|e| e.to_string())?;
-            let (w, h) = decoder.dimensions();
-            if u64::from(w) * u64::from(h) > MAX_TEXTURE_PIXELS {
-                return Err(format!(
-                    "it is {w}×{h} pixels; the limit is {MAX_TEXTURE_PIXELS} pixels"
-                ));
-            }
-            let image = image::DynamicImage::from_decoder(decoder).map_err(|e| e.to_string())?;
-            Ok(image.to_rgb32f())
-        },
-    ))
-    .map_err(|_| fail(&"the image decoder failed on it (the file is damaged)"))?;
-    let rgb = decoded.map_err(|e| fail(&e))?;
-    let (w, h) = (rgb.width() as usize, rgb.height() as usize);
-    let pixels = rgb
-        .pixels()
-        .map(|p| Color::new(p[0] as f64, p[1] as f64, p[2] as f64))
-        .collect();
-    Texture::new(w, h, pixels, Filter::Bilinear)
-        .map(|t| (t, (w * h) as u64))
-        .ok_or_else(|| fail(&"the image is empty"))
+    folder.check(path).map_err(|e| SceneError::new(path, e))?;
+    let bytes = read_bounded(path, MAX_IMAGE_BYTES).map_err(fail)?;
+    let texture = decode(&bytes, cache.memory.room()).map_err(fail)?;
+    cache
+        .memory
+        .hold((texture.width() * texture.height()) as u64 * COLOR_BYTES);
+    let texture = Arc::new(texture);
+    cache.by_path.insert(path.to_path_buf(), texture.clone());
+    Ok(texture)
 }
-
-/// The largest image side accepted.
-pub const MAX_TEXTURE_SIDE: u32 = 16_384;
-
-/// The most pixels an image texture may have: 2²⁶ (8192 × 8192), 1.5 GiB as colours.
-pub const MAX_TEXTURE_PIXELS: u64 = 1 << 26;
-
-/// The most pixels all of a scene's images may hold together by default: 2²⁷, 3 GiB as
-/// colours.
-pub const MAX_SCENE_TEXTURE_PIXELS: u64 = 1 << 27;
-
-/// The largest image file read.
-pub const MAX_IMAGE_BYTES: u64 = 256 << 20;

@@ -4,7 +4,7 @@
 //! - world:
 //!     renderer: path
 //!     environment:
-//!       file: sky.exr          # .exr, .hdr or .pfm, beside the scene file
+//!       file: sky.exr          # .exr, .hdr or .pfm, in the scene file's folder
 //!       scale: 1               # multiplies every texel (default 1)
 //!       rotate-y-degrees: 90   # turns the sky about the vertical axis (default 0)
 //! ```
@@ -15,7 +15,6 @@
 
 use crate::assets::Assets;
 use crate::error::SceneError;
-use crate::hdr::read_hdr_image;
 use crate::source::{check_keys, required, Node, Source};
 use rayforge::shading::EnvironmentMap;
 use std::sync::Arc;
@@ -24,7 +23,7 @@ use std::sync::Arc;
 pub fn environment(
     source: &Source<'_>,
     node: &Node<'_>,
-    assets: &Assets,
+    assets: &mut Assets,
 ) -> Result<Arc<EnvironmentMap>, SceneError> {
     let entries = source.entries(node, "environment")?;
     check_keys(
@@ -36,8 +35,9 @@ pub fn environment(
     let file_node = required(source, &entries, node, "file", "an environment")?;
     let name = source.string(file_node, "file")?;
     let path = assets.resolve(name);
-    let image = read_hdr_image(&path, assets.max_texture_pixels())
-        .map_err(|e| source.error(file_node, "file", e.to_string()))?;
+    let image = assets
+        .environment_image(&path)
+        .map_err(|e| source.error(file_node, "file", e))?;
     let mut scale = 1.0;
     let mut turn = 0.0;
     for e in &entries {

@@ -15,6 +15,7 @@ mod environment;
 mod error;
 mod files;
 mod hdr;
+mod images;
 mod items;
 mod material;
 pub mod obj;
@@ -22,8 +23,8 @@ mod settings;
 mod source;
 mod transform;
 
-pub use assets::{
-    texture_from_bytes, MAX_IMAGE_BYTES, MAX_SCENE_TEXTURE_PIXELS, MAX_TEXTURE_PIXELS,
+pub use images::{
+    texture_from_bytes, DEFAULT_MAX_IMAGE_MEMORY, MAX_IMAGE_BYTES, MAX_TEXTURE_PIXELS,
     MAX_TEXTURE_SIDE,
 };
 pub use error::{clip, clip_to, SceneError, Span, MAX_SHOWN_CHARS};
@@ -73,8 +74,16 @@ pub struct LoadOptions {
     pub max_triangles: usize,
     /// The animation frame to build: items with `per-frame` take that many steps (0, a still).
     pub frame: u64,
-    /// The most pixels the scene's images may hold together (an image used twice counts once).
-    pub max_texture_pixels: u64,
+    /// The most memory, in bytes, the scene's images (textures and environment maps) may take
+    /// together, an image used twice once: the colours each keeps, and while one is decoded
+    /// its file and the decoder's buffers too. Each image is costed from its header and
+    /// refused before it is decoded if it would go over.
+    pub max_image_memory: u64,
+    /// Whether the files the scene names (models, material libraries, images, environment
+    /// maps) may be outside the scene file's folder. By default they may not: an absolute path,
+    /// a `..` that climbs out or a symbolic link that leads out is an error at the `file:`
+    /// that names it, so that a scene from elsewhere cannot read other files.
+    pub allow_outside: bool,
 }
 
 impl Default for LoadOptions {
@@ -82,7 +91,8 @@ impl Default for LoadOptions {
         Self {
             max_triangles: DEFAULT_MAX_TRIANGLES,
             frame: 0,
-            max_texture_pixels: MAX_SCENE_TEXTURE_PIXELS,
+            max_image_memory: DEFAULT_MAX_IMAGE_MEMORY,
+            allow_outside: false,
         }
     }
 }
@@ -108,7 +118,8 @@ pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
 /// (test threads get 2 MiB). Only the pages it touches are ever committed.
 const READER_STACK_BYTES: usize = 64 << 20;
 
-/// Builds a scene from YAML text; `path` names the file in errors and anchors relative paths.
+/// Builds a scene from YAML text; `path` names the file in errors, and its folder is where the
+/// files the scene names are found (and, unless [`LoadOptions::allow_outside`], must stay).
 pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
     load_str_with(text, path, &LoadOptions::default())
 }
@@ -161,7 +172,12 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         ..e
     })?;
     let mut defines = Defines::default();
-    let mut assets = assets::Assets::new(path, options.max_triangles, options.max_texture_pixels);
+    let mut assets = assets::Assets::new(
+        path,
+        options.allow_outside,
+        options.max_triangles,
+        options.max_image_memory,
+    );
     let mut read = Contents::default();
     let mut settings: Option<settings::Settings> = None;
     for item in items {
@@ -175,7 +191,12 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
                 };
                 return Err(source.error(e.key, "world", message));
             }
-            settings = Some(settings::apply(&source, e.value, &mut read.world, &assets)?);
+            settings = Some(settings::apply(
+                &source,
+                e.value,
+                &mut read.world,
+                &mut assets,
+            )?);
             continue;
         }
         items::add_item(

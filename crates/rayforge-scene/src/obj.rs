@@ -6,6 +6,7 @@
 //! counted, as the book's parser counts them. Errors name the file, line, column and keyword.
 
 use crate::error::{SceneError, Span};
+use crate::files::Folder;
 use rayforge::{Color, Material, Point3, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
@@ -18,7 +19,7 @@ pub struct ObjTriangle {
     pub vertices: [u32; 3],
     /// Corner normals, in [`ObjFile::normals`], when every corner has one.
     pub normals: Option<[u32; 3]>,
-    /// Corner texture coordinates, in [`ObjFile::texcoords`], when every corner has valid ones.
+    /// Corner texture coordinates, in [`ObjFile::texcoords`], when every corner has them.
     pub texcoords: Option<[u32; 3]>,
     /// The material in force (`usemtl`), in [`ObjFile::material_names`].
     pub material: Option<u32>,
@@ -79,33 +80,63 @@ pub const DEFAULT_MAX_TRIANGLES: usize = 10_000_000;
 /// The largest OBJ or MTL file read (1 GiB, about twenty million triangles with normals).
 pub const MAX_MODEL_BYTES: u64 = 1 << 30;
 
-/// Reads an OBJ file, and the MTL files it names (relative to it), loading their texture maps
-/// with `load_texture`. At most [`DEFAULT_MAX_TRIANGLES`] triangles.
+/// Reads an OBJ file, and the MTL files it names (relative to it, and inside its folder),
+/// loading their texture maps with `load_texture`. At most [`DEFAULT_MAX_TRIANGLES`] triangles.
+/// A file that is not a model (binary, not UTF-8, or with no vertex or face statement at all)
+/// is an error, not an empty model.
 pub fn read_obj_file(
     path: &Path,
     load_texture: &mut TextureLoader<'_>,
 ) -> Result<ObjFile, SceneError> {
-    read_obj_file_with_limit(path, load_texture, DEFAULT_MAX_TRIANGLES)
+    read_obj_in(
+        path,
+        &Folder::of_file(path, false),
+        load_texture,
+        DEFAULT_MAX_TRIANGLES,
+    )
 }
 
-/// [`read_obj_file`] with a mesh size limit (see [`parse_obj_with_limit`]).
-pub fn read_obj_file_with_limit(
+/// [`read_obj_file`] for a scene: the MTL files and images the model names must be inside
+/// `folder` (the scene's), and it may hold at most `max_triangles` triangles (see
+/// [`parse_obj_with_limit`]).
+pub(crate) fn read_obj_in(
     path: &Path,
+    folder: &Folder,
     load_texture: &mut TextureLoader<'_>,
     max_triangles: usize,
 ) -> Result<ObjFile, SceneError> {
     let text = read_text(path)?;
+    if text.contains('\0') {
+        return Err(SceneError::new(
+            path,
+            format!("`{}` is binary, not an OBJ model", path.display()),
+        ));
+    }
+    // A file that is not a model would otherwise read as an empty one, its lines ignored;
+    // said before parsing, so that no error quotes a line of it.
+    if !statements(&text, path).any(|(_, keyword)| keyword == "v" || keyword == "f") {
+        return Err(SceneError::new(
+            path,
+            format!(
+                "`{}` is not an OBJ model: it has no vertex (`v`) or face (`f`) statement",
+                path.display()
+            ),
+        ));
+    }
     let mut obj = parse_obj_with_limit(&text, path, max_triangles)?;
     let dir = path.parent().unwrap_or(Path::new("."));
+    // Names in the libraries are held to the folder too, before the loader reads them.
+    let mut load_inside = |image: &Path| {
+        folder.check(image).map_err(|e| SceneError::new(image, e))?;
+        load_texture(image)
+    };
     for (name, span) in obj.material_libraries.clone() {
+        let located = |message: String| SceneError::new(path, message).at(span).with_key("mtllib");
         let mtl_path = dir.join(&name);
-        let mtl_text = read_text(&mtl_path).map_err(|e| {
-            SceneError::new(path, e.to_string())
-                .at(span)
-                .with_key("mtllib")
-        })?;
+        folder.check(&mtl_path).map_err(located)?;
+        let mtl_text = read_text(&mtl_path).map_err(|e| located(e.message))?;
         obj.materials
-            .extend(parse_mtl(&mtl_text, &mtl_path, load_texture)?);
+            .extend(parse_mtl(&mtl_text, &mtl_path, &mut load_inside)?);
     }
     Ok(obj)
 }
@@ -113,7 +144,12 @@ pub fn read_obj_file_with_limit(
 fn read_text(path: &Path) -> Result<String, SceneError> {
     let bytes = crate::files::read_bounded(path, MAX_MODEL_BYTES)
         .map_err(|e| SceneError::new(path, format!("cannot read `{}`: {e}", path.display())))?;
-    String::from_utf8(bytes).map_err(|_| SceneError::new(path, "not a UTF-8 text file"))
+    String::from_utf8(bytes).map_err(|_| {
+        SceneError::new(
+            path,
+            format!("`{}` is not a UTF-8 text file", path.display()),
+        )
+    })
 }
 
 /// A line being read: its words with their columns, for located errors.
@@ -256,6 +292,7 @@ pub fn parse_obj_with_limit(
     let mut group_index: HashMap<String, usize> = HashMap::from([(String::new(), 0)]);
     let mut material_index: HashMap<String, u32> = HashMap::new();
     let mut corners: Vec<Corner> = Vec::with_capacity(8);
+    let texcoords_named = statements(text, path).any(|(_, keyword)| keyword == "vt");
     for (line, keyword) in statements(text, path) {
         match keyword {
             "v" => {
@@ -276,7 +313,7 @@ pub fn parse_obj_with_limit(
             "f" => {
                 corners.clear();
                 for (col, word) in line.words().skip(1) {
-                    corners.push(corner(&line, &obj, col, word)?);
+                    corners.push(corner(&line, &obj, texcoords_named, col, word)?);
                 }
                 if corners.len() < 3 {
                     return Err(line.error(
@@ -352,9 +389,19 @@ struct Corner {
     texcoord: Option<u32>,
 }
 
-fn corner(line: &Line<'_>, obj: &ObjFile, col: usize, word: &str) -> Result<Corner, SceneError> {
+/// The corner `word` of a face, at column `col` of `line`. Every index must name an entry read
+/// before it; texture indices too, unless the file has no `vt` at all (`texcoords_named`
+/// false): then they name nothing and are ignored, as the book's parser ignores texture
+/// indices altogether (its "faces with normals" file uses 0 and 102).
+fn corner(
+    line: &Line<'_>,
+    obj: &ObjFile,
+    texcoords_named: bool,
+    col: usize,
+    word: &str,
+) -> Result<Corner, SceneError> {
     let mut parts = word.split('/');
-    let resolve = |part: &str, count: usize, what: &str| -> Result<u32, SceneError> {
+    let resolve = |part: &str, count: usize, what: &str, plural: &str| {
         let err = |message: String| line.error(col, word.len(), "f", message);
         let n: i64 = part
             .parse()
@@ -363,21 +410,30 @@ fn corner(line: &Line<'_>, obj: &ObjFile, col: usize, word: &str) -> Result<Corn
         let index = if n > 0 { n - 1 } else { count as i64 + n };
         if n == 0 || index < 0 || index >= count as i64 {
             return Err(err(format!(
-                "{what} index {n} is out of range (there are {count} {what}s so far)"
+                "{what} index {n} is out of range (there are {count} {plural} so far)"
             )));
         }
         Ok(index as u32)
     };
-    let vertex = resolve(parts.next().unwrap_or(""), obj.vertices.len(), "vertex")?;
-    // Texture indices that name no texture coordinate are ignored, as the book's parser
-    // ignores texture indices altogether (its "faces with normals" file uses 0 and 102).
+    let vertex = resolve(
+        parts.next().unwrap_or(""),
+        obj.vertices.len(),
+        "vertex",
+        "vertices",
+    )?;
     let texcoord = match parts.next() {
         Some("") | None => None,
-        Some(t) => resolve(t, obj.texcoords.len(), "texture coordinate").ok(),
+        Some(_) if !texcoords_named => None,
+        Some(t) => Some(resolve(
+            t,
+            obj.texcoords.len(),
+            "texture coordinate",
+            "texture coordinates",
+        )?),
     };
     let normal = match parts.next() {
         Some("") | None => None,
-        Some(n) => Some(resolve(n, obj.normals.len(), "normal")?),
+        Some(n) => Some(resolve(n, obj.normals.len(), "normal", "normals")?),
     };
     if parts.next().is_some() {
         return Err(line.error(

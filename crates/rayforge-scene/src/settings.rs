@@ -55,7 +55,7 @@ pub fn apply(
     source: &Source<'_>,
     node: &Node<'_>,
     world: &mut World,
-    assets: &Assets,
+    assets: &mut Assets,
 ) -> Result<Settings, SceneError> {
     let entries = source.entries(node, "world")?;
     let (mut raster, mut path) = (None, None);

@@ -1,7 +1,9 @@
 //! Hostile and degenerate scenes: each gets a located error or a documented, sane result
 //! (`docs/reliability.md` lists them), never a panic, a hang or a memory blowup.
 use rayforge::render::{render, RenderOptions};
-use rayforge_scene::{load_file, load_file_with, load_str, LoadOptions, Scene, SceneError};
+use rayforge_scene::{
+    load_file, load_file_with, load_str, load_str_with, LoadOptions, Scene, SceneError,
+};
 use std::path::Path;
 
 const CAMERA: &str = "- add: camera
@@ -318,17 +320,20 @@ fn devices_and_directories_are_not_files() {
     let dir = tempfile::tempdir().unwrap();
     let e = load_file(dir.path()).unwrap_err();
     assert!(e.message.contains("not a regular file"), "{e}");
-    for (what, key) in [
-        ("- add: obj\n  file: /dev/zero\n", "file"),
-        ("- add: obj\n  file: .\n", "file"),
-        (
-            "- add: sphere\n  material:\n    pattern:\n      type: map\n      mapping: spherical\n      uv_pattern: {type: image, file: /dev/zero}\n",
-            "file",
-        ),
+    // `/dev/zero` is outside the scene's folder: only allowed outside files reach the check.
+    let outside = LoadOptions {
+        allow_outside: true,
+        ..LoadOptions::default()
+    };
+    for what in [
+        "- add: obj\n  file: /dev/zero\n",
+        "- add: obj\n  file: .\n",
+        "- add: sphere\n  material:\n    pattern:\n      type: map\n      mapping: spherical\n      uv_pattern: {type: image, file: /dev/zero}\n",
     ] {
-        let e = load_str(&format!("{CAMERA}{what}"), &dir.path().join("s.yml")).unwrap_err();
+        let e = load_str_with(&format!("{CAMERA}{what}"), &dir.path().join("s.yml"), &outside)
+            .unwrap_err();
         assert!(e.message.contains("not a regular file"), "{e}");
-        assert_eq!(e.key.as_deref(), Some(key), "{e}");
+        assert_eq!(e.key.as_deref(), Some("file"), "{e}");
         assert!(e.span.is_some(), "{e}");
     }
 }
@@ -411,17 +416,22 @@ fn crc32(bytes: &[u8]) -> u32 {
     !crc
 }
 
-/// The scene's images together are held to a pixel limit (an image used twice counts once).
+/// The scene's images together are held to a memory limit (an image used twice counts once):
+/// each keeps 24 bytes a pixel, and the one being read also takes its file and the decoder's
+/// output, so the second image is refused before it is decoded.
 #[test]
-fn the_images_of_a_scene_are_held_to_a_pixel_limit() {
+fn the_images_of_a_scene_are_held_to_a_memory_limit() {
     let ppm = b"P3\n2 2\n255\n255 0 0  0 255 0\n0 0 255  255 255 255\n";
     let dir = dir_with(&[("a.ppm", ppm), ("b.ppm", ppm)]);
     let image = |file: &str| {
         format!("- add: sphere\n  material:\n    pattern:\n      type: map\n      mapping: spherical\n      uv_pattern: {{type: image, file: {file}}}\n")
     };
     let path = dir.path().join("s.yml");
+    // One image: the file, 4 × 3 bytes of decoder output, 4 colours of 24 bytes kept.
+    let kept = 4 * 24;
+    let reading = ppm.len() as u64 + 4 * 3 + kept;
     let options = LoadOptions {
-        max_texture_pixels: 4,
+        max_image_memory: kept + reading - 1,
         ..LoadOptions::default()
     };
     let twice = format!("{CAMERA}{}{}", image("a.ppm"), image("a.ppm"));
@@ -430,7 +440,13 @@ fn the_images_of_a_scene_are_held_to_a_pixel_limit() {
     let two = format!("{CAMERA}{}{}", image("a.ppm"), image("b.ppm"));
     std::fs::write(&path, two).unwrap();
     let e = load_file_with(&path, &options).unwrap_err();
-    assert!(e.message.contains("hold 8 pixels together"), "{e}");
+    assert!(e.message.contains(&format!("takes {reading} bytes")), "{e}");
+    assert!(
+        e.message
+            .contains(&format!("other images hold {kept} bytes")),
+        "{e}"
+    );
+    assert!(e.message.contains("max_image_memory"), "{e}");
     assert_eq!(e.key.as_deref(), Some("file"), "{e}");
     assert_eq!(e.span.map(|s| s.line), Some(19), "{e}");
 }

@@ -250,3 +250,32 @@ fn map_kd_multiplies_the_colour_at_the_models_texture_coordinates() {
     assert!((c.red - expected.red).abs() < 1e-6, "{c:?}");
     assert!((c.green - expected.green).abs() < 1e-6, "{c:?}");
 }
+
+/// Finding 10: texture-coordinate indices out of range were accepted silently while vertex and
+/// normal indices were refused. In a file with texture coordinates they are now checked the
+/// same way; "vertexs" is now "vertices".
+#[test]
+fn obj_texture_coordinate_indices_out_of_range_are_located_errors() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1/1 2/2 3/3\n";
+    let e = parse_obj(obj, Path::new("t.obj")).unwrap_err();
+    assert_eq!(
+        e.message,
+        "texture coordinate index 3 is out of range (there are 2 texture coordinates so far)"
+    );
+    assert_eq!(e.key.as_deref(), Some("f"));
+    assert_eq!(e.span.map(|s| (s.line, s.column)), Some((6, 11)));
+    let e = parse_obj("v 0 0 0\nf 1 2 3\n", Path::new("t.obj")).unwrap_err();
+    assert_eq!(
+        e.message,
+        "vertex index 2 is out of range (there are 1 vertices so far)"
+    );
+    let e = parse_obj("v 0 0 0\nvn 0 0 1\nf 1//1 1//2 1//1\n", Path::new("t.obj")).unwrap_err();
+    assert!(e.message.contains("there are 1 normals so far"), "{e}");
+    // Without any `vt`, texture indices name nothing and are ignored, as the book's are.
+    let obj = parse_obj(
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/9 2/0 3/-4\n",
+        Path::new("t.obj"),
+    )
+    .unwrap();
+    assert_eq!(obj.default_group().triangles[0].texcoords, None);
+}
