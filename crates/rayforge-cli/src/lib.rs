@@ -9,6 +9,7 @@ mod bench_command;
 mod checkpoint;
 mod diagnostics;
 pub mod failure;
+mod finite;
 mod format;
 mod frames;
 mod interrupt;

@@ -8,7 +8,7 @@ use crate::diagnostics::{print_warning, scene_failure};
 use crate::failure::Failure;
 use crate::progress::row_bar;
 use crate::settings::{Chosen, RenderSettings};
-use crate::summary::{raster_summary_line, summary_line};
+use crate::summary::{non_finite_warning, raster_summary_line, summary_line};
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::color::Color;
@@ -112,7 +112,7 @@ fn raster_render(
     let started = Instant::now();
     let (film, stats) =
         pool.install(|| rayforge::raster::render_film(camera, &scene.world, options));
-    let canvas = develop_with_overlay(scene, camera, &film);
+    let (canvas, non_finite) = develop_with_overlay(scene, camera, &film);
     let elapsed = started.elapsed();
     write_image(settings, &canvas, output)?;
     if !settings.quiet {
@@ -127,6 +127,9 @@ fn raster_render(
                 output
             )
         );
+        if let Some(warning) = non_finite_warning(non_finite, output) {
+            eprintln!("{warning}");
+        }
     }
     Ok(())
 }
@@ -228,7 +231,7 @@ fn ray_render(
             checkpoint.display()
         )));
     }
-    let canvas = develop_with_overlay(scene, camera, image.film());
+    let (canvas, non_finite) = develop_with_overlay(scene, camera, image.film());
     write_image(settings, &canvas, output)?;
     // The image is complete: its checkpoint has done its job.
     let _ = std::fs::remove_file(&checkpoint);
@@ -237,6 +240,9 @@ fn ray_render(
             "{}",
             summary_line(canvas.width(), canvas.height(), elapsed, stats.rays, output)
         );
+        if let Some(warning) = non_finite_warning(non_finite, output) {
+            eprintln!("{warning}");
+        }
         if stats.ambiguous > 0 {
             eprintln!(
                 "{} ambiguous pixels (two surfaces at the same distance) were filled from their neighbours",
@@ -305,13 +311,15 @@ fn render_logged(
     (image, stats, logged)
 }
 
-/// The film developed (the optics model's exposure when the scene asks for it), with the
+/// The film developed (the optics model's exposure when the scene asks for it), its pixels
+/// that are not finite blackened (their count returned, see [`crate::finite`]), with the
 /// scene's canvas items drawn over it: after the exposure, as their colours are the scene's
 /// own.
-fn develop_with_overlay(scene: &Scene, camera: &Camera, film: &Film) -> Canvas {
+fn develop_with_overlay(scene: &Scene, camera: &Camera, film: &Film) -> (Canvas, usize) {
     let mut canvas = develop(film, rayforge::render::exposure(&scene.world));
+    let non_finite = crate::finite::blacken_non_finite(&mut canvas);
     scene.overlay.draw(&mut canvas, camera);
-    canvas
+    (canvas, non_finite)
 }
 
 /// Encodes the image in the output's format and writes it atomically.
