@@ -74,7 +74,7 @@ fn cannot_write(path: &Path, reason: &str) -> Failure {
 
 /// Why an I/O operation failed, without the name of the temporary file (which tempfile adds
 /// to its errors, and which means nothing to the user).
-fn reason(e: &io::Error) -> String {
+pub fn reason(e: &io::Error) -> String {
     match e.kind() {
         io::ErrorKind::PermissionDenied => "permission denied".into(),
         io::ErrorKind::ReadOnlyFilesystem => "the file system is read-only".into(),

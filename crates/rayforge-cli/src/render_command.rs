@@ -6,6 +6,7 @@ use crate::atomic_write::{check_writable, write_atomically};
 use crate::checkpoint::{self, Log, RenderKey};
 use crate::diagnostics::{print_warning, scene_failure};
 use crate::failure::Failure;
+use crate::output_lock::OutputLock;
 use crate::progress::row_bar;
 use crate::settings::{Chosen, RenderSettings};
 use crate::summary::{non_finite_warning, raster_summary_line, summary_line};
@@ -20,7 +21,7 @@ use rayon::ThreadPool;
 use std::path::Path;
 use std::sync::atomic::Ordering::SeqCst;
 use std::sync::atomic::{AtomicBool, AtomicUsize};
-use std::sync::{mpsc, Mutex};
+use std::sync::{mpsc, Mutex, Once};
 use std::time::Instant;
 
 /// Runs the render command: one image, or with `--frames` every frame of an animation not
@@ -42,10 +43,12 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Renders animation frame `frame` of the scene (0 for a still) to `output`.
+/// Renders animation frame `frame` of the scene (0 for a still) to `output`, holding the
+/// output's lock throughout (released on every return).
 fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<(), Failure> {
     // Cheap checks first: a long render must not end in "cannot write".
     check_writable(output)?;
+    let _lock = OutputLock::acquire(output)?;
     let (scene, camera) = load_scene(settings, frame)?;
     let pool = thread_pool(settings)?;
     match settings.choose(scene.raster, scene.path)? {
@@ -282,12 +285,16 @@ fn render_logged(
             // Dropped after the render, which ends the log.
             let running = render_running;
             let rows_done = AtomicUsize::new(0);
+            // `--pause-after-rows` says when it starts waiting, once, so that a test can time
+            // what happens from then on.
+            let paused = Once::new();
             let on_row = |y: usize, row: &[Color]| {
                 if let Ok(mut rows) = finished_rows.lock() {
                     rows.push((y, row.to_vec()));
                 }
                 let done = rows_done.fetch_add(1, SeqCst) + 1;
-                if settings.pause_after_rows.is_some_and(|n| done >= n) {
+                if let Some(n) = settings.pause_after_rows.filter(|&n| done >= n) {
+                    paused.call_once(|| eprintln!("paused after {n} rows until interrupted"));
                     wait_for_interrupt(stop);
                 }
             };
