@@ -3,7 +3,7 @@
 //! the image, draw the scene's canvas items over it, write it, summarise.
 
 use crate::atomic_write::{check_writable, write_atomically};
-use crate::checkpoint::{self, Log, RenderKey};
+use crate::checkpoint::{self, Log, Logged, RenderKey};
 use crate::diagnostics::{print_warning, scene_failure};
 use crate::failure::Failure;
 use crate::output_lock::OutputLock;
@@ -53,12 +53,12 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
     let pool = thread_pool(settings)?;
     match settings.choose(scene.raster, scene.path)? {
         Chosen::Raster(options) => {
-            return raster_render(settings, &scene, &camera, &pool, &options, output)
+            return raster_render(settings, &scene, &camera, &pool, &options, output);
         }
         Chosen::Path(options) => {
             return crate::path_command::path_render(
                 settings, &scene, &camera, &pool, options, output,
-            )
+            );
         }
         Chosen::Ray => {}
     }
@@ -225,14 +225,7 @@ fn ray_render(
     let elapsed = started.elapsed();
     let checkpoint = checkpoint::path_for(output);
     if !image.is_complete() {
-        // Interrupted: the rows are in the checkpoint, unless writing it failed.
-        logged?;
-        return Err(Failure::Interrupted(format!(
-            "{} of {} rows are saved in `{}`; run the same command with --resume to finish",
-            image.finished_rows(),
-            image.height(),
-            checkpoint.display()
-        )));
+        return Err(interrupted(&image, &logged, &checkpoint));
     }
     let (canvas, non_finite) = develop_with_overlay(scene, camera, image.film());
     write_image(settings, &canvas, output)?;
@@ -256,9 +249,30 @@ fn ray_render(
     Ok(())
 }
 
-/// Renders on `pool` with a progress bar, handing each finished row to `log`, which writes
+/// The failure of an interrupted render: where its rows are saved, or that none are, and why
+/// writing the checkpoint failed when it did (no message claims rows the file does not hold).
+fn interrupted(image: &PartialImage, logged: &Logged, checkpoint: &Path) -> Failure {
+    let failed = logged
+        .failure
+        .as_ref()
+        .map(|why| format!(" ({why})"))
+        .unwrap_or_default();
+    if logged.saved == 0 {
+        return Failure::Interrupted(format!(
+            "no row is saved{failed}, so there is nothing to resume; nothing was written"
+        ));
+    }
+    Failure::Interrupted(format!(
+        "{} of {} rows are saved in `{}`{failed}; run the same command with --resume to finish",
+        logged.saved,
+        image.height(),
+        checkpoint.display()
+    ))
+}
+
+/// Renders on `pool` with a progress bar, handing each finished row to `log`, which saves
 /// them on a thread of its own; Ctrl-C stops the render between rows (`--pause-after-rows`
-/// holds it until then). Returns the image, the statistics and how the logging went.
+/// holds it until then). Returns the image, the statistics and how the saving went.
 fn render_logged(
     settings: &RenderSettings,
     scene: &Scene,
@@ -266,7 +280,7 @@ fn render_logged(
     pool: &ThreadPool,
     options: RenderOptions<'_>,
     log: Log,
-) -> (PartialImage, RenderStats, Result<(), Failure>) {
+) -> (PartialImage, RenderStats, Logged) {
     let stop = crate::interrupt::stop_flag(settings.quiet);
     let bar = row_bar(camera.vsize(), settings.quiet);
     if let Some(f) = options.finished {
@@ -309,9 +323,10 @@ fn render_logged(
             drop(running);
             rendered
         };
-        let logged = logger
-            .join()
-            .unwrap_or_else(|_| Err(Failure::internal("the checkpoint writer failed")));
+        let logged = logger.join().unwrap_or_else(|_| Logged {
+            saved: 0,
+            failure: Some("the checkpoint writer failed".into()),
+        });
         (rendered, logged)
     });
     bar.finish_and_clear();
@@ -376,7 +391,9 @@ fn open_checkpoint(
                 path.display()
             );
         }
-        return Ok((Some(image), Log::append_at(&path, valid_end)?));
+        let saved = image.finished_rows();
+        let log = Log::append_at(&path, valid_end, saved, settings.quiet)?;
+        return Ok((Some(image), log));
     }
     if path.exists() && !settings.quiet {
         eprintln!(
@@ -385,5 +402,5 @@ fn open_checkpoint(
             path.display()
         );
     }
-    Ok((None, Log::create(&path, &key)?))
+    Ok((None, Log::create(&path, &key, settings.quiet)?))
 }

@@ -1,9 +1,10 @@
 //! What `rayforge render` writes and saves, under hostile scenes, forged checkpoints, two
 //! renders racing for one output, failing writes and scarce memory (issue 21, findings 6 to 8;
 //! docs/reliability.md describes each behaviour).
-use std::io::{BufRead, BufReader, Read};
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStderr, Command, Output, Stdio};
+use std::process::{Child, Command, Output, Stdio};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
 /// A sphere whose colour and light are both 1e308: every lit pixel overflows to infinity.
@@ -135,12 +136,16 @@ fn exr_floats(path: &Path) -> Vec<f32> {
 }
 
 /// A render held after its first row by `--pause-after-rows 1` (one thread), so that what
-/// happens next does not depend on how fast the machine renders.
+/// happens next does not depend on how fast the machine renders. Killed when dropped, so a
+/// failing test leaves no render waiting.
 struct Paused {
     child: Child,
-    err: BufReader<ChildStderr>,
+    /// Its stderr, line by line, from a thread reading it (so that waiting can time out).
+    lines: Receiver<String>,
     /// What it printed so far.
     said: String,
+    /// When it said it paused.
+    at: Instant,
 }
 
 impl Paused {
@@ -148,38 +153,68 @@ impl Paused {
     fn start(mut command: Command) -> Self {
         let mut child = command.stderr(Stdio::piped()).spawn().expect("runs");
         let err = BufReader::new(child.stderr.take().unwrap());
+        let (send, lines) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in err.lines().map_while(Result::ok) {
+                if send.send(line).is_err() {
+                    break;
+                }
+            }
+        });
         let mut paused = Paused {
             child,
-            err,
+            lines,
             said: String::new(),
+            at: Instant::now(),
         };
         paused.wait_for("paused after 1 rows");
+        paused.at = Instant::now();
         paused
     }
 
-    /// Reads its stderr until a line contains `text`.
+    /// Waits until it prints a line containing `text` (the deadline is a guard against a
+    /// hang, not a measure of speed).
     fn wait_for(&mut self, text: &str) {
+        let deadline = Instant::now() + Duration::from_secs(300);
         loop {
-            let mut line = String::new();
-            let n = self.err.read_line(&mut line).unwrap();
-            self.said.push_str(&line);
-            assert!(n > 0, "it ended before saying `{text}`: {}", self.said);
-            if line.contains(text) {
-                return;
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.lines.recv_timeout(left) {
+                Ok(line) => {
+                    self.said.push_str(&line);
+                    self.said.push('\n');
+                    if line.contains(text) {
+                        return;
+                    }
+                }
+                Err(RecvTimeoutError::Timeout) => panic!("it never said `{text}`: {}", self.said),
+                Err(RecvTimeoutError::Disconnected) => {
+                    panic!("it ended before saying `{text}`: {}", self.said)
+                }
             }
         }
     }
 
     /// Sends it `signal` and returns its exit code and everything it printed.
-    fn signal(mut self, signal: &str) -> (Option<i32>, String) {
+    fn signal(&mut self, signal: &str) -> (Option<i32>, String) {
         let kill = Command::new("kill")
             .args(["-s", signal, &self.child.id().to_string()])
             .status()
             .unwrap();
         assert!(kill.success());
-        self.err.read_to_string(&mut self.said).unwrap();
         let status = self.child.wait().unwrap();
-        (status.code(), self.said)
+        // The reader ends with its stderr.
+        for line in self.lines.iter() {
+            self.said.push_str(&line);
+            self.said.push('\n');
+        }
+        (status.code(), std::mem::take(&mut self.said))
+    }
+}
+
+impl Drop for Paused {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
     }
 }
 
@@ -192,6 +227,20 @@ fn paused_render(scene: &Path, out: &Path) -> Command {
     command
 }
 
+/// `command` run by `sh` under `limits` (`ulimit` arguments), with SIGXFSZ ignored so that a
+/// write past the file size limit fails with an error instead of killing the process.
+#[cfg(target_os = "linux")]
+fn limited(limits: &str, command: &Command) -> Command {
+    let mut sh = Command::new("sh");
+    sh.arg("-c")
+        .arg(format!(
+            "trap '' XFSZ; ulimit {limits} && exec \"$0\" \"$@\""
+        ))
+        .arg(command.get_program())
+        .args(command.get_args());
+    sh
+}
+
 /// Waits (a guard against a hang, not a measure of speed) until `path` holds `len` bytes.
 fn wait_for_size(path: &Path, len: u64) {
     let deadline = Instant::now() + Duration::from_secs(300);
@@ -199,6 +248,24 @@ fn wait_for_size(path: &Path, len: u64) {
         assert!(Instant::now() < deadline, "`{}` never grew", path.display());
         std::thread::sleep(Duration::from_millis(10));
     }
+}
+
+/// FNV-1a, 64-bit: the checkpoint's checksum.
+fn fnv(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// A record of row `y` of `SLOW_SCENE` with every channel `value`, its checksum right.
+fn forged_record(y: u64, value: f64) -> Vec<u8> {
+    let mut record = y.to_le_bytes().to_vec();
+    for _ in 0..200 * 3 {
+        record.extend_from_slice(&value.to_le_bytes());
+    }
+    let sum = fnv(&record);
+    record.extend_from_slice(&sum.to_le_bytes());
+    record
 }
 
 /// Finding 6: pixels that overflow to infinity (or NaN) are written black in every format, the
@@ -256,6 +323,68 @@ fn non_finite_pixels_are_written_as_0_in_every_format_and_counted() {
     assert!(o.status.success() && o.stderr.is_empty(), "{}", stderr(&o));
 }
 
+/// Finding 6: a checkpoint whose records no render writes (a row past the image, a row saved
+/// twice, a value that is not finite), checksums and all, is refused when resuming, exit 2,
+/// and kept; the genuine one resumes.
+#[cfg(unix)]
+#[test]
+fn forged_checkpoint_rows_are_refused_when_resuming() {
+    let d = Dir::new();
+    let scene = d.file("slow.yml", SLOW_SCENE);
+    let out = d.path("out.pfm");
+    let checkpoint = checkpoint_of(&out);
+    let (code, err) = Paused::start(paused_render(&scene, &out)).signal("INT");
+    assert_eq!(code, Some(130), "{err}");
+    let genuine = std::fs::read(&checkpoint).unwrap();
+    assert_eq!(genuine.len() as u64, CHECKPOINT_HEADER + SLOW_ROW_RECORD);
+    let first_record = genuine[CHECKPOINT_HEADER as usize..].to_vec();
+
+    let saved_y = u64::from_le_bytes(first_record[..8].try_into().unwrap());
+    for (forgery, why) in [
+        (
+            forged_record(150, 0.5),
+            "a record is for row 150, past the image's 150 rows",
+        ),
+        (
+            first_record.clone(),
+            &*format!("row {saved_y} is saved twice"),
+        ),
+        (
+            forged_record(149, f64::NAN),
+            "row 149 holds a value that is not a finite number",
+        ),
+        (
+            forged_record(149, f64::INFINITY),
+            "row 149 holds a value that is not a finite number",
+        ),
+    ] {
+        let mut forged = genuine.clone();
+        forged.extend_from_slice(&forgery);
+        std::fs::write(&checkpoint, &forged).unwrap();
+        let o = render(&scene, &out, &["-q", "--resume"]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains(why), "{err}");
+        assert!(err.contains("not written by rayforge"), "{err}");
+        assert_eq!(
+            std::fs::read(&checkpoint).unwrap(),
+            forged,
+            "kept as it was"
+        );
+        assert!(!out.exists());
+    }
+
+    std::fs::write(&checkpoint, &genuine).unwrap();
+    let o = render(&scene, &out, &["--resume"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("resuming: 1 of 150 rows"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!checkpoint.exists());
+}
+
 /// Finding 7: while one render runs, a second to the same output is refused (exit 2) naming
 /// the lock and the process holding it, and leaves the first's checkpoint alone; the first
 /// then saves its rows where it says; the lock goes when it ends.
@@ -266,7 +395,7 @@ fn second_render_to_the_same_output_is_refused_by_the_lock() {
     let scene = d.file("slow.yml", SLOW_SCENE);
     let out = d.path("out.png");
     let (checkpoint, lock) = (checkpoint_of(&out), lock_of(&out));
-    let first = Paused::start(paused_render(&scene, &out));
+    let mut first = Paused::start(paused_render(&scene, &out));
     let pid = first.child.id();
     wait_for_size(&checkpoint, CHECKPOINT_HEADER + SLOW_ROW_RECORD);
     let saved = std::fs::read(&checkpoint).unwrap();
@@ -301,4 +430,109 @@ fn second_render_to_the_same_output_is_refused_by_the_lock() {
     let o = render(&scene, &out, &["-q", "--resume"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(out.exists() && !checkpoint.exists() && !lock.exists());
+}
+
+/// Finding 8: rows are written to the checkpoint from the first, within half a second (they
+/// were held for the render's first two seconds), so a killed render loses at most that; the
+/// killed render's lock file does not hold off the next render.
+///
+/// The time measured starts when the render has finished its row and paused, so it does not
+/// depend on the machine's speed; the bound is three times the documented half second.
+#[cfg(unix)]
+#[test]
+fn rows_are_checkpointed_from_the_first_one_within_half_a_second() {
+    let d = Dir::new();
+    let scene = d.file("slow.yml", SLOW_SCENE);
+    let out = d.path("out.pfm");
+    let checkpoint = checkpoint_of(&out);
+    let mut paused = Paused::start(paused_render(&scene, &out));
+    wait_for_size(&checkpoint, CHECKPOINT_HEADER + SLOW_ROW_RECORD);
+    let waited = paused.at.elapsed();
+    assert!(
+        waited < Duration::from_millis(1500),
+        "the first row took {waited:?} to reach the checkpoint"
+    );
+    let (code, _) = paused.signal("KILL");
+    assert_eq!(code, None, "killed");
+    assert!(
+        lock_of(&out).exists(),
+        "a killed render leaves its lock file"
+    );
+
+    let o = render(&scene, &out, &["--resume"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("resuming: 1 of 150 rows"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!checkpoint.exists() && !lock_of(&out).exists());
+}
+
+/// Finding 8: a write error while checkpointing (the file size limit standing in for a full
+/// disk) is warned about once, at once, and the interrupted render then says no row is saved
+/// instead of claiming rows in a file that does not hold them; no checkpoint stays behind.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_checkpoint_write_error_is_reported_and_no_saved_rows_are_claimed() {
+    let d = Dir::new();
+    let scene = d.file("slow.yml", SLOW_SCENE);
+    let out = d.path("out.pfm");
+    // 512 bytes: the header fits, a row's record does not.
+    let mut paused = Paused::start(limited("-f 1", &paused_render(&scene, &out)));
+    paused.wait_for("warning: cannot write the checkpoint");
+    let (code, err) = paused.signal("INT");
+    assert_eq!(code, Some(130), "{err}");
+    assert_eq!(
+        err.matches("cannot write the checkpoint").count(),
+        2,
+        "{err}"
+    );
+    assert!(err.to_lowercase().contains("file too large"), "{err}");
+    assert!(err.contains("interrupted: no row is saved"), "{err}");
+    assert!(!err.contains("rows are saved"), "{err}");
+    let left: Vec<_> = std::fs::read_dir(d.0.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        left,
+        ["slow.yml"],
+        "no checkpoint, lock, image or temporary file"
+    );
+}
+
+/// Finding 8: a render that cannot write its image (the file size limit again, standing in for
+/// a full disk or an immutable output) fails with a clear error and leaves no checkpoint
+/// holding a header alone.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_failed_image_write_leaves_no_header_only_checkpoint() {
+    let d = Dir::new();
+    let scene = d.file("slow.yml", SLOW_SCENE);
+    let out = d.path("out.pfm");
+    let mut command = Command::new(env!("CARGO_BIN_EXE_rayforge"));
+    command.args([
+        Path::new("render"),
+        &scene,
+        Path::new("-o"),
+        &out,
+        Path::new("-q"),
+    ]);
+    let o = limited("-f 1", &command).output().unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains(&format!("cannot write `{}`", out.display())),
+        "{err}"
+    );
+    let left: Vec<_> = std::fs::read_dir(d.0.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        left,
+        ["slow.yml"],
+        "no checkpoint, lock, image or temporary file"
+    );
 }
