@@ -13,6 +13,7 @@ mod finite;
 mod format;
 mod frames;
 mod interrupt;
+mod memory;
 mod output_lock;
 mod path_command;
 mod progress;

@@ -6,6 +6,7 @@ use crate::atomic_write::{check_writable, write_atomically};
 use crate::checkpoint::{self, Log, Logged, RenderKey};
 use crate::diagnostics::{print_warning, scene_failure};
 use crate::failure::Failure;
+use crate::memory::reserve_for_render;
 use crate::output_lock::OutputLock;
 use crate::progress::row_bar;
 use crate::settings::{Chosen, RenderSettings};
@@ -51,17 +52,23 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
     let _lock = OutputLock::acquire(output)?;
     let (scene, camera) = load_scene(settings, frame)?;
     let pool = thread_pool(settings)?;
+    let (width, height) = (camera.hsize(), camera.vsize());
     match settings.choose(scene.raster, scene.path)? {
         Chosen::Raster(options) => {
+            reserve_for_render(width, height, 1)?;
             return raster_render(settings, &scene, &camera, &pool, &options, output);
         }
         Chosen::Path(options) => {
+            // The image's film and, with --aovs, the albedo's and the normal's.
+            reserve_for_render(width, height, if settings.path.aovs { 3 } else { 1 })?;
             return crate::path_command::path_render(
                 settings, &scene, &camera, &pool, options, output,
             );
         }
         Chosen::Ray => {}
     }
+    // The render's film and, when resuming, the checkpoint's rows it starts from.
+    reserve_for_render(width, height, if settings.resume { 2 } else { 1 })?;
     let options = ray_options(settings, &scene);
     if let Some((x, y)) = settings.trace_pixel {
         trace_pixel(settings, &scene, &camera, &options, x, y)?;

@@ -536,3 +536,31 @@ fn a_failed_image_write_leaves_no_header_only_checkpoint() {
         "no checkpoint, lock, image or temporary file"
     );
 }
+
+/// Finding 8: an image whose memory the system refuses (here a 4 GiB address-space limit
+/// against a 2²⁸-pixel render) is a clear error, exit 2, before the render starts and before
+/// any checkpoint, instead of an abort (exit 134) that left one behind.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_allocation_failure_is_a_clear_error_not_an_abort() {
+    let d = Dir::new();
+    let scene = d.file("slow.yml", SLOW_SCENE);
+    let out = d.path("out.png");
+    let mut command = Command::new(env!("CARGO_BIN_EXE_rayforge"));
+    command
+        .args([Path::new("render"), &scene, Path::new("-o"), &out])
+        .args(["--width", "16384", "--height", "16384", "--threads", "1"]);
+    let o = limited("-v 4194304", &command).output().unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("not enough memory for a 16384×16384 render"),
+        "{err}"
+    );
+    assert!(err.contains("--width"), "{err}");
+    let left: Vec<_> = std::fs::read_dir(d.0.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(left, ["slow.yml"], "no checkpoint, lock or image");
+}
