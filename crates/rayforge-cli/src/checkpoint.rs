@@ -193,7 +193,7 @@ enum LogFile {
 }
 
 /// How the checkpointing went, for the final message.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct Logged {
     /// The rows the checkpoint holds (0: it was removed, or never written).
     pub saved: usize,
