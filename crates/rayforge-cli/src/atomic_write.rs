@@ -3,6 +3,7 @@
 //! failure leaves nothing behind.
 
 use crate::failure::Failure;
+use std::fs::File;
 use std::io::{self, Write};
 use std::path::Path;
 use tempfile::NamedTempFile;
@@ -30,34 +31,37 @@ pub fn check_writable(path: &Path) -> Result<(), Failure> {
         }
         Ok(_) => {}
     }
-    temporary_beside(path).map(drop)
+    temporary_beside(path)
+        .map(drop)
+        .map_err(|e| cannot_write(path, &reason(&e, path)))
 }
 
 /// Writes `bytes` to a temporary file in `path`'s directory, flushes it to disk, then renames
 /// it over `path`. On any failure the temporary file is removed and `path` is untouched.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
-    let mut file = temporary_beside(path)?;
-    file.write_all(bytes)
-        .map_err(|e| cannot_write(path, &reason(&e, path)))?;
-    file.as_file()
-        .sync_all()
-        .map_err(|e| cannot_write(path, &reason(&e, path)))?;
-    file.persist(path)
-        .map_err(|e| cannot_write(path, &reason(&e.error, path)))?;
-    Ok(())
+    write_atomically_and_keep(path, bytes)
+        .map(drop)
+        .map_err(|why| cannot_write(path, &why))
+}
+
+/// [`write_atomically`], keeping the new file open at its end (the checkpoint appends its
+/// later rows to it). The error says why, without the file's name.
+pub fn write_atomically_and_keep(path: &Path, bytes: &[u8]) -> Result<File, String> {
+    let mut file = temporary_beside(path).map_err(|e| reason(&e, path))?;
+    file.write_all(bytes).map_err(|e| reason(&e, path))?;
+    file.as_file().sync_all().map_err(|e| reason(&e, path))?;
+    file.persist(path).map_err(|e| reason(&e.error, path))
 }
 
 /// A new temporary file in `path`'s directory (removed when dropped unless persisted).
-fn temporary_beside(path: &Path) -> Result<NamedTempFile, Failure> {
+fn temporary_beside(path: &Path) -> io::Result<NamedTempFile> {
     let mut builder = tempfile::Builder::new();
     builder.prefix(".rayforge-").suffix(".tmp");
     // Temporary files are private (0600) by default; an image should get the usual
     // permissions, which the umask then trims.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    builder
-        .tempfile_in(directory_of(path))
-        .map_err(|e| cannot_write(path, &reason(&e, path)))
+    builder.tempfile_in(directory_of(path))
 }
 
 /// The directory a relative or absolute file path lies in (`.` for a bare file name).
@@ -74,7 +78,7 @@ fn cannot_write(path: &Path, reason: &str) -> Failure {
 
 /// Why an I/O operation failed, without the name of the temporary file (which tempfile adds
 /// to its errors, and which means nothing to the user).
-fn reason(e: &io::Error, path: &Path) -> String {
+pub fn reason(e: &io::Error, path: &Path) -> String {
     match e.kind() {
         io::ErrorKind::PermissionDenied => "permission denied".into(),
         io::ErrorKind::ReadOnlyFilesystem => "the file system is read-only".into(),

@@ -46,7 +46,7 @@ impl ImageFormat {
     pub fn encode(self, canvas: &Canvas) -> Result<Vec<u8>, Failure> {
         match self {
             Self::Ppm => Ok(canvas.to_ppm().into_bytes()),
-            Self::Pfm => Ok(to_pfm(canvas)),
+            Self::Pfm => to_pfm(canvas),
             Self::Exr => to_exr(canvas),
             Self::Png => to_png(canvas),
         }
@@ -79,7 +79,7 @@ fn to_exr(canvas: &Canvas) -> Result<Vec<u8>, Failure> {
     let width = canvas.width();
     let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
         let c = canvas.pixels()[y * width + x];
-        (c.red as f32, c.green as f32, c.blue as f32)
+        (to_f32(c.red), to_f32(c.green), to_f32(c.blue))
     });
     let mut bytes = std::io::Cursor::new(Vec::new());
     Image::from_channels((width, canvas.height()), channels)
@@ -90,19 +90,33 @@ fn to_exr(canvas: &Canvas) -> Result<Vec<u8>, Failure> {
 }
 
 /// PFM: a text header (`PF` for colour, the size, `-1.0` for little-endian), then the linear
-/// colours as 32-bit floats, rows from the bottom of the image to the top.
-fn to_pfm(canvas: &Canvas) -> Vec<u8> {
+/// colours as 32-bit floats, rows from the bottom of the image to the top. Its buffer, 12 bytes
+/// a pixel, is reserved fallibly: a failure is an error, not an abort.
+fn to_pfm(canvas: &Canvas) -> Result<Vec<u8>, Failure> {
     let (w, h) = (canvas.width(), canvas.height());
     let mut out = format!("PF\n{w} {h}\n-1.0\n").into_bytes();
-    out.reserve(w * h * 12);
+    out.try_reserve(w * h * 12).map_err(|_| {
+        Failure::usage(format!(
+            "not enough memory to encode the {w}×{h} PFM image ({} bytes)",
+            w * h * 12
+        ))
+    })?;
     for row in canvas.pixels().chunks(w.max(1)).rev() {
         for c in row {
             for v in c.to_array() {
-                out.extend_from_slice(&(v as f32).to_le_bytes());
+                out.extend_from_slice(&to_f32(v).to_le_bytes());
             }
         }
     }
-    out
+    Ok(out)
+}
+
+/// A channel as a 32-bit float, saturating: a finite value beyond its range is written as the
+/// largest 32-bit float of its sign rather than the infinity `as f32` would make of it, so the
+/// float formats hold only finite numbers (non-finite pixels are blackened before encoding,
+/// see [`crate::finite`]).
+fn to_f32(v: f64) -> f32 {
+    v.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32
 }
 
 #[cfg(test)]
@@ -132,7 +146,7 @@ mod tests {
     fn pfm_rows_run_bottom_to_top_in_little_endian_floats() {
         let mut canvas = Canvas::new(1, 2);
         canvas.write_pixel(0, 0, Color::new(0.25, 0.5, 2.0));
-        let bytes = to_pfm(&canvas);
+        let bytes = to_pfm(&canvas).unwrap();
         let header = b"PF\n1 2\n-1.0\n";
         assert_eq!(&bytes[..header.len()], header);
         let floats: Vec<f32> = bytes[header.len()..]
@@ -140,6 +154,19 @@ mod tests {
             .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
             .collect();
         assert_eq!(floats, [0.0, 0.0, 0.0, 0.25, 0.5, 2.0]);
+    }
+
+    #[test]
+    fn values_past_the_32_bit_range_saturate_instead_of_becoming_infinite() {
+        assert_eq!(to_f32(1e308), f32::MAX);
+        assert_eq!(to_f32(-1e308), -f32::MAX);
+        assert_eq!(to_f32(0.25), 0.25);
+        let mut canvas = Canvas::new(1, 1);
+        canvas.write_pixel(0, 0, Color::new(1e300, -1e300, 1.0));
+        let bytes = to_pfm(&canvas).unwrap();
+        assert!(bytes[bytes.len() - 12..]
+            .chunks(4)
+            .all(|b| f32::from_le_bytes(b.try_into().unwrap()).is_finite()));
     }
 
     #[test]

@@ -1,13 +1,15 @@
 //! `rayforge render --renderer path`: the path tracer's render, from the film to the files: the
-//! image (linear in PFM, sRGB-encoded in PNG and PPM, which are for looking at), and with
-//! `--aovs` the albedo and normal images beside it for denoisers.
+//! image (linear in PFM and OpenEXR, sRGB-encoded in PNG and PPM, which are for looking at), and
+//! with `--aovs` the albedo and normal images beside it for denoisers. Pixels that are not
+//! finite are written black in every file and counted in a warning (see [`crate::finite`]).
 
 use crate::atomic_write::write_atomically;
 use crate::failure::Failure;
+use crate::finite::blacken_non_finite;
 use crate::format::ImageFormat;
 use crate::progress::row_bar;
 use crate::settings::RenderSettings;
-use crate::summary::path_summary_line;
+use crate::summary::{non_finite_warning, path_summary_line};
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::color::Color;
@@ -76,15 +78,20 @@ pub fn path_render(
             "interrupted after {finished} of {height} rows; nothing was written"
         )));
     }
+    // Each file's pixels that were not finite, to warn about after the summary.
+    let mut non_finite = Vec::new();
     let mut canvas = film.into_film().resolve();
+    non_finite.push((blacken_non_finite(&mut canvas), output.to_path_buf()));
     encode_for(settings.format, &mut canvas);
     scene.overlay.draw(&mut canvas, camera);
     write_atomically(output, &settings.format.encode(&canvas)?)?;
     if let (Some(aovs), Some((albedo_path, normal_path))) = (aovs, aov_paths) {
         let mut albedo = aovs.albedo.into_film().resolve();
+        non_finite.push((blacken_non_finite(&mut albedo), albedo_path.clone()));
         encode_for(settings.format, &mut albedo);
         write_atomically(&albedo_path, &settings.format.encode(&albedo)?)?;
         let mut normal = aovs.normal.into_film().resolve();
+        non_finite.push((blacken_non_finite(&mut normal), normal_path.clone()));
         if !settings.format.is_linear() {
             // [-1, 1] into [0, 1], as normal maps store them.
             for c in normal.pixels_mut() {
@@ -111,6 +118,11 @@ pub fn path_render(
                 "{} samples whose radiance was not a finite number were left out",
                 stats.discarded
             );
+        }
+        for (pixels, path) in non_finite {
+            if let Some(warning) = non_finite_warning(pixels, &path) {
+                eprintln!("{warning}");
+            }
         }
     }
     Ok(())

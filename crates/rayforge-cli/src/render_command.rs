@@ -3,12 +3,14 @@
 //! the image, draw the scene's canvas items over it, write it, summarise.
 
 use crate::atomic_write::{check_writable, write_atomically};
-use crate::checkpoint::{self, Log, RenderKey};
+use crate::checkpoint::{self, Log, Logged, RenderKey};
 use crate::diagnostics::{print_warning, scene_failure};
 use crate::failure::Failure;
+use crate::memory::reserve_for_render;
+use crate::output_lock::OutputLock;
 use crate::progress::row_bar;
 use crate::settings::{Chosen, RenderSettings};
-use crate::summary::{raster_summary_line, summary_line};
+use crate::summary::{non_finite_warning, raster_summary_line, summary_line};
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::color::Color;
@@ -20,7 +22,7 @@ use rayon::ThreadPool;
 use std::path::Path;
 use std::sync::atomic::Ordering::SeqCst;
 use std::sync::atomic::{AtomicBool, AtomicUsize};
-use std::sync::{mpsc, Mutex};
+use std::sync::{mpsc, Mutex, Once};
 use std::time::Instant;
 
 /// Runs the render command: one image, or with `--frames` every frame of an animation not
@@ -42,23 +44,31 @@ pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Renders animation frame `frame` of the scene (0 for a still) to `output`.
+/// Renders animation frame `frame` of the scene (0 for a still) to `output`, holding the
+/// output's lock throughout (released on every return).
 fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<(), Failure> {
     // Cheap checks first: a long render must not end in "cannot write".
     check_writable(output)?;
+    let _lock = OutputLock::acquire(output)?;
     let (scene, camera) = load_scene(settings, frame)?;
     let pool = thread_pool(settings)?;
+    let (width, height) = (camera.hsize(), camera.vsize());
     match settings.choose(scene.raster, scene.path)? {
         Chosen::Raster(options) => {
-            return raster_render(settings, &scene, &camera, &pool, &options, output)
+            reserve_for_render(width, height, 1)?;
+            return raster_render(settings, &scene, &camera, &pool, &options, output);
         }
         Chosen::Path(options) => {
+            // The image's film and, with --aovs, the albedo's and the normal's.
+            reserve_for_render(width, height, if settings.path.aovs { 3 } else { 1 })?;
             return crate::path_command::path_render(
                 settings, &scene, &camera, &pool, options, output,
-            )
+            );
         }
         Chosen::Ray => {}
     }
+    // The render's film and, when resuming, the checkpoint's rows it starts from.
+    reserve_for_render(width, height, if settings.resume { 2 } else { 1 })?;
     let options = ray_options(settings, &scene);
     if let Some((x, y)) = settings.trace_pixel {
         trace_pixel(settings, &scene, &camera, &options, x, y)?;
@@ -114,7 +124,7 @@ fn raster_render(
     let (film, stats) = pool
         .install(|| rayforge::raster::render_film(camera, &scene.world, options))
         .map_err(|e| Failure::usage(e.to_string()))?;
-    let canvas = develop_with_overlay(scene, camera, &film);
+    let (canvas, non_finite) = develop_with_overlay(scene, camera, &film);
     let elapsed = started.elapsed();
     write_image(settings, &canvas, output)?;
     if !settings.quiet {
@@ -129,6 +139,9 @@ fn raster_render(
                 output
             )
         );
+        if let Some(warning) = non_finite_warning(non_finite, output) {
+            eprintln!("{warning}");
+        }
     }
     Ok(())
 }
@@ -222,29 +235,28 @@ fn ray_render(
     let elapsed = started.elapsed();
     let checkpoint = checkpoint::path_for(output);
     if let Some((x, y)) = stats.over_budget {
-        logged?;
+        let saved = if logged.saved == 0 {
+            "no row is saved".to_string()
+        } else {
+            format!(
+                "{} of {} rows are saved in `{}`: --resume with a higher \
+                 --max-rays-per-sample continues from them",
+                logged.saved,
+                image.height(),
+                checkpoint.display()
+            )
+        };
         return Err(Failure::usage(format!(
             "pixel ({x}, {y}): a camera ray there leads to more than {} rays (reflections, \
              refractions and shadow rays), the limit set by --max-rays-per-sample (lower \
-             --max-depth or raise --bailout). {} of {} rows are saved in `{}`: --resume with \
-             a higher --max-rays-per-sample continues from them",
+             --max-depth or raise --bailout); {saved}",
             settings.max_rays_per_sample,
-            image.finished_rows(),
-            image.height(),
-            checkpoint.display()
         )));
     }
     if !image.is_complete() {
-        // Interrupted: the rows are in the checkpoint, unless writing it failed.
-        logged?;
-        return Err(Failure::Interrupted(format!(
-            "{} of {} rows are saved in `{}`; run the same command with --resume to finish",
-            image.finished_rows(),
-            image.height(),
-            checkpoint.display()
-        )));
+        return Err(interrupted(&image, &logged, &checkpoint));
     }
-    let canvas = develop_with_overlay(scene, camera, image.film());
+    let (canvas, non_finite) = develop_with_overlay(scene, camera, image.film());
     write_image(settings, &canvas, output)?;
     // The image is complete: its checkpoint has done its job.
     let _ = std::fs::remove_file(&checkpoint);
@@ -253,6 +265,9 @@ fn ray_render(
             "{}",
             summary_line(canvas.width(), canvas.height(), elapsed, stats.rays, output)
         );
+        if let Some(warning) = non_finite_warning(non_finite, output) {
+            eprintln!("{warning}");
+        }
         if stats.ambiguous > 0 {
             eprintln!(
                 "{} ambiguous pixels (two surfaces at the same distance) were filled from their neighbours",
@@ -263,9 +278,30 @@ fn ray_render(
     Ok(())
 }
 
-/// Renders on `pool` with a progress bar, handing each finished row to `log`, which writes
+/// The failure of an interrupted render: where its rows are saved, or that none are, and why
+/// writing the checkpoint failed when it did (no message claims rows the file does not hold).
+fn interrupted(image: &PartialImage, logged: &Logged, checkpoint: &Path) -> Failure {
+    let failed = logged
+        .failure
+        .as_ref()
+        .map(|why| format!(" ({why})"))
+        .unwrap_or_default();
+    if logged.saved == 0 {
+        return Failure::Interrupted(format!(
+            "no row is saved{failed}, so there is nothing to resume; nothing was written"
+        ));
+    }
+    Failure::Interrupted(format!(
+        "{} of {} rows are saved in `{}`{failed}; run the same command with --resume to finish",
+        logged.saved,
+        image.height(),
+        checkpoint.display()
+    ))
+}
+
+/// Renders on `pool` with a progress bar, handing each finished row to `log`, which saves
 /// them on a thread of its own; Ctrl-C stops the render between rows (`--pause-after-rows`
-/// holds it until then). Returns the image, the statistics and how the logging went.
+/// holds it until then). Returns the image, the statistics and how the saving went.
 fn render_logged(
     settings: &RenderSettings,
     scene: &Scene,
@@ -273,7 +309,7 @@ fn render_logged(
     pool: &ThreadPool,
     options: RenderOptions<'_>,
     log: Log,
-) -> (PartialImage, RenderStats, Result<(), Failure>) {
+) -> (PartialImage, RenderStats, Logged) {
     let stop = crate::interrupt::stop_flag(settings.quiet);
     let bar = row_bar(camera.vsize(), settings.quiet);
     if let Some(f) = options.finished {
@@ -292,12 +328,16 @@ fn render_logged(
             // Dropped after the render, which ends the log.
             let running = render_running;
             let rows_done = AtomicUsize::new(0);
+            // `--pause-after-rows` says when it starts waiting, once, so that a test can time
+            // what happens from then on.
+            let paused = Once::new();
             let on_row = |y: usize, row: &[Color]| {
                 if let Ok(mut rows) = finished_rows.lock() {
                     rows.push((y, row.to_vec()));
                 }
                 let done = rows_done.fetch_add(1, SeqCst) + 1;
-                if settings.pause_after_rows.is_some_and(|n| done >= n) {
+                if let Some(n) = settings.pause_after_rows.filter(|&n| done >= n) {
+                    paused.call_once(|| eprintln!("paused after {n} rows until interrupted"));
                     wait_for_interrupt(stop);
                 }
             };
@@ -312,22 +352,25 @@ fn render_logged(
             drop(running);
             rendered
         };
-        let logged = logger
-            .join()
-            .unwrap_or_else(|_| Err(Failure::internal("the checkpoint writer failed")));
+        let logged = logger.join().unwrap_or_else(|_| Logged {
+            saved: 0,
+            failure: Some("the checkpoint writer failed".into()),
+        });
         (rendered, logged)
     });
     bar.finish_and_clear();
     (image, stats, logged)
 }
 
-/// The film developed (the optics model's exposure when the scene asks for it), with the
+/// The film developed (the optics model's exposure when the scene asks for it), its pixels
+/// that are not finite blackened (their count returned, see [`crate::finite`]), with the
 /// scene's canvas items drawn over it: after the exposure, as their colours are the scene's
 /// own.
-fn develop_with_overlay(scene: &Scene, camera: &Camera, film: &Film) -> Canvas {
+fn develop_with_overlay(scene: &Scene, camera: &Camera, film: &Film) -> (Canvas, usize) {
     let mut canvas = develop(film, rayforge::render::exposure(&scene.world));
+    let non_finite = crate::finite::blacken_non_finite(&mut canvas);
     scene.overlay.draw(&mut canvas, camera);
-    canvas
+    (canvas, non_finite)
 }
 
 /// Encodes the image in the output's format and writes it atomically.
@@ -377,7 +420,9 @@ fn open_checkpoint(
                 path.display()
             );
         }
-        return Ok((Some(image), Log::append_at(&path, valid_end)?));
+        let saved = image.finished_rows();
+        let log = Log::append_at(&path, valid_end, saved, settings.quiet)?;
+        return Ok((Some(image), log));
     }
     if path.exists() && !settings.quiet {
         eprintln!(
@@ -386,5 +431,5 @@ fn open_checkpoint(
             path.display()
         );
     }
-    Ok((None, Log::create(&path, &key)?))
+    Ok((None, Log::create(&path, &key, settings.quiet)?))
 }

@@ -60,6 +60,20 @@ pub fn path_summary_line(
     )
 }
 
+/// The warning after a render whose image had pixels that were not finite numbers (see
+/// [`crate::finite`]), naming the file they were written to; `None` when there were none.
+pub fn non_finite_warning(pixels: usize, output: &Path) -> Option<String> {
+    let (count, were) = match pixels {
+        0 => return None,
+        1 => ("1 pixel".to_string(), "was"),
+        n => (format!("{n} pixels"), "were"),
+    };
+    Some(format!(
+        "warning: {count} of `{}` {were} not finite (NaN or infinite) and {were} written as 0",
+        output.display()
+    ))
+}
+
 /// A count with an SI prefix and one decimal: `4.1 M`, `950.0 k`, `12`.
 fn si(v: f64) -> String {
     match v {
@@ -102,6 +116,19 @@ mod tests {
         assert_eq!(
             line,
             "rasterized 1920×1080 in 0.21 s, 1.0 M triangles (480.2 k drawn) → out.png"
+        );
+    }
+
+    #[test]
+    fn non_finite_pixels_are_counted_in_a_warning() {
+        assert_eq!(non_finite_warning(0, Path::new("o.pfm")), None);
+        assert_eq!(
+            non_finite_warning(3, Path::new("o.pfm")).unwrap(),
+            "warning: 3 pixels of `o.pfm` were not finite (NaN or infinite) and were written as 0"
+        );
+        assert_eq!(
+            non_finite_warning(1, Path::new("o.png")).unwrap(),
+            "warning: 1 pixel of `o.png` was not finite (NaN or infinite) and was written as 0"
         );
     }
 

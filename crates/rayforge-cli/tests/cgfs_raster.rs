@@ -3,13 +3,19 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
 fn run(stage: &str, extra: &[&str]) -> (Output, PathBuf) {
-    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{stage}{}.png", extra.join("")));
+    // A name of its own for each render: tests run at once, and a render to an output another
+    // render holds is refused (its lock).
+    static RENDERS: AtomicUsize = AtomicUsize::new(0);
+    let n = RENDERS.fetch_add(1, Ordering::Relaxed);
+    let out =
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{stage}{}-{n}.png", extra.join("")));
     let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
         .arg("render")
         .arg(repo().join(format!("scenes/cgfs/{stage}.yml")))

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The repository's root.
 pub fn repo() -> PathBuf {
@@ -11,8 +12,12 @@ pub fn repo() -> PathBuf {
 
 /// Renders `scenes/<scene>.yml` at its own size, quietly, and returns its pixels.
 pub fn render_scene(scene: &str) -> image::RgbImage {
+    // A name of its own for each render: tests run at once, and a render to an output another
+    // render holds is refused (its lock).
+    static RENDERS: AtomicUsize = AtomicUsize::new(0);
+    let n = RENDERS.fetch_add(1, Ordering::Relaxed);
     let out =
-        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{}.png", scene.replace('/', "-")));
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{}-{n}.png", scene.replace('/', "-")));
     let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
         .arg("render")
         .arg(repo().join(format!("scenes/{scene}.yml")))
