@@ -7,6 +7,7 @@ mod args;
 pub mod atomic_write;
 mod bench_command;
 mod checkpoint;
+mod checkpointed;
 mod diagnostics;
 pub mod failure;
 mod finite;

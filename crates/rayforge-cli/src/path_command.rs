@@ -4,10 +4,11 @@
 //! finite are written black in every file and counted in a warning (see [`crate::finite`]).
 
 use crate::atomic_write::write_atomically;
+use crate::checkpoint;
+use crate::checkpointed;
 use crate::failure::Failure;
 use crate::finite::blacken_non_finite;
 use crate::format::ImageFormat;
-use crate::progress::row_bar;
 use crate::settings::RenderSettings;
 use crate::summary::{non_finite_warning, path_summary_line};
 use rayforge::camera::Camera;
@@ -16,6 +17,7 @@ use rayforge::color::Color;
 use rayforge::film::{Film, SharedFilm};
 use rayforge::options::PathOptions;
 use rayforge::render::path::{render_path, Aovs, PathJob};
+use rayforge::render::PartialImage;
 use rayforge_scene::Scene;
 use rayon::ThreadPool;
 use std::path::{Path, PathBuf};
@@ -36,7 +38,44 @@ fn samples_per_pixel(settings: &RenderSettings, scene: &Scene) -> u64 {
     u64::from(spp.max(1))
 }
 
-/// Path traces the scene and writes the image (and the AOVs); a summary line after.
+/// Adds the rows saved in a checkpoint to the films, each pixel as one sample of weight 1 of
+/// its resolved colour (which resolves to the same bits), and marks them done. `saved` holds
+/// `width` × the layers per row: the image's row, then the albedo's and the normal's.
+fn restore_rows(
+    saved: &PartialImage,
+    width: usize,
+    film: &SharedFilm,
+    aovs: Option<&Aovs>,
+    done: &mut [bool],
+) -> Result<(), Failure> {
+    let refused = |e| Failure::internal(format!("the checkpoint's rows do not fit the film: {e}"));
+    let saved_film = saved.film();
+    for (y, done) in done.iter_mut().enumerate() {
+        if !saved.is_done(y) {
+            continue;
+        }
+        let row = saved_film.row_sums(y);
+        let mut layers = row.chunks_exact(width);
+        let mut add = |target: &SharedFilm| -> Result<(), Failure> {
+            let colours = layers.next().unwrap_or_default();
+            let mut part = Film::with_filter(width, 1, target.filter()).map_err(refused)?;
+            for (x, &colour) in colours.iter().enumerate() {
+                part.add_pixel_sum(x, 0, colour, 1.0);
+            }
+            target.add(y, &part).map_err(refused)
+        };
+        add(film)?;
+        if let Some(aovs) = aovs {
+            add(&aovs.albedo)?;
+            add(&aovs.normal)?;
+        }
+        *done = true;
+    }
+    Ok(())
+}
+
+/// Path traces the scene and writes the image (and the AOVs); a summary line after. Finished
+/// rows are saved to the output's checkpoint as they come, and `--resume` continues from them.
 pub fn path_render(
     settings: &RenderSettings,
     scene: &Scene,
@@ -56,27 +95,40 @@ pub fn path_render(
         crate::atomic_write::check_writable(albedo)?;
         crate::atomic_write::check_writable(normal)?;
     }
-    let stop = crate::interrupt::stop_flag(settings.quiet);
-    let bar = row_bar(height, settings.quiet);
-    let progress = |rows: usize| bar.inc(rows as u64);
-    let job = PathJob {
-        options,
-        samples: 0..spp,
-        progress: Some(&progress),
-        cancel: Some(stop),
-    };
+    // A saved row holds the image's row, then the albedo's and the normal's with --aovs.
+    let layers = if aovs.is_some() { 3 } else { 1 };
+    // Everything besides the scene and the size that changes a pixel; the thread count does
+    // not.
+    let described = format!(
+        "path; {options:?}; spp {spp}; layers {layers}; rayforge {}",
+        env!("CARGO_PKG_VERSION")
+    );
+    let (finished, log) = checkpointed::open(settings, output, width * layers, height, &described)?;
     let mut done = vec![false; height];
+    if let Some(saved) = &finished {
+        restore_rows(saved, width, &film, aovs.as_ref(), &mut done)?;
+    }
+    let already = done.iter().filter(|&&d| d).count();
     let started = Instant::now();
-    let stats = pool
-        .install(|| render_path(camera, &scene.world, &job, &film, aovs.as_ref(), &mut done))
-        .map_err(|e| Failure::internal(format!("the path tracer refused its film: {e}")))?;
+    let (stats, logged) = checkpointed::render(settings, height, already, log, |hooks| {
+        let job = PathJob {
+            options,
+            samples: 0..spp,
+            progress: Some(hooks.progress),
+            cancel: Some(hooks.stop),
+            on_row: Some(hooks.on_row),
+        };
+        let stats = pool
+            .install(|| render_path(camera, &scene.world, &job, &film, aovs.as_ref(), &mut done));
+        let complete = done.iter().all(|&d| d);
+        (stats, complete)
+    });
+    let stats =
+        stats.map_err(|e| Failure::internal(format!("the path tracer refused its film: {e}")))?;
     let elapsed = started.elapsed();
-    bar.finish_and_clear();
-    let finished = done.iter().filter(|&&d| d).count();
-    if finished < height {
-        return Err(Failure::Interrupted(format!(
-            "interrupted after {finished} of {height} rows; nothing was written"
-        )));
+    let checkpoint = checkpoint::path_for(output);
+    if done.iter().any(|&d| !d) {
+        return Err(checkpointed::interrupted(height, &logged, &checkpoint));
     }
     // Each file's pixels that were not finite, to warn about after the summary.
     let mut non_finite = Vec::new();
@@ -100,6 +152,8 @@ pub fn path_render(
         }
         write_atomically(&normal_path, &settings.format.encode(&normal)?)?;
     }
+    // The image is complete: its checkpoint has done its job.
+    let _ = std::fs::remove_file(&checkpoint);
     if !settings.quiet {
         eprintln!(
             "{}",

@@ -3,26 +3,22 @@
 //! the image, draw the scene's canvas items over it, write it, summarise.
 
 use crate::atomic_write::{check_writable, write_atomically};
-use crate::checkpoint::{self, Log, Logged, RenderKey};
+use crate::checkpoint::{self, Log, Logged};
+use crate::checkpointed;
 use crate::diagnostics::{print_warning, scene_failure};
 use crate::failure::Failure;
 use crate::memory::reserve_for_render;
 use crate::output_lock::OutputLock;
-use crate::progress::row_bar;
 use crate::settings::{Chosen, RenderSettings};
 use crate::summary::{non_finite_warning, raster_summary_line, summary_line};
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
-use rayforge::color::Color;
 use rayforge::film::{develop, Film};
 use rayforge::options::RasterOptions;
 use rayforge::render::{render_rows, PartialImage, RenderOptions, RenderStats, Sampling};
 use rayforge_scene::{LoadOptions, Scene};
 use rayon::ThreadPool;
 use std::path::Path;
-use std::sync::atomic::Ordering::SeqCst;
-use std::sync::atomic::{AtomicBool, AtomicUsize};
-use std::sync::{mpsc, Mutex, Once};
 use std::time::Instant;
 
 /// Runs the render command: one image, or with `--frames` every frame of an animation not
@@ -218,13 +214,22 @@ fn ray_render(
     frame: u64,
 ) -> Result<(), Failure> {
     let (width, height) = (camera.hsize(), camera.vsize());
-    let (finished, log) =
-        open_checkpoint(settings, output, frame, width, height, &options.sampling)?;
+    // Everything besides the scene and the size that changes a pixel; the thread count does
+    // not.
+    let described = format!(
+        "{:?}; max depth {:?}; subsample {:?}; bailout {}; frame {frame}; rayforge {}",
+        options.sampling,
+        settings.max_depth,
+        settings.subsample,
+        settings.bailout,
+        env!("CARGO_PKG_VERSION")
+    );
+    let (finished, log) = checkpointed::open(settings, output, width, height, &described)?;
     let started = Instant::now();
     let (image, stats, logged) = render_logged(
         settings,
-        scene,
         camera,
+        scene,
         pool,
         RenderOptions {
             finished: finished.as_ref(),
@@ -254,7 +259,11 @@ fn ray_render(
         )));
     }
     if !image.is_complete() {
-        return Err(interrupted(&image, &logged, &checkpoint));
+        return Err(checkpointed::interrupted(
+            image.height(),
+            &logged,
+            &checkpoint,
+        ));
     }
     let (canvas, non_finite) = develop_with_overlay(scene, camera, image.film());
     write_image(settings, &canvas, output)?;
@@ -278,87 +287,28 @@ fn ray_render(
     Ok(())
 }
 
-/// The failure of an interrupted render: where its rows are saved, or that none are, and why
-/// writing the checkpoint failed when it did (no message claims rows the file does not hold).
-fn interrupted(image: &PartialImage, logged: &Logged, checkpoint: &Path) -> Failure {
-    let failed = logged
-        .failure
-        .as_ref()
-        .map(|why| format!(" ({why})"))
-        .unwrap_or_default();
-    if logged.saved == 0 {
-        return Failure::Interrupted(format!(
-            "no row is saved{failed}, so there is nothing to resume; nothing was written"
-        ));
-    }
-    Failure::Interrupted(format!(
-        "{} of {} rows are saved in `{}`{failed}; run the same command with --resume to finish",
-        logged.saved,
-        image.height(),
-        checkpoint.display()
-    ))
-}
-
-/// Renders on `pool` with a progress bar, handing each finished row to `log`, which saves
-/// them on a thread of its own; Ctrl-C stops the render between rows (`--pause-after-rows`
-/// holds it until then). Returns the image, the statistics and how the saving went.
+/// Renders on `pool` with the rows saved to `log` as they finish (see [`checkpointed`]).
 fn render_logged(
     settings: &RenderSettings,
-    scene: &Scene,
     camera: &Camera,
+    scene: &Scene,
     pool: &ThreadPool,
     options: RenderOptions<'_>,
     log: Log,
 ) -> (PartialImage, RenderStats, Logged) {
-    let stop = crate::interrupt::stop_flag(settings.quiet);
-    let bar = row_bar(camera.vsize(), settings.quiet);
-    if let Some(f) = options.finished {
-        bar.set_position(f.finished_rows() as u64);
-    }
-    let progress = |rows: usize| bar.inc(rows as u64);
-    let finished_rows = Mutex::new(Vec::new());
-    let (render_running, render_over) = mpsc::channel::<()>();
-    // Set when the render returns whole, before the log learns the render is over.
-    let complete = AtomicBool::new(false);
-    let ((image, stats), logged) = std::thread::scope(|scope| {
-        let (complete, finished_rows) = (&complete, &finished_rows);
-        let logger =
-            scope.spawn(move || log.record(finished_rows, render_over, || complete.load(SeqCst)));
-        let rendered = {
-            // Dropped after the render, which ends the log.
-            let running = render_running;
-            let rows_done = AtomicUsize::new(0);
-            // `--pause-after-rows` says when it starts waiting, once, so that a test can time
-            // what happens from then on.
-            let paused = Once::new();
-            let on_row = |y: usize, row: &[Color]| {
-                if let Ok(mut rows) = finished_rows.lock() {
-                    rows.push((y, row.to_vec()));
-                }
-                let done = rows_done.fetch_add(1, SeqCst) + 1;
-                if let Some(n) = settings.pause_after_rows.filter(|&n| done >= n) {
-                    paused.call_once(|| eprintln!("paused after {n} rows until interrupted"));
-                    wait_for_interrupt(stop);
-                }
-            };
+    let already = options.finished.map_or(0, PartialImage::finished_rows);
+    let ((image, stats), logged) =
+        checkpointed::render(settings, camera.vsize(), already, log, |hooks| {
             let options = RenderOptions {
-                progress: Some(&progress),
-                cancel: Some(stop),
-                on_row: Some(&on_row),
+                progress: Some(hooks.progress),
+                cancel: Some(hooks.stop),
+                on_row: Some(hooks.on_row),
                 ..options
             };
             let rendered = pool.install(|| render_rows(camera, &scene.world, &options));
-            complete.store(rendered.0.is_complete(), SeqCst);
-            drop(running);
-            rendered
-        };
-        let logged = logger.join().unwrap_or_else(|_| Logged {
-            saved: 0,
-            failure: Some("the checkpoint writer failed".into()),
+            let complete = rendered.0.is_complete();
+            (rendered, complete)
         });
-        (rendered, logged)
-    });
-    bar.finish_and_clear();
     (image, stats, logged)
 }
 
@@ -377,59 +327,4 @@ fn develop_with_overlay(scene: &Scene, camera: &Camera, film: &Film) -> (Canvas,
 fn write_image(settings: &RenderSettings, canvas: &Canvas, output: &Path) -> Result<(), Failure> {
     let bytes = settings.format.encode(canvas)?;
     write_atomically(output, &bytes)
-}
-
-/// Holds the calling worker until `stop` is set (`--pause-after-rows`): the render then starts
-/// no more rows, so a test knows exactly which rows an interrupt saves.
-fn wait_for_interrupt(stop: &AtomicBool) {
-    while !stop.load(SeqCst) {
-        std::thread::sleep(std::time::Duration::from_millis(10));
-    }
-}
-
-/// The rows of the checkpoint to resume from (with `--resume`) and the log that saves new
-/// rows: the same checkpoint continued, or a new one.
-fn open_checkpoint(
-    settings: &RenderSettings,
-    output: &Path,
-    frame: u64,
-    width: usize,
-    height: usize,
-    sampling: &Sampling,
-) -> Result<(Option<PartialImage>, Log), Failure> {
-    // The scene was just read and checked (a regular file within the size limit).
-    let scene_bytes = std::fs::read(&settings.scene)
-        .map_err(|e| Failure::usage(format!("cannot read `{}`: {e}", settings.scene.display())))?;
-    // Everything that changes a pixel; the thread count does not.
-    let described = format!(
-        "{sampling:?}; max depth {:?}; subsample {:?}; bailout {}; frame {frame}; rayforge {}",
-        settings.max_depth,
-        settings.subsample,
-        settings.bailout,
-        env!("CARGO_PKG_VERSION")
-    );
-    let key = RenderKey::new(&scene_bytes, width, height, &described);
-    let path = checkpoint::path_for(output);
-    if settings.resume {
-        let (image, valid_end) = checkpoint::read(&path, &key)?;
-        if !settings.quiet {
-            eprintln!(
-                "resuming: {} of {} rows from `{}`",
-                image.finished_rows(),
-                height,
-                path.display()
-            );
-        }
-        let saved = image.finished_rows();
-        let log = Log::append_at(&path, valid_end, saved, settings.quiet)?;
-        return Ok((Some(image), log));
-    }
-    if path.exists() && !settings.quiet {
-        eprintln!(
-            "note: starting afresh, replacing the checkpoint `{}` of an earlier render \
-             (--resume continues it instead)",
-            path.display()
-        );
-    }
-    Ok((None, Log::create(&path, &key, settings.quiet)?))
 }

@@ -191,7 +191,6 @@ impl RenderSettings {
                     ("--adaptive", self.adaptive.is_some()),
                     ("--subsample", self.subsample.is_some()),
                     ("--trace-pixel", self.trace_pixel.is_some()),
-                    ("--resume", self.resume),
                 ]) {
                     return Err(Failure::usage(format!(
                         "{flag} applies to the ray tracer, not to --renderer path"

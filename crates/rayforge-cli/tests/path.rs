@@ -209,3 +209,69 @@ fn an_exr_holds_the_same_linear_floats_as_the_pfm() {
     .unwrap();
     assert_eq!(read.layer_data.channel_data.pixels, floats);
 }
+
+#[test]
+fn an_interrupted_path_render_resumes_to_the_same_bytes_with_its_aovs() {
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+    let dir = temp();
+    let args = ["--width", "12", "--height", "10", "--spp", "8", "--aovs"];
+    let reference = out(&dir, "reference.pfm");
+    let (ok, stderr) = render("scenes/pbr/cornell.yml", &reference, &args);
+    assert!(ok, "{stderr}");
+
+    let image = out(&dir, "image.pfm");
+    let checkpoint = out(&dir, "image.pfm.rayforge-checkpoint");
+    let mut child = rayforge()
+        .arg("render")
+        .arg(repo().join("scenes/pbr/cornell.yml"))
+        .arg("-o")
+        .arg(&image)
+        .args(args)
+        .args(["--threads", "1", "--pause-after-rows", "3"])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The header (54 bytes), then records of the row's index, 12 pixels × 3 layers × 3
+    // channels of f64 and a checksum.
+    let record = 8 + 12 * 3 * 3 * 8 + 8;
+    let size = |p: &Path| std::fs::metadata(p).map_or(0, |m| m.len());
+    // A guard against a hang, not a measure of speed: the paused render waits for us.
+    let deadline = Instant::now() + Duration::from_secs(300);
+    while size(&checkpoint) < 54 + 3 * record {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "ended before the interrupt"
+        );
+        assert!(Instant::now() < deadline, "no rows were checkpointed");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let kill = Command::new("kill")
+        .args(["-s", "INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let interrupted = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&interrupted.stderr);
+    assert_eq!(interrupted.status.code(), Some(130), "{err}");
+    assert!(err.contains("3 of 10 rows are saved"), "{err}");
+    assert!(!image.exists());
+
+    // Another sample count is another image: refused, the checkpoint kept.
+    let mut other = args.to_vec();
+    other[5] = "16";
+    other.push("--resume");
+    let (ok, stderr) = render("scenes/pbr/cornell.yml", &image, &other);
+    assert!(!ok && stderr.contains("other settings"), "{stderr}");
+
+    let mut resume = args.to_vec();
+    resume.push("--resume");
+    let (ok, stderr) = render("scenes/pbr/cornell.yml", &image, &resume);
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains("resuming: 3 of 10 rows"), "{stderr}");
+    for name in ["", ".albedo", ".normal"] {
+        let read = |stem: &str| std::fs::read(out(&dir, &format!("{stem}{name}.pfm"))).unwrap();
+        assert_eq!(read("image"), read("reference"), "{name}");
+    }
+    assert!(!checkpoint.exists());
+}

@@ -30,6 +30,7 @@ fn render(scene: &Scene, width: usize, height: usize, spp: u64) -> Film {
         samples: 0..spp,
         progress: None,
         cancel: None,
+        on_row: None,
     };
     let film = SharedFilm::from(Film::with_filter(width, height, job.options.filter).unwrap());
     let mut done = vec![false; height];

@@ -19,6 +19,7 @@ fn render(world: &World, camera: &Camera, spp: u64, sampler: SamplerKind) -> Fil
         samples: 0..spp,
         progress: None,
         cancel: None,
+        on_row: None,
     };
     let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
     let mut done = vec![false; camera.vsize()];
@@ -188,6 +189,7 @@ fn sample_ranges_rendered_apart_merge_into_the_render_of_their_union() {
             samples,
             progress: None,
             cancel: None,
+            on_row: None,
         };
         let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
         let mut done = vec![false; camera.vsize()];

@@ -20,6 +20,7 @@ mod sampler;
 pub use integrator::{FirstHit, PathContext, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS};
 pub use sampler::SampleStream;
 
+use super::RowCallback;
 use crate::camera::{Camera, CameraSample};
 use crate::color::Color;
 use crate::film::{Film, FilmError, PixelFilter, SharedFilm};
@@ -42,8 +43,13 @@ pub struct PathJob<'p> {
     pub samples: Range<u64>,
     /// Called with the number of rows just finished (from any thread).
     pub progress: Option<&'p (dyn Fn(usize) + Sync)>,
-    /// Checked before each row is started: once set, no more rows are started.
+    /// Checked before each row is started and every few samples inside a pixel: once set, no
+    /// more rows are started and those in progress are left undone.
     pub cancel: Option<&'p AtomicBool>,
+    /// Called with each finished row (from any thread): the image's resolved colours, then,
+    /// when the albedo and normal are rendered, theirs. A row so saved and added back to the
+    /// films as one sample of weight 1 per pixel resolves to the same bits.
+    pub on_row: Option<&'p RowCallback<'p>>,
 }
 
 /// The images a denoiser wants beside the beauty image: the albedo and the normal of the
@@ -203,6 +209,14 @@ pub fn render_path(
                     aovs.normal.add(y, &normal)?;
                 }
                 *done = true;
+                if let Some(on_row) = job.on_row {
+                    let mut values = beauty.resolve().pixels().to_vec();
+                    if aovs.is_some() {
+                        values.extend_from_slice(albedo.resolve().pixels());
+                        values.extend_from_slice(normal.resolve().pixels());
+                    }
+                    on_row(y, &values);
+                }
                 rays.fetch_add(context.rays - before, Ordering::Relaxed);
                 rows.fetch_add(1, Ordering::Relaxed);
                 discarded.fetch_add(row_discarded, Ordering::Relaxed);

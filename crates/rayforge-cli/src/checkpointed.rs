@@ -1,0 +1,156 @@
+//! A render whose finished rows are saved as they come: the checkpoint opened (continued with
+//! `--resume`, else new), the render run with hooks that hand each row to the checkpoint's
+//! writer thread, show progress and heed Ctrl-C, and the message of an interrupted render.
+//! The ray tracer and the path tracer both render this way; what a row holds is theirs to say.
+
+use crate::checkpoint::{self, FinishedRow, Log, Logged, RenderKey};
+use crate::failure::Failure;
+use crate::progress::row_bar;
+use crate::settings::RenderSettings;
+use rayforge::color::Color;
+use rayforge::render::{PartialImage, RowCallback};
+use std::path::Path;
+use std::sync::atomic::Ordering::SeqCst;
+use std::sync::atomic::{AtomicBool, AtomicUsize};
+use std::sync::{mpsc, Mutex, Once};
+
+/// What a render is given to save its rows: call `on_row` with each finished row, `progress`
+/// with the number of rows just finished, and stop when `stop` is set.
+pub struct Hooks<'a> {
+    /// Hands a finished row (its index and values) to the checkpoint.
+    pub on_row: &'a RowCallback<'a>,
+    /// Advances the progress bar.
+    pub progress: &'a (dyn Fn(usize) + Sync),
+    /// Set by Ctrl-C or a termination signal.
+    pub stop: &'a AtomicBool,
+}
+
+/// The rows of the checkpoint to resume from (with `--resume`) and the log that saves new
+/// rows: the same checkpoint continued, or a new one. `width` is the width of a saved row
+/// (the image's, times the layers a row holds); `described` names every setting besides the
+/// scene file and the size that changes a pixel.
+pub fn open(
+    settings: &RenderSettings,
+    output: &Path,
+    width: usize,
+    height: usize,
+    described: &str,
+) -> Result<(Option<PartialImage>, Log), Failure> {
+    // The scene was just read and checked (a regular file within the size limit).
+    let scene_bytes = std::fs::read(&settings.scene)
+        .map_err(|e| Failure::usage(format!("cannot read `{}`: {e}", settings.scene.display())))?;
+    let key = RenderKey::new(&scene_bytes, width, height, described);
+    let path = checkpoint::path_for(output);
+    if settings.resume {
+        let (image, valid_end) = checkpoint::read(&path, &key)?;
+        if !settings.quiet {
+            eprintln!(
+                "resuming: {} of {} rows from `{}`",
+                image.finished_rows(),
+                height,
+                path.display()
+            );
+        }
+        let saved = image.finished_rows();
+        let log = Log::append_at(&path, valid_end, saved, settings.quiet)?;
+        return Ok((Some(image), log));
+    }
+    if path.exists() && !settings.quiet {
+        eprintln!(
+            "note: starting afresh, replacing the checkpoint `{}` of an earlier render \
+             (--resume continues it instead)",
+            path.display()
+        );
+    }
+    Ok((None, Log::create(&path, &key, settings.quiet)?))
+}
+
+/// Runs `render` with [`Hooks`] that save each finished row to `log` on a thread of its own,
+/// with a progress bar over `height` rows (`already` of them done before), Ctrl-C setting the
+/// stop flag, and `--pause-after-rows` holding the render until an interrupt. `render` returns
+/// its result and whether the image is complete (its last rows then need no saving). Returns
+/// the result and how the saving went.
+pub fn render<R>(
+    settings: &RenderSettings,
+    height: usize,
+    already: usize,
+    log: Log,
+    render: impl FnOnce(Hooks<'_>) -> (R, bool),
+) -> (R, Logged) {
+    let stop = crate::interrupt::stop_flag(settings.quiet);
+    let bar = row_bar(height, settings.quiet);
+    bar.set_position(already as u64);
+    let progress = |rows: usize| bar.inc(rows as u64);
+    let finished_rows: Mutex<Vec<FinishedRow>> = Mutex::new(Vec::new());
+    let (render_running, render_over) = mpsc::channel::<()>();
+    // Set when the render returns whole, before the log learns the render is over.
+    let complete = AtomicBool::new(false);
+    let (rendered, logged) = std::thread::scope(|scope| {
+        let (complete, finished_rows) = (&complete, &finished_rows);
+        let logger =
+            scope.spawn(move || log.record(finished_rows, render_over, || complete.load(SeqCst)));
+        let rendered = {
+            // Dropped after the render, which ends the log.
+            let running = render_running;
+            let rows_done = AtomicUsize::new(0);
+            // `--pause-after-rows` says when it starts waiting, once, so that a test can time
+            // what happens from then on.
+            let paused = Once::new();
+            let on_row = |y: usize, row: &[Color]| {
+                if let Ok(mut rows) = finished_rows.lock() {
+                    rows.push((y, row.to_vec()));
+                }
+                let done = rows_done.fetch_add(1, SeqCst) + 1;
+                if let Some(n) = settings.pause_after_rows.filter(|&n| done >= n) {
+                    paused.call_once(|| eprintln!("paused after {n} rows until interrupted"));
+                    wait_for_interrupt(stop);
+                }
+            };
+            let (rendered, whole) = render(Hooks {
+                on_row: &on_row,
+                progress: &progress,
+                stop,
+            });
+            complete.store(whole, SeqCst);
+            drop(running);
+            rendered
+        };
+        let logged = logger.join().unwrap_or_else(|_| Logged {
+            saved: 0,
+            failure: Some("the checkpoint writer failed".into()),
+        });
+        (rendered, logged)
+    });
+    bar.finish_and_clear();
+    (rendered, logged)
+}
+
+/// Holds the calling worker until `stop` is set (`--pause-after-rows`): the render then starts
+/// no more rows, so a test knows exactly which rows an interrupt saves.
+fn wait_for_interrupt(stop: &AtomicBool) {
+    while !stop.load(SeqCst) {
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+}
+
+/// The failure of an interrupted render of `height` rows: where its rows are saved, or that
+/// none are, and why writing the checkpoint failed when it did (no message claims rows the
+/// file does not hold).
+pub fn interrupted(height: usize, logged: &Logged, checkpoint: &Path) -> Failure {
+    let failed = logged
+        .failure
+        .as_ref()
+        .map(|why| format!(" ({why})"))
+        .unwrap_or_default();
+    if logged.saved == 0 {
+        return Failure::Interrupted(format!(
+            "no row is saved{failed}, so there is nothing to resume; nothing was written"
+        ));
+    }
+    Failure::Interrupted(format!(
+        "{} of {} rows are saved in `{}`{failed}; run the same command with --resume to finish",
+        logged.saved,
+        height,
+        checkpoint.display()
+    ))
+}
