@@ -5,7 +5,7 @@
 use rayforge::film::{Film, SharedFilm};
 use rayforge::math::{scaling, view_transform};
 use rayforge::options::{PathOptions, SamplerKind};
-use rayforge::render::path::{render_path, PathJob};
+use rayforge::render::path::{render_path, Aovs, PathJob};
 use rayforge::shading::{EmissionSide, Material, Physical};
 use rayforge::{point, vector, Camera, Color, Object, World};
 
@@ -208,6 +208,65 @@ fn sample_ranges_rendered_apart_merge_into_the_render_of_their_union() {
     assert_eq!(merged.weights(), whole.weights());
     // And a range is not the whole: the first five samples alone differ.
     assert_ne!(render_range(0..5).sums(), whole.sums());
+}
+
+#[test]
+fn passes_into_one_film_give_the_bits_of_a_single_pass() {
+    // Progressive rendering: each pass goes on from the pixels' sums, so 1 + 1 + 2 + 4 + 4
+    // samples in five passes sum in the same order as 12 in one, and the film is identical to
+    // the bit, with the albedo and normal too.
+    let (world, camera) = furnace(0.5);
+    let (width, height) = (camera.hsize(), camera.vsize());
+    let film = SharedFilm::from(Film::new(width, height));
+    let aovs = Aovs::new(width, height);
+    for samples in [0..1, 1..2, 2..4, 4..8, 8..12] {
+        let job = PathJob {
+            options: PathOptions::default(),
+            samples,
+            progress: None,
+            cancel: None,
+            on_row: None,
+        };
+        let mut done = vec![false; height];
+        render_path(&camera, &world, &job, &film, Some(&aovs), &mut done).unwrap();
+        assert!(done.iter().all(|&d| d));
+    }
+    let single = SharedFilm::from(Film::new(width, height));
+    let single_aovs = Aovs::new(width, height);
+    let job = PathJob {
+        options: PathOptions::default(),
+        samples: 0..12,
+        progress: None,
+        cancel: None,
+        on_row: None,
+    };
+    let mut done = vec![false; height];
+    render_path(
+        &camera,
+        &world,
+        &job,
+        &single,
+        Some(&single_aovs),
+        &mut done,
+    )
+    .unwrap();
+    let bits = |film: Film| -> Vec<u64> {
+        film.sums()
+            .iter()
+            .flat_map(|c| [c.red, c.green, c.blue])
+            .chain(film.weights().iter().copied())
+            .map(f64::to_bits)
+            .collect()
+    };
+    assert_eq!(bits(film.into_film()), bits(single.into_film()));
+    assert_eq!(
+        bits(aovs.albedo.into_film()),
+        bits(single_aovs.albedo.into_film())
+    );
+    assert_eq!(
+        bits(aovs.normal.into_film()),
+        bits(single_aovs.normal.into_film())
+    );
 }
 
 #[test]

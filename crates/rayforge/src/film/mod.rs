@@ -217,6 +217,14 @@ impl Film {
         self.weights[i] += weight;
     }
 
+    /// Sets pixel (`x`, `y`)'s sum of weighted colours and of weights (a renderer that went on
+    /// from the pixel's earlier sums: see [`SharedFilm::row`]).
+    pub fn set_pixel_sum(&mut self, x: usize, y: usize, weighted_sum: Color, weight: f64) {
+        let i = y * self.width + x;
+        self.sums[i] = weighted_sum;
+        self.weights[i] = weight;
+    }
+
     /// Replaces row `y` with `pixels`, each one sample of weight 1 (a row read back from the
     /// command line's checkpoint, which saves pixel estimates).
     pub(crate) fn replace_row(&mut self, y: usize, pixels: &[Color]) {

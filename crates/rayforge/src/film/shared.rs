@@ -104,6 +104,59 @@ impl SharedFilm {
         Ok(())
     }
 
+    /// Row `y` as it is now, as a film one row high: a worker that goes on sampling the row
+    /// (the path tracer's next pass) continues from its sums and then [`set_row`]s it, so that
+    /// every pixel's samples are summed in the same order however many passes they came in.
+    ///
+    /// [`set_row`]: Self::set_row
+    pub fn row(&self, y: usize) -> Result<Film, FilmError> {
+        let height = self.height();
+        let row = self.rows.get(y).ok_or(FilmError::RowsOutside {
+            first: y,
+            rows: 1,
+            height,
+        })?;
+        let row = lock(row);
+        let mut film = Film::new(self.width, 0);
+        film.filter = self.filter;
+        film.height = 1;
+        film.sums.extend_from_slice(&row.sums);
+        film.weights.extend_from_slice(&row.weights);
+        Ok(film)
+    }
+
+    /// Replaces row `y` with `part`'s one row (see [`SharedFilm::row`]). Refused (and nothing
+    /// changes) when `part` is not one row of this film's width and filter, or `y` is past
+    /// the last row.
+    pub fn set_row(&self, y: usize, part: &Film) -> Result<(), FilmError> {
+        let height = self.height();
+        let Some(row) = self.rows.get(y) else {
+            return Err(FilmError::RowsOutside {
+                first: y,
+                rows: part.height,
+                height,
+            });
+        };
+        if part.width != self.width || part.height != 1 {
+            return Err(FilmError::SizeMismatch(
+                part.width,
+                part.height,
+                self.width,
+                1,
+            ));
+        }
+        if part.filter != self.filter {
+            return Err(FilmError::FilterMismatch(part.filter, self.filter));
+        }
+        let mut row = lock(row);
+        row.sums.copy_from_slice(part.row_sums(0));
+        row.weights.copy_from_slice(part.row_weights(0));
+        drop(row);
+        self.brightest
+            .fetch_max(part.brightest.to_bits(), Ordering::Relaxed);
+        Ok(())
+    }
+
     /// An owned copy of the film as it is now, row by row (see the type's documentation), to
     /// develop or save while the render goes on.
     pub fn snapshot(&self) -> Film {

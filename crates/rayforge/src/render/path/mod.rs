@@ -155,14 +155,21 @@ pub fn render_path(
                     return Ok(());
                 }
                 let before = context.rays;
-                let mut beauty = Film::with_filter(width, 1, filter)?;
-                let mut albedo = Film::new(width, 1);
-                let mut normal = Film::new(width, 1);
+                // The row as the film holds it: this pass's samples go on from its sums, so a
+                // pixel's samples are summed in one order however many passes bring them.
+                let mut beauty = film.row(y)?;
+                let mut layers = match aovs {
+                    Some(aovs) => Some((aovs.albedo.row(y)?, aovs.normal.row(y)?)),
+                    None => None,
+                };
                 let mut row_discarded = 0;
                 for x in 0..width {
-                    let mut sum = Color::BLACK;
-                    let mut weights = 0.0;
-                    let (mut albedo_sum, mut normal_sum) = (Color::BLACK, Color::BLACK);
+                    let mut sum = beauty.sum(x, 0);
+                    let mut weights = beauty.weight(x, 0);
+                    let (mut albedo_sum, mut normal_sum) = match &layers {
+                        Some((albedo, normal)) => (albedo.sum(x, 0), normal.sum(x, 0)),
+                        None => (Color::BLACK, Color::BLACK),
+                    };
                     for s in job.samples.clone() {
                         // A pixel may take millions of samples: a stop is heeded inside it,
                         // and the row, unfinished, is left undone.
@@ -199,19 +206,22 @@ pub fn render_path(
                         albedo_sum += first.albedo;
                         normal_sum += Color::new(first.normal.x, first.normal.y, first.normal.z);
                     }
-                    beauty.add_pixel_sum(x, 0, sum, weights);
-                    albedo.add_pixel_sum(x, 0, albedo_sum, spp as f64);
-                    normal.add_pixel_sum(x, 0, normal_sum, spp as f64);
+                    beauty.set_pixel_sum(x, 0, sum, weights);
+                    if let Some((albedo, normal)) = &mut layers {
+                        let taken = albedo.weight(x, 0) + spp as f64;
+                        albedo.set_pixel_sum(x, 0, albedo_sum, taken);
+                        normal.set_pixel_sum(x, 0, normal_sum, taken);
+                    }
                 }
-                film.add(y, &beauty)?;
-                if let Some(aovs) = aovs {
-                    aovs.albedo.add(y, &albedo)?;
-                    aovs.normal.add(y, &normal)?;
+                film.set_row(y, &beauty)?;
+                if let (Some(aovs), Some((albedo, normal))) = (aovs, &layers) {
+                    aovs.albedo.set_row(y, albedo)?;
+                    aovs.normal.set_row(y, normal)?;
                 }
                 *done = true;
                 if let Some(on_row) = job.on_row {
                     let mut values = beauty.resolve().pixels().to_vec();
-                    if aovs.is_some() {
+                    if let Some((albedo, normal)) = &layers {
                         values.extend_from_slice(albedo.resolve().pixels());
                         values.extend_from_slice(normal.resolve().pixels());
                     }
