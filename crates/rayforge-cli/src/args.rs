@@ -53,6 +53,8 @@ Render options (`rayforge render --help` describes each in full):
       --filter <NAME>       path only: box, tent or gaussian pixel filter [default: box]
       --filter-radius <PX>  path only: the tent or Gaussian filter's radius [default: 1.5]
       --aovs                path only: also write the first hit's albedo and normal
+      --time <DURATION>     path only: refine in passes until this time is spent (30s, 5m)
+      --display-server <HOST:PORT> show the image in the tev viewer while it renders
       --shading <MODE>      raster only: flat, gouraud or phong [default: phong]
       --sphere-divisions <N> raster only: sphere resolution (N+1 rings of N) [default: 48]
       --max-raster-triangles <N> raster only: the most triangles a frame may hold [default: 2^25]
@@ -247,6 +249,20 @@ pub struct RenderArgs {
     /// `out.pfm`; the normals as (n + 1) / 2 in an 8-bit image).
     #[arg(long)]
     pub aovs: bool,
+
+    /// Path tracer: render in passes that refine the whole image (1, 1, 2, 4, … samples per
+    /// pixel), and stop before the pass that would go past this time, e.g. `30s`, `5m`, `1h`
+    /// or `500ms` (with --spp, at most that many samples). The image is the same as one
+    /// rendered at the samples reached, in one pass.
+    #[arg(long, value_name = "DURATION")]
+    pub time: Option<String>,
+
+    /// Show the image in the tev HDR viewer while it renders, over tev's TCP protocol
+    /// (`HOST:PORT`, or `HOST` for tev's port 14158), rows as they finish, and with the path
+    /// tracer each pass; the render goes on, after one warning, if the viewer is absent or
+    /// goes away.
+    #[arg(long, value_name = "HOST:PORT")]
+    pub display_server: Option<String>,
 
     /// How the rasterizer shades: `flat` (one colour per triangle), `gouraud` (lit at the
     /// vertices, blended) or `phong` (lit at every pixel). Needs --renderer raster.

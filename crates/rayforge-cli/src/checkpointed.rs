@@ -7,6 +7,7 @@ use crate::checkpoint::{self, FinishedRow, Log, Logged, RenderKey};
 use crate::failure::Failure;
 use crate::progress::row_bar;
 use crate::settings::RenderSettings;
+use crate::tev::Display;
 use rayforge::color::Color;
 use rayforge::render::{PartialImage, RowCallback};
 use std::path::Path;
@@ -23,6 +24,8 @@ pub struct Hooks<'a> {
     pub progress: &'a (dyn Fn(usize) + Sync),
     /// Set by Ctrl-C or a termination signal.
     pub stop: &'a AtomicBool,
+    /// Starts the progress bar again (a render in passes, at each pass).
+    pub restart_progress: &'a (dyn Fn() + Sync),
 }
 
 /// The rows of the checkpoint to resume from (with `--resume`) and the log that saves new
@@ -65,40 +68,66 @@ pub fn open(
     Ok((None, Log::create(&path, &key, settings.quiet)?))
 }
 
-/// Runs `render` with [`Hooks`] that save each finished row to `log` on a thread of its own,
-/// with a progress bar over `height` rows (`already` of them done before), Ctrl-C setting the
-/// stop flag, and `--pause-after-rows` holding the render until an interrupt. `render` returns
-/// its result and whether the image is complete (its last rows then need no saving). Returns
-/// the result and how the saving went.
+/// Runs `render` with [`Hooks`] that save each finished row to `log` (when there is one) on a
+/// thread of its own and show it in `display` (when there is one) on another, with a progress
+/// bar over `height` rows (`already` of them done before), Ctrl-C setting the stop flag, and
+/// `--pause-after-rows` holding the render until an interrupt. `render` returns its result and
+/// whether the image is complete (its last rows then need no saving). Returns the result, how
+/// the saving went and the display, for the finished image.
 pub fn render<R>(
     settings: &RenderSettings,
     height: usize,
     already: usize,
-    log: Log,
+    log: Option<Log>,
+    display: Option<Display>,
     render: impl FnOnce(Hooks<'_>) -> (R, bool),
-) -> (R, Logged) {
+) -> (R, Logged, Option<Display>) {
     let stop = crate::interrupt::stop_flag(settings.quiet);
     let bar = row_bar(height, settings.quiet);
     bar.set_position(already as u64);
     let progress = |rows: usize| bar.inc(rows as u64);
+    let restart_progress = || bar.set_position(0);
     let finished_rows: Mutex<Vec<FinishedRow>> = Mutex::new(Vec::new());
     let (render_running, render_over) = mpsc::channel::<()>();
+    let (to_display, shown) = mpsc::channel::<FinishedRow>();
     // Set when the render returns whole, before the log learns the render is over.
     let complete = AtomicBool::new(false);
-    let (rendered, logged) = std::thread::scope(|scope| {
+    let (rendered, logged, display) = std::thread::scope(|scope| {
         let (complete, finished_rows) = (&complete, &finished_rows);
-        let logger =
-            scope.spawn(move || log.record(finished_rows, render_over, || complete.load(SeqCst)));
+        let saving = log.is_some();
+        let logger = log.map(|log| {
+            scope.spawn(move || log.record(finished_rows, render_over, || complete.load(SeqCst)))
+        });
+        let viewer = display.map(|mut display| {
+            scope.spawn(move || {
+                // Rows come in bursts; each burst goes out as few packets as it can.
+                while let Ok((y, row)) = shown.recv() {
+                    display.row(y, &row);
+                    while let Ok((y, row)) = shown.try_recv() {
+                        display.row(y, &row);
+                    }
+                    display.flush();
+                }
+                display
+            })
+        });
         let rendered = {
-            // Dropped after the render, which ends the log.
+            // Dropped after the render, which ends the log and the display's thread.
             let running = render_running;
+            let to_display = viewer.is_some().then_some(to_display);
             let rows_done = AtomicUsize::new(0);
             // `--pause-after-rows` says when it starts waiting, once, so that a test can time
             // what happens from then on.
             let paused = Once::new();
             let on_row = |y: usize, row: &[Color]| {
-                if let Ok(mut rows) = finished_rows.lock() {
-                    rows.push((y, row.to_vec()));
+                if saving {
+                    if let Ok(mut rows) = finished_rows.lock() {
+                        rows.push((y, row.to_vec()));
+                    }
+                }
+                if let Some(to_display) = &to_display {
+                    // Fails only once the display's thread is gone, which it never is first.
+                    let _ = to_display.send((y, row.to_vec()));
                 }
                 let done = rows_done.fetch_add(1, SeqCst) + 1;
                 if let Some(n) = settings.pause_after_rows.filter(|&n| done >= n) {
@@ -110,19 +139,27 @@ pub fn render<R>(
                 on_row: &on_row,
                 progress: &progress,
                 stop,
+                restart_progress: &restart_progress,
             });
             complete.store(whole, SeqCst);
             drop(running);
             rendered
         };
-        let logged = logger.join().unwrap_or_else(|_| Logged {
-            saved: 0,
-            failure: Some("the checkpoint writer failed".into()),
-        });
-        (rendered, logged)
+        let logged = match logger {
+            Some(logger) => logger.join().unwrap_or_else(|_| Logged {
+                saved: 0,
+                failure: Some("the checkpoint writer failed".into()),
+            }),
+            None => Logged {
+                saved: 0,
+                failure: None,
+            },
+        };
+        let display = viewer.and_then(|viewer| viewer.join().ok());
+        (rendered, logged, display)
     });
     bar.finish_and_clear();
-    (rendered, logged)
+    (rendered, logged, display)
 }
 
 /// Holds the calling worker until `stop` is set (`--pause-after-rows`): the render then starts

@@ -22,6 +22,7 @@ mod render_command;
 mod settings;
 mod sizing;
 pub mod summary;
+mod tev;
 
 use clap::Parser;
 use failure::Failure;

@@ -9,17 +9,20 @@ use crate::checkpointed;
 use crate::failure::Failure;
 use crate::finite::blacken_non_finite;
 use crate::format::ImageFormat;
+use crate::render_command::display_for;
 use crate::settings::RenderSettings;
+use crate::settings::MAX_PATH_SPP;
 use crate::summary::{non_finite_warning, path_summary_line};
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::color::Color;
 use rayforge::film::{Film, SharedFilm};
 use rayforge::options::PathOptions;
-use rayforge::render::path::{render_path, Aovs, PathJob};
+use rayforge::render::path::{render_path, Aovs, PathJob, PathStats};
 use rayforge::render::PartialImage;
 use rayforge_scene::Scene;
 use rayon::ThreadPool;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -36,6 +39,29 @@ fn samples_per_pixel(settings: &RenderSettings, scene: &Scene) -> u64 {
         DEFAULT_PATH_SPP
     });
     u64::from(spp.max(1))
+}
+
+/// The passes of samples the render takes: with `--time` or `--display-server` doubling passes
+/// (1, 1, 2, 4, …; with `--time` and no sample count, up to the most samples a path render
+/// takes), else one pass of `spp`.
+fn passes(settings: &RenderSettings, spp: u64) -> Vec<Range<u64>> {
+    let time = settings.path.time.is_some();
+    if !time && settings.display_server.is_none() {
+        return std::iter::once(0..spp).collect();
+    }
+    let most = if time && settings.spp.is_none() {
+        u64::from(MAX_PATH_SPP)
+    } else {
+        spp
+    };
+    let mut passes: Vec<Range<u64>> = std::iter::once(0..1.min(most)).collect();
+    let mut start = 1;
+    while start < most {
+        let end = (start * 2).min(most);
+        passes.push(start..end);
+        start = end;
+    }
+    passes
 }
 
 /// Adds the rows saved in a checkpoint to the films, each pixel as one sample of weight 1 of
@@ -97,43 +123,105 @@ pub fn path_render(
     }
     // A saved row holds the image's row, then the albedo's and the normal's with --aovs.
     let layers = if aovs.is_some() { 3 } else { 1 };
-    // Everything besides the scene and the size that changes a pixel; the thread count does
-    // not.
-    let described = format!(
-        "path; {options:?}; spp {spp}; layers {layers}; rayforge {}",
-        env!("CARGO_PKG_VERSION")
-    );
-    let (finished, log) = checkpointed::open(settings, output, width * layers, height, &described)?;
+    let passes = passes(settings, spp);
+    // Watched or on a time budget, the image is refined in passes; otherwise it is rendered
+    // in one, each row saved to the checkpoint once it has all its samples (in passes, rows
+    // would have them only in the last pass, so there is no checkpoint then).
+    let progressive = passes.len() > 1 || settings.path.time.is_some();
+    if progressive && settings.resume {
+        return Err(Failure::usage(
+            "--resume continues a render made in one pass: not with --time or --display-server",
+        ));
+    }
+    let (finished, log) = if progressive {
+        (None, None)
+    } else {
+        // Everything besides the scene and the size that changes a pixel; the thread count
+        // does not.
+        let described = format!(
+            "path; {options:?}; spp {spp}; layers {layers}; rayforge {}",
+            env!("CARGO_PKG_VERSION")
+        );
+        let (finished, log) =
+            checkpointed::open(settings, output, width * layers, height, &described)?;
+        (finished, Some(log))
+    };
     let mut done = vec![false; height];
     if let Some(saved) = &finished {
         restore_rows(saved, width, &film, aovs.as_ref(), &mut done)?;
     }
     let already = done.iter().filter(|&&d| d).count();
+    let layer_names: &[&str] = if aovs.is_some() {
+        &["albedo", "normal"]
+    } else {
+        &[]
+    };
+    let display = display_for(settings, output, (width, height), layer_names);
     let started = Instant::now();
-    let (stats, logged) = checkpointed::render(settings, height, already, log, |hooks| {
-        let job = PathJob {
-            options,
-            samples: 0..spp,
-            progress: Some(hooks.progress),
-            cancel: Some(hooks.stop),
-            on_row: Some(hooks.on_row),
-        };
-        let stats = pool
-            .install(|| render_path(camera, &scene.world, &job, &film, aovs.as_ref(), &mut done));
-        let complete = done.iter().all(|&d| d);
-        (stats, complete)
-    });
-    let stats =
-        stats.map_err(|e| Failure::internal(format!("the path tracer refused its film: {e}")))?;
+    let (rendered, logged, display) =
+        checkpointed::render(settings, height, already, log, display, |hooks| {
+            let mut total = PathStats::default();
+            let mut reached = 0;
+            for (i, pass) in passes.iter().enumerate() {
+                if i > 0 {
+                    // A pass takes about its share of samples of the time so far.
+                    let spent = started.elapsed();
+                    let next = spent.mul_f64((pass.end - pass.start) as f64 / reached as f64);
+                    if settings
+                        .path
+                        .time
+                        .is_some_and(|budget| spent + next > budget)
+                    {
+                        break;
+                    }
+                    done.fill(false);
+                    (hooks.restart_progress)();
+                }
+                let job = PathJob {
+                    options,
+                    samples: pass.clone(),
+                    progress: Some(hooks.progress),
+                    cancel: Some(hooks.stop),
+                    on_row: Some(hooks.on_row),
+                };
+                let stats = pool.install(|| {
+                    render_path(camera, &scene.world, &job, &film, aovs.as_ref(), &mut done)
+                });
+                match stats {
+                    Ok(stats) => {
+                        total.rays += stats.rays;
+                        total.samples += stats.samples;
+                        total.discarded += stats.discarded;
+                    }
+                    Err(e) => return (Err(e), false),
+                }
+                if !done.iter().all(|&d| d) {
+                    return (Ok((total, reached)), false);
+                }
+                reached = pass.end;
+            }
+            (Ok((total, reached)), true)
+        });
+    let (stats, spp) = rendered
+        .map_err(|e| Failure::internal(format!("the path tracer refused its film: {e}")))?;
     let elapsed = started.elapsed();
     let checkpoint = checkpoint::path_for(output);
     if done.iter().any(|&d| !d) {
+        if progressive {
+            return Err(Failure::Interrupted(format!(
+                "interrupted after {spp} samples per pixel in passes; a render in passes keeps \
+                 no checkpoint, so nothing was written"
+            )));
+        }
         return Err(checkpointed::interrupted(height, &logged, &checkpoint));
     }
     // Each file's pixels that were not finite, to warn about after the summary.
     let mut non_finite = Vec::new();
     let mut canvas = film.into_film().resolve();
     non_finite.push((blacken_non_finite(&mut canvas), output.to_path_buf()));
+    if let Some(mut display) = display {
+        display.image(&canvas);
+    }
     encode_for(settings.format, &mut canvas);
     scene.overlay.draw(&mut canvas, camera);
     write_atomically(output, &settings.format.encode(&canvas)?)?;

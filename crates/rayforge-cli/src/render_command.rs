@@ -11,6 +11,7 @@ use crate::memory::reserve_for_render;
 use crate::output_lock::OutputLock;
 use crate::settings::{Chosen, RenderSettings};
 use crate::summary::{non_finite_warning, raster_summary_line, summary_line};
+use crate::tev::Display;
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::film::{develop, Film};
@@ -122,6 +123,10 @@ fn raster_render(
         .map_err(|e| Failure::usage(e.to_string()))?;
     let (canvas, non_finite) = develop_with_overlay(scene, camera, &film);
     let elapsed = started.elapsed();
+    if let Some(mut display) = display_for(settings, output, (canvas.width(), canvas.height()), &[])
+    {
+        display.image(&canvas);
+    }
     write_image(settings, &canvas, output)?;
     if !settings.quiet {
         eprintln!(
@@ -225,8 +230,9 @@ fn ray_render(
         env!("CARGO_PKG_VERSION")
     );
     let (finished, log) = checkpointed::open(settings, output, width, height, &described)?;
+    let display = display_for(settings, output, (width, height), &[]);
     let started = Instant::now();
-    let (image, stats, logged) = render_logged(
+    let (image, stats, logged, display) = render_logged(
         settings,
         camera,
         scene,
@@ -236,6 +242,7 @@ fn ray_render(
             ..options
         },
         log,
+        display,
     );
     let elapsed = started.elapsed();
     let checkpoint = checkpoint::path_for(output);
@@ -266,6 +273,9 @@ fn ray_render(
         ));
     }
     let (canvas, non_finite) = develop_with_overlay(scene, camera, image.film());
+    if let Some(mut display) = display {
+        display.image(&canvas);
+    }
     write_image(settings, &canvas, output)?;
     // The image is complete: its checkpoint has done its job.
     let _ = std::fs::remove_file(&checkpoint);
@@ -287,7 +297,8 @@ fn ray_render(
     Ok(())
 }
 
-/// Renders on `pool` with the rows saved to `log` as they finish (see [`checkpointed`]).
+/// Renders on `pool` with the rows saved to `log` as they finish and shown in `display`
+/// (see [`checkpointed`]).
 fn render_logged(
     settings: &RenderSettings,
     camera: &Camera,
@@ -295,10 +306,16 @@ fn render_logged(
     pool: &ThreadPool,
     options: RenderOptions<'_>,
     log: Log,
-) -> (PartialImage, RenderStats, Logged) {
+    display: Option<Display>,
+) -> (PartialImage, RenderStats, Logged, Option<Display>) {
     let already = options.finished.map_or(0, PartialImage::finished_rows);
-    let ((image, stats), logged) =
-        checkpointed::render(settings, camera.vsize(), already, log, |hooks| {
+    let ((image, stats), logged, display) = checkpointed::render(
+        settings,
+        camera.vsize(),
+        already,
+        Some(log),
+        display,
+        |hooks| {
             let options = RenderOptions {
                 progress: Some(hooks.progress),
                 cancel: Some(hooks.stop),
@@ -308,8 +325,28 @@ fn render_logged(
             let rendered = pool.install(|| render_rows(camera, &scene.world, &options));
             let complete = rendered.0.is_complete();
             (rendered, complete)
-        });
-    (image, stats, logged)
+        },
+    );
+    (image, stats, logged, display)
+}
+
+/// The tev display of the render to `output`, when `--display-server` asks for one: the
+/// image named after the output, with `layers` beside its colour.
+pub fn display_for(
+    settings: &RenderSettings,
+    output: &Path,
+    size: (usize, usize),
+    layers: &[&str],
+) -> Option<Display> {
+    let address = settings.display_server.as_deref()?;
+    let name = output.display().to_string();
+    Some(Display::connect(
+        address,
+        &name,
+        size,
+        layers,
+        settings.quiet,
+    ))
 }
 
 /// The film developed (the optics model's exposure when the scene asks for it), its pixels

@@ -14,7 +14,7 @@ use std::path::PathBuf;
 const MAX_SPP: u32 = 4096;
 
 /// Most samples per pixel the path tracer accepts on the command line (2²⁰).
-const MAX_PATH_SPP: u32 = 1 << 20;
+pub const MAX_PATH_SPP: u32 = 1 << 20;
 
 /// Deepest recursion accepted: every bounce can spawn two rays, so deep limits explode.
 const MAX_DEPTH_LIMIT: u32 = 64;
@@ -60,6 +60,8 @@ pub struct RenderSettings {
     pub max_triangles: usize,
     /// The most rays one camera ray may lead to.
     pub max_rays_per_sample: u64,
+    /// `--display-server`: where tev listens.
+    pub display_server: Option<String>,
     /// Whether the scene may name files outside its folder.
     pub allow_outside: bool,
     /// Continue from the checkpoint.
@@ -95,6 +97,8 @@ pub struct PathRequest {
     pub filter: Option<PixelFilter>,
     /// `--aovs`.
     pub aovs: bool,
+    /// `--time`: render in passes within this budget.
+    pub time: Option<std::time::Duration>,
 }
 
 impl PathRequest {
@@ -105,6 +109,7 @@ impl PathRequest {
             ("--sampler", self.sampler.is_some()),
             ("--filter", self.filter.is_some()),
             ("--aovs", self.aovs),
+            ("--time", self.time.is_some()),
         ])
     }
 }
@@ -152,7 +157,36 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
         }),
         filter,
         aovs: args.aovs,
+        time: args.time.as_deref().map(parse_duration).transpose()?,
     })
+}
+
+/// A duration as `--time` takes it: a number and a unit (`ms`, `s`, `m` or `h`; seconds when
+/// none), above zero and at most a year.
+fn parse_duration(text: &str) -> Result<std::time::Duration, Failure> {
+    let bad = || {
+        Failure::usage(format!(
+            "--time takes a duration such as 30s, 5m, 1h or 500ms, found `{}`",
+            rayforge_scene::clip(text)
+        ))
+    };
+    let text = text.trim();
+    let split = text
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(text.len());
+    let (number, unit) = text.split_at(split);
+    let number: f64 = number.parse().map_err(|_| bad())?;
+    let seconds = match unit.trim() {
+        "ms" => number / 1000.0,
+        "" | "s" => number,
+        "m" | "min" => number * 60.0,
+        "h" => number * 3600.0,
+        _ => return Err(bad()),
+    };
+    if !(seconds > 0.0 && seconds <= 366.0 * 24.0 * 3600.0) {
+        return Err(bad());
+    }
+    Ok(std::time::Duration::from_secs_f64(seconds))
 }
 
 impl RenderSettings {
@@ -340,6 +374,7 @@ impl RenderSettings {
             quiet: args.quiet,
             max_triangles: args.max_triangles,
             max_rays_per_sample: args.max_rays_per_sample,
+            display_server: args.display_server.clone(),
             allow_outside: args.allow_outside,
             resume: args.resume,
             pause_after_rows: args.pause_after_rows,

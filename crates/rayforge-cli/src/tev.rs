@@ -1,0 +1,365 @@
+//! Streaming the image to the tev HDR viewer while it renders (`--display-server HOST:PORT`).
+//!
+//! tev listens on TCP (port 14158 by default) for packets that create an image and update
+//! rectangles of it; pbrt-v4 and Mitsuba stream renders to it the same way. Each packet is its
+//! length (u32, counting itself), its kind (u8) and a payload, little-endian throughout, with
+//! strings ending in a NUL:
+//!
+//! ```text
+//! create image (4): grab focus u8, name, width i32, height i32, channels i32, channel names
+//! update image (6): grab focus u8, name, channels i32, channel names, x i32, y i32,
+//!                   width i32, height i32, channel offsets i64 × channels,
+//!                   channel strides i64 × channels, f32 samples
+//! ```
+//!
+//! The protocol is three small packet layouts, and no Rust client crate for it is maintained,
+//! so it is written here. The viewer is a convenience: when it cannot be reached, or goes away
+//! mid-render, one warning is printed and the render goes on without it. Packets go out on a
+//! thread of their own (see [`crate::checkpointed`]), so a slow viewer never holds a worker.
+
+use rayforge::canvas::Canvas;
+use rayforge::color::Color;
+use std::io::Write;
+use std::net::{TcpStream, ToSocketAddrs};
+use std::time::Duration;
+
+/// The packet kind that creates an image.
+const CREATE_IMAGE: u8 = 4;
+/// The packet kind that updates a rectangle of an image (tev's third version of it).
+const UPDATE_IMAGE: u8 = 6;
+
+/// The port tev listens on unless told otherwise.
+pub const DEFAULT_PORT: u16 = 14158;
+
+/// How long connecting to the viewer, and sending it one packet, may take before it counts as
+/// gone: a viewer that stops reading must not stall the render's end.
+const TIMEOUT: Duration = Duration::from_secs(5);
+
+/// How many samples (floats) one update packet carries at most: rows are batched up to this,
+/// about 4 MB, well under what tev accepts in one packet.
+const MAX_PACKET_FLOATS: usize = 1 << 20;
+
+/// The create-image packet for an image `name` of `width` × `height` with `channels`.
+pub fn create_image_packet(name: &str, width: usize, height: usize, channels: &[&str]) -> Vec<u8> {
+    let mut p = Packet::new(CREATE_IMAGE);
+    p.u8(1);
+    p.string(name);
+    p.i32(width);
+    p.i32(height);
+    p.i32(channels.len());
+    for channel in channels {
+        p.string(channel);
+    }
+    p.finish()
+}
+
+/// The update-image packet that sets the rectangle at (`x`, `y`) of `width` × `height` pixels
+/// of image `name`: `samples` holds each pixel's channels in turn, row by row.
+pub fn update_image_packet(
+    name: &str,
+    channels: &[&str],
+    (x, y): (usize, usize),
+    (width, height): (usize, usize),
+    samples: &[f32],
+) -> Vec<u8> {
+    let mut p = Packet::new(UPDATE_IMAGE);
+    p.u8(0);
+    p.string(name);
+    p.i32(channels.len());
+    for channel in channels {
+        p.string(channel);
+    }
+    for v in [x, y, width, height] {
+        p.i32(v);
+    }
+    // Interleaved: channel c of pixel i is sample c + i × channels.
+    for c in 0..channels.len() {
+        p.i64(c);
+    }
+    for _ in channels {
+        p.i64(channels.len());
+    }
+    p.bytes.reserve(samples.len() * 4);
+    for s in samples {
+        p.bytes.extend_from_slice(&s.to_le_bytes());
+    }
+    p.finish()
+}
+
+/// A packet being written: its length is filled in at the end.
+struct Packet {
+    bytes: Vec<u8>,
+}
+
+impl Packet {
+    fn new(kind: u8) -> Self {
+        let mut bytes = vec![0; 4];
+        bytes.push(kind);
+        Self { bytes }
+    }
+
+    fn u8(&mut self, v: u8) {
+        self.bytes.push(v);
+    }
+
+    /// A count or coordinate: images are far below 2³¹ pixels a side (the image size limit).
+    fn i32(&mut self, v: usize) {
+        let v = i32::try_from(v).unwrap_or(i32::MAX);
+        self.bytes.extend_from_slice(&v.to_le_bytes());
+    }
+
+    fn i64(&mut self, v: usize) {
+        let v = i64::try_from(v).unwrap_or(i64::MAX);
+        self.bytes.extend_from_slice(&v.to_le_bytes());
+    }
+
+    /// A NUL-terminated string (a NUL inside it would end it early, so it is left out).
+    fn string(&mut self, s: &str) {
+        self.bytes.extend(s.bytes().filter(|&b| b != 0));
+        self.bytes.push(0);
+    }
+
+    fn finish(mut self) -> Vec<u8> {
+        let len = u32::try_from(self.bytes.len()).unwrap_or(u32::MAX);
+        self.bytes[..4].copy_from_slice(&len.to_le_bytes());
+        self.bytes
+    }
+}
+
+/// An image shown in tev while it renders: created when the display connects, updated row by
+/// row. Every failure turns it off with one warning.
+pub struct Display {
+    /// The connection, until it fails.
+    stream: Option<TcpStream>,
+    /// Where the viewer is, for the warning.
+    address: String,
+    /// The image's name in the viewer (the output file's).
+    name: String,
+    /// The image's channels: R, G, B, then each extra layer's.
+    channels: Vec<String>,
+    width: usize,
+    quiet: bool,
+    /// Rows waiting to go out together: the first row's index and the samples.
+    pending: Option<(usize, Vec<f32>)>,
+    pending_rows: usize,
+}
+
+impl Display {
+    /// Connects to tev at `address` (`HOST:PORT`, or `HOST` for the default port) and creates
+    /// the image `name` of `width` × `height` with the colour channels and, for each name in
+    /// `layers`, that layer's three (`albedo.R`, …). Unreachable: a display that shows nothing,
+    /// after one warning.
+    pub fn connect(
+        address: &str,
+        name: &str,
+        (width, height): (usize, usize),
+        layers: &[&str],
+        quiet: bool,
+    ) -> Self {
+        let mut channels: Vec<String> = ["R", "G", "B"].map(String::from).to_vec();
+        for layer in layers {
+            channels.extend(["R", "G", "B"].map(|c| format!("{layer}.{c}")));
+        }
+        let mut display = Self {
+            stream: None,
+            address: address.to_string(),
+            name: name.to_string(),
+            channels,
+            width,
+            quiet,
+            pending: None,
+            pending_rows: 0,
+        };
+        match connect(address) {
+            Ok(stream) => {
+                display.stream = Some(stream);
+                let channels = display.channel_names();
+                display.send(&create_image_packet(name, width, height, &channels));
+            }
+            Err(why) => display.give_up(&why),
+        }
+        display
+    }
+
+    fn channel_names(&self) -> Vec<&str> {
+        self.channels.iter().map(String::as_str).collect()
+    }
+
+    /// Queues row `y`: `values` holds the image's row, then each layer's, `width` colours
+    /// each. Rows that follow one another go out in one packet.
+    pub fn row(&mut self, y: usize, values: &[Color]) {
+        if self.stream.is_none() {
+            return;
+        }
+        let layers = self.channels.len() / 3;
+        let follows = matches!(&self.pending, Some((first, _)) if *first + self.pending_rows == y);
+        if !follows {
+            self.flush();
+        }
+        let (_, samples) = self.pending.get_or_insert_with(|| (y, Vec::new()));
+        for x in 0..self.width {
+            for layer in 0..layers {
+                let c = values
+                    .get(layer * self.width + x)
+                    .copied()
+                    .unwrap_or(Color::BLACK);
+                samples.extend([c.red as f32, c.green as f32, c.blue as f32]);
+            }
+        }
+        self.pending_rows += 1;
+        if samples.len() >= MAX_PACKET_FLOATS {
+            self.flush();
+        }
+    }
+
+    /// Sends the rows queued.
+    pub fn flush(&mut self) {
+        if let Some((first, samples)) = self.pending.take() {
+            let rows = std::mem::take(&mut self.pending_rows);
+            let channels = self.channel_names();
+            let packet = update_image_packet(
+                &self.name,
+                &channels,
+                (0, first),
+                (self.width, rows),
+                &samples,
+            );
+            self.send(&packet);
+        }
+    }
+
+    /// Sends the finished image (as written to the file, its colour channels): the viewer's
+    /// last state is then the file's.
+    pub fn image(&mut self, canvas: &Canvas) {
+        self.flush();
+        if self.stream.is_none() {
+            return;
+        }
+        let width = canvas.width();
+        let rows_per_packet = (MAX_PACKET_FLOATS / (3 * width.max(1))).max(1);
+        let pixels = canvas.pixels();
+        for (band, chunk) in pixels.chunks(rows_per_packet * width.max(1)).enumerate() {
+            let samples: Vec<f32> = chunk
+                .iter()
+                .flat_map(|c| [c.red as f32, c.green as f32, c.blue as f32])
+                .collect();
+            let packet = update_image_packet(
+                &self.name,
+                &["R", "G", "B"],
+                (0, band * rows_per_packet),
+                (width, chunk.len() / width.max(1)),
+                &samples,
+            );
+            self.send(&packet);
+        }
+    }
+
+    fn send(&mut self, packet: &[u8]) {
+        if let Some(stream) = &mut self.stream {
+            if let Err(e) = stream.write_all(packet) {
+                self.give_up(&format!("it went away ({e})"));
+            }
+        }
+    }
+
+    fn give_up(&mut self, why: &str) {
+        self.stream = None;
+        if !self.quiet {
+            eprintln!(
+                "warning: cannot show the render in tev at {}: {why}; the render goes on",
+                self.address
+            );
+        }
+    }
+}
+
+/// A connection to `address`, with [`DEFAULT_PORT`] when it names none.
+fn connect(address: &str) -> Result<TcpStream, String> {
+    let with_port = if address
+        .rsplit_once(':')
+        .is_some_and(|(_, p)| p.parse::<u16>().is_ok())
+    {
+        address.to_string()
+    } else {
+        format!("{address}:{DEFAULT_PORT}")
+    };
+    let addresses = with_port
+        .to_socket_addrs()
+        .map_err(|e| format!("cannot resolve it ({e})"))?;
+    let mut last = "it has no address".to_string();
+    for a in addresses {
+        match TcpStream::connect_timeout(&a, TIMEOUT) {
+            Ok(stream) => {
+                let _ = stream.set_write_timeout(Some(TIMEOUT));
+                let _ = stream.set_nodelay(true);
+                return Ok(stream);
+            }
+            Err(e) => last = format!("no viewer listens there ({e})"),
+        }
+    }
+    Err(last)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_create_image_packet_has_tevs_layout() {
+        let p = create_image_packet("a.exr", 3, 2, &["R", "G", "B"]);
+        let mut expected = Vec::new();
+        expected.extend_from_slice(&(p.len() as u32).to_le_bytes());
+        expected.push(4);
+        expected.push(1);
+        expected.extend_from_slice(b"a.exr\0");
+        for v in [3i32, 2, 3] {
+            expected.extend_from_slice(&v.to_le_bytes());
+        }
+        expected.extend_from_slice(b"R\0G\0B\0");
+        assert_eq!(p, expected);
+    }
+
+    #[test]
+    fn an_update_image_packet_has_tevs_layout() {
+        let samples = [1.0f32, 2.0, 3.0, 4.0, 5.0, 6.0];
+        let p = update_image_packet("x", &["R", "G", "B"], (1, 2), (2, 1), &samples);
+        let mut expected = Vec::new();
+        expected.extend_from_slice(&(p.len() as u32).to_le_bytes());
+        expected.push(6);
+        expected.push(0);
+        expected.extend_from_slice(b"x\0");
+        expected.extend_from_slice(&3i32.to_le_bytes());
+        expected.extend_from_slice(b"R\0G\0B\0");
+        for v in [1i32, 2, 2, 1] {
+            expected.extend_from_slice(&v.to_le_bytes());
+        }
+        for v in [0i64, 1, 2, 3, 3, 3] {
+            expected.extend_from_slice(&v.to_le_bytes());
+        }
+        for s in samples {
+            expected.extend_from_slice(&s.to_le_bytes());
+        }
+        assert_eq!(p, expected);
+        assert_eq!(p.len(), 4 + 1 + 1 + 2 + 4 + 6 + 16 + 48 + 24);
+    }
+
+    #[test]
+    fn a_nul_in_a_name_cannot_end_it_early() {
+        let p = create_image_packet("a\0b", 1, 1, &["R"]);
+        assert!(p.windows(3).any(|w| w == b"ab\0"));
+    }
+
+    #[test]
+    fn an_absent_viewer_leaves_a_display_that_shows_nothing() {
+        // A port nothing listens on: bind one, note it, close it.
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
+        let mut display = Display::connect(&format!("127.0.0.1:{port}"), "x", (2, 2), &[], true);
+        display.row(0, &[Color::WHITE; 2]);
+        display.flush();
+        assert!(display.stream.is_none());
+    }
+}
