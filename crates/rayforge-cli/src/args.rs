@@ -55,6 +55,7 @@ Render options (`rayforge render --help` describes each in full):
       --aovs                path only: also write the first hit's albedo and normal
       --time <DURATION>     path only: refine in passes until this time is spent (30s, 5m)
       --display-server <HOST:PORT> show the image in the tev viewer while it renders
+      --exr-half            write the .exr output in 16-bit half floats
       --shading <MODE>      raster only: flat, gouraud or phong [default: phong]
       --sphere-divisions <N> raster only: sphere resolution (N+1 rings of N) [default: 48]
       --max-raster-triangles <N> raster only: the most triangles a frame may hold [default: 2^25]
@@ -246,7 +247,8 @@ pub struct RenderArgs {
 
     /// Path tracer: also write the albedo and the normal of the first surface each pixel
     /// sees, for denoisers, beside the image (`out.albedo.pfm` and `out.normal.pfm` for
-    /// `out.pfm`; the normals as (n + 1) / 2 in an 8-bit image).
+    /// `out.pfm`; the normals as (n + 1) / 2 in an 8-bit image), or in an OpenEXR output as
+    /// its layers `albedo.R/G/B` and `normal.R/G/B`.
     #[arg(long)]
     pub aovs: bool,
 
@@ -263,6 +265,11 @@ pub struct RenderArgs {
     /// goes away.
     #[arg(long, value_name = "HOST:PORT")]
     pub display_server: Option<String>,
+
+    /// Write the OpenEXR output in 16-bit half floats instead of 32-bit ones (half the size;
+    /// about three decimal digits; values past 65504 saturate). Needs an .exr output.
+    #[arg(long)]
+    pub exr_half: bool,
 
     /// How the rasterizer shades: `flat` (one colour per triangle), `gouraud` (lit at the
     /// vertices, blended) or `phong` (lit at every pixel). Needs --renderer raster.

@@ -16,6 +16,9 @@ pub enum ImageFormat {
     /// OpenEXR: linear 32-bit float RGB, unclamped (what compositors, viewers and denoisers
     /// read).
     Exr,
+    /// OpenEXR with 16-bit half floats (`--exr-half`): half the size, about three decimal
+    /// digits, values past 65504 saturated.
+    ExrHalf,
 }
 
 impl ImageFormat {
@@ -39,7 +42,12 @@ impl ImageFormat {
 
     /// Whether the format keeps linear radiance (the float formats) rather than display values.
     pub fn is_linear(self) -> bool {
-        matches!(self, Self::Pfm | Self::Exr)
+        matches!(self, Self::Pfm | Self::Exr | Self::ExrHalf)
+    }
+
+    /// Whether the format is OpenEXR, which holds extra layers beside the image.
+    pub fn is_exr(self) -> bool {
+        matches!(self, Self::Exr | Self::ExrHalf)
     }
 
     /// The encoded file.
@@ -47,8 +55,25 @@ impl ImageFormat {
         match self {
             Self::Ppm => Ok(canvas.to_ppm().into_bytes()),
             Self::Pfm => to_pfm(canvas),
-            Self::Exr => to_exr(canvas),
+            Self::Exr | Self::ExrHalf => self.encode_with_layers(canvas, &[]),
             Self::Png => to_png(canvas),
+        }
+    }
+}
+
+impl ImageFormat {
+    /// The encoded file with `layers` beside the image, each a named canvas of the same size
+    /// (OpenEXR only: its channels are named `NAME.R`, `NAME.G`, `NAME.B`, the grouping that
+    /// compositors, tev and denoising tools read as layers). Other formats take the image only.
+    pub fn encode_with_layers(
+        self,
+        canvas: &Canvas,
+        layers: &[(&str, &Canvas)],
+    ) -> Result<Vec<u8>, Failure> {
+        match self {
+            Self::Exr => to_exr(canvas, layers, false),
+            Self::ExrHalf => to_exr(canvas, layers, true),
+            other => other.encode(canvas),
         }
     }
 }
@@ -72,17 +97,56 @@ fn to_png(canvas: &Canvas) -> Result<Vec<u8>, Failure> {
     Ok(bytes)
 }
 
-/// OpenEXR of the canvas's linear colours, one layer of 32-bit float R, G and B, written by the
-/// `exr` crate into memory (the caller writes the file atomically).
-fn to_exr(canvas: &Canvas) -> Result<Vec<u8>, Failure> {
-    use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
-    let width = canvas.width();
-    let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
-        let c = canvas.pixels()[y * width + x];
-        (to_f32(c.red), to_f32(c.green), to_f32(c.blue))
-    });
+/// OpenEXR of the canvas's linear colours and of `layers`: one part, its channels R, G, B and
+/// each layer's `NAME.R`, `NAME.G`, `NAME.B`, in 32-bit floats or, with `half`, 16-bit ones,
+/// written by the `exr` crate into memory (the caller writes the file atomically).
+fn to_exr(canvas: &Canvas, layers: &[(&str, &Canvas)], half: bool) -> Result<Vec<u8>, Failure> {
+    use exr::prelude::{
+        f16, AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes,
+        SmallVec, WritableImage,
+    };
+    let (width, height) = (canvas.width(), canvas.height());
+    if let Some((name, _)) = layers
+        .iter()
+        .find(|(_, layer)| (layer.width(), layer.height()) != (width, height))
+    {
+        return Err(Failure::internal(format!(
+            "the `{name}` layer is not the image's size"
+        )));
+    }
+    let channel = |name: String, image: &Canvas, pick: fn(&rayforge::Color) -> f64| {
+        let values = image.pixels().iter().map(|c| to_f32(pick(c)));
+        let samples = if half {
+            FlatSamples::F16(values.map(f16::from_f32).collect())
+        } else {
+            FlatSamples::F32(values.collect())
+        };
+        AnyChannel {
+            // Colours and albedo are perceived logarithmically; normals are directions.
+            quantize_linearly: name.starts_with("normal."),
+            ..AnyChannel::new(name.as_str(), samples)
+        }
+    };
+    let mut channels = Vec::new();
+    let named = std::iter::once(("", canvas)).chain(layers.iter().copied());
+    for (layer, image) in named {
+        let prefix = if layer.is_empty() {
+            String::new()
+        } else {
+            format!("{layer}.")
+        };
+        channels.push(channel(format!("{prefix}R"), image, |c| c.red));
+        channels.push(channel(format!("{prefix}G"), image, |c| c.green));
+        channels.push(channel(format!("{prefix}B"), image, |c| c.blue));
+    }
+    let layer = Layer::new(
+        (width, height),
+        LayerAttributes::default(),
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(SmallVec::from_vec(channels)),
+    );
     let mut bytes = std::io::Cursor::new(Vec::new());
-    Image::from_channels((width, canvas.height()), channels)
+    Image::from_layer(layer)
         .write()
         .to_buffered(&mut bytes)
         .map_err(|e| Failure::internal(format!("OpenEXR encoding failed: {e}")))?;
@@ -175,7 +239,7 @@ mod tests {
         let mut canvas = Canvas::new(3, 2);
         canvas.write_pixel(0, 0, Color::new(0.25, 0.5, 2.0));
         canvas.write_pixel(2, 1, Color::new(17.5, 0.0, 1e-3));
-        let bytes = to_exr(&canvas).unwrap();
+        let bytes = to_exr(&canvas, &[], false).unwrap();
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("x.exr");
         std::fs::write(&path, bytes).unwrap();

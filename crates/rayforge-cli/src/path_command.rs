@@ -116,7 +116,8 @@ pub fn path_render(
         .map_err(|e| Failure::usage(format!("{e}")))?;
     let film = SharedFilm::from(film);
     let aovs = settings.path.aovs.then(|| Aovs::new(width, height));
-    let aov_paths = settings.path.aovs.then(|| aov_paths(output));
+    // Beside the image, except in OpenEXR, which holds them as layers.
+    let aov_paths = (settings.path.aovs && !settings.format.is_exr()).then(|| aov_paths(output));
     if let Some((albedo, normal)) = &aov_paths {
         crate::atomic_write::check_writable(albedo)?;
         crate::atomic_write::check_writable(normal)?;
@@ -224,21 +225,41 @@ pub fn path_render(
     }
     encode_for(settings.format, &mut canvas);
     scene.overlay.draw(&mut canvas, camera);
-    write_atomically(output, &settings.format.encode(&canvas)?)?;
-    if let (Some(aovs), Some((albedo_path, normal_path))) = (aovs, aov_paths) {
+    // The AOVs, resolved; the normal, in a display format, as normal maps store it.
+    let aov_images = aovs.map(|aovs| {
         let mut albedo = aovs.albedo.into_film().resolve();
-        non_finite.push((blacken_non_finite(&mut albedo), albedo_path.clone()));
-        encode_for(settings.format, &mut albedo);
-        write_atomically(&albedo_path, &settings.format.encode(&albedo)?)?;
         let mut normal = aovs.normal.into_film().resolve();
-        non_finite.push((blacken_non_finite(&mut normal), normal_path.clone()));
+        let counts = (
+            blacken_non_finite(&mut albedo),
+            blacken_non_finite(&mut normal),
+        );
+        encode_for(settings.format, &mut albedo);
         if !settings.format.is_linear() {
-            // [-1, 1] into [0, 1], as normal maps store them.
+            // [-1, 1] into [0, 1].
             for c in normal.pixels_mut() {
                 *c = (*c + Color::WHITE) * 0.5;
             }
         }
-        write_atomically(&normal_path, &settings.format.encode(&normal)?)?;
+        (albedo, normal, counts)
+    });
+    match (&aov_images, &aov_paths) {
+        // OpenEXR holds them as layers of the one file, as compositors and denoisers read them.
+        (Some((albedo, normal, (a, n))), None) => {
+            non_finite.push((a + n, output.to_path_buf()));
+            let layers = [("albedo", albedo), ("normal", normal)];
+            write_atomically(
+                output,
+                &settings.format.encode_with_layers(&canvas, &layers)?,
+            )?;
+        }
+        (Some((albedo, normal, (a, n))), Some((albedo_path, normal_path))) => {
+            write_atomically(output, &settings.format.encode(&canvas)?)?;
+            non_finite.push((*a, albedo_path.clone()));
+            write_atomically(albedo_path, &settings.format.encode(albedo)?)?;
+            non_finite.push((*n, normal_path.clone()));
+            write_atomically(normal_path, &settings.format.encode(normal)?)?;
+        }
+        _ => write_atomically(output, &settings.format.encode(&canvas)?)?,
     }
     // The image is complete: its checkpoint has done its job.
     let _ = std::fs::remove_file(&checkpoint);

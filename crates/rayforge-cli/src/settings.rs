@@ -269,7 +269,16 @@ fn parse_pixel(text: &str) -> Result<(usize, usize), Failure> {
 impl RenderSettings {
     /// Checks the raw arguments; each refusal names the flag.
     pub fn from_args(args: RenderArgs) -> Result<Self, Failure> {
-        let format = ImageFormat::from_path(&args.output)?;
+        let format = match (ImageFormat::from_path(&args.output)?, args.exr_half) {
+            (ImageFormat::Exr, true) => ImageFormat::ExrHalf,
+            (_, true) => {
+                return Err(Failure::usage(format!(
+                    "--exr-half needs an .exr output, not `{}`",
+                    args.output.display()
+                )))
+            }
+            (format, false) => format,
+        };
         let frames = match &args.frames {
             None => None,
             Some(text) => {

@@ -275,3 +275,111 @@ fn an_interrupted_path_render_resumes_to_the_same_bytes_with_its_aovs() {
     }
     assert!(!checkpoint.exists());
 }
+
+/// An EXR's channels by name, as 32-bit floats in the file's row order (top first).
+fn exr_channels(path: &Path) -> std::collections::BTreeMap<String, Vec<f32>> {
+    use exr::prelude::{read_all_flat_layers_from_file, FlatSamples};
+    let image = read_all_flat_layers_from_file(path).unwrap();
+    assert_eq!(image.layer_data.len(), 1, "one part");
+    image.layer_data[0]
+        .channel_data
+        .list
+        .iter()
+        .map(|c| {
+            let values = match &c.sample_data {
+                FlatSamples::F32(v) => v.clone(),
+                FlatSamples::F16(v) => v.iter().map(|h| h.to_f32()).collect(),
+                FlatSamples::U32(_) => panic!("unsigned channel"),
+            };
+            (c.name.to_string(), values)
+        })
+        .collect()
+}
+
+/// The PFM's floats of one channel (0: red) in top-first row order, 12 × 12.
+fn pfm_channel(path: &Path, channel: usize) -> Vec<f32> {
+    let floats = pfm_floats(path);
+    let mut out = Vec::new();
+    for y in (0..12).rev() {
+        for x in 0..12 {
+            out.push(floats[(y * 12 + x) * 3 + channel]);
+        }
+    }
+    out
+}
+
+#[test]
+fn aovs_in_an_exr_are_layers_of_the_one_file_in_float_or_half() {
+    let dir = temp();
+    let mut args = SMALL.to_vec();
+    args.push("--aovs");
+    let pfm = out(&dir, "f.pfm");
+    let (ok, stderr) = render("scenes/pbr/cornell.yml", &pfm, &args);
+    assert!(ok, "{stderr}");
+    let exr = out(&dir, "f.exr");
+    let (ok, stderr) = render("scenes/pbr/cornell.yml", &exr, &args);
+    assert!(ok, "{stderr}");
+    // No files beside it: the AOVs are in it.
+    assert!(!out(&dir, "f.albedo.exr").exists() && !out(&dir, "f.normal.exr").exists());
+    let channels = exr_channels(&exr);
+    let names: Vec<&str> = channels.keys().map(String::as_str).collect();
+    assert_eq!(
+        names,
+        ["B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "normal.B", "normal.G", "normal.R"]
+    );
+    for (layer, file) in [
+        ("", "f.pfm"),
+        ("albedo.", "f.albedo.pfm"),
+        ("normal.", "f.normal.pfm"),
+    ] {
+        for (c, name) in ["R", "G", "B"].iter().enumerate() {
+            assert_eq!(
+                channels[&format!("{layer}{name}")],
+                pfm_channel(&out(&dir, file), c),
+                "{layer}{name}"
+            );
+        }
+    }
+
+    // Half floats: the same values, rounded to 16 bits.
+    let half = out(&dir, "h.exr");
+    args.push("--exr-half");
+    let (ok, stderr) = render("scenes/pbr/cornell.yml", &half, &args);
+    assert!(ok, "{stderr}");
+    let halves = exr_channels(&half);
+    for (name, values) in &channels {
+        let rounded: Vec<f32> = values
+            .iter()
+            .map(|&v| exr::prelude::f16::from_f32(v).to_f32())
+            .collect();
+        assert_eq!(halves[name], rounded, "{name}");
+    }
+    assert!(std::fs::metadata(&half).unwrap().len() < std::fs::metadata(&exr).unwrap().len());
+
+    // OpenEXR's own tools read it and list the layers (CI installs them: Debian's `openexr`).
+    match Command::new("exrheader").arg(&exr).output() {
+        Ok(o) => {
+            let listing = String::from_utf8_lossy(&o.stdout);
+            assert!(o.status.success(), "{listing}");
+            for name in [
+                "R, 32-bit floating-point",
+                "albedo.G, 32-bit",
+                "normal.B, 32-bit",
+            ] {
+                assert!(listing.contains(name), "{name}: {listing}");
+            }
+            let listing = Command::new("exrheader").arg(&half).output().unwrap();
+            assert!(String::from_utf8_lossy(&listing.stdout).contains("R, 16-bit floating-point"));
+        }
+        Err(_) if std::env::var_os("RAYFORGE_REQUIRE_EXRHEADER").is_none() => {
+            eprintln!("exrheader is not installed: OpenEXR's own check skipped");
+        }
+        Err(e) => panic!("exrheader is required here: {e}"),
+    }
+    // --exr-half needs an EXR.
+    let (ok, stderr) = render("scenes/pbr/cornell.yml", &pfm, &["--exr-half"]);
+    assert!(
+        !ok && stderr.contains("--exr-half needs an .exr output"),
+        "{stderr}"
+    );
+}
