@@ -168,3 +168,59 @@ fn scene_overlay(header: &PartHeader) -> Result<(Overlay, Camera), Failure> {
     let camera = camera_at(&scene, header.width, header.height);
     Ok((scene.overlay, camera))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::part_file::Development;
+    use crate::slice::{Cut, Slice};
+
+    fn header(index: u64, count: u64) -> (PathBuf, PartHeader) {
+        let header = PartHeader {
+            fingerprint: 1,
+            width: 2,
+            height: 2,
+            slice: Slice {
+                index,
+                count,
+                cut: Cut::Rows,
+            },
+            spp: 0,
+            development: Development::Path,
+            overlay: false,
+            allow_outside: false,
+            max_triangles: 1,
+            scene: "s.yml".into(),
+            settings: "ray".into(),
+        };
+        (PathBuf::from(format!("p{index}")), header)
+    }
+
+    fn message(headers: &[(PathBuf, PartHeader)]) -> String {
+        match in_slice_order(headers) {
+            Err(Failure::Input(m)) => m,
+            other => panic!("not refused: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn parts_come_back_in_slice_order_whatever_order_they_are_given_in() {
+        let headers = [header(2, 3), header(0, 3), header(1, 3)];
+        let order: Vec<u64> = in_slice_order(&headers)
+            .unwrap()
+            .iter()
+            .map(|(_, h)| h.slice.index)
+            .collect();
+        assert_eq!(order, [0, 1, 2]);
+    }
+
+    #[test]
+    fn many_missing_slices_are_listed_then_counted() {
+        let m = message(&[header(0, 26)]);
+        assert!(
+            m.starts_with("25 of the 26 slices are missing: 1, 2, 3"),
+            "{m}"
+        );
+        assert!(m.contains("20, and 5 more"), "{m}");
+    }
+}
