@@ -27,6 +27,17 @@ pub fn seeds(target: Target) -> Vec<Vec<u8>> {
     seeds
 }
 
+/// Writes the seeds of `target` into `dir` (made if missing) as `<target>-<nnn>.bin`, so that
+/// another engine (AFL++, see `fuzz-afl/`) starts from the same corpus; how many were written.
+pub fn write_seeds(target: Target, dir: &Path) -> std::io::Result<usize> {
+    std::fs::create_dir_all(dir)?;
+    let seeds = seeds(target);
+    for (i, seed) in seeds.iter().enumerate() {
+        std::fs::write(dir.join(format!("{}-{i:03}.bin", target.name())), seed)?;
+    }
+    Ok(seeds.len())
+}
+
 /// The files under `dir` (recursively) with one of `extensions`, sorted by path.
 fn files_under(dir: &Path, extensions: &[&str], out: &mut Vec<Vec<u8>>) {
     let mut paths = Vec::new();
@@ -168,6 +179,15 @@ mod tests {
             let t = rayforge_scene::texture_from_bytes(bytes, Path::new("seed"));
             assert!(t.is_ok(), "seed image {i}: {:?}", t.err());
         }
+    }
+
+    #[test]
+    fn written_seeds_are_the_seeds() {
+        let dir = tempfile::tempdir().unwrap();
+        let n = write_seeds(Target::Obj, dir.path()).unwrap();
+        assert_eq!(n, seeds(Target::Obj).len());
+        let first = std::fs::read(dir.path().join("obj-000.bin")).unwrap();
+        assert_eq!(first, seeds(Target::Obj)[0]);
     }
 
     #[test]
