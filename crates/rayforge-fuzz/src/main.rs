@@ -23,8 +23,8 @@ Fuzzes each target for --seconds (default 60) or --iterations mutated inputs, fr
 target/fuzz-crashes) and the exit status is 1; an input running past --timeout (default 10 s)
 is written there as a hang and the process aborts; the slowest input of each target is kept
 there too. --replay runs one file on the target (a crash or hang AFL++ found, too).
---write-seeds writes the target's seed corpus into DIR as <target>-<nnn>.bin and fuzzes
-nothing: the starting corpus of tools/fuzz/afl.sh.";
+--write-seeds writes the target's seeds (those no longer than its longest input) into DIR as
+<target>-<nnn>.bin and fuzzes nothing: the starting corpus of tools/fuzz/afl.sh.";
 
 fn main() -> ExitCode {
     match run() {
