@@ -137,8 +137,24 @@ done
 say "one-node cluster up: node $host, slurmctld on port $ctld_port, $(sinfo -V)"
 
 scene=$repo/scenes/trtc/cover.yml
-flags=(--width 600 --height 600)
 work=$tmp/work
+# The slices must last long enough for run 2 to cancel one mid-slice, in a debug build as in
+# an optimized one: a 200×200 image with k×k rays per pixel, k chosen from the time of two
+# small renders (their difference, free of the start and the scene load) so that a slice (a
+# quarter of the image) takes about 2 s on one core. The work grows with the rays, not the
+# pixels, so the parts stay small (1.3 MB in all).
+render_ms() { # SPP : milliseconds of a 100×100 render on one core
+  local t0
+  t0=$(date +%s%N)
+  "$rayforge" render "$scene" -o "$work/calibrate.png" --width 100 --height 100 --spp "$1" \
+    --threads 1 -q
+  echo $((($(date +%s%N) - t0) / 1000000))
+}
+ms=$((($(render_ms 16) - $(render_ms 1)) / 15)) # ≈ a 200×200 quarter at 1 ray per pixel
+[ "$ms" -ge 1 ] || ms=1
+k=1
+while [ $((k * k * ms)) -lt 2000 ] && [ "$k" -lt 40 ]; do k=$((k + 1)); done
+flags=(--width 200 --height 200 --spp $((k * k)))
 
 # The state and exit code of a job, once it has left the queue ("" while it is in it).
 finished() { squeue -h -j "$1" 2>/dev/null | grep -q . && return 1; return 0; }
@@ -163,7 +179,7 @@ submit() { # OUTPUT : rayforge slurm, prints its output, sets $array and $merge
   jobs_submitted+=("$array" "$merge")
 }
 
-say "one-process reference render"
+say "one-process reference render, ${flags[*]} (a ray per pixel of a slice: $ms ms)"
 "$rayforge" render "$scene" -o "$work/reference.png" "${flags[@]}" -q
 
 say "run 1: 4 slices and the merge through sbatch"
