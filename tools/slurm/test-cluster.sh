@@ -3,9 +3,10 @@
 # (slurm-wlm, munge; installed when missing), then
 #   1. `rayforge slurm` with a job array of 4 slices and the merge job, through sbatch: the
 #      merged image must be the bytes of a one-process `rayforge render`;
-#   2. the same again, one task cancelled mid-slice (scancel: SIGTERM, then SIGKILL): its part
-#      must be absent, the merge cancelled (afterok cannot be met), and the same command
-#      submitted again must render only that slice and merge to the same bytes;
+#   2. the scripts of `rayforge slurm --dry-run` submitted by hand (sbatch --parsable, then
+#      --dependency=afterok), one task cancelled mid-slice (scancel: SIGTERM, then SIGKILL):
+#      its part must be absent, the merge cancelled (afterok cannot be met), and `rayforge
+#      slurm` submitted again must render only that slice and merge to the same bytes;
 # and stops the daemons it started, by the process ids it recorded, on any exit.
 #
 # Usage: tools/slurm/test-cluster.sh [RAYFORGE]   (default: target/debug/rayforge)
@@ -189,8 +190,13 @@ wait_for "$array" "$merge"
 cmp "$work/reference.png" "$work/one.png" || fail "the merged image differs from the reference"
 say "run 1: merged image is byte-identical to the one-process render"
 
-say "run 2: the same, one task cancelled mid-slice"
-submit "$work/two.png"
+say "run 2: the scripts of --dry-run submitted by hand with sbatch, one task cancelled mid-slice"
+"$rayforge" slurm "$scene" -o "$work/two.png" --tasks 4 --dry-run "${flags[@]}" | sed 's/^/    /'
+array=$(cd "$work/two.png.slurm" && sbatch --parsable slices.sh)
+array=${array%%;*}
+merge=$(cd "$work/two.png.slurm" && sbatch --parsable --dependency=afterok:"$array" merge.sh)
+merge=${merge%%;*}
+jobs_submitted+=("$array" "$merge")
 victim=
 for _ in $(seq 300); do
   victim=$(squeue -h -r -j "$array" -t R -o %K 2>/dev/null | head -n 1)
@@ -198,9 +204,21 @@ for _ in $(seq 300); do
   sleep 0.05
 done
 [ -n "$victim" ] || fail "no task of $array started running"
-sleep 0.3
+# Freeze the task's processes as soon as Slurm lists them, so that it is cancelled mid-slice
+# whatever the machine's speed (Slurm sends SIGCONT and SIGTERM, then SIGKILL after KillWait).
+job=$(squeue -h -j "${array}_${victim}" -o %A)
+task_pids=
+for _ in $(seq 100); do
+  task_pids=$(scontrol listpids "$job" 2>/dev/null | awk '$1 ~ /^[0-9]+$/ { print $1 }')
+  [ -n "$task_pids" ] && break
+  sleep 0.03
+done
+[ -n "$task_pids" ] || fail "scontrol listpids $job found no process"
+# shellcheck disable=SC2086 # one pid a word
+kill -STOP $task_pids 2>/dev/null || true
+sleep 0.5
 scancel "${array}_${victim}"
-say "cancelled task ${array}_${victim} while it was running"
+say "cancelled task ${array}_${victim} while it was running (pids $(echo $task_pids))"
 wait_for "$array" "$merge"
 part=$work/two.png.slurm/parts/part-$victim.part
 [ ! -e "$part" ] || fail "task $victim finished before it was cancelled (make its slice slower)"
@@ -209,7 +227,7 @@ part=$work/two.png.slurm/parts/part-$victim.part
 [ "$(state_of "$merge")" = JobState=CANCELLED ] \
   || fail "the merge job ended $(state_of "$merge"), not cancelled for want of a slice"
 [ ! -e "$work/two.png" ] || fail "an image was written without slice $victim"
-say "task $victim left no part; the merge was cancelled; submitting the same command again"
+say "task $victim left no part; the merge was cancelled; submitting with rayforge slurm again"
 submit "$work/two.png"
 wait_for "$array" "$merge"
 [ "$(state_of "$merge")" = JobState=COMPLETED ] || fail "the merge job ended $(state_of "$merge")"
