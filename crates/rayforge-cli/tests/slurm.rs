@@ -206,6 +206,22 @@ fn flags_a_task_would_refuse_are_refused_before_anything_is_written() {
     assert!(!dir.path().join("cover.png.slurm").exists());
 }
 
+#[test]
+fn the_help_shows_the_command_and_its_options() {
+    let top = ok(&rayforge().arg("--help").output().unwrap());
+    assert!(top.contains("slurm"), "{top}");
+    let help = ok(&rayforge().args(["slurm", "--help"]).output().unwrap());
+    for needed in [
+        "--tasks",
+        "--slice-by",
+        "--dry-run",
+        "[RENDER FLAGS]",
+        "[SBATCH OPTIONS]",
+    ] {
+        assert!(help.contains(needed), "no `{needed}` in:\n{help}");
+    }
+}
+
 /// The real thing, where Slurm can be used (root, Debian's packages): `.ci/run` sets
 /// `RAYFORGE_SLURM_TEST=1`. Elsewhere it says why it did nothing.
 #[test]
