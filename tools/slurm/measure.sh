@@ -26,9 +26,9 @@ echo "machine: $(nproc) cores; load average before: $(cut -d' ' -f1-3 /proc/load
 
 best=
 one() { # THREADS
-  local t0 t i
+  local t0 t
   best=
-  for i in 1 2 3; do
+  for _ in 1 2 3; do
     t0=$(now)
     /usr/bin/time -f '%U %S' -o "$work/time-one" \
       "$rayforge" render "$scene" -o "$work/one.png" "${flags[@]}" --threads "$1" -q
@@ -40,9 +40,9 @@ one() { # THREADS
 }
 
 sliced() { # N CUT
-  local n=$1 cut=$2 t0 t i j
+  local n=$1 cut=$2 t0 t j
   best=
-  for i in 1 2 3; do
+  for _ in 1 2 3; do
     rm -f "$work"/part-* "$work"/time-*
     t0=$(now)
     for ((j = 0; j < n; j++)); do

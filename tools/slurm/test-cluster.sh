@@ -173,7 +173,7 @@ wait_for() { # JOB... : waits until every job has left the queue (60 s at most)
 submit() { # OUTPUT : rayforge slurm, prints its output, sets $array and $merge
   local out
   out=$("$rayforge" slurm "$scene" -o "$1" --tasks 4 "${flags[@]}")
-  echo "$out" | sed 's/^/    /'
+  printf '%s\n' "$out" | sed 's/^/    /'
   array=$(echo "$out" | awk '/^slices:/ {print $4}' | tr -d ,)
   merge=$(echo "$out" | awk '/^merge:/ {print $3}' | tr -d ,)
   [[ $array =~ ^[0-9]+$ && $merge =~ ^[0-9]+$ ]] || fail "no job ids in rayforge slurm's output"
@@ -218,7 +218,7 @@ done
 kill -STOP $task_pids 2>/dev/null || true
 sleep 0.5
 scancel "${array}_${victim}"
-say "cancelled task ${array}_${victim} while it was running (pids $(echo $task_pids))"
+say "cancelled task ${array}_${victim} while it was running (pids ${task_pids//$'\n'/ })"
 wait_for "$array" "$merge"
 part=$work/two.png.slurm/parts/part-$victim.part
 [ ! -e "$part" ] || fail "task $victim finished before it was cancelled (make its slice slower)"

@@ -15,7 +15,7 @@ use crate::atomic_write::{check_writable, write_atomically};
 use crate::failure::Failure;
 use crate::format::ImageFormat;
 use crate::settings::RenderSettings;
-use crate::slice::{Slice, MAX_SLICES};
+use crate::slice::{Cut, Slice, MAX_SLICES};
 use crate::slice_render;
 use crate::slurm_script::{quote, Plan, LOG_DIR, MERGE_SCRIPT, SLICES_SCRIPT};
 use clap::Parser;
@@ -69,11 +69,6 @@ pub fn run(args: &SlurmArgs) -> Result<(), Failure> {
     }
     write_atomically(&dir.join(SLICES_SCRIPT), plan.slices_script().as_bytes())?;
     write_atomically(&dir.join(MERGE_SCRIPT), plan.merge_script().as_bytes())?;
-    let part_bytes = PART_BYTES_PER_PIXEL * (header.width * header.height) as u64;
-    let all_parts = match slice.cut {
-        crate::slice::Cut::Rows => part_bytes,
-        crate::slice::Cut::Samples => part_bytes * args.tasks,
-    };
     let last = args.tasks - 1;
     if args.dry_run {
         let options: String = sbatch.iter().map(|o| format!("{} ", quote(o))).collect();
@@ -85,25 +80,19 @@ pub fn run(args: &SlurmArgs) -> Result<(), Failure> {
         println!("  array=$(sbatch --parsable {options}{SLICES_SCRIPT}) &&");
         println!("  sbatch --parsable {options}--dependency=afterok:${{array%%;*}} {MERGE_SCRIPT}");
     } else {
-        let array = submit(&dir, &sbatch, &[], SLICES_SCRIPT, "the slices' job array")?;
-        let dependency = format!("--dependency=afterok:{array}");
-        let merge = submit(&dir, &sbatch, &[&dependency], MERGE_SCRIPT, "the merge job").map_err(
-            |failure| match failure {
-                Failure::Input(why) => Failure::usage(format!(
-                    "{why}. The slices were submitted as job {array}: cancel them with \
-                     `scancel {array}`, or submit the merge by hand from `{}`: \
-                     sbatch {dependency} {MERGE_SCRIPT}",
-                    dir.display()
-                )),
-                other => other,
-            },
-        )?;
+        let (array, merge) = submit_both(&dir, &sbatch)?;
         println!(
             "slices: job array {array}, tasks 0-{last}, logs in `{}`",
             dir.join(LOG_DIR).display()
         );
         println!("merge:  job {merge}, once every slice has succeeded (afterok:{array})");
     }
+    let pixels = header.width as u64 * header.height as u64;
+    let part_bytes = PART_BYTES_PER_PIXEL.saturating_mul(pixels);
+    let all_parts = match slice.cut {
+        Cut::Rows => part_bytes,
+        Cut::Samples => part_bytes.saturating_mul(args.tasks),
+    };
     println!(
         "parts:  `{}` to `{}`, {} in all",
         plan.part(0),
@@ -112,6 +101,27 @@ pub fn run(args: &SlurmArgs) -> Result<(), Failure> {
     );
     println!("image:  `{}`", output.display());
     Ok(())
+}
+
+/// Submits the job array, then the merge after it, and returns their job ids. If the merge
+/// cannot be submitted, the slices already are: the error says how to cancel them or submit
+/// the merge by hand.
+fn submit_both(dir: &Path, sbatch: &[String]) -> Result<(String, String), Failure> {
+    let array = submit(dir, sbatch, &[], SLICES_SCRIPT, "the slices' job array")?;
+    let dependency = format!("--dependency=afterok:{array}");
+    let merge =
+        submit(dir, sbatch, &[&dependency], MERGE_SCRIPT, "the merge job").map_err(|failure| {
+            match failure {
+                Failure::Input(why) => Failure::usage(format!(
+                    "{why}. The slices were submitted as job {array}: cancel them with \
+                 `scancel {array}`, or submit the merge by hand from `{}`: \
+                 sbatch {dependency} {MERGE_SCRIPT}",
+                    dir.display()
+                )),
+                other => other,
+            }
+        })?;
+    Ok((array, merge))
 }
 
 /// The render flags and the sbatch options. Once the render flags have begun, clap hands every
@@ -153,10 +163,7 @@ fn task_settings(
     argv.extend(["-o".into(), parts.join("part-0.part").into()]);
     argv.extend(["--slice".into(), format!("0/{}", args.tasks).into()]);
     if let Some(cut) = args.slice_by {
-        argv.extend([
-            "--slice-by".into(),
-            crate::slice::Cut::from_arg(Some(cut)).name().into(),
-        ]);
+        argv.extend(["--slice-by".into(), Cut::from_arg(Some(cut)).name().into()]);
     }
     argv.extend(render_flags.iter().map(OsString::from));
     let render = match Cli::try_parse_from(argv) {
