@@ -17,6 +17,7 @@ Examples:
   rayforge render scenes/trtc/cover.yml -o fast.png --renderer raster --shading gouraud
   rayforge render scene.yml -o part-2.rfpart --slice 2/4      # one of 4 slices (docs/distributed.md)
   rayforge merge part-*.rfpart -o merged.png                   # the 4 slices, one image
+  rayforge slurm scene.yml -o frame.exr --tasks 64 --spp 4096 -- --partition=render
 
 Ctrl-C (or SIGTERM) stops a render after the rows in progress; the finished rows are kept in
 <FILE>.rayforge-checkpoint, and the same command with --resume finishes the image.
@@ -102,6 +103,59 @@ pub enum Command {
     /// Merge the part files of a render's slices (`rayforge render --slice I/N`) into its image
     /// (.png, .ppm, .pfm or .exr), the same bytes as the render done in one process.
     Merge(MergeArgs),
+    /// Render on a Slurm cluster: write a job array of slices and a merge job that waits for
+    /// them, into `<FILE>.slurm/` beside the image, and submit both with sbatch.
+    #[command(after_help = SLURM_EXAMPLES)]
+    Slurm(SlurmArgs),
+}
+
+/// The examples under `rayforge slurm --help`.
+const SLURM_EXAMPLES: &str = "\
+Examples:
+  rayforge slurm scenes/trtc/cover.yml -o cover.png --tasks 8 --width 3840 --height 2160
+  rayforge slurm scene.yml -o frame.exr --tasks 64 --slice-by samples --renderer path --spp 4096 \\
+      -- --partition=render --cpus-per-task=16 --time=1:00:00
+  rayforge slurm scene.yml -o frame.exr --tasks 64 --dry-run   # write the scripts, submit nothing
+
+rayforge slurm's own options (-o, --tasks, --slice-by, --dry-run) come first, then the render
+flags, then `--` and the sbatch options, which go to both submissions.
+Submitting the same command again re-runs only the slices whose parts are missing or damaged.";
+
+/// Arguments of `rayforge slurm`.
+#[derive(Debug, Args)]
+pub struct SlurmArgs {
+    /// The scene file, read by every task (it must be at the same path on the cluster's nodes).
+    pub scene: PathBuf,
+
+    /// The image the merge job writes (.png, .ppm, .pfm or .exr). The scripts, the part files
+    /// and the logs go in `<FILE>.slurm/` beside it.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+
+    /// How many slices to cut the render into: one task of the job array each.
+    #[arg(long, value_name = "N")]
+    pub tasks: u64,
+
+    /// How the render is cut: `rows` (any renderer) or `samples` (the path tracer), as for
+    /// `rayforge render --slice-by` [default: rows].
+    #[arg(long, value_name = "CUT", value_enum)]
+    pub slice_by: Option<SliceBy>,
+
+    /// Write the scripts and print the sbatch commands that would submit them; submit nothing.
+    #[arg(long)]
+    pub dry_run: bool,
+
+    /// `rayforge render`'s flags, given to every slice as they are (--width, --spp,
+    /// --renderer, …; not -o, --slice or --slice-by, which this command sets), after this
+    /// command's own options. Without --threads, a task uses the CPUs Slurm gives it
+    /// (--cpus-per-task), else all the node's.
+    #[arg(value_name = "RENDER FLAGS", allow_hyphen_values = true, num_args = 0..)]
+    pub render_flags: Vec<String>,
+
+    /// Options for sbatch, given to both submissions (--partition, --account, --time,
+    /// --cpus-per-task, …).
+    #[arg(last = true, value_name = "SBATCH OPTIONS")]
+    pub sbatch: Vec<String>,
 }
 
 /// Arguments of `rayforge merge`.

@@ -25,6 +25,8 @@ mod settings;
 mod sizing;
 mod slice;
 mod slice_render;
+mod slurm_command;
+mod slurm_script;
 pub mod summary;
 mod tev;
 
@@ -43,5 +45,6 @@ pub fn run() -> Result<ExitCode, Failure> {
         }
         args::Command::Bench(bench) => bench_command::run(&bench.args),
         args::Command::Merge(merge) => merge_command::run(&merge).map(|()| ExitCode::SUCCESS),
+        args::Command::Slurm(slurm) => slurm_command::run(&slurm).map(|()| ExitCode::SUCCESS),
     }
 }

@@ -37,9 +37,7 @@ pub fn run(settings: &RenderSettings, slice: &Slice) -> Result<(), Failure> {
     let output = settings.output.as_path();
     check_writable(output)?;
     let _lock = OutputLock::acquire(output)?;
-    let (scene, camera) = load_scene(settings, 0)?;
-    let chosen = settings.choose(scene.raster, scene.path)?;
-    let header = header(settings, slice, &scene, &camera, &chosen)?;
+    let (scene, camera, chosen, header) = prepare(settings, slice)?;
     if is_complete(output, &header, settings.quiet) {
         if !settings.quiet {
             eprintln!(
@@ -89,6 +87,25 @@ pub fn run(settings: &RenderSettings, slice: &Slice) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+/// The header of `slice`'s part, from the scene read and checked as the slice's task reads
+/// it, without rendering: `rayforge slurm` refuses before submitting what every task of its
+/// job array would refuse (a cut by samples of the ray tracer, more slices than samples, a
+/// scene that does not load), and learns the image's size.
+pub fn plan(settings: &RenderSettings, slice: &Slice) -> Result<PartHeader, Failure> {
+    prepare(settings, slice).map(|(_, _, _, header)| header)
+}
+
+/// The scene, its camera, the renderer chosen and the part's header for `slice`.
+fn prepare(
+    settings: &RenderSettings,
+    slice: &Slice,
+) -> Result<(Scene, Camera, Chosen, PartHeader), Failure> {
+    let (scene, camera) = load_scene(settings, 0)?;
+    let chosen = settings.choose(scene.raster, scene.path)?;
+    let header = header(settings, slice, &scene, &camera, &chosen)?;
+    Ok((scene, camera, chosen, header))
 }
 
 /// The part's header for `slice` of this render: the scene's fingerprint and every setting
