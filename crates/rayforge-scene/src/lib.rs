@@ -60,6 +60,22 @@ pub struct Scene {
     pub overlay: rayforge::draw2d::Overlay,
     /// Problems in the file that the reader worked around (each located like an error).
     pub warnings: Vec<SceneError>,
+    /// Where the book's camera (`from`, `to`, `up`) stands and looks, for a viewer that
+    /// orbits it (`rayforge serve`); `None` for the other books' cameras, placed otherwise.
+    pub look_at: Option<LookAt>,
+}
+
+/// The book's camera placement, as the scene gives it: the eye at `from` looking at `to`, with
+/// `up` the scene's upward direction (not necessarily square to the view). Checked: `to` is
+/// away from `from` and `up` is not along the view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LookAt {
+    /// The eye.
+    pub from: rayforge::math::Point3,
+    /// The point looked at.
+    pub to: rayforge::math::Point3,
+    /// The scene's up.
+    pub up: rayforge::math::Vec3,
 }
 
 /// Scene files larger than this are refused before parsing (a scene is text written by hand or
@@ -217,6 +233,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         camera,
         samples,
         anti_alias,
+        look_at,
     } = camera.ok_or_else(|| {
         SceneError::new(path, "the scene has no camera: add an item `- add: camera`")
     })?;
@@ -232,5 +249,6 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         raster: settings.as_ref().and_then(|s| s.raster),
         path: settings.and_then(|s| s.path),
         warnings: source.take_warnings(),
+        look_at,
     })
 }

@@ -13,6 +13,7 @@
 
 use crate::error::SceneError;
 use crate::source::{check_keys, required, Entry, Node, Source};
+use crate::LookAt;
 use rayforge::math::{look_at, point, vector, view_transform};
 use rayforge::{Camera, Transform};
 
@@ -33,12 +34,13 @@ const KEYS: &[&str] = &[
     "shutter",
 ];
 
-/// The book's camera of an `add: camera` item with neither `zoom:` nor `viewport:`.
+/// The book's camera of an `add: camera` item with neither `zoom:` nor `viewport:`, and where
+/// it looks from and at.
 pub fn camera(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
     item: &Node<'_>,
-) -> Result<Camera, SceneError> {
+) -> Result<(Camera, LookAt), SceneError> {
     check_keys(source, entries, "a camera", KEYS)?;
     let get = |k: &str| required(source, entries, item, k, "the camera");
     let width = source.integer(get("width")?, "width", 1)? as usize;
@@ -80,9 +82,9 @@ pub fn camera(
             }
         },
     };
-    let view = view(source, entries, item, right_handed)?;
+    let (view, look_at) = view(source, entries, item, right_handed)?;
     let camera = Camera::new(width, height, fov).with_transform_of(view);
-    lens(source, entries, item, camera)
+    Ok((lens(source, entries, item, camera)?, look_at))
 }
 
 /// `field-of-view`, in radians strictly between 0 and π.
@@ -99,13 +101,13 @@ fn field_of_view(source: &Source<'_>, node: &Node<'_>) -> Result<f64, SceneError
 }
 
 /// The view transform from `from`, `to` and `up`: the book's, or with `right_handed` that of
-/// right-handed renderers ([`look_at`]).
+/// right-handed renderers ([`look_at`]); and the three, checked.
 fn view(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
     item: &Node<'_>,
     right_handed: bool,
-) -> Result<Transform, SceneError> {
+) -> Result<(Transform, LookAt), SceneError> {
     let get = |k: &str| required(source, entries, item, k, "the camera");
     let [fx, fy, fz] = source.triple(get("from")?, "from")?;
     let to_node = get("to")?;
@@ -144,8 +146,9 @@ fn view(
     } else {
         view_transform(from, to, up)
     };
-    Transform::try_new(matrix)
-        .map_err(|e| source.error(item, "up", format!("the view transform is singular: {e}")))
+    let transform = Transform::try_new(matrix)
+        .map_err(|e| source.error(item, "up", format!("the view transform is singular: {e}")))?;
+    Ok((transform, LookAt { from, to, up }))
 }
 
 /// The camera with a thin lens, when it has `aperture` (which then needs `focal-distance`).
