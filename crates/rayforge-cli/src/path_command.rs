@@ -32,7 +32,7 @@ pub const DEFAULT_PATH_SPP: u32 = 64;
 
 /// The samples per pixel: `--spp`, else the camera's `samples` when above 1, else
 /// [`DEFAULT_PATH_SPP`].
-fn samples_per_pixel(settings: &RenderSettings, scene: &Scene) -> u64 {
+pub(crate) fn samples_per_pixel(settings: &RenderSettings, scene: &Scene) -> u64 {
     let spp = settings.spp.unwrap_or(if scene.samples > 1 {
         scene.samples
     } else {
@@ -54,6 +54,12 @@ fn passes(settings: &RenderSettings, spp: u64) -> Vec<Range<u64>> {
     } else {
         spp
     };
+    doubling_passes(most)
+}
+
+/// Passes of 1, 1, 2, 4, … samples up to `most` in all, each doubling the samples so far (so
+/// the time to the next image grows with the time spent); `rayforge serve` refines so too.
+pub(crate) fn doubling_passes(most: u64) -> Vec<Range<u64>> {
     let mut passes: Vec<Range<u64>> = std::iter::once(0..1.min(most)).collect();
     let mut start = 1;
     while start < most {
@@ -308,7 +314,7 @@ pub fn aov_paths(output: &Path) -> (PathBuf, PathBuf) {
 
 /// Radiance as the format wants it: linear for PFM and OpenEXR; for the 8-bit formats,
 /// encoded with the sRGB transfer curve (a display shows code values, not radiance).
-fn encode_for(format: ImageFormat, canvas: &mut Canvas) {
+pub(crate) fn encode_for(format: ImageFormat, canvas: &mut Canvas) {
     if format.is_linear() {
         return;
     }

@@ -76,29 +76,42 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
 /// Reads the scene (printing its warnings) and the camera to render it through, resized to
 /// `--width`/`--height` when they ask for another size.
 fn load_scene(settings: &RenderSettings, frame: u64) -> Result<(Scene, Camera), Failure> {
-    let load = LoadOptions {
+    let scene = rayforge_scene::load_file_with(&settings.scene, &load_options(settings, frame))
+        .map_err(scene_failure)?;
+    if !settings.quiet {
+        scene.warnings.iter().for_each(print_warning);
+    }
+    let camera = sized_camera(settings, &scene)?;
+    Ok((scene, camera))
+}
+
+/// The limits of reading the scene, and the frame to build (shared with `rayforge serve`,
+/// which reads the scene again after every edit).
+pub(crate) fn load_options(settings: &RenderSettings, frame: u64) -> LoadOptions {
+    LoadOptions {
         max_triangles: settings.max_triangles,
         allow_outside: settings.allow_outside,
         frame,
         ..LoadOptions::default()
-    };
-    let scene = rayforge_scene::load_file_with(&settings.scene, &load).map_err(scene_failure)?;
-    if !settings.quiet {
-        scene.warnings.iter().for_each(print_warning);
     }
+}
+
+/// The scene's camera, resized to `--width`/`--height` when they ask for another size.
+pub(crate) fn sized_camera(settings: &RenderSettings, scene: &Scene) -> Result<Camera, Failure> {
     let (width, height) = settings
         .size
         .resolve(scene.camera.hsize(), scene.camera.vsize())?;
-    let camera = if (width, height) == (scene.camera.hsize(), scene.camera.vsize()) {
-        scene.camera.clone()
-    } else {
-        scene.camera.resized(width, height)
-    };
-    Ok((scene, camera))
+    Ok(
+        if (width, height) == (scene.camera.hsize(), scene.camera.vsize()) {
+            scene.camera.clone()
+        } else {
+            scene.camera.resized(width, height)
+        },
+    )
 }
 
 /// The worker threads: `--threads` of them, or one per core.
-fn thread_pool(settings: &RenderSettings) -> Result<ThreadPool, Failure> {
+pub(crate) fn thread_pool(settings: &RenderSettings) -> Result<ThreadPool, Failure> {
     let mut builder = rayon::ThreadPoolBuilder::new();
     if let Some(n) = settings.threads {
         builder = builder.num_threads(n);
@@ -149,7 +162,7 @@ fn raster_render(
 
 /// The ray tracer's options that change pixels: depth, bailout, sampling, subsampling (the
 /// same for `--trace-pixel` and the render, so the traced pixel is the rendered one).
-fn ray_options<'p>(settings: &RenderSettings, scene: &Scene) -> RenderOptions<'p> {
+pub(crate) fn ray_options<'p>(settings: &RenderSettings, scene: &Scene) -> RenderOptions<'p> {
     RenderOptions {
         max_depth: settings
             .max_depth
@@ -353,7 +366,7 @@ pub fn display_for(
 /// that are not finite blackened (their count returned, see [`crate::finite`]), with the
 /// scene's canvas items drawn over it: after the exposure, as their colours are the scene's
 /// own.
-fn develop_with_overlay(scene: &Scene, camera: &Camera, film: &Film) -> (Canvas, usize) {
+pub(crate) fn develop_with_overlay(scene: &Scene, camera: &Camera, film: &Film) -> (Canvas, usize) {
     let mut canvas = develop(film, rayforge::render::exposure(&scene.world));
     let non_finite = crate::finite::blacken_non_finite(&mut canvas);
     scene.overlay.draw(&mut canvas, camera);
