@@ -19,6 +19,7 @@ mod output_lock;
 mod path_command;
 mod progress;
 mod render_command;
+mod serve;
 mod settings;
 mod sizing;
 pub mod summary;
@@ -38,5 +39,6 @@ pub fn run() -> Result<ExitCode, Failure> {
             render_command::run(&settings).map(|()| ExitCode::SUCCESS)
         }
         args::Command::Bench(bench) => bench_command::run(&bench.args),
+        args::Command::Serve(serve) => serve::run(serve),
     }
 }
