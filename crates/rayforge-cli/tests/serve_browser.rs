@@ -147,6 +147,35 @@ impl Browser {
         }
     }
 
+    /// Drags the mouse across the element `selector` from its centre, `steps` moves of
+    /// (`dx`, `dy`) pixels, as a user orbiting the camera does.
+    fn drag(&self, selector: &str, steps: usize, (dx, dy): (i64, i64)) {
+        let path = format!("/session/{}/element", self.session);
+        let body = json!({"using": "css selector", "value": selector});
+        let element = webdriver(self.port, "POST", &path, Some(&body)).expect("finds it");
+        let mut moves = vec![
+            json!({"type": "pointerMove", "origin": element, "x": 0, "y": 0}),
+            json!({"type": "pointerDown", "button": 0}),
+        ];
+        moves.extend((0..steps).map(|_| {
+            json!({"type": "pointerMove", "origin": "pointer", "x": dx, "y": dy, "duration": 50})
+        }));
+        moves.push(json!({"type": "pointerUp", "button": 0}));
+        let actions = json!({"actions": [{
+            "type": "pointer", "id": "mouse", "parameters": {"pointerType": "mouse"},
+            "actions": moves
+        }]});
+        let path = format!("/session/{}/actions", self.session);
+        webdriver(self.port, "POST", &path, Some(&actions)).expect("drags");
+    }
+
+    /// The newest job whose image the page shows.
+    fn job(&self) -> u64 {
+        self.run("return Number(document.getElementById('view').dataset.job)")
+            .as_u64()
+            .unwrap_or(0)
+    }
+
     /// The page's image's pixels, as RGB, read back through a canvas.
     fn image(&self) -> image::RgbImage {
         let value = self.run(
@@ -266,11 +295,34 @@ fn the_page_in_headless_chromium_follows_the_scene_file() {
         "the first image",
         "return document.body.dataset.state === 'done'",
     );
-    let first_job = browser.run("return Number(document.getElementById('view').dataset.job)");
-    assert_eq!(
-        browser.image(),
-        rendered(&path, &dir.path().join("first.png"))
+    let first = browser.image();
+    assert_eq!(first, rendered(&path, &dir.path().join("first.png")));
+
+    // Orbiting with the mouse: previews while dragging, then the refined image, another view.
+    let before = browser.job();
+    browser.drag("#view", 8, (5, 2));
+    browser.wait_for(
+        "the orbited image",
+        &format!(
+            "return Number(document.getElementById('view').dataset.job) > {before} \
+             && document.getElementById('view').dataset.preview === 'false' \
+             && document.body.dataset.state === 'done'"
+        ),
     );
+    let orbited = browser.image();
+    assert_eq!(orbited.dimensions(), first.dimensions());
+    assert_ne!(orbited, first);
+    let orbited_job = browser.job();
+    browser.run("document.getElementById('reset').click()");
+    browser.wait_for(
+        "the scene's view again",
+        &format!(
+            "return Number(document.getElementById('view').dataset.job) > {orbited_job} \
+             && document.body.dataset.state === 'done'"
+        ),
+    );
+    assert_eq!(browser.image(), first);
+    let first_job = browser.job();
 
     std::fs::write(&path, scene("[0.2, 0.3, 1]")).expect("edits the scene");
     browser.wait_for(

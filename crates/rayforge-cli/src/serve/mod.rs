@@ -165,3 +165,28 @@ async fn socket(
         .max_frame_size(protocol::MAX_MESSAGE_BYTES)
         .on_upgrade(move |socket| session::run(socket, server))
 }
+
+#[cfg(test)]
+mod tests {
+    /// The layer rule: nothing in the command depends on the server; only `lib.rs` names it,
+    /// to run it.
+    #[test]
+    fn nothing_outside_the_server_uses_it() {
+        let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let files = std::fs::read_dir(&src).expect("the sources");
+        for file in files.filter_map(Result::ok).map(|e| e.path()) {
+            let named = file
+                .file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or_default();
+            if named == "lib.rs" || file.extension().is_none_or(|e| e != "rs") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&file).expect("a source file");
+            assert!(
+                !text.contains("crate::serve") && !text.contains("mod serve"),
+                "{named} uses the server"
+            );
+        }
+    }
+}
