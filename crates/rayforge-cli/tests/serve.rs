@@ -381,3 +381,28 @@ async fn the_path_tracer_refines_in_passes_and_the_camera_orbits() {
     assert!(differing <= 2, "{differing} pixels differ");
     assert_ne!(turned, rendered(&path, &dir.path().join("unturned.png")));
 }
+
+#[test]
+fn a_missing_scene_or_a_bad_flag_stops_before_listening() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let missing = dir.path().join("missing.yml");
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("serve")
+        .arg(&missing)
+        .args(["--port", "0"])
+        .output()
+        .expect("runs rayforge serve");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("is not a file"));
+    assert!(o.stdout.is_empty(), "no address printed");
+    let path = dir.path().join("scene.yml");
+    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("serve")
+        .arg(&path)
+        .args(["--port", "0", "--threads", "0"])
+        .output()
+        .expect("runs rayforge serve");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--threads must be between 1"));
+}
