@@ -32,6 +32,7 @@ pub use obj::DEFAULT_MAX_TRIANGLES;
 
 use defines::Defines;
 use items::camera::CameraItem;
+pub use items::camera::LookAt;
 use items::Contents;
 use source::Source;
 use std::path::Path;
@@ -63,19 +64,6 @@ pub struct Scene {
     /// Where the book's camera (`from`, `to`, `up`) stands and looks, for a viewer that
     /// orbits it (`rayforge serve`); `None` for the other books' cameras, placed otherwise.
     pub look_at: Option<LookAt>,
-}
-
-/// The book's camera placement, as the scene gives it: the eye at `from` looking at `to`, with
-/// `up` the scene's upward direction (not necessarily square to the view). Checked: `to` is
-/// away from `from` and `up` is not along the view.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LookAt {
-    /// The eye.
-    pub from: rayforge::math::Point3,
-    /// The point looked at.
-    pub to: rayforge::math::Point3,
-    /// The scene's up.
-    pub up: rayforge::math::Vec3,
 }
 
 /// Scene files larger than this are refused before parsing (a scene is text written by hand or

@@ -11,7 +11,7 @@ mod zoom;
 
 use crate::error::SceneError;
 use crate::source::{Entry, Node, Source};
-use crate::LookAt;
+pub use pinhole::LookAt;
 use rayforge::Camera;
 
 /// What `add: camera` gives: the camera and how to sample its pixels.

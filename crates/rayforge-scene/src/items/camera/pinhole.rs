@@ -13,7 +13,6 @@
 
 use crate::error::SceneError;
 use crate::source::{check_keys, required, Entry, Node, Source};
-use crate::LookAt;
 use rayforge::math::{look_at, point, vector, view_transform};
 use rayforge::{Camera, Transform};
 
@@ -33,6 +32,19 @@ const KEYS: &[&str] = &[
     "focal-distance",
     "shutter",
 ];
+
+/// The book's camera placement, as the scene gives it: the eye at `from` looking at `to`, with
+/// `up` the scene's upward direction (not necessarily square to the view). Checked: `to` is
+/// away from `from` and `up` is not along the view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LookAt {
+    /// The eye.
+    pub from: rayforge::math::Point3,
+    /// The point looked at.
+    pub to: rayforge::math::Point3,
+    /// The scene's up.
+    pub up: rayforge::math::Vec3,
+}
 
 /// The book's camera of an `add: camera` item with neither `zoom:` nor `viewport:`, and where
 /// it looks from and at.
