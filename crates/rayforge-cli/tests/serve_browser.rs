@@ -96,14 +96,22 @@ struct Browser {
 }
 
 impl Browser {
-    fn open(port: u16) -> Browser {
+    /// A session of a headless browser whose profile is kept in `profile` (chromedriver's own
+    /// would be left behind in the system's temporary folder).
+    fn open(port: u16, profile: &Path) -> Browser {
         let started = Instant::now();
         while webdriver(port, "GET", "/status", None).is_err() {
             assert!(started.elapsed() < PATIENCE, "chromedriver did not start");
             std::thread::sleep(Duration::from_millis(100));
         }
         let mut options = json!({
-            "args": ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"]
+            "args": [
+                "--headless=new",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--disable-dev-shm-usage",
+                format!("--user-data-dir={}", profile.display()),
+            ]
         });
         if let Some(binary) = on_path(&["chromium", "chromium-browser", "google-chrome"]) {
             options["binary"] = json!(binary);
@@ -288,7 +296,7 @@ fn the_page_in_headless_chromium_follows_the_scene_file() {
             .spawn()
             .expect("starts chromedriver"),
     );
-    let browser = Browser::open(driver_port);
+    let browser = Browser::open(driver_port, &dir.path().join("chromium-profile"));
     browser.go(address.trim());
 
     browser.wait_for(
