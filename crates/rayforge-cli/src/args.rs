@@ -15,6 +15,8 @@ Examples:
   rayforge render scenes/trtc/cover.yml -o preview.png --width 200 --threads 2
   rayforge render scene.yml -o linear.pfm --max-depth 8 --quiet
   rayforge render scenes/trtc/cover.yml -o fast.png --renderer raster --shading gouraud
+  rayforge render scene.yml -o part-2.rfpart --slice 2/4      # one of 4 slices (docs/distributed.md)
+  rayforge merge part-*.rfpart -o merged.png                   # the 4 slices, one image
 
 Ctrl-C (or SIGTERM) stops a render after the rows in progress; the finished rows are kept in
 <FILE>.rayforge-checkpoint, and the same command with --resume finishes the image.
@@ -45,6 +47,9 @@ Render options (`rayforge render --help` describes each in full):
       --max-rays-per-sample <N> the most rays one camera ray may lead to [default: 4194304]
       --allow-outside       let the scene name files outside its folder
       --resume              continue an interrupted render from its checkpoint
+      --slice <I/N>         render slice I (from 0) of N to a part file for `rayforge merge`;
+                            auto/N takes I from SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX
+      --slice-by <CUT>      rows (interleaved; any renderer) or samples (path only) [default: rows]
   -q, --quiet               no progress bar and no summary
       --renderer <NAME>     ray (the ray tracer), raster (triangles; no shadows, mirrors
                             or glass) or path (the path tracer) [default: ray]
@@ -94,11 +99,30 @@ pub enum Command {
     // argument, `--help` included, goes to `rayforge-bench` unread.
     #[command(disable_help_flag = true)]
     Bench(BenchArgs),
+    /// Merge the part files of a render's slices (`rayforge render --slice I/N`) into its image
+    /// (.png, .ppm, .pfm or .exr), the same bytes as the render done in one process.
+    Merge(MergeArgs),
     /// Show the scene on a live page in the browser: a local web server that renders it pass
     /// by pass, re-renders when the scene file or a file it names changes, and lets you pick the
     /// renderer, lighting, samples and size and orbit the camera with the mouse.
     #[command(after_help = SERVE_EXAMPLES)]
     Serve(ServeArgs),
+}
+
+/// Arguments of `rayforge merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The part files, one per slice, in any order (`rayforge render --slice I/N` wrote them).
+    #[arg(required = true, value_name = "PARTS")]
+    pub parts: Vec<PathBuf>,
+
+    /// The image to write; the extension picks the format, as for `rayforge render`.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// The examples under `rayforge serve --help`.
@@ -259,6 +283,21 @@ pub struct RenderArgs {
     #[arg(long, value_name = "ROWS", hide = true)]
     pub pause_after_rows: Option<usize>,
 
+    /// Render only slice I (counted from 0) of N and write it to a part file at --output
+    /// (whatever its extension), for `rayforge merge` to join with the others into the image
+    /// (see docs/distributed.md). `auto/N` takes I from the scheduler: SLURM_ARRAY_TASK_ID
+    /// (Slurm job arrays, `--array=0-(N-1)`) or JOB_COMPLETION_INDEX (Kubernetes Indexed
+    /// Jobs). A part already there and complete for the same render is kept, not rendered
+    /// again.
+    #[arg(long, value_name = "I/N")]
+    pub slice: Option<String>,
+
+    /// How --slice cuts the render: `rows`, every Nth row from row I (any renderer; the
+    /// interleaving balances the slices' costs), or `samples`, a range of each pixel's sample
+    /// sequence (the path tracer only).
+    #[arg(long, value_name = "CUT", value_enum, requires = "slice")]
+    pub slice_by: Option<SliceBy>,
+
     /// Print nothing but errors: no progress bar, no summary.
     #[arg(short, long)]
     pub quiet: bool,
@@ -356,6 +395,15 @@ pub enum Renderer {
     Raster,
     /// The physically based path tracer.
     Path,
+}
+
+/// How `--slice` cuts a render.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SliceBy {
+    /// Interleaved rows: slice I takes rows I, I + N, I + 2N, …
+    Rows,
+    /// Each pixel's samples: slice I takes the I-th of N ranges of the sample sequence.
+    Samples,
 }
 
 /// The path tracer's samplers.

@@ -397,7 +397,9 @@ impl Fnv {
     }
 }
 
-fn fnv(bytes: &[u8]) -> u64 {
+/// FNV-1a 64 of `bytes`: the checksum of checkpoint headers, and of part files' headers and
+/// the fingerprint of their scene ([`crate::part_file`]).
+pub(crate) fn fnv(bytes: &[u8]) -> u64 {
     let mut h = Fnv::new();
     h.write(bytes);
     h.finish()

@@ -15,13 +15,17 @@ mod format;
 mod frames;
 mod interrupt;
 mod memory;
+mod merge_command;
 mod output_lock;
+mod part_file;
 mod path_command;
 mod progress;
 mod render_command;
 mod serve;
 mod settings;
 mod sizing;
+mod slice;
+mod slice_render;
 pub mod summary;
 mod tev;
 
@@ -39,6 +43,7 @@ pub fn run() -> Result<ExitCode, Failure> {
             render_command::run(&settings).map(|()| ExitCode::SUCCESS)
         }
         args::Command::Bench(bench) => bench_command::run(&bench.args),
+        args::Command::Merge(merge) => merge_command::run(&merge).map(|()| ExitCode::SUCCESS),
         args::Command::Serve(serve) => serve::run(serve),
     }
 }

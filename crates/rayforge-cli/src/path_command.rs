@@ -229,8 +229,7 @@ pub fn path_render(
     if let Some(mut display) = display {
         display.image(&canvas);
     }
-    encode_for(settings.format, &mut canvas);
-    scene.overlay.draw(&mut canvas, camera);
+    finish_path_image(&mut canvas, settings.format, Some((&scene.overlay, camera)));
     // The AOVs, resolved; the normal, in a display format, as normal maps store it.
     let aov_images = aovs.map(|aovs| {
         let mut albedo = aovs.albedo.into_film().resolve();
@@ -295,6 +294,33 @@ pub fn path_render(
         }
     }
     Ok(())
+}
+
+/// The path tracer's image of `film` for `format`: resolved, its pixels that are not finite
+/// blackened (their count returned), encoded for the format (see [`encode_for`]), with the
+/// canvas items drawn over it; `rayforge merge` develops merged films the same way.
+pub(crate) fn develop_path_image(
+    film: &Film,
+    format: ImageFormat,
+    overlay: Option<(&rayforge::draw2d::Overlay, &Camera)>,
+) -> (Canvas, usize) {
+    let mut canvas = film.resolve();
+    let non_finite = blacken_non_finite(&mut canvas);
+    finish_path_image(&mut canvas, format, overlay);
+    (canvas, non_finite)
+}
+
+/// The last steps of a path-traced image, after it is resolved (and shown to a viewer, in
+/// linear values): encoded for `format`, the canvas items drawn over it.
+fn finish_path_image(
+    canvas: &mut Canvas,
+    format: ImageFormat,
+    overlay: Option<(&rayforge::draw2d::Overlay, &Camera)>,
+) {
+    encode_for(format, canvas);
+    if let Some((overlay, camera)) = overlay {
+        overlay.draw(canvas, camera);
+    }
 }
 
 /// Where `--aovs` writes the albedo and the normal: beside the image, `out.albedo.pfm` and

@@ -7,6 +7,7 @@ use crate::checkpoint::{self, Log, Logged};
 use crate::checkpointed;
 use crate::diagnostics::{print_warning, scene_failure};
 use crate::failure::Failure;
+use crate::format::ImageFormat;
 use crate::memory::reserve_for_render;
 use crate::output_lock::OutputLock;
 use crate::settings::{Chosen, RenderSettings};
@@ -14,7 +15,8 @@ use crate::summary::{non_finite_warning, raster_summary_line, summary_line};
 use crate::tev::Display;
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
-use rayforge::film::{develop, Film};
+use rayforge::draw2d::Overlay;
+use rayforge::film::{develop, Exposure, Film};
 use rayforge::options::RasterOptions;
 use rayforge::render::{render_rows, PartialImage, RenderOptions, RenderStats, Sampling};
 use rayforge_scene::{LoadOptions, Scene};
@@ -25,6 +27,9 @@ use std::time::Instant;
 /// Runs the render command: one image, or with `--frames` every frame of an animation not
 /// already on disk (so an interrupted sequence resumes where it stopped).
 pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
+    if let Some(slice) = &settings.slice {
+        return crate::slice_render::run(settings, slice);
+    }
     let Some((first, last)) = settings.frames else {
         return render_frame(settings, &settings.output, 0);
     };
@@ -75,7 +80,10 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
 
 /// Reads the scene (printing its warnings) and the camera to render it through, resized to
 /// `--width`/`--height` when they ask for another size.
-fn load_scene(settings: &RenderSettings, frame: u64) -> Result<(Scene, Camera), Failure> {
+pub(crate) fn load_scene(
+    settings: &RenderSettings,
+    frame: u64,
+) -> Result<(Scene, Camera), Failure> {
     let scene = rayforge_scene::load_file_with(&settings.scene, &load_options(settings, frame))
         .map_err(scene_failure)?;
     if !settings.quiet {
@@ -101,13 +109,16 @@ pub(crate) fn sized_camera(settings: &RenderSettings, scene: &Scene) -> Result<C
     let (width, height) = settings
         .size
         .resolve(scene.camera.hsize(), scene.camera.vsize())?;
-    Ok(
-        if (width, height) == (scene.camera.hsize(), scene.camera.vsize()) {
-            scene.camera.clone()
-        } else {
-            scene.camera.resized(width, height)
-        },
-    )
+    Ok(camera_at(scene, width, height))
+}
+
+/// The scene's camera at `width` × `height` (its own, when that is its size).
+pub(crate) fn camera_at(scene: &Scene, width: usize, height: usize) -> Camera {
+    if (width, height) == (scene.camera.hsize(), scene.camera.vsize()) {
+        scene.camera.clone()
+    } else {
+        scene.camera.resized(width, height)
+    }
 }
 
 /// The worker threads: `--threads` of them, or one per core.
@@ -367,14 +378,37 @@ pub fn display_for(
 /// scene's canvas items drawn over it: after the exposure, as their colours are the scene's
 /// own.
 pub(crate) fn develop_with_overlay(scene: &Scene, camera: &Camera, film: &Film) -> (Canvas, usize) {
-    let mut canvas = develop(film, rayforge::render::exposure(&scene.world));
+    let exposure = rayforge::render::exposure(&scene.world);
+    develop_book_image(film, exposure, Some((&scene.overlay, camera)))
+}
+
+/// [`develop_with_overlay`] from what it needs of the scene: how to expose, and the canvas
+/// items with the camera they are drawn for (`rayforge merge` has no scene loaded unless it
+/// has canvas items).
+pub(crate) fn develop_book_image(
+    film: &Film,
+    exposure: Exposure,
+    overlay: Option<(&Overlay, &Camera)>,
+) -> (Canvas, usize) {
+    let mut canvas = develop(film, exposure);
     let non_finite = crate::finite::blacken_non_finite(&mut canvas);
-    scene.overlay.draw(&mut canvas, camera);
+    if let Some((overlay, camera)) = overlay {
+        overlay.draw(&mut canvas, camera);
+    }
     (canvas, non_finite)
 }
 
 /// Encodes the image in the output's format and writes it atomically.
 fn write_image(settings: &RenderSettings, canvas: &Canvas, output: &Path) -> Result<(), Failure> {
-    let bytes = settings.format.encode(canvas)?;
+    write_image_as(settings.format, canvas, output)
+}
+
+/// Encodes the image in `format` and writes it atomically (`rayforge merge` too).
+pub(crate) fn write_image_as(
+    format: ImageFormat,
+    canvas: &Canvas,
+    output: &Path,
+) -> Result<(), Failure> {
+    let bytes = format.encode(canvas)?;
     write_atomically(output, &bytes)
 }

@@ -4,6 +4,7 @@ use crate::args::{FilterArg, PixelFilterArg, RenderArgs, Renderer, SamplerArg, S
 use crate::failure::Failure;
 use crate::format::ImageFormat;
 use crate::sizing::SizeRequest;
+use crate::slice::{Cut, Slice, SliceRequest};
 use rayforge::film::PixelFilter;
 use rayforge::options::{PathOptions, SamplerKind};
 use rayforge::raster::{RasterOptions, Shading, TextureFilter};
@@ -72,6 +73,8 @@ pub struct RenderSettings {
     pub raster: RasterRequest,
     /// The path tracer's options asked for on the command line.
     pub path: PathRequest,
+    /// The slice to render to a part file (`--slice`), when asked for.
+    pub slice: Option<Slice>,
 }
 
 /// The renderer that draws a scene, with its options: the command line's choice, else the
@@ -269,15 +272,20 @@ fn parse_pixel(text: &str) -> Result<(usize, usize), Failure> {
 impl RenderSettings {
     /// Checks the raw arguments; each refusal names the flag.
     pub fn from_args(args: RenderArgs) -> Result<Self, Failure> {
-        let format = match (ImageFormat::from_path(&args.output)?, args.exr_half) {
-            (ImageFormat::Exr, true) => ImageFormat::ExrHalf,
-            (_, true) => {
-                return Err(Failure::usage(format!(
-                    "--exr-half needs an .exr output, not `{}`",
-                    args.output.display()
-                )))
-            }
-            (format, false) => format,
+        let slice = slice(&args)?;
+        let format = match (slice, args.exr_half) {
+            // A slice writes a part file whatever the extension; this format is never used.
+            (Some(_), _) => ImageFormat::Pfm,
+            (None, half) => match (ImageFormat::from_path(&args.output)?, half) {
+                (ImageFormat::Exr, true) => ImageFormat::ExrHalf,
+                (_, true) => {
+                    return Err(Failure::usage(format!(
+                        "--exr-half needs an .exr output, not `{}`",
+                        args.output.display()
+                    )))
+                }
+                (format, false) => format,
+            },
         };
         let frames = match &args.frames {
             None => None,
@@ -389,8 +397,40 @@ impl RenderSettings {
             pause_after_rows: args.pause_after_rows,
             raster,
             path,
+            slice,
         })
     }
+}
+
+/// `--slice` and `--slice-by`, checked, the index read from the environment for `auto`; the
+/// flags a slice cannot take refused.
+fn slice(args: &RenderArgs) -> Result<Option<Slice>, Failure> {
+    let Some(text) = &args.slice else {
+        return Ok(None);
+    };
+    if let Some(flag) = first_given([
+        // Animations by slices are not cut yet: one frame per render.
+        ("--frames", args.frames.is_some()),
+        // A slice is not checkpointed: a requeued slice renders again (a complete part is kept).
+        ("--resume", args.resume),
+        ("--trace-pixel", args.trace_pixel.is_some()),
+        ("--aovs", args.aovs),
+        ("--pause-after-rows", args.pause_after_rows.is_some()),
+        // A part is linear f64 whatever the output; the merge writes the image.
+        ("--exr-half", args.exr_half),
+        // Passes for a time budget or a viewer: a slice renders its share in one pass.
+        ("--time", args.time.is_some()),
+        ("--display-server", args.display_server.is_some()),
+    ]) {
+        return Err(Failure::usage(format!(
+            "{flag} cannot be used with --slice"
+        )));
+    }
+    let request = SliceRequest::parse(text)?;
+    let cut = Cut::from_arg(args.slice_by);
+    request
+        .resolve(cut, |name| std::env::var(name).ok())
+        .map(Some)
 }
 
 /// The renderer and raster options asked for on the command line, to be merged with the

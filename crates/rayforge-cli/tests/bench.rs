@@ -17,13 +17,23 @@ fn lone_rayforge() -> (tempfile::TempDir, PathBuf) {
 }
 
 fn bench(rayforge: &Path, args: &[&str]) -> Output {
-    Command::new(rayforge)
-        .arg("bench")
-        .args(args)
-        // Nothing on PATH either: only what lies beside the copy counts.
-        .env("PATH", "")
-        .output()
-        .expect("runs")
+    // A file just written may be "busy" for a moment: another test's child, forked between
+    // its writing and closing, holds it until that child execs. Try again then.
+    for _ in 0..50 {
+        let run = Command::new(rayforge)
+            .arg("bench")
+            .args(args)
+            // Nothing on PATH either: only what lies beside the copy counts.
+            .env("PATH", "")
+            .output();
+        match run {
+            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy => {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            run => return run.expect("runs"),
+        }
+    }
+    panic!("{} stayed busy", rayforge.display());
 }
 
 #[test]

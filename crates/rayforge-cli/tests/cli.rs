@@ -363,6 +363,8 @@ fn help_describes_every_option() {
         "--sphere-divisions",
         "--texture-filter",
         "--wireframe",
+        "--slice",
+        "--slice-by",
     ] {
         for help in [&render_help, &top_help] {
             assert!(help.contains(flag), "{flag} missing from:\n{help}");

@@ -4,8 +4,10 @@
 //! cargo run --release -p rayforge-fuzz -- --target scene --seconds 3600
 //! cargo run --release -p rayforge-fuzz -- --target all --seconds 1200 --seed 7
 //! cargo run --release -p rayforge-fuzz -- --target obj --replay target/fuzz-crashes/obj-crash-….bin
+//! cargo run --release -p rayforge-fuzz -- --target scene --write-seeds target/afl/seeds
 //! ```
 
+use rayforge_fuzz::corpus::write_seeds;
 use rayforge_fuzz::runner::default_crash_dir;
 use rayforge_fuzz::{fuzz, run_one, Options, Target};
 use std::path::PathBuf;
@@ -14,13 +16,15 @@ use std::time::Duration;
 
 const USAGE: &str = "\
 usage: rayforge-fuzz [--target scene|obj|image|all] [--seconds N | --iterations N] [--seed N]
-                     [--timeout SECONDS] [--crash-dir DIR] [--replay FILE]
+                     [--timeout SECONDS] [--crash-dir DIR] [--replay FILE] [--write-seeds DIR]
 
 Fuzzes each target for --seconds (default 60) or --iterations mutated inputs, from --seed
 (default: the time). A crash is minimised and written to --crash-dir (default
 target/fuzz-crashes) and the exit status is 1; an input running past --timeout (default 10 s)
 is written there as a hang and the process aborts; the slowest input of each target is kept
-there too. --replay runs one file on the target.";
+there too. --replay runs one file on the target (a crash or hang AFL++ found, too).
+--write-seeds writes the target's seeds (those no longer than its longest input) into DIR as
+<target>-<nnn>.bin and fuzzes nothing: the starting corpus of tools/fuzz/afl.sh.";
 
 fn main() -> ExitCode {
     match run() {
@@ -40,6 +44,7 @@ fn run() -> Result<ExitCode, String> {
     let mut timeout = 10.0;
     let mut crash_dir = default_crash_dir();
     let mut replay = None;
+    let mut seeds_dir = None;
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
         let mut value = || args.next().ok_or(format!("{arg} needs a value"));
@@ -58,12 +63,20 @@ fn run() -> Result<ExitCode, String> {
             "--timeout" => timeout = number(&value()?)?,
             "--crash-dir" => crash_dir = PathBuf::from(value()?),
             "--replay" => replay = Some(PathBuf::from(value()?)),
+            "--write-seeds" => seeds_dir = Some(PathBuf::from(value()?)),
             "-h" | "--help" => {
                 println!("{USAGE}");
                 return Ok(ExitCode::SUCCESS);
             }
             other => return Err(format!("unknown argument `{other}`")),
         }
+    }
+    if let Some(dir) = seeds_dir {
+        for target in targets {
+            let n = write_seeds(target, &dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            println!("{}: {n} seeds written to {}", target.name(), dir.display());
+        }
+        return Ok(ExitCode::SUCCESS);
     }
     if let Some(file) = replay {
         let input = std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))?;

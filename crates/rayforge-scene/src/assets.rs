@@ -4,13 +4,14 @@
 
 use crate::error::SceneError;
 use crate::files::{read_bounded, Folder};
-use crate::hdr::{read_hdr_image, HdrImage};
+use crate::hdr::{decode_hdr_image, read_hdr_image, HdrImage};
 use crate::images::{
-    decode, ImageMemory, COLOR_BYTES, ENVIRONMENT_BYTES_PER_TEXEL, MAX_IMAGE_BYTES,
+    decode, ImageMemory, Room, COLOR_BYTES, DEFAULT_MAX_IMAGE_MEMORY, ENVIRONMENT_BYTES_PER_TEXEL,
+    MAX_IMAGE_BYTES,
 };
 use crate::obj::{read_obj_in, to_meshes};
 use rayforge::geometry::Mesh;
-use rayforge::shading::Texture;
+use rayforge::shading::{Filter, Texture};
 use rayforge::Material;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -92,8 +93,10 @@ impl Assets {
         Ok(meshes)
     }
 
-    /// An image texture (PNG, JPEG, PPM/PGM/PBM), read on first use. Bytes become colours as
-    /// they are (byte / 255), as the book's canvas-backed image patterns read them.
+    /// An image texture, read on first use: PNG, JPEG, PPM/PGM/PBM, whose bytes become colours
+    /// as they are (byte / 255), as the book's canvas-backed image patterns read them; or
+    /// OpenEXR, Radiance HDR or PFM, whose linear values are kept as they are (HDR skyboxes and
+    /// image patterns brighter than 1), within the same memory limit.
     pub fn texture(&mut self, path: &Path) -> Result<Arc<Texture>, SceneError> {
         cached_texture(&mut self.textures, &self.folder, path)
     }
@@ -115,6 +118,35 @@ struct Textures {
     memory: ImageMemory,
 }
 
+/// Decodes an image file's bytes into a texture, within `room`: OpenEXR, Radiance HDR and PFM
+/// keep their linear values (image patterns and skyboxes brighter than 1), PNG, JPEG and
+/// PPM/PGM/PBM become byte / 255. The error is the reason, for the caller to name the file.
+fn decode_texture(bytes: &[u8], room: Room) -> Result<Texture, String> {
+    match decode_hdr_image(bytes, room, COLOR_BYTES) {
+        Some(image) => {
+            let image = image?;
+            Texture::new(image.width, image.height, image.texels, Filter::Bilinear)
+                .ok_or_else(|| "it has no pixels".to_string())
+        }
+        None => decode(bytes, room),
+    }
+}
+
+/// Decodes an image file's bytes (OpenEXR, Radiance HDR, PFM, PNG, JPEG or PPM/PGM/PBM, told
+/// apart by their contents) into a texture, as scene files' `image` patterns and MTL `map_Kd`
+/// read them; `path` names the file in errors. Images over
+/// [`MAX_TEXTURE_SIDE`](crate::MAX_TEXTURE_SIDE) on a side or
+/// [`MAX_TEXTURE_PIXELS`](crate::MAX_TEXTURE_PIXELS) in all, or whose decoding would take more than
+/// [`DEFAULT_MAX_IMAGE_MEMORY`], are refused before they are decoded.
+pub fn texture_from_bytes(bytes: &[u8], path: &Path) -> Result<Texture, SceneError> {
+    decode_texture(bytes, ImageMemory::new(DEFAULT_MAX_IMAGE_MEMORY).room()).map_err(|e| {
+        SceneError::new(
+            path,
+            format!("cannot read the image `{}`: {e}", path.display()),
+        )
+    })
+}
+
 /// An image texture from `cache`, read and added on first use if `folder` allows it, within
 /// the cache's limit on the memory of all the scene's images.
 fn cached_texture(
@@ -133,7 +165,7 @@ fn cached_texture(
     };
     folder.check(path).map_err(|e| SceneError::new(path, e))?;
     let bytes = read_bounded(path, MAX_IMAGE_BYTES).map_err(fail)?;
-    let texture = decode(&bytes, cache.memory.room()).map_err(fail)?;
+    let texture = decode_texture(&bytes, cache.memory.room()).map_err(fail)?;
     cache
         .memory
         .hold((texture.width() * texture.height()) as u64 * COLOR_BYTES);

@@ -51,42 +51,61 @@ pub fn read_hdr_image(path: &Path, room: Room) -> Result<HdrImage, HdrError> {
         reason,
     };
     let bytes = read_bounded(path, MAX_IMAGE_BYTES).map_err(&fail)?;
-    // The file is held while it is decoded, and the map keeps colours and sampling tables.
+    decode_hdr_image(&bytes, room, ENVIRONMENT_BYTES_PER_TEXEL)
+        .unwrap_or_else(|| {
+            Err(
+                "it is not an OpenEXR, Radiance HDR (RGBE) or PFM image (its first bytes are \
+                 none of theirs)"
+                    .to_string(),
+            )
+        })
+        .map_err(fail)
+}
+
+/// Decodes the OpenEXR, Radiance HDR or PFM image in `bytes` (`None` when they are none of
+/// these), refusing it before its pixels are allocated when the file held, the decoder's own
+/// buffers and `bytes_per_texel` for each texel kept would not fit in `room`, and refusing
+/// non-finite values. The error is the reason, for the caller to name the file.
+pub fn decode_hdr_image(
+    bytes: &[u8],
+    room: Room,
+    bytes_per_texel: u64,
+) -> Option<Result<HdrImage, String>> {
     let cost = |width: u64, height: u64, buffers: u64| -> Result<(), String> {
         check_size(width, height)?;
-        let cost = bytes.len() as u64 + buffers + width * height * ENVIRONMENT_BYTES_PER_TEXEL;
-        room.check(cost, &format!("a {width}×{height} environment map"))
+        let cost = bytes.len() as u64 + buffers + width * height * bytes_per_texel;
+        room.check(cost, &format!("a {width}×{height} HDR image"))
     };
     let image = if bytes.starts_with(&EXR_MAGIC) {
-        read_exr(&bytes, &cost)
+        read_exr(bytes, &cost)
     } else if bytes.starts_with(b"#?") {
-        read_rgbe(&bytes, &cost)
+        read_rgbe(bytes, &cost)
     } else if bytes.starts_with(b"PF") || bytes.starts_with(b"Pf") {
-        read_pfm(&bytes, &cost)
+        read_pfm(bytes, &cost)
     } else {
-        Err(
-            "it is not an OpenEXR, Radiance HDR (RGBE) or PFM image (its first bytes are none \
-             of theirs)"
-                .to_string(),
-        )
-    }
-    .map_err(&fail)?;
-    if let Some(index) = image
-        .texels
-        .iter()
-        .position(|c| !c.to_array().iter().all(|v| v.is_finite()))
-    {
-        let c = image.texels[index];
-        return Err(fail(format!(
-            "pixel (column {}, row {} from the top) is ({}, {}, {}): values must be finite",
-            index % image.width,
-            index / image.width,
-            c.red,
-            c.green,
-            c.blue
-        )));
-    }
-    Ok(image)
+        return None;
+    };
+    Some(image.and_then(|image| {
+        match image
+            .texels
+            .iter()
+            .position(|c| !c.to_array().iter().all(|v| v.is_finite()))
+        {
+            Some(index) => {
+                let c = image.texels[index];
+                Err(format!(
+                    "pixel (column {}, row {} from the top) is ({}, {}, {}): values must be \
+                     finite",
+                    index % image.width,
+                    index / image.width,
+                    c.red,
+                    c.green,
+                    c.blue
+                ))
+            }
+            None => Ok(image),
+        }
+    }))
 }
 
 /// What a reader asks before it allocates for pixels: whether an image of this width and

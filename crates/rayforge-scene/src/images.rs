@@ -4,10 +4,8 @@
 //! can be large are taken fallibly, so an image bomb or a machine short of memory is an error
 //! naming the file, never an exhausted memory or an abort.
 
-use crate::error::SceneError;
 use rayforge::shading::{Filter, Texture};
 use rayforge::Color;
-use std::path::Path;
 
 /// The memory a scene's images take, against its limit: each image's colours for as long as
 /// the scene lives, and while one is decoded, also its file and the decoder's buffers. Every
@@ -91,20 +89,6 @@ impl Room {
             other => other.to_string(),
         }
     }
-}
-
-/// Decodes an image file's bytes (PNG, JPEG or PPM/PGM/PBM, told apart by their contents) into
-/// a texture, as scene files' `image` patterns and MTL `map_Kd` read them; `path` names the file
-/// in errors. Images over [`MAX_TEXTURE_SIDE`] on a side or [`MAX_TEXTURE_PIXELS`] in all, or
-/// whose decoding would take more than [`DEFAULT_MAX_IMAGE_MEMORY`], are refused before they
-/// are decoded.
-pub fn texture_from_bytes(bytes: &[u8], path: &Path) -> Result<Texture, SceneError> {
-    decode(bytes, ImageMemory::new(DEFAULT_MAX_IMAGE_MEMORY).room()).map_err(|e| {
-        SceneError::new(
-            path,
-            format!("cannot read the image `{}`: {e}", path.display()),
-        )
-    })
 }
 
 /// Decodes an image of at most `room` bytes, decoding included; the error is the reason.

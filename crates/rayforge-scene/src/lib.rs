@@ -23,11 +23,9 @@ mod settings;
 mod source;
 mod transform;
 
+pub use assets::texture_from_bytes;
 pub use error::{clip, clip_to, SceneError, Span, MAX_SHOWN_CHARS};
-pub use images::{
-    texture_from_bytes, DEFAULT_MAX_IMAGE_MEMORY, MAX_IMAGE_BYTES, MAX_TEXTURE_PIXELS,
-    MAX_TEXTURE_SIDE,
-};
+pub use images::{DEFAULT_MAX_IMAGE_MEMORY, MAX_IMAGE_BYTES, MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE};
 pub use obj::DEFAULT_MAX_TRIANGLES;
 
 use defines::Defines;

@@ -8,7 +8,9 @@ use crate::source::{
 };
 use crate::transform::transform_list;
 use rayforge::shading::bsdf::{metal, METAL_NAMES};
-use rayforge::shading::{Bump, BumpKind, EmissionSide, Filter, Physical, UvMapping, UvPattern};
+use rayforge::shading::{
+    Alpha, Bump, BumpKind, EmissionSide, Filter, Physical, PhysicalPatterns, UvMapping, UvPattern,
+};
 use rayforge::{Color, Material, Pattern, PatternKind, Transform};
 
 /// The keys a material may have.
@@ -106,6 +108,8 @@ pub fn material<'n, 's>(
             "shininess" => m.shininess = number()?,
             "reflective" => m.reflective = fraction(source, value, name)?,
             "transparency" => m.transparency = fraction(source, value, name)?,
+            // A pattern here grades a physical material's index: read below.
+            "refractive-index" if is_mapping(value) => {}
             "refractive-index" => m.refractive_index = number()?,
             "bump" => m.bump = Some(bump(source, defines, assets, value)?),
             "gloss" => m.gloss = fractions(source, value, name)?,
@@ -141,8 +145,48 @@ pub fn material<'n, 's>(
     }
     if let Some(physical) = physical(source, &entries)? {
         m.physical = Some(physical);
+        m.physical_patterns = physical_patterns(source, defines, assets, &entries)?;
+    } else if let Some(e) = entries
+        .iter()
+        .find(|e| e.name == "refractive-index" && is_mapping(e.value))
+    {
+        return Err(source.error(
+            e.value,
+            e.name,
+            "a pattern of refractive indices needs a path tracer's material: add `type: \
+             dielectric`, `thin-dielectric` or `plastic`",
+        ));
     }
     Ok(m)
+}
+
+/// The patterns that vary a physical material's GGX width (`alpha` or `roughness` given as a
+/// pattern mapping instead of a number) and refractive index (`refractive-index` likewise);
+/// `None` when every parameter is a number. Which keys a type takes was checked by
+/// [`physical`].
+fn physical_patterns<'n, 's>(
+    source: &Source<'s>,
+    defines: &Defines<'n, 's>,
+    assets: &mut Assets,
+    entries: &[Entry<'n, 's>],
+) -> Result<Option<Box<PhysicalPatterns>>, SceneError> {
+    let mut patterns = PhysicalPatterns {
+        alpha: None,
+        eta: None,
+    };
+    for e in entries.iter().filter(|e| is_mapping(e.value)) {
+        match e.name {
+            "alpha" | "roughness" => {
+                patterns.alpha = Some(Alpha {
+                    pattern: pattern(source, defines, assets, e.value)?,
+                    squared: e.name == "roughness",
+                })
+            }
+            "refractive-index" => patterns.eta = Some(pattern(source, defines, assets, e.value)?),
+            _ => {}
+        }
+    }
+    Ok((patterns.alpha.is_some() || patterns.eta.is_some()).then(|| Box::new(patterns)))
 }
 
 /// `emission`: `[r, g, b]`, or one number meaning grey; no channel negative.
@@ -223,6 +267,8 @@ fn physical(
     }
     let index = || -> Result<f64, SceneError> {
         match find("refractive-index") {
+            // A pattern: its value at each hit replaces this (see `physical_patterns`).
+            Some(e) if is_mapping(e.value) => Ok(DEFAULT_PHYSICAL_INDEX),
             Some(e) => {
                 let index = source.number(e.value, "refractive-index")?;
                 if !(1.0..=9.0).contains(&index) {
@@ -289,6 +335,10 @@ fn alpha(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<f64, SceneErr
     let Some(e) = a.or(r) else {
         return Ok(0.0);
     };
+    if is_mapping(e.value) {
+        // A pattern: its value at each hit replaces this (see `physical_patterns`).
+        return Ok(0.0);
+    }
     let v = source.number(e.value, e.name)?;
     if !(0.0..=1.0).contains(&v) {
         return Err(source.error(

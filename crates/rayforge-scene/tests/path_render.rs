@@ -116,3 +116,80 @@ fn the_furnace_sphere_shows_its_albedo_and_the_sky_is_one() {
     assert_eq!(canvas.pixel_at(0, 0).red, 1.0);
     assert!((canvas.pixel_at(4, 4).red - 0.8).abs() < 1e-9);
 }
+
+/// A metal sphere and a glass one on a floor under a sky, their `roughness` and
+/// `refractive-index` written as `rough` and `index` (numbers or pattern mappings).
+fn textured_scene(rough: &str, index: &str) -> Scene {
+    let text = format!(
+        "- add: camera
+  width: 12
+  height: 8
+  field-of-view: 1
+  from: [0, 1.5, -5]
+  to: [0, 0.5, 0]
+  up: [0, 1, 0]
+- world:
+    renderer: path
+    background: [0.8, 0.9, 1.0]
+- add: plane
+  material: {{ type: diffuse, color: [0.5, 0.5, 0.5] }}
+- add: sphere
+  transform: [[translate, -1.1, 1, 0]]
+  material:
+    type: conductor
+    metal: gold
+    roughness: {rough}
+- add: sphere
+  transform: [[translate, 1.1, 1, 0]]
+  material:
+    type: dielectric
+    roughness: 0.2
+    refractive-index: {index}
+"
+    );
+    rayforge_scene::load_str(&text, Path::new("scene.yml")).unwrap()
+}
+
+/// Every bit of a film.
+fn bits(film: &Film) -> Vec<u64> {
+    film.sums()
+        .iter()
+        .flat_map(|c| [c.red, c.green, c.blue])
+        .chain(film.weights().iter().copied())
+        .map(f64::to_bits)
+        .collect()
+}
+
+#[test]
+fn patterns_drive_roughness_and_index_as_numbers_would() {
+    // A pattern of one grey everywhere is the number: the same image, to the bit.
+    let uniform =
+        |v: f64| format!("{{ type: stripes, colors: [[{v}, {v}, {v}], [{v}, {v}, {v}]] }}");
+    let numbers = render(&textured_scene("0.5", "1.5"), 12, 8, 4);
+    let patterns = render(&textured_scene(&uniform(0.5), &uniform(1.5)), 12, 8, 4);
+    assert_eq!(bits(&numbers), bits(&patterns));
+    // And a pattern that varies does vary the surface: stripes of polished and rough gold.
+    let striped = textured_scene("{ type: stripes, colors: [[0, 0, 0], [1, 1, 1]] }", "1.5");
+    let gold = &striped.world.objects[1];
+    let at = |x: f64| match gold
+        .material
+        .physical_at(|| rayforge::point(x, 0.0, 0.0))
+        .unwrap()
+    {
+        rayforge::shading::Physical::Conductor { alpha, .. } => alpha,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!((at(0.5), at(1.5)), (0.0, 1.0));
+    assert_ne!(bits(&render(&striped, 12, 8, 4)), bits(&numbers));
+}
+
+#[test]
+fn a_pattern_of_indices_needs_a_physical_material() {
+    let e = rayforge_scene::load_str(
+        "- add: sphere\n  material:\n    refractive-index: { type: stripes, colors: [[1, 1, 1], [2, 2, 2]] }\n",
+        Path::new("scene.yml"),
+    )
+    .unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("refractive-index"));
+    assert!(e.message.contains("type: dielectric"), "{e}");
+}

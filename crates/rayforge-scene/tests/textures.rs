@@ -110,3 +110,73 @@ fn a_corrupt_image_is_an_error_not_a_panic() {
     let e = rayforge_scene::load_file(&scene_path).unwrap_err();
     assert!(e.message.contains("cannot read the image"), "{e}");
 }
+
+/// A 2×2 colour PFM (rows bottom first, little-endian): bottom row `bottom`, top row `top`.
+fn pfm(bottom: [[f32; 3]; 2], top: [[f32; 3]; 2]) -> Vec<u8> {
+    let mut bytes = b"PF\n2 2\n-1.0\n".to_vec();
+    for texel in bottom.iter().chain(&top) {
+        for v in texel {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    bytes
+}
+
+/// The same image as OpenEXR (32-bit float R, G, B), rows top first.
+fn exr(bottom: [[f32; 3]; 2], top: [[f32; 3]; 2]) -> Vec<u8> {
+    use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
+    let rows = [top, bottom];
+    let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+        let [r, g, b] = rows[y][x];
+        (r, g, b)
+    });
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    Image::from_channels((2, 2), channels)
+        .write()
+        .to_buffered(&mut bytes)
+        .unwrap();
+    bytes.into_inner()
+}
+
+#[test]
+fn hdr_images_are_textures_with_their_linear_values_beyond_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let (bottom, top) = (
+        [[4.0, 0.5, 0.0], [0.0, 0.0, 0.0]],
+        [[0.0, 0.0, 0.0], [0.25, 2.5, 16.0]],
+    );
+    std::fs::write(dir.path().join("sky.pfm"), pfm(bottom, top)).unwrap();
+    std::fs::write(dir.path().join("sky.exr"), exr(bottom, top)).unwrap();
+    for file in ["sky.pfm", "sky.exr"] {
+        let scene_path = dir.path().join("scene.yml");
+        std::fs::write(
+            &scene_path,
+            format!("{CAMERA}- add: plane\n  material:\n    pattern:\n      type: map\n      mapping: planar\n      uv_pattern:\n        type: image\n        file: {file}\n        filter: nearest\n"),
+        )
+        .unwrap();
+        let scene = rayforge_scene::load_file(&scene_path).unwrap();
+        let p = pattern_of(&scene);
+        // Planar: u = x, v = z (fractional parts); (0, 0) the image's bottom-left.
+        assert_eq!(
+            p.pattern_at(point(0.25, 0.0, 0.25)),
+            color(4.0, 0.5, 0.0),
+            "{file}"
+        );
+        assert_eq!(
+            p.pattern_at(point(0.75, 0.0, 0.75)),
+            color(0.25, 2.5, 16.0),
+            "{file}"
+        );
+    }
+    // A damaged HDR texture is an error naming it.
+    std::fs::write(dir.path().join("bad.pfm"), b"PF\n2 2\n-1.0\n\x00\x00").unwrap();
+    let scene_path = dir.path().join("bad.yml");
+    std::fs::write(
+        &scene_path,
+        format!("{CAMERA}- add: plane\n  material:\n    pattern:\n      type: map\n      mapping: planar\n      uv_pattern:\n        type: image\n        file: bad.pfm\n"),
+    )
+    .unwrap();
+    let e = rayforge_scene::load_file(&scene_path).unwrap_err();
+    assert!(e.message.contains("bad.pfm"), "{e}");
+    assert_eq!(e.key.as_deref(), Some("file"));
+}

@@ -16,8 +16,9 @@
 //!   points are such lights, sampled by area: only its light is seen.
 //! - An emitting object gives off radiance `emission` from the side its normal faces (or the
 //!   other side, or both: [`EmissionSide`]). Spheres,
-//!   cubes, rectangles, rings and discs, triangles, meshes and finite cylinders are sampled by
-//!   area; other emitting shapes (cones, tori, planes, CSG solids) are found only by the paths
+//!   cubes, rectangles, rings and discs, triangles, meshes, finite cylinders and finite cones
+//!   are sampled by area; other emitting shapes (unbounded ones, tori, planes, CSG solids) are
+//!   found only by the paths
 //!   that hit them, which is unbiased but noisier.
 //! - The sky: the world's environment map, importance-sampled by luminance, else the
 //!   background as light of constant radiance from every direction (found by the paths that
@@ -32,7 +33,7 @@ use crate::color::Color;
 use crate::geometry::{rectangle, Mesh};
 use crate::math::{Distribution1D, Point3, Transform, Vec3};
 use crate::shading::{EmissionSide, EnvironmentMap, Light, SpotLight};
-use std::f64::consts::PI;
+use std::f64::consts::{PI, SQRT_2};
 use std::sync::Arc;
 
 /// Marks an object that is not a sampled emitter.
@@ -79,6 +80,19 @@ enum Surface {
         maximum: f64,
         closed: bool,
     },
+    /// The double cone x² + z² = y² between two heights, with its end discs when closed.
+    Cone {
+        minimum: f64,
+        maximum: f64,
+        closed: bool,
+    },
+}
+
+/// `y·|y|`: the area of the cone x² + z² = y² up to height `y` grows with it (the side's
+/// area between two heights is √2·π times its difference), so inverting it samples heights
+/// uniformly by area.
+fn cone_measure(y: f64) -> f64 {
+    y * y.abs()
 }
 
 impl Surface {
@@ -121,6 +135,15 @@ impl Surface {
                     closed: *closed,
                 }
             }
+            Shape::Cone {
+                minimum,
+                maximum,
+                closed,
+            } if minimum.is_finite() && maximum.is_finite() && maximum > minimum => Surface::Cone {
+                minimum: *minimum,
+                maximum: *maximum,
+                closed: *closed,
+            },
             _ => return None,
         })
     }
@@ -139,6 +162,19 @@ impl Surface {
                 maximum,
                 closed,
             } => 2.0 * PI * (maximum - minimum) + if *closed { 2.0 * PI } else { 0.0 },
+            Surface::Cone {
+                minimum,
+                maximum,
+                closed,
+            } => {
+                let side = SQRT_2 * PI * (cone_measure(*maximum) - cone_measure(*minimum));
+                let caps = if *closed {
+                    PI * (minimum * minimum + maximum * maximum)
+                } else {
+                    0.0
+                };
+                side + caps
+            }
         }
     }
 
@@ -196,6 +232,33 @@ impl Surface {
                         (*maximum, Vec3::Y)
                     };
                     let r = u.sqrt();
+                    (Point3::new(r * phi.cos(), y, r * phi.sin()), n)
+                }
+            }
+            Surface::Cone {
+                minimum,
+                maximum,
+                closed,
+            } => {
+                let (low, high) = (cone_measure(*minimum), cone_measure(*maximum));
+                let side = SQRT_2 * PI * (high - low);
+                let (bottom, top) = (PI * minimum * minimum, PI * maximum * maximum);
+                let at = pick * (side + if *closed { bottom + top } else { 0.0 });
+                let phi = 2.0 * PI * v;
+                if at < side || !closed {
+                    let t = low + u * (high - low);
+                    let y = t.signum() * t.abs().sqrt();
+                    let p = Point3::new(y.abs() * phi.cos(), y, y.abs() * phi.sin());
+                    // The book's cone normal, (x, −y, z), normalised.
+                    let n = Vec3::new(p.x, -y, p.z).normalize_or_zero();
+                    (p, n)
+                } else {
+                    let (y, n) = if at < side + bottom {
+                        (*minimum, -Vec3::Y)
+                    } else {
+                        (*maximum, Vec3::Y)
+                    };
+                    let r = y.abs() * u.sqrt();
                     (Point3::new(r * phi.cos(), y, r * phi.sin()), n)
                 }
             }
@@ -634,7 +697,50 @@ mod tests {
                 stretch,
                 side,
             ),
+            lamp(
+                Shape::Cone {
+                    minimum: -0.4,
+                    maximum: 0.9,
+                    closed: true,
+                },
+                stretch,
+                side,
+            ),
         ]
+    }
+
+    #[test]
+    fn a_cone_is_sampled_uniformly_by_area() {
+        // Over the side of x² + z² = y² from 0.2 to 1, the mean height by area is
+        // ∫ y·y dy / ∫ y dy = (1 − 0.008)/3 / ((1 − 0.04)/2) = 0.68889; with its end discs
+        // (areas π·0.04 and π, at 0.2 and 1) the mean moves to the weighted mean of the three.
+        let mut rng = SplitMixStream(7);
+        for closed in [false, true] {
+            let cone = Surface::Cone {
+                minimum: 0.2,
+                maximum: 1.0,
+                closed,
+            };
+            let n = 200_000;
+            let mean = (0..n)
+                .map(|_| cone.sample(rng.next(), [rng.next(), rng.next()]).0.y)
+                .sum::<f64>()
+                / n as f64;
+            let side = SQRT_2 * PI * (1.0 - 0.04);
+            let side_mean = (1.0 - 0.008) / 3.0 / ((1.0 - 0.04) / 2.0);
+            let expected = if closed {
+                let (bottom, top) = (PI * 0.04, PI);
+                (side * side_mean + bottom * 0.2 + top * 1.0) / (side + bottom + top)
+            } else {
+                side_mean
+            };
+            // The heights' spread is under 0.3: four standard errors are 0.003.
+            assert!(
+                (mean - expected).abs() < 0.003,
+                "{closed}: {mean} vs {expected}"
+            );
+            assert!((cone.area() - (side + if closed { PI * 1.04 } else { 0.0 })).abs() < 1e-12);
+        }
     }
 
     #[test]

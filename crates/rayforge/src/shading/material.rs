@@ -50,6 +50,28 @@ pub struct Material {
     /// The path tracer's material, when the scene names one; `None` gives the book's
     /// parameters their physical meaning (see [`super::Scattering`]).
     pub physical: Option<Physical>,
+    /// Patterns that vary the physical material's parameters over the surface (a roughness
+    /// map, a graded index), evaluated like the colour's pattern; `None` for fixed ones.
+    pub physical_patterns: Option<Box<PhysicalPatterns>>,
+}
+
+/// Patterns for a physical material's parameters. Each pattern's value at a point is the mean
+/// of its three channels, so a grey image gives its grey levels directly.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhysicalPatterns {
+    /// The GGX width (conductors, rough dielectrics, plastic), clamped to [0, 1].
+    pub alpha: Option<Alpha>,
+    /// The refractive index (dielectrics, thin dielectrics, plastic), clamped to [1, 9].
+    pub eta: Option<Pattern>,
+}
+
+/// A pattern giving the GGX width: as it is, or as a roughness whose square is the width.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Alpha {
+    /// The pattern.
+    pub pattern: Pattern,
+    /// Whether its value is the roughness (alpha = roughness², as artists paint it).
+    pub squared: bool,
 }
 
 /// Which side of an emitting surface gives off light.
@@ -97,6 +119,7 @@ impl Material {
         emission_side: EmissionSide::Front,
         two_sided: true,
         physical: None,
+        physical_patterns: None,
     };
 
     /// The book's `glass_sphere()` material: fully transparent, index 1.5.
@@ -126,6 +149,32 @@ impl Material {
             Some(pattern) => pattern.nested_at(object_point()),
             None => self.color,
         }
+    }
+}
+
+impl Material {
+    /// The physical material at a point: its parameters as the patterns give them there
+    /// (`object_point` is asked only when there are patterns).
+    pub fn physical_at(&self, object_point: impl FnOnce() -> Point3) -> Option<Physical> {
+        let physical = self.physical?;
+        let Some(patterns) = &self.physical_patterns else {
+            return Some(physical);
+        };
+        let point = object_point();
+        let value = |pattern: &Pattern| {
+            let c = pattern.nested_at(point);
+            (c.red + c.green + c.blue) / 3.0
+        };
+        let alpha = patterns.alpha.as_ref().map(|a| {
+            let v = value(&a.pattern).clamp(0.0, 1.0);
+            if a.squared {
+                v * v
+            } else {
+                v
+            }
+        });
+        let eta = patterns.eta.as_ref().map(|p| value(p).clamp(1.0, 9.0));
+        Some(physical.with_parameters(alpha, eta))
     }
 }
 

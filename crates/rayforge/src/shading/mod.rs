@@ -24,7 +24,7 @@ pub use cgfs::unshadowed_intensity;
 pub use environment::{EnvironmentError, EnvironmentMap};
 pub use jitter::Sequence;
 pub use light::{AreaLight, DirectionalLight, Light, PointLight, SpotLight};
-pub use material::{EmissionSide, Material};
+pub use material::{Alpha, EmissionSide, Material, PhysicalPatterns};
 pub use noise::perlin_noise;
 pub use optics::matte_light;
 pub use pattern::{Pattern, PatternKind};

@@ -68,6 +68,30 @@ pub enum Physical {
 }
 
 impl Physical {
+    /// The same material with its GGX width and refractive index replaced where given and
+    /// where it has them (a pattern's value at a hit).
+    pub fn with_parameters(self, alpha: Option<f64>, index: Option<f64>) -> Self {
+        let a = |old: f64| alpha.unwrap_or(old);
+        let e = |old: f64| index.unwrap_or(old);
+        match self {
+            Physical::Conductor { eta, k, alpha: old } => Physical::Conductor {
+                eta,
+                k,
+                alpha: a(old),
+            },
+            Physical::Dielectric { eta, alpha: old } => Physical::Dielectric {
+                eta: e(eta),
+                alpha: a(old),
+            },
+            Physical::ThinDielectric { eta } => Physical::ThinDielectric { eta: e(eta) },
+            Physical::Plastic { eta, alpha: old } => Physical::Plastic {
+                eta: e(eta),
+                alpha: a(old),
+            },
+            other => other,
+        }
+    }
+
     /// The scattering of this material with `colour` at the hit, where the world's ambient
     /// index is `ambient_index`.
     pub fn bsdf(self, colour: Color, ambient_index: f64) -> Bsdf {

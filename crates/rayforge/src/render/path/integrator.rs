@@ -191,7 +191,8 @@ impl<'w> PathContext<'w> {
 
             let colour =
                 surface.surface_color(point, surface.shape.surface_uv(&hit.local()), hit.time);
-            let scattering = match material.physical {
+            let physical = material.physical_at(|| surface.world_to_object_at(point, hit.time));
+            let scattering = match physical {
                 Some(physical) => Scattering::single(physical.bsdf(colour, world.ambient_index)),
                 None => match world.lighting {
                     LightingModel::Phong => {

@@ -1,0 +1,590 @@
+//! Part files: what `rayforge render --slice I/N` writes and `rayforge merge` reads. A part
+//! holds one slice's film, linear and lossless (each pixel's sums of weighted colours and of
+//! weights as 64-bit floats, stored as their bits), behind a header that says which render it
+//! belongs to, which slice it is and what that slice covers.
+//!
+//! ```text
+//! offset  size  field
+//!      0     8  magic "RAYPART\n"
+//!      8     4  format version, u32 (1)
+//!     12     4  header length H, u32, at most 65 536: the bytes of the fields below
+//!     16     H  8  scene fingerprint, u64: FNV-1a 64 of the scene file's bytes
+//!               8  image width, u64
+//!               8  image height, u64 (width × height at most 2^28)
+//!               8  slice index I, u64 (below N)
+//!               8  slice count N, u64 (1 to 2^20)
+//!               1  cut: 0 rows (rows I, I + N, …), 1 samples (a range of every pixel's)
+//!               8  samples per pixel of the whole render, u64 (the path tracer's; else 0)
+//!               8  first sample index of this slice, u64 } 0..spp cut by rows, the I-th of
+//!               8  end of its sample indices, u64        } N ranges (spp·I/N..) by samples
+//!               8  rows this slice covers, u64 (R: the film's height below)
+//!               1  development: 0 the colours as they are, 1 automatic exposure (the optics
+//!                  model's), 2 the path tracer's (linear; sRGB-encoded for PNG and PPM)
+//!               1  overlay: 1 when the scene has canvas items to draw over the image
+//!               1  allow outside: 1 when the scene was read with --allow-outside
+//!               8  the most triangles the scene was read with (--max-triangles), u64
+//!             4+n  the scene file's path (absolute where it could be made so): u32 n, UTF-8
+//!             4+n  the settings: every setting that changes a pixel, as text (renderer,
+//!                  lighting model, sampling, depth, seed, sampler, filter, rayforge's
+//!                  version…): u32 n, UTF-8
+//!   16+H     8  FNV-1a 64 of bytes 0 to 16+H: the header's checksum
+//!   24+H     …  the slice's film, a film file (magic "RAYFILM\n", crates/rayforge/src/film/
+//!               file.rs): width × R pixels, the slice's rows top to bottom, the pixel filter,
+//!               the brightest sample, and a CRC-32 of the film
+//! ```
+//!
+//! Every number is little-endian. The file ends with the film's checksum. Reading checks the
+//! magic, the version, the header's length before reading it and its checksum, every field's
+//! range, that the rows and samples covered are the ones the slice's index gives, the film's
+//! size against the header before trusting it (the film reader bounds its own size before
+//! allocating and grows its buffers only as bytes arrive), the film's checksum, and that
+//! nothing follows. Parts are written atomically (a temporary file renamed), so a part that
+//! exists was written whole; a part cut short or damaged since is refused, naming the file.
+//!
+//! The merge needs only the parts (and, for the canvas items, the scene file): the header holds
+//! how to develop the film, so the merge does not load the scene otherwise.
+
+use crate::checkpoint::fnv;
+use crate::failure::Failure;
+use crate::slice::{Cut, Slice, MAX_SLICES};
+use rayforge::film::{Exposure, Film, FilmError, MAX_FILM_PIXELS};
+use std::io::{BufReader, Read};
+use std::ops::Range;
+use std::path::Path;
+
+/// The first bytes of every part file.
+pub const PART_MAGIC: &[u8; 8] = b"RAYPART\n";
+/// The format version this build writes and reads.
+pub const PART_VERSION: u32 = 1;
+/// The longest header accepted: its two texts are a path and a line of settings.
+const MAX_HEADER_LEN: u32 = 1 << 16;
+
+/// How a merged film becomes the image: as `rayforge render` develops that renderer's films.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Development {
+    /// The book renderers' (ray tracer, rasterizer): [`rayforge::film::develop`] with this
+    /// exposure.
+    Book(Exposure),
+    /// The path tracer's: resolved, linear radiance, sRGB-encoded for the 8-bit formats.
+    Path,
+}
+
+impl Development {
+    fn code(self) -> u8 {
+        match self {
+            Development::Book(Exposure::Fixed) => 0,
+            Development::Book(Exposure::Automatic) => 1,
+            Development::Path => 2,
+        }
+    }
+
+    fn from_code(code: u8) -> Option<Self> {
+        match code {
+            0 => Some(Development::Book(Exposure::Fixed)),
+            1 => Some(Development::Book(Exposure::Automatic)),
+            2 => Some(Development::Path),
+            _ => None,
+        }
+    }
+}
+
+/// A part's header: the render it belongs to, and which slice of it this is.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PartHeader {
+    /// FNV-1a 64 of the scene file's bytes.
+    pub fingerprint: u64,
+    /// The image's width.
+    pub width: usize,
+    /// The image's height.
+    pub height: usize,
+    /// Which slice.
+    pub slice: Slice,
+    /// The path tracer's samples per pixel for the whole render (0 for the other renderers,
+    /// whose samples are not an index sequence).
+    pub spp: u64,
+    /// How the merged film is developed.
+    pub development: Development,
+    /// Whether the scene has canvas items, drawn over the merged image.
+    pub overlay: bool,
+    /// Whether the scene was read with `--allow-outside` (to read it again for the overlay).
+    pub allow_outside: bool,
+    /// `--max-triangles` when the scene was read (likewise).
+    pub max_triangles: u64,
+    /// The scene file.
+    pub scene: String,
+    /// Every setting that changes a pixel, as text.
+    pub settings: String,
+}
+
+impl PartHeader {
+    /// The samples of each pixel this slice rendered.
+    pub fn samples(&self) -> Range<u64> {
+        self.slice.samples(self.spp)
+    }
+
+    /// Whether `other` is a slice of the same render: everything but the index agrees (the
+    /// scene's path may differ, from machines that mount it elsewhere, and so may the limits
+    /// it was read with). `None` if so, else what differs.
+    pub fn differs_from(&self, other: &PartHeader) -> Option<String> {
+        let differ = |what: &str, a: &dyn std::fmt::Debug, b: &dyn std::fmt::Debug| {
+            Some(format!("{what} differ: {a:?} against {b:?}"))
+        };
+        if self.fingerprint != other.fingerprint {
+            return Some(format!(
+                "the scene files differ (fingerprints {:016x} and {:016x}; `{}` and `{}`)",
+                self.fingerprint, other.fingerprint, self.scene, other.scene
+            ));
+        }
+        if (self.width, self.height) != (other.width, other.height) {
+            return differ(
+                "the image sizes",
+                &(self.width, self.height),
+                &(other.width, other.height),
+            );
+        }
+        if (self.slice.count, self.slice.cut) != (other.slice.count, other.slice.cut) {
+            return Some(format!(
+                "the cuts differ: {} slices by {} against {} by {}",
+                self.slice.count,
+                self.slice.cut.name(),
+                other.slice.count,
+                other.slice.cut.name()
+            ));
+        }
+        if self.settings != other.settings || self.spp != other.spp {
+            return differ("the settings", &self.settings, &other.settings);
+        }
+        if (self.development, self.overlay) != (other.development, other.overlay) {
+            return differ(
+                "the developments",
+                &(self.development, self.overlay),
+                &(other.development, other.overlay),
+            );
+        }
+        None
+    }
+
+    /// The header's bytes, from the magic to its checksum.
+    fn to_bytes(&self) -> Vec<u8> {
+        let mut fields = Vec::new();
+        let u64s = [
+            self.fingerprint,
+            self.width as u64,
+            self.height as u64,
+            self.slice.index,
+            self.slice.count,
+        ];
+        u64s.iter()
+            .for_each(|v| fields.extend_from_slice(&v.to_le_bytes()));
+        fields.push(match self.slice.cut {
+            Cut::Rows => 0,
+            Cut::Samples => 1,
+        });
+        let samples = self.samples();
+        let rows = self.slice.row_count(self.height) as u64;
+        for v in [self.spp, samples.start, samples.end, rows] {
+            fields.extend_from_slice(&v.to_le_bytes());
+        }
+        fields.push(self.development.code());
+        fields.push(u8::from(self.overlay));
+        fields.push(u8::from(self.allow_outside));
+        fields.extend_from_slice(&self.max_triangles.to_le_bytes());
+        for text in [&self.scene, &self.settings] {
+            fields.extend_from_slice(&(text.len() as u32).to_le_bytes());
+            fields.extend_from_slice(text.as_bytes());
+        }
+        let mut out = PART_MAGIC.to_vec();
+        out.extend_from_slice(&PART_VERSION.to_le_bytes());
+        out.extend_from_slice(&(fields.len() as u32).to_le_bytes());
+        out.extend_from_slice(&fields);
+        let sum = fnv(&out);
+        out.extend_from_slice(&sum.to_le_bytes());
+        out
+    }
+
+    /// Reads and checks a header (see [the layout](self)); the error says why, for the caller
+    /// to name the file.
+    fn read_from(input: &mut impl Read) -> Result<Self, String> {
+        let mut start = [0u8; 16];
+        read_exact(input, &mut start)?;
+        if &start[..8] != PART_MAGIC {
+            return Err("it is not a rayforge part file (wrong magic bytes)".into());
+        }
+        let version = u32::from_le_bytes(array(&start[8..]));
+        if version != PART_VERSION {
+            return Err(format!(
+                "it is a part file of format version {version}; this build reads version \
+                 {PART_VERSION}"
+            ));
+        }
+        let len = u32::from_le_bytes(array(&start[12..]));
+        if len > MAX_HEADER_LEN {
+            return Err(format!(
+                "its header claims {len} bytes, more than the {MAX_HEADER_LEN} a header may have"
+            ));
+        }
+        let mut fields = vec![0u8; len as usize];
+        read_exact(input, &mut fields)?;
+        let mut sum = [0u8; 8];
+        read_exact(input, &mut sum)?;
+        let mut covered = start.to_vec();
+        covered.extend_from_slice(&fields);
+        if fnv(&covered) != u64::from_le_bytes(sum) {
+            return Err("its header is damaged (the checksum does not match)".into());
+        }
+        Self::parse(&fields)
+    }
+
+    /// The header's fields (checksum already checked), each in range.
+    fn parse(fields: &[u8]) -> Result<Self, String> {
+        let mut at = Fields { bytes: fields };
+        let fingerprint = at.u64()?;
+        let (width, height) = (at.u64()?, at.u64()?);
+        if width
+            .checked_mul(height)
+            .is_none_or(|n| n > MAX_FILM_PIXELS)
+        {
+            return Err(format!(
+                "its image is {width}×{height}, larger than the limit of {MAX_FILM_PIXELS} pixels"
+            ));
+        }
+        let (index, count) = (at.u64()?, at.u64()?);
+        if count == 0 || count > MAX_SLICES || index >= count {
+            return Err(format!(
+                "it claims to be slice {index}/{count}, which no render cuts"
+            ));
+        }
+        let cut = match at.u8()? {
+            0 => Cut::Rows,
+            1 => Cut::Samples,
+            code => return Err(format!("unknown cut code {code} (0 rows, 1 samples)")),
+        };
+        let slice = Slice { index, count, cut };
+        let spp = at.u64()?;
+        let samples = at.u64()?..at.u64()?;
+        let rows = at.u64()?;
+        // Within the limit checked above, so these fit in usize.
+        let (width, height) = (width as usize, height as usize);
+        if samples != slice.samples(spp) || rows != slice.row_count(height) as u64 {
+            return Err(format!(
+                "it claims samples {samples:?} and {rows} rows, which are not what slice \
+                 {slice} by {} of {spp} samples and {height} rows covers",
+                cut.name()
+            ));
+        }
+        let development = at.u8()?;
+        let development = Development::from_code(development)
+            .ok_or_else(|| format!("unknown development code {development}"))?;
+        let overlay = at.flag()?;
+        let allow_outside = at.flag()?;
+        let max_triangles = at.u64()?;
+        let scene = at.text()?;
+        let settings = at.text()?;
+        if !at.bytes.is_empty() {
+            return Err(format!(
+                "its header has {} bytes after its last field",
+                at.bytes.len()
+            ));
+        }
+        Ok(Self {
+            fingerprint,
+            width,
+            height,
+            slice,
+            spp,
+            development,
+            overlay,
+            allow_outside,
+            max_triangles,
+            scene,
+            settings,
+        })
+    }
+}
+
+/// The header's fields, read in turn; each read fails rather than run past the end.
+struct Fields<'a> {
+    bytes: &'a [u8],
+}
+
+impl Fields<'_> {
+    fn take(&mut self, n: usize) -> Result<&[u8], String> {
+        if self.bytes.len() < n {
+            return Err("its header ends before its last field".into());
+        }
+        let (head, rest) = self.bytes.split_at(n);
+        self.bytes = rest;
+        Ok(head)
+    }
+
+    fn u8(&mut self) -> Result<u8, String> {
+        Ok(self.take(1)?[0])
+    }
+
+    fn flag(&mut self) -> Result<bool, String> {
+        match self.u8()? {
+            0 => Ok(false),
+            1 => Ok(true),
+            other => Err(format!("a flag in its header is {other}, neither 0 nor 1")),
+        }
+    }
+
+    fn u64(&mut self) -> Result<u64, String> {
+        Ok(u64::from_le_bytes(array(self.take(8)?)))
+    }
+
+    fn text(&mut self) -> Result<String, String> {
+        let len = u32::from_le_bytes(array(self.take(4)?)) as usize;
+        // Bounded by the header's length, itself bounded before it was read.
+        let bytes = self.take(len)?;
+        String::from_utf8(bytes.to_vec()).map_err(|_| "a text in its header is not UTF-8".into())
+    }
+}
+
+/// A part: its header and the film of the rows it covers.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Part {
+    /// Which render and which slice.
+    pub header: PartHeader,
+    /// The slice's rows, top to bottom (all rows when cut by samples).
+    film: Film,
+}
+
+impl Part {
+    /// The part of the slice `header` names, from `film`, the image-sized film the slice was
+    /// rendered into (rows outside the slice unrendered). Each row is copied to the bit.
+    pub fn new(header: PartHeader, film: &Film) -> Result<Self, Failure> {
+        let rows = header.slice.row_count(header.height);
+        let mut part = Film::with_filter(film.width(), rows, film.filter())
+            .map_err(|e| Failure::internal(format!("cannot make the slice's film: {e}")))?;
+        for (j, y) in header.slice.rows(header.height).enumerate() {
+            // Sums start at −0.0, the identity: each lands unchanged, bit for bit.
+            for (x, (&sum, &weight)) in film.row_sums(y).iter().zip(film.row_weights(y)).enumerate()
+            {
+                part.add_pixel_sum(x, j, sum, weight);
+            }
+        }
+        part.note_brightest(film.brightest());
+        Ok(Self { header, film: part })
+    }
+
+    /// The part file's bytes (see [the layout](self)).
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = self.header.to_bytes();
+        out.extend_from_slice(&self.film.to_bytes());
+        out
+    }
+
+    /// Adds this slice's samples to `film`, the image's film: each of its rows onto the image's
+    /// row it covers, pixel by pixel (sums and weights), and its brightest sample. Refused when
+    /// the pixel filters differ.
+    pub fn add_to(&self, film: &mut Film) -> Result<(), FilmError> {
+        if film.filter() != self.film.filter() {
+            return Err(FilmError::FilterMismatch(self.film.filter(), film.filter()));
+        }
+        for (j, y) in self.header.slice.rows(self.header.height).enumerate() {
+            let sums = self.film.row_sums(j).iter();
+            for (x, (&sum, &weight)) in sums.zip(self.film.row_weights(j)).enumerate() {
+                film.add_pixel_sum(x, y, sum, weight);
+            }
+        }
+        film.note_brightest(self.film.brightest());
+        Ok(())
+    }
+
+    /// The film this part's slice adds to: the image's size, its pixel filter, no samples.
+    pub fn empty_image_film(&self) -> Result<Film, FilmError> {
+        Film::with_filter(self.header.width, self.header.height, self.film.filter())
+    }
+
+    /// Reads and checks the part file at `path` (see [the layout](self)); the error names the
+    /// file and what is wrong with it.
+    pub fn read(path: &Path) -> Result<Self, Failure> {
+        let mut input = open(path)?;
+        let header = PartHeader::read_from(&mut input).map_err(|why| unusable(path, &why))?;
+        let film = Film::read_from(&mut input).map_err(|e| unusable(path, &film_error(e)))?;
+        let rows = header.slice.row_count(header.height);
+        if (film.width(), film.height()) != (header.width, rows) {
+            return Err(unusable(
+                path,
+                &format!(
+                    "its film is {}×{}, where its header says {}×{rows}",
+                    film.width(),
+                    film.height(),
+                    header.width
+                ),
+            ));
+        }
+        let mut rest = [0u8; 1];
+        match input.read(&mut rest) {
+            Ok(0) => Ok(Self { header, film }),
+            Ok(_) => Err(unusable(path, "it has bytes after its film's checksum")),
+            Err(e) => Err(unusable(path, &e.to_string())),
+        }
+    }
+
+    /// Reads and checks only the part file's header: enough to see which slice of which render
+    /// it is without reading its film.
+    pub fn read_header(path: &Path) -> Result<PartHeader, Failure> {
+        PartHeader::read_from(&mut open(path)?).map_err(|why| unusable(path, &why))
+    }
+}
+
+/// The file at `path`, buffered.
+fn open(path: &Path) -> Result<BufReader<std::fs::File>, Failure> {
+    if path.is_dir() {
+        return Err(unusable(path, "it is a directory"));
+    }
+    std::fs::File::open(path)
+        .map(BufReader::new)
+        .map_err(|e| Failure::usage(format!("cannot read the part `{}`: {e}", path.display())))
+}
+
+/// The failure of a part file that cannot be used, and why.
+fn unusable(path: &Path, why: &str) -> Failure {
+    Failure::usage(format!(
+        "`{}` is not a usable part file: {why}",
+        path.display()
+    ))
+}
+
+/// Why a part's film could not be read, in the part's terms.
+fn film_error(e: FilmError) -> String {
+    match e {
+        FilmError::Truncated => "it is truncated (its film ends early)".into(),
+        FilmError::BadChecksum { .. } => format!("its film is damaged: {e}"),
+        other => format!("its film cannot be read: {other}"),
+    }
+}
+
+/// Fills `buf`, or says the file ends early.
+fn read_exact(input: &mut impl Read, buf: &mut [u8]) -> Result<(), String> {
+    input.read_exact(buf).map_err(|e| match e.kind() {
+        std::io::ErrorKind::UnexpectedEof => "it is truncated (its header ends early)".into(),
+        _ => e.to_string(),
+    })
+}
+
+/// The first `N` bytes of `bytes` (which the callers' fixed layouts guarantee are there).
+fn array<const N: usize>(bytes: &[u8]) -> [u8; N] {
+    let mut out = [0u8; N];
+    out.copy_from_slice(&bytes[..N]);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rayforge::color::Color;
+
+    fn header(index: u64, count: u64, cut: Cut) -> PartHeader {
+        PartHeader {
+            fingerprint: 0x1234,
+            width: 3,
+            height: 5,
+            slice: Slice { index, count, cut },
+            spp: 10,
+            development: Development::Path,
+            overlay: false,
+            allow_outside: false,
+            max_triangles: 100,
+            scene: "/s.yml".into(),
+            settings: "path; spp 10".into(),
+        }
+    }
+
+    /// A 3×5 film whose pixel sums are distinct, negative zeros and a NaN included.
+    fn film() -> Film {
+        let mut film = Film::new(3, 5);
+        for y in 0..5 {
+            for x in 0..3 {
+                let v = (y * 3 + x) as f64 * 0.1;
+                film.add_pixel_sum(x, y, Color::new(v, -0.0, f64::NAN), 1.0 + v);
+            }
+        }
+        film.note_brightest(7.5);
+        film
+    }
+
+    fn read_bytes(bytes: &[u8]) -> Result<Part, Failure> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.part");
+        std::fs::write(&path, bytes).unwrap();
+        Part::read(&path)
+    }
+
+    fn message(failure: Failure) -> String {
+        match failure {
+            Failure::Input(m) => m,
+            other => panic!("not a usage error: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_part_reads_back_as_written_and_adds_its_rows_in_place() {
+        let full = film();
+        let mut merged = Film::new(3, 5);
+        for index in 0..2 {
+            let part = Part::new(header(index, 2, Cut::Rows), &full).unwrap();
+            let back = read_bytes(&part.to_bytes()).unwrap();
+            assert_eq!(back.header, part.header);
+            assert_eq!(back.to_bytes(), part.to_bytes());
+            back.add_to(&mut merged).unwrap();
+        }
+        // Bit for bit, NaNs included (which `==` would not see).
+        assert_eq!(merged.to_bytes(), full.to_bytes());
+    }
+
+    #[test]
+    fn every_truncation_and_every_flipped_byte_is_refused() {
+        let bytes = Part::new(header(1, 3, Cut::Samples), &film())
+            .unwrap()
+            .to_bytes();
+        for len in 0..bytes.len() {
+            let m = message(read_bytes(&bytes[..len]).unwrap_err());
+            assert!(m.contains("p.part` is not a usable part file"), "{m}");
+        }
+        for i in 0..bytes.len() {
+            let mut bad = bytes.clone();
+            bad[i] ^= 0x40;
+            assert!(read_bytes(&bad).is_err(), "byte {i} flipped was accepted");
+        }
+        let mut longer = bytes.clone();
+        longer.push(0);
+        let m = message(read_bytes(&longer).unwrap_err());
+        assert!(m.contains("bytes after"), "{m}");
+    }
+
+    #[test]
+    fn a_header_claiming_a_huge_length_or_image_is_refused_before_allocating() {
+        let mut bytes = Part::new(header(0, 1, Cut::Rows), &film())
+            .unwrap()
+            .to_bytes();
+        bytes[12..16].copy_from_slice(&u32::MAX.to_le_bytes());
+        let m = message(read_bytes(&bytes).unwrap_err());
+        assert!(m.contains("more than the 65536"), "{m}");
+        let mut big = header(0, 1, Cut::Rows);
+        big.width = 1 << 20;
+        big.height = 1 << 20;
+        let mut bytes = big.to_bytes();
+        bytes.extend_from_slice(&film().to_bytes());
+        let m = message(read_bytes(&bytes).unwrap_err());
+        assert!(m.contains("larger than the limit"), "{m}");
+    }
+
+    #[test]
+    fn parts_of_other_renders_are_told_apart() {
+        let a = header(0, 2, Cut::Rows);
+        assert_eq!(a.differs_from(&header(1, 2, Cut::Rows)), None);
+        let mut b = header(1, 2, Cut::Rows);
+        b.fingerprint = 9;
+        assert!(a.differs_from(&b).unwrap().contains("scene files differ"));
+        assert!(a
+            .differs_from(&header(1, 3, Cut::Rows))
+            .unwrap()
+            .contains("cuts differ"));
+        let mut c = header(1, 2, Cut::Rows);
+        c.settings.push('!');
+        assert!(a.differs_from(&c).unwrap().contains("settings differ"));
+    }
+}

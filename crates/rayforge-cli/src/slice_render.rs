@@ -1,0 +1,275 @@
+//! `rayforge render --slice I/N`: one slice of a render (see [`crate::slice`]) rendered into
+//! a film of the image's size, its rows kept in a part file ([`crate::part_file`]) for
+//! `rayforge merge`.
+//!
+//! Each renderer renders its slice with the very code of a whole render, told which rows to
+//! leave alone (the ray tracer and the path tracer take a row mask) or which samples to take
+//! (the path tracer's sample range): a row or a sample is the same bits whichever process
+//! renders it. The rasterizer draws the whole frame (its triangles are not cut by rows) and
+//! keeps its slice's rows. A part already there and complete for the same render and slice is
+//! kept, so a requeued task costs a scene load and a read of its part. Slices are not
+//! checkpointed: an interrupted slice writes nothing and is rendered again.
+
+use crate::atomic_write::{check_writable, write_atomically};
+use crate::checkpoint::fnv;
+use crate::failure::Failure;
+use crate::memory::reserve_for_render;
+use crate::output_lock::OutputLock;
+use crate::part_file::{Development, Part, PartHeader};
+use crate::path_command::samples_per_pixel;
+use crate::progress::row_bar;
+use crate::render_command::{load_scene, ray_options, thread_pool};
+use crate::settings::{Chosen, RenderSettings};
+use crate::slice::{Cut, Slice};
+use rayforge::camera::Camera;
+use rayforge::film::{Film, SharedFilm};
+use rayforge::render::path::{render_path, PathJob};
+use rayforge::render::{exposure, render_rows_into, RenderOptions};
+use rayforge_scene::Scene;
+use rayon::ThreadPool;
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+/// Renders `slice` of the scene to the part file `settings.output`, unless a complete part of
+/// the same render and slice is already there.
+pub fn run(settings: &RenderSettings, slice: &Slice) -> Result<(), Failure> {
+    let output = settings.output.as_path();
+    check_writable(output)?;
+    let _lock = OutputLock::acquire(output)?;
+    let (scene, camera) = load_scene(settings, 0)?;
+    let chosen = settings.choose(scene.raster, scene.path)?;
+    let header = header(settings, slice, &scene, &camera, &chosen)?;
+    if is_complete(output, &header, settings.quiet) {
+        if !settings.quiet {
+            eprintln!(
+                "slice {slice}: `{}` is already complete; nothing to render",
+                output.display()
+            );
+        }
+        return Ok(());
+    }
+    let (width, height) = (camera.hsize(), camera.vsize());
+    reserve_for_render(width, height, 1)?;
+    let pool = thread_pool(settings)?;
+    let started = Instant::now();
+    let render = SliceRender {
+        settings,
+        slice,
+        scene: &scene,
+        camera: &camera,
+        pool: &pool,
+    };
+    let film = match chosen {
+        Chosen::Ray => render.ray()?,
+        Chosen::Raster(options) => {
+            pool.install(|| rayforge::raster::render_film(&camera, &scene.world, &options))
+                .map_err(|e| Failure::usage(e.to_string()))?
+                .0
+        }
+        Chosen::Path(options) => render.path(options, header.samples())?,
+    };
+    let elapsed = started.elapsed();
+    let samples = header.samples();
+    write_atomically(output, &Part::new(header, &film)?.to_bytes())?;
+    if !settings.quiet {
+        let covers = match slice.cut {
+            Cut::Rows => format!(
+                "{} of {height} rows (from row {} in steps of {})",
+                slice.row_count(height),
+                slice.index,
+                slice.count
+            ),
+            Cut::Samples => format!("samples {samples:?} of every pixel"),
+        };
+        eprintln!(
+            "slice {slice} of {width}×{height}, {covers}: rendered in {:.2} s, written to `{}`",
+            elapsed.as_secs_f64(),
+            output.display()
+        );
+    }
+    Ok(())
+}
+
+/// The part's header for `slice` of this render: the scene's fingerprint and every setting
+/// that changes a pixel. Refuses a cut by samples for the renderers whose samples are not an
+/// index sequence, and more sample slices than samples.
+fn header(
+    settings: &RenderSettings,
+    slice: &Slice,
+    scene: &Scene,
+    camera: &Camera,
+    chosen: &Chosen,
+) -> Result<PartHeader, Failure> {
+    let version = env!("CARGO_PKG_VERSION");
+    let lighting = scene.world.lighting;
+    let (described, development, spp) = match chosen {
+        Chosen::Ray => {
+            let o = ray_options(settings, scene);
+            let described = format!(
+                "ray; lighting {lighting:?}; {:?}; max depth {}; subsample {:?}; bailout {}; \
+                 rayforge {version}",
+                o.sampling, o.max_depth, o.subsample, o.bailout
+            );
+            (described, Development::Book(exposure(&scene.world)), 0)
+        }
+        Chosen::Raster(o) => (
+            format!("raster; lighting {lighting:?}; {o:?}; rayforge {version}"),
+            Development::Book(exposure(&scene.world)),
+            0,
+        ),
+        Chosen::Path(o) => {
+            let spp = samples_per_pixel(settings, scene);
+            let described = format!("path; {o:?}; spp {spp}; rayforge {version}");
+            (described, Development::Path, spp)
+        }
+    };
+    if slice.cut == Cut::Samples {
+        if !matches!(chosen, Chosen::Path(_)) {
+            return Err(Failure::usage(
+                "--slice-by samples cuts the path tracer's sample sequence; the ray tracer's \
+                 samples are a stratified grid of each pixel and the rasterizer takes one, so \
+                 neither can be cut into ranges: use --slice-by rows",
+            ));
+        }
+        if slice.count > spp {
+            return Err(Failure::usage(format!(
+                "--slice-by samples cannot cut {spp} samples per pixel into {} slices: give at \
+                 most {spp} slices, more samples (--spp) or --slice-by rows",
+                slice.count
+            )));
+        }
+    }
+    // The scene was just read and checked (a regular file within the size limit).
+    let bytes = std::fs::read(&settings.scene)
+        .map_err(|e| Failure::usage(format!("cannot read `{}`: {e}", settings.scene.display())))?;
+    let scene_path = std::fs::canonicalize(&settings.scene).unwrap_or(settings.scene.clone());
+    Ok(PartHeader {
+        fingerprint: fnv(&bytes),
+        width: camera.hsize(),
+        height: camera.vsize(),
+        slice: *slice,
+        spp,
+        development,
+        overlay: !scene.overlay.is_empty(),
+        allow_outside: settings.allow_outside,
+        max_triangles: settings.max_triangles as u64,
+        scene: scene_path.to_string_lossy().into_owned(),
+        settings: described,
+    })
+}
+
+/// Whether `output` holds a whole, undamaged part with `header`; a file that is not (an
+/// interrupted write cannot leave one, but a part of other settings or a damaged one can) is
+/// noted and will be replaced.
+fn is_complete(output: &Path, header: &PartHeader, quiet: bool) -> bool {
+    if !output.exists() {
+        return false;
+    }
+    let why = match Part::read(output) {
+        Ok(part) if part.header == *header => return true,
+        Ok(_) => "it is a part of another render or slice".to_string(),
+        Err(Failure::Input(why)) => why,
+        Err(_) => "it cannot be read".to_string(),
+    };
+    if !quiet {
+        eprintln!("note: replacing `{}`: {why}", output.display());
+    }
+    false
+}
+
+/// What rendering a slice needs, for the renderers that render only their rows.
+struct SliceRender<'a> {
+    settings: &'a RenderSettings,
+    slice: &'a Slice,
+    scene: &'a Scene,
+    camera: &'a Camera,
+    pool: &'a ThreadPool,
+}
+
+impl SliceRender<'_> {
+    /// The rows the slice leaves alone, marked done, so that the renderers skip them.
+    fn others_done(&self) -> Vec<bool> {
+        (0..self.camera.vsize())
+            .map(|y| !self.slice.has_row(y))
+            .collect()
+    }
+
+    /// Runs `render` with a progress bar over the slice's rows and the stop flag of Ctrl-C.
+    fn with_hooks<R>(&self, render: impl FnOnce(&(dyn Fn(usize) + Sync), &AtomicBool) -> R) -> R {
+        let stop = crate::interrupt::stop_flag(self.settings.quiet);
+        let rows = self.slice.row_count(self.camera.vsize());
+        let bar = row_bar(rows, self.settings.quiet);
+        let progress = |rows: usize| bar.inc(rows as u64);
+        let rendered = render(&progress, stop);
+        bar.finish_and_clear();
+        rendered
+    }
+
+    /// The failure of a slice whose rows are not all `done` (interrupted): nothing is written.
+    fn check_finished(&self, done: &[bool]) -> Result<(), Failure> {
+        if done.iter().all(|&d| d) {
+            return Ok(());
+        }
+        Err(Failure::Interrupted(format!(
+            "slice {} was not finished and nothing was written; run the same command again",
+            self.slice
+        )))
+    }
+
+    /// The ray tracer's rows of the slice.
+    fn ray(&self) -> Result<Film, Failure> {
+        let (width, height) = (self.camera.hsize(), self.camera.vsize());
+        let film = SharedFilm::from(Film::new(width, height));
+        let mut done = self.others_done();
+        let stats = self.with_hooks(|progress, stop| {
+            let options = RenderOptions {
+                progress: Some(progress),
+                cancel: Some(stop),
+                ..ray_options(self.settings, self.scene)
+            };
+            self.pool.install(|| {
+                render_rows_into(self.camera, &self.scene.world, &options, &film, &mut done)
+            })
+        });
+        let stats = stats
+            .map_err(|e| Failure::internal(format!("the ray tracer refused its film: {e}")))?;
+        if let Some((x, y)) = stats.over_budget {
+            return Err(Failure::usage(format!(
+                "pixel ({x}, {y}): a camera ray there leads to more than {} rays, the limit set \
+                 by --max-rays-per-sample (lower --max-depth or raise --bailout)",
+                self.settings.max_rays_per_sample
+            )));
+        }
+        self.check_finished(&done)?;
+        Ok(film.into_film())
+    }
+
+    /// The path tracer's rows of the slice, with its samples.
+    fn path(
+        &self,
+        options: rayforge::options::PathOptions,
+        samples: std::ops::Range<u64>,
+    ) -> Result<Film, Failure> {
+        let (width, height) = (self.camera.hsize(), self.camera.vsize());
+        let film = Film::with_filter(width, height, options.filter)
+            .map_err(|e| Failure::usage(format!("{e}")))?;
+        let film = SharedFilm::from(film);
+        let mut done = self.others_done();
+        let stats = self.with_hooks(|progress, stop| {
+            let job = PathJob {
+                options,
+                samples,
+                progress: Some(progress),
+                cancel: Some(stop),
+                on_row: None,
+            };
+            self.pool.install(|| {
+                render_path(self.camera, &self.scene.world, &job, &film, None, &mut done)
+            })
+        });
+        stats.map_err(|e| Failure::internal(format!("the path tracer refused its film: {e}")))?;
+        self.check_finished(&done)?;
+        Ok(film.into_film())
+    }
+}

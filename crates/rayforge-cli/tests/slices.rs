@@ -1,0 +1,474 @@
+//! `rayforge render --slice I/N` and `rayforge merge`: a render cut into slices and merged is
+//! the render done in one process, byte for byte when cut by rows (every renderer and lighting
+//! model, any N, any thread count) and within the stated bound when cut by samples; merge
+//! refuses parts that are missing, duplicated, of another render, damaged or cut short; a
+//! complete part is not rendered again; `auto/N` reads the scheduler's index.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The repository's root, where the scenes are.
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The `rayforge` binary, with neither scheduler's index in its environment (the tests may
+/// themselves run inside a Slurm job or a Kubernetes Indexed Job).
+fn rayforge() -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_rayforge"));
+    command
+        .env_remove("SLURM_ARRAY_TASK_ID")
+        .env_remove("JOB_COMPLETION_INDEX");
+    command
+}
+
+/// `rayforge render <scene> -o <out> -q <args…>`.
+fn render(scene: &Path, out: &Path, args: &[&str]) -> Output {
+    rayforge()
+        .arg("render")
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .arg("-q")
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// `rayforge merge <parts…> -o <out> -q`.
+fn merge(parts: &[PathBuf], out: &Path) -> Output {
+    rayforge()
+        .arg("merge")
+        .args(parts)
+        .arg("-o")
+        .arg(out)
+        .arg("-q")
+        .output()
+        .unwrap()
+}
+
+fn ok(output: &Output) {
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+/// The error message of a failed run (exit 2: bad input).
+fn refused(output: &Output) -> String {
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    stderr
+}
+
+/// Renders `scene` in `n` slices cut by `cut` into `dir` with `args`, and returns the parts.
+fn slices(scene: &Path, dir: &Path, n: u64, cut: &str, args: &[&str]) -> Vec<PathBuf> {
+    (0..n)
+        .map(|i| {
+            let part = dir.join(format!("{cut}-{n}-{i}.part"));
+            let slice = format!("{i}/{n}");
+            let mut all = vec!["--slice", &slice, "--slice-by", cut];
+            all.extend_from_slice(args);
+            ok(&render(scene, &part, &all));
+            part
+        })
+        .collect()
+}
+
+/// Renders `scene` (under `scenes/`) with `args` in one process and in 1, 2, 3 and 7 row slices,
+/// with 1 and 2 threads, to `ext`, and checks every merged image is the same bytes.
+fn region_slices_match(scene: &str, args: &[&str], ext: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes").join(scene);
+    let one = dir.path().join(format!("one.{ext}"));
+    ok(&render(&scene, &one, args));
+    let expected = std::fs::read(&one).unwrap();
+    for threads in ["1", "2"] {
+        let mut args = args.to_vec();
+        args.extend_from_slice(&["--threads", threads]);
+        for n in [1, 2, 3, 7] {
+            let parts = slices(&scene, dir.path(), n, "rows", &args);
+            let merged = dir.path().join(format!("merged-{threads}-{n}.{ext}"));
+            ok(&merge(&parts, &merged));
+            assert!(
+                std::fs::read(&merged).unwrap() == expected,
+                "{}: {n} slices with {threads} threads differ from one render",
+                scene.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn row_slices_of_the_phong_ray_tracer_are_the_same_bytes() {
+    // Odd sizes: the slices have unequal numbers of rows, and 7 slices of 11 rows.
+    let args = ["--width", "15", "--height", "11", "--spp", "4"];
+    region_slices_match("trtc/ch11-reflection-refraction.yml", &args, "pfm");
+}
+
+#[test]
+fn row_slices_of_the_flat_and_cgfs_models_are_the_same_bytes() {
+    let args = ["--width", "14", "--height", "13"];
+    region_slices_match("cgfs/raytracer-01.yml", &args, "pfm");
+    region_slices_match("cgfs/transparency.yml", &args, "pfm");
+}
+
+#[test]
+fn row_slices_of_the_optics_model_are_the_same_bytes_after_its_exposure() {
+    // The exposure divides by the brightest sample of all slices, and fills the pixels no
+    // sample reached from their neighbours, across the slices' rows.
+    let args = ["--width", "14", "--height", "13"];
+    region_slices_match("fundamentals/spheroid.yml", &args, "png");
+    region_slices_match("fundamentals/polyhedra.yml", &args, "pfm");
+}
+
+#[test]
+fn row_slices_of_the_rasterizer_are_the_same_bytes_canvas_items_included() {
+    let args = ["--width", "15", "--height", "11", "--renderer", "raster"];
+    region_slices_match("trtc/ch11-reflection-refraction.yml", &args, "pfm");
+    // A book stage with a canvas triangle drawn over the image, which merge draws too.
+    region_slices_match(
+        "cgfs/raster-04.yml",
+        &["--width", "20", "--height", "20"],
+        "png",
+    );
+}
+
+#[test]
+fn row_slices_of_the_path_tracer_are_the_same_bytes() {
+    let args = ["--width", "9", "--height", "11", "--spp", "6"];
+    region_slices_match("pbr/cornell.yml", &args, "pfm");
+    let mut gaussian = args.to_vec();
+    gaussian.extend_from_slice(&["--filter", "gaussian"]);
+    region_slices_match("pbr/cornell.yml", &gaussian, "png");
+}
+
+/// Each pixel's sums (red, green, blue) and weight of a part's film, from the part file's
+/// documented layout: the header's length at byte 12, the film after the header and its
+/// checksum, 45 bytes of film header, then 4 × f64 per pixel.
+fn part_pixels(part: &Path) -> Vec<[f64; 4]> {
+    let bytes = std::fs::read(part).unwrap();
+    let header = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let film = &bytes[24 + header..];
+    assert_eq!(&film[..8], b"RAYFILM\n");
+    film[45..film.len() - 4]
+        .chunks_exact(32)
+        .map(|p| std::array::from_fn(|i| f64::from_le_bytes(p[i * 8..][..8].try_into().unwrap())))
+        .collect()
+}
+
+/// The bound docs/distributed.md states for sample slices of `spp` samples: each sum within
+/// 2·γ(spp) of the one-process film's, relatively, with γ(n) = n·u / (1 − n·u), u = 2⁻⁵³.
+fn sample_bound(spp: u64) -> f64 {
+    let nu = spp as f64 * f64::EPSILON / 2.0;
+    2.0 * nu / (1.0 - nu)
+}
+
+#[test]
+fn sample_slices_of_the_path_tracer_agree_within_the_stated_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/pbr/cornell.yml");
+    for (filter, spp) in [("box", 24u64), ("tent", 13)] {
+        let spp_text = spp.to_string();
+        let args = [
+            "--width", "8", "--height", "7", "--spp", &spp_text, "--filter", filter,
+        ];
+        // One slice of all samples is the one-process film (merged bit for bit, below).
+        let whole = slices(&scene, dir.path(), 1, "samples", &args);
+        let expected = part_pixels(&whole[0]);
+        let one = dir.path().join(format!("one-{filter}.png"));
+        ok(&render(&scene, &one, &args));
+        let merged_one = dir.path().join(format!("merged-1-{filter}.png"));
+        ok(&merge(&whole, &merged_one));
+        assert_eq!(
+            std::fs::read(&merged_one).unwrap(),
+            std::fs::read(&one).unwrap()
+        );
+        for n in [2, 3, 7] {
+            let mut threads = args.to_vec();
+            threads.extend_from_slice(&["--threads", if n == 3 { "1" } else { "2" }]);
+            let parts = slices(&scene, dir.path(), n, "samples", &threads);
+            // The merge's sums: each part's added in slice order to −0.0.
+            let mut sums = vec![[-0.0f64; 4]; expected.len()];
+            for part in &parts {
+                for (sum, p) in sums.iter_mut().zip(part_pixels(part)) {
+                    for (s, v) in sum.iter_mut().zip(p) {
+                        *s += v;
+                    }
+                }
+            }
+            let bound = sample_bound(spp);
+            for (i, (m, e)) in sums.iter().zip(&expected).enumerate() {
+                for c in 0..4 {
+                    let diff = (m[c] - e[c]).abs();
+                    assert!(
+                        diff <= bound * e[c].abs(),
+                        "{filter}, {n} slices, pixel {i} channel {c}: {} against {}",
+                        m[c],
+                        e[c]
+                    );
+                }
+                if filter == "box" {
+                    // Whole numbers of samples: the weights are exact in any order.
+                    assert_eq!(m[3], e[3], "pixel {i}");
+                }
+            }
+            // On this scene the 8-bit images are the same bytes.
+            let merged = dir.path().join(format!("merged-{n}-{filter}.png"));
+            ok(&merge(&parts, &merged));
+            assert_eq!(
+                std::fs::read(&merged).unwrap(),
+                std::fs::read(&one).unwrap(),
+                "{filter}, {n} slices"
+            );
+        }
+    }
+}
+
+#[test]
+fn samples_cannot_cut_the_ray_tracer_or_more_slices_than_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    let part = dir.path().join("p.part");
+    let scene = repo().join("scenes/trtc/ch07-world.yml");
+    let m = refused(&render(
+        &scene,
+        &part,
+        &[
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--slice",
+            "0/2",
+            "--slice-by",
+            "samples",
+        ],
+    ));
+    assert!(
+        m.contains("stratified grid") && m.contains("--slice-by rows"),
+        "{m}"
+    );
+    let m = refused(&render(
+        &repo().join("scenes/pbr/cornell.yml"),
+        &part,
+        &[
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "2",
+            "--slice",
+            "0/3",
+            "--slice-by",
+            "samples",
+        ],
+    ));
+    assert!(
+        m.contains("cannot cut 2 samples per pixel into 3 slices"),
+        "{m}"
+    );
+    assert!(!part.exists());
+}
+
+/// A scene of its own in `dir` (a copy of chapter 7's world, `extra` appended), and its parts
+/// in 3 row slices.
+fn own_scene_parts(dir: &Path, name: &str, extra: &str) -> (PathBuf, Vec<PathBuf>) {
+    let text = std::fs::read_to_string(repo().join("scenes/trtc/ch07-world.yml")).unwrap();
+    let scene = dir.join(format!("{name}.yml"));
+    std::fs::write(&scene, text + extra).unwrap();
+    let parts_dir = dir.join(name);
+    std::fs::create_dir(&parts_dir).unwrap();
+    let parts = slices(
+        &scene,
+        &parts_dir,
+        3,
+        "rows",
+        &["--width", "10", "--height", "8"],
+    );
+    (scene, parts)
+}
+
+#[test]
+fn merge_names_missing_and_duplicated_slices() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, parts) = own_scene_parts(dir.path(), "a", "");
+    let out = dir.path().join("out.png");
+    let m = refused(&merge(&parts[..1], &out));
+    assert!(m.contains("2 of the 3 slices are missing: 1, 2"), "{m}");
+    let twice = [parts[0].clone(), parts[1].clone(), parts[1].clone()];
+    let m = refused(&merge(&twice, &out));
+    assert!(m.contains("slice 1/3 is given twice"), "{m}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn merge_refuses_parts_of_another_scene_or_other_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, a) = own_scene_parts(dir.path(), "a", "");
+    let (_, b) = own_scene_parts(dir.path(), "b", "\n# another scene\n");
+    let out = dir.path().join("out.png");
+    let m = refused(&merge(&[a[0].clone(), b[1].clone(), a[2].clone()], &out));
+    assert!(
+        m.contains("not slices of the same render") && m.contains("scene files differ"),
+        "{m}"
+    );
+    assert!(m.contains("b/rows-3-1.part"), "{m}");
+    let (scene, _) = own_scene_parts(dir.path(), "c", "");
+    let deeper = dir.path().join("deeper.part");
+    let args = [
+        "--width",
+        "10",
+        "--height",
+        "8",
+        "--max-depth",
+        "1",
+        "--slice",
+        "1/3",
+    ];
+    ok(&render(&scene, &deeper, &args));
+    let m = refused(&merge(&[a[0].clone(), deeper, a[2].clone()], &out));
+    assert!(m.contains("settings differ"), "{m}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn merge_refuses_damaged_truncated_and_foreign_files_naming_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, parts) = own_scene_parts(dir.path(), "a", "");
+    let out = dir.path().join("out.png");
+    let good = std::fs::read(&parts[1]).unwrap();
+    let damaged = dir.path().join("damaged.part");
+    let mut bytes = good.clone();
+    let last = bytes.len() - 10;
+    bytes[last] ^= 1;
+    std::fs::write(&damaged, &bytes).unwrap();
+    let m = refused(&merge(&[parts[0].clone(), damaged, parts[2].clone()], &out));
+    assert!(
+        m.contains("damaged.part` is not a usable part file: its film is damaged"),
+        "{m}"
+    );
+    let truncated = dir.path().join("truncated.part");
+    std::fs::write(&truncated, &good[..good.len() - 100]).unwrap();
+    let m = refused(&merge(
+        &[parts[0].clone(), truncated, parts[2].clone()],
+        &out,
+    ));
+    assert!(
+        m.contains("truncated.part` is not a usable part file: it is truncated"),
+        "{m}"
+    );
+    let image = dir.path().join("image.png");
+    ok(&render(&scene, &image, &["--width", "4", "--height", "4"]));
+    let m = refused(&merge(&[parts[0].clone(), image, parts[2].clone()], &out));
+    assert!(
+        m.contains("image.png` is not a usable part file: it is not a rayforge part"),
+        "{m}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_complete_part_is_kept_and_a_damaged_one_rendered_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, parts) = own_scene_parts(dir.path(), "a", "");
+    let args = ["--width", "10", "--height", "8", "--slice", "1/3"];
+    let before = std::fs::metadata(&parts[1]).unwrap().modified().unwrap();
+    let again = rayforge()
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&parts[1])
+        .args(args)
+        .output()
+        .unwrap();
+    ok(&again);
+    let said = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        said.contains("is already complete; nothing to render"),
+        "{said}"
+    );
+    assert_eq!(
+        std::fs::metadata(&parts[1]).unwrap().modified().unwrap(),
+        before
+    );
+    // Cut short (a disk that filled up, a copy interrupted): replaced by a whole part.
+    let good = std::fs::read(&parts[1]).unwrap();
+    std::fs::write(&parts[1], &good[..good.len() / 2]).unwrap();
+    let again = rayforge()
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&parts[1])
+        .args(args)
+        .output()
+        .unwrap();
+    ok(&again);
+    let said = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        said.contains("note: replacing") && said.contains("truncated"),
+        "{said}"
+    );
+    assert_eq!(std::fs::read(&parts[1]).unwrap(), good);
+}
+
+#[test]
+fn auto_takes_the_index_from_slurm_or_kubernetes() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/trtc/ch07-world.yml");
+    let size = ["--width", "9", "--height", "7"];
+    let one = dir.path().join("one.pfm");
+    ok(&render(&scene, &one, &size));
+    let auto = |variable: &str, index: &str, part: &Path| {
+        rayforge()
+            .env(variable, index)
+            .arg("render")
+            .arg(&scene)
+            .arg("-o")
+            .arg(part)
+            .args(["-q", "--slice", "auto/2"])
+            .args(size)
+            .output()
+            .unwrap()
+    };
+    let parts = [dir.path().join("0.part"), dir.path().join("1.part")];
+    ok(&auto("SLURM_ARRAY_TASK_ID", "0", &parts[0]));
+    ok(&auto("JOB_COMPLETION_INDEX", "1", &parts[1]));
+    let merged = dir.path().join("merged.pfm");
+    ok(&merge(&parts, &merged));
+    assert_eq!(
+        std::fs::read(&merged).unwrap(),
+        std::fs::read(&one).unwrap()
+    );
+    let m = refused(&auto(
+        "SLURM_ARRAY_TASK_ID",
+        "2",
+        &dir.path().join("x.part"),
+    ));
+    assert!(
+        m.contains("SLURM_ARRAY_TASK_ID is 2, past the last slice, 1"),
+        "{m}"
+    );
+    let without = render(&scene, &dir.path().join("x.part"), &["--slice", "auto/2"]);
+    let m = refused(&without);
+    assert!(
+        m.contains("SLURM_ARRAY_TASK_ID")
+            && m.contains("JOB_COMPLETION_INDEX")
+            && m.contains("neither is set"),
+        "{m}"
+    );
+}
+
+#[test]
+fn a_slice_refuses_flags_it_cannot_honour() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/trtc/ch07-world.yml");
+    let part = dir.path().join("p.part");
+    let m = refused(&render(&scene, &part, &["--slice", "0/2", "--resume"]));
+    assert!(m.contains("--resume cannot be used with --slice"), "{m}");
+    let m = refused(&render(&scene, &part, &["--slice", "2/2"]));
+    assert!(m.contains("must be below N"), "{m}");
+    let m = refused(&render(&scene, &part, &["--slice-by", "rows"]));
+    assert!(m.contains("--slice"), "{m}");
+}
