@@ -107,6 +107,11 @@ pub enum Command {
     /// them, into `<FILE>.slurm/` beside the image, and submit both with sbatch.
     #[command(after_help = SLURM_EXAMPLES)]
     Slurm(SlurmArgs),
+    /// Show the scene on a live page in the browser: a local web server that renders it pass
+    /// by pass, re-renders when the scene file or a file it names changes, and lets you pick the
+    /// renderer, lighting, samples and size and orbit the camera with the mouse.
+    #[command(after_help = SERVE_EXAMPLES)]
+    Serve(ServeArgs),
 }
 
 /// The examples under `rayforge slurm --help`.
@@ -172,6 +177,48 @@ pub struct MergeArgs {
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// The examples under `rayforge serve --help`.
+const SERVE_EXAMPLES: &str = "\
+Examples:
+  rayforge serve scenes/trtc/cover.yml
+  rayforge serve scene.yml --port 0 --max-pixels 2000000
+
+The page is served from the binary itself (nothing from the network, no file from disk but
+the scene's); it listens on 127.0.0.1, this machine only, unless --listen says otherwise.
+Ctrl-C stops the server.";
+
+/// The port `rayforge serve` listens on unless `--port` says otherwise.
+pub const DEFAULT_SERVE_PORT: u16 = 8765;
+
+/// Arguments of `rayforge serve`.
+#[derive(Debug, Args)]
+pub struct ServeArgs {
+    /// The scene file, watched: saving it (or a file it names) re-renders the page's image.
+    pub scene: PathBuf,
+
+    /// The port to listen on; 0 takes any free port. The page's address is printed.
+    #[arg(long, value_name = "PORT", default_value_t = DEFAULT_SERVE_PORT)]
+    pub port: u16,
+
+    /// The address to listen on. The default, 127.0.0.1, lets only this machine in; another
+    /// address (0.0.0.0 for every network) shows the scene to whoever reaches it.
+    #[arg(long, value_name = "ADDRESS", default_value = "127.0.0.1")]
+    pub listen: std::net::IpAddr,
+
+    /// Worker threads for rendering [default: all cores].
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+
+    /// The largest image the page may ask for, in pixels (width × height), as `rayforge render
+    /// --max-pixels`.
+    #[arg(long, value_name = "PIXELS", default_value_t = crate::sizing::DEFAULT_MAX_PIXELS)]
+    pub max_pixels: u64,
+
+    /// Let the scene name files outside its own folder (see `rayforge render --help`).
+    #[arg(long)]
+    pub allow_outside: bool,
 }
 
 /// Arguments of `rayforge bench`: everything after `bench`, passed to `rayforge-bench`.

@@ -21,6 +21,7 @@ mod part_file;
 mod path_command;
 mod progress;
 mod render_command;
+mod serve;
 mod settings;
 mod sizing;
 mod slice;
@@ -46,5 +47,6 @@ pub fn run() -> Result<ExitCode, Failure> {
         args::Command::Bench(bench) => bench_command::run(&bench.args),
         args::Command::Merge(merge) => merge_command::run(&merge).map(|()| ExitCode::SUCCESS),
         args::Command::Slurm(slurm) => slurm_command::run(&slurm).map(|()| ExitCode::SUCCESS),
+        args::Command::Serve(serve) => serve::run(serve),
     }
 }

@@ -54,6 +54,12 @@ fn passes(settings: &RenderSettings, spp: u64) -> Vec<Range<u64>> {
     } else {
         spp
     };
+    doubling_passes(most)
+}
+
+/// Passes of 1, 1, 2, 4, … samples up to `most` in all, each doubling the samples so far (so
+/// the time to the next image grows with the time spent); `rayforge serve` refines so too.
+pub(crate) fn doubling_passes(most: u64) -> Vec<Range<u64>> {
     let mut passes: Vec<Range<u64>> = std::iter::once(0..1.min(most)).collect();
     let mut start = 1;
     while start < most {
@@ -334,7 +340,7 @@ pub fn aov_paths(output: &Path) -> (PathBuf, PathBuf) {
 
 /// Radiance as the format wants it: linear for PFM and OpenEXR; for the 8-bit formats,
 /// encoded with the sRGB transfer curve (a display shows code values, not radiance).
-fn encode_for(format: ImageFormat, canvas: &mut Canvas) {
+pub(crate) fn encode_for(format: ImageFormat, canvas: &mut Canvas) {
     if format.is_linear() {
         return;
     }

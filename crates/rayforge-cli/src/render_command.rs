@@ -84,21 +84,32 @@ pub(crate) fn load_scene(
     settings: &RenderSettings,
     frame: u64,
 ) -> Result<(Scene, Camera), Failure> {
-    let load = LoadOptions {
+    let scene = rayforge_scene::load_file_with(&settings.scene, &load_options(settings, frame))
+        .map_err(scene_failure)?;
+    if !settings.quiet {
+        scene.warnings.iter().for_each(print_warning);
+    }
+    let camera = sized_camera(settings, &scene)?;
+    Ok((scene, camera))
+}
+
+/// The limits of reading the scene, and the frame to build (shared with `rayforge serve`,
+/// which reads the scene again after every edit).
+pub(crate) fn load_options(settings: &RenderSettings, frame: u64) -> LoadOptions {
+    LoadOptions {
         max_triangles: settings.max_triangles,
         allow_outside: settings.allow_outside,
         frame,
         ..LoadOptions::default()
-    };
-    let scene = rayforge_scene::load_file_with(&settings.scene, &load).map_err(scene_failure)?;
-    if !settings.quiet {
-        scene.warnings.iter().for_each(print_warning);
     }
+}
+
+/// The scene's camera, resized to `--width`/`--height` when they ask for another size.
+pub(crate) fn sized_camera(settings: &RenderSettings, scene: &Scene) -> Result<Camera, Failure> {
     let (width, height) = settings
         .size
         .resolve(scene.camera.hsize(), scene.camera.vsize())?;
-    let camera = camera_at(&scene, width, height);
-    Ok((scene, camera))
+    Ok(camera_at(scene, width, height))
 }
 
 /// The scene's camera at `width` × `height` (its own, when that is its size).
@@ -366,7 +377,7 @@ pub fn display_for(
 /// that are not finite blackened (their count returned, see [`crate::finite`]), with the
 /// scene's canvas items drawn over it: after the exposure, as their colours are the scene's
 /// own.
-fn develop_with_overlay(scene: &Scene, camera: &Camera, film: &Film) -> (Canvas, usize) {
+pub(crate) fn develop_with_overlay(scene: &Scene, camera: &Camera, film: &Film) -> (Canvas, usize) {
     let exposure = rayforge::render::exposure(&scene.world);
     develop_book_image(film, exposure, Some((&scene.overlay, camera)))
 }

@@ -30,6 +30,7 @@ pub use obj::DEFAULT_MAX_TRIANGLES;
 
 use defines::Defines;
 use items::camera::CameraItem;
+pub use items::camera::LookAt;
 use items::Contents;
 use source::Source;
 use std::path::Path;
@@ -58,6 +59,9 @@ pub struct Scene {
     pub overlay: rayforge::draw2d::Overlay,
     /// Problems in the file that the reader worked around (each located like an error).
     pub warnings: Vec<SceneError>,
+    /// Where the book's camera (`from`, `to`, `up`) stands and looks, for a viewer that
+    /// orbits it (`rayforge serve`); `None` for the other books' cameras, placed otherwise.
+    pub look_at: Option<LookAt>,
 }
 
 /// Scene files larger than this are refused before parsing (a scene is text written by hand or
@@ -215,6 +219,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         camera,
         samples,
         anti_alias,
+        look_at,
     } = camera.ok_or_else(|| {
         SceneError::new(path, "the scene has no camera: add an item `- add: camera`")
     })?;
@@ -230,5 +235,6 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         raster: settings.as_ref().and_then(|s| s.raster),
         path: settings.and_then(|s| s.path),
         warnings: source.take_warnings(),
+        look_at,
     })
 }

@@ -34,6 +34,12 @@ fn the_camera_takes_its_size_field_of_view_and_placement() {
         .transform()
         .matrix()
         .abs_diff_eq(expected, 1e-12));
+    let look_at = scene
+        .look_at
+        .expect("the book's camera keeps its placement");
+    assert_eq!(look_at.from, point(0.0, 1.5, -5.0));
+    assert_eq!(look_at.to, point(0.0, 1.0, 0.0));
+    assert_eq!(look_at.up, rayforge::vector(0.0, 1.0, 0.0));
 }
 
 #[test]

@@ -11,6 +11,7 @@ mod zoom;
 
 use crate::error::SceneError;
 use crate::source::{Entry, Node, Source};
+pub use pinhole::LookAt;
 use rayforge::Camera;
 
 /// What `add: camera` gives: the camera and how to sample its pixels.
@@ -21,6 +22,8 @@ pub struct CameraItem {
     pub samples: u32,
     /// A zoom camera's `anti-alias` grid size.
     pub anti_alias: Option<u32>,
+    /// The book's camera's `from`, `to` and `up`.
+    pub look_at: Option<LookAt>,
 }
 
 /// The most camera rays per pixel a scene may ask for.
@@ -41,12 +44,14 @@ pub fn camera(
             camera,
             samples: grid * grid,
             anti_alias: Some(grid),
+            look_at: None,
         });
     }
-    let camera = if entries.iter().any(|e| e.name == "viewport") {
-        viewport::camera(source, entries, item)?
+    let (camera, look_at) = if entries.iter().any(|e| e.name == "viewport") {
+        (viewport::camera(source, entries, item)?, None)
     } else {
-        pinhole::camera(source, entries, item)?
+        let (camera, look_at) = pinhole::camera(source, entries, item)?;
+        (camera, Some(look_at))
     };
     let samples = samples(source, entries)?;
     let camera = shutter(source, entries, camera)?;
@@ -54,6 +59,7 @@ pub fn camera(
         camera,
         samples,
         anti_alias: None,
+        look_at,
     })
 }
 

@@ -33,12 +33,26 @@ const KEYS: &[&str] = &[
     "shutter",
 ];
 
-/// The book's camera of an `add: camera` item with neither `zoom:` nor `viewport:`.
+/// The book's camera placement, as the scene gives it: the eye at `from` looking at `to`, with
+/// `up` the scene's upward direction (not necessarily square to the view). Checked: `to` is
+/// away from `from` and `up` is not along the view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LookAt {
+    /// The eye.
+    pub from: rayforge::math::Point3,
+    /// The point looked at.
+    pub to: rayforge::math::Point3,
+    /// The scene's up.
+    pub up: rayforge::math::Vec3,
+}
+
+/// The book's camera of an `add: camera` item with neither `zoom:` nor `viewport:`, and where
+/// it looks from and at.
 pub fn camera(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
     item: &Node<'_>,
-) -> Result<Camera, SceneError> {
+) -> Result<(Camera, LookAt), SceneError> {
     check_keys(source, entries, "a camera", KEYS)?;
     let get = |k: &str| required(source, entries, item, k, "the camera");
     let width = source.integer(get("width")?, "width", 1)? as usize;
@@ -80,9 +94,9 @@ pub fn camera(
             }
         },
     };
-    let view = view(source, entries, item, right_handed)?;
+    let (view, look_at) = view(source, entries, item, right_handed)?;
     let camera = Camera::new(width, height, fov).with_transform_of(view);
-    lens(source, entries, item, camera)
+    Ok((lens(source, entries, item, camera)?, look_at))
 }
 
 /// `field-of-view`, in radians strictly between 0 and π.
@@ -99,13 +113,13 @@ fn field_of_view(source: &Source<'_>, node: &Node<'_>) -> Result<f64, SceneError
 }
 
 /// The view transform from `from`, `to` and `up`: the book's, or with `right_handed` that of
-/// right-handed renderers ([`look_at`]).
+/// right-handed renderers ([`look_at`]); and the three, checked.
 fn view(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
     item: &Node<'_>,
     right_handed: bool,
-) -> Result<Transform, SceneError> {
+) -> Result<(Transform, LookAt), SceneError> {
     let get = |k: &str| required(source, entries, item, k, "the camera");
     let [fx, fy, fz] = source.triple(get("from")?, "from")?;
     let to_node = get("to")?;
@@ -144,8 +158,9 @@ fn view(
     } else {
         view_transform(from, to, up)
     };
-    Transform::try_new(matrix)
-        .map_err(|e| source.error(item, "up", format!("the view transform is singular: {e}")))
+    let transform = Transform::try_new(matrix)
+        .map_err(|e| source.error(item, "up", format!("the view transform is singular: {e}")))?;
+    Ok((transform, LookAt { from, to, up }))
 }
 
 /// The camera with a thin lens, when it has `aperture` (which then needs `focal-distance`).

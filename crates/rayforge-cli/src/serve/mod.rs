@@ -1,0 +1,192 @@
+//! `rayforge serve`: a live page for a scene. A local web server (axum on tokio) serves one
+//! page, built into the binary, and its WebSocket; the page asks for renders (renderer,
+//! lighting, samples, size, an orbit of the camera) and shows them refining pass by pass, and
+//! an edit of the scene on disk renders it again.
+//!
+//! What it exposes is small on purpose: `GET /` (the page) and `GET /ws` (the WebSocket);
+//! everything else is 404, no path reaches the file system, and the only files read are the
+//! scene and those it names, exactly as `rayforge render` reads them. It listens on 127.0.0.1
+//! unless told otherwise, and answers only requests addressed to it by that name (see
+//! [`guard`]).
+//!
+//! Modules: [`protocol`] (the messages), [`session`] (one page's connection), [`worker`] (its
+//! renders), [`orbit`] (the camera's orbit), [`watch`] (edits on disk), [`guard`] (who may
+//! connect).
+
+mod guard;
+mod orbit;
+mod protocol;
+mod session;
+mod watch;
+mod worker;
+
+use crate::args::ServeArgs;
+use crate::failure::Failure;
+use axum::extract::ws::WebSocketUpgrade;
+use axum::extract::State;
+use axum::http::{header, HeaderMap, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use axum::Router;
+use rayon::ThreadPool;
+use std::io::Write;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Arc;
+use tokio::sync::watch as channel;
+
+/// The page: HTML with its style and script inline, so that one response is all it needs.
+const PAGE: &str = include_str!("page.html");
+
+/// What the page may load and where it may connect: nothing but itself, its inline style and
+/// script, its own WebSocket and the images it makes from the messages.
+const CONTENT_SECURITY_POLICY: &str = "default-src 'none'; script-src 'unsafe-inline'; \
+     style-src 'unsafe-inline'; img-src blob:; connect-src 'self'; base-uri 'none'; \
+     form-action 'none'; frame-ancestors 'none'";
+
+/// The server's settings from the command line, fixed while it runs.
+pub struct Config {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// `--max-pixels`: the largest image a page may ask for.
+    pub max_pixels: u64,
+    /// `--threads`.
+    pub threads: Option<usize>,
+    /// `--allow-outside`.
+    pub allow_outside: bool,
+}
+
+/// What every connection shares.
+pub struct Server {
+    /// The settings.
+    config: Arc<Config>,
+    /// The worker threads every page's renders run on (one render at a time per page).
+    pool: Arc<ThreadPool>,
+    /// The generation of the scene's files (see [`watch`]).
+    changes: channel::Receiver<u64>,
+    /// The address it listens on, which requests must name (see [`guard`]).
+    address: SocketAddr,
+}
+
+/// Runs the server until it is stopped (Ctrl-C): prints the page's address on stdout.
+pub fn run(args: ServeArgs) -> Result<ExitCode, Failure> {
+    let config = Config {
+        scene: args.scene,
+        max_pixels: args.max_pixels,
+        threads: args.threads,
+        allow_outside: args.allow_outside,
+    };
+    // The flags are checked as `rayforge render` checks them, before anything starts.
+    let settings = worker::settings_for(&config, &protocol::Request::default())?;
+    if !config.scene.is_file() {
+        return Err(Failure::usage(format!(
+            "the scene `{}` is not a file",
+            config.scene.display()
+        )));
+    }
+    let pool = crate::render_command::thread_pool(&settings)?;
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        // The network needs little; the cores are for rendering.
+        .worker_threads(2)
+        .enable_io()
+        .enable_time()
+        .build()
+        .map_err(|e| Failure::internal(format!("cannot start the server's runtime: {e}")))?;
+    runtime.block_on(serve(config, pool, (args.listen, args.port).into()))
+}
+
+/// Listens, prints the address, watches the files and serves until stopped.
+async fn serve(config: Config, pool: ThreadPool, listen: SocketAddr) -> Result<ExitCode, Failure> {
+    let listener = tokio::net::TcpListener::bind(listen).await.map_err(|e| {
+        let hint = if e.kind() == std::io::ErrorKind::AddrInUse {
+            " (another program uses that port: choose another with --port, or --port 0 for any)"
+        } else {
+            ""
+        };
+        Failure::usage(format!("cannot listen on {listen}: {e}{hint}"))
+    })?;
+    let address = listener
+        .local_addr()
+        .map_err(|e| Failure::internal(format!("cannot read the address listened on: {e}")))?;
+    let (generation, changes) = channel::channel(0);
+    let _watch = watch::start(&config.scene, generation)?;
+    let server = Arc::new(Server {
+        config: Arc::new(config),
+        pool: Arc::new(pool),
+        changes,
+        address,
+    });
+    let app = Router::new()
+        .route("/", get(page))
+        .route("/ws", get(socket))
+        .with_state(server.clone());
+    // The address alone on stdout, for scripts and tests; the rest on stderr.
+    println!("http://{address}/");
+    let _ = std::io::stdout().flush();
+    eprintln!(
+        "rayforge serve: showing `{}`; open the address above in a browser, Ctrl-C stops",
+        server.config.scene.display()
+    );
+    axum::serve(listener, app)
+        .await
+        .map_err(|e| Failure::internal(format!("the server stopped: {e}")))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `GET /`: the page.
+async fn page(State(server): State<Arc<Server>>, headers: HeaderMap) -> Response {
+    if let Err(refusal) = guard::check(&headers, server.address) {
+        return (StatusCode::FORBIDDEN, refusal).into_response();
+    }
+    (
+        [
+            (header::CONTENT_TYPE, "text/html; charset=utf-8"),
+            (header::CONTENT_SECURITY_POLICY, CONTENT_SECURITY_POLICY),
+            (header::CACHE_CONTROL, "no-store"),
+            (header::X_CONTENT_TYPE_OPTIONS, "nosniff"),
+        ],
+        PAGE,
+    )
+        .into_response()
+}
+
+/// `GET /ws`: the page's WebSocket, its messages from the page bounded in size.
+async fn socket(
+    State(server): State<Arc<Server>>,
+    headers: HeaderMap,
+    upgrade: WebSocketUpgrade,
+) -> Response {
+    if let Err(refusal) = guard::check(&headers, server.address) {
+        return (StatusCode::FORBIDDEN, refusal).into_response();
+    }
+    upgrade
+        .max_message_size(protocol::MAX_MESSAGE_BYTES)
+        .max_frame_size(protocol::MAX_MESSAGE_BYTES)
+        .on_upgrade(move |socket| session::run(socket, server))
+}
+
+#[cfg(test)]
+mod tests {
+    /// The layer rule: nothing in the command depends on the server; only `lib.rs` names it,
+    /// to run it.
+    #[test]
+    fn nothing_outside_the_server_uses_it() {
+        let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let files = std::fs::read_dir(&src).expect("the sources");
+        for file in files.filter_map(Result::ok).map(|e| e.path()) {
+            let named = file
+                .file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or_default();
+            if named == "lib.rs" || file.extension().is_none_or(|e| e != "rs") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&file).expect("a source file");
+            assert!(
+                !text.contains("crate::serve") && !text.contains("mod serve"),
+                "{named} uses the server"
+            );
+        }
+    }
+}

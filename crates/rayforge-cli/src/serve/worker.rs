@@ -1,0 +1,494 @@
+//! One page's renders: a thread that takes the newest request, renders it in passes with the
+//! render command's own functions, and sends each pass's image to the page.
+//!
+//! A request is translated into `rayforge render`'s arguments and checked by the same code
+//! ([`RenderSettings::from_args`]), so the page's final image is the one `rayforge render`
+//! writes with those flags, and a size over `--max-pixels` is refused in the same words.
+
+use super::orbit::orbit;
+use super::protocol::{self, Frame, Request, Started};
+use super::Config;
+use crate::args::{Cli, Command, Renderer};
+use crate::failure::Failure;
+use crate::finite::blacken_non_finite;
+use crate::format::ImageFormat;
+use crate::path_command::{doubling_passes, encode_for, samples_per_pixel};
+use crate::render_command::{develop_with_overlay, load_options, ray_options, sized_camera};
+use crate::settings::{Chosen, RenderSettings};
+use clap::Parser;
+use rayforge::camera::Camera;
+use rayforge::canvas::Canvas;
+use rayforge::film::{Film, SharedFilm};
+use rayforge::options::{PathOptions, RasterOptions};
+use rayforge::render::path::{render_path, PathJob};
+use rayforge::render::{render_rows, RenderOptions, Sampling};
+use rayforge::LightingModel;
+use rayforge_scene::Scene;
+use rayon::ThreadPool;
+use std::ffi::OsString;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc::Receiver;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+use tokio::sync::mpsc::Sender;
+
+/// A request to render, as the page's session hands it over.
+pub struct Job {
+    /// Its number in the session, which the messages about it carry.
+    pub id: u64,
+    /// What to render.
+    pub request: Request,
+    /// How many times the scene's files had changed when it was asked for: the scene is read
+    /// again when this differs from the one read last.
+    pub generation: u64,
+    /// Set when a newer request (or the page leaving) makes this one stale.
+    pub cancel: Arc<AtomicBool>,
+}
+
+/// A message for the page.
+pub enum Outgoing {
+    /// JSON text (see [`protocol`]).
+    Text(String),
+    /// A PNG image.
+    Binary(Vec<u8>),
+}
+
+/// The page is gone: its session dropped the receiving end.
+struct Gone;
+
+/// Shortest time between two progress messages: the page's progress line need not move more
+/// often than the eye follows, and the messages would crowd out the images.
+const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
+
+/// Images narrower or lower than this many pixels get no quarter-size first pass.
+const MIN_PREVIEW_SIDE: usize = 8;
+
+/// The scene as last read, and its own lighting model (which requests override).
+struct Loaded {
+    generation: u64,
+    scene: Scene,
+    lighting: LightingModel,
+}
+
+/// The renders of one page.
+pub struct Worker {
+    config: Arc<Config>,
+    pool: Arc<ThreadPool>,
+    out: Sender<Outgoing>,
+    loaded: Option<Loaded>,
+}
+
+impl Worker {
+    /// A worker rendering on `pool` and sending to `out`.
+    pub fn new(config: Arc<Config>, pool: Arc<ThreadPool>, out: Sender<Outgoing>) -> Self {
+        Self {
+            config,
+            pool,
+            out,
+            loaded: None,
+        }
+    }
+
+    /// Renders the jobs as they come, skipping those a newer one has made stale, until the
+    /// session hangs up.
+    pub fn run(mut self, jobs: Receiver<Job>) {
+        while let Ok(mut job) = jobs.recv() {
+            while let Ok(newer) = jobs.try_recv() {
+                job = newer;
+            }
+            if job.cancel.load(Ordering::Relaxed) {
+                continue;
+            }
+            let started = Instant::now();
+            let result = match self.render(&job, started) {
+                Ok(()) => self.send_text(&job, protocol::done(job.id, elapsed(started))),
+                Err(Stop::Failed(message)) => {
+                    self.send_text(&job, protocol::error(Some(job.id), &message))
+                }
+                Err(Stop::Scene(error)) => {
+                    self.send_text(&job, protocol::scene_error(job.id, &error))
+                }
+                Err(Stop::Cancelled) => Ok(()),
+                Err(Stop::Gone) => Err(Gone),
+            };
+            if result.is_err() {
+                return;
+            }
+        }
+    }
+
+    /// Reads the scene when its files changed, and renders the job's passes.
+    fn render(&mut self, job: &Job, started: Instant) -> Result<(), Stop> {
+        let settings = settings_for(&self.config, &job.request)?;
+        let loaded = load(&mut self.loaded, &settings, job.generation)?;
+        let lighting = job.request.lighting.unwrap_or(loaded.lighting);
+        loaded.scene.world.lighting = lighting;
+        let scene = &loaded.scene;
+        let mut camera = sized_camera(&settings, scene)?;
+        let orbited = job.request.yaw != 0.0 || job.request.pitch != 0.0;
+        if let (true, Some(look_at)) = (orbited, scene.look_at) {
+            let view = orbit(
+                camera.transform(),
+                &look_at,
+                job.request.yaw,
+                job.request.pitch,
+            )
+            .ok_or_else(|| Stop::Failed("the camera cannot be turned so".into()))?;
+            camera = camera.with_transform_of(view);
+        }
+        let chosen = settings.choose(scene.raster, scene.path)?;
+        let size = (camera.hsize(), camera.vsize());
+        // As `rayforge render` does: a size the machine cannot hold is an error, not an abort.
+        crate::memory::reserve_for_render(size.0, size.1, 1)?;
+        let (renderer, samples) = match chosen {
+            Chosen::Ray => (
+                Renderer::Ray,
+                ray_samples(ray_options(&settings, scene).sampling),
+            ),
+            Chosen::Raster(_) => (Renderer::Raster, 1),
+            Chosen::Path(_) => (Renderer::Path, samples_per_pixel(&settings, scene)),
+        };
+        let about = Started {
+            renderer,
+            lighting,
+            size,
+            samples,
+            orbits: scene.look_at.is_some(),
+        };
+        let pass = Pass {
+            job,
+            out: &self.out,
+            started,
+        };
+        pass.text(protocol::started(job.id, &about))?;
+        let preview = job.request.preview;
+        match chosen {
+            Chosen::Ray => ray_passes(&pass, &self.pool, &settings, scene, &camera, preview),
+            Chosen::Raster(options) => raster_pass(&pass, &self.pool, scene, &camera, &options),
+            Chosen::Path(options) => {
+                let spp = if preview { 1 } else { samples };
+                let camera = if preview { quarter(&camera) } else { camera };
+                path_passes(&pass, &self.pool, scene, &camera, options, spp)
+            }
+        }
+    }
+
+    /// Sends a text message about `job` unless a newer request made it stale.
+    fn send_text(&self, job: &Job, text: String) -> Result<(), Gone> {
+        if job.cancel.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        self.out
+            .blocking_send(Outgoing::Text(text))
+            .map_err(|_| Gone)
+    }
+}
+
+/// The scene for `generation` of the files: the one read last, or read again.
+fn load<'a>(
+    loaded: &'a mut Option<Loaded>,
+    settings: &RenderSettings,
+    generation: u64,
+) -> Result<&'a mut Loaded, Stop> {
+    if loaded.as_ref().map(|l| l.generation) != Some(generation) {
+        // A scene that no longer reads is not kept: the page keeps its last good image.
+        *loaded = None;
+        let scene = rayforge_scene::load_file_with(&settings.scene, &load_options(settings, 0))
+            .map_err(Stop::Scene)?;
+        let lighting = scene.world.lighting;
+        *loaded = Some(Loaded {
+            generation,
+            scene,
+            lighting,
+        });
+    }
+    loaded
+        .as_mut()
+        .ok_or_else(|| Stop::Failed("the scene was not read".into()))
+}
+
+/// Why a job stopped before its last pass.
+enum Stop {
+    /// A newer request came: nothing to say.
+    Cancelled,
+    /// The page is gone.
+    Gone,
+    /// The request cannot be rendered; the message says why.
+    Failed(String),
+    /// The scene (or a file it names) does not read.
+    Scene(rayforge_scene::SceneError),
+}
+
+impl From<Failure> for Stop {
+    fn from(failure: Failure) -> Self {
+        Stop::Failed(match failure {
+            Failure::Input(m) | Failure::Internal(m) | Failure::Interrupted(m) => m,
+            Failure::Scene(report) => report.to_string(),
+        })
+    }
+}
+
+/// `rayforge render`'s settings for the request: its arguments, parsed and checked as the
+/// command line's are (the output's name only picks the PNG format; nothing is written).
+pub(super) fn settings_for(config: &Config, request: &Request) -> Result<RenderSettings, Failure> {
+    let mut args: Vec<OsString> = ["rayforge", "render"].map(OsString::from).into();
+    args.push(config.scene.clone().into_os_string());
+    let mut flag = |name: &str, value: String| {
+        args.push(name.into());
+        args.push(value.into());
+    };
+    flag("--output", "live.png".into());
+    flag("--max-pixels", config.max_pixels.to_string());
+    if let Some(threads) = config.threads {
+        flag("--threads", threads.to_string());
+    }
+    if let Some(renderer) = request.renderer {
+        flag("--renderer", protocol::renderer_name(renderer).into());
+    }
+    if let Some(spp) = request.samples {
+        flag("--spp", spp.to_string());
+    }
+    if let Some(width) = request.width {
+        flag("--width", width.to_string());
+    }
+    if let Some(height) = request.height {
+        flag("--height", height.to_string());
+    }
+    args.push("--quiet".into());
+    if config.allow_outside {
+        args.push("--allow-outside".into());
+    }
+    match Cli::try_parse_from(args) {
+        Ok(Cli {
+            command: Command::Render(render),
+        }) => RenderSettings::from_args(render),
+        Ok(_) => Err(Failure::internal(
+            "the request did not make a render command",
+        )),
+        // clap's first line says what is wrong; its usage lines are about the command line.
+        Err(e) => Err(Failure::usage(
+            e.to_string()
+                .lines()
+                .next()
+                .unwrap_or_default()
+                .trim_start_matches("error: "),
+        )),
+    }
+}
+
+/// Milliseconds since `started`.
+fn elapsed(started: Instant) -> u128 {
+    started.elapsed().as_millis()
+}
+
+/// The camera at a quarter of the size (each side at least 1).
+fn quarter(camera: &Camera) -> Camera {
+    camera.resized((camera.hsize() / 4).max(1), (camera.vsize() / 4).max(1))
+}
+
+/// Camera rays per pixel of a sampling, for the page's samples field.
+fn ray_samples(sampling: Sampling) -> u64 {
+    match sampling {
+        Sampling::Centre => 1,
+        Sampling::Grid { per_side } | Sampling::Stratified { per_side } => {
+            u64::from(per_side) * u64::from(per_side)
+        }
+        // At least its corners and centre; more where it splits.
+        Sampling::Adaptive { .. } => 5,
+    }
+}
+
+/// The job being rendered and where its images go.
+struct Pass<'a> {
+    job: &'a Job,
+    out: &'a Sender<Outgoing>,
+    started: Instant,
+}
+
+impl Pass<'_> {
+    /// Whether a newer request made this job stale.
+    fn cancelled(&self) -> bool {
+        self.job.cancel.load(Ordering::Relaxed)
+    }
+
+    /// Sends a text message, unless the job is stale.
+    fn text(&self, text: String) -> Result<(), Stop> {
+        if self.cancelled() {
+            return Err(Stop::Cancelled);
+        }
+        self.out
+            .blocking_send(Outgoing::Text(text))
+            .map_err(|_| Stop::Gone)
+    }
+
+    /// Sends pass `pass` of `passes`: the `frame` message, then the image as a PNG.
+    fn frame(&self, canvas: &Canvas, pass: usize, passes: usize, samples: u64) -> Result<(), Stop> {
+        let png = ImageFormat::Png.encode(canvas)?;
+        let frame = Frame {
+            pass,
+            passes,
+            size: (canvas.width(), canvas.height()),
+            samples,
+            millis: elapsed(self.started),
+        };
+        self.text(protocol::frame(self.job.id, &frame))?;
+        self.out
+            .blocking_send(Outgoing::Binary(png))
+            .map_err(|_| Stop::Gone)
+    }
+
+    /// A progress counter for pass `pass` of `passes` over `height` rows, for the renderers'
+    /// `progress` hook: it sends a `progress` message at most every [`PROGRESS_INTERVAL`],
+    /// dropping it when the page is behind (the next one says more).
+    fn progress(&self, pass: usize, passes: usize, height: usize) -> Progress<'_> {
+        Progress {
+            pass: self,
+            number: pass,
+            passes,
+            height,
+            rows: AtomicUsize::new(0),
+            last: Mutex::new(Instant::now()),
+        }
+    }
+}
+
+/// See [`Pass::progress`].
+struct Progress<'a> {
+    pass: &'a Pass<'a>,
+    number: usize,
+    passes: usize,
+    height: usize,
+    rows: AtomicUsize,
+    last: Mutex<Instant>,
+}
+
+impl Progress<'_> {
+    /// `rows` more rows are finished.
+    fn add(&self, rows: usize) {
+        let done = self.rows.fetch_add(rows, Ordering::Relaxed) + rows;
+        let Ok(mut last) = self.last.try_lock() else {
+            return;
+        };
+        if last.elapsed() < PROGRESS_INTERVAL || self.pass.cancelled() {
+            return;
+        }
+        *last = Instant::now();
+        let message = protocol::progress(
+            self.pass.job.id,
+            self.number,
+            self.passes,
+            done,
+            self.height,
+        );
+        // Full or closed: this one is dropped, and a closed page ends the job at its frame.
+        let _ = self.pass.out.try_send(Outgoing::Text(message));
+    }
+}
+
+/// The ray tracer's passes: a quarter-size image of one ray per pixel, then (unless only a
+/// preview is asked for) the full size with one ray, then with the samples asked for. Each
+/// pass is a fresh render; the last is `rayforge render`'s image.
+fn ray_passes(
+    pass: &Pass<'_>,
+    pool: &ThreadPool,
+    settings: &RenderSettings,
+    scene: &Scene,
+    camera: &Camera,
+    preview: bool,
+) -> Result<(), Stop> {
+    let options = ray_options(settings, scene);
+    let mut passes = Vec::new();
+    if camera.hsize().min(camera.vsize()) >= MIN_PREVIEW_SIDE {
+        passes.push((quarter(camera), Sampling::Centre));
+    }
+    if !preview || passes.is_empty() {
+        passes.push((camera.clone(), Sampling::Centre));
+        if options.sampling != Sampling::Centre {
+            passes.push((camera.clone(), options.sampling));
+        }
+    }
+    let count = passes.len();
+    for (i, (camera, sampling)) in passes.into_iter().enumerate() {
+        let progress = pass.progress(i + 1, count, camera.vsize());
+        let add = |rows: usize| progress.add(rows);
+        let options = RenderOptions {
+            sampling,
+            progress: Some(&add),
+            cancel: Some(&pass.job.cancel),
+            ..ray_options(settings, scene)
+        };
+        let (image, stats) = pool.install(|| render_rows(&camera, &scene.world, &options));
+        if let Some((x, y)) = stats.over_budget {
+            return Err(Stop::Failed(format!(
+                "pixel ({x}, {y}): a camera ray there leads to more than {} rays, the limit \
+                 of --max-rays-per-sample (lower the scene's max-depth)",
+                settings.max_rays_per_sample
+            )));
+        }
+        if !image.is_complete() {
+            return Err(Stop::Cancelled);
+        }
+        let (canvas, _) = develop_with_overlay(scene, &camera, image.film());
+        pass.frame(&canvas, i + 1, count, ray_samples(sampling))?;
+    }
+    Ok(())
+}
+
+/// The rasterizer's one pass: it is quick enough to need no preview.
+fn raster_pass(
+    pass: &Pass<'_>,
+    pool: &ThreadPool,
+    scene: &Scene,
+    camera: &Camera,
+    options: &RasterOptions,
+) -> Result<(), Stop> {
+    let (film, _) = pool
+        .install(|| rayforge::raster::render_film(camera, &scene.world, options))
+        .map_err(|e| Stop::Failed(e.to_string()))?;
+    let (canvas, _) = develop_with_overlay(scene, camera, &film);
+    pass.frame(&canvas, 1, 1, 1)
+}
+
+/// The path tracer's passes of 1, 1, 2, 4, … samples per pixel into one film, up to `spp`;
+/// after each, the image resolved from the film so far, developed as `rayforge render`
+/// develops a path-traced PNG (see `path_command::path_render`).
+fn path_passes(
+    pass: &Pass<'_>,
+    pool: &ThreadPool,
+    scene: &Scene,
+    camera: &Camera,
+    options: PathOptions,
+    spp: u64,
+) -> Result<(), Stop> {
+    let (width, height) = (camera.hsize(), camera.vsize());
+    let film = Film::with_filter(width, height, options.filter)
+        .map_err(|e| Stop::Failed(e.to_string()))?;
+    let film = SharedFilm::from(film);
+    let mut done = vec![false; height];
+    let passes = doubling_passes(spp);
+    let count = passes.len();
+    for (i, samples) in passes.into_iter().enumerate() {
+        let progress = pass.progress(i + 1, count, height);
+        let add = |rows: usize| progress.add(rows);
+        done.fill(false);
+        let reached = samples.end;
+        let job = PathJob {
+            options,
+            samples,
+            progress: Some(&add),
+            cancel: Some(&pass.job.cancel),
+            on_row: None,
+        };
+        pool.install(|| render_path(camera, &scene.world, &job, &film, None, &mut done))
+            .map_err(|e| Stop::Failed(format!("the path tracer refused its film: {e}")))?;
+        if !done.iter().all(|&d| d) {
+            return Err(Stop::Cancelled);
+        }
+        let mut canvas = film.snapshot().resolve();
+        blacken_non_finite(&mut canvas);
+        encode_for(ImageFormat::Png, &mut canvas);
+        scene.overlay.draw(&mut canvas, camera);
+        pass.frame(&canvas, i + 1, count, reached)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,408 @@
+//! `rayforge serve`: the server started as a user starts it, on a free port, talked to over
+//! HTTP and its WebSocket as the page talks to it. Its first image arrives; an edit of the scene
+//! file brings an image equal to `rayforge render`'s of the edited file; a broken file brings an
+//! error with its line and column; nothing but the page and its socket is served; malformed or
+//! oversized messages are answered or refused without harm.
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+use tokio::net::TcpStream as AsyncTcpStream;
+use tokio_tungstenite::tungstenite::Message;
+use tokio_tungstenite::{MaybeTlsStream, WebSocketStream};
+
+/// The longest a test waits for any one message.
+const PATIENCE: Duration = Duration::from_secs(120);
+
+type Socket = WebSocketStream<MaybeTlsStream<AsyncTcpStream>>;
+
+/// A scene of a `colour` sphere before a grey wall, small enough to render at once.
+fn scene(colour: &str) -> String {
+    format!(
+        "\
+- add: camera
+  width: 48
+  height: 32
+  field-of-view: 0.9
+  from: [0, 1, -5]
+  to: [0, 0.5, 0]
+  up: [0, 1, 0]
+- add: light
+  at: [-6, 8, -8]
+  intensity: [1, 1, 1]
+- add: plane
+  transform:
+    - [rotate-x, 1.5708]
+    - [translate, 0, 0, 3]
+  material:
+    color: [0.6, 0.6, 0.6]
+- add: sphere
+  transform:
+    - [translate, 0, 0.6, 0]
+  material:
+    color: {colour}
+    diffuse: 0.8
+"
+    )
+}
+
+/// The running server, stopped when dropped.
+struct Server {
+    child: Child,
+    port: u16,
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Starts `rayforge serve SCENE --port 0` and reads the address it prints.
+fn serve(scene: &Path) -> (Server, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("serve")
+        .arg(scene)
+        .args(["--port", "0", "--threads", "2"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("starts rayforge serve");
+    let stdout = child.stdout.take().expect("its stdout");
+    let mut line = String::new();
+    BufReader::new(stdout)
+        .read_line(&mut line)
+        .expect("reads the address");
+    let address = line.trim().to_string();
+    let port = address
+        .strip_prefix("http://127.0.0.1:")
+        .and_then(|rest| rest.strip_suffix('/'))
+        .and_then(|port| port.parse().ok())
+        .unwrap_or_else(|| panic!("the address is on 127.0.0.1: `{address}`"));
+    (Server { child, port }, address)
+}
+
+/// A plain HTTP/1.1 GET of `path` with `host` as its Host; the status code and the body.
+fn get(port: u16, path: &str, host: &str) -> (u16, String) {
+    let mut stream = TcpStream::connect(("127.0.0.1", port)).expect("connects");
+    stream
+        .set_read_timeout(Some(PATIENCE))
+        .expect("sets a timeout");
+    write!(
+        stream,
+        "GET {path} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"
+    )
+    .expect("sends the request");
+    let mut response = String::new();
+    stream
+        .read_to_string(&mut response)
+        .expect("reads the response");
+    let status = response
+        .split_whitespace()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0);
+    (status, response)
+}
+
+/// The next message, text as JSON or a binary image.
+enum Received {
+    Json(serde_json::Value),
+    Image(Vec<u8>),
+    Closed,
+}
+
+async fn next(socket: &mut Socket) -> Received {
+    use futures_util::StreamExt;
+    loop {
+        let message = tokio::time::timeout(PATIENCE, socket.next())
+            .await
+            .expect("a message within the time");
+        match message {
+            Some(Ok(Message::Text(text))) => {
+                return Received::Json(serde_json::from_str(&text).expect("JSON"))
+            }
+            Some(Ok(Message::Binary(bytes))) => return Received::Image(bytes.to_vec()),
+            Some(Ok(Message::Ping(_) | Message::Pong(_) | Message::Frame(_))) => continue,
+            Some(Ok(Message::Close(_)) | Err(_)) | None => return Received::Closed,
+        }
+    }
+}
+
+/// Reads until a job's last pass, and returns its image's pixels and the job; fails on an
+/// error message.
+async fn final_image(socket: &mut Socket, after_job: u64) -> (image::RgbImage, u64) {
+    loop {
+        let Received::Json(message) = next(socket).await else {
+            panic!("a JSON message before an image");
+        };
+        assert_ne!(message["type"], "error", "{message}");
+        let job = message["job"].as_u64().unwrap_or(0);
+        if message["type"] != "frame" {
+            continue;
+        }
+        let Received::Image(png) = next(socket).await else {
+            panic!("the image after its frame message");
+        };
+        if job > after_job && message["pass"] == message["passes"] {
+            let image = image::load_from_memory(&png).expect("a PNG").to_rgb8();
+            return (image, job);
+        }
+    }
+}
+
+async fn send(socket: &mut Socket, text: String) {
+    use futures_util::SinkExt;
+    socket
+        .send(Message::Text(text.into()))
+        .await
+        .expect("sends");
+}
+
+/// `rayforge render`'s image of `scene`, as a PNG's pixels.
+fn rendered(scene: &Path, out: &Path) -> image::RgbImage {
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("render")
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .arg("--quiet")
+        .output()
+        .expect("runs rayforge render");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    image::open(out).expect("reads the render").to_rgb8()
+}
+
+#[test]
+fn only_the_page_and_its_socket_are_served_on_127_0_0_1() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("scene.yml");
+    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let (server, address) = serve(&path);
+    let port = server.port;
+    assert_eq!(address, format!("http://127.0.0.1:{port}/"));
+    let host = format!("127.0.0.1:{port}");
+    let (status, page) = get(port, "/", &host);
+    assert_eq!(status, 200, "{page}");
+    assert!(page.contains("<title>rayforge serve</title>"), "{page}");
+    assert!(page.contains("Content-Security-Policy") || page.contains("content-security-policy"));
+    assert!(
+        !page.contains("http://") && !page.contains("https://"),
+        "no outside address"
+    );
+    for path in [
+        "/scene.yml",
+        "/index.html",
+        "/../scene.yml",
+        "/%2e%2e/scene.yml",
+        "/etc/passwd",
+        "/ws/scene.yml",
+    ] {
+        let (status, response) = get(port, path, &host);
+        assert_eq!(status, 404, "{path}: {response}");
+    }
+    // A page under another name (DNS rebinding) is refused.
+    let (status, _) = get(port, "/", &format!("attacker.example:{port}"));
+    assert_eq!(status, 403);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_page_follows_the_scene_file() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("scene.yml");
+    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let (server, _) = serve(&path);
+    let (mut socket, _) =
+        tokio_tungstenite::connect_async(format!("ws://127.0.0.1:{}/ws", server.port))
+            .await
+            .expect("the WebSocket opens");
+
+    send(&mut socket, r#"{"type": "render"}"#.to_string()).await;
+    let (first, job) = final_image(&mut socket, 0).await;
+    assert_eq!(first.dimensions(), (48, 32));
+    assert_eq!(first, rendered(&path, &dir.path().join("first.png")));
+
+    // An edit on disk: the page gets the edited scene's image, as `rayforge render` makes it.
+    std::fs::write(&path, scene("[0.2, 0.3, 1]")).expect("edits the scene");
+    let (edited, job) = final_image(&mut socket, job).await;
+    assert_ne!(edited, first);
+    assert_eq!(edited, rendered(&path, &dir.path().join("edited.png")));
+
+    // A broken file: an error with its place; the server goes on.
+    let broken = scene("[0.2, 0.3, 1]").replace("field-of-view: 0.9", "field-of-view: wide");
+    std::fs::write(&path, broken).expect("breaks the scene");
+    let error = loop {
+        match next(&mut socket).await {
+            Received::Json(m) if m["type"] == "error" => break m,
+            Received::Closed => panic!("the socket closed"),
+            _ => {}
+        }
+    };
+    assert_eq!(error["line"], 4, "{error}");
+    assert_eq!(error["column"], 18, "{error}");
+    assert_eq!(error["key"], "field-of-view", "{error}");
+    assert!(
+        error["text"].as_str().is_some_and(|t| t.contains("wide")),
+        "{error}"
+    );
+    assert!(error["job"].as_u64() > Some(job), "{error}");
+
+    // Requests after an error: bad ones are answered, good ones rendered once the file is fixed.
+    send(&mut socket, "{not json".to_string()).await;
+    let Received::Json(answer) = next(&mut socket).await else {
+        panic!("an answer to malformed JSON");
+    };
+    assert_eq!(answer["type"], "error");
+    assert!(
+        answer["message"]
+            .as_str()
+            .is_some_and(|m| m.contains("not JSON")),
+        "{answer}"
+    );
+    std::fs::write(&path, scene("[0.2, 1, 0.3]")).expect("fixes the scene");
+    let (fixed, job) = final_image(&mut socket, job).await;
+    send(
+        &mut socket,
+        r#"{"type": "render", "width": 24, "renderer": "raster"}"#.to_string(),
+    )
+    .await;
+    let (small, _) = final_image(&mut socket, job).await;
+    assert_eq!(small.dimensions(), (24, 16));
+    assert_eq!(fixed, rendered(&path, &dir.path().join("fixed.png")));
+
+    // A size over --max-pixels is refused in `rayforge render`'s words.
+    send(
+        &mut socket,
+        r#"{"type": "render", "width": 100000, "height": 100000}"#.to_string(),
+    )
+    .await;
+    let refusal = loop {
+        match next(&mut socket).await {
+            Received::Json(m) if m["type"] == "error" => break m,
+            Received::Closed => panic!("the socket closed"),
+            _ => {}
+        }
+    };
+    assert!(
+        refusal["message"]
+            .as_str()
+            .is_some_and(|m| m.contains("--max-pixels")),
+        "{refusal}"
+    );
+
+    // A message over 64 KiB closes the socket; the server serves the next page.
+    send(
+        &mut socket,
+        format!(r#"{{"type": "render", "pad": "{}"}}"#, "x".repeat(70_000)),
+    )
+    .await;
+    loop {
+        if let Received::Closed = next(&mut socket).await {
+            break;
+        }
+    }
+    let (status, _) = get(server.port, "/", &format!("127.0.0.1:{}", server.port));
+    assert_eq!(status, 200);
+}
+
+/// `rayforge render`'s image of `scene` with extra flags, as a PNG's pixels.
+fn rendered_with(scene: &Path, out: &Path, flags: &[&str]) -> image::RgbImage {
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("render")
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .arg("--quiet")
+        .args(flags)
+        .output()
+        .expect("runs rayforge render");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    image::open(out).expect("reads the render").to_rgb8()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_path_tracer_refines_in_passes_and_the_camera_orbits() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("scene.yml");
+    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let (server, _) = serve(&path);
+    let (mut socket, _) =
+        tokio_tungstenite::connect_async(format!("ws://127.0.0.1:{}/ws", server.port))
+            .await
+            .expect("the WebSocket opens");
+
+    // Passes of 1, 1, 2, 4 samples into one film: the last is the one-pass render of 8.
+    send(
+        &mut socket,
+        r#"{"type": "render", "renderer": "path", "samples": 8}"#.to_string(),
+    )
+    .await;
+    let mut samples = Vec::new();
+    let last = loop {
+        let Received::Json(message) = next(&mut socket).await else {
+            panic!("a JSON message");
+        };
+        assert_ne!(message["type"], "error", "{message}");
+        if message["type"] == "frame" {
+            samples.push(message["samples"].as_u64().unwrap_or(0));
+            let Received::Image(png) = next(&mut socket).await else {
+                panic!("the image after its frame message");
+            };
+            if message["pass"] == message["passes"] {
+                break image::load_from_memory(&png).expect("a PNG").to_rgb8();
+            }
+        }
+    };
+    assert_eq!(samples, [1, 2, 4, 8]);
+    let flags = ["--renderer", "path", "--spp", "8"];
+    assert_eq!(
+        last,
+        rendered_with(&path, &dir.path().join("path.png"), &flags)
+    );
+
+    // A quarter turn about the up: the eye at [-5, 1, 0], as a scene placing it there renders.
+    send(&mut socket, r#"{"type": "render", "yaw": 90}"#.to_string()).await;
+    let (turned, _) = final_image(&mut socket, 1).await;
+    let moved = dir.path().join("moved.yml");
+    std::fs::write(
+        &moved,
+        scene("[1, 0.2, 0.2]").replace("from: [0, 1, -5]", "from: [-5, 1, 0]"),
+    )
+    .expect("writes the moved scene");
+    let expected = rendered(&moved, &dir.path().join("moved.png"));
+    // The same camera up to rounding: at most a pixel or two a step apart.
+    let differing = turned
+        .pixels()
+        .zip(expected.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 1))
+        .count();
+    assert!(differing <= 2, "{differing} pixels differ");
+    assert_ne!(turned, rendered(&path, &dir.path().join("unturned.png")));
+}
+
+#[test]
+fn a_missing_scene_or_a_bad_flag_stops_before_listening() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let missing = dir.path().join("missing.yml");
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("serve")
+        .arg(&missing)
+        .args(["--port", "0"])
+        .output()
+        .expect("runs rayforge serve");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("is not a file"));
+    assert!(o.stdout.is_empty(), "no address printed");
+    let path = dir.path().join("scene.yml");
+    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("serve")
+        .arg(&path)
+        .args(["--port", "0", "--threads", "0"])
+        .output()
+        .expect("runs rayforge serve");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--threads must be between 1"));
+}
