@@ -2,40 +2,13 @@
 //! is past 65 535 or that quote megabytes of input, ray trees that would never end, frames the
 //! rasterizer could not hold, and `--trace-pixel` on a tree of millions of rays. Each gets a
 //! clear error (or a bounded answer) in bounded time and output.
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+#[path = "support/scratch.rs"]
+mod scratch;
+
+use scratch::{render, stderr, Dir};
+use std::path::Path;
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-struct Dir(tempfile::TempDir);
-
-impl Dir {
-    fn new() -> Self {
-        Dir(tempfile::tempdir().unwrap())
-    }
-    fn file(&self, name: &str, text: &str) -> PathBuf {
-        let p = self.0.path().join(name);
-        std::fs::write(&p, text).unwrap();
-        p
-    }
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.path().join(name)
-    }
-}
-
-fn render(scene: &Path, out: &Path, extra: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rayforge"))
-        .arg("render")
-        .arg(scene)
-        .arg("-o")
-        .arg(out)
-        .args(extra)
-        .output()
-        .expect("runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 const CAMERA: &str = "
 - add: camera

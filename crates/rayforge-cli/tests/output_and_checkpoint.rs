@@ -1,6 +1,10 @@
 //! What `rayforge render` writes and saves, under hostile scenes, forged checkpoints, two
 //! renders racing for one output, failing writes and scarce memory (issue 21, findings 6 to 8;
 //! docs/reliability.md describes each behaviour).
+#[path = "support/scratch.rs"]
+mod scratch;
+
+use scratch::{render, stderr, Dir};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
@@ -68,34 +72,6 @@ const SLOW_SCENE: &str = "
 /// `checkpoint.rs`).
 const CHECKPOINT_HEADER: u64 = 22 + 32;
 const SLOW_ROW_RECORD: u64 = 16 + 200 * 24;
-
-struct Dir(tempfile::TempDir);
-
-impl Dir {
-    fn new() -> Self {
-        Dir(tempfile::tempdir().unwrap())
-    }
-    fn file(&self, name: &str, text: &str) -> PathBuf {
-        let p = self.0.path().join(name);
-        std::fs::write(&p, text).unwrap();
-        p
-    }
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.path().join(name)
-    }
-}
-
-fn render(scene: &Path, out: &Path, extra: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rayforge"))
-        .args([Path::new("render"), scene, Path::new("-o"), out])
-        .args(extra)
-        .output()
-        .expect("runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 fn checkpoint_of(output: &Path) -> PathBuf {
     PathBuf::from(format!("{}.rayforge-checkpoint", output.display()))
