@@ -73,6 +73,14 @@ const SLOW_SCENE: &str = "
 const CHECKPOINT_HEADER: u64 = 22 + 32;
 const SLOW_ROW_RECORD: u64 = 16 + 200 * 24;
 
+/// The names of the files in the scratch folder: what a failed render left behind.
+fn files_in(d: &Dir) -> Vec<std::ffi::OsString> {
+    std::fs::read_dir(d.0.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect()
+}
+
 fn checkpoint_of(output: &Path) -> PathBuf {
     PathBuf::from(format!("{}.rayforge-checkpoint", output.display()))
 }
@@ -467,10 +475,7 @@ fn a_checkpoint_write_error_is_reported_and_no_saved_rows_are_claimed() {
     assert!(err.to_lowercase().contains("file too large"), "{err}");
     assert!(err.contains("interrupted: no row is saved"), "{err}");
     assert!(!err.contains("rows are saved"), "{err}");
-    let left: Vec<_> = std::fs::read_dir(d.0.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name())
-        .collect();
+    let left = files_in(&d);
     assert_eq!(
         left,
         ["slow.yml"],
@@ -502,10 +507,7 @@ fn a_failed_image_write_leaves_no_header_only_checkpoint() {
         err.contains(&format!("cannot write `{}`", out.display())),
         "{err}"
     );
-    let left: Vec<_> = std::fs::read_dir(d.0.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name())
-        .collect();
+    let left = files_in(&d);
     assert_eq!(
         left,
         ["slow.yml"],
@@ -534,9 +536,6 @@ fn an_allocation_failure_is_a_clear_error_not_an_abort() {
         "{err}"
     );
     assert!(err.contains("--width"), "{err}");
-    let left: Vec<_> = std::fs::read_dir(d.0.path())
-        .unwrap()
-        .map(|e| e.unwrap().file_name())
-        .collect();
+    let left = files_in(&d);
     assert_eq!(left, ["slow.yml"], "no checkpoint, lock or image");
 }
