@@ -374,15 +374,18 @@ fn a_complete_part_is_kept_and_a_damaged_one_rendered_again() {
     let dir = tempfile::tempdir().unwrap();
     let (scene, parts) = own_scene_parts(dir.path(), "a", "");
     let args = ["--width", "10", "--height", "8", "--slice", "1/3"];
+    let render_again = || {
+        rayforge()
+            .arg("render")
+            .arg(&scene)
+            .arg("-o")
+            .arg(&parts[1])
+            .args(args)
+            .output()
+            .unwrap()
+    };
     let before = std::fs::metadata(&parts[1]).unwrap().modified().unwrap();
-    let again = rayforge()
-        .arg("render")
-        .arg(&scene)
-        .arg("-o")
-        .arg(&parts[1])
-        .args(args)
-        .output()
-        .unwrap();
+    let again = render_again();
     ok(&again);
     let said = String::from_utf8_lossy(&again.stderr);
     assert!(
@@ -396,14 +399,7 @@ fn a_complete_part_is_kept_and_a_damaged_one_rendered_again() {
     // Cut short (a disk that filled up, a copy interrupted): replaced by a whole part.
     let good = std::fs::read(&parts[1]).unwrap();
     std::fs::write(&parts[1], &good[..good.len() / 2]).unwrap();
-    let again = rayforge()
-        .arg("render")
-        .arg(&scene)
-        .arg("-o")
-        .arg(&parts[1])
-        .args(args)
-        .output()
-        .unwrap();
+    let again = render_again();
     ok(&again);
     let said = String::from_utf8_lossy(&again.stderr);
     assert!(
