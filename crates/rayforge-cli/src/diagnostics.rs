@@ -15,10 +15,44 @@ use miette::{
 use rayforge_scene::SceneError;
 
 /// How many characters of a line the display shows at most.
-const WINDOW: usize = 120;
+pub(crate) const WINDOW: usize = 120;
 
 /// How many characters before the error's column the window starts, when the line is cut.
-const LEAD: usize = 40;
+pub(crate) const LEAD: usize = 40;
+
+/// The file an error points into, read again (only now that there is something to show), and
+/// the byte range of the line that holds the error.
+pub(crate) struct ErrorLine {
+    /// The file's text.
+    pub text: String,
+    /// Where the error's line starts and ends (before its newline).
+    pub line_start: usize,
+    pub line_end: usize,
+    /// The error's place, within the text.
+    pub span: rayforge_scene::Span,
+}
+
+impl ErrorLine {
+    /// `None` when the error has no position, or the file can no longer be read or no longer
+    /// holds the place (it was saved again since).
+    pub(crate) fn read(error: &SceneError) -> Option<Self> {
+        let span = error.span?;
+        let text = std::fs::read_to_string(&error.path).ok()?;
+        if span.offset > text.len() || !text.is_char_boundary(span.offset) {
+            return None;
+        }
+        let line_start = text[..span.offset].rfind('\n').map_or(0, |i| i + 1);
+        let line_end = text[span.offset..]
+            .find('\n')
+            .map_or(text.len(), |i| span.offset + i);
+        Some(Self {
+            text,
+            line_start,
+            line_end,
+            span,
+        })
+    }
+}
 
 /// Sets miette's report style: messages are not wrapped, so each stays one line that a script
 /// or a test can search (a terminal wraps long lines by itself).
@@ -110,15 +144,12 @@ impl SourceCode for Excerpt {
 /// The excerpt of the error's file and the span within it, when the error has a position and
 /// the file (read again here, only now that there is something to show) still holds it.
 fn locate(error: &SceneError) -> Option<(Excerpt, SourceSpan)> {
-    let span = error.span?;
-    let text = std::fs::read_to_string(&error.path).ok()?;
-    if span.offset > text.len() || !text.is_char_boundary(span.offset) {
-        return None;
-    }
-    let line_start = text[..span.offset].rfind('\n').map_or(0, |i| i + 1);
-    let line_end = text[span.offset..]
-        .find('\n')
-        .map_or(text.len(), |i| span.offset + i);
+    let ErrorLine {
+        text,
+        line_start,
+        line_end,
+        span,
+    } = ErrorLine::read(error)?;
     let previous = (line_start > 0).then(|| {
         let end = line_start - 1;
         let start = text[..end].rfind('\n').map_or(0, |i| i + 1);

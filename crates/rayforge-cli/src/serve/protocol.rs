@@ -12,6 +12,7 @@
 //! render` writes it.
 
 use crate::args::Renderer;
+use crate::diagnostics::{ErrorLine, LEAD, WINDOW};
 use rayforge::LightingModel;
 use rayforge_scene::{clip, SceneError};
 use serde_json::{json, Map, Value};
@@ -273,24 +274,17 @@ pub fn scene_error(job: u64, error: &SceneError) -> String {
     message.to_string()
 }
 
-/// How many characters of the offending line an error shows at most, and how many before the
-/// error's column when the line is cut.
-const WINDOW: usize = 120;
-const LEAD: usize = 40;
-
-/// The line of the error's file that holds it, cut to [`WINDOW`] characters about the error,
+/// The line of the error's file that holds it, cut to [`WINDOW`] characters about the error (as
+/// the terminal's display cuts it),
 /// with the error's start and length in characters within the cut; `None` when the file can no
 /// longer be read or no longer holds the place (it was saved again since).
 fn offending_line(error: &SceneError) -> Option<(String, usize, usize)> {
-    let span = error.span?;
-    let text = std::fs::read_to_string(&error.path).ok()?;
-    if span.offset > text.len() || !text.is_char_boundary(span.offset) {
-        return None;
-    }
-    let start = text[..span.offset].rfind('\n').map_or(0, |i| i + 1);
-    let end = text[span.offset..]
-        .find('\n')
-        .map_or(text.len(), |i| span.offset + i);
+    let ErrorLine {
+        text,
+        line_start: start,
+        line_end: end,
+        span,
+    } = ErrorLine::read(error)?;
     let line = text[start..end].trim_end_matches('\r');
     let column = text[start..span.offset].chars().count();
     let skip = column.saturating_sub(LEAD);
