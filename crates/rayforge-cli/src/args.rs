@@ -47,6 +47,7 @@ Render options (`rayforge render --help` describes each in full):
       --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
       --max-rays-per-sample <N> the most rays one camera ray may lead to [default: 4194304]
       --allow-outside       let the scene name files outside its folder
+      --camera <N|NAME>     a glTF model's camera, by index or name [default: its first]
       --resume              continue an interrupted render from its checkpoint
       --slice <I/N>         render slice I (from 0) of N to a part file for `rayforge merge`;
                             auto/N takes I from SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX
@@ -324,6 +325,12 @@ pub struct RenderArgs {
     /// elsewhere cannot make rayforge read other files.
     #[arg(long)]
     pub allow_outside: bool,
+
+    /// For a glTF model rendered directly: which of its cameras to look through, by index
+    /// (0 is the first in node order) or by name; without it, its first camera, or one that
+    /// frames the model when it has none.
+    #[arg(long, value_name = "N|NAME")]
+    pub camera: Option<String>,
 
     /// Continue an interrupted render: the rows saved in <FILE>.rayforge-checkpoint are kept
     /// and only the others are rendered, giving the same image as an uninterrupted run. Refused

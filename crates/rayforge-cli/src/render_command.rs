@@ -19,6 +19,7 @@ use rayforge::draw2d::Overlay;
 use rayforge::film::{develop, Exposure, Film};
 use rayforge::options::RasterOptions;
 use rayforge::render::{render_rows, PartialImage, RenderOptions, RenderStats, Sampling};
+use rayforge_scene::gltf::CameraChoice;
 use rayforge_scene::{LoadOptions, Scene};
 use rayon::ThreadPool;
 use std::path::Path;
@@ -100,6 +101,10 @@ pub(crate) fn load_options(settings: &RenderSettings, frame: u64) -> LoadOptions
         max_triangles: settings.max_triangles,
         allow_outside: settings.allow_outside,
         frame,
+        camera: settings
+            .camera
+            .as_deref()
+            .map_or(CameraChoice::First, CameraChoice::parse),
         ..LoadOptions::default()
     }
 }

@@ -65,6 +65,8 @@ pub struct RenderSettings {
     pub display_server: Option<String>,
     /// Whether the scene may name files outside its folder.
     pub allow_outside: bool,
+    /// `--camera`: a glTF model's camera.
+    pub camera: Option<String>,
     /// Continue from the checkpoint.
     pub resume: bool,
     /// Wait for an interrupt once this many rows are finished (a testing aid).
@@ -393,6 +395,7 @@ impl RenderSettings {
             max_rays_per_sample: args.max_rays_per_sample,
             display_server: args.display_server.clone(),
             allow_outside: args.allow_outside,
+            camera: args.camera.clone(),
             resume: args.resume,
             pause_after_rows: args.pause_after_rows,
             raster,

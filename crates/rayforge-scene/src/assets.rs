@@ -4,6 +4,7 @@
 
 use crate::error::SceneError;
 use crate::files::{read_bounded, Folder};
+use crate::gltf::{read_gltf, GltfModel, Limits};
 use crate::hdr::{decode_hdr_image, read_hdr_image, HdrImage};
 use crate::images::{
     decode, ImageMemory, Room, COLOR_BYTES, DEFAULT_MAX_IMAGE_MEMORY, ENVIRONMENT_BYTES_PER_TEXEL,
@@ -25,6 +26,7 @@ pub type ObjMeshes = Arc<Vec<(Arc<Mesh>, Option<Material>)>>;
 pub struct Assets {
     folder: Folder,
     meshes: HashMap<PathBuf, ObjMeshes>,
+    models: HashMap<PathBuf, Arc<GltfModel>>,
     textures: Textures,
     /// The most triangles the scene's models may hold together.
     max_triangles: usize,
@@ -46,6 +48,7 @@ impl Assets {
         Self {
             folder: Folder::of_file(scene_path, allow_outside),
             meshes: HashMap::new(),
+            models: HashMap::new(),
             textures: Textures {
                 by_path: HashMap::new(),
                 memory: ImageMemory::new(max_image_memory),
@@ -91,6 +94,37 @@ impl Assets {
         let meshes: ObjMeshes = Arc::new(to_meshes(&obj));
         self.meshes.insert(path.to_path_buf(), meshes.clone());
         Ok(meshes)
+    }
+
+    /// A glTF model, read on first use, within what is left of the scene's triangles and
+    /// image memory.
+    pub fn gltf(&mut self, path: &Path) -> Result<Arc<GltfModel>, SceneError> {
+        if let Some(m) = self.models.get(path) {
+            return Ok(m.clone());
+        }
+        self.folder
+            .check(path)
+            .map_err(|e| SceneError::new(path, e))?;
+        let model = read_gltf(
+            path,
+            Limits {
+                folder: &self.folder,
+                memory: &mut self.textures.memory,
+                max_triangles: self.max_triangles.saturating_sub(self.triangles),
+            },
+        )?;
+        let triangles: usize = model
+            .objects
+            .iter()
+            .filter_map(|o| match &o.shape {
+                rayforge::Shape::Mesh(m) => Some(m.face_count()),
+                _ => None,
+            })
+            .sum();
+        self.triangles = self.triangles.saturating_add(triangles);
+        let model = Arc::new(model);
+        self.models.insert(path.to_path_buf(), model.clone());
+        Ok(model)
     }
 
     /// An image texture, read on first use: PNG, JPEG, PPM/PGM/PBM, whose bytes become colours

@@ -99,6 +99,16 @@ impl Room {
 /// planes, and the 24-byte colours the texture keeps. The buffers that can be large are taken
 /// fallibly, so a machine short of memory gets this error, not an abort.
 pub(crate) fn decode(bytes: &[u8], room: Room) -> Result<Texture, String> {
+    decode_with_alpha(bytes, room, false).map(|(texture, _)| texture)
+}
+
+/// [`decode`], and with `keep_alpha` the image's alpha channel as a second, grey texture
+/// (`None` when the image has no alpha), costed within the same room.
+pub(crate) fn decode_with_alpha(
+    bytes: &[u8],
+    room: Room,
+    keep_alpha: bool,
+) -> Result<(Texture, Option<Texture>), String> {
     use image::ImageDecoder;
     let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
@@ -127,7 +137,9 @@ pub(crate) fn decode(bytes: &[u8], room: Room) -> Result<Texture, String> {
         } else {
             0
         };
-        let cost = bytes.len() as u64 + output + jpeg + pixels * COLOR_BYTES;
+        let keep_alpha = keep_alpha && color.has_alpha();
+        let kept = if keep_alpha { 2 } else { 1 };
+        let cost = bytes.len() as u64 + output + jpeg + kept * pixels * COLOR_BYTES;
         room.check(cost, &format!("{w}×{h} pixels of {color:?}"))?;
         let mut buffer = fallible_vec(output as usize)?;
         buffer.resize(output as usize, 0);
@@ -135,8 +147,16 @@ pub(crate) fn decode(bytes: &[u8], room: Room) -> Result<Texture, String> {
             .read_image(&mut buffer)
             .map_err(|e| room.explain(e))?;
         let colors = to_colors(&buffer, color, pixels as usize)?;
-        Texture::new(w as usize, h as usize, colors, Filter::Bilinear)
-            .ok_or_else(|| "the image is empty".to_string())
+        let texture = |texels| {
+            Texture::new(w as usize, h as usize, texels, Filter::Bilinear)
+                .ok_or_else(|| "the image is empty".to_string())
+        };
+        let alpha = if keep_alpha {
+            Some(texture(alpha_of(&buffer, color, pixels as usize)?)?)
+        } else {
+            None
+        };
+        Ok((texture(colors)?, alpha))
     })
 }
 
@@ -184,6 +204,34 @@ pub(crate) fn to_colors(
         }
     }));
     Ok(colors)
+}
+
+/// The alpha channel of the decoder's output (8 or 16 bits, or float) as grey colours.
+fn alpha_of(buffer: &[u8], color: image::ColorType, pixels: usize) -> Result<Vec<Color>, String> {
+    use image::ColorType as C;
+    let (channels, bytes_per_channel) = match color {
+        C::La8 => (2, 1),
+        C::Rgba8 => (4, 1),
+        C::La16 => (2, 2),
+        C::Rgba16 => (4, 2),
+        C::Rgba32F => (4, 4),
+        other => return Err(format!("its colour type ({other:?}) has no alpha")),
+    };
+    let stride = channels * bytes_per_channel;
+    if buffer.len() != pixels * stride {
+        return Err("the decoder's output does not match the image's size".into());
+    }
+    let mut alpha = fallible_vec(pixels)?;
+    alpha.extend(buffer.chunks_exact(stride).map(|p| {
+        let c = &p[(channels - 1) * bytes_per_channel..];
+        let a = f64::from(match bytes_per_channel {
+            1 => f32::from(c[0]) / 255.0,
+            2 => f32::from(u16::from_ne_bytes([c[0], c[1]])) / 65535.0,
+            _ => f32::from_ne_bytes([c[0], c[1], c[2], c[3]]),
+        });
+        Color::new(a, a, a)
+    }));
+    Ok(alpha)
 }
 
 /// An empty vector with room for `len` items, or an error saying that memory is short

@@ -14,6 +14,7 @@ mod defines;
 mod environment;
 mod error;
 mod files;
+pub mod gltf;
 mod hdr;
 mod images;
 mod items;
@@ -69,7 +70,7 @@ pub struct Scene {
 pub const MAX_SCENE_BYTES: u64 = 64 * 1024 * 1024;
 
 /// Limits on what loading a scene may take, beyond the fixed ones of the format.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct LoadOptions {
     /// The most triangles the scene's OBJ models may hold together (a model used twice counts
     /// once), and the most vertices, normals or texture coordinates in any one model.
@@ -86,6 +87,9 @@ pub struct LoadOptions {
     /// a `..` that climbs out or a symbolic link that leads out is an error at the `file:`
     /// that names it, so that a scene from elsewhere cannot read other files.
     pub allow_outside: bool,
+    /// Which of a glTF model's cameras to look through when the model is rendered directly
+    /// (`--camera`).
+    pub camera: gltf::CameraChoice,
 }
 
 impl Default for LoadOptions {
@@ -95,6 +99,7 @@ impl Default for LoadOptions {
             frame: 0,
             max_image_memory: DEFAULT_MAX_IMAGE_MEMORY,
             allow_outside: false,
+            camera: gltf::CameraChoice::First,
         }
     }
 }
@@ -104,8 +109,12 @@ pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
     load_file_with(path, &LoadOptions::default())
 }
 
-/// [`load_file`] within `options`' limits.
+/// [`load_file`] within `options`' limits. A glTF model (`.gltf`, `.glb`) is read as a whole
+/// scene of its own: see [`gltf`].
 pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
+    if gltf::is_model_file(path) {
+        return gltf::model_scene(path, options);
+    }
     let bytes = files::read_bounded(path, MAX_SCENE_BYTES)
         .map_err(|e| SceneError::new(path, format!("cannot read the scene file: {e}")))?;
     let text = String::from_utf8(bytes)

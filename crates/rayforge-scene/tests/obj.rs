@@ -236,15 +236,20 @@ fn map_kd_multiplies_the_colour_at_the_models_texture_coordinates() {
     let xs = scene.world.intersect(&r);
     let h = hit(&xs).unwrap();
     let comps = prepare_computations(h, &r, &xs);
-    let (u, v) = comps.uv.expect("the front face has texture coordinates");
+    let (u, v) = comps
+        .surface_point
+        .uv
+        .expect("the front face has texture coordinates");
     assert!(
         (u - 0.25).abs() < 1e-9 && (v - 0.25).abs() < 1e-9,
         "({u}, {v})"
     );
-    let c = comps
-        .surface
-        .material
-        .color_at(comps.surface, comps.point, comps.uv, comps.time);
+    let c = comps.surface.material.color_at(
+        comps.surface,
+        comps.point,
+        comps.surface_point.uv,
+        comps.time,
+    );
     let expected = color(128.0 / 255.0 * 0.8, 0.1, 0.1);
     // Images decode to 32-bit floats: compare at that precision.
     assert!((c.red - expected.red).abs() < 1e-6, "{c:?}");

@@ -19,7 +19,7 @@ use crate::math::{Point3, Ray, Vec3};
 use crate::render::integrator::{dispatch, TraceState, Whitted};
 use crate::render::OneRay;
 use crate::scene::{Computations, Object, World, WorldIndex};
-use crate::shading::{lighting_with, Light, Material, Pattern};
+use crate::shading::{lighting_with, Light, Material, Pattern, SurfacePoint};
 
 /// Traces rays through one world with the world's lighting model, reusing its index and its
 /// buffers between calls (the book's functions, as methods).
@@ -175,7 +175,11 @@ pub trait BookMaterial {
 
 impl BookMaterial for Material {
     fn color_at(&self, object: &Object, point: Point3, uv: Option<(f64, f64)>, time: f64) -> Color {
-        self.surface_color(uv, || object.world_to_object_at(point, time))
+        let at = SurfacePoint {
+            uv,
+            vertex_color: None,
+        };
+        self.surface_color(&at, || object.world_to_object_at(point, time))
     }
 }
 

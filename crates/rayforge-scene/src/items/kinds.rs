@@ -22,6 +22,7 @@ pub const SHAPE_KINDS: &[&str] = &[
     "dodecahedron",
     "group",
     "obj",
+    "gltf",
     "csg",
 ];
 
@@ -45,7 +46,7 @@ fn own_keys(kind: &str) -> &'static [&'static str] {
     match kind {
         "group" => &["children"],
         "csg" => &["operation", "left", "right"],
-        "obj" => &["file"],
+        "obj" | "gltf" => &["file"],
         "cylinder" | "cone" => &["min", "max", "closed"],
         "torus" => &["major-radius", "minor-radius"],
         "ring" => &["inner-radius", "outer-radius"],

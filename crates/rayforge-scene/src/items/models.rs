@@ -1,15 +1,17 @@
-//! `add: obj`: a Wavefront OBJ model (`file:`), its meshes added as objects with the file's
-//! own materials unless the item gives one.
+//! `add: obj` and `add: gltf`: a Wavefront OBJ or glTF 2.0 model (`file:`), its meshes added
+//! as objects with the file's own materials unless the item gives one.
 //!
 //! Separate because a model is read from another file (through the scene's assets, once each)
-//! and adds as many objects as the file has groups.
+//! and adds as many objects as the file has groups or mesh primitives.
 
 use super::motion::moving;
 use super::placement::Placement;
 use crate::assets::Assets;
 use crate::error::SceneError;
+use crate::gltf::GLTF_TO_BOOK;
 use crate::source::{Entry, Node, Source};
-use rayforge::Object;
+use rayforge::{Object, Transform};
+use std::path::{Path, PathBuf};
 
 /// Adds the meshes of the model that `file:` names, placed, to `out`.
 pub fn add_model(
@@ -20,20 +22,10 @@ pub fn add_model(
     placement: Placement<'_, '_>,
     out: &mut Vec<Object>,
 ) -> Result<(), SceneError> {
-    let file = entries
-        .iter()
-        .find(|e| e.name == "file")
-        .map(|e| e.value)
-        .ok_or_else(|| source.error(kind_node, "file", "an obj needs `file:`"))?;
-    let path = assets.resolve(source.string(file, "file")?);
-    let meshes = assets.obj(&path).map_err(|e| {
-        if e.path == path && e.span.is_none() {
-            // The file itself could not be read: point at the `file:` that names it.
-            source.error(file, "file", e.message)
-        } else {
-            e
-        }
-    })?;
+    let (file, path) = model_file(source, assets, entries, kind_node, "an obj")?;
+    let meshes = assets
+        .obj(&path)
+        .map_err(|e| at_file(source, file, &path, e))?;
     for (mesh, own_material) in meshes.iter() {
         let mut object = moving(
             Object::mesh(mesh.clone()),
@@ -45,6 +37,68 @@ pub fn add_model(
             (false, Some(m)) => m.clone(),
             _ => placement.material.clone().unwrap_or_default(),
         };
+        object.casts_shadow = placement.casts_shadow;
+        source.spend(kind_node, "add")?;
+        out.push(object);
+    }
+    Ok(())
+}
+
+/// The `file:` of a model item and the path it names.
+fn model_file<'n, 's>(
+    source: &Source<'_>,
+    assets: &Assets,
+    entries: &[Entry<'n, 's>],
+    kind_node: &Node<'_>,
+    what: &str,
+) -> Result<(&'n Node<'s>, PathBuf), SceneError> {
+    let file = entries
+        .iter()
+        .find(|e| e.name == "file")
+        .map(|e| e.value)
+        .ok_or_else(|| source.error(kind_node, "file", format!("{what} needs `file:`")))?;
+    Ok((file, assets.resolve(source.string(file, "file")?)))
+}
+
+/// A model's error placed at the `file:` that names it when it is about the file as a whole
+/// (it could not be read); otherwise as it is.
+fn at_file(source: &Source<'_>, file: &Node<'_>, path: &Path, e: SceneError) -> SceneError {
+    if e.path == path && e.span.is_none() && e.key.is_none() {
+        source.error(file, "file", e.message)
+    } else {
+        e
+    }
+}
+
+/// Adds the mesh primitives of the glTF model that `file:` names, each placed by its node and
+/// then by the item (through [`GLTF_TO_BOOK`]), to `out`. An explicit `material:` replaces the
+/// file's materials; the file's cameras and lights are used only when it is rendered
+/// directly.
+pub fn add_gltf(
+    source: &Source<'_>,
+    assets: &mut Assets,
+    entries: &[Entry<'_, '_>],
+    kind_node: &Node<'_>,
+    placement: Placement<'_, '_>,
+    out: &mut Vec<Object>,
+) -> Result<(), SceneError> {
+    let (file, path) = model_file(source, assets, entries, kind_node, "a gltf")?;
+    let model = assets
+        .gltf(&path)
+        .map_err(|e| at_file(source, file, &path, e))?;
+    let mirror = Transform::new(GLTF_TO_BOOK);
+    for part in &model.objects {
+        let placed = part.placed_by(&mirror).map_err(|_| {
+            source.error(
+                kind_node,
+                "file",
+                "a node of the model has a singular transform",
+            )
+        })?;
+        let mut object = moving(placed, &placement.world, &placement.world_end);
+        if placement.material_explicit {
+            object.material = placement.material.clone().unwrap_or_default();
+        }
         object.casts_shadow = placement.casts_shadow;
         source.spend(kind_node, "add")?;
         out.push(object);

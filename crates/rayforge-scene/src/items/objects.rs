@@ -7,7 +7,7 @@
 use super::csg::add_csg;
 use super::groups::add_group;
 use super::kinds::keys;
-use super::models::add_model;
+use super::models::{add_gltf, add_model};
 use super::nesting::{Builder, Inherited};
 use super::placement::place;
 use super::shapes::{add_shape, shape};
@@ -63,7 +63,7 @@ fn build_objects<'n, 's>(
         .value;
     let kind = source.string(kind_node, "add")?;
     let shape = match kind {
-        "group" | "obj" | "csg" => None,
+        "group" | "obj" | "gltf" | "csg" => None,
         _ => Some(shape(source, entries, kind_node, kind)?),
     };
     check_keys(source, entries, &format!("a {kind}"), &keys(kind))?;
@@ -72,6 +72,7 @@ fn build_objects<'n, 's>(
         (Some(shape), _) => add_shape(source, kind_node, shape, placement, out),
         (None, "csg") => add_csg(builder, entries, kind_node, placement, inherited, out),
         (None, "obj") => add_model(source, builder.assets, entries, kind_node, placement, out),
+        (None, "gltf") => add_gltf(source, builder.assets, entries, kind_node, placement, out),
         (None, _) => add_group(builder, entries, kind_node, placement, inherited, out),
     }
 }

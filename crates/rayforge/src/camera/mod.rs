@@ -29,6 +29,9 @@ pub struct Camera {
     shutter: (f64, f64),
     /// Computer Graphics from Scratch's viewport, which then decides every ray.
     viewport: Option<Viewport>,
+    /// Whether rays leave the canvas in parallel (an orthographic camera, as glTF files
+    /// have); the canvas then spans `2 × half_width` world units at the camera itself.
+    orthographic: bool,
 }
 
 impl Camera {
@@ -53,7 +56,29 @@ impl Camera {
             focal_distance: 1.0,
             shutter: (0.0, 1.0),
             viewport: None,
+            orthographic: false,
         }
+    }
+
+    /// An orthographic camera: parallel rays along its −z through a canvas whose longer side
+    /// spans `2 × half_extent` world units (glTF's `xmag`/`ymag` are such half extents).
+    pub fn orthographic(hsize: usize, vsize: usize, half_extent: f64) -> Self {
+        // The canvas of a pinhole camera whose tan(fov / 2) is the half extent, met at z = 0.
+        let mut camera = Self::new(hsize, vsize, 2.0 * half_extent.atan());
+        let aspect = hsize as f64 / vsize as f64;
+        (camera.half_width, camera.half_height) = if aspect >= 1.0 {
+            (half_extent, half_extent / aspect)
+        } else {
+            (half_extent * aspect, half_extent)
+        };
+        camera.pixel_size = camera.half_width * 2.0 / hsize as f64;
+        camera.orthographic = true;
+        camera
+    }
+
+    /// Whether the camera is orthographic.
+    pub fn is_orthographic(&self) -> bool {
+        self.orthographic
     }
 
     /// Computer Graphics from Scratch's camera: a `hsize × vsize` canvas onto `viewport`.
@@ -129,7 +154,13 @@ impl Camera {
                     .with_shutter(self.shutter.0, self.shutter.1);
             }
         }
-        Self::new(hsize, vsize, self.field_of_view)
+        let camera = if self.orthographic {
+            let half_longer = self.half_width.max(self.half_height);
+            Self::orthographic(hsize, vsize, half_longer)
+        } else {
+            Self::new(hsize, vsize, self.field_of_view)
+        };
+        camera
             .with_transform_of(self.transform)
             .with_lens(self.aperture, self.focal_distance)
             .with_shutter(self.shutter.0, self.shutter.1)
@@ -192,7 +223,7 @@ impl Camera {
     /// [0, 1) pick the point on the lens disk (0.5, 0.5 is its centre). The ray passes through
     /// the canvas point's image on the focal plane, so only that plane is sharp.
     pub fn ray_through_lens(&self, x: f64, y: f64, lens_u: f64, lens_v: f64) -> Ray {
-        if self.aperture == 0.0 || self.viewport.is_some() {
+        if self.aperture == 0.0 || self.viewport.is_some() || self.orthographic {
             return self.ray_through(x, y);
         }
         let canvas = Point3::new(
@@ -217,6 +248,15 @@ impl Camera {
         }
         let world_x = self.half_width - x * self.pixel_size;
         let world_y = self.half_height - y * self.pixel_size;
+        if self.orthographic {
+            let origin = self
+                .transform
+                .inverse_point(Point3::new(world_x, world_y, 0.0));
+            let ahead = self
+                .transform
+                .inverse_point(Point3::new(world_x, world_y, -1.0));
+            return Ray::new(origin, (ahead - origin).normalize());
+        }
         let pixel = self
             .transform
             .inverse_point(Point3::new(world_x, world_y, -1.0));

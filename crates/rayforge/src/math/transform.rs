@@ -158,6 +158,13 @@ impl Transform {
         world.normalize_or_zero()
     }
 
+    /// Whether the transform mirrors (its linear part's determinant is negative): tangent
+    /// frames then change hands.
+    #[inline]
+    pub fn mirrors(&self) -> bool {
+        self.forward.matrix3.determinant() < 0.0
+    }
+
     /// The absolute determinant of the linear part: how much the transform scales volumes.
     #[inline]
     pub fn volume_scale(&self) -> f64 {

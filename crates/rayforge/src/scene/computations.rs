@@ -3,6 +3,7 @@
 
 use crate::math::{reflect, Point3, Ray, Vec3, EPSILON};
 use crate::scene::{Intersection, Object};
+use crate::shading::SurfacePoint;
 
 /// The state of an intersection, ready for shading.
 ///
@@ -34,7 +35,7 @@ pub struct Computations<'a> {
     /// The ray's direction mirrored about the normal.
     pub reflectv: Vec3,
     /// The surface's own texture coordinates at the hit, where it has them.
-    pub uv: Option<(f64, f64)>,
+    pub surface_point: SurfacePoint,
     /// Refractive index of the medium the ray leaves.
     pub n1: f64,
     /// Refractive index of the medium the ray enters.
@@ -87,7 +88,7 @@ pub fn prepare_computations_with<'a>(
         t: hit.t,
         object: hit.object,
         surface,
-        uv: surface.shape.surface_uv(&hit.local()),
+        surface_point: surface.shape.surface_point(&hit.local()),
         point,
         over_point: point + offset,
         under_point: point - offset,

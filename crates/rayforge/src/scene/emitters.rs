@@ -348,8 +348,15 @@ impl Emitters {
         let disc = PI * radius * radius;
         // A book light's power: its irradiance π·I over a sphere (falling off) or, not falling
         // off, over the scene's cross-section.
-        let point_power =
-            |intensity: Color| intensity.luminance() * PI * if falloff { 4.0 * PI } else { disc };
+        let point_power = |intensity: Color, own_falloff: bool| {
+            intensity.luminance()
+                * PI
+                * if falloff || own_falloff {
+                    4.0 * PI
+                } else {
+                    disc
+                }
+        };
         let mut list = Vec::new();
         let mut power = Vec::new();
         for light in &world.lights {
@@ -358,19 +365,19 @@ impl Emitters {
                     Emitter::Point {
                         position: l.position,
                         intensity: l.intensity * PI,
-                        falloff,
+                        falloff: falloff || l.falloff,
                         spot: None,
                     },
-                    point_power(l.intensity),
+                    point_power(l.intensity, l.falloff),
                 ),
                 Light::Spot(l) => (
                     Emitter::Point {
                         position: l.position,
                         intensity: l.intensity * PI,
-                        falloff,
+                        falloff: falloff || l.falloff,
                         spot: Some(l),
                     },
-                    point_power(l.intensity),
+                    point_power(l.intensity, l.falloff),
                 ),
                 Light::Directional(l) => (
                     Emitter::Directional {
@@ -387,7 +394,7 @@ impl Emitters {
                         intensity: l.intensity * PI,
                         falloff,
                     },
-                    point_power(l.intensity),
+                    point_power(l.intensity, false),
                 ),
                 Light::Ambient(_) => continue,
             };
@@ -397,7 +404,12 @@ impl Emitters {
         let mut by_object = vec![NOT_SAMPLED; world.objects.len()];
         for (i, object) in world.objects.iter().enumerate() {
             let emission = object.material.emission;
-            if emission.max_channel() <= 0.0 || object.motion.is_some() {
+            // A textured emission (glTF's emissiveTexture) varies over the surface, which
+            // sampling by area at one radiance cannot follow: such a surface is found by BSDF
+            // sampling alone (its light then counts in full, unweighted).
+            let textured = (object.material.metal_rough.as_ref())
+                .is_some_and(|m| m.emissive_texture.is_some());
+            if emission.max_channel() <= 0.0 || object.motion.is_some() || textured {
                 continue;
             }
             let Some(surface) = Surface::of(&object.shape) else {

@@ -66,7 +66,7 @@ impl WorldIndex {
         self.candidates(ray, ray.t_min, f64::INFINITY, |i, t_max| {
             let object = &world.objects[i];
             let local = object.ray_to_object(ray);
-            if let Some(h) = object.shape.closest_hit(&local, ray.t_min, *t_max) {
+            if let Some(h) = object.closest_local_hit(&local, ray.t_min, *t_max) {
                 *t_max = h.t;
                 best = Some(Intersection::from_local(object, h));
             }

@@ -2,10 +2,12 @@
 
 use crate::color::Color;
 use crate::geometry::LocalHit;
+use crate::geometry::Mesh;
 use crate::geometry::Triangle;
+use crate::math::random::SplitMix64;
 use crate::math::{Aabb, Motion, Point3, Ray, SingularTransform, Transform, Vec3};
 use crate::scene::{Intersection, Shape};
-use crate::shading::Material;
+use crate::shading::{Material, MetalRough, SurfacePoint};
 use std::borrow::Cow;
 
 /// A shape with its transform and material.
@@ -160,12 +162,12 @@ impl Object {
     }
 
     /// The surface colour of this object's material at a world-space point (on the object as it
-    /// was at `time`): the texture at the surface's coordinates `uv` when both exist, else the
-    /// pattern at the point in object space, else the plain colour.
+    /// was at `time`), read at the surface's texture coordinates and vertex colour `at` (see
+    /// [`Material::surface_color`]).
     #[inline]
-    pub fn surface_color(&self, point: Point3, uv: Option<(f64, f64)>, time: f64) -> Color {
+    pub fn surface_color(&self, point: Point3, at: &SurfacePoint, time: f64) -> Color {
         self.material
-            .surface_color(uv, || self.world_to_object_at(point, time))
+            .surface_color(at, || self.world_to_object_at(point, time))
     }
 
     /// The ray in object space (where the object is at the ray's time): what the book's
@@ -181,6 +183,44 @@ impl Object {
         let local = self.ray_to_object(ray);
         self.shape
             .intersect_hits(&local, |h| out.push(Intersection::from_local(self, h)));
+    }
+
+    /// The nearest hit of the object-space ray `local` in `[t_min, t_max)`, on the surface as
+    /// the material leaves it: a glTF material's alpha mask and single-sided back cut holes
+    /// that rays pass through (see [`MetalRough`](crate::shading::MetalRough)).
+    #[inline]
+    pub fn closest_local_hit(&self, local: &Ray, t_min: f64, t_max: f64) -> Option<LocalHit> {
+        match (&self.shape, self.material.metal_rough.as_deref()) {
+            (Shape::Mesh(mesh), Some(m)) if m.has_holes() || m.culls_back() => {
+                mesh.closest_hit_where(local, t_min, t_max, |h| surface_is_there(mesh, m, local, h))
+            }
+            _ => self.shape.closest_hit(local, t_min, t_max),
+        }
+    }
+
+    /// Whether the object-space ray `local` meets the surface in `[t_min, t_max)`, with the
+    /// holes of [`Object::closest_local_hit`].
+    #[inline]
+    pub fn any_local_hit(&self, local: &Ray, t_min: f64, t_max: f64) -> bool {
+        match (&self.shape, self.material.metal_rough.as_deref()) {
+            (Shape::Mesh(mesh), Some(m)) if m.has_holes() || m.culls_back() => {
+                mesh.any_hit_where(local, t_min, t_max, |h| surface_is_there(mesh, m, local, h))
+            }
+            _ => self.shape.any_hit(local, t_min, t_max),
+        }
+    }
+
+    /// The world-space tangent at a hit on a mesh with tangents, with the sign that turns
+    /// `normal × tangent` into the bitangent (flipped where the transform mirrors).
+    #[inline]
+    pub fn tangent_at(&self, hit: &LocalHit) -> Option<(Vec3, f64)> {
+        let Shape::Mesh(mesh) = &self.shape else {
+            return None;
+        };
+        let (tangent, sign) = mesh.tangent_at(hit)?;
+        let transform = self.transform_at(hit.time);
+        let sign = if transform.mirrors() { -sign } else { sign };
+        Some((transform.vector(tangent), sign))
     }
 
     /// The book's `intersect(shape, ray)` returning a fresh list (for tests and one-off queries).
@@ -265,4 +305,28 @@ impl Object {
         }
         Ok(placed)
     }
+}
+
+/// Whether a hit on a glTF mesh is on the surface: not on a culled back face, and where the
+/// alpha mode keeps it. A blended surface's coin is a hash of the ray and the hit, so the same
+/// ray always gets the same answer (renders stay independent of threads and order).
+#[inline]
+fn surface_is_there(mesh: &Mesh, material: &MetalRough, local: &Ray, hit: &LocalHit) -> bool {
+    if material.culls_back() && local.direction.dot(mesh.face_normal(hit.face)) > 0.0 {
+        return false;
+    }
+    if !material.has_holes() {
+        return true;
+    }
+    let at = SurfacePoint {
+        uv: mesh.texcoord_at(hit),
+        vertex_color: mesh.color_at(hit),
+    };
+    let seed = u64::from(hit.face)
+        ^ hit.t.to_bits().rotate_left(17)
+        ^ local.direction.x.to_bits().rotate_left(31)
+        ^ local.direction.y.to_bits().rotate_left(47)
+        ^ local.origin.z.to_bits();
+    let coin = (SplitMix64::new(seed).next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+    material.is_there(&at, coin)
 }

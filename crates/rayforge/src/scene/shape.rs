@@ -10,6 +10,7 @@ use super::csg::Csg;
 use crate::geometry::{cone, cube, cylinder, plane, rectangle, ring, sphere, torus};
 use crate::geometry::{LocalHit, Mesh, Triangle};
 use crate::math::{Aabb, Point3, Ray, Vec3};
+use crate::shading::SurfacePoint;
 use std::sync::Arc;
 
 /// A primitive shape in its own object space.
@@ -199,11 +200,16 @@ impl Shape {
         }
     }
 
-    /// The surface's own texture coordinates at a hit, where it has them (meshes with `vt`).
-    pub fn surface_uv(&self, hit: &LocalHit) -> Option<(f64, f64)> {
+    /// The surface's own texture coordinates and vertex colour at a hit, where it has them
+    /// (meshes with `vt`, glTF meshes with `COLOR_0`).
+    #[inline]
+    pub fn surface_point(&self, hit: &LocalHit) -> SurfacePoint {
         match self {
-            Shape::Mesh(mesh) => mesh.texcoord_at(hit),
-            _ => None,
+            Shape::Mesh(mesh) => SurfacePoint {
+                uv: mesh.texcoord_at(hit),
+                vertex_color: mesh.color_at(hit),
+            },
+            _ => SurfacePoint::default(),
         }
     }
 

@@ -13,6 +13,10 @@ pub struct PointLight {
     pub position: Point3,
     /// Its colour and brightness.
     pub intensity: Color,
+    /// Whether its light falls off with the square of the distance (a physical light, glTF's
+    /// `KHR_lights_punctual`: `intensity` is then the irradiance at unit distance) or reaches
+    /// every distance equally, as the book's lights do.
+    pub falloff: bool,
 }
 
 impl PointLight {
@@ -21,6 +25,7 @@ impl PointLight {
         Self {
             position,
             intensity,
+            falloff: false,
         }
     }
 }
@@ -131,6 +136,9 @@ pub struct SpotLight {
     pub cos_outer: f64,
     /// Its colour and brightness.
     pub intensity: Color,
+    /// Whether its light falls off with the square of the distance (see
+    /// [`PointLight::falloff`]).
+    pub falloff: bool,
 }
 
 impl SpotLight {
@@ -153,6 +161,7 @@ impl SpotLight {
             cos_inner: inner.cos(),
             cos_outer: outer.cos(),
             intensity,
+            falloff: false,
         })
     }
 
@@ -207,7 +216,30 @@ impl Light {
         Light::Point(PointLight::new(position, intensity))
     }
 
-    /// The light's colour and brightness.
+    /// How much of its intensity reaches `point`: `1 / d²` for a light that falls off with
+    /// distance, 1 for every other.
+    #[inline]
+    pub fn reach(&self, point: Point3) -> f64 {
+        let position = match self {
+            Light::Point(l) if l.falloff => l.position,
+            Light::Spot(l) if l.falloff => l.position,
+            _ => return 1.0,
+        };
+        1.0 / (position - point).length_squared().max(1e-300)
+    }
+
+    /// Whether its light falls off with distance (a physical light, which adds no ambient
+    /// term to the book's lighting).
+    #[inline]
+    pub fn falls_off(&self) -> bool {
+        matches!(
+            self,
+            Light::Point(PointLight { falloff: true, .. })
+                | Light::Spot(SpotLight { falloff: true, .. })
+        )
+    }
+
+    /// The light's colour and brightness (at unit distance, for one that falls off).
     pub fn intensity(&self) -> Color {
         match self {
             Light::Point(l) => l.intensity,

@@ -1,11 +1,13 @@
 //! The Phong material (chapters 6, 10 and 11).
 
 use super::bump::Bump;
+use super::metal_rough::{MetalRough, SurfacePoint};
 use super::pattern::Pattern;
 use super::physical::Physical;
 use super::texture::UvPattern;
 use crate::color::Color;
 use crate::math::Point3;
+use std::sync::Arc;
 
 /// Surface properties: Phong coefficients, a colour or pattern, reflection and refraction.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,6 +55,10 @@ pub struct Material {
     /// Patterns that vary the physical material's parameters over the surface (a roughness
     /// map, a graded index), evaluated like the colour's pattern; `None` for fixed ones.
     pub physical_patterns: Option<Box<PhysicalPatterns>>,
+    /// glTF's metallic-roughness material, for surfaces read from glTF files: when present it
+    /// gives the surface colour (base colour × texture × vertex colour) to every renderer,
+    /// and the path tracer its scattering, normal map, emission and alpha.
+    pub metal_rough: Option<Arc<MetalRough>>,
 }
 
 /// Patterns for a physical material's parameters. Each pattern's value at a point is the mean
@@ -120,6 +126,7 @@ impl Material {
         two_sided: true,
         physical: None,
         physical_patterns: None,
+        metal_rough: None,
     };
 
     /// The book's `glass_sphere()` material: fully transparent, index 1.5.
@@ -133,15 +140,16 @@ impl Material {
 }
 
 impl Material {
-    /// The surface colour: the texture at the surface's own coordinates `uv` when both exist,
-    /// else the pattern at the object-space point `object_point` gives (asked only then), else
-    /// the plain colour.
+    /// The surface colour: glTF's base colour (factor, texture and vertex colour) for a
+    /// metallic-roughness material; else the texture at the surface's own coordinates when both
+    /// exist, else the pattern at the object-space point `object_point` gives (asked only
+    /// then), else the plain colour.
     #[inline]
-    pub fn surface_color(
-        &self,
-        uv: Option<(f64, f64)>,
-        object_point: impl FnOnce() -> Point3,
-    ) -> Color {
+    pub fn surface_color(&self, at: &SurfacePoint, object_point: impl FnOnce() -> Point3) -> Color {
+        if let Some(m) = &self.metal_rough {
+            return m.base_at(at).0;
+        }
+        let uv = at.uv;
         if let (Some(texture), Some((u, v))) = (&self.texture, uv) {
             return texture.uv_pattern_at(u, v) * self.color;
         }

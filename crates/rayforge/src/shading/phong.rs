@@ -63,7 +63,13 @@ pub fn lighting_with(
     jitter: &mut dyn Jitter,
 ) -> Color {
     let effective = surface * light.intensity();
-    let ambient = effective * material.ambient;
+    // A physical light's share of ambient would depend on nothing but its brightness; the
+    // scene's ambient light stands for indirect light instead.
+    let ambient = if light.falls_off() {
+        Color::BLACK
+    } else {
+        effective * material.ambient
+    };
     if light_fraction <= 0.0 || matches!(light, Light::Ambient(_)) {
         return ambient;
     }
@@ -84,6 +90,7 @@ pub fn lighting_with(
         diffuse + specular
     };
     let sample = |light_position: Point3| shade((light_position - point).normalize());
+    let reach = light.reach(point);
     let lit = match light {
         Light::Ambient(_) => Color::BLACK,
         Light::Directional(l) => shade(l.towards.normalize_or_zero()),
@@ -104,5 +111,5 @@ pub fn lighting_with(
             sum / area.samples() as f64
         }
     };
-    ambient + lit * light_fraction
+    ambient + lit * (light_fraction * reach)
 }

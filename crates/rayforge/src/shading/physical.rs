@@ -24,6 +24,7 @@
 
 use super::bsdf::Bsdf;
 use super::material::Material;
+use super::metal_rough::MetalRoughSample;
 use crate::color::Color;
 
 /// A material the path tracer understands directly, named in the scene (its colour, pattern or
@@ -235,6 +236,39 @@ impl Scattering {
         ])
     }
 
+    /// glTF's metallic-roughness material at one point (see
+    /// [`MetalRough`](super::MetalRough)): a share `metallic` of GGX conductor reflecting the
+    /// base colour (Fresnel 1), of the rest a share `transmission` of rough glass of index
+    /// `ior` tinted by the base colour, and the remainder a rough coat of index `ior` over a
+    /// Lambertian base of the base colour; every layer of GGX width `roughness²`.
+    pub fn metal_rough(point: &MetalRoughSample, ior: f64, ambient_index: f64) -> Self {
+        let alpha = point.roughness * point.roughness;
+        let eta = ior.max(1.0 + 1e-6) / ambient_index.max(1e-6);
+        let metal = Bsdf::Conductor {
+            eta: Color::BLACK,
+            k: Color::WHITE,
+            alpha,
+            tint: point.base,
+        };
+        let glass = Bsdf::Dielectric {
+            eta,
+            alpha,
+            tint: point.base,
+        };
+        let base = Bsdf::Plastic {
+            diffuse: point.base,
+            eta,
+            alpha,
+            specular: Color::WHITE,
+        };
+        let dielectric = 1.0 - point.metallic;
+        Self::layered(&[
+            (point.metallic, metal),
+            (dielectric * point.transmission, glass),
+            (dielectric * (1.0 - point.transmission), base),
+        ])
+    }
+
     /// The stack of the Phong and CGFS models: dielectric, mirror, then the base (plastic with
     /// a coat of strength `coat`, or Lambert).
     fn book(material: &Material, albedo: Color, coat: Option<f64>, ambient_index: f64) -> Self {
@@ -369,6 +403,40 @@ mod tests {
             }
         }
         assert!((glass - 0.3).abs() < 1e-3, "{glass}");
+    }
+
+    #[test]
+    fn a_gltf_material_splits_into_metal_glass_and_coated_base_by_its_factors() {
+        let point = MetalRoughSample {
+            base: Color::new(0.8, 0.4, 0.2),
+            metallic: 0.25,
+            roughness: 0.5,
+            transmission: 0.5,
+        };
+        let s = Scattering::metal_rough(&point, 1.5, 1.0);
+        assert_eq!(s.len, 3);
+        assert!((s.total - 1.0).abs() < 1e-12);
+        // A quarter metal, then 0.375 glass, then 0.375 plastic; all of GGX width 0.25.
+        let (metal, _) = s.pick(0.2);
+        assert!(
+            matches!(metal.bsdf, Bsdf::Conductor { alpha, tint, .. } if alpha == 0.25 && tint == point.base)
+        );
+        assert!(matches!(s.pick(0.5).0.bsdf, Bsdf::Dielectric { eta, .. } if eta == 1.5));
+        assert!(
+            matches!(s.pick(0.9).0.bsdf, Bsdf::Plastic { diffuse, .. } if diffuse == point.base)
+        );
+        // Fully metallic: one layer, and its Fresnel is 1 at every angle (eta 0, k 1).
+        let metal = Scattering::metal_rough(
+            &MetalRoughSample {
+                metallic: 1.0,
+                ..point
+            },
+            1.5,
+            1.0,
+        );
+        assert_eq!(metal.len, 1);
+        let f = super::super::bsdf::fresnel::conductor(0.3, Color::BLACK, Color::WHITE);
+        assert!((f.red - 1.0).abs() < 1e-12, "{f:?}");
     }
 
     #[test]

@@ -87,6 +87,21 @@ pub struct Mesh {
     packets: Vec<TrianglePacket>,
     /// [`F32_TOLERANCE`] times the mesh's size.
     tolerance: f64,
+    /// Per-vertex tangents and colours (glTF's `TANGENT` and `COLOR_0`), when the model has
+    /// them; boxed so that meshes without them (every OBJ model) stay small.
+    attributes: Option<Box<VertexAttributes>>,
+}
+
+/// Attributes a mesh may carry per vertex beyond position, normal and texture coordinates,
+/// each list indexed like the positions (glTF gives every attribute of a vertex one index).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct VertexAttributes {
+    /// Tangents along which the texture's u grows, with the bitangent's sign in `w` (glTF's
+    /// `TANGENT`): the frame a tangent-space normal map is read in. Empty when absent.
+    pub tangents: Vec<glam::DVec4>,
+    /// Linear RGBA colours that multiply the material's base colour (glTF's `COLOR_0`).
+    /// Empty when absent.
+    pub colors: Vec<[f32; 4]>,
 }
 
 impl Mesh {
@@ -172,6 +187,63 @@ impl Mesh {
             bvh,
             packets,
             tolerance,
+            attributes: None,
+        })
+    }
+
+    /// The same mesh with per-vertex tangents and colours; each list must be empty or hold
+    /// one entry per position (`None` otherwise).
+    pub fn with_attributes(mut self, attributes: VertexAttributes) -> Option<Self> {
+        let fits = |len: usize| len == 0 || len == self.positions.len();
+        if !fits(attributes.tangents.len()) || !fits(attributes.colors.len()) {
+            return None;
+        }
+        let empty = attributes.tangents.is_empty() && attributes.colors.is_empty();
+        self.attributes = (!empty).then(|| Box::new(attributes));
+        Some(self)
+    }
+
+    /// The per-vertex tangents and colours, if the mesh has any.
+    pub fn attributes(&self) -> Option<&VertexAttributes> {
+        self.attributes.as_deref()
+    }
+
+    /// A per-vertex quantity at a hit, blended from its face's corners by `u`, `v`.
+    #[inline]
+    fn blend<T: Copy, R>(
+        &self,
+        hit: &LocalHit,
+        list: &[T],
+        mix: impl Fn([T; 3], [f64; 3]) -> R,
+    ) -> Option<R> {
+        let corners = self.corners.get(hit.face as usize)?;
+        let values = [
+            *list.get(corners[0] as usize)?,
+            *list.get(corners[1] as usize)?,
+            *list.get(corners[2] as usize)?,
+        ];
+        Some(mix(values, [1.0 - hit.u - hit.v, hit.u, hit.v]))
+    }
+
+    /// The tangent at a hit (object space, not normalised) and the bitangent's sign, when the
+    /// mesh has tangents.
+    #[inline]
+    pub fn tangent_at(&self, hit: &LocalHit) -> Option<(Vec3, f64)> {
+        let tangents = &self.attributes.as_deref()?.tangents;
+        self.blend(hit, tangents, |t, w| {
+            let v = t[0] * w[0] + t[1] * w[1] + t[2] * w[2];
+            (v.truncate(), if t[0].w < 0.0 { -1.0 } else { 1.0 })
+        })
+    }
+
+    /// The vertex colour (linear RGBA) at a hit, when the mesh has colours.
+    #[inline]
+    pub fn color_at(&self, hit: &LocalHit) -> Option<[f64; 4]> {
+        let colors = &self.attributes.as_deref()?.colors;
+        self.blend(hit, colors, |c, w| {
+            std::array::from_fn(|i| {
+                f64::from(c[0][i]) * w[0] + f64::from(c[1][i]) * w[1] + f64::from(c[2][i]) * w[2]
+            })
         })
     }
 
@@ -279,7 +351,7 @@ impl Mesh {
             ray,
             t_min,
             t_max,
-            accept: |face, t| {
+            accept: |face, t, _| {
                 best = Some(face);
                 t
             },
@@ -302,9 +374,66 @@ impl Mesh {
             ray,
             t_min,
             t_max,
-            accept: |_, _| {
+            accept: |_, _, _| {
                 found = true;
                 f32::NEG_INFINITY
+            },
+        });
+        found
+    }
+
+    /// [`Mesh::closest_hit`] among the hits that `keep` accepts (a material's alpha mask
+    /// cutting holes in the surface): a refused hit lets the walk go on to those behind it.
+    #[inline]
+    pub fn closest_hit_where(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mut keep: impl FnMut(&LocalHit) -> bool,
+    ) -> Option<LocalHit> {
+        let mut best = None;
+        dispatch(Search {
+            mesh: self,
+            ray,
+            t_min,
+            t_max,
+            accept: |face, t, limit| match self.measure(face, ray) {
+                Some(h) if keep(&h) => {
+                    best = Some(h);
+                    t
+                }
+                _ => limit,
+            },
+        });
+        best.map(|h| LocalHit {
+            t: h.t.max(t_min).min(t_max),
+            ..h
+        })
+    }
+
+    /// [`Mesh::any_hit`] among the hits that `keep` accepts.
+    #[inline]
+    pub fn any_hit_where(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mut keep: impl FnMut(&LocalHit) -> bool,
+    ) -> bool {
+        let mut found = false;
+        dispatch(Search {
+            mesh: self,
+            ray,
+            t_min,
+            t_max,
+            accept: |face, _, limit| {
+                if self.measure(face, ray).is_some_and(|h| keep(&h)) {
+                    found = true;
+                    f32::NEG_INFINITY
+                } else {
+                    limit
+                }
             },
         });
         found
@@ -372,6 +501,16 @@ impl Mesh {
         })
     }
 
+    /// Face `face`'s geometric normal (not normalised), by the book's winding: `e2 × e1`.
+    #[inline]
+    pub fn face_normal(&self, face: u32) -> Vec3 {
+        let Some(corners) = self.corners.get(face as usize) else {
+            return Vec3::ZERO;
+        };
+        let [p1, p2, p3] = corners.map(|i| self.positions[i as usize]);
+        (p3 - p1).cross(p2 - p1)
+    }
+
     /// The normal at a hit: the vertex normals blended by `u`, `v` on smooth faces, the face
     /// normal otherwise.
     #[inline]
@@ -397,8 +536,9 @@ impl Mesh {
 }
 
 /// The walk for hits in `[t_min, t_max)`, nearest boxes first, as a [`Kernel`]: `accept`
-/// receives each face hit nearer than the current limit and its query distance, and returns
-/// the new limit (its distance for a closest-hit search; −∞ stops the walk).
+/// receives each face hit nearer than the current limit, its query distance and that limit,
+/// and returns the new limit (its distance for a closest-hit search, the limit unchanged for
+/// a hit it refuses; −∞ stops the walk).
 struct Search<'a, A> {
     mesh: &'a Mesh,
     ray: &'a Ray,
@@ -407,7 +547,7 @@ struct Search<'a, A> {
     accept: A,
 }
 
-impl<A: FnMut(u32, f32) -> f32> Kernel for Search<'_, A> {
+impl<A: FnMut(u32, f32, f32) -> f32> Kernel for Search<'_, A> {
     type Output = ();
 
     #[inline(always)]
@@ -442,7 +582,7 @@ impl<A: FnMut(u32, f32) -> f32> Kernel for Search<'_, A> {
                         return ControlFlow::Continue(());
                     }
                 }
-                *limit = accept(face, t);
+                *limit = accept(face, t, *limit);
                 if *limit == f32::NEG_INFINITY {
                     ControlFlow::Break(())
                 } else {

@@ -27,7 +27,7 @@ use crate::math::{Point3, Ray, Vec3};
 use crate::render::observer::{RayDetail, Secondary, TraceObserver};
 use crate::scene::{Object, Shape};
 use crate::shading::cgfs::{add, scale, CgfsLighting, Rgb};
-use crate::shading::Light;
+use crate::shading::{Light, SurfacePoint};
 use std::ops::ControlFlow;
 
 /// The book's `EPSILON`: where secondary rays start counting hits.
@@ -145,7 +145,9 @@ impl<'w, O: TraceObserver, const LIT: bool> Pass<'_, 'w, O, LIT> {
         let surface = hit.surface;
         let material = &surface.material;
         let color = scale(
-            surface.surface_color(hit.point, None, time).to_array(),
+            surface
+                .surface_color(hit.point, &SurfacePoint::default(), time)
+                .to_array(),
             255.0,
         );
         if !LIT {

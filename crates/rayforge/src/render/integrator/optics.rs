@@ -27,6 +27,7 @@ use crate::math::{Point3, Ray, Vec3};
 use crate::render::observer::{RayDetail, TraceObserver};
 use crate::scene::{Object, Shape};
 use crate::shading::optics::{matte_light, polarized_reflection};
+use crate::shading::SurfacePoint;
 use std::ops::ControlFlow;
 
 /// The book's `EPSILON`: the smallest distance that counts as a hit, and the tie tolerance.
@@ -144,7 +145,9 @@ impl<'w, O: TraceObserver> Pass<'_, 'w, O> {
         let opacity = material.opacity;
         let transparency = 1.0 - opacity;
         if opacity > 0.0 {
-            let matte = hit.surface.surface_color(hit.point, None, time);
+            let matte = hit
+                .surface
+                .surface_color(hit.point, &SurfacePoint::default(), time);
             let light = self.matte(hit, time);
             self.observer.matte(light, opacity);
             sum += matte * intensity * light * opacity;

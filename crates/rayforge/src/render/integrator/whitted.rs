@@ -127,7 +127,7 @@ impl<'w, O: TraceObserver> Pass<'_, 'w, O> {
         let material = &comps.surface.material;
         let color = comps
             .surface
-            .surface_color(comps.over_point, comps.uv, comps.time);
+            .surface_color(comps.over_point, &comps.surface_point, comps.time);
         let mut surface = Color::BLACK;
         let world = self.state.world;
         for light in &world.lights {
@@ -278,7 +278,7 @@ fn blocks(ray: &Ray, distance: f64) -> impl Fn(&crate::scene::Object) -> bool + 
     move |object| {
         object.casts_shadow && {
             let local = object.ray_to_object(ray);
-            object.shape.any_hit(&local, 0.0, distance)
+            object.any_local_hit(&local, 0.0, distance)
         }
     }
 }

@@ -108,7 +108,7 @@ impl<'w> PathContext<'w> {
             .blocked(world, ray, 0.0, distance, &mut self.hint, |object| {
                 object.casts_shadow && {
                     let local = object.ray_to_object(ray);
-                    object.shape.any_hit(&local, 0.0, distance)
+                    object.any_local_hit(&local, 0.0, distance)
                 }
             })
     }
@@ -148,17 +148,25 @@ impl<'w> PathContext<'w> {
             let wo = -ray.direction;
             let surface = hit.object.surface(hit.leaf);
             let material = &surface.material;
+            let local = hit.local();
+            let at = surface.shape.surface_point(&local);
             let geometric = hit.object.normal_at_hit(point, &hit);
-            let shading = match &material.bump {
+            let mut shading = match &material.bump {
                 Some(bump) => {
                     let transform = surface.transform_at(hit.time);
                     bump.perturb(geometric, transform.inverse_point(point), &transform)
                 }
                 None => geometric,
             };
+            if let Some(m) = &material.metal_rough {
+                shading = m.mapped_normal(&at, shading, surface.tangent_at(&local));
+            }
 
             // Light given off here, towards where the path came from.
-            let emission = material.emission;
+            let emission = match &material.metal_rough {
+                Some(m) => m.emission_at(&at),
+                None => material.emission,
+            };
             if emission.max_channel() > 0.0
                 && material.emission_side.emits_towards(geometric.dot(wo))
             {
@@ -189,12 +197,16 @@ impl<'w> PathContext<'w> {
                 break;
             }
 
-            let colour =
-                surface.surface_color(point, surface.shape.surface_uv(&hit.local()), hit.time);
+            let colour = surface.surface_color(point, &at, hit.time);
             let physical = material.physical_at(|| surface.world_to_object_at(point, hit.time));
-            let scattering = match physical {
-                Some(physical) => Scattering::single(physical.bsdf(colour, world.ambient_index)),
-                None => match world.lighting {
+            let scattering = match (&material.metal_rough, physical) {
+                (Some(m), _) => {
+                    Scattering::metal_rough(&m.sample_at(&at), m.ior, world.ambient_index)
+                }
+                (None, Some(physical)) => {
+                    Scattering::single(physical.bsdf(colour, world.ambient_index))
+                }
+                (None, None) => match world.lighting {
                     LightingModel::Phong => {
                         Scattering::phong(material, colour, world.ambient_index)
                     }

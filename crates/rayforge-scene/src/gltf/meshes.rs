@@ -1,0 +1,340 @@
+//! glTF mesh primitives as rayforge meshes: positions, normals, texture coordinates,
+//! tangents and vertex colours read through the `gltf` crate's accessors (sparse ones
+//! included), indices checked, triangle strips and fans unrolled, and tangents generated for
+//! normal maps where the file gives none.
+
+use super::buffers::Buffers;
+use super::error;
+use crate::error::SceneError;
+use glam::{DVec3, DVec4};
+use rayforge::geometry::{Mesh, MeshFace, VertexAttributes};
+use rayforge::{Point3, Vec3};
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::Arc;
+
+/// The meshes of a model, read once per primitive however many nodes use them.
+pub(crate) struct Meshes<'a> {
+    path: &'a Path,
+    buffers: &'a Buffers,
+    /// Read so far, by (mesh, primitive, whether tangents were needed).
+    by_primitive: HashMap<(usize, usize, bool), Option<Arc<Mesh>>>,
+    /// Triangles the model may still hold.
+    triangles_left: usize,
+    max_triangles: usize,
+    /// What was left out, for warnings.
+    pub notes: Vec<String>,
+}
+
+impl<'a> Meshes<'a> {
+    pub fn new(path: &'a Path, buffers: &'a Buffers, max_triangles: usize) -> Self {
+        Self {
+            path,
+            buffers,
+            by_primitive: HashMap::new(),
+            triangles_left: max_triangles,
+            max_triangles,
+            notes: Vec::new(),
+        }
+    }
+
+    /// The mesh of a primitive (`None` for points and lines, which have no surface), with
+    /// tangents when `tangents` (its material has a normal map) and the texture coordinate
+    /// set `uv_set`.
+    pub fn primitive(
+        &mut self,
+        mesh: &::gltf::Mesh<'_>,
+        primitive: &::gltf::Primitive<'_>,
+        tangents: bool,
+        uv_set: u32,
+    ) -> Result<Option<Arc<Mesh>>, SceneError> {
+        let key = (mesh.index(), primitive.index(), tangents);
+        if let Some(m) = self.by_primitive.get(&key) {
+            return Ok(m.clone());
+        }
+        let at = format!("meshes[{}].primitives[{}]", mesh.index(), primitive.index());
+        let built = self.read(primitive, &at, tangents, uv_set)?;
+        self.by_primitive.insert(key, built.clone());
+        Ok(built)
+    }
+
+    fn read(
+        &mut self,
+        primitive: &::gltf::Primitive<'_>,
+        at: &str,
+        tangents: bool,
+        uv_set: u32,
+    ) -> Result<Option<Arc<Mesh>>, SceneError> {
+        use ::gltf::mesh::Mode;
+        let path = self.path;
+        let mode = primitive.mode();
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
+            self.notes.push(format!(
+                "{at} draws {mode:?}, which has no surface: left out"
+            ));
+            return Ok(None);
+        }
+        let buffers = self.buffers;
+        let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+        let attribute = |name: &str| format!("{at}.attributes.{name}");
+        // The accessor readers index into the buffers as the file says; every view was checked
+        // against its buffer, and the readers return `None` past a view's end, but a panic
+        // in third-party code on a damaged file is reported, not passed on.
+        let read = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let positions: Option<Vec<[f32; 3]>> = reader.read_positions().map(Iterator::collect);
+            let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(Iterator::collect);
+            let uvs: Option<Vec<[f32; 2]>> = reader
+                .read_tex_coords(uv_set)
+                .map(|t| t.into_f32().collect());
+            let given_tangents: Option<Vec<[f32; 4]>> =
+                reader.read_tangents().map(Iterator::collect);
+            let colors: Option<Vec<[f32; 4]>> =
+                reader.read_colors(0).map(|c| c.into_rgba_f32().collect());
+            let indices: Option<Vec<u32>> = reader.read_indices().map(|i| i.into_u32().collect());
+            (positions, normals, uvs, given_tangents, colors, indices)
+        }))
+        .map_err(|_| {
+            error(
+                path,
+                at,
+                "the primitive's data is damaged (its reader failed)",
+            )
+        })?;
+        let (positions, normals, uvs, given_tangents, colors, indices) = read;
+        let positions = positions.ok_or_else(|| {
+            error(
+                path,
+                attribute("POSITION"),
+                "the primitive has no positions (or they lie outside their buffer)",
+            )
+        })?;
+        let count = positions.len();
+        if count > self.max_triangles.saturating_mul(3) {
+            return Err(error(
+                path,
+                attribute("POSITION"),
+                format!("{count} vertices are more than the limit of three per triangle of the mesh size limit ({})", self.max_triangles),
+            ));
+        }
+        let same_count = |list: Option<usize>, name: &str| -> Result<(), SceneError> {
+            match list {
+                Some(n) if n != count => Err(error(
+                    path,
+                    attribute(name),
+                    format!("it has {n} entries, but POSITION has {count}"),
+                )),
+                _ => Ok(()),
+            }
+        };
+        same_count(normals.as_ref().map(Vec::len), "NORMAL")?;
+        same_count(uvs.as_ref().map(Vec::len), &format!("TEXCOORD_{uv_set}"))?;
+        same_count(given_tangents.as_ref().map(Vec::len), "TANGENT")?;
+        same_count(colors.as_ref().map(Vec::len), "COLOR_0")?;
+        if primitive.get(&::gltf::Semantic::Positions).is_some()
+            && indices.is_none()
+            && primitive.indices().is_some()
+        {
+            return Err(error(
+                path,
+                format!("{at}.indices"),
+                "the indices lie outside their buffer",
+            ));
+        }
+        let indices: Vec<u32> = indices.unwrap_or_else(|| (0..count as u32).collect());
+        if let Some(bad) = indices.iter().find(|&&i| i as usize >= count) {
+            return Err(error(
+                path,
+                format!("{at}.indices"),
+                format!("index {bad} is past the primitive's {count} vertices"),
+            ));
+        }
+        let triangles = unroll(mode, &indices);
+        if triangles.len() > self.triangles_left {
+            return Err(error(
+                path,
+                at,
+                format!(
+                    "with this primitive's {} triangles the model holds more than the mesh size limit of {} (`--max-triangles` on the command line)",
+                    triangles.len(),
+                    self.max_triangles
+                ),
+            ));
+        }
+        self.triangles_left -= triangles.len();
+
+        let points: Vec<Point3> = positions.iter().map(|p| vec3(*p)).collect();
+        let normals: Vec<Vec3> = normals
+            .map(|n| n.iter().map(|n| vec3(*n).normalize_or_zero()).collect())
+            .unwrap_or_default();
+        // Stored with v up, as every renderer here reads texture coordinates.
+        let texcoords: Vec<[f64; 2]> = uvs
+            .map(|t| {
+                t.iter()
+                    .map(|t| [f64::from(t[0]), 1.0 - f64::from(t[1])])
+                    .collect()
+            })
+            .unwrap_or_default();
+        let tangents = match (tangents, given_tangents) {
+            (false, _) => Vec::new(),
+            (true, Some(given)) => given
+                .iter()
+                .map(|t| DVec4::new(t[0].into(), t[1].into(), t[2].into(), t[3].into()))
+                .collect(),
+            (true, None) if !texcoords.is_empty() => {
+                generate_tangents(&points, &normals, &texcoords, &triangles)
+            }
+            (true, None) => Vec::new(),
+        };
+        let attributes = VertexAttributes {
+            tangents,
+            colors: colors.unwrap_or_default(),
+        };
+        let has_normals = !normals.is_empty();
+        let has_uvs = !texcoords.is_empty();
+        // The winding reversed: see the module's parent on glTF's space and the book's.
+        let faces: Vec<MeshFace> = triangles
+            .iter()
+            .map(|&[a, b, c]| {
+                let corners = [a, c, b];
+                MeshFace {
+                    vertices: corners,
+                    normals: has_normals.then_some(corners),
+                    texcoords: has_uvs.then_some(corners),
+                }
+            })
+            .collect();
+        let mesh = Mesh::with_texcoords(points, normals, texcoords, faces)
+            .map_err(|e| error(path, at, e.to_string()))?
+            .with_attributes(attributes)
+            .ok_or_else(|| error(path, at, "its vertex attributes disagree in length"))?;
+        Ok(Some(Arc::new(mesh)))
+    }
+}
+
+fn vec3(p: [f32; 3]) -> DVec3 {
+    DVec3::new(p[0].into(), p[1].into(), p[2].into())
+}
+
+/// The triangles of a list, strip or fan of indices, in glTF's winding.
+fn unroll(mode: ::gltf::mesh::Mode, indices: &[u32]) -> Vec<[u32; 3]> {
+    use ::gltf::mesh::Mode;
+    match mode {
+        Mode::TriangleStrip => (0..indices.len().saturating_sub(2))
+            .map(|i| {
+                let (a, b, c) = (indices[i], indices[i + 1], indices[i + 2]);
+                // Every other triangle of a strip turns the other way.
+                if i % 2 == 0 {
+                    [a, b, c]
+                } else {
+                    [b, a, c]
+                }
+            })
+            .collect(),
+        Mode::TriangleFan => (1..indices.len().saturating_sub(1))
+            .map(|i| [indices[i], indices[i + 1], indices[0]])
+            .collect(),
+        _ => indices
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+            .collect(),
+    }
+}
+
+/// Per-vertex tangents from the texture coordinates (v up): each face's direction of growing
+/// u, summed over the faces that share a vertex, made perpendicular to its normal, with the
+/// sign that makes `normal × tangent` point along growing v. This is the frame MikkTSpace
+/// builds for a smooth mapping (it differs where the mapping folds or is mirrored within a
+/// vertex's faces).
+fn generate_tangents(
+    points: &[Point3],
+    normals: &[Vec3],
+    uvs: &[[f64; 2]],
+    triangles: &[[u32; 3]],
+) -> Vec<DVec4> {
+    let mut sum_t = vec![DVec3::ZERO; points.len()];
+    let mut sum_b = vec![DVec3::ZERO; points.len()];
+    let mut sum_n = vec![DVec3::ZERO; points.len()];
+    for &[a, b, c] in triangles {
+        let (a, b, c) = (a as usize, b as usize, c as usize);
+        let (e1, e2) = (points[b] - points[a], points[c] - points[a]);
+        let (du1, dv1) = (uvs[b][0] - uvs[a][0], uvs[b][1] - uvs[a][1]);
+        let (du2, dv2) = (uvs[c][0] - uvs[a][0], uvs[c][1] - uvs[a][1]);
+        let det = du1 * dv2 - du2 * dv1;
+        let n = e1.cross(e2);
+        for v in [a, b, c] {
+            sum_n[v] += n;
+        }
+        if det.abs() < 1e-20 || !det.is_finite() {
+            continue;
+        }
+        let t = (e1 * dv2 - e2 * dv1) / det;
+        let bt = (e2 * du1 - e1 * du2) / det;
+        for v in [a, b, c] {
+            sum_t[v] += t;
+            sum_b[v] += bt;
+        }
+    }
+    (0..points.len())
+        .map(|v| {
+            let n = normals
+                .get(v)
+                .copied()
+                .unwrap_or(sum_n[v])
+                .normalize_or_zero();
+            let t = (sum_t[v] - n * n.dot(sum_t[v])).normalize_or_zero();
+            let w = if n.cross(t).dot(sum_b[v]) < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            t.extend(w)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans_unroll_into_triangles_of_one_winding() {
+        use ::gltf::mesh::Mode;
+        assert_eq!(
+            unroll(Mode::TriangleStrip, &[0, 1, 2, 3]),
+            [[0, 1, 2], [2, 1, 3]]
+        );
+        assert_eq!(
+            unroll(Mode::TriangleFan, &[0, 1, 2, 3]),
+            [[1, 2, 0], [2, 3, 0]]
+        );
+        assert_eq!(unroll(Mode::Triangles, &[0, 1, 2, 3]), [[0, 1, 2]]);
+    }
+
+    #[test]
+    fn generated_tangents_follow_growing_u_with_the_sign_of_growing_v() {
+        // A quad in the xy plane facing +z, u along +x and v (up) along +y.
+        let points = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
+        let normals = [DVec3::Z; 4];
+        let uvs = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let t = generate_tangents(&points, &normals, &uvs, &[[0, 1, 2], [0, 2, 3]]);
+        for tangent in &t {
+            assert!(
+                (tangent.truncate() - DVec3::X).length() < 1e-12,
+                "{tangent:?}"
+            );
+            assert_eq!(tangent.w, 1.0);
+        }
+        // v mirrored: the bitangent runs along −y, so the sign flips.
+        let mirrored = uvs.map(|[u, v]| [u, 1.0 - v]);
+        let t = generate_tangents(&points, &normals, &mirrored, &[[0, 1, 2], [0, 2, 3]]);
+        assert!(t.iter().all(|t| t.w == -1.0));
+    }
+}

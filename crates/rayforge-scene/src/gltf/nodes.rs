@@ -1,0 +1,215 @@
+//! The node hierarchy of a glTF scene: each node's world matrix (parents first), its mesh's
+//! primitives as objects sharing their meshes, its camera and its light.
+
+use super::materials::Materials;
+use super::meshes::Meshes;
+use super::{default_material, error, MAX_NODE_DEPTH, MAX_NODE_VISITS};
+use crate::error::SceneError;
+use glam::{DMat4, DVec3};
+use rayforge::{Color, Object, Transform};
+use std::path::Path;
+
+/// A camera of the model, placed by its node (in glTF's space).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GltfCamera {
+    /// Its name, or `camera N` after its index in the file's cameras.
+    pub name: String,
+    /// How it projects.
+    pub projection: Projection,
+    /// World from camera (the camera looks down its −Z, +Y up), scale removed.
+    pub world: DMat4,
+}
+
+/// A glTF camera's projection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Projection {
+    /// Perspective: vertical field of view (radians) and the aspect ratio, if the file gives one.
+    Perspective {
+        /// `yfov`.
+        yfov: f64,
+        /// `aspectRatio` (width over height).
+        aspect: Option<f64>,
+    },
+    /// Orthographic: half the view's width and height in world units.
+    Orthographic {
+        /// `xmag`.
+        xmag: f64,
+        /// `ymag`.
+        ymag: f64,
+    },
+}
+
+/// A light of the model (`KHR_lights_punctual`), placed by its node (in glTF's space).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GltfLight {
+    /// Linear colour times intensity (candela for point and spot lights, lux for directional).
+    pub intensity: Color,
+    /// Where it is.
+    pub position: DVec3,
+    /// Where it shines (the node's −Z).
+    pub direction: DVec3,
+    /// Its kind, with a spot's cone half-angles (radians).
+    pub kind: LightKind,
+}
+
+/// The kind of a punctual light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LightKind {
+    /// Light in every direction from a point.
+    Point,
+    /// A cone: full inside `inner`, none outside `outer`.
+    Spot {
+        /// `innerConeAngle`.
+        inner: f64,
+        /// `outerConeAngle`.
+        outer: f64,
+    },
+    /// Parallel light.
+    Directional,
+}
+
+/// What the walk found.
+pub(crate) struct Walk {
+    pub objects: Vec<Object>,
+    pub cameras: Vec<GltfCamera>,
+    pub lights: Vec<GltfLight>,
+}
+
+/// Walks the file's scene (`scene`, else the first; with none, every node without a parent).
+pub(crate) fn walk(
+    path: &Path,
+    gltf: &::gltf::Gltf,
+    meshes: &mut Meshes<'_>,
+    materials: &mut Materials<'_>,
+) -> Result<Walk, SceneError> {
+    let roots: Vec<::gltf::Node<'_>> = match gltf.default_scene().or_else(|| gltf.scenes().next()) {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            let mut is_child = vec![false; gltf.nodes().len()];
+            for node in gltf.nodes() {
+                for child in node.children() {
+                    is_child[child.index()] = true;
+                }
+            }
+            gltf.nodes().filter(|n| !is_child[n.index()]).collect()
+        }
+    };
+    let mut out = Walk {
+        objects: Vec::new(),
+        cameras: Vec::new(),
+        lights: Vec::new(),
+    };
+    let mut stack: Vec<(::gltf::Node<'_>, DMat4, usize)> = roots
+        .into_iter()
+        .rev()
+        .map(|n| (n, DMat4::IDENTITY, 0))
+        .collect();
+    let mut visits = 0;
+    while let Some((node, parent, depth)) = stack.pop() {
+        let at = format!("nodes[{}]", node.index());
+        visits += 1;
+        if visits > MAX_NODE_VISITS {
+            return Err(error(path, at, format!("the node hierarchy visits more than {MAX_NODE_VISITS} nodes (are nodes shared between parents?)")));
+        }
+        if depth >= MAX_NODE_DEPTH {
+            return Err(error(path, at, format!("the node hierarchy nests deeper than {MAX_NODE_DEPTH} levels (does a node contain itself?)")));
+        }
+        let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
+        let world = parent * local;
+        if !world.is_finite() {
+            return Err(error(path, at, "the node's transform is not finite"));
+        }
+        if let Some(mesh) = node.mesh() {
+            add_mesh(&mesh, world, meshes, materials, &mut out.objects)?;
+        }
+        if let Some(camera) = node.camera() {
+            out.cameras.push(camera_of(&camera, world));
+        }
+        if let Some(light) = node.light() {
+            out.lights.push(light_of(&light, world));
+        }
+        for child in node.children().collect::<Vec<_>>().into_iter().rev() {
+            stack.push((child, world, depth + 1));
+        }
+    }
+    Ok(out)
+}
+
+/// The primitives of a node's mesh as objects placed by `world` (left out when `world` is
+/// singular: a node scaled to nothing is hidden).
+fn add_mesh(
+    mesh: &::gltf::Mesh<'_>,
+    world: DMat4,
+    meshes: &mut Meshes<'_>,
+    materials: &mut Materials<'_>,
+    out: &mut Vec<Object>,
+) -> Result<(), SceneError> {
+    let Ok(transform) = Transform::try_new(world) else {
+        return Ok(());
+    };
+    for primitive in mesh.primitives() {
+        let material = primitive.material();
+        let built = match material.index() {
+            Some(_) => materials.get(&material)?,
+            None => super::materials::Built {
+                material: default_material(),
+                normal_mapped: false,
+                uv_set: 0,
+            },
+        };
+        let Some(shape) = meshes.primitive(mesh, &primitive, built.normal_mapped, built.uv_set)?
+        else {
+            continue;
+        };
+        let mut object = Object::mesh(shape);
+        object.transform = transform;
+        object.material = built.material;
+        out.push(object);
+    }
+    Ok(())
+}
+
+/// A node's camera: the projection and the node's placement without scale.
+fn camera_of(camera: &::gltf::Camera<'_>, world: DMat4) -> GltfCamera {
+    let projection = match camera.projection() {
+        ::gltf::camera::Projection::Perspective(p) => Projection::Perspective {
+            yfov: p.yfov().into(),
+            aspect: p.aspect_ratio().map(f64::from),
+        },
+        ::gltf::camera::Projection::Orthographic(o) => Projection::Orthographic {
+            xmag: f64::from(o.xmag()).abs(),
+            ymag: f64::from(o.ymag()).abs(),
+        },
+    };
+    let (_, rotation, translation) = world.to_scale_rotation_translation();
+    GltfCamera {
+        name: camera
+            .name()
+            .map_or_else(|| format!("camera {}", camera.index()), str::to_string),
+        projection,
+        world: DMat4::from_rotation_translation(rotation.normalize(), translation),
+    }
+}
+
+/// A node's light.
+fn light_of(light: &::gltf::khr_lights_punctual::Light<'_>, world: DMat4) -> GltfLight {
+    use ::gltf::khr_lights_punctual::Kind;
+    let [r, g, b] = light.color();
+    let kind = match light.kind() {
+        Kind::Point => LightKind::Point,
+        Kind::Directional => LightKind::Directional,
+        Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => LightKind::Spot {
+            inner: inner_cone_angle.into(),
+            outer: outer_cone_angle.into(),
+        },
+    };
+    GltfLight {
+        intensity: Color::new(r.into(), g.into(), b.into()) * f64::from(light.intensity()),
+        position: world.transform_point3(DVec3::ZERO),
+        direction: world.transform_vector3(-DVec3::Z).normalize_or_zero(),
+        kind,
+    }
+}

@@ -1,0 +1,325 @@
+//! glTF 2.0 models: the Khronos sample assets in `tests/gltf/` (each with its licence) load,
+//! their test patterns render the way their READMEs say (pixel probes through the book's
+//! ray tracer and the path tracer), and damaged files get located errors.
+
+use rayforge::book::BookWorld;
+use rayforge::film::{Film, SharedFilm};
+use rayforge::render::path::{render_path, PathJob};
+use rayforge::{Color, Shape};
+use rayforge_scene::gltf::CameraChoice;
+use rayforge_scene::{load_file, load_file_with, load_str, LoadOptions, Scene};
+use std::path::{Path, PathBuf};
+
+fn asset(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/gltf")
+        .join(name);
+    std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "glb" || e == "gltf"))
+        .unwrap()
+}
+
+/// The book's ray tracer's colour through the canvas point (`x`, `y`), in fractions of the
+/// image's width and height from its top-left corner.
+fn probe(scene: &Scene, x: f64, y: f64) -> Color {
+    let camera = &scene.camera;
+    let ray = camera.ray_through(x * camera.hsize() as f64, y * camera.vsize() as f64);
+    scene.world.color_at(&ray, 5)
+}
+
+/// The dominant channel of a colour: 0 red, 1 green, 2 blue, 3 yellow (red and green).
+fn hue(c: Color) -> usize {
+    let [r, g, b] = [c.red, c.green, c.blue];
+    if r > 2.0 * b && g > 2.0 * b && (r - g).abs() < 0.5 * r.max(g) {
+        3
+    } else if r >= g && r >= b {
+        0
+    } else if g >= b {
+        1
+    } else {
+        2
+    }
+}
+
+#[test]
+fn every_sample_asset_loads_with_meshes_materials_and_a_camera() {
+    for name in [
+        "Box",
+        "BoxVertexColors",
+        "Cameras",
+        "SimpleMeshes",
+        "SimpleSparseAccessor",
+        "TextureCoordinateTest",
+        "TextureSettingsTest",
+        "MetalRoughSpheresNoTextures",
+    ] {
+        let scene = load_file(&asset(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(!scene.world.objects.is_empty(), "{name}");
+        assert!(scene
+            .world
+            .objects
+            .iter()
+            .all(|o| matches!(o.shape, Shape::Mesh(_))));
+        assert!(
+            !scene.world.lights.is_empty(),
+            "{name} has a light (its own or the default)"
+        );
+    }
+}
+
+#[test]
+fn the_box_is_red_and_faces_the_default_camera_lit() {
+    let scene = load_file(&asset("Box")).unwrap();
+    // The default camera frames the model from glTF's +Z: the box fills the middle.
+    let centre = probe(&scene, 0.5, 0.5);
+    assert!(
+        centre.red > 0.2 && centre.green < 0.02 && centre.blue < 0.02,
+        "{centre:?}"
+    );
+    // The corner of the image is the default sky.
+    let sky = probe(&scene, 0.01, 0.01);
+    assert_eq!(sky, Color::new(0.5, 0.5, 0.5));
+}
+
+#[test]
+fn a_mesh_used_by_two_nodes_is_shared_not_copied() {
+    let scene = load_file(&asset("SimpleMeshes")).unwrap();
+    let meshes: Vec<_> = scene
+        .world
+        .objects
+        .iter()
+        .map(|o| match &o.shape {
+            Shape::Mesh(m) => m.clone(),
+            _ => unreachable!(),
+        })
+        .collect();
+    assert_eq!(meshes.len(), 2);
+    assert!(std::sync::Arc::ptr_eq(&meshes[0], &meshes[1]));
+}
+
+#[test]
+fn sparse_accessors_move_the_vertices_they_name() {
+    let scene = load_file(&asset("SimpleSparseAccessor")).unwrap();
+    let Shape::Mesh(mesh) = &scene.world.objects[0].shape else {
+        panic!()
+    };
+    // The sparse part lifts some vertices of the flat strip to y = 1, 2, 3 and 4.
+    let highest = mesh
+        .positions()
+        .iter()
+        .map(|p| p.y)
+        .fold(f64::MIN, f64::max);
+    assert_eq!(highest, 4.0);
+}
+
+#[test]
+fn texture_coordinates_put_each_corner_label_in_its_corner() {
+    // TextureCoordinateTest: the square at the top left is yellow, top right red, bottom left
+    // blue and bottom right green (its README), whichever way the coordinates run.
+    let scene = load_file(&asset("TextureCoordinateTest")).unwrap();
+    let at = |x, y| hue(probe(&scene, x, y));
+    assert_eq!(at(0.35, 0.3), 3, "top left");
+    assert_eq!(at(0.7, 0.3), 0, "top right");
+    assert_eq!(at(0.35, 0.7), 2, "bottom left");
+    assert_eq!(at(0.7, 0.7), 1, "bottom right");
+}
+
+#[test]
+fn wrap_modes_and_single_sided_faces_pass_the_settings_test() {
+    // TextureSettingsTest: each box of the "Test" column looks like the box beside it in the
+    // "Sample pass" column (a green check or bar; a red cross or block where a mode or
+    // the single-sided flag is wrong). Each box's red and green summed over a window.
+    let scene = load_file(&asset("TextureSettingsTest")).unwrap();
+    let window = |x0: f64, y: f64| {
+        let mut sum = Color::BLACK;
+        for i in 0..12 {
+            for j in 0..5 {
+                let x = x0 + f64::from(i) * 0.0028;
+                sum += probe(&scene, x, y - 0.012 + f64::from(j) * 0.006);
+            }
+        }
+        sum
+    };
+    for row in 0..8 {
+        let y = 0.30 + f64::from(row) * 0.0635;
+        let (test, pass) = (window(0.505, y), window(0.609, y));
+        assert!(test.green > test.red, "row {row}: {test:?}");
+        if row == 0 {
+            // The single-sided face in front is passed through; its shadow stays (no other
+            // renderer of these tests casts shadows).
+            continue;
+        }
+        for (t, p) in [(test.red, pass.red), (test.green, pass.green)] {
+            assert!(
+                (t - p).abs() <= 0.15 * p.max(1.0),
+                "row {row}: {test:?} against {pass:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn cameras_are_chosen_by_index_or_name_and_an_unknown_one_is_a_clear_error() {
+    let path = asset("Cameras");
+    let first = load_file(&path).unwrap();
+    assert!(!first.camera.is_orthographic());
+    let options = |camera| LoadOptions {
+        camera,
+        ..LoadOptions::default()
+    };
+    let second = load_file_with(&path, &options(CameraChoice::Index(1))).unwrap();
+    assert!(second.camera.is_orthographic());
+    let err = load_file_with(&path, &options(CameraChoice::Index(7))).unwrap_err();
+    assert!(err.to_string().contains("no camera 7"), "{err}");
+    assert!(err.to_string().contains("0:"), "lists the cameras: {err}");
+    let err = load_file_with(&path, &options(CameraChoice::Named("nope".into()))).unwrap_err();
+    assert!(err.to_string().contains("no camera named `nope`"), "{err}");
+}
+
+#[test]
+fn vertex_colours_tint_the_box() {
+    let scene = load_file(&asset("BoxVertexColors")).unwrap();
+    let Shape::Mesh(mesh) = &scene.world.objects[0].shape else {
+        panic!()
+    };
+    let colours = &mesh.attributes().expect("COLOR_0").colors;
+    assert_eq!(colours.len(), mesh.positions().len());
+    // Different corners have different colours, so the face is not one flat colour.
+    let a = probe(&scene, 0.4, 0.4);
+    let b = probe(&scene, 0.6, 0.6);
+    assert!((a - b).max_channel().abs() > 0.01 || (b - a).max_channel().abs() > 0.01);
+}
+
+/// The path traced film of `scene` at `width` wide with `spp` samples.
+fn path_trace(scene: &Scene, width: usize, spp: u64) -> Film {
+    let height = width * scene.camera.vsize() / scene.camera.hsize();
+    let camera = scene.camera.resized(width, height);
+    let job = PathJob {
+        options: Default::default(),
+        samples: 0..spp,
+        progress: None,
+        cancel: None,
+        on_row: None,
+    };
+    let film = SharedFilm::from(Film::with_filter(width, height, job.options.filter).unwrap());
+    let mut done = vec![false; height];
+    render_path(&camera, &scene.world, &job, &film, None, &mut done).unwrap();
+    film.into_film()
+}
+
+#[test]
+fn the_metal_rough_spheres_path_trace_to_finite_lit_pixels() {
+    // MetalRoughSpheresNoTextures: 98 materials from factors only, under the default sky.
+    let scene = load_file(&asset("MetalRoughSpheresNoTextures")).unwrap();
+    let film = path_trace(&scene, 48, 2);
+    let pixels = (0..film.height()).flat_map(|y| (0..film.width()).map(move |x| (x, y)));
+    let values: Vec<f64> = pixels
+        .map(|(x, y)| film.sum(x, y).luminance() / film.weight(x, y))
+        .collect();
+    assert!(values.iter().all(|v| v.is_finite() && *v >= 0.0));
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    // The grey sky of 0.5 and spheres that reflect less than all of it.
+    assert!(mean > 0.2 && mean < 0.55, "{mean}");
+}
+
+#[test]
+fn damaged_files_get_errors_that_name_the_json_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    // Not JSON: the line and column.
+    let p = write(
+        "broken.gltf",
+        "{\n  \"asset\": {\"version\": \"2.0\"},\n  oops\n}",
+    );
+    let err = load_file(&p).unwrap_err();
+    assert_eq!(err.span.map(|s| s.line), Some(3), "{err}");
+    // An accessor index past the end: the JSON path of the reference.
+    let p = write(
+        "bad_index.gltf",
+        r#"{"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":5}}]}],"nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]}"#,
+    );
+    let err = load_file(&p).unwrap_err();
+    assert!(
+        err.key
+            .as_deref()
+            .unwrap_or("")
+            .contains("meshes[0].primitives[0].attributes"),
+        "{err:?}"
+    );
+    // A buffer shorter than it says.
+    let p = write(
+        "short.gltf",
+        r#"{"asset":{"version":"2.0"},"buffers":[{"byteLength":64,"uri":"data:application/octet-stream;base64,AAAA"}]}"#,
+    );
+    let err = load_file(&p).unwrap_err();
+    assert_eq!(err.key.as_deref(), Some("buffers[0].byteLength"), "{err}");
+    // A buffer file outside the scene's folder.
+    let p = write(
+        "outside.gltf",
+        r#"{"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":"../../etc/passwd"}]}"#,
+    );
+    let err = load_file(&p).unwrap_err();
+    assert_eq!(err.key.as_deref(), Some("buffers[0].uri"), "{err}");
+    // An extension the model needs and rayforge does not know.
+    let p = write(
+        "ext.gltf",
+        r#"{"asset":{"version":"2.0"},"extensionsUsed":["EXT_unknown"],"extensionsRequired":["EXT_unknown"]}"#,
+    );
+    let err = load_file(&p).unwrap_err();
+    assert!(err.to_string().contains("EXT_unknown"), "{err}");
+    // An index past the vertices.
+    let p = write(
+        "index.gltf",
+        r#"{"asset":{"version":"2.0"},
+        "buffers":[{"byteLength":42,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIA"}],
+        "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":24},{"buffer":0,"byteOffset":36,"byteLength":6}],
+        "accessors":[{"bufferView":0,"componentType":5126,"count":2,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
+                     {"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}],
+        "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],
+        "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]}"#,
+    );
+    let err = load_file(&p).unwrap_err();
+    assert_eq!(
+        err.key.as_deref(),
+        Some("meshes[0].primitives[0].indices"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_scene_file_adds_a_model_placed_and_scaled() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/gltf/Box");
+    let scene_path = dir.join("scene.yml");
+    let text = "
+- add: camera
+  width: 40
+  height: 40
+  field-of-view: 0.8
+  from: [0, 0, -5]
+  to: [0, 0, 0]
+  up: [0, 1, 0]
+- add: light
+  at: [-10, 10, -10]
+  intensity: [1, 1, 1]
+- add: gltf
+  file: Box.glb
+  transform:
+    - [scale, 2, 2, 2]
+";
+    let scene = load_str(text, &scene_path).unwrap();
+    assert_eq!(scene.world.objects.len(), 1);
+    let b = scene.world.objects[0].bounds();
+    assert!(
+        (b.max.x - 1.0).abs() < 1e-9 && (b.min.x + 1.0).abs() < 1e-9,
+        "{b:?}"
+    );
+    let err = load_str("- add: gltf\n  file: missing.glb\n", &scene_path).unwrap_err();
+    assert_eq!(err.key.as_deref(), Some("file"), "{err}");
+    assert!(err.span.is_some());
+}
