@@ -44,6 +44,14 @@ pub enum RasterError {
         /// The limit.
         limit: u64,
     },
+    /// The camera is orthographic (a glTF file's); the rasterizer projects through a pinhole,
+    /// its depth and interpolation by `1/z`.
+    #[error(
+        "the camera is orthographic, and the rasterizer draws through perspective cameras \
+         only; render it with --renderer ray or --renderer path, or pick a perspective camera \
+         with --camera"
+    )]
+    Orthographic,
 }
 
 /// Rasterizes `world` through `camera` on the current rayon thread pool, developed.
@@ -79,6 +87,9 @@ pub fn render_film(
     world: &World,
     options: &RasterOptions,
 ) -> Result<(Film, RasterStats), RasterError> {
+    if camera.is_orthographic() {
+        return Err(RasterError::Orthographic);
+    }
     let (width, height) = (camera.hsize(), camera.vsize());
     let mut canvas = Canvas::new(width, height);
     if width == 0 || height == 0 {
