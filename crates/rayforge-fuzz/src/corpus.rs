@@ -20,6 +20,11 @@ pub fn seeds(target: Target) -> Vec<Vec<u8>> {
             files_under(&corpus.join("obj"), &["obj", "mtl"], &mut seeds);
         }
         Target::Image => seeds.extend(generated_images()),
+        Target::Gltf => files_under(
+            &root.join("crates/rayforge-scene/tests/gltf"),
+            &["gltf", "glb"],
+            &mut seeds,
+        ),
     }
     if seeds.is_empty() {
         seeds.push(Vec::new());

@@ -14,6 +14,8 @@ pub enum Flavour {
     Obj,
     /// Binary image files (PNG, JPEG, PNM).
     Image,
+    /// glTF's JSON (and GLB files, whose JSON chunk is text too).
+    Json,
 }
 
 /// Numbers that break readers: non-finite values in every spelling, the extremes of f64 and
@@ -188,6 +190,76 @@ const OBJ_TOKENS: &[&str] = &[
 ];
 
 /// Byte strings of the image formats (magic numbers, chunk names, markers).
+/// glTF's keys and values that lead somewhere: references, counts, strides, URIs.
+const JSON_TOKENS: &[&str] = &[
+    "{",
+    "}",
+    "[",
+    "]",
+    ",",
+    ":",
+    "\"",
+    "null",
+    "-1",
+    "0",
+    "4294967295",
+    "1e308",
+    "\"POSITION\"",
+    "\"NORMAL\"",
+    "\"TANGENT\"",
+    "\"TEXCOORD_0\"",
+    "\"COLOR_0\"",
+    "\"indices\"",
+    "\"mode\"",
+    "\"material\"",
+    "\"accessors\"",
+    "\"bufferView\"",
+    "\"byteOffset\"",
+    "\"byteLength\"",
+    "\"byteStride\"",
+    "\"count\"",
+    "\"componentType\"",
+    "5120",
+    "5121",
+    "5122",
+    "5123",
+    "5125",
+    "5126",
+    "\"type\"",
+    "\"VEC3\"",
+    "\"SCALAR\"",
+    "\"sparse\"",
+    "\"values\"",
+    "\"buffers\"",
+    "\"uri\"",
+    "\"data:application/octet-stream;base64,AAAA\"",
+    "\"../x.bin\"",
+    "\"nodes\"",
+    "\"children\"",
+    "\"matrix\"",
+    "\"rotation\"",
+    "\"scale\"",
+    "\"mesh\"",
+    "\"camera\"",
+    "\"cameras\"",
+    "\"yfov\"",
+    "\"xmag\"",
+    "\"ymag\"",
+    "\"textures\"",
+    "\"images\"",
+    "\"samplers\"",
+    "\"wrapS\"",
+    "33071",
+    "33648",
+    "10497",
+    "\"alphaMode\"",
+    "\"MASK\"",
+    "\"BLEND\"",
+    "\"extensionsRequired\"",
+    "\"KHR_texture_transform\"",
+    "\"KHR_lights_punctual\"",
+];
+
 const IMAGE_TOKENS: &[&[u8]] = &[
     b"\x89PNG\r\n\x1a\n",
     b"IHDR",
@@ -354,6 +426,7 @@ impl Mutator {
             Flavour::Yaml => self.rng.pick(YAML_TOKENS).as_bytes(),
             Flavour::Obj => self.rng.pick(OBJ_TOKENS).as_bytes(),
             Flavour::Image => IMAGE_TOKENS[self.rng.below(IMAGE_TOKENS.len())],
+            Flavour::Json => self.rng.pick(JSON_TOKENS).as_bytes(),
         };
         // At a line start half the time, where statements begin.
         let at = if self.flavour != Flavour::Image && self.rng.one_in(2) {

@@ -1,4 +1,5 @@
-//! What is fuzzed: the scene reader, the OBJ/MTL reader and the image-texture decoder, each
+//! What is fuzzed: the scene reader, the OBJ/MTL reader, the glTF reader and the
+//! image-texture decoder, each
 //! followed by a tiny render of what it produced, so that values the readers let through are
 //! also fed to the renderer.
 
@@ -6,7 +7,7 @@ use crate::mutate::Flavour;
 use rayforge::render::{render, RenderOptions, Sampling};
 use rayforge::{point, vector, Camera, Color, Light, Object, World};
 use rayforge_scene::obj::{parse_mtl, parse_obj_with_limit, to_meshes};
-use rayforge_scene::{load_str_with, texture_from_bytes, LoadOptions, SceneError};
+use rayforge_scene::{load_file_with, load_str_with, texture_from_bytes, LoadOptions, SceneError};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -19,6 +20,8 @@ pub enum Target {
     Obj,
     /// The image decoding that `image` patterns and `map_Kd` use.
     Image,
+    /// The glTF 2.0 reader (`.gltf` JSON with `data:` buffers, or `.glb`), rendered directly.
+    Gltf,
 }
 
 /// The mesh size limit while fuzzing: low, so that inputs that multiply faces stay quick.
@@ -26,7 +29,7 @@ const FUZZ_MAX_TRIANGLES: usize = 200_000;
 
 impl Target {
     /// Every target.
-    pub const ALL: [Target; 3] = [Target::Scene, Target::Obj, Target::Image];
+    pub const ALL: [Target; 4] = [Target::Scene, Target::Obj, Target::Image, Target::Gltf];
 
     /// The target's name on the command line and in crash file names.
     pub fn name(self) -> &'static str {
@@ -34,6 +37,7 @@ impl Target {
             Target::Scene => "scene",
             Target::Obj => "obj",
             Target::Image => "image",
+            Target::Gltf => "gltf",
         }
     }
 
@@ -48,6 +52,7 @@ impl Target {
             Target::Scene => Flavour::Yaml,
             Target::Obj => Flavour::Obj,
             Target::Image => Flavour::Image,
+            Target::Gltf => Flavour::Json,
         }
     }
 
@@ -57,6 +62,7 @@ impl Target {
             Target::Scene => 32 << 10,
             Target::Obj => 64 << 10,
             Target::Image => 128 << 10,
+            Target::Gltf => 64 << 10,
         }
     }
 
@@ -68,6 +74,7 @@ impl Target {
             Target::Scene => scene(input),
             Target::Obj => obj(input),
             Target::Image => image(input),
+            Target::Gltf => gltf(input),
         }
     }
 }
@@ -156,6 +163,43 @@ fn image(input: &[u8]) -> bool {
         }
     }
     true
+}
+
+/// Reads `input` as a glTF model (a `.glb` when it starts with GLB's magic, else a `.gltf`),
+/// from a file of this process's own (the reader takes files, as its buffers and images may
+/// be beside them), and renders it.
+fn gltf(input: &[u8]) -> bool {
+    thread_local! {
+        static DIR: tempfile::TempDir = tempfile::tempdir().expect("a scratch folder");
+    }
+    let name = if input.starts_with(b"glTF") {
+        "fuzz-input.glb"
+    } else {
+        "fuzz-input.gltf"
+    };
+    let path = DIR.with(|dir| dir.path().join(name));
+    if std::fs::write(&path, input).is_err() {
+        return false;
+    }
+    let options = LoadOptions {
+        max_triangles: FUZZ_MAX_TRIANGLES,
+        ..LoadOptions::default()
+    };
+    let text = String::from_utf8_lossy(input);
+    match load_file_with(&path, &options) {
+        Ok(scene) => {
+            for w in &scene.warnings {
+                check_error(w, &path, &text);
+            }
+            let camera = scene.camera.resized(3, 2);
+            tiny_render(&camera, &scene.world);
+            true
+        }
+        Err(e) => {
+            check_error(&e, &path, &text);
+            false
+        }
+    }
 }
 
 /// A 3×2 render with every kind of sampling touched lightly.

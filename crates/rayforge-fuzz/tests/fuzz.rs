@@ -38,6 +38,11 @@ fn the_obj_reader_survives_mutated_models() {
 }
 
 #[test]
+fn the_gltf_reader_survives_mutated_models() {
+    check(Target::Gltf, 0x617F, 1500);
+}
+
+#[test]
 fn the_image_reader_survives_mutated_images() {
     check(Target::Image, 0x1A6E, 5000);
 }

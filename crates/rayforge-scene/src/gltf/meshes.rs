@@ -77,6 +77,7 @@ impl<'a> Meshes<'a> {
             ));
             return Ok(None);
         }
+        check_types(path, at, primitive)?;
         let buffers = self.buffers;
         let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
         let attribute = |name: &str| format!("{at}.attributes.{name}");
@@ -212,6 +213,52 @@ impl<'a> Meshes<'a> {
             .ok_or_else(|| error(path, at, "its vertex attributes disagree in length"))?;
         Ok(Some(Arc::new(mesh)))
     }
+}
+
+/// Checks that each accessor the primitive's readers use has a type the specification allows
+/// for its attribute (the `gltf` crate's readers assume it).
+fn check_types(path: &Path, at: &str, primitive: &::gltf::Primitive<'_>) -> Result<(), SceneError> {
+    use ::gltf::accessor::{DataType as T, Dimensions as D};
+    use ::gltf::Semantic;
+    let check = |accessor: ::gltf::Accessor<'_>, name: &str, ok: bool| {
+        if ok {
+            Ok(())
+        } else {
+            Err(error(
+                path,
+                format!("{at}.{name}"),
+                format!(
+                    "accessor {} holds {:?} {:?}, which glTF does not allow here",
+                    accessor.index(),
+                    accessor.dimensions(),
+                    accessor.data_type()
+                ),
+            ))
+        }
+    };
+    if let Some(a) = primitive.indices() {
+        let ok = matches!(a.data_type(), T::U8 | T::U16 | T::U32) && a.dimensions() == D::Scalar;
+        check(a, "indices", ok)?;
+    }
+    for (semantic, a) in primitive.attributes() {
+        let (t, d) = (a.data_type(), a.dimensions());
+        let (name, ok) = match &semantic {
+            Semantic::Positions => ("POSITION".to_string(), t == T::F32 && d == D::Vec3),
+            Semantic::Normals => ("NORMAL".to_string(), t == T::F32 && d == D::Vec3),
+            Semantic::Tangents => ("TANGENT".to_string(), t == T::F32 && d == D::Vec4),
+            Semantic::TexCoords(n) => (
+                format!("TEXCOORD_{n}"),
+                matches!(t, T::F32 | T::U8 | T::U16) && d == D::Vec2,
+            ),
+            Semantic::Colors(n) => (
+                format!("COLOR_{n}"),
+                matches!(t, T::F32 | T::U8 | T::U16) && matches!(d, D::Vec3 | D::Vec4),
+            ),
+            _ => continue,
+        };
+        check(a, &format!("attributes.{name}"), ok)?;
+    }
+    Ok(())
 }
 
 fn vec3(p: [f32; 3]) -> DVec3 {

@@ -223,9 +223,12 @@ fn located(path: &Path, bytes: &[u8], e: ::gltf::Error) -> SceneError {
     match e {
         ::gltf::Error::Deserialize(json) => {
             let mut err = SceneError::new(path, format!("the glTF JSON cannot be read: {json}"));
-            // A `.gltf` file is the JSON itself: point at the place.
-            if !bytes.starts_with(b"glTF") && json.line() > 0 {
-                err = err.at(span_at(bytes, json.line(), json.column()));
+            // A `.gltf` file is the JSON itself: point at the place (in text the error
+            // display can show: valid UTF-8, and on a character's start).
+            if let (false, Ok(text)) = (bytes.starts_with(b"glTF"), std::str::from_utf8(bytes)) {
+                if json.line() > 0 {
+                    err = err.at(span_at(text, json.line(), json.column()));
+                }
             }
             err
         }
@@ -254,20 +257,27 @@ fn located(path: &Path, bytes: &[u8], e: ::gltf::Error) -> SceneError {
     }
 }
 
-/// The span of 1-based `line` and `column` in `text`.
-fn span_at(text: &[u8], line: usize, column: usize) -> Span {
+/// The span of 1-based `line` and byte `column` in `text`, moved back to a character's
+/// start where the column falls inside one.
+fn span_at(text: &str, line: usize, column: usize) -> Span {
+    // serde_json counts the column of an empty line's end (and of an empty file) as 0.
+    let column = column.max(1);
     let mut offset = 0;
-    for (i, l) in text.split(|&b| b == b'\n').enumerate() {
+    for (i, l) in text.split('\n').enumerate() {
         if i + 1 == line {
             offset += column.saturating_sub(1).min(l.len());
             break;
         }
         offset += l.len() + 1;
     }
+    let mut offset = offset.min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
     Span {
         line,
         column,
-        offset: offset.min(text.len()),
+        offset,
         len: 0,
     }
 }
