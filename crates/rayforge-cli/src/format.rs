@@ -68,7 +68,7 @@ impl ImageFormat {
     pub fn encode_with_layers(
         self,
         canvas: &Canvas,
-        layers: &[(&str, &Canvas)],
+        layers: &[Layer<'_>],
     ) -> Result<Vec<u8>, Failure> {
         match self {
             Self::Exr => to_exr(canvas, layers, false),
@@ -97,21 +97,55 @@ fn to_png(canvas: &Canvas) -> Result<Vec<u8>, Failure> {
     Ok(bytes)
 }
 
+/// An image written beside the main one in an OpenEXR file (an AOV).
+#[derive(Debug, Clone, Copy)]
+pub struct Layer<'a> {
+    /// The layer's name, or the channel's when it is one.
+    pub name: &'a str,
+    /// Its pixels.
+    pub image: &'a Canvas,
+    /// Whether it is one channel (the red of `image`) named `name`, rather than three named
+    /// `NAME.R`, `NAME.G`, `NAME.B`.
+    pub single: bool,
+}
+
+impl<'a> Layer<'a> {
+    /// Three channels `NAME.R`, `NAME.G`, `NAME.B`.
+    pub fn rgb(name: &'a str, image: &'a Canvas) -> Self {
+        Self {
+            name,
+            image,
+            single: false,
+        }
+    }
+
+    /// One channel `name`: the image's red (a grey quantity in every channel).
+    pub fn single(name: &'a str, image: &'a Canvas) -> Self {
+        Self {
+            name,
+            image,
+            single: true,
+        }
+    }
+}
+
 /// OpenEXR of the canvas's linear colours and of `layers`: one part, its channels R, G, B and
-/// each layer's `NAME.R`, `NAME.G`, `NAME.B`, in 32-bit floats or, with `half`, 16-bit ones,
-/// written by the `exr` crate into memory (the caller writes the file atomically).
-fn to_exr(canvas: &Canvas, layers: &[(&str, &Canvas)], half: bool) -> Result<Vec<u8>, Failure> {
+/// each layer's (`NAME.R`, `NAME.G`, `NAME.B`, or one channel `NAME`), in 32-bit floats or,
+/// with `half`, 16-bit ones, written by the `exr` crate into memory (the caller writes the
+/// file atomically).
+fn to_exr(canvas: &Canvas, layers: &[Layer<'_>], half: bool) -> Result<Vec<u8>, Failure> {
     use exr::prelude::{
-        f16, AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes,
-        SmallVec, WritableImage,
+        f16, AnyChannel, AnyChannels, Encoding, FlatSamples, Image, LayerAttributes, SmallVec,
+        WritableImage,
     };
     let (width, height) = (canvas.width(), canvas.height());
-    if let Some((name, _)) = layers
+    if let Some(layer) = layers
         .iter()
-        .find(|(_, layer)| (layer.width(), layer.height()) != (width, height))
+        .find(|l| (l.image.width(), l.image.height()) != (width, height))
     {
         return Err(Failure::internal(format!(
-            "the `{name}` layer is not the image's size"
+            "the `{}` layer is not the image's size",
+            layer.name
         )));
     }
     let channel = |name: String, image: &Canvas, pick: fn(&rayforge::Color) -> f64| {
@@ -128,8 +162,17 @@ fn to_exr(canvas: &Canvas, layers: &[(&str, &Canvas)], half: bool) -> Result<Vec
         }
     };
     let mut channels = Vec::new();
-    let named = std::iter::once(("", canvas)).chain(layers.iter().copied());
-    for (layer, image) in named {
+    let named = std::iter::once(self::Layer::rgb("", canvas)).chain(layers.iter().copied());
+    for self::Layer {
+        name: layer,
+        image,
+        single,
+    } in named
+    {
+        if single {
+            channels.push(channel(layer.to_string(), image, |c| c.red));
+            continue;
+        }
         let prefix = if layer.is_empty() {
             String::new()
         } else {
@@ -139,7 +182,7 @@ fn to_exr(canvas: &Canvas, layers: &[(&str, &Canvas)], half: bool) -> Result<Vec
         channels.push(channel(format!("{prefix}G"), image, |c| c.green));
         channels.push(channel(format!("{prefix}B"), image, |c| c.blue));
     }
-    let layer = Layer::new(
+    let layer = exr::prelude::Layer::new(
         (width, height),
         LayerAttributes::default(),
         Encoding::FAST_LOSSLESS,

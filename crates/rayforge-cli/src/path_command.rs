@@ -8,7 +8,7 @@ use crate::checkpoint;
 use crate::checkpointed;
 use crate::failure::Failure;
 use crate::finite::blacken_non_finite;
-use crate::format::ImageFormat;
+use crate::format::{ImageFormat, Layer};
 use crate::render_command::display_for;
 use crate::settings::RenderSettings;
 use crate::settings::MAX_PATH_SPP;
@@ -72,7 +72,7 @@ pub(crate) fn doubling_passes(most: u64) -> Vec<Range<u64>> {
 
 /// Adds the rows saved in a checkpoint to the films, each pixel as one sample of weight 1 of
 /// its resolved colour (which resolves to the same bits), and marks them done. `saved` holds
-/// `width` × the layers per row: the image's row, then the albedo's and the normal's.
+/// `width` × the layers per row: the image's row, then each AOV's ([`Aovs::films`]).
 fn restore_rows(
     saved: &PartialImage,
     width: usize,
@@ -97,9 +97,8 @@ fn restore_rows(
             target.add(y, &part).map_err(refused)
         };
         add(film)?;
-        if let Some(aovs) = aovs {
-            add(&aovs.albedo)?;
-            add(&aovs.normal)?;
+        for target in aovs.iter().flat_map(|a| a.films()) {
+            add(target)?;
         }
         *done = true;
     }
@@ -124,12 +123,15 @@ pub fn path_render(
     let aovs = settings.path.aovs.then(|| Aovs::new(width, height));
     // Beside the image, except in OpenEXR, which holds them as layers.
     let aov_paths = (settings.path.aovs && !settings.format.is_exr()).then(|| aov_paths(output));
-    if let Some((albedo, normal)) = &aov_paths {
-        crate::atomic_write::check_writable(albedo)?;
-        crate::atomic_write::check_writable(normal)?;
+    for path in aov_paths.iter().flatten() {
+        crate::atomic_write::check_writable(path)?;
     }
-    // A saved row holds the image's row, then the albedo's and the normal's with --aovs.
-    let layers = if aovs.is_some() { 3 } else { 1 };
+    // A saved row holds the image's row, then each AOV's with --aovs.
+    let layers = if aovs.is_some() {
+        1 + AOV_NAMES.len()
+    } else {
+        1
+    };
     let passes = passes(settings, spp);
     // Watched or on a time budget, the image is refined in passes; otherwise it is rendered
     // in one, each row saved to the checkpoint once it has all its samples (in passes, rows
@@ -158,11 +160,7 @@ pub fn path_render(
         restore_rows(saved, width, &film, aovs.as_ref(), &mut done)?;
     }
     let already = done.iter().filter(|&&d| d).count();
-    let layer_names: &[&str] = if aovs.is_some() {
-        &["albedo", "normal"]
-    } else {
-        &[]
-    };
+    let layer_names: &[&str] = if aovs.is_some() { &AOV_NAMES } else { &[] };
     let display = display_for(settings, output, (width, height), layer_names);
     let started = Instant::now();
     let (rendered, logged, display) =
@@ -230,14 +228,12 @@ pub fn path_render(
         display.image(&canvas);
     }
     finish_path_image(&mut canvas, settings.format, Some((&scene.overlay, camera)));
-    // The AOVs, resolved; the normal, in a display format, as normal maps store it.
+    // The AOVs, resolved; the albedo encoded as the image is, the normal in a display format
+    // as normal maps store it; depth and sample count as they are (linear files only).
     let aov_images = aovs.map(|aovs| {
-        let mut albedo = aovs.albedo.into_film().resolve();
-        let mut normal = aovs.normal.into_film().resolve();
-        let counts = (
-            blacken_non_finite(&mut albedo),
-            blacken_non_finite(&mut normal),
-        );
+        let [mut albedo, mut normal, mut depth, mut samples] =
+            [aovs.albedo, aovs.normal, aovs.depth, aovs.samples].map(|f| f.into_film().resolve());
+        let counts = [&mut albedo, &mut normal, &mut depth, &mut samples].map(blacken_non_finite);
         encode_for(settings.format, &mut albedo);
         if !settings.format.is_linear() {
             // [-1, 1] into [0, 1].
@@ -245,24 +241,37 @@ pub fn path_render(
                 *c = (*c + Color::WHITE) * 0.5;
             }
         }
-        (albedo, normal, counts)
+        ([albedo, normal, depth, samples], counts)
     });
     match (&aov_images, &aov_paths) {
-        // OpenEXR holds them as layers of the one file, as compositors and denoisers read them.
-        (Some((albedo, normal, (a, n))), None) => {
-            non_finite.push((a + n, output.to_path_buf()));
-            let layers = [("albedo", albedo), ("normal", normal)];
+        // OpenEXR holds them as layers of the one file, as compositors and denoisers read them:
+        // albedo and normal as `NAME.R/G/B`, the depth as OpenEXR's standard `Z` channel and the
+        // sample count as one channel `samples`.
+        (Some(([albedo, normal, depth, samples], counts)), None) => {
+            non_finite.push((counts.iter().sum(), output.to_path_buf()));
+            let layers = [
+                Layer::rgb("albedo", albedo),
+                Layer::rgb("normal", normal),
+                Layer::single("Z", depth),
+                Layer::single("samples", samples),
+            ];
             write_atomically(
                 output,
                 &settings.format.encode_with_layers(&canvas, &layers)?,
             )?;
         }
-        (Some((albedo, normal, (a, n))), Some((albedo_path, normal_path))) => {
+        (Some((images, counts)), Some(paths)) => {
             write_atomically(output, &settings.format.encode(&canvas)?)?;
-            non_finite.push((*a, albedo_path.clone()));
-            write_atomically(albedo_path, &settings.format.encode(albedo)?)?;
-            non_finite.push((*n, normal_path.clone()));
-            write_atomically(normal_path, &settings.format.encode(normal)?)?;
+            for (i, (image, path)) in images.iter().zip(paths).enumerate() {
+                non_finite.push((counts[i], path.clone()));
+                // Depth and sample count are no colours: always linear PFM.
+                let format = if i < 2 {
+                    settings.format
+                } else {
+                    ImageFormat::Pfm
+                };
+                write_atomically(path, &format.encode(image)?)?;
+            }
         }
         _ => write_atomically(output, &settings.format.encode(&canvas)?)?,
     }
@@ -323,9 +332,13 @@ fn finish_path_image(
     }
 }
 
-/// Where `--aovs` writes the albedo and the normal: beside the image, `out.albedo.pfm` and
-/// `out.normal.pfm` for `out.pfm`.
-pub fn aov_paths(output: &Path) -> (PathBuf, PathBuf) {
+/// The AOVs `--aovs` writes, in the order of [`Aovs::films`].
+pub const AOV_NAMES: [&str; 4] = ["albedo", "normal", "depth", "samples"];
+
+/// Where `--aovs` writes the AOVs when the image is not OpenEXR: beside the image,
+/// `out.albedo.png` and `out.normal.png` for `out.png` (in the image's format), and
+/// `out.depth.pfm` and `out.samples.pfm` (always linear PFM).
+pub fn aov_paths(output: &Path) -> [PathBuf; 4] {
     let stem = output
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -334,8 +347,13 @@ pub fn aov_paths(output: &Path) -> (PathBuf, PathBuf) {
         .extension()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let named = |aov: &str| output.with_file_name(format!("{stem}.{aov}.{ext}"));
-    (named("albedo"), named("normal"))
+    let named = |aov: &str, ext: &str| output.with_file_name(format!("{stem}.{aov}.{ext}"));
+    [
+        named("albedo", &ext),
+        named("normal", &ext),
+        named("depth", "pfm"),
+        named("samples", "pfm"),
+    ]
 }
 
 /// Radiance as the format wants it: linear for PFM and OpenEXR; for the 8-bit formats,
@@ -369,9 +387,11 @@ mod tests {
 
     #[test]
     fn the_aovs_go_beside_the_image() {
-        let (a, n) = aov_paths(Path::new("out/cornell.pfm"));
-        assert_eq!(a, Path::new("out/cornell.albedo.pfm"));
-        assert_eq!(n, Path::new("out/cornell.normal.pfm"));
+        let [a, n, d, s] = aov_paths(Path::new("out/cornell.png"));
+        assert_eq!(d, Path::new("out/cornell.depth.pfm"));
+        assert_eq!(s, Path::new("out/cornell.samples.pfm"));
+        assert_eq!(a, Path::new("out/cornell.albedo.png"));
+        assert_eq!(n, Path::new("out/cornell.normal.png"));
     }
 
     #[test]

@@ -92,7 +92,7 @@ fn the_image_depends_on_the_seed_but_not_on_the_threads() {
 }
 
 #[test]
-fn aovs_write_the_first_hits_albedo_and_normal_beside_the_image() {
+fn aovs_write_the_first_hits_albedo_normal_depth_and_sample_count_beside_the_image() {
     let dir = temp();
     let image = out(&dir, "cornell.pfm");
     let mut args = SMALL.to_vec();
@@ -121,6 +121,16 @@ fn aovs_write_the_first_hits_albedo_and_normal_beside_the_image() {
             albedo[3 * i + 1]
         );
     }
+    // Depth: the distance to the first hit. The camera stands at z = 3.9 before the box's open
+    // side (z = 1): every pixel sees a wall between 2.9 and 6 units away, and the middle of
+    // the image the back wall (z = -1, or a box in front of it).
+    let depth = pfm_floats(&out(&dir, "cornell.depth.pfm"));
+    assert!(depth.iter().all(|&d| d > 2.9 && d < 6.0), "{depth:?}");
+    let middle = 3 * (6 * 12 + 6);
+    assert!(depth[middle] > 3.5, "{}", depth[middle]);
+    // Every pixel took its 8 samples.
+    let samples = pfm_floats(&out(&dir, "cornell.samples.pfm"));
+    assert!(samples.iter().all(|&n| n == 8.0), "{samples:?}");
 }
 
 #[test]
@@ -269,7 +279,7 @@ fn an_interrupted_path_render_resumes_to_the_same_bytes_with_its_aovs() {
     let (ok, stderr) = render("scenes/pbr/cornell.yml", &image, &resume);
     assert!(ok, "{stderr}");
     assert!(stderr.contains("resuming: 3 of 10 rows"), "{stderr}");
-    for name in ["", ".albedo", ".normal"] {
+    for name in ["", ".albedo", ".normal", ".depth", ".samples"] {
         let read = |stem: &str| std::fs::read(out(&dir, &format!("{stem}{name}.pfm"))).unwrap();
         assert_eq!(read("image"), read("reference"), "{name}");
     }
@@ -325,7 +335,15 @@ fn aovs_in_an_exr_are_layers_of_the_one_file_in_float_or_half() {
     let names: Vec<&str> = channels.keys().map(String::as_str).collect();
     assert_eq!(
         names,
-        ["B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "normal.B", "normal.G", "normal.R"]
+        [
+            "B", "G", "R", "Z", "albedo.B", "albedo.G", "albedo.R", "normal.B", "normal.G",
+            "normal.R", "samples"
+        ]
+    );
+    assert_eq!(channels["Z"], pfm_channel(&out(&dir, "f.depth.pfm"), 0));
+    assert_eq!(
+        channels["samples"],
+        pfm_channel(&out(&dir, "f.samples.pfm"), 0)
     );
     for (layer, file) in [
         ("", "f.pfm"),

@@ -183,7 +183,23 @@ fn tev_is_shown_each_pass_and_ends_on_the_written_image() {
     assert_eq!((viewer.width, viewer.height), (16, 12));
     assert_eq!(
         viewer.channels,
-        ["R", "G", "B", "albedo.R", "albedo.G", "albedo.B", "normal.R", "normal.G", "normal.B"]
+        [
+            "R",
+            "G",
+            "B",
+            "albedo.R",
+            "albedo.G",
+            "albedo.B",
+            "normal.R",
+            "normal.G",
+            "normal.B",
+            "depth.R",
+            "depth.G",
+            "depth.B",
+            "samples.R",
+            "samples.G",
+            "samples.B"
+        ]
     );
     // Four passes (1, 1, 2, 4 samples), each row at least once, then the final image.
     assert!(viewer.updates >= 5, "{} updates", viewer.updates);

@@ -46,6 +46,8 @@ pub struct FirstHit {
     pub albedo: Color,
     /// Its shading normal facing the camera, in world space (zero where the ray escapes).
     pub normal: Vec3,
+    /// How far along the camera ray it is (infinite where the ray escapes).
+    pub depth: f64,
 }
 
 /// The power heuristic with exponent 2: the weight of a sample drawn with density `a` when
@@ -141,10 +143,15 @@ impl<'w> PathContext<'w> {
                 radiance += throughput.hadamard(sky) * weight;
                 if depth == 0 {
                     first.albedo = sky;
+                    first.depth = f64::INFINITY;
                 }
                 break;
             };
             let point = ray.position(hit.t);
+            if depth == 0 {
+                // The camera ray's direction is a unit vector: `t` is the distance.
+                first.depth = hit.t;
+            }
             let wo = -ray.direction;
             let surface = hit.object.surface(hit.leaf);
             let material = &surface.material;

@@ -59,15 +59,29 @@ pub struct Aovs {
     pub albedo: SharedFilm,
     /// World-space normal facing the camera, each component in [-1, 1] (box filter).
     pub normal: SharedFilm,
+    /// Distance from the camera to the first hit, in every channel: the mean over the
+    /// pixel's samples that hit something (weighted by their number), 0 where none did.
+    pub depth: SharedFilm,
+    /// How many samples the pixel took (its finite ones), in every channel, as the sum of a
+    /// pixel of weight 1.
+    pub samples: SharedFilm,
 }
 
 impl Aovs {
-    /// Empty albedo and normal films of `width` × `height`.
+    /// Empty AOV films of `width` × `height`.
     pub fn new(width: usize, height: usize) -> Self {
+        let film = || SharedFilm::from(Film::new(width, height));
         Self {
-            albedo: SharedFilm::from(Film::new(width, height)),
-            normal: SharedFilm::from(Film::new(width, height)),
+            albedo: film(),
+            normal: film(),
+            depth: film(),
+            samples: film(),
         }
+    }
+
+    /// The films in the order rows are saved and restored: albedo, normal, depth, samples.
+    pub fn films(&self) -> [&SharedFilm; 4] {
+        [&self.albedo, &self.normal, &self.depth, &self.samples]
     }
 }
 
@@ -159,17 +173,25 @@ pub fn render_path(
                 // pixel's samples are summed in one order however many passes bring them.
                 let mut beauty = film.row(y)?;
                 let mut layers = match aovs {
-                    Some(aovs) => Some((aovs.albedo.row(y)?, aovs.normal.row(y)?)),
+                    Some(aovs) => Some([
+                        aovs.albedo.row(y)?,
+                        aovs.normal.row(y)?,
+                        aovs.depth.row(y)?,
+                        aovs.samples.row(y)?,
+                    ]),
                     None => None,
                 };
                 let mut row_discarded = 0;
                 for x in 0..width {
                     let mut sum = beauty.sum(x, 0);
                     let mut weights = beauty.weight(x, 0);
-                    let (mut albedo_sum, mut normal_sum) = match &layers {
-                        Some((albedo, normal)) => (albedo.sum(x, 0), normal.sum(x, 0)),
-                        None => (Color::BLACK, Color::BLACK),
+                    let [mut albedo_sum, mut normal_sum, mut depth_sum, mut count] = match &layers {
+                        Some(films) => films.each_ref().map(|f| f.sum(x, 0)),
+                        None => [Color::BLACK; 4],
                     };
+                    let mut hits = layers
+                        .as_ref()
+                        .map_or(0.0, |[_, _, depth, _]| depth.weight(x, 0));
                     for s in job.samples.clone() {
                         // A pixel may take millions of samples: a stop is heeded inside it,
                         // and the row, unfinished, is left undone.
@@ -200,30 +222,37 @@ pub fn render_path(
                         if finite {
                             sum += radiance * weight;
                             weights += weight;
+                            count += Color::WHITE;
                         } else {
                             row_discarded += 1;
                         }
                         albedo_sum += first.albedo;
                         normal_sum += Color::new(first.normal.x, first.normal.y, first.normal.z);
+                        if first.depth.is_finite() {
+                            depth_sum += Color::WHITE * first.depth;
+                            hits += 1.0;
+                        }
                     }
                     beauty.set_pixel_sum(x, 0, sum, weights);
-                    if let Some((albedo, normal)) = &mut layers {
+                    if let Some([albedo, normal, depth, samples]) = &mut layers {
                         let taken = albedo.weight(x, 0) + spp as f64;
                         albedo.set_pixel_sum(x, 0, albedo_sum, taken);
                         normal.set_pixel_sum(x, 0, normal_sum, taken);
+                        depth.set_pixel_sum(x, 0, depth_sum, hits);
+                        samples.set_pixel_sum(x, 0, count, 1.0);
                     }
                 }
                 film.set_row(y, &beauty)?;
-                if let (Some(aovs), Some((albedo, normal))) = (aovs, &layers) {
-                    aovs.albedo.set_row(y, albedo)?;
-                    aovs.normal.set_row(y, normal)?;
+                if let (Some(aovs), Some(rows)) = (aovs, &layers) {
+                    for (target, row) in aovs.films().into_iter().zip(rows) {
+                        target.set_row(y, row)?;
+                    }
                 }
                 *done = true;
                 if let Some(on_row) = job.on_row {
                     let mut values = beauty.resolve().pixels().to_vec();
-                    if let Some((albedo, normal)) = &layers {
-                        values.extend_from_slice(albedo.resolve().pixels());
-                        values.extend_from_slice(normal.resolve().pixels());
+                    for row in layers.iter().flatten() {
+                        values.extend_from_slice(row.resolve().pixels());
                     }
                     on_row(y, &values);
                 }
