@@ -336,6 +336,13 @@ fn damaged_files_get_errors_that_name_the_json_path() {
     );
     let err = load_file(&p).unwrap_err();
     assert!(err.to_string().contains("EXT_unknown"), "{err}");
+    // An image in a buffer view without its MIME type.
+    let p = write(
+        "mime.gltf",
+        r#"{"asset":{"version":"2.0"},"buffers":[{"byteLength":4,"uri":"data:application/octet-stream;base64,AAAAAA=="}],"bufferViews":[{"buffer":0,"byteLength":4}],"images":[{"bufferView":0}]}"#,
+    );
+    let err = load_file(&p).unwrap_err();
+    assert_eq!(err.key.as_deref(), Some("images[0]"), "{err}");
     // An index past the vertices.
     let p = write(
         "index.gltf",

@@ -135,7 +135,12 @@ pub(crate) fn read_gltf(path: &Path, limits: Limits<'_>) -> Result<GltfModel, Sc
             notes.push(format!("the extension `{extension}` is ignored"));
         }
     }
-    let walk = nodes::walk(path, &gltf, &mut meshes, &mut materials)?;
+    // Every reference was validated and every accessor is checked before it is read; a panic
+    // left in the `gltf` crate's accessors on some damaged file is that file's error.
+    let walk = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        nodes::walk(path, &gltf, &mut meshes, &mut materials)
+    }))
+    .map_err(|_| SceneError::new(path, "the glTF reader failed on the file (it is damaged)"))??;
     notes.extend(meshes.notes);
     notes.extend(materials.notes);
     Ok(GltfModel {
@@ -174,8 +179,22 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<::gltf::Gltf, SceneError> {
     // does not know, including those rendered approximately.
     let parsed = std::panic::catch_unwind(|| {
         let gltf = ::gltf::Gltf::from_slice_without_validation(bytes)?;
-        // The validator indexes the POSITION accessor without a check: checked here first.
+        // The validator indexes the POSITION accessor without a check, and the readers assume
+        // an image in a buffer view has a MIME type and any other a URI: checked here first.
         let json = gltf.document.as_json();
+        for (i, image) in json.images.iter().enumerate() {
+            let complete = match (&image.buffer_view, &image.uri) {
+                (Some(_), _) => image.mime_type.is_some(),
+                (None, uri) => uri.is_some(),
+            };
+            if !complete {
+                return Ok(Err(error(
+                    path,
+                    format!("images[{i}]"),
+                    "an image needs a `uri`, or a `bufferView` with its `mimeType`",
+                )));
+            }
+        }
         for (i, mesh) in json.meshes.iter().enumerate() {
             for (j, primitive) in mesh.primitives.iter().enumerate() {
                 let position =
