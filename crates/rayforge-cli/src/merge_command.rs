@@ -9,13 +9,12 @@
 
 use crate::args::MergeArgs;
 use crate::atomic_write::check_writable;
-use crate::checkpoint::fnv;
 use crate::diagnostics::scene_failure;
 use crate::failure::Failure;
 use crate::format::ImageFormat;
 use crate::memory::reserve_for_render;
 use crate::output_lock::OutputLock;
-use crate::part_file::{Development, Part, PartHeader};
+use crate::part_file::{scene_fingerprint, Development, Part, PartHeader};
 use crate::path_command::develop_path_image;
 use crate::render_command::{camera_at, develop_book_image, write_image_as};
 use crate::summary::non_finite_warning;
@@ -153,18 +152,22 @@ fn scene_overlay(header: &PartHeader) -> Result<(Overlay, Camera), Failure> {
             path.display()
         ))
     })?;
-    if fnv(&bytes) != header.fingerprint {
-        return Err(Failure::usage(format!(
-            "{needed}, `{}`, which has changed since the slices were rendered",
+    let changed = || {
+        Failure::usage(format!(
+            "{needed}, `{}`, which (or a file it names) has changed since the slices were rendered",
             path.display()
-        )));
-    }
+        ))
+    };
     let load = LoadOptions {
         max_triangles: usize::try_from(header.max_triangles).unwrap_or(usize::MAX),
         allow_outside: header.allow_outside,
         ..LoadOptions::default()
     };
+    // Read first, as the slices read it, so that the files it names are known.
     let scene = rayforge_scene::load_file_with(path, &load).map_err(scene_failure)?;
+    if scene_fingerprint(&bytes, &scene.files).map_err(Failure::usage)? != header.fingerprint {
+        return Err(changed());
+    }
     let camera = camera_at(&scene, header.width, header.height);
     Ok((scene.overlay, camera))
 }

@@ -8,7 +8,9 @@
 //!      0     8  magic "RAYPART\n"
 //!      8     4  format version, u32 (1)
 //!     12     4  header length H, u32, at most 65 536: the bytes of the fields below
-//!     16     H  8  scene fingerprint, u64: FNV-1a 64 of the scene file's bytes
+//!     16     H  8  scene fingerprint, u64: FNV-1a 64 of the scene file's bytes, then of each
+//!                  file the scene read (models, images, …; `Scene::files`), each as its
+//!                  length (u64) and its bytes ([`scene_fingerprint`])
 //!               8  image width, u64
 //!               8  image height, u64 (width × height at most 2^28)
 //!               8  slice index I, u64 (below N)
@@ -470,6 +472,32 @@ fn array<const N: usize>(bytes: &[u8]) -> [u8; N] {
     let mut out = [0u8; N];
     out.copy_from_slice(&bytes[..N]);
     out
+}
+
+/// The fingerprint of a scene as rendered: FNV-1a 64 over the scene file's bytes and then,
+/// for each file it read (in the order read), the file's length as a little-endian `u64` and
+/// its bytes, so that parts rendered against different versions of a texture or model do not
+/// merge. The files are read again in blocks (a model may be a gigabyte); the error names the
+/// file that could not be.
+pub fn scene_fingerprint(scene: &[u8], files: &[std::path::PathBuf]) -> Result<u64, String> {
+    use std::io::Read;
+    let mut hash = crate::checkpoint::Fnv::new();
+    hash.write(scene);
+    let mut block = vec![0u8; 1 << 16];
+    for path in files {
+        let cannot = |e: std::io::Error| format!("cannot read `{}` again: {e}", path.display());
+        let mut file = std::fs::File::open(path).map_err(cannot)?;
+        let length = file.metadata().map_err(cannot)?.len();
+        hash.write(&length.to_le_bytes());
+        loop {
+            let n = file.read(&mut block).map_err(cannot)?;
+            if n == 0 {
+                break;
+            }
+            hash.write(&block[..n]);
+        }
+    }
+    Ok(hash.finish())
 }
 
 #[cfg(test)]

@@ -11,11 +11,10 @@
 //! checkpointed: an interrupted slice writes nothing and is rendered again.
 
 use crate::atomic_write::{check_writable, write_atomically};
-use crate::checkpoint::fnv;
 use crate::failure::Failure;
 use crate::memory::reserve_for_render;
 use crate::output_lock::OutputLock;
-use crate::part_file::{Development, Part, PartHeader};
+use crate::part_file::{scene_fingerprint, Development, Part, PartHeader};
 use crate::path_command::samples_per_pixel;
 use crate::progress::row_bar;
 use crate::render_command::{load_scene, ray_options, thread_pool};
@@ -161,8 +160,9 @@ fn header(
     let bytes = std::fs::read(&settings.scene)
         .map_err(|e| Failure::usage(format!("cannot read `{}`: {e}", settings.scene.display())))?;
     let scene_path = std::fs::canonicalize(&settings.scene).unwrap_or(settings.scene.clone());
+    let fingerprint = scene_fingerprint(&bytes, &scene.files).map_err(Failure::usage)?;
     Ok(PartHeader {
-        fingerprint: fnv(&bytes),
+        fingerprint,
         width: camera.hsize(),
         height: camera.vsize(),
         slice: *slice,

@@ -334,6 +334,27 @@ fn merge_refuses_parts_of_another_scene_or_other_settings() {
 }
 
 #[test]
+fn merge_refuses_parts_rendered_against_another_version_of_a_file_the_scene_reads() {
+    // The fingerprint covers the model the scene reads, not only the scene's text: a slice
+    // rendered after the model changed does not merge with the others.
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("tri.obj");
+    let triangle = |y: f64| format!("v -1 0 0\nv 1 0 0\nv 0 {y} 0\nf 1 2 3\n");
+    std::fs::write(&model, triangle(1.0)).unwrap();
+    let (scene, parts) = own_scene_parts(dir.path(), "m", "\n- add: obj\n  file: tri.obj\n");
+    std::fs::write(&model, triangle(2.0)).unwrap();
+    let later = dir.path().join("later.part");
+    let args = ["--width", "10", "--height", "8", "--slice", "1/3"];
+    ok(&render(&scene, &later, &args));
+    let out = dir.path().join("out.png");
+    let m = refused(&merge(&[parts[0].clone(), later, parts[2].clone()], &out));
+    assert!(m.contains("scene files differ"), "{m}");
+    // The same model as when the slices were rendered: they merge.
+    std::fs::write(&model, triangle(1.0)).unwrap();
+    ok(&merge(&parts, &out));
+}
+
+#[test]
 fn merge_refuses_damaged_truncated_and_foreign_files_naming_them() {
     let dir = tempfile::tempdir().unwrap();
     let (scene, parts) = own_scene_parts(dir.path(), "a", "");

@@ -58,6 +58,14 @@ impl Assets {
         }
     }
 
+    /// Every file read for the scene (models, material libraries, images, environment maps,
+    /// glTF buffers), each once, in the order first read; `scene` itself left out.
+    pub fn files(&self, scene: &Path) -> Vec<PathBuf> {
+        let mut files = self.folder.asked();
+        files.retain(|f| f != scene);
+        files
+    }
+
     /// Where a file named in the scene is (whether it may be read is checked when it is).
     pub fn resolve(&self, name: &str) -> PathBuf {
         self.folder.named().join(name)

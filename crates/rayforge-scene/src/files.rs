@@ -2,6 +2,7 @@
 //! scene file's reader and the asset readers (models, images), so that neither has to import
 //! the other for it.
 
+use std::cell::RefCell;
 use std::io::Read;
 use std::path::{Component, Path, PathBuf};
 
@@ -46,6 +47,9 @@ pub(crate) struct Folder {
     real: Result<PathBuf, String>,
     /// Whether names may reach outside it after all (`LoadOptions::allow_outside`).
     allow_outside: bool,
+    /// Every file asked about, in order: what a scene read besides itself (a render's
+    /// fingerprint covers them, and the live page watches them).
+    asked: RefCell<Vec<PathBuf>>,
 }
 
 impl Folder {
@@ -62,7 +66,19 @@ impl Folder {
             named,
             real,
             allow_outside,
+            asked: RefCell::new(Vec::new()),
         }
+    }
+
+    /// The files [`Folder::check`] was asked about, each once, in the order first asked.
+    pub(crate) fn asked(&self) -> Vec<PathBuf> {
+        let mut seen = std::collections::HashSet::new();
+        self.asked
+            .borrow()
+            .iter()
+            .filter(|p| seen.insert(p.to_path_buf()))
+            .cloned()
+            .collect()
     }
 
     /// The folder as the scene's path names it.
@@ -78,6 +94,7 @@ impl Folder {
     /// scene about files outside), and by where the file really is, so that a symbolic link
     /// inside the folder cannot lead out of it. A missing file passes: reading it says so.
     pub(crate) fn check(&self, path: &Path) -> Result<(), String> {
+        self.asked.borrow_mut().push(path.to_path_buf());
         if self.allow_outside {
             return Ok(());
         }

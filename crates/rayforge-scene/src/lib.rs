@@ -63,6 +63,10 @@ pub struct Scene {
     /// Where the book's camera (`from`, `to`, `up`) stands and looks, for a viewer that
     /// orbits it (`rayforge serve`); `None` for the other books' cameras, placed otherwise.
     pub look_at: Option<LookAt>,
+    /// Every file the scene read besides its own (OBJ models and material libraries, images,
+    /// environment maps, glTF models with their buffers and images), each once, in the order
+    /// first read: what a render's fingerprint covers and what the live page watches.
+    pub files: Vec<std::path::PathBuf>,
 }
 
 /// Scene files larger than this are refused before parsing (a scene is text written by hand or
@@ -245,5 +249,6 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         path: settings.and_then(|s| s.path),
         warnings: source.take_warnings(),
         look_at,
+        files: assets.files(path),
     })
 }

@@ -671,3 +671,25 @@ fn canvas_items_are_kept_in_order_for_the_cameras_canvas() {
     );
     assert!(scene.world.objects.is_empty(), "nothing in the 3D world");
 }
+
+#[test]
+fn a_scene_lists_every_file_it_read_besides_itself() {
+    // What a render's fingerprint covers and what the live page watches: the model, the
+    // material library it names and the image that library names, in the order read.
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, bytes: &[u8]| std::fs::write(dir.path().join(name), bytes).unwrap();
+    write(
+        "tri.obj",
+        b"mtllib tri.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n",
+    );
+    write("tri.mtl", b"newmtl red\nKd 1 0 0\nmap_Kd red.ppm\n");
+    write("red.ppm", b"P3\n1 1\n255\n255 0 0\n");
+    write("scene.yml", b"- add: camera\n  width: 4\n  height: 4\n  field-of-view: 1\n  from: [0, 0, -5]\n  to: [0, 0, 0]\n  up: [0, 1, 0]\n- add: obj\n  file: tri.obj\n");
+    let scene = rayforge_scene::load_file(&dir.path().join("scene.yml")).unwrap();
+    let names: Vec<String> = scene
+        .files
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["tri.obj", "tri.mtl", "red.ppm"]);
+}

@@ -55,6 +55,9 @@ pub struct Config {
     pub threads: Option<usize>,
     /// `--allow-outside`.
     pub allow_outside: bool,
+    /// The files the scene read the last time it loaded, which the watch counts as the
+    /// scene's (a model's material library, which the scene's text does not name).
+    pub files: Arc<watch::SceneFiles>,
 }
 
 /// What every connection shares.
@@ -76,6 +79,7 @@ pub fn run(args: ServeArgs) -> Result<ExitCode, Failure> {
         max_pixels: args.max_pixels,
         threads: args.threads,
         allow_outside: args.allow_outside,
+        files: Arc::default(),
     };
     // The flags are checked as `rayforge render` checks them, before anything starts.
     let settings = worker::settings_for(&config, &protocol::Request::default())?;
@@ -110,7 +114,7 @@ async fn serve(config: Config, pool: ThreadPool, listen: SocketAddr) -> Result<E
         .local_addr()
         .map_err(|e| Failure::internal(format!("cannot read the address listened on: {e}")))?;
     let (generation, changes) = channel::channel(0);
-    let _watch = watch::start(&config.scene, generation)?;
+    let _watch = watch::start(&config.scene, config.files.clone(), generation)?;
     let server = Arc::new(Server {
         config: Arc::new(config),
         pool: Arc::new(pool),

@@ -1,7 +1,9 @@
 //! Noticing edits: the scene's folder is watched (with `notify`: inotify, FSEvents or
-//! ReadDirectoryChangesW), and a change to the scene file or to a file whose name the scene's
-//! text mentions (its models, textures, environment maps) counts the files' generation up once
-//! the burst of events an editor's save makes has settled.
+//! ReadDirectoryChangesW), and a change to the scene file, to a file whose name the scene's
+//! text mentions (its models, textures, environment maps), or to a file the scene read when it
+//! last loaded (a model's material library and its textures, a glTF model's buffers and
+//! images) counts the files' generation up once the burst of events an editor's save makes
+//! has settled.
 //!
 //! Whole folders are watched, not files: editors save by writing a new file and renaming it
 //! over the old one, which a watch on the old file would lose.
@@ -9,7 +11,7 @@
 use crate::failure::Failure;
 use notify::{Event, EventKind, RecursiveMode, Watcher};
 use std::path::{Path, PathBuf};
-use std::sync::mpsc;
+use std::sync::{mpsc, Arc, Mutex};
 use std::time::Duration;
 use tokio::sync::watch;
 
@@ -22,9 +24,46 @@ pub struct FileWatch {
     _watcher: notify::RecommendedWatcher,
 }
 
+/// The files a scene read when it last loaded (`rayforge_scene::Scene::files`), shared
+/// between the renders that load it and the watch.
+#[derive(Debug, Default)]
+pub struct SceneFiles(Mutex<Vec<PathBuf>>);
+
+impl SceneFiles {
+    /// Remembers the files of the scene just loaded.
+    pub fn set(&self, files: &[PathBuf]) {
+        if let Ok(mut known) = self.0.lock() {
+            known.clear();
+            known.extend_from_slice(files);
+        }
+    }
+
+    /// Whether `path` is one of them (by file name and its folder's name, as the event's path
+    /// and the scene's may spell the same folder differently).
+    fn holds(&self, path: &Path) -> bool {
+        let key = |p: &Path| {
+            let folder = p
+                .parent()
+                .and_then(Path::file_name)
+                .map(|n| n.to_os_string());
+            (folder, p.file_name().map(|n| n.to_os_string()))
+        };
+        let wanted = key(path);
+        self.0
+            .lock()
+            .map(|known| known.iter().any(|k| key(k) == wanted))
+            .unwrap_or(false)
+    }
+}
+
 /// Starts watching the folder of the scene file `scene`; `changes` gets the generation of the
-/// files (0 at first, one more after each settled change).
-pub fn start(scene: &Path, changes: watch::Sender<u64>) -> Result<FileWatch, Failure> {
+/// files (0 at first, one more after each settled change). A change to one of `files` counts
+/// too.
+pub fn start(
+    scene: &Path,
+    files: Arc<SceneFiles>,
+    changes: watch::Sender<u64>,
+) -> Result<FileWatch, Failure> {
     let folder = match scene.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
@@ -46,7 +85,7 @@ pub fn start(scene: &Path, changes: watch::Sender<u64>) -> Result<FileWatch, Fai
     let scene = scene.to_path_buf();
     std::thread::Builder::new()
         .name("rayforge-serve-watch".into())
-        .spawn(move || settle(&scene, &received, &changes))
+        .spawn(move || settle(&scene, &files, &received, &changes))
         .map_err(|e| Failure::internal(format!("cannot start the file watch's thread: {e}")))?;
     Ok(FileWatch { _watcher: watcher })
 }
@@ -55,11 +94,12 @@ pub fn start(scene: &Path, changes: watch::Sender<u64>) -> Result<FileWatch, Fai
 /// watcher or every listener is gone.
 fn settle(
     scene: &Path,
+    files: &SceneFiles,
     received: &mpsc::Receiver<notify::Result<Event>>,
     changes: &watch::Sender<u64>,
 ) {
     while let Ok(event) = received.recv() {
-        if !touches_scene(scene, &event) {
+        if !touches_scene(scene, files, &event) {
             continue;
         }
         // Wait for quiet: whatever else arrives meanwhile is part of the same save.
@@ -78,9 +118,10 @@ fn settle(
 }
 
 /// Whether an event may change the scene: it changes content or names (not a mere read), and
-/// one of its files is the scene file or is named in the scene's text. A watcher's own error
-/// (events lost) counts, as anything may have changed.
-fn touches_scene(scene: &Path, event: &notify::Result<Event>) -> bool {
+/// one of its files is the scene file, is named in the scene's text or was read by the scene
+/// when it last loaded. A watcher's own error (events lost) counts, as anything may have
+/// changed.
+fn touches_scene(scene: &Path, files: &SceneFiles, event: &notify::Result<Event>) -> bool {
     let event = match event {
         Ok(event) => event,
         Err(_) => return true,
@@ -92,7 +133,7 @@ fn touches_scene(scene: &Path, event: &notify::Result<Event>) -> bool {
     event
         .paths
         .iter()
-        .any(|path| is_scene_file(scene, path) || mentioned(&text, path))
+        .any(|path| is_scene_file(scene, path) || mentioned(&text, path) || files.holds(path))
 }
 
 /// Whether `path` is the scene file (by name: the event's path is the watched folder's
@@ -123,21 +164,29 @@ mod tests {
         let dir = tempfile::tempdir().expect("temporary folder");
         let scene = dir.path().join("scene.yml");
         std::fs::write(&scene, "- add: obj\n  file: models/teapot.obj\n").expect("written");
+        let files = SceneFiles::default();
         let modify = EventKind::Modify(ModifyKind::Any);
         let here = |name: &str| dir.path().join(name).display().to_string();
-        assert!(touches_scene(&scene, &event(modify, &here("scene.yml"))));
-        assert!(touches_scene(
-            &scene,
-            &event(
-                EventKind::Create(CreateKind::File),
-                &here("models/teapot.obj")
-            )
-        ));
-        assert!(!touches_scene(&scene, &event(modify, &here("notes.txt"))));
-        assert!(!touches_scene(
-            &scene,
-            &event(EventKind::Access(AccessKind::Any), &here("scene.yml"))
-        ));
-        assert!(touches_scene(&scene, &Err(notify::Error::generic("lost"))));
+        let touches = |e: &notify::Result<Event>| touches_scene(&scene, &files, e);
+        assert!(touches(&event(modify, &here("scene.yml"))));
+        assert!(touches(&event(
+            EventKind::Create(CreateKind::File),
+            &here("models/teapot.obj")
+        )));
+        assert!(!touches(&event(modify, &here("notes.txt"))));
+        assert!(!touches(&event(
+            EventKind::Access(AccessKind::Any),
+            &here("scene.yml")
+        )));
+        assert!(touches(&Err(notify::Error::generic("lost"))));
+        // The model's material library is not named in the scene's text: it counts once the
+        // scene has loaded and said it read it.
+        let library = here("models/teapot.mtl");
+        assert!(!touches(&event(modify, &library)));
+        files.set(&[
+            dir.path().join("models/teapot.obj"),
+            dir.path().join("models/teapot.mtl"),
+        ]);
+        assert!(touches(&event(modify, &library)));
     }
 }

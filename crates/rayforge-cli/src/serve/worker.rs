@@ -121,6 +121,7 @@ impl Worker {
     fn render(&mut self, job: &Job, started: Instant) -> Result<(), Stop> {
         let settings = settings_for(&self.config, &job.request)?;
         let loaded = load(&mut self.loaded, &settings, job.generation)?;
+        self.config.files.set(&loaded.scene.files);
         let lighting = job.request.lighting.unwrap_or(loaded.lighting);
         loaded.scene.world.lighting = lighting;
         let scene = &loaded.scene;

@@ -280,5 +280,6 @@ pub fn model_scene(path: &Path, options: &LoadOptions) -> Result<Scene, SceneErr
         path: None,
         warnings,
         look_at,
+        files: assets.files(path),
     })
 }
