@@ -28,13 +28,16 @@ use std::time::Instant;
 /// Runs the render command: one image, or with `--frames` every frame of an animation not
 /// already on disk (so an interrupted sequence resumes where it stopped).
 pub fn run(settings: &RenderSettings) -> Result<(), Failure> {
-    if let Some(slice) = &settings.slice {
-        return crate::slice_render::run(settings, slice);
-    }
     let Some((first, last)) = settings.frames else {
+        if let Some(slice) = &settings.slice {
+            return crate::slice_render::run(settings, slice);
+        }
         return render_frame(settings, &settings.output, 0);
     };
-    for frame in first..=last {
+    // With --slice I/N, the task's share of the animation: every N-th frame from the I-th.
+    let (index, count) = settings.slice.map_or((0, 1), |s| (s.index, s.count));
+    let frames = (first..=last).filter(|frame| (frame - first) % count == index);
+    for frame in frames {
         let output = crate::frames::frame_path(&settings.output, frame);
         if output.exists() {
             if !settings.quiet {

@@ -276,9 +276,10 @@ impl RenderSettings {
     pub fn from_args(args: RenderArgs) -> Result<Self, Failure> {
         let slice = slice(&args)?;
         let format = match (slice, args.exr_half) {
-            // A slice writes a part file whatever the extension; this format is never used.
-            (Some(_), _) => ImageFormat::Pfm,
-            (None, half) => match (ImageFormat::from_path(&args.output)?, half) {
+            // A slice writes a part file whatever the extension; this format is never used
+            // (with --frames, a slice is a share of the frames, each a whole image).
+            (Some(_), _) if args.frames.is_none() => ImageFormat::Pfm,
+            (_, half) => match (ImageFormat::from_path(&args.output)?, half) {
                 (ImageFormat::Exr, true) => ImageFormat::ExrHalf,
                 (_, true) => {
                     return Err(Failure::usage(format!(
@@ -411,19 +412,23 @@ fn slice(args: &RenderArgs) -> Result<Option<Slice>, Failure> {
     let Some(text) = &args.slice else {
         return Ok(None);
     };
+    // With --frames, a slice is a share of the frames, each rendered as a whole image: the
+    // flags of a whole render apply.
+    let part = args.frames.is_none();
     if let Some(flag) = first_given([
-        // Animations by slices are not cut yet: one frame per render.
-        ("--frames", args.frames.is_some()),
         // A slice is not checkpointed: a requeued slice renders again (a complete part is kept).
-        ("--resume", args.resume),
-        ("--trace-pixel", args.trace_pixel.is_some()),
-        ("--aovs", args.aovs),
-        ("--pause-after-rows", args.pause_after_rows.is_some()),
+        ("--resume", part && args.resume),
+        ("--trace-pixel", part && args.trace_pixel.is_some()),
+        ("--aovs", part && args.aovs),
+        (
+            "--pause-after-rows",
+            part && args.pause_after_rows.is_some(),
+        ),
         // A part is linear f64 whatever the output; the merge writes the image.
-        ("--exr-half", args.exr_half),
+        ("--exr-half", part && args.exr_half),
         // Passes for a time budget or a viewer: a slice renders its share in one pass.
-        ("--time", args.time.is_some()),
-        ("--display-server", args.display_server.is_some()),
+        ("--time", part && args.time.is_some()),
+        ("--display-server", part && args.display_server.is_some()),
     ]) {
         return Err(Failure::usage(format!(
             "{flag} cannot be used with --slice"
@@ -431,6 +436,13 @@ fn slice(args: &RenderArgs) -> Result<Option<Slice>, Failure> {
     }
     let request = SliceRequest::parse(text)?;
     let cut = Cut::from_arg(args.slice_by);
+    // With --frames, a slice is a share of the frames, each rendered whole.
+    if args.frames.is_some() && cut != Cut::Rows {
+        return Err(Failure::usage(
+            "with --frames, --slice picks the task's frames (each rendered whole): \
+             --slice-by samples cannot be used with --frames",
+        ));
+    }
     request
         .resolve(cut, |name| std::env::var(name).ok())
         .map(Some)

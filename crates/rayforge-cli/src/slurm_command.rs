@@ -9,6 +9,10 @@
 //! directory), and submitted from there: the array with `sbatch --parsable`, then the merge
 //! with `--dependency=afterok:<array>`. Submitting the same command again after a failure
 //! re-runs only the slices whose parts are missing or damaged, as a complete part is kept.
+//!
+//! An animation (`--frames A..B` among the render flags, `-o` a numbered name) is shared out
+//! instead: task I renders every N-th frame from the I-th, each whole to its own image, and
+//! there is no merge job (a frame already written is skipped, so a re-run costs nothing).
 
 use crate::args::{Cli, Command as Subcommand, SlurmArgs};
 use crate::atomic_write::{check_writable, write_atomically};
@@ -51,7 +55,27 @@ pub fn run(args: &SlurmArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::internal(format!("cannot find the running rayforge: {e}")))?;
     let dir = job_dir(&output);
     let parts = dir.join("parts");
-    let (settings, slice) = task_settings(args, render_flags, &scene, &parts)?;
+    let frames = render_flags
+        .iter()
+        .any(|f| f == "--frames" || f.starts_with("--frames="));
+    let target = if frames {
+        output.clone()
+    } else {
+        parts.join("part-0.part")
+    };
+    let (settings, slice) = task_settings(args, render_flags, &scene, &target)?;
+    if frames {
+        return submit_frames(
+            args,
+            &settings,
+            &rayforge,
+            &scene,
+            &output,
+            &dir,
+            render_flags,
+            &sbatch,
+        );
+    }
     let header = slice_render::plan(&settings, &slice)?;
     let plan = Plan {
         rayforge: utf8(&rayforge)?,
@@ -62,6 +86,7 @@ pub fn run(args: &SlurmArgs) -> Result<(), Failure> {
         cut: slice.cut,
         render_flags: render_flags.to_vec(),
         threads_given: settings.threads.is_some(),
+        frames: false,
     };
     for needed in [&parts, &dir.join(LOG_DIR)] {
         std::fs::create_dir_all(needed)
@@ -100,6 +125,77 @@ pub fn run(args: &SlurmArgs) -> Result<(), Failure> {
         megabytes(all_parts)
     );
     println!("image:  `{}`", output.display());
+    Ok(())
+}
+
+/// An animation over the cluster: the job array alone, task I rendering its share of the
+/// frames to their images (see the [module](self)).
+#[allow(clippy::too_many_arguments)]
+fn submit_frames(
+    args: &SlurmArgs,
+    settings: &RenderSettings,
+    rayforge: &Path,
+    scene: &Path,
+    output: &Path,
+    dir: &Path,
+    render_flags: &[String],
+    sbatch: &[String],
+) -> Result<(), Failure> {
+    let (first, last_frame) = settings
+        .frames
+        .ok_or_else(|| Failure::internal("an animation without its frames"))?;
+    let frames = last_frame - first + 1;
+    if args.tasks > frames {
+        return Err(Failure::usage(format!(
+            "--tasks {} is more than the animation's {frames} frames: give at most {frames}",
+            args.tasks
+        )));
+    }
+    if let Some(cut) = args.slice_by {
+        if Cut::from_arg(Some(cut)) != Cut::Rows {
+            return Err(Failure::usage(
+                "--slice-by samples cannot share out an animation: each task renders whole frames",
+            ));
+        }
+    }
+    let plan = Plan {
+        rayforge: utf8(rayforge)?,
+        scene: utf8(scene)?,
+        output: utf8(output)?,
+        parts: String::new(),
+        tasks: args.tasks,
+        cut: Cut::Rows,
+        render_flags: render_flags.to_vec(),
+        threads_given: settings.threads.is_some(),
+        frames: true,
+    };
+    let logs = dir.join(LOG_DIR);
+    std::fs::create_dir_all(&logs)
+        .map_err(|e| Failure::usage(format!("cannot create `{}`: {e}", logs.display())))?;
+    write_atomically(&dir.join(SLICES_SCRIPT), plan.slices_script().as_bytes())?;
+    let last = args.tasks - 1;
+    if args.dry_run {
+        let options: String = sbatch.iter().map(|o| format!("{} ", quote(o))).collect();
+        println!(
+            "wrote `{}`; nothing submitted. To submit it:",
+            dir.join(SLICES_SCRIPT).display()
+        );
+        println!(
+            "  cd {} && sbatch --parsable {options}{SLICES_SCRIPT}",
+            quote(&utf8(dir)?)
+        );
+    } else {
+        let array = submit(dir, sbatch, &[], SLICES_SCRIPT, "the job array")?;
+        println!(
+            "frames: job array {array}, tasks 0-{last}, logs in `{}`",
+            logs.display()
+        );
+    }
+    println!(
+        "images: frames {first} to {last_frame} as `{}`, task I rendering every {}-th from frame {first} + I",
+        output.display(),
+        args.tasks
+    );
     Ok(())
 }
 
@@ -157,10 +253,10 @@ fn task_settings(
     args: &SlurmArgs,
     render_flags: &[String],
     scene: &Path,
-    parts: &Path,
+    output: &Path,
 ) -> Result<(RenderSettings, Slice), Failure> {
     let mut argv: Vec<OsString> = vec!["rayforge".into(), "render".into(), scene.into()];
-    argv.extend(["-o".into(), parts.join("part-0.part").into()]);
+    argv.extend(["-o".into(), output.into()]);
     argv.extend(["--slice".into(), format!("0/{}", args.tasks).into()]);
     if let Some(cut) = args.slice_by {
         argv.extend(["--slice-by".into(), Cut::from_arg(Some(cut)).name().into()]);

@@ -40,6 +40,9 @@ pub struct Plan {
     /// Whether the render flags set the thread count; if not, a task takes Slurm's
     /// `--cpus-per-task` when it is given.
     pub threads_given: bool,
+    /// Whether the render is an animation (`--frames`): task I then renders its share of the
+    /// frames whole, straight to their numbered images, and there is nothing to merge.
+    pub frames: bool,
 }
 
 impl Plan {
@@ -51,16 +54,21 @@ impl Plan {
     /// The job array's script: task I renders slice I to its part file.
     pub fn slices_script(&self) -> String {
         let last = self.tasks - 1;
+        let target = if self.frames {
+            quote(&self.output)
+        } else {
+            format!(
+                "{}/{}",
+                quote(&self.parts),
+                part_name("\"$SLURM_ARRAY_TASK_ID\"")
+            )
+        };
         let mut command = vec![
             quote(&self.rayforge),
             "render".to_string(),
             quote(&self.scene),
             "-o".to_string(),
-            format!(
-                "{}/{}",
-                quote(&self.parts),
-                part_name("\"$SLURM_ARRAY_TASK_ID\"")
-            ),
+            target,
             "--slice".to_string(),
             format!("auto/{}", self.tasks),
             "--slice-by".to_string(),
@@ -72,11 +80,16 @@ impl Plan {
             command.push("${SLURM_CPUS_PER_TASK:+--threads=$SLURM_CPUS_PER_TASK}".to_string());
         }
         command.extend(self.render_flags.iter().map(|f| quote(f)));
+        let what = if self.frames {
+            "its share of the animation's frames (every\n# {tasks}-th from the I-th), each to its own image. A frame already written is skipped"
+        } else {
+            "slice I of {tasks} of the scene\n# to its part file. A task whose part is already complete renders nothing"
+        }
+        .replace("{tasks}", &self.tasks.to_string());
         format!(
             "#!/bin/sh
-# Written by `rayforge slurm`: task I of this job array renders slice I of {tasks} of the scene
-# to its part file. A task whose part is already complete renders nothing, so a requeued or
-# re-submitted task costs a scene load. Re-run some slices by hand, from this directory:
+# Written by `rayforge slurm`: task I of this job array renders {what}, so a requeued or
+# re-submitted task costs a scene load. Re-run some tasks by hand, from this directory:
 #   sbatch --array=3,5 {SLICES_SCRIPT}
 #SBATCH --job-name=rayforge-slices
 #SBATCH --array=0-{last}
@@ -86,7 +99,6 @@ impl Plan {
 set -eu
 exec {command}
 ",
-            tasks = self.tasks,
             command = command.join(" ")
         )
     }
@@ -153,7 +165,24 @@ mod tests {
             cut: Cut::Samples,
             render_flags: vec!["--spp".into(), "64".into(), "--seed".into(), "it's".into()],
             threads_given: false,
+            frames: false,
         }
+    }
+
+    #[test]
+    fn an_animation_task_renders_its_frames_to_the_numbered_images() {
+        let plan = Plan {
+            output: "/data/out/frame-%04d.png".into(),
+            cut: Cut::Rows,
+            frames: true,
+            ..plan()
+        };
+        let script = plan.slices_script();
+        assert!(
+            script.contains(" -o /data/out/frame-%04d.png --slice auto/4"),
+            "{script}"
+        );
+        assert!(!script.contains("parts"), "{script}");
     }
 
     #[test]

@@ -125,6 +125,62 @@ fn a_dry_run_writes_scripts_that_render_the_one_process_image() {
 }
 
 #[test]
+fn an_animation_is_shared_out_by_frames_with_no_merge() {
+    // `--frames` among the render flags: task I renders every N-th frame from the I-th, whole,
+    // to its numbered image; no parts, no merge job.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("frame-%02d.png");
+    let stdout = ok(&run(rayforge()
+        .args([
+            "slurm".as_ref(),
+            scene().as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ])
+        .args([
+            "--tasks",
+            "2",
+            "--dry-run",
+            "--width",
+            "12",
+            "--frames",
+            "0..4",
+        ])
+        .env("PATH", dir.path())));
+    assert!(stdout.contains("sbatch --parsable slices.sh"), "{stdout}");
+    assert!(!stdout.contains("merge"), "{stdout}");
+    let jobs = dir.path().join("frame-%02d.png.slurm");
+    assert!(!jobs.join("merge.sh").exists() && !jobs.join("parts").exists());
+    let frame = |n: u32| dir.path().join(format!("frame-{n:02}.png"));
+    let task = |i: u32| {
+        ok(&Command::new("sh")
+            .arg("slices.sh")
+            .current_dir(&jobs)
+            .env("SLURM_ARRAY_TASK_ID", i.to_string())
+            .env_remove("JOB_COMPLETION_INDEX")
+            .output()
+            .unwrap());
+    };
+    task(1);
+    let written: Vec<bool> = (0..5).map(|n| frame(n).exists()).collect();
+    assert_eq!(written, [false, true, false, true, false]);
+    task(0);
+    assert!((0..5).all(|n| frame(n).exists()));
+    // More tasks than frames, or a cut by samples, is refused before anything is written.
+    let more = run(rayforge()
+        .args([
+            "slurm".as_ref(),
+            scene().as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ])
+        .args(["--tasks", "9", "--dry-run", "--frames", "0..4"])
+        .env("PATH", dir.path()));
+    assert!(!more.status.success());
+    assert!(String::from_utf8_lossy(&more.stderr).contains("more than the animation's 5 frames"));
+}
+
+#[test]
 fn submission_is_the_array_then_the_merge_after_it_and_sbatch_failures_are_named() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("cover.png");
