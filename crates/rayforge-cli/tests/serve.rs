@@ -230,6 +230,28 @@ async fn the_page_follows_the_scene_file() {
     assert_ne!(edited, first);
     assert_eq!(edited, rendered(&path, &dir.path().join("edited.png")));
 
+    // A warning (a transform with a number too many, ignored) reaches the page with the next
+    // render, with its place, and goes when the scene is fixed.
+    let warned = scene("[0.2, 0.3, 1]").replace("[translate, 0, 0, 3]", "[translate, 0, 0, 3, 9]");
+    std::fs::write(&path, warned).expect("writes the scene");
+    let started = loop {
+        match next(&mut socket).await {
+            Received::Json(m) if m["type"] == "started" && m["job"].as_u64() > Some(job) => {
+                break m
+            }
+            Received::Closed => panic!("the socket closed"),
+            _ => {}
+        }
+    };
+    let warnings = started["warnings"].as_array().expect("a list of warnings");
+    assert_eq!(warnings.len(), 1, "{started}");
+    let warning = warnings[0].as_str().unwrap_or_default();
+    assert!(
+        warning.contains("scene.yml:14:") && warning.contains("ignored"),
+        "{warning}"
+    );
+    let (_, job) = final_image(&mut socket, job).await;
+
     // A broken file: an error with its place; the server goes on.
     let broken = scene("[0.2, 0.3, 1]").replace("field-of-view: 0.9", "field-of-view: wide");
     std::fs::write(&path, broken).expect("breaks the scene");

@@ -192,6 +192,26 @@ pub struct Started {
     pub samples: u64,
     /// Whether the camera can orbit (the book's camera; the others are placed otherwise).
     pub orbits: bool,
+    /// The scene's warnings (what it read but will not use as written), as the terminal
+    /// shows them: at most [`MAX_WARNINGS`].
+    pub warnings: Vec<String>,
+}
+
+/// The most warnings a `started` message carries (a scene can have thousands).
+pub const MAX_WARNINGS: usize = 20;
+
+/// A scene's warnings as `started` carries them: each one line (file, place, key and message,
+/// clipped), the first [`MAX_WARNINGS`], then how many more there were.
+pub fn warning_lines(warnings: &[SceneError]) -> Vec<String> {
+    let mut lines: Vec<String> = warnings
+        .iter()
+        .take(MAX_WARNINGS)
+        .map(|w| clip(&w.to_string()).into_owned())
+        .collect();
+    if warnings.len() > MAX_WARNINGS {
+        lines.push(format!("… and {} more", warnings.len() - MAX_WARNINGS));
+    }
+    lines
 }
 
 /// `started`: a job began, with what it renders (the page shows the scene's choices).
@@ -205,6 +225,7 @@ pub fn started(job: u64, s: &Started) -> String {
         "height": s.size.1,
         "samples": s.samples,
         "orbits": s.orbits,
+        "warnings": s.warnings,
     })
     .to_string()
 }

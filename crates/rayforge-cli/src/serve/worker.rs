@@ -155,6 +155,7 @@ impl Worker {
             size,
             samples,
             orbits: scene.look_at.is_some(),
+            warnings: protocol::warning_lines(&scene.warnings),
         };
         let pass = Pass {
             job,
