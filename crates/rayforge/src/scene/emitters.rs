@@ -15,11 +15,11 @@
 //!   lights do too (`π · intensity / d²`). The area light is an invisible rectangle whose
 //!   points are such lights, sampled by area: only its light is seen.
 //! - An emitting object gives off radiance `emission` from the side its normal faces (or the
-//!   other side, or both: [`EmissionSide`]). Spheres,
-//!   cubes, rectangles, rings and discs, triangles, meshes, finite cylinders and finite cones
-//!   are sampled by area; other emitting shapes (unbounded ones, tori, planes, CSG solids) are
-//!   found only by the paths
-//!   that hit them, which is unbiased but noisier.
+//!   other side, or both: [`EmissionSide`]). Spheres, cubes, rectangles, rings and discs,
+//!   triangles, meshes, finite cylinders and cones, and ring tori are sampled by area, where
+//!   they are at the path's instant of the shutter when they move; other emitting shapes
+//!   (unbounded ones, planes, spindle tori, CSG solids, surfaces with an emission texture)
+//!   are found only by the paths that hit them, which is unbiased but noisier.
 //! - The sky: the world's environment map, importance-sampled by luminance, else the
 //!   background as light of constant radiance from every direction (found by the paths that
 //!   escape: sampling the BSDF follows a uniform sky as well as light sampling could).
@@ -30,7 +30,7 @@ use super::object::Object;
 use super::shape::Shape;
 use super::world::{LightingModel, World};
 use crate::color::Color;
-use crate::geometry::{rectangle, Mesh};
+use crate::geometry::{rectangle, LocalHit, Mesh};
 use crate::math::{Distribution1D, Point3, Transform, Vec3};
 use crate::shading::{EmissionSide, EnvironmentMap, Light, SpotLight};
 use std::f64::consts::{PI, SQRT_2};
@@ -86,6 +86,41 @@ enum Surface {
         maximum: f64,
         closed: bool,
     },
+    /// A ring torus about the y axis (its tube of radius `minor` no wider than `major`, so
+    /// that the surface does not pass through itself).
+    Torus {
+        major: f64,
+        minor: f64,
+    },
+}
+
+/// The angle φ around a torus's tube, uniformly by area from `u` in [0, 1): the tube's
+/// circumference at φ is proportional to `R + r cos φ`, so φ solves
+/// `R φ + r sin φ = 2π R u` (increasing, as r ≤ R). Newton's steps kept inside a shrinking
+/// bracket converge in a few steps.
+fn torus_tube_angle(major: f64, minor: f64, u: f64) -> f64 {
+    let target = 2.0 * PI * major * u;
+    let (mut lo, mut hi) = (0.0, 2.0 * PI);
+    let mut phi = 2.0 * PI * u;
+    for _ in 0..60 {
+        let f = major * phi + minor * phi.sin() - target;
+        if f.abs() <= 1e-13 * major.max(1.0) {
+            break;
+        }
+        if f > 0.0 {
+            hi = phi;
+        } else {
+            lo = phi;
+        }
+        let slope = major + minor * phi.cos();
+        let next = phi - f / slope;
+        phi = if slope > 0.0 && next > lo && next < hi {
+            next
+        } else {
+            (lo + hi) / 2.0
+        };
+    }
+    phi
 }
 
 /// `y·|y|`: the area of the cone x² + z² = y² up to height `y` grows with it (the side's
@@ -144,6 +179,14 @@ impl Surface {
                 maximum: *maximum,
                 closed: *closed,
             },
+            Shape::Torus { major, minor }
+                if minor.is_finite() && *minor > 0.0 && major.is_finite() && major >= minor =>
+            {
+                Surface::Torus {
+                    major: *major,
+                    minor: *minor,
+                }
+            }
             _ => return None,
         })
     }
@@ -175,6 +218,7 @@ impl Surface {
                 };
                 side + caps
             }
+            Surface::Torus { major, minor } => 4.0 * PI * PI * major * minor,
         }
     }
 
@@ -262,6 +306,13 @@ impl Surface {
                     (Point3::new(r * phi.cos(), y, r * phi.sin()), n)
                 }
             }
+            Surface::Torus { major, minor } => {
+                let phi = torus_tube_angle(*major, *minor, u);
+                let theta = 2.0 * PI * v;
+                let n = Vec3::new(phi.cos() * theta.cos(), phi.sin(), phi.cos() * theta.sin());
+                let centre = Point3::new(major * theta.cos(), 0.0, major * theta.sin());
+                (centre + n * *minor, n)
+            }
         }
     }
 
@@ -312,12 +363,11 @@ enum Emitter {
         intensity: Color,
         falloff: bool,
     },
-    /// The world's object `object`, whose material emits `emission`.
+    /// The world's object `object`, whose material emits `emission` (sampled where the object
+    /// is at the path's instant, when it moves).
     Surface {
         object: u32,
         surface: Surface,
-        /// The surface's object-space area times its transform's volume scale.
-        scaled_area: f64,
         emission: Color,
         side: EmissionSide,
     },
@@ -409,7 +459,7 @@ impl Emitters {
             // sampling alone (its light then counts in full, unweighted).
             let textured = (object.material.metal_rough.as_ref())
                 .is_some_and(|m| m.emissive_texture.is_some());
-            if emission.max_channel() <= 0.0 || object.motion.is_some() || textured {
+            if emission.max_channel() <= 0.0 || textured {
                 continue;
             }
             let Some(surface) = Surface::of(&object.shape) else {
@@ -420,7 +470,6 @@ impl Emitters {
             by_object[i] = list.len() as u32;
             list.push(Emitter::Surface {
                 object: i as u32,
-                scaled_area: surface.area() * det,
                 surface,
                 emission,
                 side: object.material.emission_side,
@@ -479,7 +528,8 @@ impl Emitters {
 
     /// The density (per solid angle at `from`) with which [`sample`](Self::sample) chooses the
     /// point `point` of world object `index`, seen along unit `direction` from `from`, where
-    /// the object-space hit was on face `face`; 0 for objects not sampled.
+    /// the object-space hit `hit` was (its face, for meshes, and its instant, for objects that
+    /// move); 0 for objects not sampled.
     pub fn object_pdf(
         &self,
         world: &World,
@@ -487,24 +537,23 @@ impl Emitters {
         from: Point3,
         point: Point3,
         direction: Vec3,
-        face: u32,
+        hit: &LocalHit,
     ) -> f64 {
         let (Some(&slot), Some(pick)) = (self.by_object.get(index), &self.pick) else {
             return 0.0;
         };
         let Some(Emitter::Surface {
-            surface,
-            object,
-            scaled_area,
-            ..
+            surface, object, ..
         }) = self.list.get(slot as usize)
         else {
             return 0.0;
         };
         let object = &world.objects[*object as usize];
-        let local = object.transform.inverse_point(point);
-        let n_local = surface.normal_at(&object.shape, local, face);
-        let (area_pdf, normal) = area_density(*scaled_area, &object.transform, n_local);
+        let transform = object.transform_at(hit.time);
+        let local = transform.inverse_point(point);
+        let n_local = surface.normal_at(&object.shape, local, hit.face);
+        let scaled_area = surface.area() * transform.volume_scale();
+        let (area_pdf, normal) = area_density(scaled_area, &transform, n_local);
         let cos = normal.dot(direction).abs();
         if cos <= 0.0 {
             return 0.0;
@@ -519,6 +568,7 @@ impl Emitters {
         &self,
         world: &World,
         point: Point3,
+        time: f64,
         pick: f64,
         u: [f64; 2],
     ) -> Option<LightSample> {
@@ -582,14 +632,15 @@ impl Emitters {
             Emitter::Surface {
                 object,
                 surface,
-                scaled_area,
                 emission,
                 side,
             } => {
                 let object: &Object = &world.objects[*object as usize];
+                let transform = object.transform_at(time);
                 let (local, n_local) = surface.sample(rest, u);
-                let on_light = object.transform.point(local);
-                let (area_pdf, normal) = area_density(*scaled_area, &object.transform, n_local);
+                let on_light = transform.point(local);
+                let scaled_area = surface.area() * transform.volume_scale();
+                let (area_pdf, normal) = area_density(scaled_area, &transform, n_local);
                 let to_light = on_light - point;
                 let distance_squared = to_light.length_squared();
                 let distance = distance_squared.sqrt();
@@ -718,7 +769,92 @@ mod tests {
                 stretch,
                 side,
             ),
+            lamp(
+                Shape::Torus {
+                    major: 1.0,
+                    minor: 0.35,
+                },
+                stretch,
+                side,
+            ),
         ]
+    }
+
+    #[test]
+    fn a_torus_is_sampled_uniformly_by_area() {
+        // Uniform by area, the distance from the axis ρ = R + r cos φ has density ∝ ρ, so its
+        // mean is (R² + r²/2) / R; every point lies on the tube.
+        let (major, minor) = (1.0, 0.4);
+        let torus = Surface::Torus { major, minor };
+        let mut rng = SplitMixStream(99);
+        let n = 200_000;
+        let mut sum = 0.0;
+        for _ in 0..n {
+            let (p, normal) = torus.sample(rng.next(), [rng.next(), rng.next()]);
+            let rho = p.x.hypot(p.z);
+            assert!(((rho - major).hypot(p.y) - minor).abs() < 1e-9, "{p:?}");
+            assert!((normal.length() - 1.0).abs() < 1e-12);
+            sum += rho;
+        }
+        let expected = (major * major + minor * minor / 2.0) / major;
+        // ρ spreads over ±0.4: four standard errors are under 0.003.
+        assert!(
+            (sum / n as f64 - expected).abs() < 0.003,
+            "{}",
+            sum / n as f64
+        );
+        assert!((torus.area() - 4.0 * PI * PI * major * minor).abs() < 1e-12);
+        // The tube angle inverts its distribution at the ends and the middle.
+        assert_eq!(torus_tube_angle(major, minor, 0.0), 0.0);
+        assert!((torus_tube_angle(major, minor, 0.5) - PI).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_moving_lamp_is_sampled_where_it_is_at_the_paths_instant() {
+        let start = Transform::IDENTITY;
+        let end = Transform::new(translation(3.0, 0.0, 0.0));
+        let lamp = lamp(Shape::Sphere, glam::DMat4::IDENTITY, EmissionSide::Both)
+            .placed_by_moving(&start, &end)
+            .unwrap();
+        let world = World {
+            objects: vec![lamp],
+            ..World::default()
+        };
+        let emitters = Emitters::new(&world);
+        let from = point(1.5, 0.0, -6.0);
+        let mut rng = SplitMixStream(5);
+        for time in [0.0, 0.5, 1.0] {
+            let centre = point(3.0 * time, 0.0, 0.0);
+            for _ in 0..200 {
+                let u = [rng.next(), rng.next()];
+                let s = emitters
+                    .sample(&world, from, time, rng.next(), u)
+                    .expect("a sample");
+                let at = from + s.direction * s.distance;
+                assert!(
+                    ((at - centre).length() - 1.0).abs() < 1e-9,
+                    "{time}: {at:?}"
+                );
+                let object = &world.objects[0];
+                let ray = Ray::new(from, s.direction).at_time(time);
+                let Some(hit) =
+                    object
+                        .shape
+                        .closest_hit(&object.ray_to_object(&ray), 1e-9, f64::INFINITY)
+                else {
+                    panic!("{time}: a sampled direction misses");
+                };
+                if (hit.t - s.distance).abs() > 1e-6 * s.distance {
+                    continue;
+                }
+                let pdf = emitters.object_pdf(&world, 0, from, at, s.direction, &hit);
+                assert!(
+                    (pdf - s.pdf).abs() <= 1e-6 * s.pdf,
+                    "{time}: {pdf} vs {}",
+                    s.pdf
+                );
+            }
+        }
     }
 
     #[test]
@@ -768,7 +904,7 @@ mod tests {
             let mut checked = 0;
             for _ in 0..500 {
                 let u = [rng.next(), rng.next()];
-                let Some(s) = emitters.sample(&world, from, rng.next(), u) else {
+                let Some(s) = emitters.sample(&world, from, 0.0, rng.next(), u) else {
                     continue;
                 };
                 // The first hit along the sampled direction: where a path would arrive.
@@ -785,7 +921,7 @@ mod tests {
                     continue; // the sampled point lies behind another part of the shape
                 }
                 let at = ray.position(hit.t);
-                let pdf = emitters.object_pdf(&world, 0, from, at, s.direction, hit.face);
+                let pdf = emitters.object_pdf(&world, 0, from, at, s.direction, &hit);
                 assert!(
                     (pdf - s.pdf).abs() <= 1e-6 * s.pdf,
                     "{:?}: sampled with {} but told {pdf}",
@@ -816,7 +952,7 @@ mod tests {
                 (0..64)
                     .filter(|i| {
                         let u = [(i % 8) as f64 / 8.0 + 0.06, (i / 8) as f64 / 8.0 + 0.06];
-                        emitters.sample(&world, at, 0.5, u).is_some()
+                        emitters.sample(&world, at, 0.0, 0.5, u).is_some()
                     })
                     .count()
             };

@@ -181,14 +181,9 @@ impl<'w> PathContext<'w> {
                     1.0
                 } else {
                     let index = object_index(world, hit.object);
-                    let light_pdf = self.emitters.object_pdf(
-                        world,
-                        index,
-                        from,
-                        point,
-                        ray.direction,
-                        hit.face,
-                    );
+                    let light_pdf =
+                        self.emitters
+                            .object_pdf(world, index, from, point, ray.direction, &local);
                     power_heuristic(bsdf_pdf, light_pdf)
                 };
                 radiance += throughput.hadamard(emission) * weight;
@@ -248,7 +243,10 @@ impl<'w> PathContext<'w> {
 
             // Next-event estimation.
             if !bsdf.is_delta() {
-                if let Some(light) = self.emitters.sample(world, point, u_light, u_point) {
+                if let Some(light) = self
+                    .emitters
+                    .sample(world, point, ray.time, u_light, u_point)
+                {
                     let wi_local = frame.to_local(light.direction);
                     let f = bsdf.eval(wo_local, wi_local) * layer.scale;
                     if f.max_channel() > 0.0 {
