@@ -7,6 +7,8 @@
 #      --dependency=afterok), one task cancelled mid-slice (scancel: SIGTERM, then SIGKILL):
 #      its part must be absent, the merge cancelled (afterok cannot be met), and `rayforge
 #      slurm` submitted again must render only that slice and merge to the same bytes;
+#   3. a running task requeued by the scheduler (`scontrol requeue`, as after a node failure):
+#      it must run again from the start and the merge still give the same bytes;
 # and stops the daemons it started, by the process ids it recorded, on any exit.
 #
 # Usage: tools/slurm/test-cluster.sh [RAYFORGE]   (default: target/debug/rayforge)
@@ -235,4 +237,44 @@ skipped=$(cat "$work"/two.png.slurm/logs/slice-*.log | grep -c 'already complete
 [ "$skipped" = 3 ] || fail "$skipped slices were skipped on re-submission, not 3"
 cmp "$work/reference.png" "$work/two.png" || fail "the merged image differs from the reference"
 say "run 2: 3 complete slices skipped, slice $victim rendered again, merged image byte-identical"
+
+say "run 3: a running task requeued by the scheduler (scontrol requeue), as after a node failure"
+submit "$work/three.png"
+victim=
+for _ in $(seq 300); do
+  victim=$(squeue -h -r -j "$array" -t R -o %K 2>/dev/null | head -n 1)
+  [ -n "$victim" ] && break
+  sleep 0.05
+done
+[ -n "$victim" ] || fail "no task of $array started running"
+job=$(squeue -h -j "${array}_${victim}" -o %A)
+task_pids=
+for _ in $(seq 100); do
+  task_pids=$(scontrol listpids "$job" 2>/dev/null | awk '$1 ~ /^[0-9]+$/ { print $1 }')
+  [ -n "$task_pids" ] && break
+  sleep 0.03
+done
+[ -n "$task_pids" ] || fail "scontrol listpids $job found no process"
+# shellcheck disable=SC2086 # one pid a word
+kill -STOP $task_pids 2>/dev/null || true
+sleep 0.5
+scontrol requeue "${array}_${victim}" || fail "scontrol requeue ${array}_${victim} refused"
+# A requeued job waits, pending, for a begin time Slurm sets two minutes ahead; once it does,
+# let it start now.
+for _ in $(seq 100); do
+  reason=$(squeue -h -j "${array}_${victim}" -t PD -o %r 2>/dev/null | head -n 1)
+  [ "$reason" = BeginTime ] && break
+  sleep 0.1
+done
+[ "$reason" = BeginTime ] || fail "task ${array}_${victim} was not pending after its requeue"
+scontrol update JobId="${array}_${victim}" StartTime=now \
+  || fail "cannot move the requeued task's begin time to now"
+say "requeued task ${array}_${victim} while it was running"
+wait_for "$array" "$merge"
+[ "$(state_of "$merge")" = JobState=COMPLETED ] || fail "the merge job ended $(state_of "$merge")"
+restarts=$(grep -c '^' "$work/three.png.slurm/logs/slice-$victim.log" || true)
+[ "$(scontrol show job -o "${array}_${victim}" | grep -o 'Restarts=[0-9]*')" = Restarts=1 ] \
+  || fail "task $victim was not restarted once: $(scontrol show job -o "${array}_${victim}" | grep -o 'Restarts=[0-9]*')"
+cmp "$work/reference.png" "$work/three.png" || fail "the merged image differs from the reference"
+say "run 3: task $victim ran again after its requeue ($restarts lines in its log), merged image byte-identical"
 say "PASSED"
