@@ -336,6 +336,24 @@ fn damaged_files_get_errors_that_name_the_json_path() {
     );
     let err = load_file(&p).unwrap_err();
     assert!(err.to_string().contains("EXT_unknown"), "{err}");
+    // A view's stride shorter than the elements it holds (found by fuzzing: the accessor
+    // readers assumed otherwise).
+    let p = write(
+        "stride.gltf",
+        r#"{"asset":{"version":"2.0"},
+        "buffers":[{"byteLength":24,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAA"}],
+        "bufferViews":[{"buffer":0,"byteLength":24,"byteStride":4}],
+        "accessors":[{"bufferView":0,"componentType":5126,"count":2,"type":"VEC3","min":[0,0,0],"max":[1,0,0]}],
+        "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
+        "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]}"#,
+    );
+    let err = load_file(&p).unwrap_err();
+    assert_eq!(
+        err.key.as_deref(),
+        Some("meshes[0].primitives[0].attributes.POSITION"),
+        "{err}"
+    );
+    assert!(err.message.contains("byteStride"), "{err}");
     // An image in a buffer view without its MIME type.
     let p = write(
         "mime.gltf",

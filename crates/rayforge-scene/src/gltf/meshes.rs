@@ -221,6 +221,47 @@ fn check_types(path: &Path, at: &str, primitive: &::gltf::Primitive<'_>) -> Resu
     use ::gltf::accessor::{DataType as T, Dimensions as D};
     use ::gltf::Semantic;
     let check = |accessor: ::gltf::Accessor<'_>, name: &str, ok: bool| {
+        // The readers also assume each element fits its stride, and at least one element.
+        let element = accessor.size();
+        let strides = [
+            accessor.view().and_then(|v| v.stride()),
+            accessor.sparse().and_then(|s| s.values().view().stride()),
+        ];
+        if let Some(stride) = strides.into_iter().flatten().find(|&s| s < element) {
+            return Err(error(
+                path,
+                format!("{at}.{name}"),
+                format!(
+                    "accessor {}'s elements take {element} bytes, more than its view's byteStride \
+                     of {stride}",
+                    accessor.index()
+                ),
+            ));
+        }
+        let sparse_indices = accessor.sparse().map(|s| s.indices());
+        if let Some(indices) = sparse_indices.filter(|i| {
+            i.view()
+                .stride()
+                .is_some_and(|stride| stride < i.index_type().size())
+        }) {
+            return Err(error(
+                path,
+                format!("{at}.{name}"),
+                format!(
+                    "accessor {}'s sparse indices take {} bytes each, more than their view's \
+                     byteStride",
+                    accessor.index(),
+                    indices.index_type().size()
+                ),
+            ));
+        }
+        if accessor.count() == 0 {
+            return Err(error(
+                path,
+                format!("{at}.{name}"),
+                format!("accessor {} has no elements", accessor.index()),
+            ));
+        }
         if ok {
             Ok(())
         } else {
