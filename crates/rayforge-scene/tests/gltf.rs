@@ -163,6 +163,37 @@ fn wrap_modes_and_single_sided_faces_pass_the_settings_test() {
 }
 
 #[test]
+fn the_rasterizer_wraps_the_base_texture_and_skips_single_sided_backs_too() {
+    // TextureSettingsTest through the rasterizer: every "Test" box as its "Sample pass" box
+    // (its approximation of the material draws no shadows, so the single-sided row too).
+    let scene = load_file(&asset("TextureSettingsTest")).unwrap();
+    let camera = scene.camera.resized(400, 300);
+    let image = rayforge::raster::render(&camera, &scene.world, &Default::default()).unwrap();
+    let window = |x0: f64, y: f64| {
+        let mut sum = Color::BLACK;
+        for i in 0..12 {
+            for j in 0..5 {
+                let x = ((x0 + f64::from(i) * 0.0028) * 400.0) as usize;
+                let y = ((y - 0.012 + f64::from(j) * 0.006) * 300.0) as usize;
+                sum += image.pixel_at(x, y);
+            }
+        }
+        sum
+    };
+    for row in 0..8 {
+        let y = 0.30 + f64::from(row) * 0.0635;
+        let (test, pass) = (window(0.505, y), window(0.609, y));
+        assert!(test.green > test.red, "row {row}: {test:?}");
+        for (t, p) in [(test.red, pass.red), (test.green, pass.green)] {
+            assert!(
+                (t - p).abs() <= 0.15 * p.max(1.0),
+                "row {row}: {test:?} against {pass:?}"
+            );
+        }
+    }
+}
+
+#[test]
 fn cameras_are_chosen_by_index_or_name_and_an_unknown_one_is_a_clear_error() {
     let path = asset("Cameras");
     let first = load_file(&path).unwrap();

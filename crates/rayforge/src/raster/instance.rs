@@ -255,8 +255,15 @@ pub(crate) fn instances<'w>(
             out.push(Instance {
                 surface,
                 transform,
-                // From inside a closed shape (a room made of a cube) every face looks away.
-                cull: culling && csg.is_none() && model.mesh.closed && centre.length() > radius,
+                // From inside a closed shape (a room made of a cube) every face looks away. A
+                // glTF material that is single-sided has no back to draw (as the ray tracers
+                // pass through it), whatever the option.
+                cull: (culling && csg.is_none() && model.mesh.closed && centre.length() > radius)
+                    || surface
+                        .material
+                        .metal_rough
+                        .as_ref()
+                        .is_some_and(|m| m.culls_back()),
                 model,
                 to_view,
                 front_sign,

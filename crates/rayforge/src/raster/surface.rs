@@ -67,6 +67,13 @@ impl ShadeContext<'_, '_> {
         neighbour: impl Fn(f64, f64) -> (Point3, Option<(f64, f64)>),
     ) -> Color {
         let material = &surface.material;
+        // A glTF material's base texture wraps as its sampler says: its coordinates are brought
+        // into the image before the MIP map (which clamps) reads it; the footprint is measured
+        // on the coordinates as they run across the surface.
+        let slot = material
+            .metal_rough
+            .as_ref()
+            .and_then(|m| m.base_texture.as_ref());
         if let (Some(texture), Some((u, v))) = (&material.texture, uv) {
             let UvPattern::Image(image) = texture else {
                 return texture.uv_pattern_at(u, v) * material.color;
@@ -82,7 +89,8 @@ impl ShadeContext<'_, '_> {
                     (uy.1 - v) / h,
                 )
             };
-            return self.sample(image, u, v, footprint) * material.color;
+            let (su, sv) = slot.map_or((u, v), |s| s.wrapped_uv(u, v));
+            return self.sample(image, su, sv, footprint) * material.color;
         }
         let Some(pattern) = &material.pattern else {
             return material.color;

@@ -32,6 +32,26 @@ pub enum Wrap {
 }
 
 impl Wrap {
+    /// A texture coordinate brought into [0, 1] (NaN to 0).
+    #[inline]
+    pub fn unit(self, x: f64) -> f64 {
+        if !x.is_finite() {
+            return 0.0;
+        }
+        match self {
+            Wrap::Repeat => x.rem_euclid(1.0),
+            Wrap::ClampToEdge => x.clamp(0.0, 1.0),
+            Wrap::MirroredRepeat => {
+                let period = x.rem_euclid(2.0);
+                if period <= 1.0 {
+                    period
+                } else {
+                    2.0 - period
+                }
+            }
+        }
+    }
+
     /// The texel index `i` (any integer) brought into `0..n`.
     #[inline]
     fn index(self, i: i64, n: usize) -> usize {
@@ -135,6 +155,18 @@ impl TextureSlot {
                 top * (1.0 - fy) + bottom * fy
             }
         }
+    }
+
+    /// Book-convention texture coordinates carried through this slot's transform and wrap
+    /// modes into the unit square (still in the book's convention): where a sampler that
+    /// clamps (the rasterizer's MIP maps) must read the image to follow glTF's wrapping.
+    #[inline]
+    pub fn wrapped_uv(&self, u: f64, v: f64) -> (f64, f64) {
+        let (s, t) = match &self.transform {
+            Some(m) => m.apply(u, 1.0 - v),
+            None => (u, 1.0 - v),
+        };
+        (self.wrap[0].unit(s), 1.0 - self.wrap[1].unit(t))
     }
 
     /// The texture's value at book-convention texture coordinates.
@@ -417,6 +449,25 @@ mod tests {
         // Mirrored: 0 1 2 3 | 3 2 1 0 | 0 1 …
         let mirrored: Vec<usize> = (-2..10).map(|i| Wrap::MirroredRepeat.index(i, 4)).collect();
         assert_eq!(mirrored, [1, 0, 0, 1, 2, 3, 3, 2, 1, 0, 0, 1]);
+    }
+
+    #[test]
+    fn wrapped_coordinates_land_in_the_unit_square_as_the_modes_say() {
+        assert_eq!(Wrap::Repeat.unit(1.25), 0.25);
+        assert_eq!(Wrap::Repeat.unit(-0.25), 0.75);
+        assert_eq!(Wrap::ClampToEdge.unit(1.25), 1.0);
+        assert_eq!(Wrap::MirroredRepeat.unit(1.25), 0.75);
+        assert_eq!(Wrap::MirroredRepeat.unit(-0.25), 0.25);
+        let s = TextureSlot {
+            wrap: [Wrap::Repeat, Wrap::MirroredRepeat],
+            ..slot(vec![Color::WHITE], 1, Wrap::Repeat, Filter::Nearest)
+        };
+        // Book v 1.25 is glTF v −0.25, mirrored to 0.25, which is book v 0.75.
+        let (u, v) = s.wrapped_uv(2.5, 1.25);
+        assert!(
+            (u - 0.5).abs() < 1e-12 && (v - 0.75).abs() < 1e-12,
+            "{u} {v}"
+        );
     }
 
     #[test]
