@@ -241,10 +241,6 @@ pub struct MetalRough {
     pub metal_rough_texture: Option<TextureSlot>,
     /// `normalTexture`.
     pub normal_map: Option<NormalMap>,
-    /// `occlusionTexture` (red channel) and its `strength`: darkens the ambient term of the
-    /// book's renderers; the path tracer finds occlusion by tracing and ignores it, as pbrt
-    /// and Mitsuba do.
-    pub occlusion: Option<(TextureSlot, f64)>,
     /// `emissiveFactor` times `KHR_materials_emissive_strength`.
     pub emissive: Color,
     /// `emissiveTexture` (decoded from sRGB), multiplying `emissive`.
@@ -273,7 +269,6 @@ impl Default for MetalRough {
             roughness: 1.0,
             metal_rough_texture: None,
             normal_map: None,
-            occlusion: None,
             emissive: Color::BLACK,
             emissive_texture: None,
             transmission: 0.0,
@@ -372,17 +367,6 @@ impl MetalRough {
         match (&self.emissive_texture, at.uv) {
             (Some(slot), Some((u, v))) => self.emissive.hadamard(slot.sample(u, v)),
             _ => self.emissive,
-        }
-    }
-
-    /// The ambient occlusion at a point, 1 for none: `1 + strength · (texel − 1)`.
-    #[inline]
-    pub fn occlusion_at(&self, at: &SurfacePoint) -> f64 {
-        match (&self.occlusion, at.uv) {
-            (Some((slot, strength)), Some((u, v))) => {
-                unit(1.0 + strength * (slot.sample(u, v).red - 1.0))
-            }
-            _ => 1.0,
         }
     }
 
