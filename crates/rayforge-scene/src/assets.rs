@@ -4,7 +4,7 @@
 
 use crate::error::SceneError;
 use crate::files::{read_bounded, Folder};
-use crate::gltf::{read_gltf, GltfModel, Limits};
+use crate::gltf::model::{read_gltf, GltfModel, Limits};
 use crate::hdr::{decode_hdr_image, read_hdr_image, HdrImage};
 use crate::images::{
     decode, ImageMemory, Room, COLOR_BYTES, DEFAULT_MAX_IMAGE_MEMORY, ENVIRONMENT_BYTES_PER_TEXEL,

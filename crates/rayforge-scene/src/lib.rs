@@ -20,6 +20,7 @@ mod images;
 mod items;
 mod material;
 pub mod obj;
+mod scene;
 mod settings;
 mod source;
 mod transform;
@@ -28,6 +29,7 @@ pub use assets::texture_from_bytes;
 pub use error::{clip, clip_to, SceneError, Span, MAX_SHOWN_CHARS};
 pub use images::{DEFAULT_MAX_IMAGE_MEMORY, MAX_IMAGE_BYTES, MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE};
 pub use obj::DEFAULT_MAX_TRIANGLES;
+pub use scene::{CameraChoice, LoadOptions, Scene};
 
 use defines::Defines;
 use items::camera::CameraItem;
@@ -36,77 +38,9 @@ use items::Contents;
 use source::Source;
 use std::path::Path;
 
-/// A scene ready to render: the world and the camera that looks at it.
-#[derive(Debug, Clone)]
-pub struct Scene {
-    /// Objects, lights and background.
-    pub world: rayforge::World,
-    /// The camera from `add: camera`.
-    pub camera: rayforge::Camera,
-    /// Camera rays per pixel asked for by the camera's `samples` (1: one through the centre).
-    pub samples: u32,
-    /// Fundamentals of Ray Tracing's anti-aliasing, when the camera gives `anti-alias: N`: an
-    /// N × N grid of rays from each pixel's corner, unjittered (`samples` is then N²).
-    pub anti_alias: Option<u32>,
-    /// Reflection and refraction bounces, when the scene's `world:` item sets `max-depth`.
-    pub max_depth: Option<u32>,
-    /// The rasterizer's options, when the scene's `world:` item says `renderer: raster`.
-    pub raster: Option<rayforge::options::RasterOptions>,
-    /// The path tracer's options, when the scene's `world:` item says `renderer: path`
-    /// (`max-depth` included, as `max_depth`).
-    pub path: Option<rayforge::options::PathOptions>,
-    /// The canvas items (`add: canvas-line`, `add: canvas-triangle`), drawn over the image by
-    /// either renderer.
-    pub overlay: rayforge::draw2d::Overlay,
-    /// Problems in the file that the reader worked around (each located like an error).
-    pub warnings: Vec<SceneError>,
-    /// Where the book's camera (`from`, `to`, `up`) stands and looks, for a viewer that
-    /// orbits it (`rayforge serve`); `None` for the other books' cameras, placed otherwise.
-    pub look_at: Option<LookAt>,
-    /// Every file the scene read besides its own (OBJ models and material libraries, images,
-    /// environment maps, glTF models with their buffers and images), each once, in the order
-    /// first read: what a render's fingerprint covers and what the live page watches.
-    pub files: Vec<std::path::PathBuf>,
-}
-
 /// Scene files larger than this are refused before parsing (a scene is text written by hand or
 /// a tool; anything this large is a mistake, and parsing it would take all memory).
 pub const MAX_SCENE_BYTES: u64 = 64 * 1024 * 1024;
-
-/// Limits on what loading a scene may take, beyond the fixed ones of the format.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct LoadOptions {
-    /// The most triangles the scene's OBJ models may hold together (a model used twice counts
-    /// once), and the most vertices, normals or texture coordinates in any one model.
-    pub max_triangles: usize,
-    /// The animation frame to build: items with `per-frame` take that many steps (0, a still).
-    pub frame: u64,
-    /// The most memory, in bytes, the scene's images (textures and environment maps) may take
-    /// together, an image used twice once: the colours each keeps, and while one is decoded
-    /// its file and the decoder's buffers too. Each image is costed from its header and
-    /// refused before it is decoded if it would go over.
-    pub max_image_memory: u64,
-    /// Whether the files the scene names (models, material libraries, images, environment
-    /// maps) may be outside the scene file's folder. By default they may not: an absolute path,
-    /// a `..` that climbs out or a symbolic link that leads out is an error at the `file:`
-    /// that names it, so that a scene from elsewhere cannot read other files.
-    pub allow_outside: bool,
-    /// Which of a glTF model's cameras to look through when the model is rendered directly
-    /// (`--camera`).
-    pub camera: gltf::CameraChoice,
-}
-
-impl Default for LoadOptions {
-    fn default() -> Self {
-        Self {
-            max_triangles: DEFAULT_MAX_TRIANGLES,
-            frame: 0,
-            max_image_memory: DEFAULT_MAX_IMAGE_MEMORY,
-            allow_outside: false,
-            camera: gltf::CameraChoice::First,
-        }
-    }
-}
 
 /// Reads and builds the scene in the file at `path`.
 pub fn load_file(path: &Path) -> Result<Scene, SceneError> {

@@ -1,7 +1,7 @@
 //! A glTF model's buffers and other resources: the GLB's binary chunk, `data:` URIs, and
 //! files beside the model (inside the scene's folder, within the model size limit).
 
-use super::error;
+use super::paths::error;
 use crate::error::SceneError;
 use crate::files::{read_bounded, Folder};
 use crate::obj::MAX_MODEL_BYTES;
@@ -88,7 +88,7 @@ pub(crate) fn resource(
         error(
             path,
             at,
-            format!("`{}` is not a relative file name", crate::clip(uri)),
+            format!("`{}` is not a relative file name", crate::error::clip(uri)),
         )
     })?;
     folder.check(&file).map_err(|e| error(path, at, e))?;

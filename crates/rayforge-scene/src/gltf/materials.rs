@@ -5,7 +5,7 @@
 //! data textures (metallic-roughness, normal, transmission) as they are.
 
 use super::buffers::{resource, Buffers};
-use super::error;
+use super::paths::error;
 use crate::error::SceneError;
 use crate::files::Folder;
 use crate::images::{decode_with_alpha, ImageMemory, COLOR_BYTES};
@@ -290,6 +290,15 @@ fn to_linear(texture: Texture) -> Texture {
         .map(|c| Color::new(decode(c.red), decode(c.green), decode(c.blue)))
         .collect();
     Texture::new(texture.width(), texture.height(), pixels, texture.filter).unwrap_or(texture)
+}
+
+/// The material of a primitive without one: the specification's default (white, fully
+/// metallic and rough), as a [`Material`].
+pub(crate) fn default_material() -> Material {
+    book_material(std::sync::Arc::new(rayforge::shading::MetalRough {
+        double_sided: false,
+        ..Default::default()
+    }))
 }
 
 /// A glTF material as a rayforge [`Material`]: the metallic-roughness model itself for the

@@ -4,7 +4,7 @@
 //! normal maps where the file gives none.
 
 use super::buffers::Buffers;
-use super::error;
+use super::paths::error;
 use crate::error::SceneError;
 use glam::{DVec3, DVec4};
 use rayforge::geometry::{Mesh, MeshFace, VertexAttributes};

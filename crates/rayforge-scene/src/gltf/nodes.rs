@@ -1,13 +1,21 @@
 //! The node hierarchy of a glTF scene: each node's world matrix (parents first), its mesh's
 //! primitives as objects sharing their meshes, its camera and its light.
 
+use super::materials::default_material;
 use super::materials::Materials;
 use super::meshes::Meshes;
-use super::{default_material, error, MAX_NODE_DEPTH, MAX_NODE_VISITS};
+use super::paths::error;
 use crate::error::SceneError;
 use glam::{DMat4, DVec3};
 use rayforge::{Color, Object, Transform};
 use std::path::Path;
+
+/// The most nodes a model's hierarchy may visit (a file whose nodes are shared between
+/// parents, against the specification, could otherwise multiply its instances exponentially).
+pub const MAX_NODE_VISITS: usize = 1_000_000;
+
+/// The deepest a model's node hierarchy may nest.
+pub const MAX_NODE_DEPTH: usize = 256;
 
 /// A camera of the model, placed by its node (in glTF's space).
 #[derive(Debug, Clone, PartialEq)]

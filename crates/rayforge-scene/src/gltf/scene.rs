@@ -11,11 +11,13 @@
 //! - **sky**: a uniform grey of 0.5 (the background of the ray tracer; light from every
 //!   direction for the path tracer).
 
-use super::{GltfCamera, GltfLight, GltfModel, LightKind, Projection, GLTF_TO_BOOK};
+use super::model::GltfModel;
+use super::nodes::{GltfCamera, GltfLight, LightKind, Projection};
+use super::space::GLTF_TO_BOOK;
 use crate::assets::Assets;
 use crate::error::SceneError;
 use crate::items::camera::LookAt;
-use crate::{LoadOptions, Scene};
+use crate::scene::{CameraChoice, LoadOptions, Scene};
 use glam::{DMat4, DVec3};
 use rayforge::draw2d::Overlay;
 use rayforge::shading::{DirectionalLight, Light, PointLight, SpotLight};
@@ -36,27 +38,6 @@ pub const DEFAULT_SKY: f64 = 0.5;
 
 /// The default light's intensity.
 const DEFAULT_LIGHT: f64 = 0.6;
-
-/// Which of a model's cameras to look through.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum CameraChoice {
-    /// The file's first camera, else the default one.
-    First,
-    /// The camera at this index among the scene's cameras (node order).
-    Index(usize),
-    /// The camera of this name.
-    Named(String),
-}
-
-impl CameraChoice {
-    /// `--camera`'s value: a number is an index, anything else a name.
-    pub fn parse(text: &str) -> Self {
-        match text.parse() {
-            Ok(i) => CameraChoice::Index(i),
-            Err(_) => CameraChoice::Named(text.to_string()),
-        }
-    }
-}
 
 /// The model's lights in the book's world, placed by `placement` (after [`GLTF_TO_BOOK`]).
 /// Intensities are divided by π: the book's lights are irradiance over π (a white Lambertian
@@ -214,7 +195,7 @@ pub fn pick<'a>(
                     path,
                     format!(
                         "the model has no camera named `{}` (`--camera`): {}",
-                        crate::clip(name),
+                        crate::error::clip(name),
                         names()
                     ),
                 )
