@@ -182,6 +182,31 @@ submit() { # OUTPUT : rayforge slurm, prints its output, sets $array and $merge
   jobs_submitted+=("$array" "$merge")
 }
 
+freeze_a_running_task() { # sets $victim (the task index), $task_pids; uses $array
+  # Freezes the processes of a running task of $array as soon as Slurm lists them, so that
+  # what is done to it lands mid-slice whatever the machine's speed (Slurm sends SIGCONT
+  # before SIGTERM, then SIGKILL after KillWait).
+  victim=
+  for _ in $(seq 300); do
+    victim=$(squeue -h -r -j "$array" -t R -o %K 2>/dev/null | head -n 1)
+    [ -n "$victim" ] && break
+    sleep 0.05
+  done
+  [ -n "$victim" ] || fail "no task of $array started running"
+  local job
+  job=$(squeue -h -j "${array}_${victim}" -o %A)
+  task_pids=
+  for _ in $(seq 100); do
+    task_pids=$(scontrol listpids "$job" 2>/dev/null | awk '$1 ~ /^[0-9]+$/ { print $1 }')
+    [ -n "$task_pids" ] && break
+    sleep 0.03
+  done
+  [ -n "$task_pids" ] || fail "scontrol listpids $job found no process"
+  # shellcheck disable=SC2086 # one pid a word
+  kill -STOP $task_pids 2>/dev/null || true
+  sleep 0.5
+}
+
 say "one-process reference render, ${flags[*]} (a ray per pixel of a slice: $ms ms)"
 "$rayforge" render "$scene" -o "$work/reference.png" "${flags[@]}" -q
 
@@ -199,26 +224,7 @@ array=${array%%;*}
 merge=$(cd "$work/two.png.slurm" && sbatch --parsable --dependency=afterok:"$array" merge.sh)
 merge=${merge%%;*}
 jobs_submitted+=("$array" "$merge")
-victim=
-for _ in $(seq 300); do
-  victim=$(squeue -h -r -j "$array" -t R -o %K 2>/dev/null | head -n 1)
-  [ -n "$victim" ] && break
-  sleep 0.05
-done
-[ -n "$victim" ] || fail "no task of $array started running"
-# Freeze the task's processes as soon as Slurm lists them, so that it is cancelled mid-slice
-# whatever the machine's speed (Slurm sends SIGCONT and SIGTERM, then SIGKILL after KillWait).
-job=$(squeue -h -j "${array}_${victim}" -o %A)
-task_pids=
-for _ in $(seq 100); do
-  task_pids=$(scontrol listpids "$job" 2>/dev/null | awk '$1 ~ /^[0-9]+$/ { print $1 }')
-  [ -n "$task_pids" ] && break
-  sleep 0.03
-done
-[ -n "$task_pids" ] || fail "scontrol listpids $job found no process"
-# shellcheck disable=SC2086 # one pid a word
-kill -STOP $task_pids 2>/dev/null || true
-sleep 0.5
+freeze_a_running_task
 scancel "${array}_${victim}"
 say "cancelled task ${array}_${victim} while it was running (pids ${task_pids//$'\n'/ })"
 wait_for "$array" "$merge"
@@ -240,24 +246,7 @@ say "run 2: 3 complete slices skipped, slice $victim rendered again, merged imag
 
 say "run 3: a running task requeued by the scheduler (scontrol requeue), as after a node failure"
 submit "$work/three.png"
-victim=
-for _ in $(seq 300); do
-  victim=$(squeue -h -r -j "$array" -t R -o %K 2>/dev/null | head -n 1)
-  [ -n "$victim" ] && break
-  sleep 0.05
-done
-[ -n "$victim" ] || fail "no task of $array started running"
-job=$(squeue -h -j "${array}_${victim}" -o %A)
-task_pids=
-for _ in $(seq 100); do
-  task_pids=$(scontrol listpids "$job" 2>/dev/null | awk '$1 ~ /^[0-9]+$/ { print $1 }')
-  [ -n "$task_pids" ] && break
-  sleep 0.03
-done
-[ -n "$task_pids" ] || fail "scontrol listpids $job found no process"
-# shellcheck disable=SC2086 # one pid a word
-kill -STOP $task_pids 2>/dev/null || true
-sleep 0.5
+freeze_a_running_task
 scontrol requeue "${array}_${victim}" || fail "scontrol requeue ${array}_${victim} refused"
 # A requeued job waits, pending, for a begin time Slurm sets two minutes ahead; once it does,
 # let it start now.

@@ -59,6 +59,17 @@ fn slurm(out: &Path, path: &Path, more: &[&str]) -> Output {
         .env("PATH", path))
 }
 
+/// Runs the array script in `jobs` as Slurm runs task `index` of it.
+fn run_task(jobs: &Path, index: u32) {
+    ok(&Command::new("sh")
+        .arg("slices.sh")
+        .current_dir(jobs)
+        .env("SLURM_ARRAY_TASK_ID", index.to_string())
+        .env_remove("JOB_COMPLETION_INDEX")
+        .output()
+        .unwrap());
+}
+
 #[test]
 fn a_dry_run_writes_scripts_that_render_the_one_process_image() {
     let dir = tempfile::tempdir().unwrap();
@@ -100,13 +111,7 @@ fn a_dry_run_writes_scripts_that_render_the_one_process_image() {
 
     // As Slurm runs them: each task with its index, from the scripts' directory, then the merge.
     for i in 0..4 {
-        ok(&Command::new("sh")
-            .arg("slices.sh")
-            .current_dir(&jobs)
-            .env("SLURM_ARRAY_TASK_ID", i.to_string())
-            .env_remove("JOB_COMPLETION_INDEX")
-            .output()
-            .unwrap());
+        run_task(&jobs, i);
     }
     ok(&Command::new("sh")
         .arg("merge.sh")
@@ -152,19 +157,10 @@ fn an_animation_is_shared_out_by_frames_with_no_merge() {
     let jobs = dir.path().join("frame-%02d.png.slurm");
     assert!(!jobs.join("merge.sh").exists() && !jobs.join("parts").exists());
     let frame = |n: u32| dir.path().join(format!("frame-{n:02}.png"));
-    let task = |i: u32| {
-        ok(&Command::new("sh")
-            .arg("slices.sh")
-            .current_dir(&jobs)
-            .env("SLURM_ARRAY_TASK_ID", i.to_string())
-            .env_remove("JOB_COMPLETION_INDEX")
-            .output()
-            .unwrap());
-    };
-    task(1);
+    run_task(&jobs, 1);
     let written: Vec<bool> = (0..5).map(|n| frame(n).exists()).collect();
     assert_eq!(written, [false, true, false, true, false]);
-    task(0);
+    run_task(&jobs, 0);
     assert!((0..5).all(|n| frame(n).exists()));
     // More tasks than frames, or a cut by samples, is refused before anything is written.
     let more = run(rayforge()

@@ -94,20 +94,7 @@ fn scene(input: &[u8]) -> bool {
         frame: 3,
         ..LoadOptions::default()
     };
-    match load_str_with(&text, &path, &options) {
-        Ok(scene) => {
-            for w in &scene.warnings {
-                check_error(w, &path, &text);
-            }
-            let camera = scene.camera.resized(3, 2);
-            tiny_render(&camera, &scene.world);
-            true
-        }
-        Err(e) => {
-            check_error(&e, &path, &text);
-            false
-        }
-    }
+    rendered(load_str_with(&text, &path, &options), &path, &text)
 }
 
 fn obj(input: &[u8]) -> bool {
@@ -186,17 +173,23 @@ fn gltf(input: &[u8]) -> bool {
         ..LoadOptions::default()
     };
     let text = String::from_utf8_lossy(input);
-    match load_file_with(&path, &options) {
+    rendered(load_file_with(&path, &options), &path, &text)
+}
+
+/// A scene the reader built, rendered small (its warnings checked), or its error checked:
+/// whether it was accepted.
+fn rendered(read: Result<rayforge_scene::Scene, SceneError>, path: &Path, text: &str) -> bool {
+    match read {
         Ok(scene) => {
             for w in &scene.warnings {
-                check_error(w, &path, &text);
+                check_error(w, path, text);
             }
             let camera = scene.camera.resized(3, 2);
             tiny_render(&camera, &scene.world);
             true
         }
         Err(e) => {
-            check_error(&e, &path, &text);
+            check_error(&e, path, text);
             false
         }
     }

@@ -27,20 +27,40 @@ pub fn add_model(
         .obj(&path)
         .map_err(|e| at_file(source, file, &path, e))?;
     for (mesh, own_material) in meshes.iter() {
-        let mut object = moving(
-            Object::mesh(mesh.clone()),
-            &placement.world,
-            &placement.world_end,
-        );
-        // An explicit `material:` wins; then the file's own; then the group's.
-        object.material = match (placement.material_explicit, own_material) {
-            (false, Some(m)) => m.clone(),
-            _ => placement.material.clone().unwrap_or_default(),
-        };
-        object.casts_shadow = placement.casts_shadow;
-        source.spend(kind_node, "add")?;
-        out.push(object);
+        let mut object = Object::mesh(mesh.clone());
+        if let Some(own) = own_material {
+            object.material = own.clone();
+        }
+        add_part(
+            source,
+            kind_node,
+            object,
+            own_material.is_some(),
+            &placement,
+            out,
+        )?;
     }
+    Ok(())
+}
+
+/// Adds one part of a model (in the model's own space, with the file's material when it has
+/// one: `own`) to `out`, placed and moved by the item. An explicit `material:` wins; then the
+/// file's own; then the enclosing group's.
+fn add_part(
+    source: &Source<'_>,
+    kind_node: &Node<'_>,
+    part: Object,
+    own: bool,
+    placement: &Placement<'_, '_>,
+    out: &mut Vec<Object>,
+) -> Result<(), SceneError> {
+    let mut object = moving(part, &placement.world, &placement.world_end);
+    if placement.material_explicit || !own {
+        object.material = placement.material.clone().unwrap_or_default();
+    }
+    object.casts_shadow = placement.casts_shadow;
+    source.spend(kind_node, "add")?;
+    out.push(object);
     Ok(())
 }
 
@@ -95,13 +115,7 @@ pub fn add_gltf(
                 "a node of the model has a singular transform",
             )
         })?;
-        let mut object = moving(placed, &placement.world, &placement.world_end);
-        if placement.material_explicit {
-            object.material = placement.material.clone().unwrap_or_default();
-        }
-        object.casts_shadow = placement.casts_shadow;
-        source.spend(kind_node, "add")?;
-        out.push(object);
+        add_part(source, kind_node, placed, true, &placement, out)?;
     }
     Ok(())
 }
