@@ -198,7 +198,8 @@ fn polish(c: &[f64], derivative: &[f64], mut t: f64) -> f64 {
             return next;
         }
         let f_next = evaluate(c, next);
-        if !(f_next.abs() < f.abs()) {
+        // Not lower (or a NaN): rounding has taken over.
+        if f_next.abs().partial_cmp(&f.abs()) != Some(std::cmp::Ordering::Less) {
             break;
         }
         t = next;
