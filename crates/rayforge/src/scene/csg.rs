@@ -238,8 +238,7 @@ impl Csg {
                 h.leaf = i as u32;
                 hits.push(h);
             };
-            leaf.shape
-                .intersect_hits(&local, &mut push as &mut dyn FnMut(LocalHit));
+            leaf.shape.intersect_hits(&local, &mut push);
         }
         hits.sort_unstable_by(|a, b| a.t.total_cmp(&b.t));
         self.filter(&mut hits);
