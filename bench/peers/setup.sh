@@ -7,9 +7,13 @@
 #   raytracer_rs    richard-dennehy/raytracer_rs, built OUTSIDE this repository from a checkout
 #                   (or a bare git directory) given as the first argument or $RAYTRACER_RS;
 #                   its example binaries are copied to bench/peers/build/raytracer_rs-{cover,dragons}
+#   Don Cross's     cosinekitty/raytrace (Fundamentals of Ray Tracing), built OUTSIDE this
+#   program         repository, unmodified, from a checkout (or a bare git directory) given as
+#                   $CROSS_RAYTRACE, with its own build line (g++ -O3 *.cpp ../lodepng/lodepng.cpp);
+#                   the binary is copied to bench/peers/build/cross-raytrace
 #
 # Usage:
-#   bench/peers/setup.sh [RAYTRACER_RS_CHECKOUT]
+#   [CROSS_RAYTRACE=CHECKOUT] bench/peers/setup.sh [RAYTRACER_RS_CHECKOUT]
 #
 # `rayforge bench` looks for every peer in bench/peers/build/ (or --peers DIR) and reports a
 # peer that is missing as skipped, so any step below may be left out. Set SKIP_APT=1 to skip the
@@ -63,6 +67,23 @@ step "building the Embree harness"
 gcc -O2 -std=c11 -Wall -Wextra -o "$build/embree_primary" "$here/embree/primary.c" \
     -lembree3 -lpthread -lm
 echo "built $build/embree_primary"
+
+# --- Don Cross's program --------------------------------------------------------------------
+if [[ -n "${CROSS_RAYTRACE:-}" ]]; then
+    cross_dest="${CROSS_RAYTRACE_BUILD:-$HOME/.cache/rayforge-peers/cross-raytrace}"
+    step "exporting Don Cross's program from $CROSS_RAYTRACE to $cross_dest"
+    cross_gitdir="$(git -C "$CROSS_RAYTRACE" rev-parse --absolute-git-dir)"
+    rm -rf "$cross_dest"
+    mkdir -p "$cross_dest"
+    git --git-dir="$cross_gitdir" archive HEAD | tar -x -C "$cross_dest"
+    echo "cosinekitty/raytrace at commit $(git --git-dir="$cross_gitdir" rev-parse HEAD)"
+    step "building it with its own build line (raytrace/build: g++ -O3)"
+    (cd "$cross_dest/raytrace" && g++ -o raytrace -O3 ./*.cpp ../lodepng/lodepng.cpp)
+    cp "$cross_dest/raytrace/raytrace" "$build/cross-raytrace"
+    echo "built $build/cross-raytrace"
+else
+    echo "no CROSS_RAYTRACE checkout given: the comparison with Don Cross's program will be skipped" >&2
+fi
 
 # --- raytracer_rs ----------------------------------------------------------------------------
 source_dir="${1:-${RAYTRACER_RS:-}}"

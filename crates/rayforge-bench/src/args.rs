@@ -21,7 +21,7 @@ both with `cargo build --release -p rayforge-cli -p rayforge-bench`.
 A peer that is not installed is reported as skipped. Exit status: 0 when every comparison ran
 (whether or not rayforge met its targets), 2 for bad arguments, 1 when a peer or a file failed.";
 
-/// Measure rayforge against its peers (Embree, POV-Ray, raytracer_rs) and print the tables of
+/// Measure rayforge against its peers (Embree, POV-Ray, raytracer_rs, Don Cross's program) and print the tables of
 /// times and ratios (see bench/peers/setup.sh to install the peers).
 #[derive(Debug, Parser)]
 #[command(name = "rayforge-bench", version, long_about = None, after_help = EXAMPLES)]
@@ -105,6 +105,9 @@ pub enum BenchPart {
     Scaling,
     /// Whole renders of scenes against POV-Ray and raytracer_rs, as processes.
     Scenes,
+    /// Don Cross's program (Fundamentals of Ray Tracing) against rayforge on its scenes, one
+    /// thread each.
+    Cross,
     /// The path tracer against Mitsuba 3: samples per second and error at equal time on the
     /// five scenes of scenes/pbr (skipped when Python cannot import mitsuba).
     Pbr,

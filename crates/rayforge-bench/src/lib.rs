@@ -7,7 +7,8 @@
 //!
 //! Each part is a file: `primary.rs` (primary rays against Embree), `sweep.rs` (BVH build and
 //! scaling with triangle count, with the plot), `scenes.rs` (whole renders against POV-Ray
-//! and raytracer_rs), `pbr.rs` (the path tracer against Mitsuba 3). They share the meshes (`shapes.rs`), the rays (`rays.rs`), rayforge's
+//! and raytracer_rs), `cross.rs` (Don Cross's program on its own scenes), `pbr.rs` (the path
+//! tracer against Mitsuba 3). They share the meshes (`shapes.rs`), the rays (`rays.rs`), rayforge's
 //! tracing loop (`trace.rs`), the files handed to the Embree harness (`files.rs`, `embree.rs`)
 //! and the report (`report.rs`). Peers are found in the directory `bench/peers/setup.sh`
 //! fills (`peers.rs`); a missing one is a skipped row, never an error.
@@ -18,6 +19,7 @@
 #![forbid(unsafe_code)]
 
 pub mod args;
+mod cross;
 mod embree;
 mod files;
 mod pbr;
@@ -60,6 +62,8 @@ pub struct BenchSettings {
     pub scaling: bool,
     /// Run the whole-scene comparisons.
     pub scenes: bool,
+    /// Run the comparison with Don Cross's program.
+    pub cross: bool,
     /// Run the path tracer against Mitsuba 3.
     pub pbr: bool,
     /// Threads for both sides.
@@ -133,6 +137,7 @@ impl BenchSettings {
             build: all || args.part == BenchPart::Build,
             scaling: all || args.part == BenchPart::Scaling,
             scenes: all || args.part == BenchPart::Scenes,
+            cross: all || args.part == BenchPart::Cross,
             pbr: all || args.part == BenchPart::Pbr,
             threads: args.threads,
             peers: args.peers,
@@ -237,6 +242,9 @@ pub fn run(settings: &BenchSettings) -> Result<(), Failure> {
     }
     if settings.scenes {
         scenes::run(&bench, &mut report)?;
+    }
+    if settings.cross {
+        cross::run(&bench, &mut report)?;
     }
     if settings.pbr {
         pbr::run(&bench, &mut report)?;

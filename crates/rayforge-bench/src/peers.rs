@@ -6,6 +6,9 @@ use std::path::{Path, PathBuf};
 /// The command that installs every peer, quoted in every "skipped" note.
 pub const SETUP: &str = "bench/peers/setup.sh [RAYTRACER_RS_CHECKOUT]";
 
+/// How to get Don Cross's program: setup.sh builds it from this repository when given one.
+const CROSS_SETUP: &str = "CROSS_RAYTRACE=CHECKOUT_OF_cosinekitty/raytrace bench/peers/setup.sh";
+
 /// The peers found (a path for each that is there).
 #[derive(Debug, Clone, Default)]
 pub struct Peers {
@@ -17,6 +20,8 @@ pub struct Peers {
     pub raytracer_rs_cover: Option<PathBuf>,
     /// raytracer_rs's dragons example, built and patched by setup.sh.
     pub raytracer_rs_dragons: Option<PathBuf>,
+    /// Don Cross's program (cosinekitty/raytrace), built unmodified by setup.sh.
+    pub cross: Option<PathBuf>,
 }
 
 impl Peers {
@@ -32,6 +37,7 @@ impl Peers {
             povray: at("povray"),
             raytracer_rs_cover: at("raytracer_rs-cover"),
             raytracer_rs_dragons: at("raytracer_rs-dragons"),
+            cross: at("cross-raytrace"),
         }
     }
 
@@ -46,13 +52,16 @@ impl Peers {
             line("POV-Ray", &self.povray),
             line("raytracer_rs cover", &self.raytracer_rs_cover),
             line("raytracer_rs dragons", &self.raytracer_rs_dragons),
+            line("Don Cross's program", &self.cross),
         ]
     }
 }
 
 /// How to get a missing peer.
 pub fn skipped_hint(peer: &str) -> String {
-    if peer.starts_with("raytracer_rs") {
+    if peer.starts_with("Don Cross") || peer == "cross" {
+        format!("run `{CROSS_SETUP}`")
+    } else if peer.starts_with("raytracer_rs") {
         format!("run `{SETUP}` with a checkout of richard-dennehy/raytracer_rs")
     } else {
         format!("run `{SETUP}`")

@@ -117,13 +117,16 @@ fn cases() -> Vec<Case> {
 type RenderKey = (PathBuf, (u32, u32), u32, u32);
 
 /// A timed process: its fastest wall time, and what it printed last time.
-struct Timed {
-    seconds: f64,
+pub(crate) struct Timed {
+    pub seconds: f64,
     stderr: String,
 }
 
 /// Runs `command` `repeat` times; the fastest successful run counts, any failure is reported.
-fn time_process(mut make: impl FnMut() -> Command, repeat: u32) -> Result<Timed, String> {
+pub(crate) fn time_process(
+    mut make: impl FnMut() -> Command,
+    repeat: u32,
+) -> Result<Timed, String> {
     let mut best: Option<Timed> = None;
     for _ in 0..repeat.max(1) {
         let mut command = make();

@@ -292,3 +292,53 @@ fn an_intersection_with_a_complement_is_a_difference() {
         assert_eq!(ts(&difference), ts(&crossed), "ray at y = {y}");
     }
 }
+
+/// The inside tests by formula (`Shape::contains_point`) give what the parity of the surfaces
+/// ahead of the point gives (the ray cast they replace), away from the surface.
+#[test]
+fn inside_tests_by_formula_agree_with_the_parity_of_the_surfaces_ahead() {
+    use rayforge::Shape;
+    let shapes = [
+        Shape::Sphere,
+        Shape::Cube,
+        Shape::Plane,
+        Shape::Cylinder {
+            minimum: -0.5,
+            maximum: 1.5,
+            closed: true,
+        },
+        Shape::Torus {
+            major: 1.0,
+            minor: 0.4,
+        },
+        Shape::Torus {
+            major: 0.5,
+            minor: 0.8,
+        },
+    ];
+    let direction = vector(0.267_261_24, 0.801_783_73, 0.534_522_48);
+    // A fixed scatter of points over [-2, 2)³.
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1);
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
+    };
+    for shape in &shapes {
+        let mut compared = 0;
+        for _ in 0..2000 {
+            let p = point(next(), next(), next());
+            let mut crossings = Vec::new();
+            shape.intersect(&Ray::new(p, direction), |t| crossings.push(t));
+            // Points within rounding of the surface may go either way.
+            if crossings.iter().any(|t| t.abs() < 1e-6) {
+                continue;
+            }
+            let parity = crossings.iter().filter(|&&t| t > 0.0).count() % 2 == 1;
+            assert_eq!(shape.contains_point(p), Some(parity), "{shape:?} at {p:?}");
+            compared += 1;
+        }
+        assert!(compared > 1900, "{shape:?}: {compared}");
+    }
+}

@@ -260,3 +260,28 @@ fn toroidal_mapping_goes_around_the_axis_and_the_tube() {
         );
     }
 }
+
+#[test]
+fn quartic_whose_odd_term_is_tiny_keeps_its_four_roots() {
+    // Nearly symmetric roots: the resolvent's largest root is then small and found mostly by
+    // its polish.
+    let c = from_roots(&[-2.0, -1.0, 1.0, 2.0 + 1e-9]);
+    assert_roots(
+        &roots_in(&c, -10.0, 10.0),
+        &[-2.0, -1.0, 1.0, 2.0 + 1e-9],
+        1e-12,
+    );
+    // And exactly symmetric ones: a biquadratic.
+    let c = from_roots(&[-2.0, -1.0, 1.0, 2.0]);
+    assert_roots(&roots_in(&c, -10.0, 10.0), &[-2.0, -1.0, 1.0, 2.0], 1e-12);
+}
+
+#[test]
+fn cubic_with_one_real_root() {
+    // (t − 2)(t² + 1)
+    assert_roots(
+        &roots_in(&[-2.0, 1.0, -2.0, 1.0], -10.0, 10.0),
+        &[2.0],
+        1e-12,
+    );
+}

@@ -17,13 +17,23 @@ pub fn intersect(ray: &Ray, major: f64, minor: f64, mut hit: impl FnMut(f64)) {
     if length.is_nan() || length <= 0.0 || !length.is_finite() {
         return;
     }
-    let d = ray.direction / length;
+    // One division, then products: the divisions were a tenth of a torus scene.
+    let inv_length = 1.0 / length;
+    let d = ray.direction * inv_length;
     let s0 = -ray.origin.dot(d);
     let o = ray.origin + d * s0;
     let outer = major + minor;
     let miss_distance_squared = o.length_squared();
     if miss_distance_squared > outer * outer {
         return; // the ray passes outside the bounding sphere
+    }
+    // Every root lies on the chord of the bounding sphere; pad it so that roots at its very
+    // ends (rays grazing the outer equator) are not lost to rounding.
+    let half_chord = (outer * outer - miss_distance_squared).sqrt() * (1.0 + 1e-9) + 1e-9 * outer;
+    // Every root also lies where the ray is within the tube's slab |y| <= r: a ray that stays
+    // above or below it along the whole chord misses, with no quartic to solve.
+    if o.y.abs() - d.y.abs() * half_chord > minor * (1.0 + 1e-9) {
+        return;
     }
     let e = miss_distance_squared + major * major - minor * minor;
     let four_r2 = 4.0 * major * major;
@@ -34,14 +44,18 @@ pub fn intersect(ray: &Ray, major: f64, minor: f64, mut hit: impl FnMut(f64)) {
         0.0,
         1.0,
     ];
-    // Every root lies on the chord of the bounding sphere; pad it so that roots at its very
-    // ends (rays grazing the outer equator) are not lost to rounding.
-    let half_chord = (outer * outer - miss_distance_squared).sqrt() * (1.0 + 1e-9) + 1e-9 * outer;
     let mut roots = [0.0; MAX_DEGREE];
     let n = polynomial_roots_in(&coefficients, -half_chord, half_chord, &mut roots);
     for s in &roots[..n] {
-        hit((s + s0) / length);
+        hit((s + s0) * inv_length);
     }
+}
+
+/// Whether `p` is inside the tube: `(|p|² + R² − r²)² < 4R²(x² + z²)`, the surface's equation
+/// with its sign.
+pub fn contains(p: Point3, major: f64, minor: f64) -> bool {
+    let e = p.length_squared() + major * major - minor * minor;
+    e * e < 4.0 * major * major * (p.x * p.x + p.z * p.z)
 }
 
 /// The normal points away from the nearest point of the centre circle (Cross's construction:

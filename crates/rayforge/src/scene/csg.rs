@@ -238,8 +238,7 @@ impl Csg {
                 h.leaf = i as u32;
                 hits.push(h);
             };
-            leaf.shape
-                .intersect_hits(&local, &mut push as &mut dyn FnMut(LocalHit));
+            leaf.shape.intersect_hits(&local, &mut push);
         }
         hits.sort_unstable_by(|a, b| a.t.total_cmp(&b.t));
         self.filter(&mut hits);
@@ -374,10 +373,18 @@ impl Object {
     }
 }
 
-/// Whether `point` is inside a primitive: an odd number of its surfaces lie ahead along a
+/// Whether `point` is inside a primitive: by its formula where it has one
+/// ([`Shape::contains_point`]), else when an odd number of its surfaces lie ahead along a
 /// fixed, skewed direction (the parity the ray tracer's filter keeps along every ray). For open
 /// surfaces this picks a side: below a plane, for instance, counts as inside.
 fn leaf_contains(leaf: &Object, point: Point3) -> bool {
+    // The same instant as the ray below (`Ray::new` casts at time 0).
+    if let Some(inside) = leaf
+        .shape
+        .contains_point(leaf.world_to_object_at(point, 0.0))
+    {
+        return inside;
+    }
     let direction = Vec3::new(0.267_261_24, 0.801_783_73, 0.534_522_48);
     let ray = leaf.ray_to_object(&Ray::new(point, direction));
     let mut crossings = 0u32;
