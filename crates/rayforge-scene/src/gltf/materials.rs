@@ -2,7 +2,7 @@
 //! ([`MetalRough`]), and the book's Phong parameters approximating it for the Whitted ray
 //! tracer and the rasterizer (see [`book_material`]). Images are decoded once each, within
 //! the scene's image memory; colour textures (base colour, emissive) from sRGB to linear,
-//! data textures (metallic-roughness, normal, transmission) as they are.
+//! data textures (metallic-roughness, normal, occlusion, transmission) as they are.
 
 use super::buffers::{resource, Buffers};
 use super::paths::error;
@@ -131,8 +131,20 @@ impl<'a> Materials<'a> {
             }
             None => None,
         };
-        // `occlusionTexture` is not read: the path tracer finds occlusion by tracing (as pbrt
-        // and Mitsuba do), and the book's ambient term is one constant per material.
+        let occlusion = match m.occlusion_texture() {
+            Some(o) => {
+                let strength = f64::from(o.strength());
+                slot(
+                    self,
+                    Some((o.texture(), o.tex_coord(), None)),
+                    "occlusionTexture",
+                    false,
+                    false,
+                )?
+                .map(|s| (s, strength))
+            }
+            None => None,
+        };
         let emissive_texture = slot(
             self,
             info(m.emissive_texture()),
@@ -164,6 +176,7 @@ impl<'a> Materials<'a> {
             roughness: pbr.roughness_factor().into(),
             metal_rough_texture,
             normal_map,
+            occlusion,
             emissive: Color::new(er.into(), eg.into(), eb.into()) * strength,
             emissive_texture,
             transmission,

@@ -241,6 +241,10 @@ pub struct MetalRough {
     pub metal_rough_texture: Option<TextureSlot>,
     /// `normalTexture`.
     pub normal_map: Option<NormalMap>,
+    /// `occlusionTexture` (red channel) and its `strength`: darkens the ambient term of the
+    /// book's renderers; the path tracer finds occlusion by tracing and does not use it, as
+    /// pbrt and Mitsuba do not.
+    pub occlusion: Option<(TextureSlot, f64)>,
     /// `emissiveFactor` times `KHR_materials_emissive_strength`.
     pub emissive: Color,
     /// `emissiveTexture` (decoded from sRGB), multiplying `emissive`.
@@ -269,6 +273,7 @@ impl Default for MetalRough {
             roughness: 1.0,
             metal_rough_texture: None,
             normal_map: None,
+            occlusion: None,
             emissive: Color::BLACK,
             emissive_texture: None,
             transmission: 0.0,
@@ -367,6 +372,17 @@ impl MetalRough {
         match (&self.emissive_texture, at.uv) {
             (Some(slot), Some((u, v))) => self.emissive.hadamard(slot.sample(u, v)),
             _ => self.emissive,
+        }
+    }
+
+    /// The ambient occlusion at a point, 1 for none: `1 + strength · (texel − 1)`.
+    #[inline]
+    pub fn occlusion_at(&self, at: &SurfacePoint) -> f64 {
+        match (&self.occlusion, at.uv) {
+            (Some((slot, strength)), Some((u, v))) => {
+                unit(1.0 + strength * (slot.sample(u, v).red - 1.0))
+            }
+            _ => 1.0,
         }
     }
 
@@ -523,6 +539,21 @@ mod tests {
         assert!((mapped - Vec3::X).length() < 1e-12, "{mapped:?}");
         // No tangent: the normal as it is.
         assert_eq!(m.mapped_normal(&at, n, None), n);
+    }
+
+    #[test]
+    fn occlusion_darkens_by_its_strength() {
+        let half = Color::new(0.5, 0.5, 0.5);
+        let m = MetalRough {
+            occlusion: Some((slot(vec![half], 1, Wrap::Repeat, Filter::Nearest), 0.5)),
+            ..MetalRough::default()
+        };
+        let at = SurfacePoint {
+            uv: Some((0.5, 0.5)),
+            vertex_color: None,
+        };
+        assert!((m.occlusion_at(&at) - 0.75).abs() < 1e-12);
+        assert_eq!(MetalRough::default().occlusion_at(&at), 1.0);
     }
 
     #[test]

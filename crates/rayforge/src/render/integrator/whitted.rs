@@ -8,7 +8,9 @@ use crate::color::Color;
 use crate::math::{Point3, Ray};
 use crate::render::observer::{LightReach, NoTrace, RayDetail, Secondary, TraceObserver};
 use crate::scene::{prepare_computations_with, schlick, Computations};
-use crate::shading::{can_light, lighting_with, most_light, Light, PointLight, SpotLight};
+use crate::shading::{
+    can_light, lighting_with, most_light, Light, Material, PointLight, SpotLight,
+};
 
 /// The Ray Tracer Challenge's lighting model ([`crate::scene::LightingModel::Phong`]).
 #[derive(Debug, Clone, Copy, Default)]
@@ -125,6 +127,19 @@ impl<'w, O: TraceObserver> Pass<'_, 'w, O> {
     /// (mixed by Schlick's Fresnel factor when the material has both).
     fn shade_hit(&mut self, comps: &Computations<'_>, remaining: u32) -> Color {
         let material = &comps.surface.material;
+        // A glTF occlusion texture darkens the ambient term where the surface is sheltered
+        // (a copy of the material, only for those that have one: a few reference counts).
+        let sheltered;
+        let material = match material.metal_rough.as_deref() {
+            Some(m) if m.occlusion.is_some() => {
+                sheltered = Material {
+                    ambient: material.ambient * m.occlusion_at(&comps.surface_point),
+                    ..material.clone()
+                };
+                &sheltered
+            }
+            _ => material,
+        };
         let color = comps
             .surface
             .surface_color(comps.over_point, &comps.surface_point, comps.time);
