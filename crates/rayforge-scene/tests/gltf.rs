@@ -57,6 +57,7 @@ fn every_sample_asset_loads_with_meshes_materials_and_a_camera() {
         "TextureSettingsTest",
         "MetalRoughSpheresNoTextures",
         "OrientationTest",
+        "NormalTangentTest",
     ] {
         let scene = load_file(&asset(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(!scene.world.objects.is_empty(), "{name}");
@@ -184,6 +185,44 @@ fn every_orientation_test_arrow_points_at_its_target() {
         checked += 1;
     }
     assert_eq!(checked, 6);
+}
+
+#[test]
+fn normal_maps_with_generated_tangents_shade_as_the_geometry_they_stand_for() {
+    // NormalTangentTest gives no tangents: they are made from the texture coordinates. In each
+    // of its pink and blue pairs, the left cell is real geometry (a dome) and the right a flat
+    // quad whose normal map draws the same dome (its README). Path traced under the default
+    // light from the upper left, both are brighter at the top than at the bottom, and the
+    // mapped one at least a third as much; a tangent frame turned over would light the mapped
+    // dome from below.
+    let scene = load_file(&asset("NormalTangentTest")).unwrap();
+    let film = path_trace(&scene, 240, 8);
+    let luminance = |x: usize, y: usize| film.sum(x, y).luminance() / film.weight(x, y);
+    // The mean over a half of the 16 × 16 pixels of a cell at (x0, y0): its top or its bottom.
+    let half = |x0: usize, y0: usize, top: bool| {
+        let rows = if top { y0..y0 + 8 } else { y0 + 8..y0 + 16 };
+        let mut sum = 0.0;
+        for y in rows {
+            for x in x0..x0 + 16 {
+                sum += luminance(x, y);
+            }
+        }
+        sum / 128.0
+    };
+    for (group, left, right) in [("pink", 61, 78), ("blue", 103, 121)] {
+        for y0 in [33, 54, 75, 97, 118] {
+            let geometry = half(left, y0, true) - half(left, y0, false);
+            let mapped = half(right, y0, true) - half(right, y0, false);
+            assert!(
+                geometry > 0.01,
+                "{group} at row {y0}: the dome is lit from above ({geometry})"
+            );
+            assert!(
+                mapped > geometry / 3.0,
+                "{group} at row {y0}: the mapped dome ({mapped}) against the real one ({geometry})"
+            );
+        }
+    }
 }
 
 #[test]
