@@ -3,14 +3,15 @@
 //! ray tracer and the path tracer), and damaged files get located errors.
 
 use rayforge::book::BookWorld;
-use rayforge::film::{Film, SharedFilm};
-use rayforge::render::path::{render_path, PathJob};
+use rayforge::film::Film;
 use rayforge::scene::WorldIndex;
 use rayforge::{Color, Shape};
 use rayforge_scene::gltf::CameraChoice;
 use rayforge_scene::{load_file, load_file_with, load_str, LoadOptions, Scene};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+
+mod support;
 
 fn asset(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -322,21 +323,11 @@ fn vertex_colours_tint_the_box() {
     assert!((a - b).max_channel().abs() > 0.01 || (b - a).max_channel().abs() > 0.01);
 }
 
-/// The path traced film of `scene` at `width` wide with `spp` samples.
+/// The path traced film of `scene` at `width` wide (the height as the camera's aspect ratio
+/// says) with `spp` samples.
 fn path_trace(scene: &Scene, width: usize, spp: u64) -> Film {
     let height = width * scene.camera.vsize() / scene.camera.hsize();
-    let camera = scene.camera.resized(width, height);
-    let job = PathJob {
-        options: Default::default(),
-        samples: 0..spp,
-        progress: None,
-        cancel: None,
-        on_row: None,
-    };
-    let film = SharedFilm::from(Film::with_filter(width, height, job.options.filter).unwrap());
-    let mut done = vec![false; height];
-    render_path(&camera, &scene.world, &job, &film, None, &mut done).unwrap();
-    film.into_film()
+    support::render(scene, width, height, spp)
 }
 
 /// The highlight of each sphere of MetalRoughSpheresNoTextures in a path traced film: the

@@ -2,11 +2,13 @@
 //! it (tiny, a few samples) to finite pixels, and the reference scenes of `scenes/pbr/` give
 //! the answers they are built to give.
 
-use rayforge::film::{Film, SharedFilm};
+mod support;
+
+use rayforge::film::Film;
 use rayforge::options::PathOptions;
-use rayforge::render::path::{render_path, PathJob};
 use rayforge_scene::Scene;
 use std::path::{Path, PathBuf};
+use support::render;
 
 /// The scenes shipped in the repository (those reading models from `../shared`, which a fresh
 /// clone lacks, are left out when it is missing).
@@ -20,22 +22,6 @@ fn shipped_scenes() -> Vec<PathBuf> {
         .collect();
     scenes.sort();
     scenes
-}
-
-/// The film of `scene` path traced at `width` × `height` with `spp` samples per pixel.
-fn render(scene: &Scene, width: usize, height: usize, spp: u64) -> Film {
-    let camera = scene.camera.resized(width, height);
-    let job = PathJob {
-        options: scene.path.unwrap_or_default(),
-        samples: 0..spp,
-        progress: None,
-        cancel: None,
-        on_row: None,
-    };
-    let film = SharedFilm::from(Film::with_filter(width, height, job.options.filter).unwrap());
-    let mut done = vec![false; height];
-    render_path(&camera, &scene.world, &job, &film, None, &mut done).unwrap();
-    film.into_film()
 }
 
 #[test]

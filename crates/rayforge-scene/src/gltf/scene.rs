@@ -96,16 +96,24 @@ pub fn book_camera(
     let aspect = width as f64 / height as f64;
     let built = match camera.projection {
         Projection::Perspective { yfov, .. } => {
-            let half = (yfov / 2.0).tan();
-            let longer = if aspect >= 1.0 { half * aspect } else { half };
+            let longer = longer_side((yfov / 2.0).tan(), aspect);
             Camera::new(width, height, 2.0 * longer.atan())
         }
         Projection::Orthographic { ymag, .. } => {
-            let longer = if aspect >= 1.0 { ymag * aspect } else { ymag };
-            Camera::orthographic(width, height, longer)
+            Camera::orthographic(width, height, longer_side(ymag, aspect))
         }
     };
     Ok(built.with_transform_of(view))
+}
+
+/// The half extent across the image's longer side, from `vertical`'s across its height (the
+/// book's cameras are sized by their longer side, glTF's by their height).
+fn longer_side(vertical: f64, aspect: f64) -> f64 {
+    if aspect >= 1.0 {
+        vertical * aspect
+    } else {
+        vertical
+    }
 }
 
 /// The default camera (see the [module](self)) for a model placed by `placement`, and where

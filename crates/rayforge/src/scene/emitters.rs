@@ -368,6 +368,8 @@ enum Emitter {
     Surface {
         object: u32,
         surface: Surface,
+        /// The surface's object-space area (scaled by the transform at each sample's instant).
+        area: f64,
         emission: Color,
         side: EmissionSide,
     },
@@ -465,16 +467,18 @@ impl Emitters {
             let Some(surface) = Surface::of(&object.shape) else {
                 continue;
             };
-            let det = object.transform.volume_scale();
-            let area = surface.area() * det.powf(2.0 / 3.0);
+            let area = surface.area();
+            // The world-space area, roughly (exact for a uniform scale), for the power estimate.
+            let world_area = area * object.transform.volume_scale().powf(2.0 / 3.0);
             by_object[i] = list.len() as u32;
             list.push(Emitter::Surface {
                 object: i as u32,
+                area,
                 surface,
                 emission,
                 side: object.material.emission_side,
             });
-            power.push(emission.luminance() * PI * area);
+            power.push(emission.luminance() * PI * world_area);
         }
         // A constant sky is not sampled as a light: BSDF sampling follows it as well as any
         // light sampling could (perfectly, for a diffuse surface), and a white furnace then
@@ -543,7 +547,10 @@ impl Emitters {
             return 0.0;
         };
         let Some(Emitter::Surface {
-            surface, object, ..
+            surface,
+            object,
+            area,
+            ..
         }) = self.list.get(slot as usize)
         else {
             return 0.0;
@@ -552,7 +559,7 @@ impl Emitters {
         let transform = object.transform_at(hit.time);
         let local = transform.inverse_point(point);
         let n_local = surface.normal_at(&object.shape, local, hit.face);
-        let scaled_area = surface.area() * transform.volume_scale();
+        let scaled_area = area * transform.volume_scale();
         let (area_pdf, normal) = area_density(scaled_area, &transform, n_local);
         let cos = normal.dot(direction).abs();
         if cos <= 0.0 {
@@ -632,6 +639,7 @@ impl Emitters {
             Emitter::Surface {
                 object,
                 surface,
+                area,
                 emission,
                 side,
             } => {
@@ -639,7 +647,7 @@ impl Emitters {
                 let transform = object.transform_at(time);
                 let (local, n_local) = surface.sample(rest, u);
                 let on_light = transform.point(local);
-                let scaled_area = surface.area() * transform.volume_scale();
+                let scaled_area = area * transform.volume_scale();
                 let (area_pdf, normal) = area_density(scaled_area, &transform, n_local);
                 let to_light = on_light - point;
                 let distance_squared = to_light.length_squared();
