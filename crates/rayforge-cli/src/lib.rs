@@ -1,7 +1,8 @@
 //! The `rayforge` command as a library: the binary (`main.rs`) only turns [`run`]'s result into
 //! an exit code. Its file writing ([`atomic_write`]), failures and exit codes ([`failure`]) and
 //! render summary ([`summary`]) are public so that the benchmark program, `rayforge-bench`,
-//! writes its reports and reads `rayforge render`'s summary line the same way, from one copy.
+//! writes its reports and reads `rayforge render`'s summary line the same way, from one copy;
+//! [`untrusted`] gives the fuzzer (`rayforge-fuzz`) the command's readers of outside bytes.
 
 mod args;
 pub mod atomic_write;
@@ -30,6 +31,7 @@ mod slurm_command;
 mod slurm_script;
 pub mod summary;
 mod tev;
+pub mod untrusted;
 
 use clap::Parser;
 use failure::Failure;

@@ -25,6 +25,8 @@ pub fn seeds(target: Target) -> Vec<Vec<u8>> {
             &["gltf", "glb"],
             &mut seeds,
         ),
+        Target::Part => files_under(&corpus.join("part"), &["part"], &mut seeds),
+        Target::Page => seeds.extend(page_messages()),
     }
     if seeds.is_empty() {
         seeds.push(Vec::new());
@@ -125,6 +127,118 @@ pub fn generated_images() -> Vec<Vec<u8>> {
             .into_bytes();
     pam.extend_from_slice(&rgba);
     out.push(pam);
+    out.extend(hdr_images());
+    out
+}
+
+/// Requests as the live page sends them (see the page target): the headers a browser on this
+/// machine sends, then a message.
+fn page_messages() -> Vec<Vec<u8>> {
+    let port = crate::targets::PAGE_PORT;
+    let heads = [
+        format!("127.0.0.1:{port}\nhttp://127.0.0.1:{port}"),
+        format!("localhost:{port}\n-"),
+        format!("[::1]:{port}\nhttp://[::1]:{port}"),
+        format!("evil.example:{port}\nhttp://evil.example"),
+    ];
+    let messages = [
+        r#"{"type": "render"}"#,
+        r#"{"type": "render", "renderer": "ray", "lighting": "phong", "samples": 4, "width": 320, "height": 180, "yaw": 30, "pitch": -10, "preview": false}"#,
+        r#"{"type": "render", "renderer": "path", "samples": null, "width": 64, "height": 64, "yaw": -720.5, "pitch": 95, "preview": true}"#,
+        r#"{"type": "render", "renderer": "raster", "lighting": "cgfs", "yaw": 1e308, "pitch": -0.0}"#,
+        r#"{"type": "render", "lighting": "optics", "samples": 18446744073709551615}"#,
+        r#"{"type": "stop"}"#,
+        r#"[1, 2, {"type": "render"}]"#,
+    ];
+    let mut out = Vec::new();
+    for (i, head) in heads.iter().enumerate() {
+        for message in messages.iter().skip(i % 2) {
+            out.push(format!("{head}\n{message}").into_bytes());
+        }
+    }
+    out
+}
+
+/// Seeds in the three HDR formats an image may also be (see `rayforge_scene::hdr`): OpenEXR
+/// in half and float and in each compression the `exr` crate writes, Radiance RGBE flat and
+/// run-length encoded, and PFM in colour and grey and both byte orders.
+fn hdr_images() -> Vec<Vec<u8>> {
+    use exr::prelude::{
+        f16, Compression, Encoding, Image, Layer, LayerAttributes, LineOrder, SpecificChannels,
+        Vec2, WritableImage,
+    };
+    let mut out = Vec::new();
+    let value = |x: usize, y: usize, c: usize| ((x * 3 + y * 7 + c) % 11) as f32 * 0.75 - 1.5;
+    for compression in [
+        Compression::Uncompressed,
+        Compression::RLE,
+        Compression::ZIP1,
+        Compression::ZIP16,
+        Compression::PIZ,
+        Compression::PXR24,
+    ] {
+        let encoding = Encoding {
+            compression,
+            blocks: exr::prelude::Blocks::ScanLines,
+            line_order: LineOrder::Increasing,
+        };
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        let written = if compression == Compression::ZIP1 {
+            let channels = SpecificChannels::rgba(|Vec2(x, y): Vec2<usize>| {
+                let h = |c| f16::from_f32(value(x, y, c));
+                (h(0), h(1), h(2), h(3))
+            });
+            Image::from_layer(Layer::new(
+                (5, 3),
+                LayerAttributes::default(),
+                encoding,
+                channels,
+            ))
+            .write()
+            .to_buffered(&mut bytes)
+        } else {
+            let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+                (value(x, y, 0), value(x, y, 1), value(x, y, 2))
+            });
+            Image::from_layer(Layer::new(
+                (5, 3),
+                LayerAttributes::default(),
+                encoding,
+                channels,
+            ))
+            .write()
+            .to_buffered(&mut bytes)
+        };
+        if written.is_ok() {
+            out.push(bytes.into_inner());
+        }
+    }
+    let pixels: Vec<image::Rgb<f32>> = (0..15)
+        .map(|i| image::Rgb([0, 1, 2].map(|c| value(i % 5, i / 5, c).abs() * 40.0)))
+        .collect();
+    for width in [5, 16] {
+        // The encoder run-length encodes rows of 8 to 32 767 pixels and writes others flat.
+        let rows: Vec<image::Rgb<f32>> = pixels.iter().cycle().take(width * 3).copied().collect();
+        let mut bytes = Vec::new();
+        if image::codecs::hdr::HdrEncoder::new(&mut bytes)
+            .encode(&rows, width, 3)
+            .is_ok()
+        {
+            out.push(bytes);
+        }
+    }
+    for (magic, channels, scale) in [("PF", 3, "-1.0"), ("PF", 3, "1.0"), ("Pf", 1, "-2.5")] {
+        let mut bytes = format!("{magic}\n5 3\n{scale}\n").into_bytes();
+        for i in 0..15 * channels {
+            let v = value(i % 5, i / 15, i % 3);
+            if scale.starts_with('-') {
+                bytes.extend_from_slice(&v.to_le_bytes());
+            } else {
+                bytes.extend_from_slice(&v.to_be_bytes());
+            }
+        }
+        out.push(bytes);
+    }
     out
 }
 
@@ -187,7 +301,8 @@ mod tests {
     #[test]
     fn every_generated_image_decodes() {
         let images = generated_images();
-        assert_eq!(images.len(), 15);
+        // 15 8-bit images; 6 OpenEXR, 2 Radiance and 3 PFM.
+        assert_eq!(images.len(), 26);
         for (i, bytes) in images.iter().enumerate() {
             let t = rayforge_scene::texture_from_bytes(bytes, Path::new("seed"));
             assert!(t.is_ok(), "seed image {i}: {:?}", t.err());

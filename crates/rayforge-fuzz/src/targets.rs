@@ -1,11 +1,13 @@
 //! What is fuzzed: the scene reader, the OBJ/MTL reader, the glTF reader and the
-//! image-texture decoder, each
-//! followed by a tiny render of what it produced, so that values the readers let through are
-//! also fed to the renderer.
+//! image-texture decoder (8-bit and HDR), each followed by a tiny render of what it produced,
+//! so that values the readers let through are also fed to the renderer; and the command's own
+//! readers of outside bytes (`rayforge_cli::untrusted`): part files through the whole merge,
+//! and what a browser sends the live page's server.
 
 use crate::mutate::Flavour;
 use rayforge::render::{render, RenderOptions, Sampling};
 use rayforge::{point, vector, Camera, Color, Light, Object, World};
+use rayforge_cli::failure::Failure;
 use rayforge_scene::obj::{parse_mtl, parse_obj_with_limit, to_meshes};
 use rayforge_scene::{load_file_with, load_str_with, texture_from_bytes, LoadOptions, SceneError};
 use std::path::{Path, PathBuf};
@@ -22,6 +24,12 @@ pub enum Target {
     Image,
     /// The glTF 2.0 reader (`.gltf` JSON with `data:` buffers, or `.glb`), rendered directly.
     Gltf,
+    /// `rayforge merge` of a part file (as it is, alone and twice, and with its checksums
+    /// repaired), to a PNG.
+    Part,
+    /// The live page's server given a WebSocket request's `Host` (the input's first line) and
+    /// `Origin` (its second; `-` for none) and a message (the rest).
+    Page,
 }
 
 /// The mesh size limit while fuzzing: low, so that inputs that multiply faces stay quick.
@@ -29,7 +37,14 @@ const FUZZ_MAX_TRIANGLES: usize = 200_000;
 
 impl Target {
     /// Every target.
-    pub const ALL: [Target; 4] = [Target::Scene, Target::Obj, Target::Image, Target::Gltf];
+    pub const ALL: [Target; 6] = [
+        Target::Scene,
+        Target::Obj,
+        Target::Image,
+        Target::Gltf,
+        Target::Part,
+        Target::Page,
+    ];
 
     /// The target's name on the command line and in crash file names.
     pub fn name(self) -> &'static str {
@@ -38,6 +53,8 @@ impl Target {
             Target::Obj => "obj",
             Target::Image => "image",
             Target::Gltf => "gltf",
+            Target::Part => "part",
+            Target::Page => "page",
         }
     }
 
@@ -53,6 +70,8 @@ impl Target {
             Target::Obj => Flavour::Obj,
             Target::Image => Flavour::Image,
             Target::Gltf => Flavour::Json,
+            Target::Part => Flavour::Image,
+            Target::Page => Flavour::Json,
         }
     }
 
@@ -63,6 +82,9 @@ impl Target {
             Target::Obj => 64 << 10,
             Target::Image => 128 << 10,
             Target::Gltf => 64 << 10,
+            Target::Part => 64 << 10,
+            // Past the server's limit on a message (64 KiB), so that the limit is met.
+            Target::Page => 72 << 10,
         }
     }
 
@@ -75,6 +97,8 @@ impl Target {
             Target::Obj => obj(input),
             Target::Image => image(input),
             Target::Gltf => gltf(input),
+            Target::Part => part(input),
+            Target::Page => page(input),
         }
     }
 }
@@ -175,6 +199,61 @@ fn gltf(input: &[u8]) -> bool {
     let text = String::from_utf8_lossy(input);
     rendered(load_file_with(&path, &options), &path, &text)
 }
+
+/// Merges `input` as a part file: alone (a part of one slice merges into an image), named
+/// twice (a duplicate, refused), and with its checksums repaired, so that changes reach the
+/// fields behind them. Whether the first merge was accepted. A refusal must say something.
+fn part(input: &[u8]) -> bool {
+    thread_local! {
+        static DIR: tempfile::TempDir = tempfile::tempdir().expect("a scratch folder");
+    }
+    let (path, output) = DIR.with(|dir| (dir.path().join("fuzz.part"), dir.path().join("out.png")));
+    let merged = |bytes: &[u8], parts: &[PathBuf]| {
+        if std::fs::write(&path, bytes).is_err() {
+            return false;
+        }
+        match rayforge_cli::untrusted::merge_parts(parts, &output) {
+            Ok(()) => true,
+            // A damaged part is bad input (exit 2), never "something that should not happen".
+            Err(Failure::Input(why)) => {
+                assert!(!why.trim().is_empty(), "an empty refusal");
+                false
+            }
+            Err(Failure::Scene(_)) => false,
+            Err(other) => panic!("a part file made the merge fail so: {other:?}"),
+        }
+    };
+    let accepted = merged(input, std::slice::from_ref(&path));
+    assert!(
+        !merged(input, &[path.clone(), path.clone()]),
+        "a part named twice was merged"
+    );
+    let repaired = rayforge_cli::untrusted::with_part_checksums_repaired(input);
+    if repaired != input {
+        merged(&repaired, std::slice::from_ref(&path));
+    }
+    accepted
+}
+
+/// Hands `input` to the live page's server as a WebSocket request's headers and a message
+/// (see [`Target::Page`]); whether it was taken. A refusal must say something.
+fn page(input: &[u8]) -> bool {
+    let text = String::from_utf8_lossy(input);
+    let mut lines = text.splitn(3, '\n');
+    let host = lines.next().unwrap_or_default();
+    let origin = lines.next().filter(|o| *o != "-");
+    let message = lines.next().unwrap_or_default();
+    match rayforge_cli::untrusted::page_message(host, origin, PAGE_PORT, message) {
+        Ok(()) => true,
+        Err(why) => {
+            assert!(!why.trim().is_empty(), "an empty refusal");
+            false
+        }
+    }
+}
+
+/// The port of the server the page target's requests are checked against.
+pub const PAGE_PORT: u16 = 8765;
 
 /// A scene the reader built, rendered small (its warnings checked), or its error checked:
 /// whether it was accepted.

@@ -46,3 +46,34 @@ fn the_gltf_reader_survives_mutated_models() {
 fn the_image_reader_survives_mutated_images() {
     check(Target::Image, 0x1A6E, 5000);
 }
+
+#[test]
+fn the_merge_survives_mutated_part_files() {
+    check(Target::Part, 0x9A27, 1500);
+}
+
+#[test]
+fn the_live_page_server_survives_mutated_requests() {
+    check(Target::Page, 0x9A6E, 5000);
+}
+
+/// The seeds reach past the first checks: every part merges, and the page's requests from
+/// this machine's browser are taken while the one from another site is refused. (A seed that
+/// is refused at once would leave the fuzzer mutating only the refusal.)
+#[test]
+fn the_new_targets_seeds_are_accepted_where_they_should_be() {
+    let parts = rayforge_fuzz::corpus::seeds(Target::Part);
+    assert!(parts.len() >= 5, "{} part seeds", parts.len());
+    for part in &parts {
+        assert_eq!(rayforge_fuzz::run_one(Target::Part, part), Ok(true));
+    }
+    for request in rayforge_fuzz::corpus::seeds(Target::Page) {
+        let text = String::from_utf8(request.clone()).unwrap();
+        let taken = !text.starts_with("evil") && !text.contains("stop") && !text.contains("[1");
+        assert_eq!(
+            rayforge_fuzz::run_one(Target::Page, &request),
+            Ok(taken),
+            "{text}"
+        );
+    }
+}

@@ -170,10 +170,46 @@ async fn socket(
         .on_upgrade(move |socket| session::run(socket, server))
 }
 
+/// What the server does with a page's message, without a network: the `Host` and `Origin`
+/// headers of the WebSocket's request checked as [`guard`] checks them for a server on
+/// 127.0.0.1:`port`, `message` read as a render request, and its orbit applied to a camera
+/// five units from the origin. The error is what the browser or the page would be told. For
+/// the fuzzer (`crate::untrusted`), which so drives the code that answers a browser.
+pub fn page_message(
+    host: &str,
+    origin: Option<&str>,
+    port: u16,
+    message: &str,
+) -> Result<(), String> {
+    use axum::http::HeaderValue;
+    let mut headers = HeaderMap::new();
+    // A value HTTP cannot carry never reaches the guard: the request is refused before it.
+    let value = |text: &str| HeaderValue::from_str(text).map_err(|e| e.to_string());
+    headers.insert(header::HOST, value(host)?);
+    if let Some(origin) = origin {
+        headers.insert(header::ORIGIN, value(origin)?);
+    }
+    guard::check(&headers, SocketAddr::from(([127, 0, 0, 1], port)))?;
+    let request = protocol::parse_request(message)?;
+    let look_at = rayforge_scene::LookAt {
+        from: glam::DVec3::new(0.0, 1.5, -5.0),
+        to: glam::DVec3::ZERO,
+        up: glam::DVec3::Y,
+    };
+    let view = rayforge::math::Transform::new(rayforge::math::view_transform(
+        look_at.from,
+        look_at.to,
+        look_at.up,
+    ));
+    orbit::orbit(&view, &look_at, request.yaw, request.pitch)
+        .map(|_| ())
+        .ok_or_else(|| "the camera cannot be turned so".to_string())
+}
+
 #[cfg(test)]
 mod tests {
     /// The layer rule: nothing in the command depends on the server; only `lib.rs` names it,
-    /// to run it.
+    /// to run it, and `untrusted.rs`, to hand its message reading to the fuzzer.
     #[test]
     fn nothing_outside_the_server_uses_it() {
         let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
@@ -183,7 +219,9 @@ mod tests {
                 .file_name()
                 .and_then(|n| n.to_str())
                 .unwrap_or_default();
-            if named == "lib.rs" || file.extension().is_none_or(|e| e != "rs") {
+            // `untrusted` hands the fuzzer the server's reading of a page's message.
+            let entry = named == "lib.rs" || named == "untrusted.rs";
+            if entry || file.extension().is_none_or(|e| e != "rs") {
                 continue;
             }
             let text = std::fs::read_to_string(&file).expect("a source file");

@@ -1,0 +1,49 @@
+//! The command's readers of bytes from outside that are not scene, model or image files (those
+//! are `rayforge-scene`'s), each behind one entry point so that the fuzzer (`rayforge-fuzz`)
+//! drives the very code the command runs: part files through the whole merge, and what a
+//! browser sends the live page's server (its WebSocket messages and the headers that decide
+//! who may connect).
+//!
+//! Each entry returns the command's own answer (a [`Failure`] or a message for the page); bad
+//! input must get such an answer, never a panic, a hang or unbounded memory.
+
+use crate::args::MergeArgs;
+use crate::failure::Failure;
+use std::path::{Path, PathBuf};
+
+/// `rayforge merge PARTS -o OUTPUT -q`: reads and checks the part files, merges them and
+/// writes the image (its format from `output`'s extension).
+pub fn merge_parts(parts: &[PathBuf], output: &Path) -> Result<(), Failure> {
+    crate::merge_command::run(&MergeArgs {
+        parts: parts.to_vec(),
+        output: output.to_path_buf(),
+        quiet: true,
+    })
+}
+
+/// `bytes` as a part file with its two checksums made right for what it holds (the header's
+/// FNV-1a 64 after the header, the film's CRC-32 at the end; see [`crate::part_file`]'s
+/// layout), where the lengths in it allow: what else is wrong with a damaged part then meets
+/// the checks behind the checksums, which a fuzzer's random changes would otherwise never
+/// pass.
+pub fn with_part_checksums_repaired(bytes: &[u8]) -> Vec<u8> {
+    let mut part = bytes.to_vec();
+    let Some(header_len) = part.get(12..16) else {
+        return part;
+    };
+    let header_end = 16 + u32::from_le_bytes(header_len.try_into().expect("4 bytes")) as usize;
+    let film_start = header_end + 8;
+    if part.len() < film_start {
+        return part;
+    }
+    let checksum = crate::checkpoint::fnv(&part[..header_end]);
+    part[header_end..film_start].copy_from_slice(&checksum.to_le_bytes());
+    let film = &mut part[film_start..];
+    if let Some(body) = film.len().checked_sub(4) {
+        let crc = crc32fast::hash(&film[..body]);
+        film[body..].copy_from_slice(&crc.to_le_bytes());
+    }
+    part
+}
+
+pub use crate::serve::page_message;
