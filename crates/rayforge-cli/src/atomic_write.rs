@@ -39,7 +39,16 @@ pub fn check_writable(path: &Path) -> Result<(), Failure> {
 /// Writes `bytes` to a temporary file in `path`'s directory, flushes it to disk, then renames
 /// it over `path`. On any failure the temporary file is removed and `path` is untouched.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
-    write_atomically_and_keep(path, bytes)
+    write_atomically_with(path, |out| out.write_all(bytes))
+}
+
+/// [`write_atomically`], the file's bytes written by `write` as it makes them (through a
+/// buffer), so that a large file (a slice's part) need not be held in memory whole first.
+pub fn write_atomically_with(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> Result<(), Failure> {
+    persist_written(path, write)
         .map(drop)
         .map_err(|why| cannot_write(path, &why))
 }
@@ -47,8 +56,21 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
 /// [`write_atomically`], keeping the new file open at its end (the checkpoint appends its
 /// later rows to it). The error says why, without the file's name.
 pub fn write_atomically_and_keep(path: &Path, bytes: &[u8]) -> Result<File, String> {
+    persist_written(path, |out| out.write_all(bytes))
+}
+
+/// A temporary file beside `path` filled by `write`, flushed to disk and renamed over `path`,
+/// still open. The error says why, without the file's name.
+fn persist_written(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> Result<File, String> {
     let mut file = temporary_beside(path).map_err(|e| reason(&e, path))?;
-    file.write_all(bytes).map_err(|e| reason(&e, path))?;
+    let mut out = io::BufWriter::new(&mut file);
+    write(&mut out)
+        .and_then(|()| out.flush())
+        .map_err(|e| reason(&e, path))?;
+    drop(out);
     file.as_file().sync_all().map_err(|e| reason(&e, path))?;
     file.persist(path).map_err(|e| reason(&e.error, path))
 }
@@ -107,6 +129,27 @@ mod tests {
         write_atomically(&target, b"new").ok().unwrap();
         assert_eq!(std::fs::read(&target).unwrap(), b"new");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn a_file_written_as_it_is_made_that_fails_leaves_the_old_one() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("slice.part");
+        std::fs::write(&target, "old").unwrap();
+        let failed = write_atomically_with(&target, |out| {
+            out.write_all(b"half a part")?;
+            Err(io::Error::other("the renderer gave up"))
+        });
+        let Err(Failure::Input(message)) = failed else {
+            panic!("a failed write succeeded");
+        };
+        assert!(message.contains("cannot write"), "{message}");
+        assert_eq!(std::fs::read(&target).unwrap(), b"old");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        write_atomically_with(&target, |out| out.write_all(b"a whole part"))
+            .ok()
+            .unwrap();
+        assert_eq!(std::fs::read(&target).unwrap(), b"a whole part");
     }
 
     #[test]

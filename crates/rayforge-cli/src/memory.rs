@@ -2,12 +2,13 @@
 //!
 //! The renderers allocate their films infallibly (an allocation failure aborts the process
 //! with no useful message, exit 134), and a render's largest allocations are all sized by the
-//! image: its films, the developed image and the encoded file. So before any of them, and
-//! before the checkpoint is written, the command reserves as much memory as the render will
-//! hold at its peak with [`Vec::try_reserve_exact`], and gives it back at once: when the
-//! system (an address-space limit, `ulimit -v`, or the kernel's overcommit heuristic) refuses
-//! that, the render is refused, saying how much it needed. The reservation is not touched, so
-//! it costs no time and no real memory.
+//! image: its films, the developed image and the encoded file (a slice's by its rows: its film
+//! holds only them, and it develops nothing). So before any of them, and before the checkpoint
+//! is written, the command reserves as much memory as the render will hold at its peak with
+//! [`Vec::try_reserve_exact`], and gives it back at once: when the system (an address-space
+//! limit, `ulimit -v`, or the kernel's overcommit heuristic) refuses that, the render is
+//! refused, saying how much it needed. The reservation is not touched, so it costs no time and
+//! no real memory.
 
 use crate::failure::Failure;
 
@@ -21,18 +22,63 @@ const OUTPUT_BYTES_PER_PIXEL: u64 = 2 * 24;
 /// a resumed checkpoint's, the path tracer's AOVs) can have its memory, by reserving it.
 pub fn reserve_for_render(width: usize, height: usize, films: u64) -> Result<(), Failure> {
     let per_pixel = films * FILM_BYTES_PER_PIXEL + OUTPUT_BYTES_PER_PIXEL;
-    let bytes = (width as u64)
-        .checked_mul(height as u64)
-        .and_then(|pixels| pixels.checked_mul(per_pixel))
-        .and_then(|bytes| usize::try_from(bytes).ok());
+    let what = || format!("a {width}×{height} render");
+    reserve(&[(width, height, per_pixel)], what, SMALLER)
+}
+
+/// Checks that a slice of `rows` rows of a `width` × `height` image can have its memory, by
+/// reserving it. A slice holds a film of its rows only (see `crate::slice_render`), and the
+/// film made of it for its part file as one block, for a moment both: two films of its rows.
+/// It develops no image and writes its part as it goes.
+pub fn reserve_for_slice(width: usize, height: usize, rows: usize) -> Result<(), Failure> {
+    let what = || format!("a slice of {rows} rows of a {width}×{height} render");
+    let remedy = "more slices cut by rows, or a smaller --width or --height, need less";
+    reserve(&[(width, rows, 2 * FILM_BYTES_PER_PIXEL)], what, remedy)
+}
+
+/// Checks that merging the parts of a `width` × `height` image, the largest of `part_rows`
+/// rows, can have its memory, by reserving it: the image's film, one part's film at a time,
+/// and the developed image with its encoded file.
+pub fn reserve_for_merge(width: usize, height: usize, part_rows: usize) -> Result<(), Failure> {
+    let image = FILM_BYTES_PER_PIXEL + OUTPUT_BYTES_PER_PIXEL;
+    let part = (width, part_rows, FILM_BYTES_PER_PIXEL);
+    let what = || format!("merging a {width}×{height} render");
+    reserve(&[(width, height, image), part], what, SMALLER)
+}
+
+/// The remedy for most refusals.
+const SMALLER: &str = "a smaller --width or --height needs less";
+
+/// Reserves the sum of `blocks` (each `width` × `height` pixels of so many bytes) and gives
+/// it back at once; the refusal says how much `what` needs, and `remedy`.
+fn reserve(
+    blocks: &[(usize, usize, u64)],
+    what: impl Fn() -> String,
+    remedy: &str,
+) -> Result<(), Failure> {
+    let bytes = blocks
+        .iter()
+        .try_fold(0u64, |sum, &(width, height, per_pixel)| {
+            (width as u64)
+                .checked_mul(height as u64)?
+                .checked_mul(per_pixel)?
+                .checked_add(sum)
+        });
     let refused = || {
-        let gib = width as f64 * height as f64 * per_pixel as f64 / f64::from(1u32 << 30);
+        let bytes: f64 = blocks
+            .iter()
+            .map(|&(width, height, per_pixel)| width as f64 * height as f64 * per_pixel as f64)
+            .sum();
+        let gib = bytes / f64::from(1u32 << 30);
         Failure::usage(format!(
-            "not enough memory for a {width}×{height} render: it needs about {gib:.1} GiB at \
-             its peak, and the system refused that much; a smaller --width or --height needs less"
+            "not enough memory for {}: it needs about {gib:.1} GiB at its peak, and the system \
+             refused that much; {remedy}",
+            what()
         ))
     };
-    let bytes = bytes.ok_or_else(refused)?;
+    let bytes = bytes
+        .and_then(|bytes| usize::try_from(bytes).ok())
+        .ok_or_else(refused)?;
     Vec::<u8>::new()
         .try_reserve_exact(bytes)
         .map_err(|_| refused())
@@ -45,6 +91,26 @@ mod tests {
     #[test]
     fn a_small_render_gets_its_memory() {
         assert!(reserve_for_render(640, 480, 3).is_ok());
+    }
+
+    #[test]
+    fn slices_and_merges_are_refused_naming_what_they_hold() {
+        let Err(Failure::Input(message)) = reserve_for_slice(1 << 40, 1 << 40, 1 << 30) else {
+            panic!("an absurd slice was granted");
+        };
+        assert!(
+            message.contains("a slice of 1073741824 rows of a 1099511627776×1099511627776"),
+            "{message}"
+        );
+        let Err(Failure::Input(message)) = reserve_for_merge(1 << 31, 1 << 31, 1) else {
+            panic!("an absurd merge was granted");
+        };
+        assert!(
+            message.contains("merging a 2147483648×2147483648"),
+            "{message}"
+        );
+        assert!(reserve_for_slice(640, 480, 60).is_ok());
+        assert!(reserve_for_merge(640, 480, 60).is_ok());
     }
 
     #[test]

@@ -12,11 +12,12 @@ use crate::atomic_write::check_writable;
 use crate::diagnostics::scene_failure;
 use crate::failure::Failure;
 use crate::format::ImageFormat;
-use crate::memory::reserve_for_render;
+use crate::memory::reserve_for_merge;
 use crate::output_lock::OutputLock;
 use crate::part_file::{scene_fingerprint, Development, Part, PartHeader};
 use crate::path_command::develop_path_image;
 use crate::render_command::{camera_at, develop_book_image, write_image_as};
+use crate::slice::Slice;
 use crate::summary::non_finite_warning;
 use rayforge::camera::Camera;
 use rayforge::draw2d::Overlay;
@@ -48,7 +49,12 @@ pub fn run(args: &MergeArgs) -> Result<(), Failure> {
     } else {
         None
     };
-    reserve_for_render(first.width, first.height, 1)?;
+    // Slice 0 covers the most rows (all of them when cut by samples).
+    let largest = Slice {
+        index: 0,
+        ..first.slice
+    };
+    reserve_for_merge(first.width, first.height, largest.row_count(first.height))?;
     let mut film = None;
     for (path, header) in slices {
         let part = Part::read(path)?;

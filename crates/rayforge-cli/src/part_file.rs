@@ -50,7 +50,7 @@ use crate::checkpoint::fnv;
 use crate::failure::Failure;
 use crate::slice::{Cut, Slice, MAX_SLICES};
 use rayforge::film::{Exposure, Film, FilmError, MAX_FILM_PIXELS};
-use std::io::{BufReader, Read};
+use std::io::{BufReader, Read, Write};
 use std::ops::Range;
 use std::path::Path;
 
@@ -353,28 +353,32 @@ pub struct Part {
 }
 
 impl Part {
-    /// The part of the slice `header` names, from `film`, the image-sized film the slice was
-    /// rendered into (rows outside the slice unrendered). Each row is copied to the bit.
-    pub fn new(header: PartHeader, film: &Film) -> Result<Self, Failure> {
+    /// The part of the slice `header` names, from `film`, the film of the rows it covers, top
+    /// to bottom (what a slice renders into, see [`rayforge::film::SharedFilm::with_rows`]).
+    /// Refused when the film is not that size: a part is only ever made of its own rows.
+    pub fn new(header: PartHeader, film: Film) -> Result<Self, Failure> {
         let rows = header.slice.row_count(header.height);
-        let mut part = Film::with_filter(film.width(), rows, film.filter())
-            .map_err(|e| Failure::internal(format!("cannot make the slice's film: {e}")))?;
-        for (j, y) in header.slice.rows(header.height).enumerate() {
-            // Sums start at −0.0, the identity: each lands unchanged, bit for bit.
-            for (x, (&sum, &weight)) in film.row_sums(y).iter().zip(film.row_weights(y)).enumerate()
-            {
-                part.add_pixel_sum(x, j, sum, weight);
-            }
+        if (film.width(), film.height()) != (header.width, rows) {
+            return Err(Failure::internal(format!(
+                "slice {} of {} rows was rendered into a {}×{} film, not one of its {}×{rows}",
+                header.slice,
+                header.height,
+                film.width(),
+                film.height(),
+                header.width
+            )));
         }
-        part.note_brightest(film.brightest());
-        Ok(Self { header, film: part })
+        Ok(Self { header, film })
     }
 
-    /// The part file's bytes (see [the layout](self)).
-    pub fn to_bytes(&self) -> Vec<u8> {
-        let mut out = self.header.to_bytes();
-        out.extend_from_slice(&self.film.to_bytes());
-        out
+    /// Writes the part file (see [the layout](self)) to `out` as it goes, so that a slice
+    /// never holds the file's bytes beside its film.
+    pub fn write_to(&self, out: &mut dyn Write) -> std::io::Result<()> {
+        out.write_all(&self.header.to_bytes())?;
+        self.film.write_to(&mut &mut *out).map_err(|e| match e {
+            FilmError::Io(e) => e,
+            other => std::io::Error::other(other.to_string()),
+        })
     }
 
     /// Adds this slice's samples to `film`, the image's film: each of its rows onto the image's
@@ -504,6 +508,7 @@ pub fn scene_fingerprint(scene: &[u8], files: &[std::path::PathBuf]) -> Result<u
 mod tests {
     use super::*;
     use rayforge::color::Color;
+    use rayforge::film::SharedFilm;
 
     fn header(index: u64, count: u64, cut: Cut) -> PartHeader {
         PartHeader {
@@ -534,6 +539,27 @@ mod tests {
         film
     }
 
+    /// The part of `header`'s slice of `full`: its rows copied, to the bit, into a film that
+    /// holds only them, as a slice renders.
+    fn part(header: PartHeader, full: &Film) -> Part {
+        let whole = SharedFilm::from(full.clone());
+        let rows = header.slice.rows(header.height);
+        let film = SharedFilm::with_rows(3, 5, full.filter(), rows).unwrap();
+        for y in header.slice.rows(header.height) {
+            film.set_row(y, &whole.row(y).unwrap()).unwrap();
+        }
+        let mut film = film.into_film();
+        film.note_brightest(full.brightest());
+        Part::new(header, film).unwrap()
+    }
+
+    /// The part file's bytes.
+    fn bytes(part: &Part) -> Vec<u8> {
+        let mut out = Vec::new();
+        part.write_to(&mut out).unwrap();
+        out
+    }
+
     fn read_bytes(bytes: &[u8]) -> Result<Part, Failure> {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("p.part");
@@ -553,10 +579,10 @@ mod tests {
         let full = film();
         let mut merged = Film::new(3, 5);
         for index in 0..2 {
-            let part = Part::new(header(index, 2, Cut::Rows), &full).unwrap();
-            let back = read_bytes(&part.to_bytes()).unwrap();
+            let part = part(header(index, 2, Cut::Rows), &full);
+            let back = read_bytes(&bytes(&part)).unwrap();
             assert_eq!(back.header, part.header);
-            assert_eq!(back.to_bytes(), part.to_bytes());
+            assert_eq!(bytes(&back), bytes(&part));
             back.add_to(&mut merged).unwrap();
         }
         // Bit for bit, NaNs included (which `==` would not see).
@@ -564,10 +590,19 @@ mod tests {
     }
 
     #[test]
+    fn a_part_is_made_of_its_slice_s_rows_only() {
+        // Slice 1/2 of 5 rows has rows 1 and 3: a film of the whole image is not its film.
+        let Err(Failure::Internal(m)) = Part::new(header(1, 2, Cut::Rows), film()) else {
+            panic!("a whole-image film made a part of two rows");
+        };
+        assert!(m.contains("a 3×5 film, not one of its 3×2"), "{m}");
+        assert!(Part::new(header(1, 2, Cut::Rows), Film::new(3, 2)).is_ok());
+        assert!(Part::new(header(1, 2, Cut::Samples), Film::new(3, 5)).is_ok());
+    }
+
+    #[test]
     fn every_truncation_and_every_flipped_byte_is_refused() {
-        let bytes = Part::new(header(1, 3, Cut::Samples), &film())
-            .unwrap()
-            .to_bytes();
+        let bytes = bytes(&part(header(1, 3, Cut::Samples), &film()));
         for len in 0..bytes.len() {
             let m = message(read_bytes(&bytes[..len]).unwrap_err());
             assert!(m.contains("p.part` is not a usable part file"), "{m}");
@@ -585,9 +620,7 @@ mod tests {
 
     #[test]
     fn a_header_claiming_a_huge_length_or_image_is_refused_before_allocating() {
-        let mut bytes = Part::new(header(0, 1, Cut::Rows), &film())
-            .unwrap()
-            .to_bytes();
+        let mut bytes = bytes(&part(header(0, 1, Cut::Rows), &film()));
         bytes[12..16].copy_from_slice(&u32::MAX.to_le_bytes());
         let m = message(read_bytes(&bytes).unwrap_err());
         assert!(m.contains("more than the 65536"), "{m}");

@@ -1,18 +1,24 @@
 //! `rayforge render --slice I/N`: one slice of a render (see [`crate::slice`]) rendered into
-//! a film of the image's size, its rows kept in a part file ([`crate::part_file`]) for
-//! `rayforge merge`.
+//! a film of its own rows, kept in a part file ([`crate::part_file`]) for `rayforge merge`.
 //!
 //! Each renderer renders its slice with the very code of a whole render, told which rows to
 //! leave alone (the ray tracer and the path tracer take a row mask) or which samples to take
 //! (the path tracer's sample range): a row or a sample is the same bits whichever process
-//! renders it. The rasterizer draws the whole frame (its triangles are not cut by rows) and
-//! keeps its slice's rows. A part already there and complete for the same render and slice is
-//! kept, so a requeued task costs a scene load and a read of its part. Slices are not
-//! checkpointed: an interrupted slice writes nothing and is rendered again.
+//! renders it. The film holds only the slice's rows ([`SharedFilm::with_rows`]; every row for
+//! a cut by samples), so a slice's memory is its share of the image's, not the whole image's:
+//! a task of a poster cut into many slices fits where the poster's film would not. No rows
+//! beyond the slice's are needed for a pixel filter wider than a pixel: the path tracer draws
+//! each sample for one pixel and weighs it there rather than splatting it onto its neighbours,
+//! and the other renderers give each pixel one estimate. The rasterizer bins the whole frame
+//! (its triangles are not cut by rows) and draws the bands of tiles that hold its slice's rows,
+//! each into a band of its own, keeping the slice's rows. A part already there and complete for
+//! the same render and slice is kept, so a requeued task costs a scene load and a read of its
+//! part. Slices are not checkpointed: an interrupted slice writes nothing and is rendered
+//! again.
 
-use crate::atomic_write::{check_writable, write_atomically};
+use crate::atomic_write::{check_writable, write_atomically_with};
 use crate::failure::Failure;
-use crate::memory::reserve_for_render;
+use crate::memory::reserve_for_slice;
 use crate::output_lock::OutputLock;
 use crate::part_file::{scene_fingerprint, Development, Part, PartHeader};
 use crate::path_command::samples_per_pixel;
@@ -21,7 +27,7 @@ use crate::render_command::{load_scene, ray_options, thread_pool};
 use crate::settings::{Chosen, RenderSettings};
 use crate::slice::{Cut, Slice};
 use rayforge::camera::Camera;
-use rayforge::film::{Film, SharedFilm};
+use rayforge::film::{Film, PixelFilter, SharedFilm, MAX_FILM_PIXELS};
 use rayforge::render::path::{render_path, PathJob};
 use rayforge::render::{exposure, render_rows_into, RenderOptions};
 use rayforge_scene::Scene;
@@ -47,7 +53,7 @@ pub fn run(settings: &RenderSettings, slice: &Slice) -> Result<(), Failure> {
         return Ok(());
     }
     let (width, height) = (camera.hsize(), camera.vsize());
-    reserve_for_render(width, height, 1)?;
+    reserve_for_slice(width, height, slice.row_count(height))?;
     let pool = thread_pool(settings)?;
     let started = Instant::now();
     let render = SliceRender {
@@ -59,16 +65,13 @@ pub fn run(settings: &RenderSettings, slice: &Slice) -> Result<(), Failure> {
     };
     let film = match chosen {
         Chosen::Ray => render.ray()?,
-        Chosen::Raster(options) => {
-            pool.install(|| rayforge::raster::render_film(&camera, &scene.world, &options))
-                .map_err(|e| Failure::usage(e.to_string()))?
-                .0
-        }
+        Chosen::Raster(options) => render.raster(&options)?,
         Chosen::Path(options) => render.path(options, header.samples())?,
     };
     let elapsed = started.elapsed();
     let samples = header.samples();
-    write_atomically(output, &Part::new(header, &film)?.to_bytes())?;
+    let part = Part::new(header, film)?;
+    write_atomically_with(output, |out| part.write_to(out))?;
     if !settings.quiet {
         let covers = match slice.cut {
             Cut::Rows => format!(
@@ -140,6 +143,15 @@ fn header(
             (described, Development::Path, spp)
         }
     };
+    let (width, height) = (camera.hsize(), camera.vsize());
+    if (width as u64).saturating_mul(height as u64) > MAX_FILM_PIXELS {
+        return Err(Failure::usage(format!(
+            "a {width}×{height} image has more than {MAX_FILM_PIXELS} pixels, the most `rayforge \
+             merge` joins (it holds the whole image's film, 32 bytes a pixel, and develops the \
+             image): its slices could be rendered but never merged; render it at most \
+             {MAX_FILM_PIXELS} pixels"
+        )));
+    }
     if slice.cut == Cut::Samples {
         if !matches!(chosen, Chosen::Path(_)) {
             return Err(Failure::usage(
@@ -163,8 +175,8 @@ fn header(
     let fingerprint = scene_fingerprint(&bytes, &scene.files).map_err(Failure::usage)?;
     Ok(PartHeader {
         fingerprint,
-        width: camera.hsize(),
-        height: camera.vsize(),
+        width,
+        height,
         slice: *slice,
         spp,
         development,
@@ -205,6 +217,13 @@ struct SliceRender<'a> {
 }
 
 impl SliceRender<'_> {
+    /// A film with no samples that holds the slice's rows, and only those.
+    fn film(&self, filter: PixelFilter) -> Result<SharedFilm, Failure> {
+        let (width, height) = (self.camera.hsize(), self.camera.vsize());
+        SharedFilm::with_rows(width, height, filter, self.slice.rows(height))
+            .map_err(|e| Failure::usage(e.to_string()))
+    }
+
     /// The rows the slice leaves alone, marked done, so that the renderers skip them.
     fn others_done(&self) -> Vec<bool> {
         (0..self.camera.vsize())
@@ -236,8 +255,7 @@ impl SliceRender<'_> {
 
     /// The ray tracer's rows of the slice.
     fn ray(&self) -> Result<Film, Failure> {
-        let (width, height) = (self.camera.hsize(), self.camera.vsize());
-        let film = SharedFilm::from(Film::new(width, height));
+        let film = self.film(PixelFilter::Box)?;
         let mut done = self.others_done();
         let stats = self.with_hooks(|progress, stop| {
             let options = RenderOptions {
@@ -262,16 +280,25 @@ impl SliceRender<'_> {
         Ok(film.into_film())
     }
 
+    /// The rasterizer's rows of the slice: the bands of tiles that hold them drawn, in one go
+    /// (it cannot stop between rows).
+    fn raster(&self, options: &rayforge::options::RasterOptions) -> Result<Film, Failure> {
+        let film = self.film(PixelFilter::Box)?;
+        self.pool
+            .install(|| {
+                rayforge::raster::render_rows_into(self.camera, &self.scene.world, options, &film)
+            })
+            .map_err(|e| Failure::usage(e.to_string()))?;
+        Ok(film.into_film())
+    }
+
     /// The path tracer's rows of the slice, with its samples.
     fn path(
         &self,
         options: rayforge::options::PathOptions,
         samples: std::ops::Range<u64>,
     ) -> Result<Film, Failure> {
-        let (width, height) = (self.camera.hsize(), self.camera.vsize());
-        let film = Film::with_filter(width, height, options.filter)
-            .map_err(|e| Failure::usage(format!("{e}")))?;
-        let film = SharedFilm::from(film);
+        let film = self.film(options.filter)?;
         let mut done = self.others_done();
         let stats = self.with_hooks(|progress, stop| {
             let job = PathJob {

@@ -144,6 +144,21 @@ fn row_slices_of_the_path_tracer_are_the_same_bytes() {
     region_slices_match("pbr/cornell.yml", &gaussian, "png");
 }
 
+#[test]
+fn row_slices_of_the_rasterizer_that_skip_bands_of_tiles_are_the_same_bytes() {
+    // 70 rows are three bands of the rasterizer's 32-row tiles; in 40 slices, slice 0 has rows
+    // 0 and 40 (bands 0 and 1, band 2 not drawn) and slice 35 row 35 alone (band 1).
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/trtc/ch11-reflection-refraction.yml");
+    let args = ["--width", "9", "--height", "70", "--renderer", "raster"];
+    let one = dir.path().join("one.pfm");
+    ok(&render(&scene, &one, &args));
+    let parts = slices(&scene, dir.path(), 40, "rows", &args);
+    let merged = dir.path().join("merged.pfm");
+    ok(&merge(&parts, &merged));
+    assert!(std::fs::read(&merged).unwrap() == std::fs::read(&one).unwrap());
+}
+
 /// Each pixel's sums (red, green, blue) and weight of a part's film, from the part file's
 /// documented layout: the header's length at byte 12, the film after the header and its
 /// checksum, 45 bytes of film header, then 4 × f64 per pixel.
@@ -488,4 +503,97 @@ fn a_slice_refuses_flags_it_cannot_honour() {
     assert!(m.contains("must be below N"), "{m}");
     let m = refused(&render(&scene, &part, &["--slice-by", "rows"]));
     assert!(m.contains("--slice"), "{m}");
+}
+
+/// `rayforge render <scene> -o <out> -q <args…>` with its address space limited to `kib` KiB
+/// (`ulimit -v`): memory it allocates, or reserves before rendering, past that is refused.
+#[cfg(target_os = "linux")]
+fn render_within(kib: u64, scene: &Path, out: &Path, args: &[&str]) -> Output {
+    Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -v {kib} && exec \"$0\" \"$@\""))
+        .arg(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("render")
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .arg("-q")
+        .args(args)
+        .env_remove("SLURM_ARRAY_TASK_ID")
+        .env_remove("JOB_COMPLETION_INDEX")
+        .output()
+        .unwrap()
+}
+
+#[test]
+#[cfg(target_os = "linux")]
+fn a_row_slice_of_a_poster_holds_its_rows_not_the_whole_film() {
+    // A 2000 × 100 000 image: its film alone is 6.4 GB, what each slice held before. In 1000
+    // slices by rows, each has 100 rows (6.4 MB of film) and is rendered, with every
+    // renderer, within 1 GiB of address space, the program and its threads included; a slice
+    // of it by samples, which holds every row, is refused there before rendering.
+    let dir = tempfile::tempdir().unwrap();
+    let size = ["--width", "2000", "--height", "100000", "--threads", "2"];
+    let gib = 1 << 20;
+    let scenes = [
+        ("trtc/ch07-world.yml", "ray", "--max-depth"),
+        ("trtc/ch07-world.yml", "raster", "--sphere-divisions"),
+        ("pbr/cornell.yml", "path", "--spp"),
+    ];
+    for (scene, renderer, cheap) in scenes {
+        let part = dir.path().join(format!("{renderer}.part"));
+        let mut args = vec!["--slice", "999/1000", "--renderer", renderer, cheap, "4"];
+        args.extend_from_slice(&size);
+        ok(&render_within(
+            gib,
+            &repo().join("scenes").join(scene),
+            &part,
+            &args,
+        ));
+        assert_eq!(part_pixels(&part).len(), 2000 * 100, "{renderer}");
+    }
+    let part = dir.path().join("samples.part");
+    let mut args = vec!["--slice", "0/2", "--slice-by", "samples", "--spp", "2"];
+    args.extend_from_slice(&size);
+    let m = refused(&render_within(
+        gib,
+        &repo().join("scenes/pbr/cornell.yml"),
+        &part,
+        &args,
+    ));
+    assert!(
+        m.contains("not enough memory for a slice of 100000 rows of a 2000×100000 render"),
+        "{m}"
+    );
+    assert!(!part.exists());
+}
+
+#[test]
+fn a_slice_of_an_image_too_large_to_merge_is_refused_before_rendering() {
+    // 2^29 pixels: --max-pixels lets one process try, but the merge holds the whole image's
+    // film and reads images of at most 2^28 pixels.
+    let dir = tempfile::tempdir().unwrap();
+    let part = dir.path().join("p.part");
+    let args = [
+        "--width",
+        "32768",
+        "--height",
+        "16384",
+        "--max-pixels",
+        "1000000000",
+        "--slice",
+        "0/64",
+    ];
+    let m = refused(&render(
+        &repo().join("scenes/trtc/ch07-world.yml"),
+        &part,
+        &args,
+    ));
+    assert!(
+        m.contains(
+            "a 32768×16384 image has more than 268435456 pixels, the most `rayforge merge` joins"
+        ),
+        "{m}"
+    );
+    assert!(!part.exists());
 }

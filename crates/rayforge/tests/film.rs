@@ -382,3 +382,160 @@ fn a_render_can_be_watched_through_snapshots_of_its_film() {
     assert!(render_rows_into(&camera, &world, &plain, &small, &mut [false; 7]).is_err());
     assert!(render_rows_into(&camera, &world, &plain, &film, &mut [false; 2]).is_err());
 }
+
+#[test]
+fn a_film_of_some_rows_takes_samples_on_those_rows_only() {
+    let film = SharedFilm::with_rows(4, 9, PixelFilter::Box, [7, 1, 4, 1]).unwrap();
+    assert_eq!((film.width(), film.height(), film.held_rows()), (4, 9, 3));
+    assert!((0..10).all(|y| film.holds_row(y) == [1, 4, 7].contains(&y)));
+    let row = |v: f64| {
+        let mut part = Film::new(4, 1);
+        (0..4).for_each(|x| part.add_pixel(x, 0, Color::new(v, x as f64, -0.0), 1.0));
+        part.note_brightest(v);
+        part
+    };
+    film.add(4, &row(2.0)).unwrap();
+    film.set_row(7, &row(3.0)).unwrap();
+    assert!(matches!(
+        film.add(2, &row(9.0)),
+        Err(FilmError::RowNotHeld(2))
+    ));
+    assert!(matches!(
+        film.set_row(0, &row(9.0)),
+        Err(FilmError::RowNotHeld(0))
+    ));
+    assert!(matches!(film.row(8), Err(FilmError::RowNotHeld(8))));
+    assert!(matches!(film.row(9), Err(FilmError::RowsOutside { .. })));
+    // A band running over a row not held is refused whole: row 4 keeps its one sample.
+    let mut band = Film::new(4, 2);
+    band.add_pixel(0, 0, Color::WHITE, 1.0);
+    assert!(matches!(film.add(4, &band), Err(FilmError::RowNotHeld(5))));
+    assert_eq!(film.row(4).unwrap().weight(0, 0), 1.0);
+    assert!(film
+        .check_holds_undone(&[true, false, true, true, false, true, true, false, true])
+        .is_ok());
+    assert!(matches!(
+        film.check_holds_undone(&[true, false, false, true, false, true, true, false, true]),
+        Err(FilmError::RowNotHeld(2))
+    ));
+    // Its film is its rows, top to bottom: an empty row, row 4's sample, row 7's.
+    let mut expected = Film::new(4, 3);
+    for x in 0..4 {
+        expected.add_pixel(x, 1, Color::new(2.0, x as f64, -0.0), 1.0);
+        expected.add_pixel(x, 2, Color::new(3.0, x as f64, -0.0), 1.0);
+    }
+    expected.note_brightest(3.0);
+    assert_eq!(bits(&film.snapshot()), bits(&expected));
+    assert_eq!(bits(&film.into_film()), bits(&expected));
+    assert!(matches!(
+        SharedFilm::with_rows(4, 9, PixelFilter::Box, [9]),
+        Err(FilmError::RowsOutside { first: 9, .. })
+    ));
+    assert!(matches!(
+        SharedFilm::with_rows(4, 9, PixelFilter::Tent { radius: 0.0 }, [1]),
+        Err(FilmError::BadFilter(_))
+    ));
+}
+
+/// The rows `keep` of `film`, top to bottom, as a film of their own.
+fn rows_of(film: &Film, keep: &[usize]) -> Film {
+    let mut rows = Film::with_filter(film.width(), keep.len(), film.filter()).unwrap();
+    for (j, &y) in keep.iter().enumerate() {
+        for x in 0..film.width() {
+            rows.add_pixel_sum(x, j, film.sum(x, y), film.weight(x, y));
+        }
+    }
+    rows.note_brightest(film.brightest());
+    rows
+}
+
+/// Every renderer renders into a film of some rows exactly those rows of its whole render, and
+/// refuses to render a row the film does not hold.
+#[test]
+fn renders_into_a_film_of_some_rows_are_those_rows_of_the_whole_render() {
+    use rayforge::math::{point, vector, view_transform};
+    use rayforge::options::{PathOptions, RasterOptions};
+    use rayforge::raster::{render_film, RasterError};
+    use rayforge::render::path::{render_path, PathJob};
+    use rayforge::render::{render_rows, render_rows_into, RenderOptions};
+    use rayforge::Camera;
+
+    // Rows in three bands of the rasterizer's tiles (32 rows each), one band skipped.
+    let (width, height) = (9, 100);
+    let keep = [0, 5, 31, 70, 99];
+    let done: Vec<bool> = (0..height).map(|y| !keep.contains(&y)).collect();
+    let world = rayforge::default_world();
+    let camera =
+        Camera::new(width, height, std::f64::consts::FRAC_PI_3).with_transform(view_transform(
+            point(0.0, 1.5, -5.0),
+            point(0.0, 1.0, 0.0),
+            vector(0.0, 1.0, 0.0),
+        ));
+    let film = |filter| SharedFilm::with_rows(width, height, filter, keep).unwrap();
+
+    let ray = film(PixelFilter::Box);
+    let options = RenderOptions::default();
+    render_rows_into(&camera, &world, &options, &ray, &mut done.clone()).unwrap();
+    let (whole, _) = render_rows(&camera, &world, &options);
+    assert_eq!(bits(&ray.into_film()), bits(&rows_of(whole.film(), &keep)));
+    let refused = render_rows_into(
+        &camera,
+        &world,
+        &options,
+        &film(PixelFilter::Box),
+        &mut [false; 100],
+    );
+    assert!(matches!(refused, Err(FilmError::RowNotHeld(1))));
+
+    let tent = PixelFilter::Tent { radius: 1.5 };
+    let job = PathJob {
+        options: PathOptions {
+            filter: tent,
+            ..PathOptions::default()
+        },
+        samples: 0..3,
+        progress: None,
+        cancel: None,
+        on_row: None,
+    };
+    let path = film(tent);
+    render_path(&camera, &world, &job, &path, None, &mut done.clone()).unwrap();
+    let whole = SharedFilm::with_rows(width, height, tent, 0..height).unwrap();
+    render_path(
+        &camera,
+        &world,
+        &job,
+        &whole,
+        None,
+        &mut vec![false; height],
+    )
+    .unwrap();
+    assert_eq!(
+        bits(&path.into_film()),
+        bits(&rows_of(&whole.into_film(), &keep))
+    );
+    let refused = render_path(
+        &camera,
+        &world,
+        &job,
+        &film(tent),
+        None,
+        &mut vec![false; height],
+    );
+    assert!(matches!(refused, Err(FilmError::RowNotHeld(1))));
+
+    let options = RasterOptions::default();
+    let raster = film(PixelFilter::Box);
+    let stats = rayforge::raster::render_rows_into(&camera, &world, &options, &raster).unwrap();
+    let (whole, whole_stats) = render_film(&camera, &world, &options).unwrap();
+    assert_eq!(stats, whole_stats);
+    assert_eq!(bits(&raster.into_film()), bits(&rows_of(&whole, &keep)));
+    let refused = rayforge::raster::render_rows_into(&camera, &world, &options, &film(tent));
+    assert!(matches!(
+        refused,
+        Err(RasterError::FilmMismatch {
+            box_filter: false,
+            ..
+        })
+    ));
+}

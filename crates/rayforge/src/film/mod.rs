@@ -11,7 +11,9 @@
 //! - a film can be [written and read back](Film::write_to) bit for bit, to be merged or
 //!   developed later;
 //! - a [`SharedFilm`] takes finished rows or tiles from render workers and hands out a
-//!   [`snapshot`](SharedFilm::snapshot) at any moment, for a preview of a render in progress.
+//!   [`snapshot`](SharedFilm::snapshot) at any moment, for a preview of a render in progress;
+//!   it may hold only some of the image's rows ([`SharedFilm::with_rows`]), so that a slice
+//!   of a render cut by rows needs memory for its rows alone.
 //!
 //! Sums start at −0.0, the exact identity of floating-point addition (`−0 + x` is `x` for every
 //! `x`, a negative zero included, where `+0 + −0` is `+0`): a pixel given one sample of weight 1
@@ -50,6 +52,9 @@ pub enum FilmError {
         /// The film's height.
         height: usize,
     },
+    /// A row the film does not hold (see [`SharedFilm::with_rows`]).
+    #[error("row {0} is not one of the rows this film holds")]
+    RowNotHeld(usize),
     /// A tent or Gaussian radius that is not finite, positive and at most
     /// [`MAX_FILTER_RADIUS`].
     #[error("a pixel filter's radius must be more than 0 and at most {MAX_FILTER_RADIUS} pixels, found {0}")]

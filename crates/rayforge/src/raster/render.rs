@@ -10,7 +10,8 @@ use super::vertex::transform_vertices;
 use super::Projection;
 use crate::camera::Camera;
 use crate::canvas::Canvas;
-use crate::film::{develop, Exposure, Film};
+use crate::color::Color;
+use crate::film::{develop, Exposure, Film, PixelFilter, SharedFilm};
 use crate::options::RasterOptions;
 use crate::scene::{LightingModel, World};
 use rayon::prelude::*;
@@ -52,6 +53,20 @@ pub enum RasterError {
          with --camera"
     )]
     Orthographic,
+    /// The film given to draw into ([`render_rows_into`]) is not the camera's size or not
+    /// box-filtered: the rasterizer gives each pixel one sample of weight 1.
+    #[error(
+        "the rasterizer draws into a box-filtered film of the camera's size, and was given a \
+         {width}×{height} film (box filter: {box_filter})"
+    )]
+    FilmMismatch {
+        /// The film's width.
+        width: usize,
+        /// The film's height.
+        height: usize,
+        /// Whether its filter is the box.
+        box_filter: bool,
+    },
 }
 
 /// Rasterizes `world` through `camera` on the current rayon thread pool, developed.
@@ -95,6 +110,111 @@ pub fn render_film(
     if width == 0 || height == 0 {
         return Ok((Film::from_canvas(&canvas), RasterStats::default()));
     }
+    let stats = with_frame(camera, world, options, |frame| {
+        canvas
+            .pixels_mut()
+            .par_chunks_mut(width * TILE_HEIGHT)
+            .enumerate()
+            .for_each_init(TileBuffers::new, |buffers, (row, band)| {
+                frame.draw_band(row, band, buffers);
+            });
+    })?;
+    Ok((Film::from_canvas(&canvas), stats))
+}
+
+/// Rasterizes `world` through `camera` into the rows `film` holds (a slice's, see
+/// [`SharedFilm::with_rows`]), each pixel one sample of weight 1 as in [`render_film`], to the
+/// bit. The triangles are binned into the tiles of the whole frame, as for a whole render, but
+/// only the bands of tiles that hold one of the film's rows are drawn, each into a band of
+/// pixels of its thread's own (`width` × 32 colours) from which the film's rows are kept: no
+/// canvas of the whole image is made. Refused when `film` is not the camera's size or not
+/// box-filtered.
+pub fn render_rows_into(
+    camera: &Camera,
+    world: &World,
+    options: &RasterOptions,
+    film: &SharedFilm,
+) -> Result<RasterStats, RasterError> {
+    if camera.is_orthographic() {
+        return Err(RasterError::Orthographic);
+    }
+    let (width, height) = (camera.hsize(), camera.vsize());
+    if (film.width(), film.height()) != (width, height) || film.filter() != PixelFilter::Box {
+        return Err(RasterError::FilmMismatch {
+            width: film.width(),
+            height: film.height(),
+            box_filter: film.filter() == PixelFilter::Box,
+        });
+    }
+    if width == 0 || height == 0 {
+        return Ok(RasterStats::default());
+    }
+    let rows_of = |band: usize| band * TILE_HEIGHT..((band + 1) * TILE_HEIGHT).min(height);
+    let bands: Vec<usize> = (0..height.div_ceil(TILE_HEIGHT))
+        .filter(|&band| rows_of(band).any(|y| film.holds_row(y)))
+        .collect();
+    with_frame(camera, world, options, |frame| {
+        bands.into_par_iter().for_each_init(
+            || (TileBuffers::new(), vec![Color::BLACK; width * TILE_HEIGHT]),
+            |(buffers, pixels), band| {
+                frame.draw_band(band, pixels, buffers);
+                for (y, row) in rows_of(band).zip(pixels.chunks_exact(width)) {
+                    if !film.holds_row(y) {
+                        continue;
+                    }
+                    let mut part = Film::new(width, 1);
+                    for (x, &pixel) in row.iter().enumerate() {
+                        part.add_pixel(x, 0, pixel, 1.0);
+                    }
+                    // A held row, the film's width, the box filter: checked above.
+                    let added = film.add(y, &part);
+                    debug_assert!(added.is_ok(), "{added:?}");
+                }
+            },
+        );
+    })
+}
+
+/// A frame ready to draw: the world's triangles projected and binned into the tiles of the
+/// camera's whole image, with what shading them needs.
+struct Frame<'a> {
+    ctx: &'a ShadeContext<'a, 'a>,
+    tiles: Tiles,
+    background: Color,
+    wireframe: bool,
+}
+
+impl Frame<'_> {
+    /// Draws every tile of band `row` (the image's rows `row · 32` on) into `band`, rows of the
+    /// image's width: every pixel of the band's rows is written.
+    fn draw_band(&self, row: usize, band: &mut [Color], buffers: &mut TileBuffers) {
+        for column in 0..self.tiles.columns {
+            if self.wireframe {
+                draw_wireframe_tile(self.ctx, &self.tiles, column, row, band, self.background);
+            } else {
+                draw_tile(
+                    self.ctx,
+                    &self.tiles,
+                    column,
+                    row,
+                    band,
+                    self.background,
+                    buffers,
+                );
+            }
+        }
+    }
+}
+
+/// Prepares `world`'s frame through `camera` (of at least one pixel, perspective) and hands
+/// it to `draw`, with counts of what was binned.
+fn with_frame(
+    camera: &Camera,
+    world: &World,
+    options: &RasterOptions,
+    draw: impl FnOnce(&Frame<'_>),
+) -> Result<RasterStats, RasterError> {
+    let (width, height) = (camera.hsize(), camera.vsize());
     let projection = Projection::new(camera, options.near);
     let bits = subpixel_bits(width, height);
     let divisions = options.sphere_divisions.max(3);
@@ -145,19 +265,11 @@ pub fn render_film(
     if options.shading == crate::options::Shading::Gouraud && !options.wireframe {
         ctx.light_vertices();
     }
-    let background = world.background;
-    canvas
-        .pixels_mut()
-        .par_chunks_mut(width * TILE_HEIGHT)
-        .enumerate()
-        .for_each_init(TileBuffers::new, |buffers, (row, band)| {
-            for column in 0..tiles.columns {
-                if options.wireframe {
-                    draw_wireframe_tile(&ctx, &tiles, column, row, band, background);
-                } else {
-                    draw_tile(&ctx, &tiles, column, row, band, background, buffers);
-                }
-            }
-        });
-    Ok((Film::from_canvas(&canvas), stats))
+    draw(&Frame {
+        ctx: &ctx,
+        tiles,
+        background: world.background,
+        wireframe: options.wireframe,
+    });
+    Ok(stats)
 }

@@ -237,8 +237,9 @@ pub fn render_rows(
 /// render runs: another thread may take [`SharedFilm::snapshot`]s at any moment (a live
 /// preview, a progress image). Rows marked in `done` are left alone; each row finished is added
 /// to `film` and then marked. [`RenderOptions::finished`] is not read here: the film and `done`
-/// are the starting point. Refused when `film` is not the camera's size or `done` not one entry
-/// per row.
+/// are the starting point. The film may hold only the rows to render ([`SharedFilm::with_rows`]:
+/// a slice's). Refused when `film` is not the camera's size, `done` not one entry per row, or a
+/// row not marked done is not held by the film.
 pub fn render_rows_into(
     camera: &Camera,
     world: &World,
@@ -255,6 +256,7 @@ pub fn render_rows_into(
             height,
         ));
     }
+    film.check_holds_undone(done)?;
     Ok(dispatch(
         world.lighting,
         RenderRows {

@@ -112,8 +112,10 @@ fn filter_offset(filter: PixelFilter, [u, v]: [f64; 2]) -> (f64, f64, f64) {
 }
 
 /// Path traces `world` through `camera` into `film` (and the `aovs`, when given), the rows not
-/// marked in `done`, marking each as it is finished. Refused when the films are not the
-/// camera's size, `done` is not one entry per row, or `film`'s filter is not the job's.
+/// marked in `done`, marking each as it is finished. The films may hold only those rows
+/// ([`SharedFilm::with_rows`]: a slice's). Refused when the films are not the camera's size,
+/// `done` is not one entry per row, a row not marked done is not held by every film, or
+/// `film`'s filter is not the job's.
 pub fn render_path(
     camera: &Camera,
     world: &World,
@@ -137,6 +139,10 @@ pub fn render_path(
             width,
             height,
         ));
+    }
+    film.check_holds_undone(done)?;
+    for layer in aovs.iter().flat_map(|a| a.films()) {
+        layer.check_holds_undone(done)?;
     }
     let filter = job.options.filter.checked()?;
     if film.filter() != filter {
