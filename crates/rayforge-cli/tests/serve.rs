@@ -428,3 +428,78 @@ fn a_missing_scene_or_a_bad_flag_stops_before_listening() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--threads must be between 1"));
 }
+
+/// A camera placed without `from`, `to` and `up` (Computer Graphics from Scratch's viewport
+/// camera at the origin, looking along +z at a red sphere 5 units away) orbits about the point
+/// its image's centre sees, the sphere's near side 4 units away: half a turn puts the eye
+/// behind the sphere, looking back at it (the sphere still fills the image's centre), and a
+/// whole turn gives back the first view.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_camera_placed_otherwise_orbits_about_what_its_centre_sees() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("scene.yml");
+    std::fs::write(
+        &path,
+        "\
+- add: camera
+  width: 24
+  height: 24
+  viewport: [1, 1]
+  distance: 1
+- add: light
+  type: ambient
+  intensity: 1
+- add: sphere
+  transform:
+    - [translate, 0, 0, 5]
+  material:
+    color: [1, 0, 0]
+",
+    )
+    .expect("writes the scene");
+    let (server, _) = serve(&path);
+    let (mut socket, _) =
+        tokio_tungstenite::connect_async(format!("ws://127.0.0.1:{}/ws", server.port))
+            .await
+            .expect("the WebSocket opens");
+    let view = |yaw: u32| format!(r#"{{"type": "render", "renderer": "ray", "yaw": {yaw}}}"#);
+    send(&mut socket, view(0)).await;
+    let Received::Json(started) = next(&mut socket).await else {
+        panic!("a JSON message");
+    };
+    assert_eq!(started["type"], "started", "{started}");
+    assert_eq!(started["orbits"], true, "{started}");
+    let (unturned, job) = final_image(&mut socket, 0).await;
+    send(&mut socket, view(180)).await;
+    let (behind, job) = final_image(&mut socket, job).await;
+    send(&mut socket, view(360)).await;
+    let (again, _) = final_image(&mut socket, job).await;
+    let red = |image: &image::RgbImage, x, y| {
+        // Lit by the ambient term only, on black.
+        let p = image.get_pixel(x, y).0;
+        p[0] > 10 && p[1] == 0 && p[2] == 0
+    };
+    assert!(red(&unturned, 12, 12) && red(&behind, 12, 12));
+    // From 4 units beyond the sphere's near side the sphere looks smaller than from the origin.
+    let count = |image: &image::RgbImage| {
+        (0..24)
+            .flat_map(|y| (0..24).map(move |x| (x, y)))
+            .filter(|&(x, y)| red(image, x, y))
+            .count()
+    };
+    assert!(
+        count(&behind) > 0 && count(&behind) != count(&unturned),
+        "{} red pixels behind, {} before",
+        count(&behind),
+        count(&unturned)
+    );
+    let differing = again
+        .pixels()
+        .zip(unturned.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 1))
+        .count();
+    assert!(
+        differing <= 2,
+        "{differing} pixels differ after a whole turn"
+    );
+}

@@ -196,12 +196,10 @@ pub fn page_message(
         to: glam::DVec3::ZERO,
         up: glam::DVec3::Y,
     };
-    let view = rayforge::math::Transform::new(rayforge::math::view_transform(
-        look_at.from,
-        look_at.to,
-        look_at.up,
-    ));
-    orbit::orbit(&view, &look_at, request.yaw, request.pitch)
+    let camera = rayforge::camera::Camera::new(4, 3, 1.0).with_transform(
+        rayforge::math::view_transform(look_at.from, look_at.to, look_at.up),
+    );
+    orbit::orbit(&camera, &look_at, request.yaw, request.pitch)
         .map(|_| ())
         .ok_or_else(|| "the camera cannot be turned so".to_string())
 }

@@ -190,7 +190,8 @@ pub struct Started {
     pub size: (usize, usize),
     /// Samples per pixel of the final pass.
     pub samples: u64,
-    /// Whether the camera can orbit (the book's camera; the others are placed otherwise).
+    /// Whether the camera can orbit: about the book's camera's `to`, or about what another
+    /// camera's image centre sees (none for an image less than 2 pixels high).
     pub orbits: bool,
     /// The scene's warnings (what it read but will not use as written), as the terminal
     /// shows them: at most [`MAX_WARNINGS`].

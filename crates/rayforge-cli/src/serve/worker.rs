@@ -5,7 +5,7 @@
 //! ([`RenderSettings::from_args`]), so the page's final image is the one `rayforge render`
 //! writes with those flags, and a size over `--max-pixels` is refused in the same words.
 
-use super::orbit::orbit;
+use super::orbit::{implied_look_at, orbit};
 use super::protocol::{self, Frame, Request, Started};
 use super::Config;
 use crate::args::{Cli, Command, Renderer};
@@ -126,16 +126,16 @@ impl Worker {
         loaded.scene.world.lighting = lighting;
         let scene = &loaded.scene;
         let mut camera = sized_camera(&settings, scene)?;
-        let orbited = job.request.yaw != 0.0 || job.request.pitch != 0.0;
-        if let (true, Some(look_at)) = (orbited, scene.look_at) {
-            let view = orbit(
-                camera.transform(),
-                &look_at,
-                job.request.yaw,
-                job.request.pitch,
-            )
-            .ok_or_else(|| Stop::Failed("the camera cannot be turned so".into()))?;
-            camera = camera.with_transform_of(view);
+        // The book's camera turns about what it looks at; another, about what its image's
+        // centre sees.
+        let look_at = scene
+            .look_at
+            .or_else(|| implied_look_at(&camera, &scene.world));
+        if job.request.yaw != 0.0 || job.request.pitch != 0.0 {
+            let look_at =
+                look_at.ok_or_else(|| Stop::Failed("the camera cannot be turned so".into()))?;
+            camera = orbit(&camera, &look_at, job.request.yaw, job.request.pitch)
+                .ok_or_else(|| Stop::Failed("the camera cannot be turned so".into()))?;
         }
         let chosen = settings.choose(scene.raster, scene.path)?;
         let size = (camera.hsize(), camera.vsize());
@@ -154,7 +154,7 @@ impl Worker {
             lighting,
             size,
             samples,
-            orbits: scene.look_at.is_some(),
+            orbits: look_at.is_some(),
             warnings: protocol::warning_lines(&scene.warnings),
         };
         let pass = Pass {

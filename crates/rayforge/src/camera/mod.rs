@@ -181,6 +181,29 @@ impl Camera {
         self
     }
 
+    /// The same camera moved as a rigid body: its eye turned by `rotation` about the world
+    /// point `pivot`, and its view turned with it (a viewer's orbit). A viewport camera's
+    /// position and rotation move; another camera's view transform does. `None` when the
+    /// moved view transform cannot be inverted.
+    pub fn turned_about(&self, pivot: Point3, rotation: glam::DQuat) -> Option<Self> {
+        let mut camera = self.clone();
+        if let Some(viewport) = &mut camera.viewport {
+            viewport.position = pivot + rotation * (viewport.position - pivot);
+            // `rotation` holds rows: the matrix is the transpose of the one its rows make as
+            // columns.
+            let rows = glam::DMat3::from_cols_array_2d(&viewport.rotation).transpose();
+            let turned = glam::DMat3::from_quat(rotation) * rows;
+            viewport.rotation = turned.transpose().to_cols_array_2d();
+            return Some(camera);
+        }
+        // The world moves by the inverse of the eye's motion, before the old view.
+        let about = glam::DMat4::from_translation(pivot)
+            * glam::DMat4::from_quat(rotation.inverse())
+            * glam::DMat4::from_translation(-pivot);
+        camera.transform = Transform::try_new(self.transform.matrix() * about).ok()?;
+        Some(camera)
+    }
+
     /// Width in pixels.
     pub fn hsize(&self) -> usize {
         self.hsize
