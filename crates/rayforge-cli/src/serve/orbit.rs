@@ -95,8 +95,8 @@ mod tests {
 
     /// The view transform of the camera at `view` orbited so.
     fn orbit_view(view: &Transform, look_at: &LookAt, yaw: f64, pitch: f64) -> Option<Transform> {
-        let camera = rayforge::camera::Camera::new(2, 2, 1.0).with_transform_of(view.clone());
-        orbit(&camera, look_at, yaw, pitch).map(|c| c.transform().clone())
+        let camera = rayforge::camera::Camera::new(2, 2, 1.0).with_transform_of(*view);
+        orbit(&camera, look_at, yaw, pitch).map(|c| *c.transform())
     }
 
     fn scene_view() -> (Transform, LookAt) {
