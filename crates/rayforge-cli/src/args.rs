@@ -60,7 +60,7 @@ Render options (`rayforge render --help` describes each in full):
       --filter <NAME>       path only: box, tent or gaussian pixel filter [default: box]
       --filter-radius <PX>  path only: the tent or Gaussian filter's radius [default: 1.5]
       --aovs                path only: also write the first hit's albedo and normal
-      --time <DURATION>     path only: refine in passes until this time is spent (30s, 5m)
+      --time <DURATION>     ray and path: refine in passes until this time is spent (30s, 5m)
       --display-server <HOST:PORT> show the image in the tev viewer while it renders
       --exr-half            write the .exr output in 16-bit half floats
       --shading <MODE>      raster only: flat, gouraud or phong [default: phong]
@@ -399,10 +399,12 @@ pub struct RenderArgs {
     #[arg(long)]
     pub aovs: bool,
 
-    /// Path tracer: render in passes that refine the whole image (1, 1, 2, 4, … samples per
-    /// pixel), and stop before the pass that would go past this time, e.g. `30s`, `5m`, `1h`
-    /// or `500ms` (with --spp, at most that many samples). The image is the same as one
-    /// rendered at the samples reached, in one pass.
+    /// Render in passes that refine the whole image, and stop before the pass that would go
+    /// past this time, e.g. `30s`, `5m`, `1h` or `500ms`. The path tracer adds 1, 1, 2, 4, …
+    /// samples per pixel to one film (with --spp, at most that many in all); the ray tracer
+    /// renders 1, 4, 16, … camera rays per pixel, each pass afresh (up to --spp, --adaptive or
+    /// the camera's anti-aliasing when given). The image is the one a render at the samples
+    /// reached makes in one pass. Not with the rasterizer.
     #[arg(long, value_name = "DURATION")]
     pub time: Option<String>,
 

@@ -73,8 +73,14 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
         }
         Chosen::Ray => {}
     }
-    // The render's film and, when resuming, the checkpoint's rows it starts from.
-    reserve_for_render(width, height, if settings.resume { 2 } else { 1 })?;
+    // The render's film and, when resuming, the checkpoint's rows it starts from, or on a time
+    // budget the last pass's image kept while the next renders.
+    let images = if settings.resume || settings.path.time.is_some() {
+        2
+    } else {
+        1
+    };
+    reserve_for_render(width, height, images)?;
     let options = ray_options(settings, &scene);
     if let Some((x, y)) = settings.trace_pixel {
         trace_pixel(settings, &scene, &camera, &options, x, y)?;
@@ -250,6 +256,9 @@ fn ray_render(
     output: &Path,
     frame: u64,
 ) -> Result<(), Failure> {
+    if let Some(budget) = settings.path.time {
+        return ray_passes(settings, scene, camera, pool, options, output, budget);
+    }
     let (width, height) = (camera.hsize(), camera.vsize());
     // Everything besides the scene and the size that changes a pixel; the thread count does
     // not.
@@ -290,12 +299,7 @@ fn ray_render(
                 checkpoint.display()
             )
         };
-        return Err(Failure::usage(format!(
-            "pixel ({x}, {y}): a camera ray there leads to more than {} rays (reflections, \
-             refractions and shadow rays), the limit set by --max-rays-per-sample (lower \
-             --max-depth or raise --bailout); {saved}",
-            settings.max_rays_per_sample,
-        )));
+        return Err(too_many_rays(settings, (x, y), &saved));
     }
     if !image.is_complete() {
         return Err(checkpointed::interrupted(
@@ -324,6 +328,120 @@ fn ray_render(
                 "{} ambiguous pixels (two surfaces at the same distance) were filled from their neighbours",
                 stats.ambiguous
             );
+        }
+    }
+    Ok(())
+}
+
+/// The failure of a render stopped at pixel (`x`, `y`) by `--max-rays-per-sample`, and what
+/// became of its rows (`saved`).
+fn too_many_rays(settings: &RenderSettings, (x, y): (usize, usize), saved: &str) -> Failure {
+    Failure::usage(format!(
+        "pixel ({x}, {y}): a camera ray there leads to more than {} rays (reflections, \
+         refractions and shadow rays), the limit set by --max-rays-per-sample (lower \
+         --max-depth or raise --bailout); {saved}",
+        settings.max_rays_per_sample,
+    ))
+}
+
+/// The most camera rays per pixel a ray-traced `--time` render refines to when nothing sets
+/// its sampling: `--spp`'s limit, a 64 × 64 grid.
+const MOST_TIMED_PER_SIDE: u32 = 64;
+
+/// The ray tracer's render on a time budget (`--time`): passes of 1, 4, 16, … camera rays per
+/// pixel ([`Sampling::refining_passes`]), each a whole render of its own, up to the sampling
+/// asked for (`--spp`, `--adaptive` or the camera's own), or with none up to
+/// [`MOST_TIMED_PER_SIDE`] a side. A pass that would end past the budget (its time foreseen
+/// from the last pass's per camera ray) is not started, and the last whole pass is written: the
+/// very image a render at its sampling makes in one pass, however it was watched. Each pass's
+/// rows go to the tev viewer as they finish. No checkpoint: an interrupted render in passes
+/// writes nothing, as the path tracer's.
+fn ray_passes(
+    settings: &RenderSettings,
+    scene: &Scene,
+    camera: &Camera,
+    pool: &ThreadPool,
+    options: RenderOptions<'_>,
+    output: &Path,
+    budget: std::time::Duration,
+) -> Result<(), Failure> {
+    if settings.resume {
+        return Err(Failure::usage(
+            "--resume continues a render made in one pass: not with --time",
+        ));
+    }
+    let most = if options.sampling == Sampling::Centre && settings.spp.is_none() {
+        Sampling::Stratified {
+            per_side: MOST_TIMED_PER_SIDE,
+        }
+    } else {
+        options.sampling
+    };
+    let display = display_for(settings, output, (camera.hsize(), camera.vsize()), &[]);
+    let started = Instant::now();
+    let (rendered, _, display) =
+        checkpointed::render(settings, camera.vsize(), 0, None, display, |hooks| {
+            let mut last: Option<(Sampling, PartialImage)> = None;
+            let mut rays = 0;
+            let mut last_pass = (std::time::Duration::ZERO, 1);
+            for (i, sampling) in most.refining_passes().into_iter().enumerate() {
+                if i > 0 {
+                    let (took, rays_per_pixel) = last_pass;
+                    let ahead = took.mul_f64(sampling.camera_rays() as f64 / rays_per_pixel as f64);
+                    if started.elapsed() + ahead > budget {
+                        break;
+                    }
+                    (hooks.restart_progress)();
+                }
+                let pass_started = Instant::now();
+                let pass = RenderOptions {
+                    sampling,
+                    progress: Some(hooks.progress),
+                    cancel: Some(hooks.stop),
+                    on_row: Some(hooks.on_row),
+                    ..options
+                };
+                let (image, stats) = pool.install(|| render_rows(camera, &scene.world, &pass));
+                rays += stats.rays;
+                if let Some(pixel) = stats.over_budget {
+                    return (Err(pixel), false);
+                }
+                if !image.is_complete() {
+                    return (Ok((None, last, rays)), false);
+                }
+                last_pass = (pass_started.elapsed(), sampling.camera_rays());
+                last = Some((sampling, image));
+            }
+            (Ok((last, None, rays)), true)
+        });
+    let elapsed = started.elapsed();
+    // The last whole pass, or when interrupted the one before the interrupted pass.
+    let (whole, before, rays) =
+        rendered.map_err(|pixel| too_many_rays(settings, pixel, "nothing was written"))?;
+    let Some((sampling, image)) = whole else {
+        let reached = before.map_or(0, |(sampling, _)| sampling.camera_rays());
+        return Err(Failure::Interrupted(format!(
+            "interrupted after passes up to {reached} camera rays per pixel; a render in \
+             passes keeps no checkpoint, so nothing was written"
+        )));
+    };
+    let (canvas, non_finite) = develop_with_overlay(scene, camera, image.film());
+    if let Some(mut display) = display {
+        display.image(&canvas);
+    }
+    write_image(settings, &canvas, output)?;
+    if !settings.quiet {
+        eprintln!(
+            "{}",
+            summary_line(canvas.width(), canvas.height(), elapsed, rays, output)
+        );
+        eprintln!(
+            "refined within {:.2} s to {} camera rays per pixel ({sampling:?})",
+            budget.as_secs_f64(),
+            sampling.camera_rays()
+        );
+        if let Some(warning) = non_finite_warning(non_finite, output) {
+            eprintln!("{warning}");
         }
     }
     Ok(())

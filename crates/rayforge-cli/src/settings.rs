@@ -102,7 +102,8 @@ pub struct PathRequest {
     pub filter: Option<PixelFilter>,
     /// `--aovs`.
     pub aovs: bool,
-    /// `--time`: render in passes within this budget.
+    /// `--time`: render in passes within this budget (the ray tracer too; not the
+    /// rasterizer, which draws in one).
     pub time: Option<std::time::Duration>,
 }
 
@@ -114,7 +115,6 @@ impl PathRequest {
             ("--sampler", self.sampler.is_some()),
             ("--filter", self.filter.is_some()),
             ("--aovs", self.aovs),
-            ("--time", self.time.is_some()),
         ])
     }
 }
@@ -217,6 +217,12 @@ impl RenderSettings {
                     "{flag} applies to the path tracer: add --renderer path"
                 )));
             }
+        }
+        if renderer == Renderer::Raster && self.path.time.is_some() {
+            return Err(Failure::usage(
+                "--time refines the ray tracer's and the path tracer's samples in passes; the \
+                 rasterizer draws its image in one: add --renderer ray or path",
+            ));
         }
         match renderer {
             Renderer::Ray => self.raster.resolve(None, false).map(|_| Chosen::Ray),

@@ -325,6 +325,56 @@ fn an_image_refined_in_passes_equals_the_one_pass_image_at_the_samples_reached()
     );
 }
 
+/// The ray tracer refines in passes of 1, 4, 16, … camera rays per pixel within `--time`: the
+/// image written is the one-pass render at the samples reached, whatever this machine reached
+/// in the time; with a budget it cannot use up, the samples asked for (--spp 9: passes of 1, 4
+/// and 9).
+#[test]
+fn the_ray_tracer_refines_in_passes_to_the_image_at_the_samples_reached() {
+    let dir = tempfile::tempdir().unwrap();
+    let size = ["--width", "12", "--height", "9"];
+    let once = |spp: &str, name: &str| {
+        let out = dir.path().join(name);
+        let mut args = size.to_vec();
+        args.extend(["--spp", spp]);
+        let o = render("scenes/trtc/ch07-world.yml", &out, &args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(out).unwrap()
+    };
+    let timed = dir.path().join("timed.png");
+    let mut args = size.to_vec();
+    args.extend(["--time", "300ms"]);
+    let o = render("scenes/trtc/ch07-world.yml", &timed, &args);
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    // "refined within 0.30 s to N camera rays per pixel (…)".
+    let reached: u64 = err
+        .split(" s to ")
+        .nth(1)
+        .and_then(|rest| rest.split(" camera rays").next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{err}"));
+    let side = (reached as f64).sqrt() as u64;
+    assert!(
+        side * side == reached && side.is_power_of_two(),
+        "{reached}"
+    );
+    assert_eq!(
+        std::fs::read(&timed).unwrap(),
+        once(&reached.to_string(), "once.png")
+    );
+    let mut args = size.to_vec();
+    args.extend(["--spp", "9", "--time", "1h"]);
+    let o = render("scenes/trtc/ch07-world.yml", &timed, &args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("to 9 camera rays per pixel"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read(&timed).unwrap(), once("9", "nine.png"));
+}
+
 #[test]
 fn durations_are_read_with_their_units_and_bad_ones_refused() {
     let dir = tempfile::tempdir().unwrap();
@@ -342,12 +392,23 @@ fn durations_are_read_with_their_units_and_bad_ones_refused() {
             stderr(&o)
         );
     }
+    // The rasterizer draws its image in one pass: no budget to refine within.
     let o = render(
         "scenes/trtc/ch07-world.yml",
         &out,
-        &["--width", "4", "--height", "3", "--time", "1s"],
+        &[
+            "--width",
+            "4",
+            "--height",
+            "3",
+            "--renderer",
+            "raster",
+            "--time",
+            "1s",
+        ],
     );
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("rasterizer draws"), "{}", stderr(&o));
     let o = render(
         "scenes/pbr/furnace.yml",
         &out,

@@ -144,7 +144,7 @@ impl Worker {
         let (renderer, samples) = match chosen {
             Chosen::Ray => (
                 Renderer::Ray,
-                ray_samples(ray_options(&settings, scene).sampling),
+                ray_options(&settings, scene).sampling.camera_rays(),
             ),
             Chosen::Raster(_) => (Renderer::Raster, 1),
             Chosen::Path(_) => (Renderer::Path, samples_per_pixel(&settings, scene)),
@@ -288,18 +288,6 @@ fn quarter(camera: &Camera) -> Camera {
     camera.resized((camera.hsize() / 4).max(1), (camera.vsize() / 4).max(1))
 }
 
-/// Camera rays per pixel of a sampling, for the page's samples field.
-fn ray_samples(sampling: Sampling) -> u64 {
-    match sampling {
-        Sampling::Centre => 1,
-        Sampling::Grid { per_side } | Sampling::Stratified { per_side } => {
-            u64::from(per_side) * u64::from(per_side)
-        }
-        // At least its corners and centre; more where it splits.
-        Sampling::Adaptive { .. } => 5,
-    }
-}
-
 /// The job being rendered and where its images go.
 struct Pass<'a> {
     job: &'a Job,
@@ -431,7 +419,7 @@ fn ray_passes(
             return Err(Stop::Cancelled);
         }
         let (canvas, _) = develop_with_overlay(scene, &camera, image.film());
-        pass.frame(&canvas, i + 1, count, ray_samples(sampling))?;
+        pass.frame(&canvas, i + 1, count, sampling.camera_rays())?;
     }
     Ok(())
 }

@@ -58,6 +58,43 @@ impl Sampling {
         Sampling::Stratified { per_side }
     }
 
+    /// Camera rays per pixel: the grid's cells, or for adaptive sampling the five of an
+    /// unsplit pixel (its corners and centre), the least it takes.
+    pub fn camera_rays(self) -> u64 {
+        match self {
+            Sampling::Centre => 1,
+            Sampling::Grid { per_side } | Sampling::Stratified { per_side } => {
+                u64::from(per_side) * u64::from(per_side)
+            }
+            Sampling::Adaptive { .. } => 5,
+        }
+    }
+
+    /// Passes that refine an image up to this sampling (a progressive render's): one ray
+    /// through each pixel's centre, then grids of the same kind with 2, 4, 8, … rays a side
+    /// (each pass about four times the rays of the one before, so the time to the next image
+    /// grows with the time spent), then this sampling itself; adaptive sampling after the
+    /// centre pass alone.
+    pub fn refining_passes(self) -> Vec<Sampling> {
+        let mut passes = vec![Sampling::Centre];
+        let mut per_side = 2;
+        match self {
+            Sampling::Centre => return passes,
+            Sampling::Stratified { per_side: most } | Sampling::Grid { per_side: most } => {
+                while per_side < most {
+                    passes.push(match self {
+                        Sampling::Grid { .. } => Sampling::Grid { per_side },
+                        _ => Sampling::Stratified { per_side },
+                    });
+                    per_side *= 2;
+                }
+            }
+            Sampling::Adaptive { .. } => {}
+        }
+        passes.push(self);
+        passes
+    }
+
     /// The colour of pixel (`x`, `y`), given `trace` for one camera sample.
     ///
     /// One ray goes through the pixel's centre, from the lens's centre, half way through the
@@ -141,4 +178,40 @@ fn adaptive(
         .map(|&(qx, qy)| adaptive(qx, qy, half, threshold, depth - 1, trace))
         .sum::<Color>()
         / 4.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refining_passes_grow_by_the_same_kind_up_to_the_sampling() {
+        assert_eq!(Sampling::Centre.refining_passes(), [Sampling::Centre]);
+        let stratified = |per_side| Sampling::Stratified { per_side };
+        assert_eq!(
+            stratified(6).refining_passes(),
+            [
+                Sampling::Centre,
+                stratified(2),
+                stratified(4),
+                stratified(6)
+            ]
+        );
+        assert_eq!(
+            stratified(4).refining_passes(),
+            [Sampling::Centre, stratified(2), stratified(4)]
+        );
+        let grid = Sampling::Grid { per_side: 3 };
+        assert_eq!(
+            grid.refining_passes(),
+            [Sampling::Centre, Sampling::Grid { per_side: 2 }, grid]
+        );
+        let adaptive = Sampling::Adaptive {
+            threshold: 0.1,
+            depth: 2,
+        };
+        assert_eq!(adaptive.refining_passes(), [Sampling::Centre, adaptive]);
+        assert_eq!(stratified(6).camera_rays(), 36);
+        assert_eq!(adaptive.camera_rays(), 5);
+    }
 }
