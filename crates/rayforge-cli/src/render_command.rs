@@ -308,11 +308,8 @@ fn ray_render(
             &checkpoint,
         ));
     }
-    let (canvas, non_finite) = develop_with_overlay(scene, camera, image.film());
-    if let Some(mut display) = display {
-        display.image(&canvas);
-    }
-    write_image(settings, &canvas, output)?;
+    let (canvas, non_finite) =
+        show_and_write(settings, scene, camera, image.film(), display, output)?;
     // The image is complete: its checkpoint has done its job.
     let _ = std::fs::remove_file(&checkpoint);
     if !settings.quiet {
@@ -331,6 +328,25 @@ fn ray_render(
         }
     }
     Ok(())
+}
+
+/// The ray tracer's finished film developed (with the scene's canvas items), shown last in the
+/// tev viewer when there is one, and written to `output`: the image, and how many of its
+/// pixels were not finite.
+fn show_and_write(
+    settings: &RenderSettings,
+    scene: &Scene,
+    camera: &Camera,
+    film: &Film,
+    display: Option<Display>,
+    output: &Path,
+) -> Result<(Canvas, usize), Failure> {
+    let (canvas, non_finite) = develop_with_overlay(scene, camera, film);
+    if let Some(mut display) = display {
+        display.image(&canvas);
+    }
+    write_image(settings, &canvas, output)?;
+    Ok((canvas, non_finite))
 }
 
 /// The failure of a render stopped at pixel (`x`, `y`) by `--max-rays-per-sample`, and what
@@ -425,11 +441,8 @@ fn ray_passes(
              passes keeps no checkpoint, so nothing was written"
         )));
     };
-    let (canvas, non_finite) = develop_with_overlay(scene, camera, image.film());
-    if let Some(mut display) = display {
-        display.image(&canvas);
-    }
-    write_image(settings, &canvas, output)?;
+    let (canvas, non_finite) =
+        show_and_write(settings, scene, camera, image.film(), display, output)?;
     if !settings.quiet {
         eprintln!(
             "{}",
