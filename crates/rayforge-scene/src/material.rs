@@ -111,7 +111,7 @@ pub fn material<'n, 's>(
             // A pattern here grades a physical material's index: read below.
             "refractive-index" if is_mapping(value) => {}
             "refractive-index" => m.refractive_index = number()?,
-            "bump" => m.bump = Some(bump(source, defines, assets, value)?),
+            "bump" => m.bump = Some(Box::new(bump(source, defines, assets, value)?)),
             "gloss" => m.gloss = fractions(source, value, name)?,
             "opacity" => m.opacity = fraction(source, value, name)?,
             "matte-gloss-balance" => {
@@ -140,7 +140,7 @@ pub fn material<'n, 's>(
             }
             // The path tracer's material, read below from all its keys together.
             "type" | "metal" | "eta" | "k" | "alpha" | "roughness" => {}
-            _ => m.pattern = Some(pattern(source, defines, assets, value)?),
+            _ => m.pattern = Some(Box::new(pattern(source, defines, assets, value)?)),
         }
     }
     if let Some(physical) = physical(source, &entries)? {

@@ -471,3 +471,25 @@ fn a_canvas_item_cannot_be_a_groups_child() {
     );
     assert_error(&e, 10, 12, Some("add"), "a canvas-line cannot be");
 }
+
+#[test]
+fn an_array_without_of_or_count_or_with_a_bad_count_is_located() {
+    let e = error("- add: array\n  count: 3\n");
+    assert_error(&e, 8, 8, Some("of"), "needs `of:`");
+    let e = error("- add: array\n  of:\n    add: sphere\n");
+    assert_error(&e, 8, 8, Some("count"), "needs `count:`");
+    let e = error("- add: array\n  of:\n    add: sphere\n  count: [2, 0, 1]\n");
+    assert_error(&e, 11, 14, Some("count"), "at least 1");
+    let e = error("- add: array\n  of:\n    add: sphere\n  count: [2, 2]\n");
+    assert_error(&e, 11, 10, Some("count"), "one whole number or three");
+    let e = error("- add: array\n  of:\n    add: sphere\n  count: 2\n  colors: []\n");
+    assert_error(&e, 12, 11, Some("colors"), "at least one colour");
+}
+
+#[test]
+fn an_array_larger_than_the_parts_budget_is_refused_before_it_is_built() {
+    let e = error(
+        "- add: array\n  of:\n    add: group\n    children: []\n  count: [4000, 4000, 4000]\n",
+    );
+    assert!(e.message.contains("more than 1000000 parts"), "{e}");
+}

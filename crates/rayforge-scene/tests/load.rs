@@ -693,3 +693,73 @@ fn a_scene_lists_every_file_it_read_besides_itself() {
         .collect();
     assert_eq!(names, ["tri.obj", "tri.mtl", "red.ppm"]);
 }
+
+#[test]
+fn an_array_places_copies_of_a_defined_object_on_its_grid_inside_its_transform() {
+    let scene = load(
+        "
+- define: ball
+  value:
+    add: sphere
+    transform:
+      - [scale, 0.5, 0.5, 0.5]
+- add: array
+  of: ball
+  count: [3, 1, 2]
+  step: [2, 0, 5]
+  transform:
+    - [translate, 0, 1, 0]
+  colors: [[1, 0, 0], [0, 1, 0]]
+",
+    );
+    let objects = &scene.world.objects;
+    assert_eq!(objects.len(), 6);
+    // x varies fastest, then y, then z; the colours cycle in that order.
+    for (n, object) in objects.iter().enumerate() {
+        let (x, z) = ((n % 3) as f64, (n / 3) as f64);
+        let expected = translation(0.0, 1.0, 0.0)
+            * translation(2.0 * x, 0.0, 5.0 * z)
+            * scaling(0.5, 0.5, 0.5);
+        assert!(
+            object.transform.matrix().abs_diff_eq(expected, 1e-12),
+            "copy {n}"
+        );
+        let c = if n % 2 == 0 {
+            color(1.0, 0.0, 0.0)
+        } else {
+            color(0.0, 1.0, 0.0)
+        };
+        assert_eq!(object.material.color, c, "copy {n}");
+    }
+}
+
+#[test]
+fn an_array_of_an_inline_group_copies_every_part_with_the_arrays_material() {
+    let scene = load(
+        "
+- add: array
+  of:
+    add: group
+    children:
+      - add: sphere
+      - add: cube
+        material:
+          color: [0, 0, 1]
+  count: 4
+  step: [3, 0, 0]
+  material:
+    color: [1, 1, 0]
+  shadow: false
+",
+    );
+    let objects = &scene.world.objects;
+    assert_eq!(objects.len(), 8);
+    for (n, pair) in objects.chunks(2).enumerate() {
+        assert!(matches!(pair[0].shape, Shape::Sphere) && matches!(pair[1].shape, Shape::Cube));
+        assert_eq!(pair[0].material.color, color(1.0, 1.0, 0.0));
+        assert_eq!(pair[1].material.color, color(0.0, 0.0, 1.0));
+        assert!(!pair[0].casts_shadow && !pair[1].casts_shadow);
+        let expected = translation(3.0 * n as f64, 0.0, 0.0);
+        assert!(pair[0].transform.matrix().abs_diff_eq(expected, 1e-12));
+    }
+}

@@ -6,7 +6,7 @@ use rayforge::{point, prepare_computations, vector, Intersection, Material, Obje
 
 fn bumpy_plane(kind: BumpKind) -> Object {
     Object::plane().with_material(Material {
-        bump: Some(Bump::new(kind)),
+        bump: Some(Box::new(Bump::new(kind))),
         ..Material::default()
     })
 }
@@ -92,12 +92,12 @@ fn a_normal_map_on_a_sphere_follows_its_tangent_frame() {
     // On the sphere's equator facing -z, spherical u grows towards -x... whichever way it
     // grows, a red tilt leans the normal along the equator and keeps it unit length.
     let sphere = Object::sphere().with_material(Material {
-        bump: Some(Bump::new(uniform_normal_map(
+        bump: Some(Box::new(Bump::new(uniform_normal_map(
             0.8,
             0.5,
             0.9,
             UvMapping::Spherical,
-        ))),
+        )))),
         ..Material::default()
     });
     let r = Ray::new(point(0.0, 0.0, -5.0), vector(0.0, 0.0, 1.0));

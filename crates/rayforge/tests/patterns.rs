@@ -56,7 +56,7 @@ fn a_stripe_pattern_alternates_in_x() {
 #[test]
 fn lighting_with_a_pattern_applied() {
     let m = Material {
-        pattern: Some(Pattern::stripes(WHITE, BLACK)),
+        pattern: Some(Box::new(Pattern::stripes(WHITE, BLACK))),
         ambient: 1.0,
         diffuse: 0.0,
         specular: 0.0,

@@ -154,7 +154,7 @@ fn render_cube_map(texture: Texture, filter: TextureFilter) -> Vec<Color> {
     let cube = Object::cube()
         .with_transform(scaling(0.6, 0.6, 0.6))
         .with_material(Material {
-            pattern: Some(Pattern::new(PatternKind::CubeMap(faces))),
+            pattern: Some(Box::new(Pattern::new(PatternKind::CubeMap(faces)))),
             ambient: 1.0,
             diffuse: 0.0,
             specular: 0.0,

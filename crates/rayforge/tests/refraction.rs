@@ -151,7 +151,7 @@ fn the_refracted_color_under_total_internal_reflection() {
 fn the_refracted_color_with_a_refracted_ray() {
     let mut w = default_world();
     w.objects[0].material.ambient = 1.0;
-    w.objects[0].material.pattern = Some(Pattern::position());
+    w.objects[0].material.pattern = Some(Box::new(Pattern::position()));
     w.objects[1].material.transparency = 1.0;
     w.objects[1].material.refractive_index = 1.5;
     let (a, b) = (&w.objects[0], &w.objects[1]);

@@ -24,6 +24,7 @@ pub const SHAPE_KINDS: &[&str] = &[
     "obj",
     "gltf",
     "csg",
+    "array",
 ];
 
 /// The items that are not objects: each is added as an item of its own, never from a
@@ -47,6 +48,7 @@ fn own_keys(kind: &str) -> &'static [&'static str] {
         "group" => &["children"],
         "csg" => &["operation", "left", "right"],
         "obj" | "gltf" => &["file"],
+        "array" => &["of", "count", "step", "colors"],
         "cylinder" | "cone" => &["min", "max", "closed"],
         "torus" => &["major-radius", "minor-radius"],
         "ring" => &["inner-radius", "outer-radius"],

@@ -5,6 +5,7 @@
 //! This module only dispatches each `add:` or `define:` item to its kind's reader and collects
 //! what they read; the `world:` item is the crate root's.
 
+mod arrays;
 pub mod camera;
 mod csg;
 mod groups;

@@ -4,6 +4,7 @@
 //! Separate from the readers of each kind because it is the part they share; it is also the
 //! builder that groups and CSGs are handed (see [`Builder`]) to build what they hold.
 
+use super::arrays::add_array;
 use super::csg::add_csg;
 use super::groups::add_group;
 use super::kinds::keys;
@@ -63,7 +64,7 @@ fn build_objects<'n, 's>(
         .value;
     let kind = source.string(kind_node, "add")?;
     let shape = match kind {
-        "group" | "obj" | "gltf" | "csg" => None,
+        "group" | "obj" | "gltf" | "csg" | "array" => None,
         _ => Some(shape(source, entries, kind_node, kind)?),
     };
     check_keys(source, entries, &format!("a {kind}"), &keys(kind))?;
@@ -73,6 +74,7 @@ fn build_objects<'n, 's>(
         (None, "csg") => add_csg(builder, entries, kind_node, placement, inherited, out),
         (None, "obj") => add_model(source, builder.assets, entries, kind_node, placement, out),
         (None, "gltf") => add_gltf(source, builder.assets, entries, kind_node, placement, out),
+        (None, "array") => add_array(builder, entries, kind_node, placement, inherited, out),
         (None, _) => add_group(builder, entries, kind_node, placement, inherited, out),
     }
 }

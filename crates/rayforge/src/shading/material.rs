@@ -14,10 +14,11 @@ use std::sync::Arc;
 pub struct Material {
     /// Base colour, used when there is no pattern.
     pub color: Color,
-    /// A pattern that replaces `color` when present.
-    pub pattern: Option<Pattern>,
+    /// A pattern that replaces `color` when present. Boxed, as the bumps are: most materials
+    /// have neither, and a scene of many instances holds one material each.
+    pub pattern: Option<Box<Pattern>>,
     /// Bumps that tilt the shading normal.
-    pub bump: Option<Bump>,
+    pub bump: Option<Box<Bump>>,
     /// An image or UV pattern read with the surface's own texture coordinates (an OBJ model's
     /// `vt`), multiplying `color` (MTL's `map_Kd`). Surfaces without coordinates ignore it.
     pub texture: Option<UvPattern>,
