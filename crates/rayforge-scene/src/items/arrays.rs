@@ -92,6 +92,13 @@ pub fn add_array<'n, 's>(
         parts
     };
 
+    let singular = || {
+        source.error(
+            placement.placed_at,
+            "step",
+            "a copy of the array is placed by a singular transform",
+        )
+    };
     let mut index = 0usize;
     for z in 0..count[2] {
         for y in 0..count[1] {
@@ -104,21 +111,13 @@ pub fn add_array<'n, 's>(
                 let start = Transform::try_new(placement.world.matrix() * offset);
                 let end = Transform::try_new(placement.world_end.matrix() * offset);
                 let (Ok(start), Ok(end)) = (start, end) else {
-                    return Err(source.error(
-                        placement.placed_at,
-                        "step",
-                        "a copy of the array is placed by a singular transform",
-                    ));
+                    return Err(singular());
                 };
                 for part in &element {
                     source.spend(kind_node, "count")?;
-                    let mut copy = part.placed_by_moving(&start, &end).map_err(|_| {
-                        source.error(
-                            placement.placed_at,
-                            "step",
-                            "a copy of the array is placed by a singular transform",
-                        )
-                    })?;
+                    let mut copy = part
+                        .placed_by_moving(&start, &end)
+                        .map_err(|_| singular())?;
                     if let Some(c) = colors.get(index % colors.len().max(1)) {
                         copy.material.color = *c;
                     }
