@@ -7,7 +7,6 @@
 
 use super::nesting::{Builder, Inherited, MAX_GROUP_DEPTH};
 use super::placement::Placement;
-use super::templates::expand_template;
 use crate::error::SceneError;
 use crate::material::color;
 use crate::source::{as_str, Entry, Node};
@@ -79,16 +78,7 @@ pub fn add_array<'n, 's>(
             .find(|e| e.name == "add")
             .map(|e| e.value)
             .ok_or_else(|| source.error(of.value, "of", "the array's `of:` needs `add:`"))?;
-        let mark = builder.trail.len();
-        let item = expand_template(
-            source,
-            builder.defines,
-            item_entries,
-            item_kind,
-            &mut builder.trail,
-        )?;
-        builder.build(&item, &inside, &mut parts)?;
-        builder.trail.truncate(mark);
+        builder.build_entries(item_entries, item_kind, &inside, &mut parts)?;
         parts
     };
 

@@ -6,7 +6,6 @@
 
 use super::nesting::{Builder, Inherited, MAX_GROUP_DEPTH};
 use super::placement::Placement;
-use super::templates::expand_template;
 use crate::error::SceneError;
 use crate::source::{Entry, Node};
 use rayforge::Object;
@@ -61,15 +60,5 @@ fn add_child<'n, 's>(
         .find(|e| e.name == "add")
         .map(|e| e.value)
         .ok_or_else(|| source.error(child, "children", "each child needs `add:`"))?;
-    let mark = builder.trail.len();
-    let child = expand_template(
-        source,
-        builder.defines,
-        child_entries,
-        child_kind,
-        &mut builder.trail,
-    )?;
-    builder.build(&child, inside, out)?;
-    builder.trail.truncate(mark);
-    Ok(())
+    builder.build_entries(child_entries, child_kind, inside, out)
 }

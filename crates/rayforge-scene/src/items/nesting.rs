@@ -5,11 +5,11 @@
 //! without importing the object reader that dispatches to them: it hands itself down in
 //! [`Builder::build`].
 
-use super::templates::Expanded;
+use super::templates::{expand_template, Expanded};
 use crate::assets::Assets;
 use crate::defines::{Defines, Trail};
 use crate::error::SceneError;
-use crate::source::Source;
+use crate::source::{Entry, Node, Source};
 use glam::DMat4;
 use rayforge::{Material, Object};
 
@@ -80,5 +80,22 @@ impl<'n, 's> Builder<'_, 'n, 's> {
     ) -> Result<(), SceneError> {
         let build = self.build;
         build(self, item, inside, out)
+    }
+
+    /// Builds the objects of a nested item given by its keys `entries` (whose `add:` is
+    /// `kind`, perhaps naming a template) into `out`, keeping the trail of templates being
+    /// built only while it is built.
+    pub fn build_entries(
+        &mut self,
+        entries: Vec<Entry<'n, 's>>,
+        kind: &'n Node<'s>,
+        inside: &Inherited,
+        out: &mut Vec<Object>,
+    ) -> Result<(), SceneError> {
+        let mark = self.trail.len();
+        let item = expand_template(self.source, self.defines, entries, kind, &mut self.trail)?;
+        self.build(&item, inside, out)?;
+        self.trail.truncate(mark);
+        Ok(())
     }
 }
