@@ -29,18 +29,22 @@ fn main() {
         shading,
         ..RasterOptions::default()
     };
+    // One rasterizer for every frame, as an animation or the live preview keeps one: its
+    // image, vertices and tile lists are reused, not allocated again per frame.
+    let mut rasterizer = raster::Rasterizer::new();
     let started = std::time::Instant::now();
-    let mut last = None;
+    let mut stats = None;
     for _ in 0..frames {
-        match raster::render_with_stats(&camera, &world, &options) {
-            Ok(frame) => last = Some(frame),
+        match rasterizer.render(&camera, &world, &options) {
+            Ok((_, counts)) => stats = Some(counts),
             Err(e) => {
                 eprintln!("{e}");
                 std::process::exit(2);
             }
         }
     }
-    if let Some((canvas, stats)) = last {
+    if let Some(stats) = stats {
+        let canvas = rasterizer.canvas();
         eprintln!(
             "{mode}: {:?} per frame, {stats:?}",
             started.elapsed() / frames

@@ -217,7 +217,7 @@ fn the_book_sphere_generator_makes_divs_plus_one_rings_of_divs_vertices() {
         }
         // Every face with an area is wound outwards: (p3 - p1) × (p2 - p1) points away.
         for face in sphere.faces.iter() {
-            let [p1, p2, p3] = sphere.corners(face);
+            let [p1, p2, p3] = sphere.corners(&face);
             let n = (p3 - p1).cross(p2 - p1);
             if n.length() > 1e-12 {
                 assert!(n.dot(p1 + p2 + p3) > 0.0);
@@ -250,7 +250,7 @@ fn every_shape_tessellates_with_outward_faces() {
         .map(|s| {
             let t = tessellate(s, 16);
             for face in t.faces.iter() {
-                let [p1, p2, p3] = t.corners(face);
+                let [p1, p2, p3] = t.corners(&face);
                 let n = (p3 - p1).cross(p2 - p1);
                 let centre = (p1 + p2 + p3) / 3.0;
                 let outward = match s {
@@ -519,14 +519,14 @@ fn refining_cuts_faces_into_k_squared_pieces_of_the_same_surface() {
         t.faces
             .iter()
             .map(|f| {
-                let [a, b, c] = t.corners(f);
+                let [a, b, c] = t.corners(&f);
                 (b - a).cross(c - a).length() / 2.0
             })
             .sum()
     };
     assert!((area(&fine) - 24.0).abs() < 1e-9);
     for face in fine.faces.iter() {
-        let [p1, p2, p3] = fine.corners(face);
+        let [p1, p2, p3] = fine.corners(&face);
         let n = (p3 - p1).cross(p2 - p1);
         assert!(n.dot(p1 + p2 + p3) > 0.0, "still wound outwards");
     }

@@ -36,6 +36,16 @@ pub fn develop(film: &Film, exposure: Exposure) -> Canvas {
     canvas
 }
 
+/// Develops, in place, a canvas whose every pixel is one sample of weight 1 and whose film
+/// noted no brighter sample (what the rasterizer draws): the same colours, to the bit, as
+/// [`develop`] of [`Film::from_canvas`] of it, without the film's two copies of the image.
+pub fn develop_in_place(canvas: &mut Canvas, exposure: Exposure) {
+    if exposure == Exposure::Automatic {
+        // No pixel lacks weight, so there is nothing to repair.
+        expose(canvas, 0.0);
+    }
+}
+
 impl Film {
     /// Each pixel's sum of weighted colours divided by its sum of weights (black where the
     /// weight is 0). A pixel of one sample at weight 1 is that sample's colour, to the bit.

@@ -25,7 +25,7 @@ pub mod file;
 mod filter;
 mod shared;
 
-pub use develop::{develop, Exposure};
+pub use develop::{develop, develop_in_place, Exposure};
 pub use file::{FILM_MAGIC, FILM_VERSION, MAX_FILM_PIXELS};
 pub use filter::{PixelFilter, MAX_FILTER_RADIUS};
 pub use shared::SharedFilm;
@@ -133,13 +133,14 @@ impl Film {
 
     /// A box-filtered film holding each pixel of `canvas` as one sample of weight 1: what a
     /// renderer that computes one finished colour per pixel (the rasterizer) produces.
-    pub fn from_canvas(canvas: &Canvas) -> Self {
+    /// The canvas's pixels become the sums as they are, without a copy.
+    pub fn from_canvas(canvas: Canvas) -> Self {
         let (width, height) = (canvas.width(), canvas.height());
         Self {
             width,
             height,
             filter: PixelFilter::Box,
-            sums: canvas.pixels().to_vec(),
+            sums: canvas.into_pixels(),
             weights: vec![1.0; width * height],
             brightest: 0.0,
         }

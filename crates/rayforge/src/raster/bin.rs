@@ -86,6 +86,18 @@ pub(crate) struct Chunk {
     pub counts: Counts,
 }
 
+impl Chunk {
+    /// Empties the chunk for a new frame of `tiles` tiles, keeping its lists' memory.
+    fn clear(&mut self, tiles: usize) {
+        self.bins.resize_with(tiles, Vec::new);
+        for bin in &mut self.bins {
+            bin.clear();
+        }
+        self.clipped.clear();
+        self.counts = Counts::default();
+    }
+}
+
 /// Triangle counts, summed over chunks for [`RasterStats`](super::RasterStats).
 #[derive(Debug, Default, Clone, Copy)]
 pub(crate) struct Counts {
@@ -124,8 +136,10 @@ pub(crate) struct BinContext<'a, 'w> {
     pub bits: u32,
 }
 
-/// Bins every triangle of every instance.
-pub(crate) fn bin_all(ctx: &BinContext<'_, '_>) -> Vec<Chunk> {
+/// Bins every triangle of every instance into `chunks`, one per chunk of faces. The chunks'
+/// lists keep their memory from the last frame (a rasterizer keeps them), so a frame of the
+/// same scene does not grow thousands of lists again.
+pub(crate) fn bin_all(ctx: &BinContext<'_, '_>, chunks: &mut Vec<Chunk>) {
     // Chunks of CHUNK faces in scene order; a chunk may hold the faces of many small objects
     // (a chunk's bins cost memory per tile, so there must not be one per object).
     let mut jobs: Vec<Vec<(usize, usize, usize)>> = vec![Vec::new()];
@@ -146,18 +160,16 @@ pub(crate) fn bin_all(ctx: &BinContext<'_, '_>) -> Vec<Chunk> {
             start = end;
         }
     }
-    jobs.into_par_iter()
-        .map(|segments| {
-            let mut chunk = Chunk {
-                bins: vec![Vec::new(); ctx.tiles.count()],
-                ..Chunk::default()
-            };
+    chunks.resize_with(jobs.len(), Chunk::default);
+    chunks
+        .par_iter_mut()
+        .zip(jobs)
+        .for_each(|(chunk, segments)| {
+            chunk.clear(ctx.tiles.count());
             for (index, start, end) in segments {
-                bin_faces(ctx, &mut chunk, index, start, end);
+                bin_faces(ctx, chunk, index, start, end);
             }
-            chunk
-        })
-        .collect()
+        });
 }
 
 /// Bins faces `start..end` of instance `index` into `chunk`.
@@ -167,11 +179,12 @@ fn bin_faces(ctx: &BinContext<'_, '_>, chunk: &mut Chunk, index: usize, start: u
     let vertices = &ctx.vertices[instance.vertex_base..][..mesh.positions.len()];
     let (planes, plane_count) = (&instance.planes.0[..instance.planes.1], instance.planes.1);
     let image = PixelRect::image(ctx.tiles.width, ctx.tiles.height);
-    for (face_index, face) in mesh.faces[start..end].iter().enumerate() {
-        let face_index = (start + face_index) as u32;
+    for face_index in start..end {
+        let face = mesh.faces.get(face_index);
+        let face_index = face_index as u32;
         chunk.counts.faces += 1;
         if let Some((csg, leaf)) = instance.csg {
-            let [a, b, c] = mesh.corners(face).map(|p| instance.transform.point(p));
+            let [a, b, c] = mesh.corners(&face).map(|p| instance.transform.point(p));
             if !csg.keeps_surface_point(leaf, (a + b + c) / 3.0) {
                 continue;
             }

@@ -62,6 +62,6 @@ pub use crate::draw2d::{book2d, CanvasItem, CanvasPoint, Overlay, TriangleStyle}
 pub use crate::options::{RasterOptions, Shading, TextureFilter};
 pub use projection::Projection;
 pub use render::{
-    render, render_film, render_rows_into, render_with_stats, RasterError, RasterStats,
+    render, render_film, render_rows_into, render_with_stats, RasterError, RasterStats, Rasterizer,
 };
-pub use tessellate::{face_count, generate_sphere, refine, tessellate, Tessellation};
+pub use tessellate::{face_count, generate_sphere, refine, tessellate, Faces, Tessellation};

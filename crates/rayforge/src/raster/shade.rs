@@ -93,7 +93,7 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
             return (piece.screen, piece.inv_z);
         }
         let instance = &self.instances[instance as usize];
-        let face = &instance.model.mesh.faces[prim as usize];
+        let face = instance.model.mesh.faces.get(prim as usize);
         let v = face
             .vertices
             .map(|i| &self.vertices[instance.vertex_base + i as usize]);
@@ -112,7 +112,7 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
             (prim, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
         };
         let mesh = &instance.model.mesh;
-        let face = &mesh.faces[face_index as usize];
+        let face = &mesh.faces.get(face_index as usize);
         let points = mesh.corners(face).map(|p| instance.transform.point(p));
         let normals = match face.normals {
             Some(n) => n.map(|i| self.normals[instance.normal_base + i as usize]),

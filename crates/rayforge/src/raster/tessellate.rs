@@ -31,10 +31,66 @@ pub struct Tessellation<'a> {
     /// Texture coordinates, indexed by the faces' `texcoords`.
     pub texcoords: Cow<'a, [[f64; 2]]>,
     /// The triangles.
-    pub faces: Cow<'a, [MeshFace]>,
+    pub faces: Faces<'a>,
     /// Whether the surface encloses a volume with every face wound outwards, so that faces
     /// pointing away from the eye are hidden behind others (and may be culled).
     pub closed: bool,
+}
+
+/// A tessellation's triangles: a mesh's own, read face by face where they are kept (a
+/// million-triangle mesh is drawn every frame without a copy of its faces, which cost a tenth
+/// of such a frame), or generated.
+#[derive(Debug, Clone)]
+pub enum Faces<'a> {
+    /// The faces of a scene's mesh.
+    Mesh(&'a Mesh),
+    /// Faces made by a generator, a CSG solid's cut or a refinement.
+    Generated(Vec<MeshFace>),
+}
+
+impl Faces<'_> {
+    /// How many faces.
+    pub fn len(&self) -> usize {
+        match self {
+            Faces::Mesh(mesh) => mesh.faces().len(),
+            Faces::Generated(faces) => faces.len(),
+        }
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Face `index` (which must be below [`len`](Self::len)).
+    #[inline]
+    pub fn get(&self, index: usize) -> MeshFace {
+        match self {
+            Faces::Mesh(mesh) => mesh.face(index),
+            Faces::Generated(faces) => faces[index],
+        }
+    }
+
+    /// The faces in order.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = MeshFace> + '_ {
+        (0..self.len()).map(|i| self.get(i))
+    }
+
+    /// Adds a face, first copying a mesh's faces if they were borrowed.
+    fn push(&mut self, face: MeshFace) {
+        if let Faces::Mesh(mesh) = self {
+            *self = Faces::Generated(mesh.faces().collect());
+        }
+        if let Faces::Generated(faces) = self {
+            faces.push(face);
+        }
+    }
+}
+
+impl PartialEq for Faces<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.len() == other.len() && self.iter().eq(other.iter())
+    }
 }
 
 impl<'a> Tessellation<'a> {
@@ -44,7 +100,7 @@ impl<'a> Tessellation<'a> {
             positions: Cow::Owned(Vec::new()),
             normals: Cow::Owned(Vec::new()),
             texcoords: Cow::Owned(Vec::new()),
-            faces: Cow::Owned(Vec::new()),
+            faces: Faces::Generated(Vec::new()),
             closed,
         }
     }
@@ -55,7 +111,7 @@ impl<'a> Tessellation<'a> {
             positions: Cow::Borrowed(mesh.positions()),
             normals: Cow::Borrowed(mesh.normals()),
             texcoords: Cow::Borrowed(mesh.texcoords()),
-            faces: Cow::Owned(mesh.faces().collect()),
+            faces: Faces::Mesh(mesh),
             closed: false,
         }
     }
@@ -102,7 +158,7 @@ impl<'a> Tessellation<'a> {
         } else {
             [a, b, c]
         };
-        self.faces.to_mut().push(MeshFace {
+        self.faces.push(MeshFace {
             vertices: v,
             normals: Some(v),
             texcoords: None,
@@ -335,7 +391,7 @@ fn triangle(tri: &crate::geometry::Triangle) -> Tessellation<'static> {
         .zip(normals)
         .map(|(&p, n)| t.vertex(p, n))
         .collect::<Vec<_>>();
-    t.faces.to_mut().push(MeshFace {
+    t.faces.push(MeshFace {
         vertices: [ids[0], ids[1], ids[2]],
         normals: tri.vertex_normals.map(|_| [ids[0], ids[1], ids[2]]),
         texcoords: None,
@@ -362,12 +418,11 @@ fn csg(csg: &Csg, divisions: u32) -> Tessellation<'static> {
             .to_mut()
             .extend(part.normals.iter().map(|&n| object.transform.normal(n)));
         out.texcoords.to_mut().extend(part.texcoords.iter());
-        for face in part.faces.iter() {
-            let [a, b, c] = part.corners(face).map(|p| object.transform.point(p));
+        for mut face in part.faces.iter() {
+            let [a, b, c] = part.corners(&face).map(|p| object.transform.point(p));
             if !csg.keeps_surface_point(leaf, (a + b + c) / 3.0) {
                 continue;
             }
-            let mut face = *face;
             face.vertices = face.vertices.map(|i| i + base);
             face.normals = face.normals.map(|n| n.map(|i| i + normal_base));
             face.texcoords = face.texcoords.map(|n| n.map(|i| i + uv_base));
@@ -382,7 +437,7 @@ fn csg(csg: &Csg, divisions: u32) -> Tessellation<'static> {
                     n
                 });
             }
-            out.faces.to_mut().push(face);
+            out.faces.push(face);
         }
     }
     out
@@ -398,7 +453,7 @@ const MAX_REFINE: u32 = 32;
 pub fn refine(t: &Tessellation<'_>, max_edge: f64) -> Tessellation<'static> {
     let mut out = Tessellation::empty(t.closed);
     for face in t.faces.iter() {
-        let p = t.corners(face);
+        let p = t.corners(&face);
         let k = refinement(p, max_edge);
         let n = face.normals.map(|n| n.map(|i| t.normals[i as usize]));
         let uv = face.texcoords.map(|c| c.map(|i| t.texcoords[i as usize]));
@@ -422,7 +477,7 @@ pub fn refine(t: &Tessellation<'_>, max_edge: f64) -> Tessellation<'static> {
         }
         let mut push = |a: u32, b: u32, c: u32| {
             let v = [a, b, c];
-            out.faces.to_mut().push(MeshFace {
+            out.faces.push(MeshFace {
                 vertices: v,
                 normals: face.normals.map(|_| v),
                 texcoords: uv.map(|_| v.map(|i| i - first + first_uv)),
@@ -470,7 +525,7 @@ pub fn face_count(shape: &Shape, divisions: u32) -> u64 {
             let caps = if *closed { 2 * d } else { 0 };
             bands * 2 * d + caps
         }
-        Shape::Mesh(mesh) => Tessellation::of_mesh(mesh).faces.len() as u64,
+        Shape::Mesh(mesh) => mesh.faces().len() as u64,
         Shape::Csg(c) => c
             .leaves()
             .iter()
@@ -483,7 +538,7 @@ pub fn face_count(shape: &Shape, divisions: u32) -> u64 {
 pub fn refined_face_count(t: &Tessellation<'_>, max_edge: f64) -> u64 {
     t.faces
         .iter()
-        .map(|face| u64::from(refinement(t.corners(face), max_edge)).pow(2))
+        .map(|face| u64::from(refinement(t.corners(&face), max_edge)).pow(2))
         .sum()
 }
 

@@ -30,20 +30,24 @@ pub(crate) fn to_screen(projection: &Projection, view: DVec3, bits: u32) -> Fixe
     FixedPoint::from_pixels(p.x, p.y, bits)
 }
 
-/// All vertices and world-space normals of `instances`, at the offsets they were given.
+/// All vertices and world-space normals of `instances`, at the offsets they were given, into
+/// `vertices` and `normals` (resized to fit; a rasterizer keeps them from frame to frame, so a
+/// frame of the same scene allocates nothing here). Every element is written.
 pub(crate) fn transform_vertices(
     instances: &[Instance<'_>],
     projection: &Projection,
     bits: u32,
-) -> (Vec<ViewVertex>, Vec<Vec3>) {
+    vertices: &mut Vec<ViewVertex>,
+    normals: &mut Vec<Vec3>,
+) {
     let vertex_count = instances
         .last()
         .map_or(0, |i| i.vertex_base + i.model.mesh.positions.len());
     let normal_count = instances
         .last()
         .map_or(0, |i| i.normal_base + i.model.mesh.normals.len());
-    let mut vertices = vec![ViewVertex::default(); vertex_count];
-    let mut normals = vec![Vec3::ZERO; normal_count];
+    vertices.resize(vertex_count, ViewVertex::default());
+    normals.resize(normal_count, Vec3::ZERO);
     // Split the arrays into each instance's part, then work on runs of every part in parallel.
     let mut jobs = Vec::with_capacity(instances.len());
     let (mut rest_v, mut rest_n) = (vertices.as_mut_slice(), normals.as_mut_slice());
@@ -81,5 +85,4 @@ pub(crate) fn transform_vertices(
                 }
             });
     });
-    (vertices, normals)
 }

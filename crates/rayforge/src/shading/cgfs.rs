@@ -79,7 +79,10 @@ impl CgfsLighting {
             let vec_r = self.normal * (2.0 * n_dot_l) - vec_l;
             let r_dot_v = vec_r.dot(self.view);
             if r_dot_v > 0.0 {
-                let highlight = (r_dot_v / (vec_r.length() * self.length_v)).powf(self.shininess);
+                let highlight = super::phong::highlight(
+                    r_dot_v / (vec_r.length() * self.length_v),
+                    self.shininess,
+                );
                 for (sum, i) in self.intensity.iter_mut().zip(light) {
                     *sum += i * highlight;
                 }

@@ -85,7 +85,7 @@ pub fn lighting_with(
         let specular = if reflect_dot_eye <= 0.0 || material.specular == 0.0 {
             Color::BLACK
         } else {
-            light.intensity() * material.specular * reflect_dot_eye.powf(material.shininess)
+            light.intensity() * material.specular * highlight(reflect_dot_eye, material.shininess)
         };
         diffuse + specular
     };
@@ -112,4 +112,39 @@ pub fn lighting_with(
         }
     };
     ambient + lit * (light_fraction * reach)
+}
+
+/// `cos_angle` raised to the shininess. Shininess is nearly always a whole number (the books'
+/// 10, 200 and 300), and then repeated squaring (`powi`, eight multiplications for 200)
+/// replaces the general `pow` call, which was a tenth of the rasterizer's Phong frame; the two
+/// agree to a few units in the last place.
+#[inline]
+pub(crate) fn highlight(cos_angle: f64, shininess: f64) -> f64 {
+    if shininess.fract() == 0.0 && (0.0..=4096.0).contains(&shininess) {
+        cos_angle.powi(shininess as i32)
+    } else {
+        cos_angle.powf(shininess)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::highlight;
+
+    #[test]
+    fn a_whole_shininess_raised_by_squaring_agrees_with_pow() {
+        for &base in &[0.0, 1e-3, 0.25, 0.5, 0.9, 0.999_999, 1.0] {
+            for shininess in [0.0, 1.0, 2.0, 10.0, 200.0, 300.0, 4096.0] {
+                let (fast, exact) = (highlight(base, shininess), f64::powf(base, shininess));
+                assert!(
+                    (fast - exact).abs() <= 1e-13 * exact.abs().max(f64::MIN_POSITIVE),
+                    "{base}^{shininess}: {fast} against {exact}"
+                );
+            }
+        }
+        // Fractional and out-of-range exponents go to pow itself.
+        assert_eq!(highlight(0.5, 2.5), 0.5f64.powf(2.5));
+        assert_eq!(highlight(0.5, 1e6), 0.5f64.powf(1e6));
+        assert_eq!(highlight(0.5, -2.0), 0.5f64.powf(-2.0));
+    }
 }
