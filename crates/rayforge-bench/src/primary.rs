@@ -1,6 +1,7 @@
 //! Primary-ray throughput against Embree: the same rays through the same million-triangle
 //! meshes, both on the same number of threads, scheduled alike (see `trace.rs` and the
-//! harness). The issue's target: rayforge at 50 % of Embree's rays per second or better.
+//! harness). The second performance issue's target: rayforge at 75 % of Embree's rays per second or
+//! better.
 
 use super::report::{seconds, si, Check, Report, Table};
 use super::shapes::{bumpy_sphere, read_obj, subdivide_until, Soup};
@@ -8,7 +9,7 @@ use super::{embree, files, rays, trace, Bench};
 use rayforge_cli::failure::Failure;
 
 /// rayforge's throughput as a share of Embree's that the issue asks for.
-const TARGET_SHARE: f64 = 0.5;
+const TARGET_SHARE: f64 = 0.75;
 
 /// Runs the comparison on the bumpy sphere and, when the model is there, the subdivided dragon.
 pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {

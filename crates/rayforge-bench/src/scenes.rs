@@ -20,8 +20,11 @@ const MAX_DEPTH: u32 = 5;
 /// depth 4 traces the same.
 const RAYTRACER_RS_DEPTH: u32 = 4;
 
-/// How much faster than each peer the issue asks rayforge to be.
-const POVRAY_TARGET: f64 = 1.0;
+/// How much faster than POV-Ray the second performance issue asks rayforge to be on the
+/// book's cover, and on its other scenes.
+const POVRAY_COVER_TARGET: f64 = 4.0;
+const POVRAY_TARGET: f64 = 3.0;
+/// How much faster than raytracer_rs the first performance issue asked rayforge to be.
 const RAYTRACER_RS_TARGET: f64 = 5.0;
 
 /// A peer's side of one scene.
@@ -211,6 +214,7 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
             case.size
         };
         let (peer_name, target) = match case.peer {
+            Peer::PovRay { .. } if case.name == "cover" => ("POV-Ray 3.7", POVRAY_COVER_TARGET),
             Peer::PovRay { .. } => ("POV-Ray 3.7", POVRAY_TARGET),
             Peer::RaytracerRs { .. } => ("raytracer_rs", RAYTRACER_RS_TARGET),
         };

@@ -2,7 +2,8 @@
 //! built R times (the fastest BVH build counts, on both sides; its bytes are counted), then
 //! traced with the same 1920×1080 rays by rayforge and, when installed, Embree. The issue's targets: at least 5 M triangles
 //! per second built on 2 cores and at most 100 bytes per triangle beyond the vertex data for
-//! large meshes; time per primary ray no more than doubling from 1 k to 10 M triangles.
+//! large meshes; time per primary ray growing at most 1.8× from 1 k to 10 M triangles (the second
+//! performance issue's line; the first allowed 2×).
 
 use super::plot::{self, Series};
 use super::report::{seconds, si, times, Check, Report, Table};
@@ -18,7 +19,7 @@ const TARGET_BUILD_RATE: f64 = 5e6;
 /// Bytes per triangle beyond the vertex data the issue allows.
 const TARGET_BYTES: f64 = 100.0;
 /// How much the time per ray may grow from the smallest mesh to the largest.
-const TARGET_GROWTH: f64 = 2.0;
+const TARGET_GROWTH: f64 = 1.8;
 /// Meshes from this size on count as large for the build targets.
 const LARGE: usize = 1_000_000;
 
