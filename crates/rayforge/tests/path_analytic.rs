@@ -303,3 +303,584 @@ fn a_one_sided_surface_is_black_from_behind() {
         from_below(false)
     );
 }
+
+// Next-event estimation of the emitters that used to be found only by the paths that hit them
+// (spindle tori, CSG solids, emission textures, infinite planes). For each: (a) the density a
+// light sample reports is the one `object_pdf` tells a path that hits the same point (and its
+// radiance the one the path sees), and (b) the irradiance at a point estimated by light
+// sampling agrees with the estimate by uniform direction sampling, which knows nothing of the
+// emitters (and with a closed form, where there is one). Last, the path tracer itself, which
+// weighs light and BSDF samples by those densities, lights a floor as the irradiance says.
+
+mod emitter_sampling {
+    use rayforge::geometry::{LocalHit, Mesh, MeshFace};
+    use rayforge::math::{rotation_x, rotation_y, rotation_z, scaling, translation, Frame};
+    use rayforge::scene::Emitters;
+    use rayforge::shading::metal_rough::{TextureSlot, Wrap};
+    use rayforge::shading::{
+        EmissionSide, Filter, Jitter, Material, MetalRough, SplitMix64, Texture,
+    };
+    use rayforge::{point, Color, CsgOperation, Object, Point3, Ray, Shape, Vec3, World};
+    use std::f64::consts::PI;
+    use std::sync::Arc;
+
+    fn glowing(shape: Shape, matrix: glam::DMat4, emission: f64, side: EmissionSide) -> Object {
+        Object::new(shape)
+            .with_transform(matrix)
+            .with_material(Material {
+                emission: Color::new(emission, emission, emission),
+                emission_side: side,
+                ..Material::DEFAULT
+            })
+    }
+
+    fn world_of(object: Object) -> World {
+        World {
+            objects: vec![object],
+            ..World::default()
+        }
+    }
+
+    /// The first hit of the world's one object along the unit direction from `from`.
+    fn first_hit(world: &World, from: Point3, direction: Vec3) -> Option<LocalHit> {
+        let object = &world.objects[0];
+        let ray = Ray::new(from, direction);
+        (object.shape).closest_hit(&object.ray_to_object(&ray), 1e-9, f64::INFINITY)
+    }
+
+    /// The radiance a path that meets the world's object at `hit` along `direction` sees,
+    /// read as the path integrator reads it: the hit primitive's material (a CSG solid's
+    /// leaf), its emissive texture at the surface's texture coordinates, on its emitting side.
+    fn seen_emission(world: &World, from: Point3, direction: Vec3, hit: &LocalHit) -> Color {
+        let object = &world.objects[0];
+        let at = from + direction * hit.t;
+        let surface = object.surface(hit.leaf);
+        let material = &surface.material;
+        let emission = match &material.metal_rough {
+            Some(m) => m.emission_at(&surface.shape.surface_point(hit)),
+            None => material.emission,
+        };
+        let geometric = object.normal_at_local_hit(at, hit);
+        if material
+            .emission_side
+            .emits_towards(-geometric.dot(direction))
+        {
+            emission
+        } else {
+            Color::BLACK
+        }
+    }
+
+    /// Light samples from each of `points`, `n` each: every sampled point a path can reach (the
+    /// first hit along its direction) must be told the density it was sampled with, and carry
+    /// the radiance the path would see there. Returns how many were checked.
+    fn check_densities(world: &World, points: &[Point3], n: usize, seed: u64) -> usize {
+        let emitters = Emitters::new(world);
+        let mut random = SplitMix64::new(seed);
+        let mut checked = 0;
+        for &from in points {
+            for _ in 0..n {
+                let pick = random.next_offset();
+                let u = [random.next_offset(), random.next_offset()];
+                let Some(s) = emitters.sample(world, from, 0.0, pick, u) else {
+                    continue;
+                };
+                assert!(s.pdf > 0.0 && s.pdf.is_finite(), "{s:?}");
+                let Some(hit) = first_hit(world, from, s.direction) else {
+                    panic!("from {from:?}: a sampled direction misses: {s:?}");
+                };
+                if (hit.t - s.distance).abs() > 1e-6 * s.distance {
+                    continue; // the sampled point lies behind another part of the emitter
+                }
+                let at = from + s.direction * hit.t;
+                let pdf = emitters.object_pdf(world, 0, from, at, s.direction, &hit);
+                assert!(
+                    (pdf - s.pdf).abs() <= 1e-6 * s.pdf,
+                    "from {from:?}: sampled with {} but told {pdf}",
+                    s.pdf
+                );
+                let seen = seen_emission(world, from, s.direction, &hit);
+                assert!(
+                    (seen.red - s.radiance.red).abs() <= 1e-9
+                        && (seen.green - s.radiance.green).abs() <= 1e-9
+                        && (seen.blue - s.radiance.blue).abs() <= 1e-9,
+                    "from {from:?}: sampled radiance {:?}, a path sees {seen:?}",
+                    s.radiance
+                );
+                checked += 1;
+            }
+        }
+        checked
+    }
+
+    /// A mean and its standard error.
+    fn mean_and_error(sum: f64, sum_squares: f64, n: usize) -> (f64, f64) {
+        let n = n as f64;
+        let mean = sum / n;
+        let variance = (sum_squares / n - mean * mean).max(0.0);
+        (mean, (variance / (n - 1.0)).sqrt())
+    }
+
+    /// The irradiance (red channel) at `at`, facing unit `normal`, from the world's one object,
+    /// estimated two ways, each with its standard error:
+    /// - by light sampling (`n` samples; a sample counts when nothing of the object lies
+    ///   before its point, as the integrator's shadow ray asks);
+    /// - by `n` directions uniform over the cone around the sphere that bounds the object
+    ///   (every direction that can meet it), or over the whole sphere of directions where the
+    ///   object is unbounded or `at` lies in that sphere, knowing nothing of the emitters:
+    ///   each counts the radiance a path meeting the object along it sees, times `cos⁺`.
+    fn irradiance_two_ways(
+        world: &World,
+        at: Point3,
+        normal: Vec3,
+        n: usize,
+        seed: u64,
+    ) -> ((f64, f64), (f64, f64)) {
+        let emitters = Emitters::new(world);
+        let mut random = SplitMix64::new(seed);
+        let (mut sum, mut squares) = (0.0, 0.0);
+        for _ in 0..n {
+            let pick = random.next_offset();
+            let u = [random.next_offset(), random.next_offset()];
+            let value = emitters
+                .sample(world, at, 0.0, pick, u)
+                .filter(|s| s.direction.dot(normal) > 0.0)
+                .filter(|s| {
+                    first_hit(world, at, s.direction)
+                        .is_none_or(|h| h.t >= s.distance * (1.0 - 1e-6))
+                })
+                .map_or(0.0, |s| s.radiance.red * s.direction.dot(normal) / s.pdf);
+            sum += value;
+            squares += value * value;
+        }
+        let light = mean_and_error(sum, squares, n);
+        // The cone: its axis towards the bounding sphere's centre, cos of its half-angle.
+        let bounds = world.objects[0].bounds();
+        let centre = (bounds.min + bounds.max) / 2.0;
+        let radius = (bounds.max - bounds.min).length() / 2.0;
+        let distance = (centre - at).length();
+        let (axis, cos_max) = if radius.is_finite() && distance > radius {
+            let axis = (centre - at) / distance;
+            (axis, (1.0 - (radius / distance).powi(2)).sqrt())
+        } else {
+            (normal, -1.0)
+        };
+        let frame = Frame::from_normal(axis);
+        let solid_angle = 2.0 * PI * (1.0 - cos_max);
+        let (mut sum, mut squares) = (0.0, 0.0);
+        for _ in 0..n {
+            let (u0, u1) = (random.next_offset(), random.next_offset());
+            let cos = 1.0 - u0 * (1.0 - cos_max);
+            let sin = (1.0 - cos * cos).max(0.0).sqrt();
+            let phi = 2.0 * PI * u1;
+            let direction = frame.to_world(Vec3::new(sin * phi.cos(), sin * phi.sin(), cos));
+            let facing = direction.dot(normal);
+            let value = match first_hit(world, at, direction) {
+                Some(hit) if facing > 0.0 => {
+                    seen_emission(world, at, direction, &hit).red * facing * solid_angle
+                }
+                _ => 0.0,
+            };
+            sum += value;
+            squares += value * value;
+        }
+        (light, mean_and_error(sum, squares, n))
+    }
+
+    /// The two estimates agree within five standard errors of their difference (a chance of
+    /// about 6 in 10⁷ of failing were they equal in expectation, the estimates' means being
+    /// close to normal at these counts; the seeds are fixed, so the test is deterministic),
+    /// and the light-sampled one has an error under a tenth of itself, small enough for the
+    /// agreement to mean something.
+    fn assert_agree(what: &str, estimates: ((f64, f64), (f64, f64))) {
+        assert_agree_within(what, estimates);
+        let light = estimates.0;
+        assert!(
+            light.0 > 0.0 && light.1 < 0.1 * light.0,
+            "{what}: {light:?}"
+        );
+    }
+
+    /// The agreement of [`assert_agree`] alone.
+    fn assert_agree_within(what: &str, (light, directions): ((f64, f64), (f64, f64))) {
+        let tolerance = 5.0 * light.1.hypot(directions.1);
+        assert!(
+            (light.0 - directions.0).abs() <= tolerance,
+            "{what}: light sampling gives {} ± {}, uniform directions {} ± {}",
+            light.0,
+            light.1,
+            directions.0,
+            directions.1
+        );
+    }
+
+    fn spindle(side: EmissionSide) -> (World, glam::DMat4) {
+        let place = translation(0.3, -0.2, 0.5) * rotation_y(0.6) * scaling(1.4, 0.8, 1.1);
+        let torus = Shape::Torus {
+            major: 0.5,
+            minor: 1.0,
+        };
+        (world_of(glowing(torus, place, 1.0, side)), place)
+    }
+
+    #[test]
+    fn a_spindle_torus_is_sampled_with_the_density_its_hits_are_told() {
+        let (world, place) = spindle(EmissionSide::Both);
+        // From outside, and from inside the solid between the lemon and the apple, where the
+        // lemon is seen.
+        let inside = place.transform_point3(point(1.0, 0.1, 0.0));
+        let points = [point(4.0, 3.0, -5.0), point(-2.0, -3.0, 1.0), inside];
+        assert!(check_densities(&world, &points, 400, 7) > 400);
+    }
+
+    #[test]
+    fn a_spindle_torus_gives_by_light_sampling_the_irradiance_uniform_directions_find() {
+        let (world, place) = spindle(EmissionSide::Both);
+        let outside = point(0.0, 0.5, -4.0);
+        let towards = (place.transform_point3(point(0.0, 0.0, 0.0)) - outside).normalize();
+        assert_agree(
+            "outside",
+            irradiance_two_ways(&world, outside, towards, 200_000, 11),
+        );
+        // Inside the solid, between the lemon and the apple, both light the point; inside the
+        // lemon, only the lemon does. One-sided, each lights the side its hits see as front,
+        // that of the shape's own normal (away from the nearest point of the centre circle:
+        // outwards on the apple, but not the lemon's outward normal), so between the two only
+        // the back of each sends light.
+        let between = place.transform_point3(point(1.0, 0.1, 0.0));
+        let in_lemon = place.transform_point3(point(0.05, 0.1, 0.0));
+        let up = place.transform_vector3(Vec3::Y).normalize();
+        for (at, side) in [
+            (between, EmissionSide::Both),
+            (between, EmissionSide::Back),
+            (in_lemon, EmissionSide::Both),
+            (in_lemon, EmissionSide::Back),
+        ] {
+            let (world, _) = spindle(side);
+            let estimates = irradiance_two_ways(&world, at, up, 100_000, 13);
+            assert_agree(&format!("at {at:?}, {side:?}"), estimates);
+            // Enclosed by a surface of radiance 1 seen from its emitting side everywhere,
+            // the point gets π (within five of the directions estimate's standard errors).
+            if side == EmissionSide::Both || at == between {
+                assert!(
+                    (estimates.1 .0 - PI).abs() < 5.0 * estimates.1 .1,
+                    "{estimates:?}"
+                );
+            }
+        }
+        // The lemon's front (the shape's normal there points largely away from the lemon's
+        // inside) sends little light inside it, and none reaches the space between.
+        let (world, _) = spindle(EmissionSide::Front);
+        assert_agree_within(
+            "in the lemon, Front",
+            irradiance_two_ways(&world, in_lemon, up, 20_000, 13),
+        );
+        let (light, directions) = irradiance_two_ways(&world, between, up, 500, 13);
+        assert_eq!((light.0, directions.0), (0.0, 0.0));
+    }
+
+    /// A sphere with a notch cut by a cube (which glows brighter), and two overlapping spheres
+    /// of which only the first glows.
+    fn solids() -> Vec<World> {
+        let sphere = glowing(
+            Shape::Sphere,
+            scaling(1.2, 1.0, 1.0),
+            1.0,
+            EmissionSide::Both,
+        );
+        let cube = glowing(
+            Shape::Cube,
+            translation(0.9, 0.2, 0.0) * rotation_z(0.3) * scaling(0.6, 0.6, 0.6),
+            2.0,
+            EmissionSide::Both,
+        );
+        let notched = Object::csg(CsgOperation::Difference, sphere.clone(), cube).unwrap();
+        let dark =
+            Object::sphere().with_transform(translation(0.9, 0.0, 0.3) * scaling(0.7, 0.7, 0.7));
+        let union = Object::csg(CsgOperation::Union, sphere, dark)
+            .unwrap()
+            .with_transform(rotation_x(0.4) * translation(0.0, 0.5, 0.0));
+        vec![world_of(notched), world_of(union)]
+    }
+
+    #[test]
+    fn a_csg_solid_is_sampled_with_the_density_its_hits_are_told() {
+        // From outside, one point looking into the notch.
+        let points = [
+            point(4.0, 0.5, 0.3),
+            point(-3.0, 2.0, -4.0),
+            point(0.5, -3.0, 2.0),
+        ];
+        for (i, world) in solids().iter().enumerate() {
+            let checked = check_densities(world, &points, 300, 17);
+            assert!(checked > 200, "solid {i}: {checked}");
+        }
+    }
+
+    #[test]
+    fn a_csg_solid_gives_by_light_sampling_the_irradiance_uniform_directions_find() {
+        for (i, world) in solids().iter().enumerate() {
+            for at in [point(3.0, 0.4, 0.3), point(-1.0, 2.5, -2.0)] {
+                let towards = (point(0.3, 0.2, 0.0) - at).normalize();
+                assert_agree(
+                    &format!("solid {i} from {at:?}"),
+                    irradiance_two_ways(world, at, towards, 20_000, 19),
+                );
+            }
+        }
+    }
+
+    /// A 2 × 2 square of two triangles with texture coordinates, glowing through a 2 × 2
+    /// emissive texture of four colours (nearest texels), tilted and lifted.
+    fn textured() -> World {
+        let positions = vec![
+            point(-1.0, 0.0, -1.0),
+            point(1.0, 0.0, -1.0),
+            point(1.0, 0.0, 1.0),
+            point(-1.0, 0.0, 1.0),
+        ];
+        let texcoords = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let faces = [[0, 1, 2], [0, 2, 3]]
+            .into_iter()
+            .map(|v| MeshFace {
+                vertices: v,
+                normals: None,
+                texcoords: Some(v),
+            })
+            .collect();
+        let mesh = Mesh::with_texcoords(positions, Vec::new(), texcoords, faces).unwrap();
+        let texels = vec![
+            Color::new(1.0, 0.2, 0.0),
+            Color::new(4.0, 0.0, 1.0),
+            Color::new(0.25, 3.0, 0.5),
+            Color::new(2.0, 1.0, 2.0),
+        ];
+        let texture = Texture::new(2, 2, texels, Filter::Nearest).unwrap();
+        let slot = TextureSlot {
+            texture: Arc::new(texture),
+            alpha: None,
+            wrap: [Wrap::ClampToEdge; 2],
+            filter: Filter::Nearest,
+            transform: None,
+        };
+        let metal_rough = MetalRough {
+            emissive: Color::new(1.0, 0.5, 2.0),
+            emissive_texture: Some(slot),
+            double_sided: true,
+            ..MetalRough::default()
+        };
+        let object = Object::mesh(Arc::new(mesh))
+            .with_transform(translation(0.0, 2.0, 0.0) * rotation_x(2.8) * rotation_z(0.2))
+            .with_material(Material {
+                emission_side: EmissionSide::Both,
+                metal_rough: Some(Arc::new(metal_rough)),
+                ..Material::DEFAULT
+            });
+        world_of(object)
+    }
+
+    #[test]
+    fn a_textured_emitter_is_sampled_with_the_density_and_radiance_its_hits_are_told() {
+        let world = textured();
+        let points = [
+            point(0.0, 0.0, 0.0),
+            point(1.5, -1.0, 2.0),
+            point(-0.5, 4.0, 0.2),
+        ];
+        assert!(check_densities(&world, &points, 300, 23) > 600);
+    }
+
+    #[test]
+    fn a_textured_emitter_gives_by_light_sampling_the_irradiance_uniform_directions_find() {
+        let world = textured();
+        for at in [point(0.0, 0.0, 0.0), point(1.5, 0.5, 1.0)] {
+            let towards = (point(0.0, 2.0, 0.0) - at).normalize();
+            assert_agree(
+                &format!("from {at:?}"),
+                irradiance_two_ways(&world, at, towards, 20_000, 29),
+            );
+        }
+    }
+
+    /// An infinite plane 3 above the origin, tilted, glowing downwards with radiance 1.5.
+    fn ceiling(side: EmissionSide) -> (World, Vec3) {
+        let turn = rotation_x(0.3) * rotation_z(-0.2);
+        let plane = glowing(
+            Shape::Plane,
+            turn * translation(0.0, 3.0, 0.0) * rotation_x(PI),
+            1.5,
+            side,
+        );
+        (world_of(plane), turn.transform_vector3(-Vec3::Y))
+    }
+
+    #[test]
+    fn an_infinite_plane_is_sampled_with_the_density_its_hits_are_told() {
+        let (world, _) = ceiling(EmissionSide::Front);
+        let points = [
+            point(0.0, 0.0, 0.0),
+            point(10.0, -5.0, 3.0),
+            point(-2.0, 2.5, 1.0),
+        ];
+        assert_eq!(check_densities(&world, &points, 300, 31), 900);
+        // Above it, on its dark side, no light is sampled.
+        let emitters = Emitters::new(&world);
+        let above = point(0.0, 8.0, 0.0);
+        assert!((0..64).all(|i| {
+            let u = [(i % 8) as f64 / 8.0 + 0.06, (i / 8) as f64 / 8.0 + 0.06];
+            emitters.sample(&world, above, 0.0, 0.5, u).is_none()
+        }));
+    }
+
+    #[test]
+    fn an_infinite_plane_gives_the_irradiance_its_view_factor_gives() {
+        // A point whose normal makes an angle α with the direction straight at the plane sees
+        // it over the view factor (1 + cos α)/2 of its hemisphere: E = π L (1 + cos α)/2.
+        let (world, down) = ceiling(EmissionSide::Both);
+        let frame = Frame::from_normal(-down);
+        for alpha in [0.0_f64, 0.7, 1.4, 2.2] {
+            let normal = frame.to_world(Vec3::new(alpha.sin(), 0.0, alpha.cos()));
+            let expected = PI * 1.5 * (1.0 + alpha.cos()) / 2.0;
+            let (light, directions) =
+                irradiance_two_ways(&world, point(0.5, -1.0, 0.2), normal, 10_000, 37);
+            assert_agree(&format!("α = {alpha}"), (light, directions));
+            for (what, (mean, error)) in [("light", light), ("directions", directions)] {
+                assert!(
+                    (mean - expected).abs() <= 5.0 * error + 1e-9 * expected,
+                    "α = {alpha}: {what} gives {mean} ± {error}, expected {expected}"
+                );
+            }
+        }
+    }
+
+    /// `object` with every material in it (a CSG solid's primitives' too: the solids here are
+    /// a union or a difference of two) made black and diffuse: it glows but reflects nothing.
+    fn black(object: &Object) -> Object {
+        let blacken = |m: &Material| Material {
+            color: Color::BLACK,
+            physical: Some(rayforge::shading::Physical::Diffuse),
+            metal_rough: m.metal_rough.as_ref().map(|r| {
+                Arc::new(MetalRough {
+                    base_color: Color::BLACK,
+                    metallic: 0.0,
+                    ..MetalRough::clone(r)
+                })
+            }),
+            ..m.clone()
+        };
+        let mut object = object.clone();
+        if let Shape::Csg(csg) = &object.shape {
+            let leaves: Vec<Object> = csg
+                .leaves()
+                .iter()
+                .map(|leaf| leaf.clone().with_material(blacken(&leaf.material)))
+                .collect();
+            let rebuilt = match csg.operation() {
+                CsgOperation::Difference | CsgOperation::Union => {
+                    Object::csg(csg.operation(), leaves[0].clone(), leaves[1].clone())
+                }
+                other => panic!("{other:?}"),
+            };
+            object = rebuilt.unwrap();
+        }
+        let material = blacken(&object.material);
+        object.with_material(material)
+    }
+
+    #[test]
+    fn a_floor_lit_by_each_new_emitter_through_the_path_tracer_gets_what_its_irradiance_gives() {
+        // A diffuse floor of albedo 1/2 under a black emitter: every path from the floor ends
+        // at the emitter or in the black sky, so the floor's radiance is (1/2)/π times the
+        // irradiance the emitter gives it. The path tracer (light sampling and BSDF sampling
+        // weighed by MIS, through `object_pdf` for the hits) must agree with the irradiance by
+        // uniform directions, within five standard errors of their difference.
+        use rayforge::options::SamplerKind;
+        use rayforge::render::path::{PathContext, SampleStream};
+        use rayforge::scene::WorldIndex;
+        use rayforge::shading::Physical;
+        let mut lamps = vec![spindle(EmissionSide::Both).0.objects[0].clone()];
+        lamps.extend(solids().into_iter().map(|w| w.objects[0].clone()));
+        lamps.push(textured().objects[0].clone());
+        let at = point(0.3, -2.0, 0.2);
+        for (i, lamp) in lamps.iter().map(black).enumerate() {
+            let alone = world_of(lamp.clone());
+            let (_, irradiance) = irradiance_two_ways(&alone, at, Vec3::Y, 100_000, 41);
+            let floor = Object::plane()
+                .with_transform(translation(0.0, -2.0, 0.0))
+                .with_material(Material {
+                    color: Color::new(0.5, 0.5, 0.5),
+                    physical: Some(Physical::Diffuse),
+                    ..Material::DEFAULT
+                });
+            let world = World {
+                objects: vec![floor, lamp],
+                ..World::default()
+            };
+            let (emitters, index) = (Emitters::new(&world), WorldIndex::build(&world));
+            assert!(!emitters.is_empty(), "lamp {i} is not sampled");
+            let mut context = PathContext::new(&world, &index, &emitters, 4, 5);
+            let from = point(0.0, -1.6, -8.0);
+            let ray = Ray::new(from, (at - from).normalize());
+            let n = 20_000;
+            let (mut sum, mut squares) = (0.0, 0.0);
+            for s in 0..n {
+                let mut stream = SampleStream::new(SamplerKind::Independent, 43, 0, 0, s);
+                let value = context.radiance(ray, &mut stream).0.red;
+                sum += value;
+                squares += value * value;
+            }
+            let (mean, error) = mean_and_error(sum, squares, n as usize);
+            let scale = 0.5 / PI;
+            let (expected, expected_error) = (irradiance.0 * scale, irradiance.1 * scale);
+            assert!(
+                (mean - expected).abs() <= 5.0 * error.hypot(expected_error),
+                "lamp {i}: the path tracer gives {mean} ± {error}, expected {expected} ± \
+                 {expected_error}"
+            );
+            assert!(error < 0.05 * mean, "lamp {i}: {mean} ± {error}");
+        }
+    }
+
+    #[test]
+    fn a_floor_under_a_glowing_ceiling_has_half_its_radiance() {
+        // A diffuse floor of albedo 1/2 under an infinite black ceiling that glows 1 downwards
+        // sees the ceiling over its whole hemisphere: its radiance is exactly 1/2. Light and
+        // BSDF sampling both draw cosine-weighted directions there, so their weights must
+        // sum to one for every sample: any mismatch of densities would show at once.
+        use rayforge::options::SamplerKind;
+        use rayforge::render::path::{PathContext, SampleStream};
+        use rayforge::scene::WorldIndex;
+        use rayforge::shading::Physical;
+        let floor = Object::plane().with_material(Material {
+            color: Color::new(0.5, 0.5, 0.5),
+            physical: Some(Physical::Diffuse),
+            ..Material::DEFAULT
+        });
+        let ceiling = glowing(
+            Shape::Plane,
+            translation(0.0, 2.0, 0.0),
+            1.0,
+            EmissionSide::Back,
+        )
+        .with_material(Material {
+            color: Color::BLACK,
+            physical: Some(Physical::Diffuse),
+            emission: Color::WHITE,
+            emission_side: EmissionSide::Back,
+            ..Material::DEFAULT
+        });
+        let world = World {
+            objects: vec![floor, ceiling],
+            ..World::default()
+        };
+        let (emitters, index) = (Emitters::new(&world), WorldIndex::build(&world));
+        let mut context = PathContext::new(&world, &index, &emitters, 4, 5);
+        let from = point(0.0, 1.0, -3.0);
+        let ray = Ray::new(from, (point(0.3, 0.0, 0.0) - from).normalize());
+        for s in 0..256 {
+            let mut stream = SampleStream::new(SamplerKind::Independent, 3, 4, 5, s);
+            let value = context.radiance(ray, &mut stream).0.red;
+            assert!((value - 0.5).abs() <= 1e-9, "sample {s}: {value}");
+        }
+    }
+}

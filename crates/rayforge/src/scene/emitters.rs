@@ -15,29 +15,52 @@
 //!   lights do too (`π · intensity / d²`). The area light is an invisible rectangle whose
 //!   points are such lights, sampled by area: only its light is seen.
 //! - An emitting object gives off radiance `emission` from the side its normal faces (or the
-//!   other side, or both: [`EmissionSide`]). Spheres, cubes, rectangles, rings and discs,
-//!   triangles, meshes, finite cylinders and cones, and ring tori are sampled by area, where
-//!   they are at the path's instant of the shutter when they move; other emitting shapes
-//!   (unbounded ones, planes, spindle tori, CSG solids, surfaces with an emission texture)
-//!   are found only by the paths that hit them, which is unbiased but noisier.
+//!   other side, or both: [`EmissionSide`](crate::shading::EmissionSide)); a glTF material's
+//!   emissive texture scales it at the surface's own texture coordinates. What is sampled:
+//!   - By area, where they are at the path's instant of the shutter when they move: spheres,
+//!     cubes, rectangles, rings and discs, triangles, meshes, finite cylinders and cones, ring
+//!     tori and spindle tori (tube wider than the ring: the whole surface the quartic
+//!     describes, the inner lemon included, uniformly by the area element `|R + r cos φ|·r`).
+//!   - Emissive textures, on any of those: sampled by area as the plain shape, the radiance
+//!     read at the sampled point by the same code a path that hits it uses; the emitter's
+//!     power (which picks it) uses the texture's mean over 32 × 32 points.
+//!   - CSG solids that stand still, of at most [`MAX_SAMPLED_CSG_LEAVES`] primitives: one of
+//!     their emitting primitives of the kinds above is picked by area, a point on it by area,
+//!     and the sample gives no light where the solid does not keep that surface
+//!     ([`Csg::keeps_surface_point`]). A kept point's density is the primitive's probability
+//!     over its area, which [`Emitters::object_pdf`] returns for a hit there.
+//!   - Infinite planes: a direction cosine-weighted about the normal, over the hemisphere
+//!     towards the plane's glowing side (every such direction meets it); picked by the power
+//!     it sends through the scene's cross-section.
+//!
+//!   Other emitting shapes (infinite cylinders and cones, CSG solids that move or have more
+//!   primitives, a solid's primitives of other kinds, glTF meshes whose alpha mode cuts holes
+//!   in them) are found only by the paths that hit them, which is unbiased but noisier.
 //! - The sky: the world's environment map, importance-sampled by luminance, else the
 //!   background as light of constant radiance from every direction (found by the paths that
 //!   escape: sampling the BSDF follows a uniform sky as well as light sampling could).
 //! - The cgfs model's ambient light has no physical meaning and is left out: the path tracer's
 //!   indirect light is what it stood for.
 
+use super::csg::Csg;
 use super::object::Object;
 use super::shape::Shape;
 use super::world::{LightingModel, World};
 use crate::color::Color;
-use crate::geometry::{rectangle, LocalHit, Mesh};
-use crate::math::{Distribution1D, Point3, Transform, Vec3};
-use crate::shading::{EmissionSide, EnvironmentMap, Light, SpotLight};
-use std::f64::consts::{PI, SQRT_2};
+use crate::geometry::{rectangle, torus, LocalHit, Mesh};
+use crate::math::random::{Jitter, SplitMix64};
+use crate::math::{Distribution1D, Frame, Point3, Transform, Vec3};
+use crate::shading::{EnvironmentMap, Light, Material, SpotLight};
+use std::f64::consts::{FRAC_1_PI, PI, SQRT_2};
 use std::sync::Arc;
 
 /// Marks an object that is not a sampled emitter.
 const NOT_SAMPLED: u32 = u32::MAX;
+
+/// The most primitives a CSG solid may have to be light-sampled: whether the solid keeps a
+/// sampled point asks every operation above its primitive whether the point is inside the
+/// other operand, a cost that grows with the product of primitives and operations.
+const MAX_SAMPLED_CSG_LEAVES: usize = 64;
 
 /// One direction towards light from a point, chosen by [`Emitters::sample`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -92,6 +115,25 @@ enum Surface {
         major: f64,
         minor: f64,
     },
+    /// A spindle torus about the y axis (its tube of radius `minor` wider than `major` > 0):
+    /// the whole surface the quartic describes, the outer apple and the inner lemon, which is
+    /// what rays meet.
+    Spindle {
+        major: f64,
+        minor: f64,
+    },
+}
+
+/// A point drawn on a surface, in object space.
+#[derive(Debug, Clone, Copy)]
+struct SurfaceSample {
+    point: Point3,
+    /// The unit normal of the surface there (up to its sign), which the stretch of its area
+    /// by the transform needs.
+    normal: Vec3,
+    /// Where a ray's hit there would be: the face and barycentric `u`, `v` on a mesh (which
+    /// its texture coordinates need); nothing elsewhere.
+    hit: LocalHit,
 }
 
 /// The angle φ around a torus's tube, uniformly by area from `u` in [0, 1): the tube's
@@ -121,6 +163,72 @@ fn torus_tube_angle(major: f64, minor: f64, u: f64) -> f64 {
         };
     }
     phi
+}
+
+/// The angle φ around a spindle torus's tube, uniformly by area from `u` in [0, 1): the surface
+/// element is `|R + r cos φ|·r dφ dθ` (the lemon, where `R + r cos φ < 0`, is surface too), so
+/// φ inverts `G(φ) = ∫₀^φ |R + r cos t| dt`. By symmetry about π, the lower half of `u` covers
+/// [0, π] and the upper half mirrors it onto [π, 2π). On [0, π], with `φ₀ = acos(−R/r)` and
+/// `f(φ) = R φ + r sin φ`, `G` is `f` up to φ₀ and `2 f(φ₀) − f` beyond: increasing, and
+/// inverted by Newton's steps inside a shrinking bracket.
+fn spindle_tube_angle(major: f64, minor: f64, u: f64) -> f64 {
+    let phi0 = (-major / minor).clamp(-1.0, 1.0).acos();
+    let f = |phi: f64| major * phi + minor * phi.sin();
+    let at_phi0 = f(phi0);
+    let half = 2.0 * at_phi0 - major * PI;
+    let (w, mirrored) = if u < 0.5 {
+        (2.0 * u, false)
+    } else {
+        (2.0 - 2.0 * u, true)
+    };
+    let target = w * half;
+    let g = |phi: f64| {
+        if phi <= phi0 {
+            f(phi)
+        } else {
+            2.0 * at_phi0 - f(phi)
+        }
+    };
+    let (mut lo, mut hi) = (0.0, PI);
+    let mut phi = PI * w;
+    for _ in 0..80 {
+        let error = g(phi) - target;
+        if error.abs() <= 1e-13 * (major + minor) {
+            break;
+        }
+        if error > 0.0 {
+            hi = phi;
+        } else {
+            lo = phi;
+        }
+        let slope = (major + minor * phi.cos()).abs();
+        let next = phi - error / slope;
+        phi = if slope > 0.0 && next > lo && next < hi {
+            next
+        } else {
+            (lo + hi) / 2.0
+        };
+    }
+    if mirrored {
+        2.0 * PI - phi
+    } else {
+        phi
+    }
+}
+
+/// The area of the spindle torus: `2π r ∫₀^{2π} |R + r cos φ| dφ`
+/// `= 2π r (4 R φ₀ + 4 r sin φ₀ − 2π R)` with `φ₀ = acos(−R/r)`.
+fn spindle_area(major: f64, minor: f64) -> f64 {
+    let phi0 = (-major / minor).clamp(-1.0, 1.0).acos();
+    2.0 * PI * minor * (4.0 * major * phi0 + 4.0 * minor * phi0.sin() - 2.0 * PI * major)
+}
+
+/// The point of the torus at angle `phi` around the tube and `theta` around the axis, and the
+/// unit normal of the tube there.
+fn torus_point(major: f64, minor: f64, phi: f64, theta: f64) -> (Point3, Vec3) {
+    let n = Vec3::new(phi.cos() * theta.cos(), phi.sin(), phi.cos() * theta.sin());
+    let centre = Point3::new(major * theta.cos(), 0.0, major * theta.sin());
+    (centre + n * minor, n)
 }
 
 /// `y·|y|`: the area of the cone x² + z² = y² up to height `y` grows with it (the side's
@@ -187,6 +295,12 @@ impl Surface {
                     minor: *minor,
                 }
             }
+            Shape::Torus { major, minor } if minor.is_finite() && *major > 0.0 && minor > major => {
+                Surface::Spindle {
+                    major: *major,
+                    minor: *minor,
+                }
+            }
             _ => return None,
         })
     }
@@ -219,12 +333,38 @@ impl Surface {
                 side + caps
             }
             Surface::Torus { major, minor } => 4.0 * PI * PI * major * minor,
+            Surface::Spindle { major, minor } => spindle_area(*major, *minor),
+        }
+    }
+
+    /// A point uniformly by area, from `pick` (which part of the surface) and `u`.
+    fn sample(&self, pick: f64, u: [f64; 2]) -> SurfaceSample {
+        if let Surface::Mesh { mesh, faces } = self {
+            let (face, _) = faces.sample_discrete(pick);
+            let [a, b, c] = mesh.corners(&mesh.face(face));
+            let (b1, b2) = triangle_weights(u[0], u[1]);
+            return SurfaceSample {
+                point: a + (b - a) * b1 + (c - a) * b2,
+                normal: face_normal(b - a, c - a),
+                hit: LocalHit {
+                    u: b1,
+                    v: b2,
+                    face: face as u32,
+                    ..LocalHit::default()
+                },
+            };
+        }
+        let (point, normal) = self.sample_point(pick, u);
+        SurfaceSample {
+            point,
+            normal,
+            hit: LocalHit::default(),
         }
     }
 
     /// A point uniformly by area and the unit object-space normal there, from `pick` (which
     /// part of the surface) and `u`.
-    fn sample(&self, pick: f64, [u, v]: [f64; 2]) -> (Point3, Vec3) {
+    fn sample_point(&self, pick: f64, [u, v]: [f64; 2]) -> (Point3, Vec3) {
         match self {
             Surface::Sphere => {
                 let z = 1.0 - 2.0 * u;
@@ -252,6 +392,7 @@ impl Surface {
             }
             Surface::Triangle { p1, e1, e2 } => triangle_point(*p1, *e1, *e2, u, v),
             Surface::Mesh { mesh, faces } => {
+                // (`sample` draws meshes itself, with the face and weights.)
                 let (face, _) = faces.sample_discrete(pick);
                 let [a, b, c] = mesh.corners(&mesh.face(face));
                 triangle_point(a, b - a, c - a, u, v)
@@ -308,10 +449,11 @@ impl Surface {
             }
             Surface::Torus { major, minor } => {
                 let phi = torus_tube_angle(*major, *minor, u);
-                let theta = 2.0 * PI * v;
-                let n = Vec3::new(phi.cos() * theta.cos(), phi.sin(), phi.cos() * theta.sin());
-                let centre = Point3::new(major * theta.cos(), 0.0, major * theta.sin());
-                (centre + n * *minor, n)
+                torus_point(*major, *minor, phi, 2.0 * PI * v)
+            }
+            Surface::Spindle { major, minor } => {
+                let phi = spindle_tube_angle(*major, *minor, u);
+                torus_point(*major, *minor, phi, 2.0 * PI * v)
             }
         }
     }
@@ -324,7 +466,26 @@ impl Surface {
                 let [a, b, c] = mesh.corners(&mesh.face(face as usize));
                 face_normal(b - a, c - a)
             }
+            // The quartic's gradient, `e p − 2R²(x, 0, z)` with `e = |p|² + R² − r²`: the
+            // shape's own normal (away from the nearest point of the centre circle) is the
+            // surface's on the apple only, not on the lemon.
+            Surface::Spindle { major, minor } => {
+                let e = point.length_squared() + major * major - minor * minor;
+                let radial = Vec3::new(point.x, 0.0, point.z);
+                (point * e - radial * (2.0 * major * major)).normalize_or_zero()
+            }
             _ => shape.normal_at(point).normalize_or_zero(),
+        }
+    }
+
+    /// The object-space normal whose side a path that hits `point` sees as the front (the
+    /// shape's own normal, which the integrator tests the emitting side against), where it
+    /// differs from the surface's normal: on a spindle torus.
+    #[inline]
+    fn side_normal(&self, point: Point3) -> Option<Vec3> {
+        match self {
+            Surface::Spindle { major, .. } => Some(torus::normal_at(point, *major)),
+            _ => None,
         }
     }
 }
@@ -336,10 +497,15 @@ fn face_normal(e1: Vec3, e2: Vec3) -> Vec3 {
     e2.cross(e1).normalize_or_zero()
 }
 
+/// Barycentric weights of the second and third corners of a triangle, uniformly by area.
+fn triangle_weights(u: f64, v: f64) -> (f64, f64) {
+    let su = u.sqrt();
+    ((1.0 - v) * su, v * su)
+}
+
 /// A point of the triangle `p1`, `p1 + e1`, `p1 + e2`, uniformly by area, and its normal.
 fn triangle_point(p1: Point3, e1: Vec3, e2: Vec3, u: f64, v: f64) -> (Point3, Vec3) {
-    let su = u.sqrt();
-    let (b1, b2) = ((1.0 - v) * su, v * su);
+    let (b1, b2) = triangle_weights(u, v);
     (p1 + e1 * b1 + e2 * b2, face_normal(e1, e2))
 }
 
@@ -363,18 +529,37 @@ enum Emitter {
         intensity: Color,
         falloff: bool,
     },
-    /// The world's object `object`, whose material emits `emission` (sampled where the object
-    /// is at the path's instant, when it moves).
+    /// The world's object `object`, whose material emits (sampled where the object is at the
+    /// path's instant, when it moves).
     Surface {
         object: u32,
         surface: Surface,
         /// The surface's object-space area (scaled by the transform at each sample's instant).
         area: f64,
-        emission: Color,
-        side: EmissionSide,
     },
+    /// A CSG solid that stands still, through its primitives that emit and can be sampled by
+    /// area (`parts`, picked by `pick` in proportion to their areas; `by_leaf` gives each
+    /// primitive's part, or [`NOT_SAMPLED`]).
+    Csg {
+        csg: Arc<Csg>,
+        parts: Box<[CsgPart]>,
+        pick: Distribution1D,
+        by_leaf: Box<[u32]>,
+    },
+    /// The world's object `object`, an infinite plane: directions towards it, cosine-weighted.
+    Plane { object: u32 },
     /// The sky.
     Sky,
+}
+
+/// A primitive of a CSG solid, sampled by area as an object of its own would be.
+#[derive(Debug, Clone)]
+struct CsgPart {
+    /// Its index among the solid's leaves.
+    leaf: u32,
+    surface: Surface,
+    /// The object-space area.
+    area: f64,
 }
 
 /// The lights of a world as the path tracer samples them (see the [module](self)).
@@ -455,30 +640,12 @@ impl Emitters {
         }
         let mut by_object = vec![NOT_SAMPLED; world.objects.len()];
         for (i, object) in world.objects.iter().enumerate() {
-            let emission = object.material.emission;
-            // A textured emission (glTF's emissiveTexture) varies over the surface, which
-            // sampling by area at one radiance cannot follow: such a surface is found by BSDF
-            // sampling alone (its light then counts in full, unweighted).
-            let textured = (object.material.metal_rough.as_ref())
-                .is_some_and(|m| m.emissive_texture.is_some());
-            if emission.max_channel() <= 0.0 || textured {
-                continue;
-            }
-            let Some(surface) = Surface::of(&object.shape) else {
+            let Some((emitter, p)) = object_emitter(object, i as u32, disc) else {
                 continue;
             };
-            let area = surface.area();
-            // The world-space area, roughly (exact for a uniform scale), for the power estimate.
-            let world_area = area * object.transform.volume_scale().powf(2.0 / 3.0);
             by_object[i] = list.len() as u32;
-            list.push(Emitter::Surface {
-                object: i as u32,
-                area,
-                surface,
-                emission,
-                side: object.material.emission_side,
-            });
-            power.push(emission.luminance() * PI * world_area);
+            list.push(emitter);
+            power.push(p);
         }
         // A constant sky is not sampled as a light: BSDF sampling follows it as well as any
         // light sampling could (perfectly, for a diffuse surface), and a white furnace then
@@ -532,8 +699,9 @@ impl Emitters {
 
     /// The density (per solid angle at `from`) with which [`sample`](Self::sample) chooses the
     /// point `point` of world object `index`, seen along unit `direction` from `from`, where
-    /// the object-space hit `hit` was (its face, for meshes, and its instant, for objects that
-    /// move); 0 for objects not sampled.
+    /// the object-space hit `hit` was (its face, for meshes, its primitive, for CSG solids, and
+    /// its instant, for objects that move); 0 for objects not sampled, and for a point a CSG
+    /// solid does not keep, which light sampling gives no light.
     pub fn object_pdf(
         &self,
         world: &World,
@@ -546,26 +714,51 @@ impl Emitters {
         let (Some(&slot), Some(pick)) = (self.by_object.get(index), &self.pick) else {
             return 0.0;
         };
-        let Some(Emitter::Surface {
-            surface,
-            object,
-            area,
-            ..
-        }) = self.list.get(slot as usize)
-        else {
-            return 0.0;
+        let density = match self.list.get(slot as usize) {
+            Some(Emitter::Surface {
+                surface,
+                object,
+                area,
+            }) => {
+                let object = &world.objects[*object as usize];
+                surface_density(object, surface, *area, from, point, direction, hit)
+            }
+            Some(Emitter::Csg {
+                csg,
+                parts,
+                pick: leaves,
+                by_leaf,
+            }) => {
+                let Some(&part) = by_leaf.get(hit.leaf as usize) else {
+                    return 0.0;
+                };
+                let Some(CsgPart {
+                    leaf,
+                    surface,
+                    area,
+                }) = parts.get(part as usize)
+                else {
+                    return 0.0;
+                };
+                if !csg.keeps_surface_point(*leaf as usize, point) {
+                    return 0.0;
+                }
+                let object = &csg.leaves()[*leaf as usize];
+                leaves.probability(part as usize)
+                    * surface_density(object, surface, *area, from, point, direction, hit)
+            }
+            Some(Emitter::Plane { object }) => {
+                let object = &world.objects[*object as usize];
+                let (origin, normal) = plane_frame(object, hit.time);
+                let above = normal.dot(from - origin);
+                if !object.material.emission_side.emits_towards(above) {
+                    return 0.0;
+                }
+                normal.dot(direction).abs() * FRAC_1_PI
+            }
+            _ => return 0.0,
         };
-        let object = &world.objects[*object as usize];
-        let transform = object.transform_at(hit.time);
-        let local = transform.inverse_point(point);
-        let n_local = surface.normal_at(&object.shape, local, hit.face);
-        let scaled_area = area * transform.volume_scale();
-        let (area_pdf, normal) = area_density(scaled_area, &transform, n_local);
-        let cos = normal.dot(direction).abs();
-        if cos <= 0.0 {
-            return 0.0;
-        }
-        pick.probability(slot as usize) * area_pdf * (point - from).length_squared() / cos
+        pick.probability(slot as usize) * density
     }
 
     /// Picks an emitter with `pick` and a point or direction on it with `u`, for lighting
@@ -640,34 +833,59 @@ impl Emitters {
                 object,
                 surface,
                 area,
-                emission,
-                side,
             } => {
-                let object: &Object = &world.objects[*object as usize];
-                let transform = object.transform_at(time);
-                let (local, n_local) = surface.sample(rest, u);
-                let on_light = transform.point(local);
-                let scaled_area = area * transform.volume_scale();
-                let (area_pdf, normal) = area_density(scaled_area, &transform, n_local);
-                let to_light = on_light - point;
-                let distance_squared = to_light.length_squared();
-                let distance = distance_squared.sqrt();
-                if distance <= 0.0 || area_pdf <= 0.0 {
-                    return None;
-                }
-                let direction = to_light / distance;
-                let cos = -normal.dot(direction);
-                if !side.emits_towards(cos) {
-                    return None;
-                }
-                let cos = cos.abs();
+                let object = &world.objects[*object as usize];
+                let light = sample_surface(object, surface, *area, point, time, rest, u, |_| true)?;
                 Some(LightSample {
-                    direction,
-                    distance,
-                    radiance: *emission,
-                    pdf: probability * area_pdf * distance_squared / cos,
-                    delta: false,
+                    pdf: probability * light.pdf,
+                    ..light
                 })
+            }
+            Emitter::Csg {
+                csg,
+                parts,
+                pick: leaves,
+                ..
+            } => {
+                let (part, chance, rest) = leaves.sample_discrete_reused(rest);
+                let CsgPart {
+                    leaf,
+                    surface,
+                    area,
+                } = &parts[part];
+                let object = &csg.leaves()[*leaf as usize];
+                let keeps = |at: Point3| csg.keeps_surface_point(*leaf as usize, at);
+                let light = sample_surface(object, surface, *area, point, time, rest, u, keeps)?;
+                Some(LightSample {
+                    pdf: probability * chance * light.pdf,
+                    ..light
+                })
+            }
+            Emitter::Plane { object } => {
+                let object = &world.objects[*object as usize];
+                let (origin, normal) = plane_frame(object, time);
+                let above = normal.dot(point - origin);
+                if !object.material.emission_side.emits_towards(above) {
+                    return None;
+                }
+                // Cosine-weighted about the normal towards the plane (Malley's method).
+                let towards = if above > 0.0 { -normal } else { normal };
+                let r = u[0].clamp(0.0, 1.0).sqrt();
+                let phi = 2.0 * PI * u[1];
+                let cos = (1.0 - u[0]).max(0.0).sqrt();
+                let local = Vec3::new(r * phi.cos(), r * phi.sin(), cos);
+                let direction = Frame::from_normal(towards).to_world(local);
+                let distance = above.abs() / cos;
+                let radiance = emitted(object, &LocalHit::default());
+                (cos > 0.0 && distance.is_finite() && radiance.max_channel() > 0.0).then_some(
+                    LightSample {
+                        direction,
+                        distance,
+                        radiance,
+                        pdf: probability * cos * FRAC_1_PI,
+                        delta: false,
+                    },
+                )
             }
             Emitter::Sky => {
                 let (direction, radiance, pdf) = self.environment.as_ref()?.sample(u)?;
@@ -698,6 +916,225 @@ fn area_density(scaled_area: f64, transform: &Transform, n_local: Vec3) -> (f64,
     }
 }
 
+/// A point drawn uniformly by area on `surface` (of object-space area `area`) of `object`, where
+/// it is at shutter instant `time`, as light arriving at `from`: its density per solid angle at
+/// `from`, from this surface alone. `None` when it gives no light there: the back of a
+/// one-sided emitter, a point `keep` rejects (one a CSG solid does not keep), no radiance.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+fn sample_surface(
+    object: &Object,
+    surface: &Surface,
+    area: f64,
+    from: Point3,
+    time: f64,
+    pick: f64,
+    u: [f64; 2],
+    keep: impl Fn(Point3) -> bool,
+) -> Option<LightSample> {
+    let transform = object.transform_at(time);
+    let sample = surface.sample(pick, u);
+    let on_light = transform.point(sample.point);
+    let scaled_area = area * transform.volume_scale();
+    let (area_pdf, normal) = area_density(scaled_area, &transform, sample.normal);
+    let to_light = on_light - from;
+    let distance_squared = to_light.length_squared();
+    let distance = distance_squared.sqrt();
+    if distance <= 0.0 || area_pdf <= 0.0 {
+        return None;
+    }
+    let direction = to_light / distance;
+    let cos = -normal.dot(direction);
+    let facing = match surface.side_normal(sample.point) {
+        Some(n) => -transform.normal_unnormalised(n).dot(direction),
+        None => cos,
+    };
+    if cos == 0.0 || !object.material.emission_side.emits_towards(facing) || !keep(on_light) {
+        return None;
+    }
+    let radiance = emitted(object, &sample.hit);
+    (radiance.max_channel() > 0.0).then(|| LightSample {
+        direction,
+        distance,
+        radiance,
+        pdf: area_pdf * distance_squared / cos.abs(),
+        delta: false,
+    })
+}
+
+/// The density per solid angle at `from` with which [`sample_surface`] draws `point` of
+/// `object` (seen along unit `direction`, at the object-space hit `hit`).
+#[inline]
+fn surface_density(
+    object: &Object,
+    surface: &Surface,
+    area: f64,
+    from: Point3,
+    point: Point3,
+    direction: Vec3,
+    hit: &LocalHit,
+) -> f64 {
+    let transform = object.transform_at(hit.time);
+    let local = transform.inverse_point(point);
+    let n_local = surface.normal_at(&object.shape, local, hit.face);
+    let scaled_area = area * transform.volume_scale();
+    let (area_pdf, normal) = area_density(scaled_area, &transform, n_local);
+    let cos = normal.dot(direction).abs();
+    if cos <= 0.0 {
+        return 0.0;
+    }
+    area_pdf * (point - from).length_squared() / cos
+}
+
+/// The radiance `object` gives off at the object-space hit `hit`: the same reading of its
+/// material as the path integrator makes where a path meets it (a glTF material's emissive
+/// factor times its emissive texture at the surface's texture coordinates).
+#[inline]
+fn emitted(object: &Object, hit: &LocalHit) -> Color {
+    let material = &object.material;
+    match &material.metal_rough {
+        Some(m) => m.emission_at(&object.shape.surface_point(hit)),
+        None => material.emission,
+    }
+}
+
+/// The emission factor of a material (before any texture): zero when it does not emit.
+fn emission_factor(material: &Material) -> Color {
+    match &material.metal_rough {
+        Some(m) => m.emissive,
+        None => material.emission,
+    }
+}
+
+/// The mean radiance a material gives off, for the power an emitter is picked by: its emission,
+/// times the mean of its emissive texture (read at 32 × 32 points) where it has one.
+fn mean_emission(material: &Material) -> Color {
+    let factor = emission_factor(material);
+    let Some(slot) = (material.metal_rough.as_ref()).and_then(|m| m.emissive_texture.as_ref())
+    else {
+        return factor;
+    };
+    // Read at 32 × 32 points of the unit square (the same texture may cover a thousand
+    // surfaces: reading every texel for each would cost more than the render).
+    let n = 32;
+    let mut sum = Color::BLACK;
+    for i in 0..n {
+        for j in 0..n {
+            let (u, v) = ((i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64);
+            sum += slot.sample(u, v);
+        }
+    }
+    let mean = factor.hadamard(sum * (1.0 / (n * n) as f64));
+    // A texture dark at every point read may still glow between them: keep it pickable.
+    if mean.max_channel() > 0.0 {
+        mean
+    } else {
+        factor * (1.0 / (n * n) as f64)
+    }
+}
+
+/// A point of the (infinite) plane `object` at `time` and its unit normal, the side its hits
+/// see as their front.
+#[inline]
+fn plane_frame(object: &Object, time: f64) -> (Point3, Vec3) {
+    let transform = object.transform_at(time);
+    (transform.point(Point3::ZERO), transform.normal(Vec3::Y))
+}
+
+/// The emitter of world object number `index`, and the power it is picked by, if its material
+/// emits and its shape can be sampled (`disc`: the scene's cross-section).
+fn object_emitter(object: &Object, index: u32, disc: f64) -> Option<(Emitter, f64)> {
+    let power = || mean_emission(&object.material).luminance() * PI;
+    match &object.shape {
+        // Its primitives' materials shine, not its own.
+        Shape::Csg(csg) => csg_emitter(object, csg),
+        _ if emission_factor(&object.material).max_channel() <= 0.0 => None,
+        // What an infinite plane sends through the scene's cross-section.
+        Shape::Plane => Some((Emitter::Plane { object: index }, power() * disc)),
+        // A glTF mesh whose alpha cuts holes: a point sampled in a hole would give light that
+        // paths pass through.
+        Shape::Mesh(_) if (object.material.metal_rough.as_ref()).is_some_and(|m| m.has_holes()) => {
+            None
+        }
+        shape => {
+            let surface = Surface::of(shape)?;
+            let area = surface.area();
+            // The world-space area, roughly (exact for a uniform scale), for the power.
+            let world_area = area * object.transform.volume_scale().powf(2.0 / 3.0);
+            let emitter = Emitter::Surface {
+                object: index,
+                surface,
+                area,
+            };
+            Some((emitter, power() * world_area))
+        }
+    }
+}
+
+/// The emitter of a CSG solid that stands still (identity transform, no primitive moving: the
+/// solid's test of which surface it keeps places its primitives where they are when the shutter
+/// opens) and has at most [`MAX_SAMPLED_CSG_LEAVES`] primitives, through its primitives that
+/// emit and can be sampled by area. Its power is theirs, each scaled by the share of its
+/// surface the solid keeps (estimated from 64 points, and at least 1/64).
+fn csg_emitter(object: &Object, csg: &Arc<Csg>) -> Option<(Emitter, f64)> {
+    if object.motion.is_some() || object.transform != Transform::IDENTITY {
+        return None;
+    }
+    if csg.leaves().len() > MAX_SAMPLED_CSG_LEAVES {
+        return None;
+    }
+    if csg.leaves().iter().any(|leaf| leaf.motion.is_some()) {
+        return None;
+    }
+    let mut parts = Vec::new();
+    let mut areas = Vec::new();
+    let mut by_leaf = vec![NOT_SAMPLED; csg.leaves().len()];
+    let mut power = 0.0;
+    for (k, leaf) in csg.leaves().iter().enumerate() {
+        if emission_factor(&leaf.material).max_channel() <= 0.0 {
+            continue;
+        }
+        let Some(surface) = Surface::of(&leaf.shape) else {
+            continue;
+        };
+        let area = surface.area();
+        let world_area = area * leaf.transform.volume_scale().powf(2.0 / 3.0);
+        if !(world_area > 0.0 && world_area.is_finite()) {
+            continue;
+        }
+        let mut random = SplitMix64::new(0x05ee_dc59 + k as u64);
+        let kept = (0..64)
+            .filter(|_| {
+                let pick = random.next_offset();
+                let u = [random.next_offset(), random.next_offset()];
+                let at = leaf.transform.point(surface.sample(pick, u).point);
+                csg.keeps_surface_point(k, at)
+            })
+            .count();
+        power += mean_emission(&leaf.material).luminance()
+            * PI
+            * world_area
+            * (kept.max(1) as f64 / 64.0);
+        by_leaf[k] = parts.len() as u32;
+        parts.push(CsgPart {
+            leaf: k as u32,
+            surface,
+            area,
+        });
+        areas.push(world_area);
+    }
+    let pick = Distribution1D::new(&areas)
+        .ok()
+        .filter(|d| d.integral() > 0.0)?;
+    let emitter = Emitter::Csg {
+        csg: Arc::clone(csg),
+        parts: parts.into_boxed_slice(),
+        pick,
+        by_leaf: by_leaf.into_boxed_slice(),
+    };
+    Some((emitter, power))
+}
+
 /// The radius of a sphere around the world's bounded objects (1 when there are none): the
 /// scale against which lights that do not fall off, and the sky, are weighed.
 fn scene_radius(world: &World) -> f64 {
@@ -722,7 +1159,7 @@ mod tests {
     use super::*;
     use crate::geometry::icosahedron;
     use crate::math::{point, rotation_x, rotation_y, scaling, translation, Ray};
-    use crate::shading::Material;
+    use crate::shading::{EmissionSide, Material};
 
     fn lamp(shape: Shape, matrix: glam::DMat4, side: EmissionSide) -> Object {
         Object::new(shape)
@@ -785,7 +1222,61 @@ mod tests {
                 stretch,
                 side,
             ),
+            lamp(
+                Shape::Torus {
+                    major: 0.5,
+                    minor: 0.8,
+                },
+                stretch,
+                side,
+            ),
         ]
+    }
+
+    #[test]
+    fn a_spindle_torus_is_sampled_uniformly_by_area() {
+        // Uniform by area, the tube angle φ has density ∝ |R + r cos φ| (the lemon, where
+        // R + r cos φ < 0, included): the mean of cos φ and the area against a fine midpoint
+        // quadrature, and every point on the quartic.
+        let (major, minor) = (0.5, 0.8);
+        let n = 100_000;
+        let (mut weight, mut moment) = (0.0, 0.0);
+        for i in 0..n {
+            let phi = 2.0 * PI * (i as f64 + 0.5) / n as f64;
+            let w = (major + minor * phi.cos()).abs();
+            weight += w;
+            moment += w * phi.cos();
+        }
+        let expected = moment / weight;
+        let area = 2.0 * PI * minor * weight * 2.0 * PI / n as f64;
+        let spindle = Surface::Spindle { major, minor };
+        assert!(
+            (spindle.area() - area).abs() < 1e-6 * area,
+            "{} vs {area}",
+            spindle.area()
+        );
+        let mut rng = SplitMixStream(31);
+        let mut sum = 0.0;
+        for _ in 0..n {
+            let phi = spindle_tube_angle(major, minor, rng.next());
+            assert!((0.0..=2.0 * PI).contains(&phi), "{phi}");
+            sum += phi.cos();
+            let s = spindle.sample(rng.next(), [rng.next(), rng.next()]);
+            let p = s.point;
+            let e = p.length_squared() + major * major - minor * minor;
+            let f = e * e - 4.0 * major * major * (p.x * p.x + p.z * p.z);
+            assert!(f.abs() < 1e-9, "{p:?}: {f}");
+            // The sampled normal is the quartic's gradient's direction.
+            let g = spindle.normal_at(&Shape::Sphere, p, 0);
+            assert!(g.cross(s.normal).length() < 1e-6, "{g:?} {:?}", s.normal);
+        }
+        // cos φ lies in [−1, 1]: four standard errors of the mean are under 0.013.
+        let mean = sum / n as f64;
+        assert!((mean - expected).abs() < 0.013, "{mean} vs {expected}");
+        // The inversion is exact at the ends, the middle and the lemon's edge.
+        assert_eq!(spindle_tube_angle(major, minor, 0.0), 0.0);
+        assert!((spindle_tube_angle(major, minor, 0.5) - PI).abs() < 1e-9);
+        assert!((spindle_tube_angle(major, minor, 0.999_999_999) - 2.0 * PI).abs() < 1e-6);
     }
 
     #[test]
@@ -798,7 +1289,9 @@ mod tests {
         let n = 200_000;
         let mut sum = 0.0;
         for _ in 0..n {
-            let (p, normal) = torus.sample(rng.next(), [rng.next(), rng.next()]);
+            let SurfaceSample {
+                point: p, normal, ..
+            } = torus.sample(rng.next(), [rng.next(), rng.next()]);
             let rho = p.x.hypot(p.z);
             assert!(((rho - major).hypot(p.y) - minor).abs() < 1e-9, "{p:?}");
             assert!((normal.length() - 1.0).abs() < 1e-12);
@@ -879,7 +1372,7 @@ mod tests {
             };
             let n = 200_000;
             let mean = (0..n)
-                .map(|_| cone.sample(rng.next(), [rng.next(), rng.next()]).0.y)
+                .map(|_| cone.sample(rng.next(), [rng.next(), rng.next()]).point.y)
                 .sum::<f64>()
                 / n as f64;
             let side = SQRT_2 * PI * (1.0 - 0.04);
