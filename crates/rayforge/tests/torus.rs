@@ -237,6 +237,53 @@ fn normals_point_away_from_the_centre_circle() {
 }
 
 #[test]
+fn a_spindle_torus_has_outward_normals_on_its_apple_and_its_lemon() {
+    // R = 1, r = 2: the apple reaches x = 3, the lemon (swept by the tube's far side) x = 1.
+    let (major, minor) = (1.0, 2.0);
+    let t = torus(major, minor);
+    // The surface's equation f(p) = (|p|² + R² − r²)² − 4R²(x² + z²), negative inside the solid.
+    let f = |p: rayforge::math::Point3| {
+        let e = p.length_squared() + major * major - minor * minor;
+        e * e - 4.0 * major * major * (p.x * p.x + p.z * p.z)
+    };
+    let cases = [
+        // On the apple's equator, outwards.
+        (point(3.0, 0.0, 0.0), vector(1.0, 0.0, 0.0)),
+        // On the lemon's equator: the solid is outside the lemon, so the normal points in.
+        (point(1.0, 0.0, 0.0), vector(-1.0, 0.0, 0.0)),
+        (point(0.0, 0.0, -1.0), vector(0.0, 0.0, 1.0)),
+    ];
+    for (p, expected) in cases {
+        assert!(f(p).abs() < 1e-9, "{p:?} is on the surface");
+        let n = t.normal_at(p).normalize();
+        assert!((n - expected).length() < 1e-9, "at {p:?}: {n:?}");
+    }
+    // Anywhere on the lemon (tube angle φ past acos(−R/r)) and the apple, the normal is the
+    // direction of the equation's gradient, out of the solid.
+    for k in 1..40 {
+        let phi = k as f64 * std::f64::consts::TAU / 40.0;
+        // The tube's circle about the centre-circle point (0.6, 0, 0.8)·R; ρ < 0 is the lemon.
+        let rho = major + minor * phi.cos();
+        let p = point(rho * 0.6, minor * phi.sin(), rho * 0.8);
+        let h = 1e-6;
+        let gradient = vector(
+            f(p + vector(h, 0.0, 0.0)) - f(p - vector(h, 0.0, 0.0)),
+            f(p + vector(0.0, h, 0.0)) - f(p - vector(0.0, h, 0.0)),
+            f(p + vector(0.0, 0.0, h)) - f(p - vector(0.0, 0.0, h)),
+        );
+        if gradient.length() < 1e-6 {
+            continue;
+        }
+        let n = t.normal_at(p).normalize();
+        assert!(
+            (n - gradient.normalize()).length() < 1e-5,
+            "at φ = {phi}: {n:?} against the gradient {:?}",
+            gradient.normalize()
+        );
+    }
+}
+
+#[test]
 fn bounds_of_a_torus() {
     let b = torus(3.0, 1.0).bounds();
     assert_eq!(b.min, point(-4.0, -1.0, -4.0));

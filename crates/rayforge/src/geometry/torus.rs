@@ -58,15 +58,23 @@ pub fn contains(p: Point3, major: f64, minor: f64) -> bool {
     e * e < 4.0 * major * major * (p.x * p.x + p.z * p.z)
 }
 
-/// The normal points away from the nearest point of the centre circle (Cross's construction:
-/// `P − Q` with `Q = R·(x, 0, z)/|(x, 0, z)|`).
-pub fn normal_at(p: Point3, major: f64) -> Vec3 {
+/// The outward normal (along the gradient of the surface's equation, out of the solid
+/// [`contains`] describes). On a ring torus, and on a spindle torus's outer part, it points
+/// away from the nearest point of the centre circle (Cross's construction: `P − Q` with
+/// `Q = R·(x, 0, z)/|(x, 0, z)|`). A spindle torus (r > R) also has an inner lemon, swept by
+/// the far side of the tube, where `|p|² + R² − r² = −2R·|(x, 0, z)|` is negative: there the
+/// tube's centre is `−Q`, and the solid lies outside the lemon (its inside is covered twice
+/// and [`contains`] leaves it out), so the outward normal is `−(P + Q)`, into the lemon.
+pub fn normal_at(p: Point3, major: f64, minor: f64) -> Vec3 {
     let radial = p.x.hypot(p.z);
     if radial == 0.0 {
         // Only a spindle torus (r > R) has surface on its axis: the normal is along it.
         return Vec3::new(0.0, p.y.signum(), 0.0);
     }
     let scale = major / radial;
+    if p.length_squared() + major * major - minor * minor < 0.0 {
+        return Vec3::new(-p.x - p.x * scale, -p.y, -p.z - p.z * scale);
+    }
     Vec3::new(p.x - p.x * scale, p.y, p.z - p.z * scale)
 }
 

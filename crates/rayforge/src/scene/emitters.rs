@@ -47,7 +47,7 @@ use super::object::Object;
 use super::shape::Shape;
 use super::world::{LightingModel, World};
 use crate::color::Color;
-use crate::geometry::{rectangle, torus, LocalHit, Mesh};
+use crate::geometry::{rectangle, LocalHit, Mesh};
 use crate::math::random::{Jitter, SplitMix64};
 use crate::math::{Distribution1D, Frame, Point3, Transform, Vec3};
 use crate::shading::{EnvironmentMap, Light, Material, SpotLight};
@@ -453,7 +453,15 @@ impl Surface {
             }
             Surface::Spindle { major, minor } => {
                 let phi = spindle_tube_angle(*major, *minor, u);
-                torus_point(*major, *minor, phi, 2.0 * PI * v)
+                let (p, n) = torus_point(*major, *minor, phi, 2.0 * PI * v);
+                // On the lemon (`R + r cos φ < 0`) the tube's direction points out of the
+                // lemon, into the solid: its outward normal is the other way (see
+                // `torus::normal_at`).
+                if major + minor * phi.cos() < 0.0 {
+                    (p, -n)
+                } else {
+                    (p, n)
+                }
             }
         }
     }
@@ -466,26 +474,7 @@ impl Surface {
                 let [a, b, c] = mesh.corners(&mesh.face(face as usize));
                 face_normal(b - a, c - a)
             }
-            // The quartic's gradient, `e p − 2R²(x, 0, z)` with `e = |p|² + R² − r²`: the
-            // shape's own normal (away from the nearest point of the centre circle) is the
-            // surface's on the apple only, not on the lemon.
-            Surface::Spindle { major, minor } => {
-                let e = point.length_squared() + major * major - minor * minor;
-                let radial = Vec3::new(point.x, 0.0, point.z);
-                (point * e - radial * (2.0 * major * major)).normalize_or_zero()
-            }
             _ => shape.normal_at(point).normalize_or_zero(),
-        }
-    }
-
-    /// The object-space normal whose side a path that hits `point` sees as the front (the
-    /// shape's own normal, which the integrator tests the emitting side against), where it
-    /// differs from the surface's normal: on a spindle torus.
-    #[inline]
-    fn side_normal(&self, point: Point3) -> Option<Vec3> {
-        match self {
-            Surface::Spindle { major, .. } => Some(torus::normal_at(point, *major)),
-            _ => None,
         }
     }
 }
@@ -945,11 +934,7 @@ fn sample_surface(
     }
     let direction = to_light / distance;
     let cos = -normal.dot(direction);
-    let facing = match surface.side_normal(sample.point) {
-        Some(n) => -transform.normal_unnormalised(n).dot(direction),
-        None => cos,
-    };
-    if cos == 0.0 || !object.material.emission_side.emits_towards(facing) || !keep(on_light) {
+    if cos == 0.0 || !object.material.emission_side.emits_towards(cos) || !keep(on_light) {
         return None;
     }
     let radiance = emitted(object, &sample.hit);
@@ -1267,7 +1252,7 @@ mod tests {
             let f = e * e - 4.0 * major * major * (p.x * p.x + p.z * p.z);
             assert!(f.abs() < 1e-9, "{p:?}: {f}");
             // The sampled normal is the quartic's gradient's direction.
-            let g = spindle.normal_at(&Shape::Sphere, p, 0);
+            let g = spindle.normal_at(&Shape::Torus { major, minor }, p, 0);
             assert!(g.cross(s.normal).length() < 1e-6, "{g:?} {:?}", s.normal);
         }
         // cos φ lies in [−1, 1]: four standard errors of the mean are under 0.013.

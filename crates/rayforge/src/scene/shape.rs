@@ -194,7 +194,7 @@ impl Shape {
             Shape::Cone {
                 minimum, maximum, ..
             } => cone::normal_at(point, *minimum, *maximum),
-            Shape::Torus { major, .. } => torus::normal_at(point, *major),
+            Shape::Torus { major, minor } => torus::normal_at(point, *major, *minor),
             Shape::Ring { .. } => ring::normal_at(point),
             Shape::Rectangle => rectangle::normal_at(point),
         }
