@@ -2,8 +2,9 @@
 # Installs and builds the peers that `rayforge bench` compares against, on Debian bookworm:
 #
 #   POV-Ray 3.7     Debian's `povray`, linked as bench/peers/build/povray
-#   Embree 3        Debian's `libembree-dev`; our harness (bench/peers/embree/primary.c) is
-#                   compiled to bench/peers/build/embree_primary
+#   Embree 3        Debian's `libembree-dev`; our harnesses (bench/peers/embree/primary.c and
+#                   instances.c) are compiled to bench/peers/build/embree_primary and
+#                   embree_instances
 #   raytracer_rs    richard-dennehy/raytracer_rs, built OUTSIDE this repository from a checkout
 #                   (or a bare git directory) given as the first argument or $RAYTRACER_RS;
 #                   its example binaries are copied to bench/peers/build/raytracer_rs-{cover,dragons}
@@ -67,6 +68,10 @@ step "building the Embree harness"
 gcc -O2 -std=c11 -Wall -Wextra -o "$build/embree_primary" "$here/embree/primary.c" \
     -lembree3 -lpthread -lm
 echo "built $build/embree_primary"
+# What many instances of one mesh cost Embree (docs/performance.md, "Many instances").
+gcc -O2 -std=c11 -Wall -Wextra -o "$build/embree_instances" "$here/embree/instances.c" \
+    -lembree3 -lm
+echo "built $build/embree_instances"
 
 # --- Don Cross's program --------------------------------------------------------------------
 if [[ -n "${CROSS_RAYTRACE:-}" ]]; then
