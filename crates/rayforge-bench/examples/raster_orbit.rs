@@ -35,7 +35,7 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let Some(look_at) = scene.look_at.clone() else {
+    let Some(look_at) = scene.look_at else {
         eprintln!(
             "{}: the camera is not placed by from, to and up; nothing to orbit",
             path.display()
@@ -43,7 +43,7 @@ fn main() {
         std::process::exit(2);
     };
     let camera = scene.camera.resized(width, height);
-    let options = scene.raster.clone().unwrap_or_default();
+    let options = scene.raster.unwrap_or_default();
     let up = look_at.up.normalize();
     let mut rasterizer = Rasterizer::new();
     let mut slowest = Duration::ZERO;

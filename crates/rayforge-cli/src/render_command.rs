@@ -529,7 +529,15 @@ pub(crate) fn develop_book_image(
     exposure: Exposure,
     overlay: Option<(&Overlay, &Camera)>,
 ) -> (Canvas, usize) {
-    let mut canvas = develop(film, exposure);
+    finish_image(develop(film, exposure), overlay)
+}
+
+/// A developed image made ready to show or write: its non-finite pixels blackened (how many
+/// is returned) and the canvas items drawn over it.
+pub(crate) fn finish_image(
+    mut canvas: Canvas,
+    overlay: Option<(&Overlay, &Camera)>,
+) -> (Canvas, usize) {
     let non_finite = crate::finite::blacken_non_finite(&mut canvas);
     if let Some((overlay, camera)) = overlay {
         overlay.draw(&mut canvas, camera);

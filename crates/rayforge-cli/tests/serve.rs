@@ -290,8 +290,33 @@ async fn the_page_follows_the_scene_file() {
         r#"{"type": "render", "width": 24, "renderer": "raster"}"#.to_string(),
     )
     .await;
-    let (small, _) = final_image(&mut socket, job).await;
+    let (small, job) = final_image(&mut socket, job).await;
     assert_eq!(small.dimensions(), (24, 16));
+    // The page's rasterizer keeps its buffers between frames: a frame at another size, then
+    // the first size again, are each the image `rayforge render --renderer raster` writes.
+    send(
+        &mut socket,
+        r#"{"type": "render", "width": 30, "renderer": "raster"}"#.to_string(),
+    )
+    .await;
+    let (other, job) = final_image(&mut socket, job).await;
+    assert_eq!(other.dimensions(), (30, 20));
+    send(
+        &mut socket,
+        r#"{"type": "render", "width": 24, "renderer": "raster"}"#.to_string(),
+    )
+    .await;
+    let (again, _) = final_image(&mut socket, job).await;
+    assert_eq!(again, small);
+    let raster = |width: &str, name: &str| {
+        rendered_with(
+            &path,
+            &dir.path().join(name),
+            &["--renderer", "raster", "--width", width],
+        )
+    };
+    assert_eq!(small, raster("24", "raster-24.png"));
+    assert_eq!(other, raster("30", "raster-30.png"));
     assert_eq!(fixed, rendered(&path, &dir.path().join("fixed.png")));
 
     // A size over --max-pixels is refused in `rayforge render`'s words.

@@ -13,13 +13,16 @@ use crate::failure::Failure;
 use crate::finite::blacken_non_finite;
 use crate::format::ImageFormat;
 use crate::path_command::{doubling_passes, encode_for, samples_per_pixel};
-use crate::render_command::{develop_with_overlay, load_options, ray_options, sized_camera};
+use crate::render_command::{
+    develop_with_overlay, finish_image, load_options, ray_options, sized_camera,
+};
 use crate::settings::{Chosen, RenderSettings};
 use clap::Parser;
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::film::{Film, SharedFilm};
 use rayforge::options::{PathOptions, RasterOptions};
+use rayforge::raster::Rasterizer;
 use rayforge::render::path::{render_path, PathJob};
 use rayforge::render::{render_rows, RenderOptions, Sampling};
 use rayforge::LightingModel;
@@ -76,6 +79,8 @@ pub struct Worker {
     pool: Arc<ThreadPool>,
     out: Sender<Outgoing>,
     loaded: Option<Loaded>,
+    /// The page's rasterizer, which keeps its memory from frame to frame.
+    rasterizer: Rasterizer,
 }
 
 impl Worker {
@@ -86,6 +91,7 @@ impl Worker {
             pool,
             out,
             loaded: None,
+            rasterizer: Rasterizer::new(),
         }
     }
 
@@ -166,7 +172,14 @@ impl Worker {
         let preview = job.request.preview;
         match chosen {
             Chosen::Ray => ray_passes(&pass, &self.pool, &settings, scene, &camera, preview),
-            Chosen::Raster(options) => raster_pass(&pass, &self.pool, scene, &camera, &options),
+            Chosen::Raster(options) => raster_pass(
+                &pass,
+                &self.pool,
+                &mut self.rasterizer,
+                scene,
+                &camera,
+                &options,
+            ),
             Chosen::Path(options) => {
                 let spp = if preview { 1 } else { samples };
                 let camera = if preview { quarter(&camera) } else { camera };
@@ -424,18 +437,22 @@ fn ray_passes(
     Ok(())
 }
 
-/// The rasterizer's one pass: it is quick enough to need no preview.
+/// The rasterizer's one pass: it is quick enough to need no preview. The page's rasterizer
+/// keeps its buffers from the last frame (a user dragging the view asks for one frame after
+/// another of the same scene); the image is the one `rayforge render --renderer raster`
+/// writes, canvas items drawn over it.
 fn raster_pass(
     pass: &Pass<'_>,
     pool: &ThreadPool,
+    rasterizer: &mut Rasterizer,
     scene: &Scene,
     camera: &Camera,
     options: &RasterOptions,
 ) -> Result<(), Stop> {
-    let (film, _) = pool
-        .install(|| rayforge::raster::render_film(camera, &scene.world, options))
+    let (image, _) = pool
+        .install(|| rasterizer.render(camera, &scene.world, options))
         .map_err(|e| Stop::Failed(e.to_string()))?;
-    let (canvas, _) = develop_with_overlay(scene, camera, &film);
+    let (canvas, _) = finish_image(image.clone(), Some((&scene.overlay, camera)));
     pass.frame(&canvas, 1, 1, 1)
 }
 
