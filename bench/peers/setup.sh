@@ -8,6 +8,8 @@
 #   raytracer_rs    richard-dennehy/raytracer_rs, built OUTSIDE this repository from a checkout
 #                   (or a bare git directory) given as the first argument or $RAYTRACER_RS;
 #                   its example binaries are copied to bench/peers/build/raytracer_rs-{cover,dragons}
+#   llvmpipe        Mesa's software OpenGL through Debian's `libosmesa6-dev`; our harness
+#                   (bench/peers/llvmpipe/frame.c) is compiled to bench/peers/build/llvmpipe_frame
 #   Don Cross's     cosinekitty/raytrace (Fundamentals of Ray Tracing), built OUTSIDE this
 #   program         repository, unmodified, from a checkout (or a bare git directory) given as
 #                   $CROSS_RAYTRACE, with its own build line (g++ -O3 *.cpp ../lodepng/lodepng.cpp);
@@ -50,7 +52,7 @@ if [[ "${SKIP_APT:-0}" != 1 ]]; then
     if [[ $(id -u) != 0 ]]; then sudo_cmd=(sudo); fi
     "${sudo_cmd[@]}" apt-get update -qq
     DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq \
-        povray libembree-dev gcc git pkg-config >/dev/null
+        povray libembree-dev libosmesa6-dev gcc git pkg-config >/dev/null
 fi
 
 # --- POV-Ray ---------------------------------------------------------------------------------
@@ -72,6 +74,16 @@ echo "built $build/embree_primary"
 gcc -O2 -std=c11 -Wall -Wextra -o "$build/embree_instances" "$here/embree/instances.c" \
     -lembree3 -lm
 echo "built $build/embree_instances"
+
+# --- llvmpipe harness ------------------------------------------------------------------------
+# Mesa's llvmpipe through OSMesa (Debian's libosmesa6-dev), for `rayforge bench raster`.
+if [[ -f /usr/include/GL/osmesa.h ]]; then
+    step "building the llvmpipe harness"
+    gcc -O2 -o "$build/llvmpipe_frame" "$here/llvmpipe/frame.c" -lOSMesa -lm
+    echo "built $build/llvmpipe_frame"
+else
+    echo "GL/osmesa.h not found (libosmesa6-dev): the llvmpipe comparison will be skipped" >&2
+fi
 
 # --- Don Cross's program --------------------------------------------------------------------
 if [[ -n "${CROSS_RAYTRACE:-}" ]]; then

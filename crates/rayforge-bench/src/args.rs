@@ -21,7 +21,7 @@ both with `cargo build --release -p rayforge-cli -p rayforge-bench`.
 A peer that is not installed is reported as skipped. Exit status: 0 when every comparison ran
 (whether or not rayforge met its targets), 2 for bad arguments, 1 when a peer or a file failed.";
 
-/// Measure rayforge against its peers (Embree, POV-Ray, raytracer_rs, Don Cross's program) and print the tables of
+/// Measure rayforge against its peers (Embree, POV-Ray, raytracer_rs, Don Cross's program, Mesa's llvmpipe) and print the tables of
 /// times and ratios (see bench/peers/setup.sh to install the peers).
 #[derive(Debug, Parser)]
 #[command(name = "rayforge-bench", version, long_about = None, after_help = EXAMPLES)]
@@ -111,6 +111,9 @@ pub enum BenchPart {
     /// The path tracer against Mitsuba 3: samples per second and error at equal time on the
     /// five scenes of scenes/pbr (skipped when Python cannot import mitsuba).
     Pbr,
+    /// The rasterizer against Mesa's llvmpipe on a million-triangle frame, and its frames per
+    /// second orbiting the cover at 640×360.
+    Raster,
     /// All of the above (pbr only where Mitsuba is found).
     All,
 }

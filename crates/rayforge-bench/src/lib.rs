@@ -8,7 +8,8 @@
 //! Each part is a file: `primary.rs` (primary rays against Embree), `sweep.rs` (BVH build and
 //! scaling with triangle count, with the plot), `scenes.rs` (whole renders against POV-Ray
 //! and raytracer_rs), `cross.rs` (Don Cross's program on its own scenes), `pbr.rs` (the path
-//! tracer against Mitsuba 3). They share the meshes (`shapes.rs`), the rays (`rays.rs`), rayforge's
+//! tracer against Mitsuba 3), `raster.rs` (the rasterizer against Mesa's llvmpipe, and its
+//! frames per second orbiting the cover). They share the meshes (`shapes.rs`), the rays (`rays.rs`), rayforge's
 //! tracing loop (`trace.rs`), the files handed to the Embree harness (`files.rs`, `embree.rs`)
 //! and the report (`report.rs`). Peers are found in the directory `bench/peers/setup.sh`
 //! fills (`peers.rs`); a missing one is a skipped row, never an error.
@@ -27,6 +28,7 @@ mod peers;
 mod plot;
 mod pov_mesh;
 mod primary;
+mod raster;
 mod rays;
 mod report;
 mod scenes;
@@ -66,6 +68,8 @@ pub struct BenchSettings {
     pub cross: bool,
     /// Run the path tracer against Mitsuba 3.
     pub pbr: bool,
+    /// Run the rasterizer against llvmpipe, and the orbit.
+    pub raster: bool,
     /// Threads for both sides.
     pub threads: usize,
     /// Where the peers are.
@@ -139,6 +143,7 @@ impl BenchSettings {
             scenes: all || args.part == BenchPart::Scenes,
             cross: all || args.part == BenchPart::Cross,
             pbr: all || args.part == BenchPart::Pbr,
+            raster: all || args.part == BenchPart::Raster,
             threads: args.threads,
             peers: args.peers,
             out: args.out,
@@ -248,6 +253,9 @@ pub fn run(settings: &BenchSettings) -> Result<(), Failure> {
     }
     if settings.pbr {
         pbr::run(&bench, &mut report)?;
+    }
+    if settings.raster {
+        raster::run(&bench, &mut report)?;
     }
     let path = bench.out("bench.md");
     report.finish(&path)?;

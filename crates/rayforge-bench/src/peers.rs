@@ -22,6 +22,8 @@ pub struct Peers {
     pub raytracer_rs_dragons: Option<PathBuf>,
     /// Don Cross's program (cosinekitty/raytrace), built unmodified by setup.sh.
     pub cross: Option<PathBuf>,
+    /// Our llvmpipe harness, `llvmpipe_frame` (OSMesa), built by setup.sh.
+    pub llvmpipe: Option<PathBuf>,
 }
 
 impl Peers {
@@ -38,6 +40,7 @@ impl Peers {
             raytracer_rs_cover: at("raytracer_rs-cover"),
             raytracer_rs_dragons: at("raytracer_rs-dragons"),
             cross: at("cross-raytrace"),
+            llvmpipe: at("llvmpipe_frame"),
         }
     }
 
@@ -53,6 +56,7 @@ impl Peers {
             line("raytracer_rs cover", &self.raytracer_rs_cover),
             line("raytracer_rs dragons", &self.raytracer_rs_dragons),
             line("Don Cross's program", &self.cross),
+            line("llvmpipe harness", &self.llvmpipe),
         ]
     }
 }

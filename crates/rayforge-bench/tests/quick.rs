@@ -53,6 +53,8 @@ fn a_quick_run_without_peers_prints_every_table_and_skips_the_peers() {
         "### Time per primary ray against triangle count",
         "### Whole renders",
         "### The path tracer against Mitsuba 3",
+        "### The rasterizer against llvmpipe",
+        "### The rasterizer orbiting the cover",
         "### Summary",
     ] {
         assert!(stdout.contains(title), "no `{title}` in:\n{stdout}");
