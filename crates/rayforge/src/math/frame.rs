@@ -2,6 +2,17 @@
 //! the normal is +Z: there `cos θ` is just the z component and every BSDF formula is short.
 
 use crate::math::Vec3;
+use std::f64::consts::TAU;
+
+/// A direction in a frame's local space drawn proportionally to `cos θ` over the upper
+/// hemisphere (+Z), density `cos θ / π` (Malley's method: a uniform point on the unit disk
+/// lifted onto the hemisphere). Diffuse reflection samples it, and so does light sampling of
+/// an infinite glowing plane.
+pub fn cosine_hemisphere(u: [f64; 2]) -> Vec3 {
+    let r = u[0].clamp(0.0, 1.0).sqrt();
+    let phi = TAU * u[1];
+    Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u[0]).max(0.0).sqrt())
+}
 
 /// Three orthonormal unit vectors: tangent `s`, bitangent `t` and normal `n` (right-handed,
 /// `s × t = n`). Built from the normal alone, so any surface point gets a frame without needing

@@ -20,7 +20,7 @@ mod tuple;
 
 pub use aabb::Aabb;
 pub use distribution::{Distribution1D, Distribution2D, DistributionError};
-pub use frame::Frame;
+pub use frame::{cosine_hemisphere, Frame};
 pub use matrix::{
     look_at, matrix2, matrix3, matrix4, rotation_x, rotation_y, rotation_z, scaling, shearing,
     translation, view_transform, BookMatrix,

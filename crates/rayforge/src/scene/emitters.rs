@@ -49,7 +49,7 @@ use super::world::{LightingModel, World};
 use crate::color::Color;
 use crate::geometry::{rectangle, LocalHit, Mesh};
 use crate::math::random::{Jitter, SplitMix64};
-use crate::math::{Distribution1D, Frame, Point3, Transform, Vec3};
+use crate::math::{cosine_hemisphere, Distribution1D, Frame, Point3, Transform, Vec3};
 use crate::shading::{EnvironmentMap, Light, Material, SpotLight};
 use std::f64::consts::{FRAC_1_PI, PI, SQRT_2};
 use std::sync::Arc;
@@ -857,12 +857,10 @@ impl Emitters {
                 if !object.material.emission_side.emits_towards(above) {
                     return None;
                 }
-                // Cosine-weighted about the normal towards the plane (Malley's method).
+                // Cosine-weighted about the normal towards the plane.
                 let towards = if above > 0.0 { -normal } else { normal };
-                let r = u[0].clamp(0.0, 1.0).sqrt();
-                let phi = 2.0 * PI * u[1];
-                let cos = (1.0 - u[0]).max(0.0).sqrt();
-                let local = Vec3::new(r * phi.cos(), r * phi.sin(), cos);
+                let local = cosine_hemisphere(u);
+                let cos = local.z;
                 let direction = Frame::from_normal(towards).to_world(local);
                 let distance = above.abs() / cos;
                 let radiance = emitted(object, &LocalHit::default());
@@ -1044,8 +1042,7 @@ fn object_emitter(object: &Object, index: u32, disc: f64) -> Option<(Emitter, f6
         shape => {
             let surface = Surface::of(shape)?;
             let area = surface.area();
-            // The world-space area, roughly (exact for a uniform scale), for the power.
-            let world_area = area * object.transform.volume_scale().powf(2.0 / 3.0);
+            let world_area = rough_world_area(area, &object.transform);
             let emitter = Emitter::Surface {
                 object: index,
                 surface,
@@ -1054,6 +1051,12 @@ fn object_emitter(object: &Object, index: u32, disc: f64) -> Option<(Emitter, f6
             Some((emitter, power() * world_area))
         }
     }
+}
+
+/// The world-space area of a surface of object-space area `area` placed by `transform`,
+/// roughly (exact for a uniform scale): what an emitter's power is weighed by.
+fn rough_world_area(area: f64, transform: &Transform) -> f64 {
+    area * transform.volume_scale().powf(2.0 / 3.0)
 }
 
 /// The emitter of a CSG solid that stands still (identity transform, no primitive moving: the
@@ -1083,7 +1086,7 @@ fn csg_emitter(object: &Object, csg: &Arc<Csg>) -> Option<(Emitter, f64)> {
             continue;
         };
         let area = surface.area();
-        let world_area = area * leaf.transform.volume_scale().powf(2.0 / 3.0);
+        let world_area = rough_world_area(area, &leaf.transform);
         if !(world_area > 0.0 && world_area.is_finite()) {
             continue;
         }

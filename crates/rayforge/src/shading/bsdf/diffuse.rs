@@ -5,8 +5,8 @@
 
 use super::BsdfSample;
 use crate::color::Color;
-use crate::math::Vec3;
-use std::f64::consts::{FRAC_1_PI, TAU};
+use crate::math::{cosine_hemisphere, Vec3};
+use std::f64::consts::FRAC_1_PI;
 
 /// `f · cos θi = ρ cos θi / π`.
 pub(super) fn eval(albedo: Color, wi: Vec3) -> Color {
@@ -16,14 +16,6 @@ pub(super) fn eval(albedo: Color, wi: Vec3) -> Color {
 /// The cosine-weighted density `cos θi / π` with which [`sample`] draws `wi`.
 pub(super) fn pdf(wi: Vec3) -> f64 {
     wi.z.max(0.0) * FRAC_1_PI
-}
-
-/// A direction drawn proportionally to `cos θ` over the upper hemisphere (Malley's method: a
-/// uniform point on the unit disk lifted onto the hemisphere).
-pub(super) fn cosine_hemisphere(u: [f64; 2]) -> Vec3 {
-    let r = u[0].clamp(0.0, 1.0).sqrt();
-    let phi = TAU * u[1];
-    Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u[0]).max(0.0).sqrt())
 }
 
 /// Samples `wi` by [`cosine_hemisphere`]; the weight `f cos / pdf` is the albedo itself.

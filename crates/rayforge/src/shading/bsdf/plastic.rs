@@ -21,7 +21,7 @@
 use super::microfacet::{reflect, Ggx};
 use super::{diffuse, fresnel, is_smooth, mirror, BsdfSample};
 use crate::color::Color;
-use crate::math::Vec3;
+use crate::math::{cosine_hemisphere, Vec3};
 use std::f64::consts::FRAC_1_PI;
 
 /// The plastic's parameters, as in [`Bsdf::Plastic`](super::Bsdf::Plastic).
@@ -129,7 +129,7 @@ impl Plastic {
             let m = Ggx { alpha: self.alpha }.sample_visible(wo, u)?;
             reflect(wo, m)
         } else {
-            diffuse::cosine_hemisphere(u)
+            cosine_hemisphere(u)
         };
         if wi.z <= 0.0 {
             return None;
