@@ -161,6 +161,13 @@ async fn send(socket: &mut Socket, text: String) {
         .expect("sends");
 }
 
+/// Asks for a rasterized frame `width` pixels wide and waits for it (after job `after_job`).
+async fn raster_frame(socket: &mut Socket, width: u32, after_job: u64) -> (image::RgbImage, u64) {
+    let request = format!(r#"{{"type": "render", "width": {width}, "renderer": "raster"}}"#);
+    send(socket, request).await;
+    final_image(socket, after_job).await
+}
+
 /// `rayforge render`'s image of `scene`, as a PNG's pixels.
 fn rendered(scene: &Path, out: &Path) -> image::RgbImage {
     let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
@@ -285,28 +292,13 @@ async fn the_page_follows_the_scene_file() {
     );
     std::fs::write(&path, scene("[0.2, 1, 0.3]")).expect("fixes the scene");
     let (fixed, job) = final_image(&mut socket, job).await;
-    send(
-        &mut socket,
-        r#"{"type": "render", "width": 24, "renderer": "raster"}"#.to_string(),
-    )
-    .await;
-    let (small, job) = final_image(&mut socket, job).await;
+    let (small, job) = raster_frame(&mut socket, 24, job).await;
     assert_eq!(small.dimensions(), (24, 16));
     // The page's rasterizer keeps its buffers between frames: a frame at another size, then
     // the first size again, are each the image `rayforge render --renderer raster` writes.
-    send(
-        &mut socket,
-        r#"{"type": "render", "width": 30, "renderer": "raster"}"#.to_string(),
-    )
-    .await;
-    let (other, job) = final_image(&mut socket, job).await;
+    let (other, job) = raster_frame(&mut socket, 30, job).await;
     assert_eq!(other.dimensions(), (30, 20));
-    send(
-        &mut socket,
-        r#"{"type": "render", "width": 24, "renderer": "raster"}"#.to_string(),
-    )
-    .await;
-    let (again, _) = final_image(&mut socket, job).await;
+    let (again, _) = raster_frame(&mut socket, 24, job).await;
     assert_eq!(again, small);
     let raster = |width: &str, name: &str| {
         rendered_with(
