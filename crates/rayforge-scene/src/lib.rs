@@ -11,6 +11,7 @@ mod assets;
 mod budget;
 mod canvas_items;
 mod defines;
+mod document;
 mod environment;
 mod error;
 mod files;
@@ -32,10 +33,11 @@ pub use obj::DEFAULT_MAX_TRIANGLES;
 pub use scene::{CameraChoice, LoadOptions, Scene};
 
 use defines::Defines;
+use document::Items;
 use items::camera::CameraItem;
 pub use items::camera::LookAt;
 use items::Contents;
-use source::Source;
+use source::{Node, Source};
 use std::path::Path;
 
 /// Scene files larger than this are refused before parsing (a scene is text written by hand or
@@ -101,25 +103,8 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
             "the scene file is binary, not YAML text",
         ));
     }
-    let (source, documents) = Source::parse(path, text)?;
-    let Some(root) = documents.first() else {
-        return Err(SceneError::new(
-            path,
-            "the scene file is empty: expected a list of `- add:` and `- define:` items",
-        ));
-    };
-    // A second document (after `---`) would be silently ignored: refuse it instead.
-    if let Some(extra) = documents[1..].iter().find(|d| !d.data.is_null()) {
-        return Err(source.error(
-            extra,
-            "",
-            "the file holds more than one YAML document (`---`); a scene is one list of items",
-        ));
-    }
-    let items = source.sequence(root, "").map_err(|e| SceneError {
-        message: "the top level must be a list of `- add:` and `- define:` items".into(),
-        ..e
-    })?;
+    let source = Source::new(path, text);
+    let mut items = Items::open(&source)?;
     let mut defines = Defines::default();
     let mut assets = assets::Assets::new(
         path,
@@ -129,8 +114,16 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
     );
     let mut read = Contents::default();
     let mut settings: Option<settings::Settings> = None;
-    for item in items {
-        let entries = source.entries(item, "")?;
+    // Each item is dropped once read, except a define's, which later items name.
+    let defined = typed_arena::Arena::new();
+    while let Some(item) = items.next_item(&source) {
+        let item = item?;
+        if items::is_define(&item) {
+            let item: &Node<'_> = defined.alloc(item);
+            defines.add(&source, &source.entries(item, "")?)?;
+            continue;
+        }
+        let entries = source.entries(&item, "")?;
         if let Some(e) = entries.iter().find(|e| e.name == "world") {
             if entries.len() > 1 || settings.is_some() {
                 let message = if settings.is_some() {
@@ -150,9 +143,9 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         }
         items::add_item(
             &source,
-            &mut defines,
+            &defines,
             &mut assets,
-            item,
+            &item,
             &mut read,
             options.frame,
         )?;

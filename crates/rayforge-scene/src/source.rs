@@ -2,7 +2,7 @@
 
 use crate::budget::Budget;
 use crate::error::{SceneError, Span};
-use saphyr::{LoadableYamlNode, MarkedYaml, Scalar, YamlData};
+use saphyr::{MarkedYaml, Marker, Scalar, ScanError, YamlData};
 use saphyr_parser::{Event, Parser};
 use std::collections::HashMap;
 use std::path::Path;
@@ -13,7 +13,7 @@ use std::path::Path;
 /// nested in a pattern in a material in a group in a group is 12).
 pub const MAX_NESTING: usize = 128;
 
-/// A parsed scene file: its text (for byte offsets) and its path (for messages).
+/// A scene file being read: its text (for byte offsets) and its path (for messages).
 pub struct Source<'s> {
     /// The file's name, as errors show it.
     pub path: &'s Path,
@@ -33,35 +33,51 @@ pub const MAX_WARNINGS: usize = 100;
 pub type Node<'s> = MarkedYaml<'s>;
 
 impl<'s> Source<'s> {
-    /// Parses `text`; a syntax error carries the parser's own line and column.
-    pub fn parse(path: &'s Path, text: &'s str) -> Result<(Self, Vec<Node<'s>>), SceneError> {
-        let source = Self {
+    /// A scene file's text, `path` naming it in messages. Its items are read by
+    /// [`Items`](crate::document::Items).
+    pub fn new(path: &'s Path, text: &'s str) -> Self {
+        Self {
             path,
             text,
             warnings: Default::default(),
             budget: Budget::default(),
             ascii: text.is_ascii(),
-        };
-        source.check_nesting()?;
-        let docs = MarkedYaml::load_from_str(text).map_err(|e| {
-            let m = e.marker();
-            let mut span = source.span_at(m.index(), m.line(), m.col(), 0);
-            if e.info().contains("tab") {
-                // saphyr marks where the token that holds the tab began (the end of the
-                // line before, for a tab that indents); the user needs the tab itself.
-                if let Some(tab) = source.text[span.offset..].find('\t') {
-                    span = source.position_of(span.offset + tab);
-                }
+        }
+    }
+
+    /// The file's text.
+    pub fn text(&self) -> &'s str {
+        self.text
+    }
+
+    /// A syntax error of the parser or the loader, located where it says.
+    pub fn syntax_error(&self, e: &ScanError) -> SceneError {
+        let m = e.marker();
+        let mut span = self.span_at(m.index(), m.line(), m.col(), 0);
+        if e.info().contains("tab") {
+            // saphyr marks where the token that holds the tab began (the end of the
+            // line before, for a tab that indents); the user needs the tab itself.
+            if let Some(tab) = self.text[span.offset..].find('\t') {
+                span = self.position_of(span.offset + tab);
             }
-            SceneError::new(path, format!("not valid YAML: {}", e.info())).at(span)
-        })?;
-        Ok((source, docs))
+        }
+        SceneError::new(self.path, format!("not valid YAML: {}", e.info())).at(span)
+    }
+
+    /// The error for a list or mapping, starting at `start`, nested deeper than
+    /// [`MAX_NESTING`].
+    pub fn too_deep(&self, start: Marker) -> SceneError {
+        SceneError::new(
+            self.path,
+            format!("lists and mappings nest deeper than {MAX_NESTING} levels"),
+        )
+        .at(self.span_at(start.index(), start.line(), start.col(), 0))
     }
 
     /// Refuses a document that nests deeper than [`MAX_NESTING`], before saphyr builds its
     /// tree. Reads the parser's events (a loop, no recursion); an alias counts as deep as the
     /// node its anchor names. Syntax errors are left for the loader to report.
-    fn check_nesting(&self) -> Result<(), SceneError> {
+    pub fn check_nesting(&self) -> Result<(), SceneError> {
         // Per open collection: its anchor (0: none) and the deepest level reached inside it.
         let mut open: Vec<(usize, usize)> = Vec::new();
         // Per anchor: how many levels its node spans (0 for a scalar).
@@ -95,12 +111,7 @@ impl<'s> Source<'s> {
                 parent.1 = parent.1.max(reached);
             }
             if reached > MAX_NESTING {
-                let m = span.start;
-                return Err(SceneError::new(
-                    self.path,
-                    format!("lists and mappings nest deeper than {MAX_NESTING} levels"),
-                )
-                .at(self.span_at(m.index(), m.line(), m.col(), 0)));
+                return Err(self.too_deep(span.start));
             }
         }
         Ok(())

@@ -2,8 +2,9 @@
 //! `add: light` ([`lights`]), the canvas items, and objects ([`objects`]: shapes, groups, CSG,
 //! OBJ models and defined object templates, placed and moving).
 //!
-//! This module only dispatches each `add:` or `define:` item to its kind's reader and collects
-//! what they read; the `world:` item is the crate root's.
+//! This module only dispatches each `add:` item to its kind's reader and collects what they
+//! read; `define:` items go to [`Defines`](crate::defines) and the `world:` item is the crate
+//! root's.
 
 mod arrays;
 pub mod camera;
@@ -23,7 +24,7 @@ use crate::assets::Assets;
 use crate::canvas_items::{canvas_item, CANVAS_KINDS};
 use crate::defines::Defines;
 use crate::error::SceneError;
-use crate::source::{Node, Source};
+use crate::source::{as_str, Node, Source};
 use camera::CameraItem;
 
 /// What the file's items add up to, as they are read.
@@ -37,19 +38,24 @@ pub struct Contents {
     pub canvas_items: Vec<rayforge::draw2d::CanvasItem>,
 }
 
-/// One top-level item.
+/// Whether a top-level item is a `define:` (which the reader keeps for later items).
+pub fn is_define(item: &Node<'_>) -> bool {
+    match &item.data {
+        saphyr::YamlData::Mapping(map) => map.keys().any(|k| as_str(k) == Some("define")),
+        _ => false,
+    }
+}
+
+/// One top-level item other than a `define:` or `world:`.
 pub fn add_item<'n, 's>(
     source: &Source<'s>,
-    defines: &mut Defines<'n, 's>,
+    defines: &Defines<'n, 's>,
     assets: &mut Assets,
     item: &'n Node<'s>,
     read: &mut Contents,
     frame: u64,
 ) -> Result<(), SceneError> {
     let entries = source.entries(item, "")?;
-    if entries.iter().any(|e| e.name == "define") {
-        return defines.add(source, &entries);
-    }
     let Some(kind) = entries.iter().find(|e| e.name == "add").map(|e| e.value) else {
         return Err(source.error(item, "", "each item needs `add:`, `define:` or `world:`"));
     };
