@@ -514,7 +514,7 @@ pub fn parse_mtl(
                 let image = path.parent().unwrap_or(Path::new(".")).join(name);
                 let texture = load_texture(&image)
                     .map_err(|e| line.error(col, name.len(), "map_Kd", e.message))?;
-                m.texture = Some(rayforge::shading::UvPattern::Image(texture));
+                m.texture = Some(Box::new(rayforge::shading::UvPattern::Image(texture)));
             }
             _ => {}
         }

@@ -388,7 +388,7 @@ fn textured_floor(filter: Filter) -> Object {
         .to_vec();
     let mesh = Mesh::with_texcoords(positions, vec![], texcoords, faces).unwrap();
     Object::mesh(Arc::new(mesh)).with_material(Material {
-        texture: Some(UvPattern::Image(Arc::new(texture))),
+        texture: Some(Box::new(UvPattern::Image(Arc::new(texture)))),
         ..matte(Color::WHITE)
     })
 }
@@ -443,7 +443,7 @@ fn trilinear_filtering_averages_a_minified_checkerboard() {
         .collect();
     let texture = Arc::new(Texture::new(n, n, pixels, Filter::Bilinear).unwrap());
     let mut floor = textured_floor(Filter::Bilinear);
-    floor.material.texture = Some(UvPattern::Image(texture));
+    floor.material.texture = Some(Box::new(UvPattern::Image(texture)));
     let w = world(vec![floor]);
     let c = Camera::new(32, 32, 0.6).with_transform(view_transform(
         point(0.0, -0.6, -2.0),

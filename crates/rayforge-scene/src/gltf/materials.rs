@@ -338,7 +338,7 @@ pub(crate) fn book_material(m: Arc<MetalRough>) -> Material {
         texture: m
             .base_texture
             .as_ref()
-            .map(|s| UvPattern::Image(s.texture.clone())),
+            .map(|s| Box::new(UvPattern::Image(s.texture.clone()))),
         ambient: 0.1,
         diffuse: 0.9 * (1.0 - reflective),
         specular: (0.04 + 0.96 * metallic) * (1.0 - roughness),

@@ -25,7 +25,12 @@ pub(crate) fn build_mips(instances: &[Instance<'_>]) -> HashMap<usize, MipChain>
             Some(PatternKind::CubeMap(faces)) => &faces[..],
             _ => &[],
         };
-        for image in material.texture.iter().chain(pattern_images) {
+        for image in material
+            .texture
+            .as_deref()
+            .into_iter()
+            .chain(pattern_images)
+        {
             if let UvPattern::Image(texture) = image {
                 mips.entry(Arc::as_ptr(texture) as usize)
                     .or_insert_with(|| MipChain::new(texture));
@@ -74,7 +79,7 @@ impl ShadeContext<'_, '_> {
             .metal_rough
             .as_ref()
             .and_then(|m| m.base_texture.as_ref());
-        if let (Some(texture), Some((u, v))) = (&material.texture, uv) {
+        if let (Some(texture), Some((u, v))) = (material.texture.as_deref(), uv) {
             let UvPattern::Image(image) = texture else {
                 return texture.uv_pattern_at(u, v) * material.color;
             };

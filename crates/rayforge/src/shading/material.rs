@@ -21,7 +21,9 @@ pub struct Material {
     pub bump: Option<Box<Bump>>,
     /// An image or UV pattern read with the surface's own texture coordinates (an OBJ model's
     /// `vt`), multiplying `color` (MTL's `map_Kd`). Surfaces without coordinates ignore it.
-    pub texture: Option<UvPattern>,
+    /// Boxed like the pattern: inline it would be 128 of a material's bytes, and an object's
+    /// size is what a scene of many instances pays for each.
+    pub texture: Option<Box<UvPattern>>,
     /// Fraction of the light's colour reflected regardless of direction.
     pub ambient: f64,
     /// Weight of the Lambertian term.
