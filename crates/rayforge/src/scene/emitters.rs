@@ -4,7 +4,7 @@
 //! Next-event estimation picks one emitter per path vertex, with a probability proportional to
 //! an estimate of its power ([`Emitters::sample`]), and a point or direction on it. A path that
 //! finds an emitter by scattering asks how likely light sampling would have been to choose that
-//! point ([`Emitters::object_pdf`], [`Emitters::sky_pdf`]), so that multiple importance sampling
+//! point ([`Emitters::object_pdf`], [`Emitters::sky_radiance_and_pdf`]), so that multiple importance sampling
 //! can weigh the two ways of finding it.
 //!
 //! What each kind of light means physically:
@@ -675,15 +675,20 @@ impl Emitters {
         }
     }
 
-    /// The density with which [`sample`](Self::sample) chooses `direction` towards the sky.
-    pub fn sky_pdf(&self, direction: Vec3) -> f64 {
-        let (Some(sky), Some(pick)) = (self.sky, &self.pick) else {
-            return 0.0;
+    /// The radiance arriving from the sky along `direction`, as
+    /// [`sky_radiance`](Self::sky_radiance), and the density with which
+    /// [`sample`](Self::sample) chooses that direction towards the sky (0 where the sky is not
+    /// sampled): what a path that escapes weighs its light by.
+    pub fn sky_radiance_and_pdf(&self, direction: Vec3) -> (Color, f64) {
+        let Some(map) = &self.environment else {
+            return (self.background, 0.0);
         };
-        match &self.environment {
-            Some(map) => pick.probability(sky as usize) * map.pdf(direction),
-            None => 0.0,
-        }
+        let (radiance, pdf) = map.radiance_and_pdf(direction);
+        let pick = match (self.sky, &self.pick) {
+            (Some(sky), Some(pick)) => pick.probability(sky as usize),
+            _ => 0.0,
+        };
+        (radiance, pick * pdf)
     }
 
     /// The density (per solid angle at `from`) with which [`sample`](Self::sample) chooses the

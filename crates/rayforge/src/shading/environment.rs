@@ -205,11 +205,23 @@ impl EnvironmentMap {
         }
     }
 
+    /// The radiance arriving from `direction`, as [`radiance`](Self::radiance), and the
+    /// density with which [`sample`](Self::sample) draws it, as [`pdf`](Self::pdf): what a
+    /// path that escapes needs, for the price of one conversion to angles.
+    pub fn radiance_and_pdf(&self, direction: Vec3) -> (Color, f64) {
+        match self.angles(direction) {
+            Some((phi, theta)) => (self.lookup(phi, theta), self.pdf_at(phi, theta)),
+            None => (Color::BLACK, 0.0),
+        }
+    }
+
     /// `(φ, θ)` of a world direction in the map's frame, φ in `[0, 2π)`, θ in `[0, π]`.
     fn angles(&self, direction: Vec3) -> Option<(f64, f64)> {
         let d = (self.to_local * direction).try_normalize()?;
         // atan2 rather than acos(y): full precision near the poles, where acos loses digits.
-        let theta = d.x.hypot(d.z).atan2(d.y);
+        // (The components are those of a unit vector: the square root cannot overflow, and
+        // it is not the library's slower `hypot`.)
+        let theta = (d.x * d.x + d.z * d.z).sqrt().atan2(d.y);
         let mut phi = d.x.atan2(-d.z);
         if phi < 0.0 {
             phi += 2.0 * PI;
@@ -264,9 +276,14 @@ impl EnvironmentMap {
     /// direction `direction`, for weighing its samples against another strategy's (multiple
     /// importance sampling). 0 for a zero or non-finite direction and at the poles.
     pub fn pdf(&self, direction: Vec3) -> f64 {
-        let Some((phi, theta)) = self.angles(direction) else {
-            return 0.0;
-        };
+        match self.angles(direction) {
+            Some((phi, theta)) => self.pdf_at(phi, theta),
+            None => 0.0,
+        }
+    }
+
+    /// [`pdf`](Self::pdf) of the direction at `(φ, θ)` in the map's frame.
+    fn pdf_at(&self, phi: f64, theta: f64) -> f64 {
         let sin_theta = theta.sin();
         if sin_theta <= 0.0 {
             return 0.0;
@@ -654,7 +671,13 @@ mod tests {
             let again = map.pdf(d);
             assert!((pdf - again).abs() <= 1e-9 * pdf, "{pdf} vs {again} at {d}");
             assert!(close(radiance, map.radiance(d), 1e-9));
+            // What an escaping path asks for at once is the same pair, for any length.
+            assert_eq!(
+                map.radiance_and_pdf(d * 3.5),
+                (map.radiance(d * 3.5), map.pdf(d * 3.5))
+            );
         }
+        assert_eq!(map.radiance_and_pdf(Vec3::ZERO), (Color::BLACK, 0.0));
     }
 
     #[test]

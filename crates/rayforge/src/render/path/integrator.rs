@@ -134,11 +134,11 @@ impl<'w> PathContext<'w> {
         loop {
             self.rays += 1;
             let Some(hit) = self.index.closest_hit(world, &ray) else {
-                let sky = self.emitters.sky_radiance(ray.direction);
-                let weight = if specular {
-                    1.0
+                let (sky, weight) = if specular {
+                    (self.emitters.sky_radiance(ray.direction), 1.0)
                 } else {
-                    power_heuristic(bsdf_pdf, self.emitters.sky_pdf(ray.direction))
+                    let (sky, pdf) = self.emitters.sky_radiance_and_pdf(ray.direction);
+                    (sky, power_heuristic(bsdf_pdf, pdf))
                 };
                 radiance += throughput.hadamard(sky) * weight;
                 if depth == 0 {
