@@ -131,6 +131,8 @@ impl ClipVertex for PieceVertex {
 pub(crate) struct BinContext<'a, 'w> {
     pub instances: &'a [Instance<'w>],
     pub vertices: &'a [ViewVertex],
+    /// Per vertex, the planes of its instance's list that it lies outside of, one bit each.
+    pub outside: &'a [u8],
     pub projection: &'a Projection,
     pub tiles: Tiles,
     pub bits: u32,
@@ -177,7 +179,8 @@ fn bin_faces(ctx: &BinContext<'_, '_>, chunk: &mut Chunk, index: usize, start: u
     let instance = &ctx.instances[index];
     let mesh = &instance.model.mesh;
     let vertices = &ctx.vertices[instance.vertex_base..][..mesh.positions.len()];
-    let (planes, plane_count) = (&instance.planes.0[..instance.planes.1], instance.planes.1);
+    let outside = &ctx.outside[instance.vertex_base..][..mesh.positions.len()];
+    let planes = &instance.planes.0[..instance.planes.1];
     let image = PixelRect::image(ctx.tiles.width, ctx.tiles.height);
     for face_index in start..end {
         let face = mesh.faces.get(face_index);
@@ -198,51 +201,42 @@ fn bin_faces(ctx: &BinContext<'_, '_>, chunk: &mut Chunk, index: usize, start: u
             &vertices[i1 as usize],
             &vertices[i2 as usize],
         ];
-        if plane_count > 0 {
-            let mut crossing = false;
-            let mut outside = false;
-            for plane in planes {
-                let d = [
-                    plane.signed_distance(corners[0].view),
-                    plane.signed_distance(corners[1].view),
-                    plane.signed_distance(corners[2].view),
-                ];
-                if d.iter().all(|&d| d < 0.0) {
-                    outside = true;
-                    break;
+        // A triangle with every corner outside one plane is dropped; one with a corner outside
+        // any plane is split (the planes' tests were made once per vertex, `vertex.rs`).
+        let codes = [
+            outside[i0 as usize],
+            outside[i1 as usize],
+            outside[i2 as usize],
+        ];
+        if codes[0] & codes[1] & codes[2] != 0 {
+            continue;
+        }
+        if codes[0] | codes[1] | codes[2] != 0 {
+            chunk.counts.clipped += 1;
+            let tri = [0, 1, 2].map(|k| {
+                let mut weights = [0.0; 3];
+                weights[k] = 1.0;
+                PieceVertex {
+                    view: corners[k].view,
+                    weights,
                 }
-                crossing |= d.iter().any(|&d| d < 0.0);
-            }
-            if outside {
-                continue;
-            }
-            if crossing {
-                chunk.counts.clipped += 1;
-                let tri = [0, 1, 2].map(|k| {
-                    let mut weights = [0.0; 3];
-                    weights[k] = 1.0;
-                    PieceVertex {
-                        view: corners[k].view,
-                        weights,
-                    }
-                });
-                for piece in clip_triangle(planes, tri).triangles() {
-                    let screen = piece.map(|v| to_screen(ctx.projection, v.view, ctx.bits));
-                    let entry = BinEntry {
-                        instance: index as u32,
-                        prim: CLIPPED | chunk.clipped.len() as u32,
-                    };
-                    if place(chunk, ctx, instance, image, screen, entry) {
-                        chunk.clipped.push(ClippedPiece {
-                            face: face_index,
-                            screen,
-                            inv_z: piece.map(|v| 1.0 / v.view.z),
-                            weights: piece.map(|v| v.weights),
-                        });
-                    }
+            });
+            for piece in clip_triangle(planes, tri).triangles() {
+                let screen = piece.map(|v| to_screen(ctx.projection, v.view, ctx.bits));
+                let entry = BinEntry {
+                    instance: index as u32,
+                    prim: CLIPPED | chunk.clipped.len() as u32,
+                };
+                if place(chunk, ctx, instance, image, screen, entry) {
+                    chunk.clipped.push(ClippedPiece {
+                        face: face_index,
+                        screen,
+                        inv_z: piece.map(|v| 1.0 / v.view.z),
+                        weights: piece.map(|v| v.weights),
+                    });
                 }
-                continue;
             }
+            continue;
         }
         let entry = BinEntry {
             instance: index as u32,

@@ -36,20 +36,28 @@ impl FixedPoint {
     /// reaching further is drawn with its corner moved in).
     pub fn from_pixels(x: f64, y: f64, bits: u32) -> Self {
         let scale = (1u64 << bits) as f64;
-        let limit = (1u64 << 29) as f64;
-        let snap = |v: f64| {
-            let s = (v * scale).round();
-            if s.is_nan() {
-                0
-            } else {
-                s.clamp(-limit, limit) as i64
-            }
-        };
         Self {
-            x: snap(x),
-            y: snap(y),
+            x: snap(x * scale),
+            y: snap(y * scale),
         }
     }
+}
+
+/// Grid units to the nearest grid point, halves away from zero (`f64::round`), clamped to
+/// `±2^29`; NaN becomes 0.
+///
+/// Rounded by hand: `f64::round` is a library call on the baseline x86-64 target (no
+/// `roundsd` before SSE4.1), and every vertex of a frame is snapped. Clamping first changes
+/// nothing (the limit is whole), and within it the value less its truncation is exact, so this
+/// is `round` to the bit (tested).
+#[inline]
+fn snap(units: f64) -> i64 {
+    let limit = (1u64 << 29) as f64;
+    // `clamp` keeps NaN, which the cast turns into 0, as every comparison below is false.
+    let clamped = units.clamp(-limit, limit);
+    let whole = clamped as i64;
+    let fraction = clamped - whole as f64;
+    whole + i64::from(fraction >= 0.5) - i64::from(fraction <= -0.5)
 }
 
 /// Twice the signed area of `a b c` on the grid: positive when `c` lies on the side of `a → b`
@@ -104,12 +112,13 @@ pub fn pixel_bounds(min: FixedPoint, max: FixedPoint, bits: u32) -> PixelRect {
     let one = 1i64 << bits;
     let half = one >> 1;
     // Pixel x's centre is at x·one + half: the first centre at or after min, the last at or
-    // before max.
+    // before max. (Floor division by `one` is the arithmetic shift, which saves a division
+    // instruction per bound: this runs for every triangle and again in every tile it touches.)
     PixelRect {
-        x0: (min.x - half + one - 1).div_euclid(one),
-        y0: (min.y - half + one - 1).div_euclid(one),
-        x1: (max.x - half).div_euclid(one),
-        y1: (max.y - half).div_euclid(one),
+        x0: (min.x - half + one - 1) >> bits,
+        y0: (min.y - half + one - 1) >> bits,
+        x1: (max.x - half) >> bits,
+        y1: (max.y - half) >> bits,
     }
 }
 
@@ -215,9 +224,12 @@ impl Coverage {
         let step_x = self.edges.map(|e| e.a * one);
         let step_y = self.edges.map(|e| e.b * one);
         let bias = self.edges.map(|e| e.bias);
-        for y in r.y0..=r.y1 {
+        // Half-open ranges: an inclusive range's iterator checks an extra flag at every step,
+        // and this loop runs for every pixel of every triangle's box (`r` lies in that box, on
+        // a grid of at most 2^29 units, so `x1 + 1` cannot overflow).
+        for y in r.y0..r.y1 + 1 {
             let mut w = row;
-            for x in r.x0..=r.x1 {
+            for x in r.x0..r.x1 + 1 {
                 if (w[0] + bias[0]) | (w[1] + bias[1]) | (w[2] + bias[2]) >= 0 {
                     visit(x, y, w);
                 }
@@ -228,6 +240,77 @@ impl Coverage {
             for i in 0..3 {
                 row[i] += step_y[i];
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{pixel_bounds, snap, FixedPoint};
+
+    #[test]
+    fn pixel_bounds_shift_is_floor_division() {
+        for bits in 1..=8u32 {
+            let one = 1i64 << bits;
+            let half = one >> 1;
+            for v in -3 * one..3 * one {
+                let p = FixedPoint { x: v, y: -v };
+                let r = pixel_bounds(p, p, bits);
+                assert_eq!(r.x0, (v - half + one - 1).div_euclid(one));
+                assert_eq!(r.y0, (-v - half + one - 1).div_euclid(one));
+                assert_eq!(r.x1, (v - half).div_euclid(one));
+                assert_eq!(r.y1, (-v - half).div_euclid(one));
+            }
+        }
+    }
+
+    /// The rule as written before it was rounded by hand: `round`, then clamp.
+    fn by_round(units: f64) -> i64 {
+        let limit = (1u64 << 29) as f64;
+        let s = units.round();
+        if s.is_nan() {
+            0
+        } else {
+            s.clamp(-limit, limit) as i64
+        }
+    }
+
+    #[test]
+    fn snapping_by_hand_is_round_to_the_bit() {
+        let limit = (1u64 << 29) as f64;
+        let mut values = vec![
+            0.0,
+            -0.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::MAX,
+            f64::MIN,
+            f64::MIN_POSITIVE,
+            limit,
+            -limit,
+            limit + 0.5,
+            -limit - 0.5,
+            limit - 0.5,
+            -limit + 0.5,
+            1e300,
+            -1e300,
+        ];
+        // Every half step and its neighbours on either side, over a range of magnitudes.
+        for whole in (-2000i64..2000).chain([1 << 20, -(1 << 20), 123_456_789, -123_456_789]) {
+            for v in [whole as f64, whole as f64 + 0.5, whole as f64 - 0.5] {
+                values.extend([v, v.next_up(), v.next_down()]);
+            }
+        }
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..100_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            values.push(((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 4.0 * limit);
+        }
+        for v in values {
+            assert_eq!(snap(v), by_round(v), "{v:e}");
         }
     }
 }

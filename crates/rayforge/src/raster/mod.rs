@@ -19,7 +19,8 @@
 //!    flat, Gouraud or Phong, with the scene's materials and lights through the ray tracer's own
 //!    [`lighting_with`](crate::shading::lighting_with), and textures (image textures, mapped patterns
 //!    and cube maps, `surface`) read perspective-correctly with nearest, bilinear or trilinear
-//!    (MIP-mapped) filtering (`mipmap`).
+//!    (MIP-mapped) filtering (`mipmap`). Phong pixels of plain surfaces under point lights are
+//!    shaded a few at a time in vector lanes, to the same bits (`lanes`).
 //!
 //! The 2D drawing functions of the book's first chapters ([`draw_line`], [`interpolate`],
 //! [`draw_wireframe_triangle`], [`draw_filled_triangle`], [`draw_shaded_triangle`]) work on any
@@ -42,6 +43,7 @@ pub mod clip;
 pub mod edge;
 mod fill;
 mod instance;
+mod lanes;
 mod lighting;
 mod line;
 mod mipmap;

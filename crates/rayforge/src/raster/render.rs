@@ -3,6 +3,7 @@
 use super::bin::{bin_all, BinContext, Chunk, Tiles, TILE_HEIGHT};
 use super::edge::subpixel_bits;
 use super::instance::instances;
+use super::lanes::PhongRuns;
 use super::shade::{raster_lights, ShadeContext};
 use super::surface::build_mips;
 use super::tile::{draw_tile, draw_wireframe_tile, TileBuffers};
@@ -121,6 +122,8 @@ pub struct Rasterizer {
 #[derive(Default)]
 struct Scratch {
     vertices: Vec<ViewVertex>,
+    /// Each vertex's outcode against its instance's clipping planes (see `vertex.rs`).
+    outside: Vec<u8>,
     normals: Vec<Vec3>,
     chunks: Vec<Chunk>,
 }
@@ -292,15 +295,17 @@ fn with_frame(
     )?;
     let Scratch {
         vertices,
+        outside,
         normals,
         chunks,
     } = scratch;
-    transform_vertices(&instances, &projection, bits, vertices, normals);
+    transform_vertices(&instances, &projection, bits, vertices, outside, normals);
     let tiles = Tiles::new(width, height);
     bin_all(
         &BinContext {
             instances: &instances,
             vertices,
+            outside,
             projection: &projection,
             tiles,
             bits,
@@ -317,13 +322,15 @@ fn with_frame(
         stats.culled += chunk.counts.culled;
         stats.drawn += chunk.counts.binned;
     }
+    let lights = raster_lights(&world.lights);
+    let runs = PhongRuns::new(world.lighting, options.shading, &lights, &instances);
     let mut ctx = ShadeContext {
         instances: &instances,
         vertices,
         normals,
         chunks,
         projection: &projection,
-        lights: raster_lights(&world.lights),
+        lights,
         lighting: world.lighting,
         mips: if options.wireframe {
             Default::default()
@@ -334,6 +341,7 @@ fn with_frame(
         filter: options.filter,
         bits,
         vertex_light: Vec::new(),
+        runs,
     };
     if options.shading == crate::options::Shading::Gouraud && !options.wireframe {
         ctx.light_vertices();

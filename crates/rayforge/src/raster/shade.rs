@@ -17,6 +17,7 @@
 
 use super::bin::{Chunk, ClippedPiece, CLIPPED};
 use super::instance::Instance;
+use super::lanes::PhongRuns;
 use super::mipmap::MipChain;
 use super::vertex::ViewVertex;
 use super::Projection;
@@ -45,6 +46,8 @@ pub(crate) struct ShadeContext<'a, 'w> {
     /// Gouraud shading's lighting at each vertex, for instances whose faces index normals like
     /// vertices (every tessellated shape, most meshes); empty otherwise.
     pub vertex_light: Vec<(Color, Color)>,
+    /// Which instances' pixels are shaded in runs (`lanes.rs`), and the lights for them.
+    pub runs: PhongRuns,
 }
 
 /// The lights as the rasterizer can use them: area lights become point lights at their centre.
@@ -61,16 +64,18 @@ pub(crate) fn raster_lights(lights: &[Light]) -> Vec<Light> {
 /// A visible triangle with what every one of its pixels needs, built once per triangle.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Face {
-    instance: u32,
+    pub(super) instance: u32,
     /// Screen-space barycentric planes: weight i at pixel p is `plane[i]·(p.x, p.y, 1)`.
-    planes: [DVec3; 3],
-    inv_z: [f64; 3],
+    pub(super) planes: [DVec3; 3],
+    pub(super) inv_z: [f64; 3],
     /// Each corner's weights on the original face (the identity unless clipped).
-    weights: [[f64; 3]; 3],
+    pub(super) weights: [[f64; 3]; 3],
+    /// Whether it is a piece of a clipped face (else `weights` is the identity).
+    pub(super) clipped: bool,
     /// The original face's corners in world space.
-    points: [Point3; 3],
+    pub(super) points: [Point3; 3],
     /// Its normals in world space (the face normal at every corner for flat faces).
-    normals: [Vec3; 3],
+    pub(super) normals: [Vec3; 3],
     /// Its texture coordinates, when it has them.
     uvs: Option<[[f64; 2]; 3]>,
     /// `A` and `B` of the affine lighting, per corner (Gouraud) or for the face (flat: all
@@ -142,6 +147,7 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
         out.planes = [plane(0), plane(1), plane(2)];
         out.inv_z = inv_z;
         out.weights = weights;
+        out.clipped = prim & CLIPPED != 0;
         out.points = points;
         out.normals = normals;
         out.uvs = uvs;

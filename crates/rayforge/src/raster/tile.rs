@@ -5,6 +5,7 @@
 
 use super::bin::{Tiles, TILE_HEIGHT, TILE_WIDTH};
 use super::edge::{Coverage, PixelRect};
+use super::lanes::Run;
 use super::line::line_pixels_in;
 use super::shade::{Face, ShadeContext};
 use crate::color::Color;
@@ -25,10 +26,13 @@ pub(crate) struct TileBuffers {
     depth: Vec<f64>,
     seen: Vec<Seen>,
     cache: Vec<(u32, u32, Face)>,
+    run: Run,
 }
 
 /// Faces remembered per tile: a pixel's neighbours mostly show the same triangle.
 const CACHE: usize = 64;
+// A run of pixels marks the slots it reads in a 64-bit mask (`Run::uses_slot`).
+const _: () = assert!(CACHE <= 64);
 
 impl TileBuffers {
     pub fn new() -> Self {
@@ -42,6 +46,7 @@ impl TileBuffers {
                 TILE_WIDTH * TILE_HEIGHT
             ],
             cache: vec![(NONE, NONE, Face::default()); CACHE],
+            run: Run::new(),
         }
     }
 }
@@ -92,25 +97,42 @@ pub(crate) fn draw_tile(
         entry.0 = NONE;
     }
     let width = tiles.width;
-    for y in rect.y0..=rect.y1 {
-        for x in rect.x0..=rect.x1 {
+    let eye = ctx.projection.eye();
+    let run = &mut buffers.run;
+    // Half-open ranges, as in `Coverage::for_each_pixel`.
+    for y in rect.y0..rect.y1 + 1 {
+        for x in rect.x0..rect.x1 + 1 {
             let seen = buffers.seen[local(x, y)];
-            let out = &mut band[(y - y0) as usize * width + x as usize];
+            let output = (y - y0) as usize * width + x as usize;
             if seen.chunk == NONE {
-                *out = background;
+                band[output] = background;
                 continue;
             }
             let slot = (seen.entry as usize ^ (seen.chunk as usize).wrapping_mul(7)) % CACHE;
-            let cached = &mut buffers.cache[slot];
-            if (cached.0, cached.1) != (seen.chunk, seen.entry) {
+            let cache = &mut buffers.cache;
+            if (cache[slot].0, cache[slot].1) != (seen.chunk, seen.entry) {
+                if run.uses_slot(slot) {
+                    run.flush(&ctx.runs, eye, cache, band);
+                }
                 let chunk = &ctx.chunks[seen.chunk as usize];
                 let entry = chunk.bins[tile][seen.entry as usize];
+                let cached = &mut cache[slot];
                 ctx.fill_face(&mut cached.2, chunk, entry.instance, entry.prim);
                 (cached.0, cached.1) = (seen.chunk, seen.entry);
             }
-            *out = ctx.shade(&cached.2, x, y);
+            let face = &cache[slot].2;
+            // Pixels whose lighting can go into runs are shaded a run at a time.
+            if ctx.runs.material(face.instance).is_some() {
+                if !run.accepts(face.instance) {
+                    run.flush(&ctx.runs, eye, cache, band);
+                }
+                run.push(face, slot, x, y, output);
+            } else {
+                band[output] = ctx.shade(face, x, y);
+            }
         }
     }
+    run.flush(&ctx.runs, eye, &buffers.cache, band);
 }
 
 /// Draws the edges of every triangle binned to tile (`column`, `row`), in its material's

@@ -31,13 +31,18 @@ pub(crate) fn to_screen(projection: &Projection, view: DVec3, bits: u32) -> Fixe
 }
 
 /// All vertices and world-space normals of `instances`, at the offsets they were given, into
-/// `vertices` and `normals` (resized to fit; a rasterizer keeps them from frame to frame, so a
-/// frame of the same scene allocates nothing here). Every element is written.
+/// `vertices` and `normals`, and into `outside` each vertex's outcode: bit `p` set when it lies
+/// outside plane `p` of its instance's list of crossed planes (`Instance::planes`). Binning
+/// reads a triangle's three outcodes where it tested each corner against each plane, work
+/// that a vertex shared by six triangles did six times. The arrays are resized to fit (a
+/// rasterizer keeps them from frame to frame, so a frame of the same scene allocates nothing
+/// here); every element is written.
 pub(crate) fn transform_vertices(
     instances: &[Instance<'_>],
     projection: &Projection,
     bits: u32,
     vertices: &mut Vec<ViewVertex>,
+    outside: &mut Vec<u8>,
     normals: &mut Vec<Vec3>,
 ) {
     let vertex_count = instances
@@ -47,23 +52,33 @@ pub(crate) fn transform_vertices(
         .last()
         .map_or(0, |i| i.normal_base + i.model.mesh.normals.len());
     vertices.resize(vertex_count, ViewVertex::default());
+    outside.resize(vertex_count, 0);
     normals.resize(normal_count, Vec3::ZERO);
     // Split the arrays into each instance's part, then work on runs of every part in parallel.
     let mut jobs = Vec::with_capacity(instances.len());
-    let (mut rest_v, mut rest_n) = (vertices.as_mut_slice(), normals.as_mut_slice());
+    let (mut rest_v, mut rest_o, mut rest_n) = (
+        vertices.as_mut_slice(),
+        outside.as_mut_slice(),
+        normals.as_mut_slice(),
+    );
     for instance in instances {
-        let (v, tail_v) = rest_v.split_at_mut(instance.model.mesh.positions.len());
+        let count = instance.model.mesh.positions.len();
+        let (v, tail_v) = rest_v.split_at_mut(count);
+        let (o, tail_o) = rest_o.split_at_mut(count);
         let (n, tail_n) = rest_n.split_at_mut(instance.model.mesh.normals.len());
-        jobs.push((instance, v, n));
+        jobs.push((instance, v, o, n));
         rest_v = tail_v;
+        rest_o = tail_o;
         rest_n = tail_n;
     }
-    jobs.into_par_iter().for_each(|(instance, v, n)| {
+    jobs.into_par_iter().for_each(|(instance, v, o, n)| {
         let mesh = &instance.model.mesh;
+        let planes = &instance.planes.0[..instance.planes.1];
         v.par_chunks_mut(RUN)
+            .zip(o.par_chunks_mut(RUN))
             .zip(mesh.positions.par_chunks(RUN))
-            .for_each(|(out, positions)| {
-                for (o, &p) in out.iter_mut().zip(positions) {
+            .for_each(|((out, codes), positions)| {
+                for ((o, code), &p) in out.iter_mut().zip(codes).zip(positions) {
                     let view = instance.to_view.transform_point3(p);
                     let in_front = view.z > 0.0;
                     *o = ViewVertex {
@@ -75,6 +90,9 @@ pub(crate) fn transform_vertices(
                         },
                         inv_z: if in_front { 1.0 / view.z } else { 0.0 },
                     };
+                    *code = planes.iter().enumerate().fold(0, |code, (bit, plane)| {
+                        code | u8::from(plane.signed_distance(view) < 0.0) << bit
+                    });
                 }
             });
         n.par_chunks_mut(RUN)
