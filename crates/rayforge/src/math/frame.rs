@@ -1,8 +1,7 @@
 //! An orthonormal basis around a unit normal, so that shading can work in a local frame where
 //! the normal is +Z: there `cos θ` is just the z component and every BSDF formula is short.
 
-use crate::math::Vec3;
-use std::f64::consts::TAU;
+use crate::math::{sin_cos_turns, Vec3};
 
 /// A direction in a frame's local space drawn proportionally to `cos θ` over the upper
 /// hemisphere (+Z), density `cos θ / π` (Malley's method: a uniform point on the unit disk
@@ -10,8 +9,8 @@ use std::f64::consts::TAU;
 /// an infinite glowing plane.
 pub fn cosine_hemisphere(u: [f64; 2]) -> Vec3 {
     let r = u[0].clamp(0.0, 1.0).sqrt();
-    let phi = TAU * u[1];
-    Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u[0]).max(0.0).sqrt())
+    let (sin, cos) = sin_cos_turns(u[1]);
+    Vec3::new(r * cos, r * sin, (1.0 - u[0]).max(0.0).sqrt())
 }
 
 /// Three orthonormal unit vectors: tangent `s`, bitangent `t` and normal `n` (right-handed,

@@ -17,6 +17,7 @@ pub mod roots;
 pub(crate) mod stats;
 mod transform;
 mod tuple;
+mod turn;
 
 pub use aabb::Aabb;
 pub use distribution::{Distribution1D, Distribution2D, DistributionError};
@@ -30,6 +31,7 @@ pub use random::{Jitter, SplitMix64};
 pub use ray::Ray;
 pub use transform::{SingularTransform, Transform};
 pub use tuple::Tuple;
+pub use turn::sin_cos_turns;
 
 /// A point in 3D space (the book's tuple with `w = 1`).
 pub type Point3 = glam::DVec3;

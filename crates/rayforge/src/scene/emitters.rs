@@ -49,7 +49,9 @@ use super::world::{LightingModel, World};
 use crate::color::Color;
 use crate::geometry::{rectangle, LocalHit, Mesh};
 use crate::math::random::{Jitter, SplitMix64};
-use crate::math::{cosine_hemisphere, Distribution1D, Frame, Point3, Transform, Vec3};
+use crate::math::{
+    cosine_hemisphere, sin_cos_turns, Distribution1D, Frame, Point3, Transform, Vec3,
+};
 use crate::shading::{EnvironmentMap, Light, Material, SpotLight};
 use std::f64::consts::{FRAC_1_PI, PI, SQRT_2};
 use std::sync::Arc;
@@ -369,8 +371,8 @@ impl Surface {
             Surface::Sphere => {
                 let z = 1.0 - 2.0 * u;
                 let r = (1.0 - z * z).max(0.0).sqrt();
-                let phi = 2.0 * PI * v;
-                let p = Point3::new(r * phi.cos(), r * phi.sin(), z);
+                let (sin, cos) = sin_cos_turns(v);
+                let p = Point3::new(r * cos, r * sin, z);
                 (p, p)
             }
             Surface::Cube => {
@@ -387,8 +389,8 @@ impl Surface {
             Surface::Rectangle => (rectangle::point_at(u, v), Vec3::Y),
             Surface::Ring { inner, outer } => {
                 let r = (inner * inner + u * (outer * outer - inner * inner)).sqrt();
-                let phi = 2.0 * PI * v;
-                (Point3::new(r * phi.cos(), 0.0, r * phi.sin()), Vec3::Y)
+                let (sin, cos) = sin_cos_turns(v);
+                (Point3::new(r * cos, 0.0, r * sin), Vec3::Y)
             }
             Surface::Triangle { p1, e1, e2 } => triangle_point(*p1, *e1, *e2, u, v),
             Surface::Mesh { mesh, faces } => {
@@ -403,12 +405,12 @@ impl Surface {
                 closed,
             } => {
                 let side = 2.0 * PI * (maximum - minimum);
-                let phi = 2.0 * PI * v;
+                let (sin, cos) = sin_cos_turns(v);
                 let caps = if *closed { 2.0 * PI } else { 0.0 };
                 let at = pick * (side + caps);
                 if at < side || !closed {
                     let y = minimum + u * (maximum - minimum);
-                    let n = Vec3::new(phi.cos(), 0.0, phi.sin());
+                    let n = Vec3::new(cos, 0.0, sin);
                     (Point3::new(n.x, y, n.z), n)
                 } else {
                     let (y, n) = if at < side + PI {
@@ -417,7 +419,7 @@ impl Surface {
                         (*maximum, Vec3::Y)
                     };
                     let r = u.sqrt();
-                    (Point3::new(r * phi.cos(), y, r * phi.sin()), n)
+                    (Point3::new(r * cos, y, r * sin), n)
                 }
             }
             Surface::Cone {
@@ -429,11 +431,11 @@ impl Surface {
                 let side = SQRT_2 * PI * (high - low);
                 let (bottom, top) = (PI * minimum * minimum, PI * maximum * maximum);
                 let at = pick * (side + if *closed { bottom + top } else { 0.0 });
-                let phi = 2.0 * PI * v;
+                let (sin, cos) = sin_cos_turns(v);
                 if at < side || !closed {
                     let t = low + u * (high - low);
                     let y = t.signum() * t.abs().sqrt();
-                    let p = Point3::new(y.abs() * phi.cos(), y, y.abs() * phi.sin());
+                    let p = Point3::new(y.abs() * cos, y, y.abs() * sin);
                     // The book's cone normal, (x, −y, z), normalised.
                     let n = Vec3::new(p.x, -y, p.z).normalize_or_zero();
                     (p, n)
@@ -444,7 +446,7 @@ impl Surface {
                         (*maximum, Vec3::Y)
                     };
                     let r = y.abs() * u.sqrt();
-                    (Point3::new(r * phi.cos(), y, r * phi.sin()), n)
+                    (Point3::new(r * cos, y, r * sin), n)
                 }
             }
             Surface::Torus { major, minor } => {

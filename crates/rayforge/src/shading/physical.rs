@@ -139,6 +139,11 @@ fn clamp_unit(c: Color) -> Color {
 /// The most layers a material's scattering has (dielectric, mirror, base).
 const MAX_LAYERS: usize = 3;
 
+/// A surface that scatters nothing: a black diffuse one.
+const BLACK: Bsdf = Bsdf::Diffuse {
+    albedo: Color::BLACK,
+};
+
 /// A material's scattering at one hit: up to three [`Bsdf`] layers, each with its share of the
 /// light (see the [module](self)). Plain `Copy` data, built per hit without allocating.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -161,8 +166,11 @@ pub struct Layer {
 impl Scattering {
     /// A material of one layer.
     pub fn single(bsdf: Bsdf) -> Self {
+        // The unused slots hold the smallest layer there is: built on every hit, the
+        // scattering should not copy its one layer three times.
+        let unused = (0.0, BLACK);
         Self {
-            layers: [(1.0, bsdf); MAX_LAYERS],
+            layers: [(1.0, bsdf), unused, unused],
             len: 1,
             total: 1.0,
         }
@@ -171,11 +179,8 @@ impl Scattering {
     /// Layers with their shares; shares that are not positive and finite are left out. No
     /// layer at all scatters nothing (a black diffuse surface).
     fn layered(parts: &[(f64, Bsdf)]) -> Self {
-        let black = Bsdf::Diffuse {
-            albedo: Color::BLACK,
-        };
         let mut out = Self {
-            layers: [(0.0, black); MAX_LAYERS],
+            layers: [(0.0, BLACK); MAX_LAYERS],
             len: 0,
             total: 0.0,
         };
@@ -187,7 +192,7 @@ impl Scattering {
             }
         }
         if out.len == 0 {
-            return Self::single(black);
+            return Self::single(BLACK);
         }
         out
     }

@@ -198,14 +198,20 @@ pub fn render_path(
                     let mut hits = layers
                         .as_ref()
                         .map_or(0.0, |[_, _, depth, _]| depth.weight(x, 0));
+                    let mut stream = SampleStream::new(
+                        options.sampler,
+                        options.seed,
+                        x as u32,
+                        y as u32,
+                        job.samples.start,
+                    );
                     for s in job.samples.clone() {
                         // A pixel may take millions of samples: a stop is heeded inside it,
                         // and the row, unfinished, is left undone.
                         if s % CANCEL_CHECK_SAMPLES == 0 && cancelled() {
                             return Ok(());
                         }
-                        let mut stream =
-                            SampleStream::new(options.sampler, options.seed, x as u32, y as u32, s);
+                        stream.start(s);
                         let (dx, dy, weight) = filter_offset(filter, stream.next_2d());
                         // A pinhole over a still world needs no lens point nor instant.
                         let ([lens_u, lens_v], time) = if still {

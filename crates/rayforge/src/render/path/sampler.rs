@@ -26,8 +26,12 @@ use crate::options::SamplerKind;
 use sobol_burley::parts::{hash, hash_int4, owen_scramble_int4_rev, owen_scramble_rev, Int4};
 use std::sync::LazyLock;
 
-/// The numbers of one sample of one pixel (see the [module](self)).
-#[derive(Debug, Clone, Copy)]
+/// The numbers of one pixel's samples, one sample at a time (see the [module](self)): made
+/// once per pixel, and [`start`](Self::start)ed at each sample's index. A pixel's samples
+/// share the Sobol scrambles of every group of dimensions (they depend on the pixel and the
+/// group, not the sample), so the stream keeps those it has hashed for the samples after: the
+/// hashing was half of the sampler's time when done afresh for every sample.
+#[derive(Debug, Clone)]
 pub struct SampleStream {
     kind: SamplerKind,
     /// A hash of the render's seed and the pixel.
@@ -43,6 +47,44 @@ pub struct SampleStream {
     cached: [f32; 4],
     /// Which group `cached` holds (`u32::MAX`: none yet).
     group: u32,
+    /// The block of 2¹⁶ sample indices whose scrambles `scrambles` holds.
+    block: u64,
+    /// Which of the first [`KEPT_GROUPS`] groups' scrambles `scrambles` holds, a bit each.
+    kept: u64,
+    /// The scrambles of the first groups of dimensions, for `block`.
+    scrambles: [GroupScramble; KEPT_GROUPS],
+}
+
+/// How many groups of four dimensions keep their scrambles between a pixel's samples: a path
+/// of 31 bounces (deeper vertices hash theirs afresh).
+const KEPT_GROUPS: usize = 64;
+
+/// The hashed scrambles of one group of four dimensions of one pixel: the shuffle of the
+/// sample index (Burley's nested uniform scramble of the index) and the Owen scramble of each
+/// of the four dimensions.
+#[derive(Debug, Clone, Copy, Default)]
+struct GroupScramble {
+    shuffle: u32,
+    digits: [u32; 4],
+}
+
+impl GroupScramble {
+    /// The scrambles `sobol_burley::sample_4d` derives from `seed` for the first dimension set.
+    #[inline]
+    fn new(seed: u32) -> Self {
+        let shuffle = hash(seed ^ 0x79c6_8e4a);
+        let seed = seed.wrapping_mul(0x9c8f_2d3b);
+        let digits = hash_int4(Int4::from([
+            seed ^ 0x912f_69ba,
+            seed ^ 0x174f_18ab,
+            seed ^ 0x691e_72ca,
+            seed ^ 0xb40c_c1b8,
+        ]));
+        Self {
+            shuffle,
+            digits: digits.into(),
+        }
+    }
 }
 
 /// The bit-reversed Sobol matrix product of the sequence's first four dimensions for each
@@ -79,11 +121,11 @@ static SOBOL_TABLES: LazyLock<SobolTables> = LazyLock::new(|| {
 });
 
 /// Sample `index` (below 2¹⁶) of the Owen-scrambled Sobol sequence's first four dimensions
-/// under `seed`: `sobol_burley::sample_4d(index, 0, seed)`, with the matrix product from
-/// [`SOBOL_TABLES`].
+/// under `scramble`: `sobol_burley::sample_4d(index, 0, seed)` for the scramble of `seed`, with
+/// the matrix product from [`SOBOL_TABLES`].
 #[inline]
-fn sobol_4d(index: u32, seed: u32) -> [f32; 4] {
-    let shuffled = owen_scramble_rev(index.reverse_bits(), hash(seed ^ 0x79c6_8e4a));
+fn sobol_4d(index: u32, scramble: &GroupScramble) -> [f32; 4] {
+    let shuffled = owen_scramble_rev(index.reverse_bits(), scramble.shuffle);
     let tables = &*SOBOL_TABLES;
     let (high, low) = (
         tables.high[(shuffled >> 24) as usize],
@@ -95,15 +137,7 @@ fn sobol_4d(index: u32, seed: u32) -> [f32; 4] {
         high[2] ^ low[2],
         high[3] ^ low[3],
     ]);
-    // The crate's per-dimension scrambles of the first dimension set.
-    let seed = seed.wrapping_mul(0x9c8f_2d3b);
-    let scramble = Int4::from([
-        seed ^ 0x912f_69ba,
-        seed ^ 0x174f_18ab,
-        seed ^ 0x691e_72ca,
-        seed ^ 0xb40c_c1b8,
-    ]);
-    owen_scramble_int4_rev(sobol, hash_int4(scramble))
+    owen_scramble_int4_rev(sobol, Int4::from(scramble.digits))
         .reverse_bits()
         .to_f32_norm()
 }
@@ -122,15 +156,53 @@ impl SampleStream {
             mix(seed, u64::from(x)),
             u64::from(y) ^ 0x5DEE_CE66_D1CE_4E5B,
         );
-        Self {
+        let mut stream = Self {
             kind,
             pixel,
             index,
-            sample: mix(pixel, index),
+            sample: 0,
             dimension: 0,
             cached: [0.0; 4],
             group: u32::MAX,
+            block: index >> 16,
+            kept: 0,
+            scrambles: [GroupScramble::default(); KEPT_GROUPS],
+        };
+        stream.start(index);
+        stream
+    }
+
+    /// Starts sample `index` of the same pixel, from its first dimension.
+    #[inline]
+    pub fn start(&mut self, index: u64) {
+        self.index = index;
+        self.sample = mix(self.pixel, index);
+        self.dimension = 0;
+        self.group = u32::MAX;
+        if index >> 16 != self.block {
+            self.block = index >> 16;
+            self.kept = 0;
         }
+    }
+
+    /// The scrambles of group `group` of this pixel and block.
+    #[inline]
+    fn scramble(&mut self, group: u32) -> GroupScramble {
+        // Each group of four dimensions, and each block of 2¹⁶ samples, has a scramble of its
+        // own.
+        let hashed = || {
+            let seed = mix(mix(self.pixel, u64::from(group)), self.block);
+            GroupScramble::new((seed ^ (seed >> 32)) as u32)
+        };
+        let Some(slot) = self.scrambles.get_mut(group as usize) else {
+            return hashed();
+        };
+        let bit = 1u64 << group;
+        if self.kept & bit == 0 {
+            *slot = hashed();
+            self.kept |= bit;
+        }
+        *slot
     }
 
     /// The next number, in `[0, 1)`.
@@ -144,17 +216,18 @@ impl SampleStream {
         }
         let group = d / 4;
         if group != self.group {
-            // Each group of four dimensions, and each block of 2¹⁶ samples, has a scramble of
-            // its own.
-            let block = self.index >> 16;
-            let scramble = mix(mix(self.pixel, u64::from(group)), block);
-            self.cached = sobol_4d(
-                (self.index & 0xFFFF) as u32,
-                (scramble ^ (scramble >> 32)) as u32,
-            );
-            self.group = group;
+            self.draw_group(group);
         }
         f64::from(self.cached[(d % 4) as usize])
+    }
+
+    /// Draws the Sobol point of group `group` into `cached`: once per four numbers, so kept
+    /// out of line, where the numbers themselves are drawn inline.
+    #[inline(never)]
+    fn draw_group(&mut self, group: u32) {
+        let scramble = self.scramble(group);
+        self.cached = sobol_4d((self.index & 0xFFFF) as u32, &scramble);
+        self.group = group;
     }
 
     /// Goes on from dimension `dimension` (each path vertex starts its numbers at a fixed one).
@@ -237,7 +310,7 @@ mod tests {
             let seed = seeds.next_u64() as u32;
             for index in (0..1 << 16).step_by(97).chain([0, 1, 2, 3, 0xFFFF]) {
                 assert_eq!(
-                    sobol_4d(index, seed),
+                    sobol_4d(index, &GroupScramble::new(seed)),
                     sobol_burley::sample_4d(index, 0, seed),
                     "index {index}, seed {seed:#x}"
                 );
@@ -256,6 +329,22 @@ mod tests {
             seen[(s.next_1d() * 64.0) as usize] += 1;
         }
         assert!(seen.iter().all(|&c| c == 1), "{seen:?}");
+    }
+
+    #[test]
+    fn a_restarted_stream_draws_what_a_fresh_one_does() {
+        // The kept scrambles must never leak between samples: across a block of 2¹⁶ indices,
+        // and past the groups kept (dimension 300 is group 75).
+        for kind in [SamplerKind::Independent, SamplerKind::Sobol] {
+            let mut reused = SampleStream::new(kind, 9, 5, 6, 0);
+            for index in [0, 1, 65_535, 65_536, 65_537, 3, 200_000, 7] {
+                reused.start(index);
+                let mut fresh = SampleStream::new(kind, 9, 5, 6, index);
+                for _ in 0..300 {
+                    assert_eq!(reused.next_1d(), fresh.next_1d(), "index {index}");
+                }
+            }
+        }
     }
 
     #[test]

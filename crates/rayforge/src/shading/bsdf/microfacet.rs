@@ -6,8 +6,8 @@
 //! "roughness"). Sampling draws from the distribution of *visible* normals, so that few
 //! samples are wasted on microfacets facing away from the viewer.
 
-use crate::math::Vec3;
-use std::f64::consts::{PI, TAU};
+use crate::math::{sin_cos_turns, Vec3};
+use std::f64::consts::PI;
 
 /// An isotropic GGX distribution of microfacet normals with width `alpha`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,10 +77,10 @@ impl Ggx {
             return None;
         }
         let v = stretched / len;
-        let phi = TAU * u[0];
+        let (sin_phi, cos_phi) = sin_cos_turns(u[0]);
         let z = (1.0 - u[1]) * (1.0 + v.z) - v.z;
         let sin_theta = (1.0 - z * z).clamp(0.0, 1.0).sqrt();
-        let cap = Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), z);
+        let cap = Vec3::new(sin_theta * cos_phi, sin_theta * sin_phi, z);
         let h = cap + v;
         let m = Vec3::new(self.alpha * h.x, self.alpha * h.y, h.z.max(0.0));
         let m_len = m.length();
@@ -102,6 +102,7 @@ pub(crate) fn reflect(w: Vec3, m: Vec3) -> Vec3 {
 mod tests {
     use super::*;
     use crate::math::random::{Jitter, SplitMix64};
+    use std::f64::consts::TAU;
 
     /// ∫ D(m) cos θm dω = 1 over the hemisphere: the projected microfacet area is the
     /// macrosurface's. Checked by quadrature in (cos θ, φ) (D is isotropic, so φ integrates to 2π).
