@@ -118,8 +118,15 @@ impl<'w> PathContext<'w> {
     /// The radiance arriving along the camera ray `ray`, and what its first hit looks like.
     pub fn radiance(&mut self, ray: Ray, stream: &mut SampleStream) -> (Color, FirstHit) {
         let world = self.world;
+        // A camera's rays come unit already: normalising them again would cost a square root
+        // and a division on every sample for nothing.
+        let unit = (ray.direction.length_squared() - 1.0).abs() <= 4.0 * f64::EPSILON;
         let mut ray = Ray {
-            direction: ray.direction.normalize_or_zero(),
+            direction: if unit {
+                ray.direction
+            } else {
+                ray.direction.normalize_or_zero()
+            },
             ..ray
         };
         let mut radiance = Color::BLACK;
