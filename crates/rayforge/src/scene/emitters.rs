@@ -904,7 +904,9 @@ fn area_density(scaled_area: f64, transform: &Transform, n_local: Vec3) -> (f64,
     let length = normal.length();
     let scale = length * scaled_area;
     if scale > 0.0 && scale.is_finite() {
-        (1.0 / scale, normal / length)
+        // One division for both: `1 / length` is the density times the scaled area.
+        let density = 1.0 / scale;
+        (density, normal * (density * scaled_area))
     } else {
         (0.0, Vec3::ZERO)
     }
