@@ -127,28 +127,10 @@ impl Aabb {
         // A NaN comes from 0 · ∞: the ray runs parallel to a slab with its origin exactly on
         // one of the slab's faces, so it is inside that slab for every t.
         let on_face = t0.is_nan_mask() | t1.is_nan_mask();
-        // Plain comparisons rather than `f64::min` and `max`, whose care for NaN costs several
-        // instructions each on the baseline target: the NaNs are replaced here already, and
-        // only `t_min` and `t_max` keep `max` and `min`. Every ray meets this test once per
-        // box it passes.
-        let lesser = |a: f64, b: f64| if a < b { a } else { b };
-        let greater = |a: f64, b: f64| if a > b { a } else { b };
-        let lo = DVec3::select(
-            on_face,
-            DVec3::NEG_INFINITY,
-            DVec3::new(lesser(t0.x, t1.x), lesser(t0.y, t1.y), lesser(t0.z, t1.z)),
-        );
-        let hi = DVec3::select(
-            on_face,
-            DVec3::INFINITY,
-            DVec3::new(
-                greater(t0.x, t1.x),
-                greater(t0.y, t1.y),
-                greater(t0.z, t1.z),
-            ),
-        );
-        let near = greater(greater(lo.x, lo.y), lo.z).max(t_min);
-        let far = lesser(lesser(hi.x, hi.y), hi.z).min(t_max);
+        let lo = DVec3::select(on_face, DVec3::NEG_INFINITY, t0.min(t1));
+        let hi = DVec3::select(on_face, DVec3::INFINITY, t0.max(t1));
+        let near = lo.max_element().max(t_min);
+        let far = hi.min_element().min(t_max);
         (near <= far).then_some(near)
     }
 
