@@ -3,6 +3,10 @@
 use crate::math::{Point3, Ray, Vec3};
 
 /// The slab method: the ray is inside the cube between the largest entry and smallest exit.
+///
+/// The entry only grows and the exit only shrinks from one axis to the next, so once they
+/// have crossed the ray misses, and the remaining axes (two divisions each) are not worked out.
+#[inline]
 pub fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
     let mut tmin = f64::NEG_INFINITY;
     let mut tmax = f64::INFINITY;
@@ -12,11 +16,12 @@ pub fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
         };
         tmin = tmin.max(t0);
         tmax = tmax.min(t1);
+        if tmin > tmax {
+            return;
+        }
     }
-    if tmin <= tmax {
-        hit(tmin);
-        hit(tmax);
-    }
+    hit(tmin);
+    hit(tmax);
 }
 
 /// Where the ray enters and leaves the slab -1 ≤ x ≤ 1 along one axis.
@@ -24,6 +29,7 @@ pub fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
 /// A ray parallel to the slab (direction exactly 0) never divides by zero here: it is inside the
 /// slab for all `t` or for none, which avoids the NaN the book's `0 · ∞` would produce for an
 /// origin on the slab's face (the validation notebook's trap).
+#[inline]
 fn slab(origin: f64, direction: f64) -> Option<(f64, f64)> {
     if direction == 0.0 {
         return (-1.0..=1.0)
@@ -45,5 +51,53 @@ pub fn normal_at(point: Point3) -> Vec3 {
         Vec3::new(0.0, point.y, 0.0)
     } else {
         Vec3::new(0.0, 0.0, point.z)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::random::SplitMix64;
+
+    /// The slab method with every axis worked out before the entry and exit are compared.
+    fn every_axis(ray: &Ray) -> Vec<f64> {
+        let (mut tmin, mut tmax) = (f64::NEG_INFINITY, f64::INFINITY);
+        for axis in 0..3 {
+            let Some((t0, t1)) = slab(ray.origin[axis], ray.direction[axis]) else {
+                return Vec::new();
+            };
+            tmin = tmin.max(t0);
+            tmax = tmax.min(t1);
+        }
+        if tmin <= tmax {
+            vec![tmin, tmax]
+        } else {
+            Vec::new()
+        }
+    }
+
+    #[test]
+    fn stopping_at_the_first_crossed_axis_finds_the_same_hits() {
+        let mut rng = SplitMix64::new(7);
+        let mut signed = || (rng.next_u64() >> 11) as f64 / (1u64 << 52) as f64 - 1.0;
+        let (mut hits, mut misses) = (0, 0);
+        for i in 0..50_000 {
+            let origin = Point3::new(signed(), signed(), signed()) * 3.0;
+            let mut direction = Vec3::new(signed(), signed(), signed());
+            // Rays parallel to a face, inside and outside its slab.
+            if i % 7 == 0 {
+                direction[i % 3] = 0.0;
+            }
+            let ray = Ray::new(origin, direction);
+            let mut found = Vec::new();
+            intersect(&ray, |t| found.push(t));
+            assert_eq!(found, every_axis(&ray), "{ray:?}");
+            if found.is_empty() {
+                misses += 1;
+            } else {
+                hits += 1;
+            }
+        }
+        assert!(hits > 5000 && misses > 5000, "{hits} {misses}");
     }
 }

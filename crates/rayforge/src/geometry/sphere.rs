@@ -3,6 +3,7 @@
 use crate::math::{roots::solve_quadratic, Point3, Ray, Vec3};
 
 /// Both roots of `|o + t·d|² = 1`, tangent rays giving the same `t` twice (as the book expects).
+#[inline]
 pub fn intersect(ray: &Ray, mut hit: impl FnMut(f64)) {
     let a = ray.direction.length_squared();
     let b = 2.0 * ray.direction.dot(ray.origin);

@@ -231,6 +231,31 @@ impl Csg {
     /// Takes the visitor as a trait object: leaves may be CSG solids themselves, and a generic
     /// visitor would make the compiler instantiate one copy per nesting level, forever.
     pub fn intersect(&self, ray: &Ray, hit: &mut dyn FnMut(LocalHit)) {
+        let mut hits = self.leaf_hits(ray);
+        hits.sort_unstable_by(|a, b| a.t.total_cmp(&b.t));
+        self.filter(&mut hits);
+        for h in hits {
+            hit(h);
+        }
+    }
+
+    /// Whether one of [`intersect`](Self::intersect)'s hits has a `t` for which `within` holds
+    /// (a shadow ray's span), with the sort and the filter skipped when none of the
+    /// primitives' hits is within: the filter only drops hits, so the answer is the same, and
+    /// a shadow ray that passes by a solid's parts (or leaves its surface) costs their
+    /// intersections alone.
+    pub fn any_hit_within(&self, ray: &Ray, within: impl Fn(f64) -> bool) -> bool {
+        let mut hits = self.leaf_hits(ray);
+        if !hits.iter().any(|h| within(h.t)) {
+            return false;
+        }
+        hits.sort_unstable_by(|a, b| a.t.total_cmp(&b.t));
+        self.filter(&mut hits);
+        hits.iter().any(|h| within(h.t))
+    }
+
+    /// Every primitive's hits of `ray`, each tagged with its leaf, in no order and unfiltered.
+    fn leaf_hits(&self, ray: &Ray) -> SmallVec<[LocalHit; 16]> {
         let mut hits: SmallVec<[LocalHit; 16]> = SmallVec::new();
         for (i, leaf) in self.leaves.iter().enumerate() {
             let local = leaf.ray_to_object(ray);
@@ -240,11 +265,7 @@ impl Csg {
             };
             leaf.shape.intersect_hits(&local, &mut push);
         }
-        hits.sort_unstable_by(|a, b| a.t.total_cmp(&b.t));
-        self.filter(&mut hits);
-        for h in hits {
-            hit(h);
-        }
+        hits
     }
 
     /// Whether a point on the surface of leaf `leaf` is on the solid's surface: every

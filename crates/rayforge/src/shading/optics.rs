@@ -7,9 +7,9 @@ use super::light::Light;
 use crate::color::Color;
 use crate::math::{Point3, Vec3};
 
-/// Fundamentals of Ray Tracing's matte sum at `point`: each point light for which `in_view`
-/// holds (given its position), by its colour times the cosine of incidence over the squared
-/// distance. Spotlights and area lights count as points; ambient and directional lights add
+/// Fundamentals of Ray Tracing's matte sum at `point`: each point light in front of the
+/// surface for which `in_view` holds (given its position), by its colour times the cosine of
+/// incidence over the squared distance. Spotlights and area lights count as points; ambient and directional lights add
 /// nothing in this model (a directional light is a point infinitely far away, whose 1/d²
 /// leaves nothing). The rasterizer, which casts no shadow rays, takes every light as in view.
 pub fn matte_light(
@@ -26,12 +26,11 @@ pub fn matte_light(
             Light::Area(l) => (l.position(), l.intensity),
             Light::Ambient(_) | Light::Directional(_) => continue,
         };
-        if !in_view(position) {
-            continue;
-        }
+        // A light behind the surface adds nothing: it is not asked whether it is in view
+        // (a shadow ray each, for the ray tracer).
         let to_light = position - point;
         let incidence = normal.dot(to_light.normalize());
-        if incidence > 0.0 {
+        if incidence > 0.0 && in_view(position) {
             sum += color * (incidence / to_light.length_squared());
         }
     }

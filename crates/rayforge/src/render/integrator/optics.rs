@@ -78,6 +78,23 @@ struct Hit<'w> {
     normal: Vec3,
 }
 
+/// Whether `object`'s surface meets `ray` (in world space) at some `t` with
+/// `EPSILON < t < distance`: the shadow test of [`Pass::matte`]. The answer is the one every
+/// hit of [`Shape::intersect_hits`] gives; a set operation is spared its sort and its filter
+/// when none of its primitives' hits lies in that span ([`Csg::any_hit_within`]).
+fn blocks(object: &Object, ray: &Ray, distance: f64) -> bool {
+    let within = |t: f64| t > EPSILON && t < distance;
+    let local = object.ray_to_object(ray);
+    if let Shape::Csg(csg) = &object.shape {
+        return csg.any_hit_within(&local, within);
+    }
+    let mut found = false;
+    object
+        .shape
+        .intersect_hits(&local, |h| found |= within(h.t));
+    found
+}
+
 /// Why a ray found no colour.
 struct Ambiguous;
 
@@ -172,25 +189,20 @@ impl<'w, O: TraceObserver> Pass<'_, 'w, O> {
     /// The book's `CalculateMatte`: every point light in view, by the cosine of incidence over
     /// the squared distance. In view means nothing at all lies between (transparent solids
     /// block too).
+    ///
+    /// A light behind the surface adds nothing, and [`matte_light`] casts no shadow ray
+    /// towards it: on the book's chessboard a fifth of all the rays (21.6 M down to 17.0 M).
     fn matte(&mut self, hit: &Hit<'w>, time: f64) -> Color {
         let world = self.state.world;
         matte_light(&world.lights, hit.point, hit.normal, |position| {
             let gap = position - hit.point;
             let distance = gap.length();
             let ray = Ray::new(hit.point, gap / distance).at_time(time);
-            let blocks = |object: &Object| {
-                let mut found = false;
-                let local = object.ray_to_object(&ray);
-                object.shape.intersect_hits(&local, |h| {
-                    if h.t > EPSILON && h.t < distance {
-                        found = true;
-                    }
-                });
-                found
-            };
             !self
                 .state
-                .shadow_test(&ray, EPSILON, distance, None, blocks)
+                .shadow_test(&ray, EPSILON, distance, None, |object| {
+                    blocks(object, &ray, distance)
+                })
         })
     }
 
@@ -312,5 +324,102 @@ impl<'w, O: TraceObserver> Pass<'_, 'w, O> {
                 normal,
             }
         }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::random::SplitMix64;
+    use crate::math::{rotation_y, scaling, translation};
+    use crate::scene::CsgOperation;
+
+    /// The shadow test as it was before [`blocks`]: every hit of the solid, looked at in turn.
+    fn blocks_by_every_hit(object: &Object, ray: &Ray, distance: f64) -> bool {
+        let mut found = false;
+        let local = object.ray_to_object(ray);
+        object.shape.intersect_hits(&local, |h| {
+            found |= h.t > EPSILON && h.t < distance;
+        });
+        found
+    }
+
+    /// A number in `[-1, 1)`.
+    fn signed(rng: &mut SplitMix64) -> f64 {
+        (rng.next_u64() >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+
+    /// Counts (blocked, clear) over many shadow rays near `object`, asserting that [`blocks`]
+    /// agrees with every one of them.
+    fn agree_on_random_rays(object: &Object, seed: u64) -> (usize, usize) {
+        let mut rng = SplitMix64::new(seed);
+        let (mut blocked, mut clear) = (0, 0);
+        for _ in 0..20_000 {
+            let origin = Point3::new(signed(&mut rng), signed(&mut rng), signed(&mut rng)) * 3.0;
+            let toward = Point3::new(signed(&mut rng), signed(&mut rng), signed(&mut rng)) * 3.0;
+            let gap = toward - origin;
+            let distance = gap.length();
+            let ray = Ray::new(origin, gap / distance);
+            let expected = blocks_by_every_hit(object, &ray, distance);
+            assert_eq!(
+                blocks(object, &ray, distance),
+                expected,
+                "{ray:?} to {distance}"
+            );
+            if expected {
+                blocked += 1;
+            } else {
+                clear += 1;
+            }
+        }
+        (blocked, clear)
+    }
+
+    #[test]
+    fn the_shadow_test_agrees_with_every_hit_on_primitives() {
+        let turned_box = Object::cube()
+            .with_transform(translation(0.3, -0.2, 0.1) * rotation_y(0.5) * scaling(1.2, 0.4, 0.8));
+        for (seed, object) in [Object::sphere(), turned_box, Object::plane()]
+            .iter()
+            .enumerate()
+        {
+            let (blocked, clear) = agree_on_random_rays(object, seed as u64);
+            assert!(blocked > 1000 && clear > 1000, "{blocked} {clear}");
+        }
+    }
+
+    #[test]
+    fn the_shadow_test_agrees_with_every_hit_on_set_operations() {
+        let bite = || Object::sphere().with_transform(translation(1.2, 0.0, 0.0));
+        let far = || Object::sphere().with_transform(translation(0.0, 2.5, 0.0));
+        let solids = [
+            Object::csg(CsgOperation::Difference, Object::cube(), bite()).unwrap(),
+            Object::csg(CsgOperation::Intersection, Object::cube(), bite()).unwrap(),
+            Object::csg(CsgOperation::Union, Object::sphere(), far()).unwrap(),
+            Object::csg(
+                CsgOperation::Difference,
+                Object::cube(),
+                Object::complement(bite()).unwrap(),
+            )
+            .unwrap(),
+        ];
+        for (seed, object) in solids.iter().enumerate() {
+            let (blocked, clear) = agree_on_random_rays(object, 100 + seed as u64);
+            assert!(blocked > 1000 && clear > 1000, "{blocked} {clear}");
+        }
+    }
+
+    #[test]
+    fn a_primitive_hit_that_the_set_operation_drops_does_not_block() {
+        // A cube less a sphere that lies wholly outside it: a ray through that sphere alone
+        // meets a primitive twice within reach, but the difference keeps neither hit.
+        let away = Object::sphere().with_transform(translation(4.0, 0.0, 0.0));
+        let solid = Object::csg(CsgOperation::Difference, Object::cube(), away).unwrap();
+        let ray = Ray::new(Point3::new(4.0, 5.0, 0.0), Vec3::new(0.0, -1.0, 0.0));
+        assert!(!blocks(&solid, &ray, 10.0));
+        assert!(!blocks_by_every_hit(&solid, &ray, 10.0));
+        // Moved over the cube, the same ray is blocked.
+        let ray = Ray::new(Point3::new(0.0, 5.0, 0.0), Vec3::new(0.0, -1.0, 0.0));
+        assert!(blocks(&solid, &ray, 10.0));
     }
 }
