@@ -143,6 +143,10 @@ impl Distribution1D {
     /// The bin holding the random number `u` of the cumulative distribution: never one of
     /// probability zero, never past the end.
     fn bin_of(&self, u: f64) -> usize {
+        // One bin (a scene's only light) needs no search.
+        if self.len() == 1 {
+            return 0;
+        }
         // The last bin whose start is at or below u; its end is above u since u < 1 = cdf[len].
         let after = self.cdf.partition_point(|&c| c <= u);
         after.saturating_sub(1).min(self.len() - 1)

@@ -71,6 +71,19 @@ fn object_index(world: &World, object: &Object) -> usize {
     (object as *const Object as usize).wrapping_sub(world.objects.as_ptr() as usize) / size
 }
 
+/// `v` itself where it is of unit length to within rounding, else `v` normalised: the
+/// directions a path takes come unit already (a camera's rays, a BSDF's unit sample turned by
+/// an orthonormal frame), and normalising them again cost a square root and a division at
+/// every vertex for nothing.
+#[inline]
+fn unit(v: Vec3) -> Vec3 {
+    if (v.length_squared() - 1.0).abs() <= 1e-12 {
+        v
+    } else {
+        v.normalize_or_zero()
+    }
+}
+
 /// A point nudged off its surface to the side of `normal` that `direction` leaves by.
 #[inline]
 fn offset_towards(point: Point3, normal: Vec3, direction: Vec3) -> Point3 {
@@ -118,15 +131,8 @@ impl<'w> PathContext<'w> {
     /// The radiance arriving along the camera ray `ray`, and what its first hit looks like.
     pub fn radiance(&mut self, ray: Ray, stream: &mut SampleStream) -> (Color, FirstHit) {
         let world = self.world;
-        // A camera's rays come unit already: normalising them again would cost a square root
-        // and a division on every sample for nothing.
-        let unit = (ray.direction.length_squared() - 1.0).abs() <= 4.0 * f64::EPSILON;
         let mut ray = Ray {
-            direction: if unit {
-                ray.direction
-            } else {
-                ray.direction.normalize_or_zero()
-            },
+            direction: unit(ray.direction),
             ..ray
         };
         let mut radiance = Color::BLACK;
@@ -295,7 +301,7 @@ impl<'w> PathContext<'w> {
             throughput = throughput.hadamard(sample.weight) * layer.scale;
             bsdf_pdf = sample.pdf;
             specular = sample.delta;
-            let direction = frame.to_world(sample.wi).normalize_or_zero();
+            let direction = unit(frame.to_world(sample.wi));
             from = point;
             ray = Ray {
                 origin: offset_towards(point, geometric, direction),

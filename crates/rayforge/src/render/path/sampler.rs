@@ -38,6 +38,9 @@ pub struct SampleStream {
     pixel: u64,
     /// The sample's index within the pixel.
     index: u64,
+    /// The index within its block of 2¹⁶, bit-reversed (every group's Sobol point starts
+    /// from it).
+    index_rev: u32,
     /// A hash of `pixel` and `index`, which hashed numbers start from.
     sample: u64,
     /// The next dimension to draw.
@@ -120,12 +123,12 @@ static SOBOL_TABLES: LazyLock<SobolTables> = LazyLock::new(|| {
     }
 });
 
-/// Sample `index` (below 2¹⁶) of the Owen-scrambled Sobol sequence's first four dimensions
-/// under `scramble`: `sobol_burley::sample_4d(index, 0, seed)` for the scramble of `seed`, with
-/// the matrix product from [`SOBOL_TABLES`].
+/// Sample `index` (below 2¹⁶; given bit-reversed, as `index_rev`) of the Owen-scrambled Sobol
+/// sequence's first four dimensions under `scramble`: `sobol_burley::sample_4d(index, 0, seed)`
+/// for the scramble of `seed`, with the matrix product from [`SOBOL_TABLES`].
 #[inline]
-fn sobol_4d(index: u32, scramble: &GroupScramble) -> [f32; 4] {
-    let shuffled = owen_scramble_rev(index.reverse_bits(), scramble.shuffle);
+fn sobol_4d(index_rev: u32, scramble: &GroupScramble) -> [f32; 4] {
+    let shuffled = owen_scramble_rev(index_rev, scramble.shuffle);
     let tables = &*SOBOL_TABLES;
     let (high, low) = (
         tables.high[(shuffled >> 24) as usize],
@@ -160,6 +163,7 @@ impl SampleStream {
             kind,
             pixel,
             index,
+            index_rev: 0,
             sample: 0,
             dimension: 0,
             cached: [0.0; 4],
@@ -176,6 +180,7 @@ impl SampleStream {
     #[inline]
     pub fn start(&mut self, index: u64) {
         self.index = index;
+        self.index_rev = ((index & 0xFFFF) as u32).reverse_bits();
         self.sample = mix(self.pixel, index);
         self.dimension = 0;
         self.group = u32::MAX;
@@ -226,7 +231,7 @@ impl SampleStream {
     #[inline(never)]
     fn draw_group(&mut self, group: u32) {
         let scramble = self.scramble(group);
-        self.cached = sobol_4d((self.index & 0xFFFF) as u32, &scramble);
+        self.cached = sobol_4d(self.index_rev, &scramble);
         self.group = group;
     }
 
@@ -308,9 +313,9 @@ mod tests {
         let mut seeds = SplitMix64::new(5);
         for _ in 0..64 {
             let seed = seeds.next_u64() as u32;
-            for index in (0..1 << 16).step_by(97).chain([0, 1, 2, 3, 0xFFFF]) {
+            for index in (0u32..1 << 16).step_by(97).chain([0, 1, 2, 3, 0xFFFF]) {
                 assert_eq!(
-                    sobol_4d(index, &GroupScramble::new(seed)),
+                    sobol_4d(index.reverse_bits(), &GroupScramble::new(seed)),
                     sobol_burley::sample_4d(index, 0, seed),
                     "index {index}, seed {seed:#x}"
                 );
