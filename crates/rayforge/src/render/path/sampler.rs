@@ -36,12 +36,10 @@ pub struct SampleStream {
     kind: SamplerKind,
     /// A hash of the render's seed and the pixel.
     pixel: u64,
-    /// The sample's index within the pixel.
-    index: u64,
-    /// The index within its block of 2¹⁶, bit-reversed (every group's Sobol point starts
-    /// from it).
+    /// The sample's index within its block of 2¹⁶, bit-reversed (every group's Sobol point
+    /// starts from it).
     index_rev: u32,
-    /// A hash of `pixel` and `index`, which hashed numbers start from.
+    /// A hash of `pixel` and the sample's index, which hashed numbers start from.
     sample: u64,
     /// The next dimension to draw.
     dimension: u32,
@@ -162,7 +160,6 @@ impl SampleStream {
         let mut stream = Self {
             kind,
             pixel,
-            index,
             index_rev: 0,
             sample: 0,
             dimension: 0,
@@ -179,7 +176,6 @@ impl SampleStream {
     /// Starts sample `index` of the same pixel, from its first dimension.
     #[inline]
     pub fn start(&mut self, index: u64) {
-        self.index = index;
         self.index_rev = ((index & 0xFFFF) as u32).reverse_bits();
         self.sample = mix(self.pixel, index);
         self.dimension = 0;
