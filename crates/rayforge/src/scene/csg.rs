@@ -239,12 +239,12 @@ impl Csg {
         }
     }
 
-    /// Whether one of [`intersect`](Self::intersect)'s hits has a `t` for which `within` holds
-    /// (a shadow ray's span), with the sort and the filter skipped when none of the
-    /// primitives' hits is within: the filter only drops hits, so the answer is the same, and
-    /// a shadow ray that passes by a solid's parts (or leaves its surface) costs their
-    /// intersections alone.
-    pub fn any_hit_within(&self, ray: &Ray, within: impl Fn(f64) -> bool) -> bool {
+    /// Whether one of [`intersect`](Self::intersect)'s hits lies in `t_min <= t < t_max` (a
+    /// shadow ray's span), with the sort and the filter skipped when none of the primitives'
+    /// hits does: the filter only drops hits, so the answer is the same, and a shadow ray that
+    /// passes by a solid's parts (or leaves its surface) costs their intersections alone.
+    pub fn any_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        let within = |t: f64| t >= t_min && t < t_max;
         let mut hits = self.leaf_hits(ray);
         if !hits.iter().any(|h| within(h.t)) {
             return false;

@@ -159,11 +159,14 @@ impl Shape {
         }
     }
 
-    /// Whether any hit lies in `t_min <= t < t_max` (shadow rays); meshes stop at the first.
+    /// Whether any hit lies in `t_min <= t < t_max` (shadow rays); meshes stop at the first,
+    /// set operations filter their primitives' hits only when one lies in the span.
     #[inline]
     pub fn any_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
-        if let Shape::Mesh(mesh) = self {
-            return mesh.any_hit(ray, t_min, t_max);
+        match self {
+            Shape::Mesh(mesh) => return mesh.any_hit(ray, t_min, t_max),
+            Shape::Csg(csg) => return csg.any_hit(ray, t_min, t_max),
+            _ => {}
         }
         let mut found = false;
         self.intersect_hits(ray, |h| found |= h.t >= t_min && h.t < t_max);

@@ -79,20 +79,11 @@ struct Hit<'w> {
 }
 
 /// Whether `object`'s surface meets `ray` (in world space) at some `t` with
-/// `EPSILON < t < distance`: the shadow test of [`Pass::matte`]. The answer is the one every
-/// hit of [`Shape::intersect_hits`] gives; a set operation is spared its sort and its filter
-/// when none of its primitives' hits lies in that span ([`Csg::any_hit_within`]).
+/// `EPSILON < t < distance`: the shadow test of [`Pass::matte`], by [`Shape::any_hit`] from the
+/// first number above `EPSILON` (the book counts no hit at `EPSILON` itself).
 fn blocks(object: &Object, ray: &Ray, distance: f64) -> bool {
-    let within = |t: f64| t > EPSILON && t < distance;
     let local = object.ray_to_object(ray);
-    if let Shape::Csg(csg) = &object.shape {
-        return csg.any_hit_within(&local, within);
-    }
-    let mut found = false;
-    object
-        .shape
-        .intersect_hits(&local, |h| found |= within(h.t));
-    found
+    object.shape.any_hit(&local, EPSILON.next_up(), distance)
 }
 
 /// Why a ray found no colour.
