@@ -4,8 +4,8 @@
 //! Next-event estimation picks one emitter per path vertex, with a probability proportional to
 //! an estimate of its power ([`Emitters::sample`]), and a point or direction on it. A path that
 //! finds an emitter by scattering asks how likely light sampling would have been to choose that
-//! point ([`Emitters::object_pdf`], [`Emitters::sky_radiance_and_pdf`]), so that multiple importance sampling
-//! can weigh the two ways of finding it.
+//! point ([`Emitters::object_pdf`], [`Emitters::sky_radiance_and_pdf`]), so that multiple
+//! importance sampling can weigh the two ways of finding it.
 //!
 //! What each kind of light means physically:
 //! - The book's point, spot, directional and area lights keep the book's meaning: no fall-off

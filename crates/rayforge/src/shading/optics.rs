@@ -9,9 +9,10 @@ use crate::math::{Point3, Vec3};
 
 /// Fundamentals of Ray Tracing's matte sum at `point`: each point light in front of the
 /// surface for which `in_view` holds (given its position), by its colour times the cosine of
-/// incidence over the squared distance. Spotlights and area lights count as points; ambient and directional lights add
-/// nothing in this model (a directional light is a point infinitely far away, whose 1/d²
-/// leaves nothing). The rasterizer, which casts no shadow rays, takes every light as in view.
+/// incidence over the squared distance. Spotlights and area lights count as points; ambient
+/// and directional lights add nothing in this model (a directional light is a point infinitely
+/// far away, whose 1/d² leaves nothing). The rasterizer, which casts no shadow rays, takes
+/// every light as in view.
 pub fn matte_light(
     lights: &[Light],
     point: Point3,
