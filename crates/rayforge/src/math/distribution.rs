@@ -1,12 +1,12 @@
-//! Sampling in proportion to a tabulated function: [`Distribution1D`] (piecewise constant over
-//! `[0, 1)`, or a choice among bins) and [`Distribution2D`] (a marginal over rows, then one
-//! conditional per row).
+//! Sampling in proportion to a table of weights: [`Distribution1D`] (a choice among bins) and
+//! [`Distribution2D`] (a cell of a grid: a marginal over rows, then one conditional per row).
 //!
 //! A renderer draws most samples where they matter: lights in proportion to their power, mesh
-//! triangles in proportion to their area (discrete sampling), and directions towards an
-//! environment map's bright texels (continuous sampling). Each sample comes with its density,
-//! and the density of any point can be asked again later (multiple importance sampling needs
-//! both), so both are computed from one table and agree exactly.
+//! triangles in proportion to their area, an environment map's cells in proportion to their
+//! light. Each choice comes with its probability, and the probability of any bin can be asked
+//! again later (multiple importance sampling needs both), so both come from one table and
+//! agree exactly. A choice also hands back its random number rescaled within the chosen bin,
+//! a fresh uniform number for what is drawn next (a point inside the cell).
 
 /// Why a table of weights cannot be sampled.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -50,9 +50,8 @@ fn unit(u: f64) -> f64 {
     }
 }
 
-/// A piecewise-constant density over `[0, 1)` with `len()` equal bins, and the same table seen
-/// as a discrete choice among the bins, so that one structure serves picking a light or a
-/// triangle (discrete) and picking a coordinate of an environment map (continuous).
+/// A discrete choice among `len()` bins in proportion to their weights: picking a light by
+/// power, a triangle by area, a row of an environment map's cells by their light.
 ///
 /// Weights must be finite and not negative. When they are all zero, sampling is uniform (so a
 /// black environment or a scene of dark lights still yields valid samples) while
@@ -128,14 +127,13 @@ impl Distribution1D {
         self.probabilities.is_empty()
     }
 
-    /// The integral over `[0, 1)` of the step function the weights describe (their mean): a
-    /// 2D table's rows are weighted by it, and it tells how bright an all-round light is.
+    /// The mean of the weights (the integral over `[0, 1)` of the step function they describe):
+    /// a 2D table's rows are weighted by it.
     pub fn integral(&self) -> f64 {
         self.integral
     }
 
-    /// The probability of choosing bin `index` (0 outside the table), the discrete
-    /// counterpart of [`pdf`](Self::pdf).
+    /// The probability of choosing bin `index` (0 outside the table).
     pub fn probability(&self, index: usize) -> f64 {
         self.probabilities.get(index).copied().unwrap_or(0.0)
     }
@@ -173,76 +171,12 @@ impl Distribution1D {
         };
         (index, self.probabilities[index], rest)
     }
-
-    /// The bin `x` in `[0, 1)` falls in (ends clamped), as [`pdf`](Self::pdf) finds it.
-    fn bin_at(&self, x: f64) -> usize {
-        let n = self.len();
-        if x >= 0.0 {
-            ((x * n as f64) as usize).min(n - 1)
-        } else {
-            0
-        }
-    }
-
-    /// A point of `[0, 1)` drawn with density [`pdf`](Self::pdf) from a uniform random number
-    /// `u` in `[0, 1)` (by inverting the cumulative distribution), its density, and its bin.
-    /// The point always lies in the returned bin as [`pdf`](Self::pdf) computes it, so the
-    /// density returned equals `pdf(x)` exactly.
-    pub fn sample_continuous(&self, u: f64) -> (f64, f64, usize) {
-        let u = unit(u);
-        let index = self.bin_of(u);
-        let (start, end) = (self.cdf[index], self.cdf[index + 1]);
-        let within = if end > start {
-            ((u - start) / (end - start)).clamp(0.0, ONE_MINUS_EPSILON)
-        } else {
-            0.0
-        };
-        let n = self.len() as f64;
-        let mut x = ((index as f64 + within) / n).min(ONE_MINUS_EPSILON);
-        // Rounding may carry x over a bin's edge; step it back by ulps (a step or two at most).
-        while self.bin_at(x) > index {
-            x = next_down(x);
-        }
-        while self.bin_at(x) < index {
-            x = next_up(x);
-        }
-        (x, self.probabilities[index] * n, index)
-    }
-
-    /// The density at `x` of the points [`sample_continuous`](Self::sample_continuous) draws:
-    /// the bin's probability times the number of bins (0 outside `[0, 1)`).
-    pub fn pdf(&self, x: f64) -> f64 {
-        if !(0.0..1.0).contains(&x) {
-            return 0.0;
-        }
-        self.probabilities[self.bin_at(x)] * self.len() as f64
-    }
 }
 
-/// The next `f64` below a positive `x`.
-fn next_down(x: f64) -> f64 {
-    if x > 0.0 {
-        f64::from_bits(x.to_bits() - 1)
-    } else {
-        x
-    }
-}
-
-/// The next `f64` above a non-negative finite `x`.
-fn next_up(x: f64) -> f64 {
-    if x >= 0.0 {
-        f64::from_bits(x.to_bits() + 1)
-    } else {
-        0.0
-    }
-}
-
-/// A piecewise-constant density over the unit square, from a `width × height` table: a row is
-/// drawn from the marginal distribution of the rows' integrals, then a column from that row's
-/// own distribution. This is how an environment map's bright texels are found in two binary
-/// searches rather than one search over every texel.
-///
-/// Points are `[u, v]` with `u` across the columns and `v` down the rows, each in `[0, 1)`.
+/// A choice among the cells of a `width × height` table in proportion to their weights: a row
+/// is drawn from the marginal distribution of the rows' sums, then a column from that row's
+/// own distribution. This is how an environment map's bright cells are found in two binary
+/// searches rather than one search over every cell.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Distribution2D {
     /// One distribution across each row's columns.
@@ -291,29 +225,20 @@ impl Distribution2D {
         })
     }
 
-    /// The integral of the table's step function over the unit square (the mean weight).
+    /// The mean weight of the table (the integral of its step function over the unit square).
     pub fn integral(&self) -> f64 {
         self.marginal.integral()
     }
 
-    /// A point `[u, v]` of the unit square drawn with density [`pdf`](Self::pdf) from two
-    /// uniform random numbers in `[0, 1)` (the first chooses the column, the second the row),
-    /// and its density, equal to `pdf` of the point.
-    pub fn sample(&self, u: [f64; 2]) -> ([f64; 2], f64) {
-        let (v, pdf_row, row) = self.marginal.sample_continuous(u[1]);
-        let (x, pdf_column, _) = self.conditional[row].sample_continuous(u[0]);
-        ([x, v], pdf_row * pdf_column)
-    }
-
-    /// The density at `[u, v]` of the points [`sample`](Self::sample) draws (0 outside the
-    /// unit square).
-    pub fn pdf(&self, point: [f64; 2]) -> f64 {
-        let [x, v] = point;
-        if !(0.0..1.0).contains(&x) || !(0.0..1.0).contains(&v) {
-            return 0.0;
-        }
-        let row = self.marginal.bin_at(v);
-        self.marginal.pdf(v) * self.conditional[row].pdf(x)
+    /// A cell drawn with its probability from two uniform random numbers in `[0, 1)` (the
+    /// first chooses the column, the second the row): `(column, row)`, that probability, and
+    /// the two numbers rescaled to `[0, 1)` within their choices, fresh uniform numbers for
+    /// placing a point inside the cell by a density of its own (an environment map's bilinear
+    /// patch) without losing the stratification of the numbers given.
+    pub fn sample_cell(&self, u: [f64; 2]) -> ((usize, usize), f64, [f64; 2]) {
+        let (row, p_row, v) = self.marginal.sample_discrete_reused(u[1]);
+        let (column, p_column, x) = self.conditional[row].sample_discrete_reused(u[0]);
+        ((column, row), p_row * p_column, [x, v])
     }
 }
 
@@ -346,7 +271,7 @@ mod tests {
     }
 
     #[test]
-    fn probabilities_integral_and_pdf_follow_the_weights() {
+    fn probabilities_and_integral_follow_the_weights() {
         let d = Distribution1D::new(&[1.0, 0.0, 3.0]).unwrap();
         assert_eq!(d.len(), 3);
         assert!(!d.is_empty());
@@ -355,30 +280,7 @@ mod tests {
         assert_eq!(d.probability(1), 0.0);
         assert_eq!(d.probability(2), 0.75);
         assert_eq!(d.probability(3), 0.0);
-        assert!((d.pdf(0.1) - 0.75).abs() < 1e-15);
-        assert_eq!(d.pdf(0.5), 0.0);
-        assert!((d.pdf(0.9) - 2.25).abs() < 1e-15);
-        assert_eq!(d.pdf(-0.1), 0.0);
-        assert_eq!(d.pdf(1.0), 0.0);
-    }
-
-    #[test]
-    fn pdf_integrates_to_one() {
-        let weights = [0.5, 2.0, 0.0, 7.0, 1.0, 0.25, 3.0];
-        let d = Distribution1D::new(&weights).unwrap();
-        let n = 7000;
-        let sum: f64 = (0..n).map(|k| d.pdf((k as f64 + 0.5) / n as f64)).sum();
-        assert!((sum / n as f64 - 1.0).abs() < 1e-12);
-
         let d2 = Distribution2D::new(3, 2, &[1.0, 0.0, 2.0, 5.0, 0.5, 0.5]).unwrap();
-        let m = 300;
-        let mut sum = 0.0;
-        for i in 0..m {
-            for j in 0..m {
-                sum += d2.pdf([(i as f64 + 0.5) / m as f64, (j as f64 + 0.5) / m as f64]);
-            }
-        }
-        assert!((sum / (m * m) as f64 - 1.0).abs() < 1e-9);
         assert!((d2.integral() - 9.0 / 6.0).abs() < 1e-15);
     }
 
@@ -401,27 +303,27 @@ mod tests {
     }
 
     #[test]
-    fn continuous_samples_follow_the_pdf_and_report_it() {
+    fn a_choice_hands_back_a_fresh_uniform_number() {
+        // Within each bin chosen, the rescaled number is uniform on [0, 1): four sub-bins each.
         let weights = [3.0, 1.0, 0.0, 0.5, 6.0];
         let d = Distribution1D::new(&weights).unwrap();
         let mut rng = SplitMix64::new(11);
-        // 20 bins of [0, 1): four per weight.
-        let mut counts = vec![0u64; 20];
-        let n = 100_000;
-        for _ in 0..n {
-            let (x, pdf, index) = d.sample_continuous(rng.next_offset());
-            assert!((0.0..1.0).contains(&x));
-            assert_eq!(pdf, d.pdf(x), "at {x}");
-            assert_eq!(index, (x * 5.0) as usize);
-            counts[(x * 20.0) as usize] += 1;
+        let mut counts = vec![0u64; weights.len() * 4];
+        for _ in 0..100_000 {
+            let (index, p, rest) = d.sample_discrete_reused(rng.next_offset());
+            assert_eq!(p, d.probability(index));
+            assert!((0.0..1.0).contains(&rest), "{rest}");
+            counts[index * 4 + (rest * 4.0) as usize] += 1;
         }
-        let expected: Vec<f64> = (0..20).map(|k| d.probability(k / 4) / 4.0).collect();
+        let expected: Vec<f64> = (0..counts.len())
+            .map(|k| d.probability(k / 4) / 4.0)
+            .collect();
         let p = chi_square_p_value(&counts, &expected);
         assert!(p > 1e-3, "chi-square p-value {p}, counts {counts:?}");
     }
 
     #[test]
-    fn samples_2d_follow_the_pdf_and_report_it() {
+    fn cells_follow_their_weights() {
         let (w, h) = (4, 3);
         let weights = [
             1.0, 2.0, 0.0, 0.5, //
@@ -433,11 +335,11 @@ mod tests {
         let mut rng = SplitMix64::new(3);
         let mut counts = vec![0u64; w * h];
         for _ in 0..100_000 {
-            let ([x, v], pdf) = d.sample([rng.next_offset(), rng.next_offset()]);
-            assert_eq!(pdf, d.pdf([x, v]));
-            assert!(pdf > 0.0);
-            let cell = (v * h as f64) as usize * w + (x * w as f64) as usize;
+            let ((column, row), p, [x, v]) = d.sample_cell([rng.next_offset(), rng.next_offset()]);
+            let cell = row * w + column;
+            assert!((p - weights[cell] / total).abs() < 1e-15);
             assert!(weights[cell] > 0.0, "sampled the empty cell {cell}");
+            assert!((0.0..1.0).contains(&x) && (0.0..1.0).contains(&v));
             counts[cell] += 1;
         }
         let expected: Vec<f64> = weights.iter().map(|&x| x / total).collect();
@@ -454,19 +356,10 @@ mod tests {
             for u in [0.0, just_below_one, 1.0, 1.5, -0.5, f64::NAN, 1e-300] {
                 let (i, p) = d.sample_discrete(u);
                 assert!(i < d.len() && p > 0.0, "{weights:?} at {u}: {i}, {p}");
-                let (x, pdf, index) = d.sample_continuous(u);
-                assert!((0.0..1.0).contains(&x), "{weights:?} at {u}: {x}");
-                assert!(pdf > 0.0 && index < d.len());
-                assert_eq!(pdf, d.pdf(x));
+                let (index, p, rest) = d.sample_discrete_reused(u);
+                assert!(index == i && p > 0.0, "{weights:?} at {u}");
+                assert!((0.0..1.0).contains(&rest), "{weights:?} at {u}: {rest}");
             }
-        }
-        // Bins of many sizes: no u just below a cdf step leaves its bin.
-        let d = Distribution1D::new(&[1.0, 1e-12, 3.0, 1e-300, 0.0, 2.0]).unwrap();
-        let mut rng = SplitMix64::new(5);
-        for _ in 0..10_000 {
-            let (x, pdf, index) = d.sample_continuous(rng.next_offset());
-            assert_eq!(pdf, d.pdf(x));
-            assert_eq!(d.bin_at(x), index);
         }
     }
 
@@ -475,9 +368,9 @@ mod tests {
         let d = Distribution1D::new(&[2.5]).unwrap();
         assert_eq!(d.integral(), 2.5);
         assert_eq!(d.sample_discrete(0.7), (0, 1.0));
-        let (x, pdf, index) = d.sample_continuous(0.3);
-        assert!((x - 0.3).abs() < 1e-15);
-        assert_eq!((pdf, index), (1.0, 0));
+        let (index, p, rest) = d.sample_discrete_reused(0.3);
+        assert!((rest - 0.3).abs() < 1e-15);
+        assert_eq!((index, p), (0, 1.0));
     }
 
     #[test]
@@ -485,13 +378,11 @@ mod tests {
         let d = Distribution1D::new(&[0.0; 4]).unwrap();
         assert_eq!(d.integral(), 0.0);
         assert_eq!(d.probability(2), 0.25);
-        assert_eq!(d.pdf(0.6), 1.0);
         assert_eq!(d.sample_discrete(0.6), (2, 0.25));
         let d2 = Distribution2D::new(2, 2, &[0.0; 4]).unwrap();
         assert_eq!(d2.integral(), 0.0);
-        let (p, pdf) = d2.sample([0.3, 0.8]);
-        assert!((p[0] - 0.3).abs() < 1e-15 && (p[1] - 0.8).abs() < 1e-15);
-        assert_eq!(pdf, 1.0);
+        let (cell, p, _) = d2.sample_cell([0.3, 0.8]);
+        assert_eq!((cell, p), ((0, 1), 0.25));
     }
 
     #[test]
