@@ -883,3 +883,100 @@ mod emitter_sampling {
         }
     }
 }
+
+#[test]
+fn a_mirror_balls_caustic_is_the_same_sampled_through_the_ball_or_found_by_bouncing() {
+    // A polished ball before a grey wall that turns its back on the sun (a small one, in a dim
+    // sky): the wall's light is mostly the sun reflected by the ball. The path tracer samples
+    // that light through the
+    // ball's reflection point (next-event estimation through a mirror ball); the same ball
+    // given a motion that stands still is not sampled so (a moving ball does not qualify) and
+    // its caustic is found only by paths that bounce into it. Both are unbiased, so their
+    // images agree within their noise.
+    use rayforge::math::{rotation_z, translation, Motion, Transform};
+    use rayforge::shading::EnvironmentMap;
+    use std::sync::Arc;
+    // A coarse map, so that the sun (one texel, spread over the cells around it) is wide
+    // enough for bouncing paths to find it in the ball often enough to compare.
+    let (w, h) = (8, 5);
+    let mut texels = vec![Color::new(0.05, 0.05, 0.06); w * h];
+    texels[w + 1] = Color::new(60.0, 55.0, 50.0);
+    let sky = EnvironmentMap::new(w, h, texels, 1.0).unwrap();
+    // The sun lies towards +x, 45° up; the wall stands at x = 1.2 facing −x, towards the
+    // ball, low enough (y from 0 to 1.2) not to shade the ball from the sun.
+    let wall = Object::new(rayforge::Shape::Rectangle)
+        .with_transform(
+            translation(1.2, 0.6, 0.0)
+                * rotation_z(std::f64::consts::FRAC_PI_2)
+                * scaling(0.6, 1.0, 3.0),
+        )
+        .with_material(diffuse(0.5));
+    let placed = translation(0.0, 0.6, 0.0) * scaling(0.5, 0.5, 0.5);
+    let ball = Object::sphere()
+        .with_transform(placed)
+        .with_material(Material {
+            physical: Some(Physical::Conductor {
+                eta: Color::new(1.6575, 0.880405, 0.521244),
+                k: Color::new(9.22381, 6.2695, 4.837),
+                alpha: 0.0,
+            }),
+            ..Material::DEFAULT
+        });
+    let mut still = ball.clone();
+    still.motion = Some(Box::new(Motion::new(
+        Transform::new(placed),
+        Transform::new(placed),
+    )));
+    // Looking at the wall beside the ball (the ball itself out of view: the sun's tiny image
+    // in it would drown everything in noise).
+    let camera = Camera::new(12, 12, 0.4).with_transform(view_transform(
+        point(-0.3, 0.6, 2.2),
+        point(1.2, 0.6, 0.0),
+        vector(0.0, 1.0, 0.0),
+    ));
+    let world_of = |ball: Object| World {
+        objects: vec![wall.clone(), ball],
+        environment: Some(Arc::new(sky.clone())),
+        ..World::default()
+    };
+    // The image's mean, per batch of 64 spp (each batch its own seed).
+    let batches = |world: &World, count: u64| -> Vec<f64> {
+        (0..count)
+            .map(|batch| {
+                let job = PathJob {
+                    options: PathOptions {
+                        seed: batch,
+                        ..PathOptions::default()
+                    },
+                    samples: 0..64,
+                    progress: None,
+                    cancel: None,
+                    on_row: None,
+                };
+                let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
+                let mut done = vec![false; camera.vsize()];
+                render_path(&camera, world, &job, &film, None, &mut done).unwrap();
+                let p = pixels(&film.into_film());
+                p.iter().sum::<f64>() / p.len() as f64
+            })
+            .collect()
+    };
+    let stats = |v: &[f64]| {
+        let n = v.len() as f64;
+        let mean = v.iter().sum::<f64>() / n;
+        let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        (mean, (var / n).sqrt())
+    };
+    let (through, through_error) = stats(&batches(&world_of(ball), 8));
+    let (bounced, bounced_error) = stats(&batches(&world_of(still), 64));
+    let z = (through - bounced) / (through_error.powi(2) + bounced_error.powi(2)).sqrt();
+    assert!(
+        z.abs() < 4.0 && bounced_error < 0.03 * bounced,
+        "through the ball {through} ± {through_error}, bounced {bounced} ± {bounced_error}"
+    );
+    // And sampling through the ball is what makes the caustic quiet.
+    assert!(
+        through_error < 0.5 * bounced_error,
+        "{through_error} vs {bounced_error}"
+    );
+}

@@ -43,6 +43,7 @@
 //!   indirect light is what it stood for.
 
 use super::csg::Csg;
+use super::mirror::MirrorBall;
 use super::object::Object;
 use super::shape::Shape;
 use super::world::{LightingModel, World};
@@ -566,6 +567,11 @@ pub struct Emitters {
     /// The sky when there is no environment map.
     background: Color,
     environment: Option<Arc<EnvironmentMap>>,
+    /// The polished metal balls through which the environment map's light is sampled
+    /// (empty without a map that gives light).
+    mirror_balls: Vec<MirrorBall>,
+    /// Per world object, its index in `mirror_balls`, or [`NOT_SAMPLED`].
+    mirror_of_object: Vec<u32>,
 }
 
 impl Emitters {
@@ -653,6 +659,20 @@ impl Emitters {
         let pick = Distribution1D::new(&power)
             .ok()
             .filter(|d| d.integral() > 0.0);
+        let mirror_balls: Vec<MirrorBall> = if sky.is_some() {
+            world
+                .objects
+                .iter()
+                .enumerate()
+                .filter_map(|(i, object)| MirrorBall::of(object, i as u32))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let mut mirror_of_object = vec![NOT_SAMPLED; world.objects.len()];
+        for (i, ball) in mirror_balls.iter().enumerate() {
+            mirror_of_object[ball.object as usize] = i as u32;
+        }
         Self {
             list,
             pick,
@@ -660,7 +680,28 @@ impl Emitters {
             sky,
             background: world.background,
             environment: world.environment.clone(),
+            mirror_balls,
+            mirror_of_object,
         }
+    }
+
+    /// The environment map, when it gives light (what [`mirror_balls`](Self::mirror_balls)
+    /// reflect).
+    pub fn environment(&self) -> Option<&EnvironmentMap> {
+        self.sky.and(self.environment.as_deref())
+    }
+
+    /// The polished metal balls through which the path tracer samples the environment map's
+    /// light (see [`MirrorBall`]); empty when no map gives light.
+    pub fn mirror_balls(&self) -> &[MirrorBall] {
+        &self.mirror_balls
+    }
+
+    /// The mirror ball that world object `index` is, if it is one.
+    #[inline]
+    pub fn mirror_ball_of(&self, index: usize) -> Option<&MirrorBall> {
+        let at = *self.mirror_of_object.get(index)?;
+        self.mirror_balls.get(at as usize)
     }
 
     /// Whether anything can be sampled.

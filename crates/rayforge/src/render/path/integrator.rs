@@ -3,6 +3,10 @@
 //! importance sampling between light sampling and BSDF sampling by the power heuristic (Veach
 //! 1997), Russian roulette after a few bounces, radiance in linear RGB.
 //!
+//! The environment map's light reflected onto a surface by a polished metal ball is also
+//! sampled from the surface, through the ball's reflection point ([`MirrorBall`]), and
+//! weighed by the power heuristic against the paths that reach the ball by BSDF sampling.
+//!
 //! A path's random numbers come from its [`SampleStream`] in a fixed layout, so a Sobol
 //! sampler stratifies each vertex's choices together: the camera takes the first
 //! [`CAMERA_DIMENSIONS`], then each vertex [`VERTEX_DIMENSIONS`] (layer, light, light point,
@@ -11,8 +15,12 @@
 use super::sampler::SampleStream;
 use crate::color::Color;
 use crate::math::{Frame, Point3, Ray, Vec3};
-use crate::scene::{surface_offset, Emitters, LightingModel, Object, World, WorldIndex, NO_OBJECT};
-use crate::shading::Scattering;
+use crate::scene::{
+    mirror_spread, surface_offset, Emitters, LightingModel, MirrorBall, Object, World, WorldIndex,
+    NO_OBJECT,
+};
+use crate::shading::bsdf::Bsdf;
+use crate::shading::{EnvironmentMap, Layer, Scattering};
 
 /// Dimensions a camera sample uses: the image point, the lens point, the instant (and one
 /// spare, so that vertices start on a group of four).
@@ -95,6 +103,15 @@ fn offset_towards(point: Point3, normal: Vec3, direction: Vec3) -> Point3 {
     point + normal * (side * surface_offset(point))
 }
 
+/// A path vertex as next-event estimation through a mirror ball needs it.
+struct Vertex<'a> {
+    point: Point3,
+    geometric: Vec3,
+    frame: &'a Frame,
+    wo_local: Vec3,
+    time: f64,
+}
+
 impl<'w> PathContext<'w> {
     /// A context for tracing `world`, whose index and lights these are.
     pub fn new(
@@ -128,6 +145,62 @@ impl<'w> PathContext<'w> {
             })
     }
 
+    /// The environment map's light that the mirror ball `ball` reflects to the vertex `at`
+    /// and its layer `layer` scatters back along the path, from one direction of the map drawn
+    /// with `u` (the ball's reflection point solved for it), weighed by the power heuristic
+    /// against the layer's own sampling finding the same path.
+    fn sky_in_mirror(
+        &mut self,
+        ball: &MirrorBall,
+        map: &EnvironmentMap,
+        at: &Vertex,
+        layer: &Layer,
+        u: [f64; 2],
+    ) -> Color {
+        let Some((towards, sky, sky_pdf)) = map.sample(u) else {
+            return Color::BLACK;
+        };
+        let Some(path) = ball.reflection_towards(at.point, towards) else {
+            return Color::BLACK;
+        };
+        let bsdf: &Bsdf = &layer.bsdf;
+        let wi_local = at.frame.to_local(path.direction);
+        let f = bsdf.eval(at.wo_local, wi_local) * layer.scale;
+        if f.max_channel() <= 0.0 {
+            return Color::BLACK;
+        }
+        // To the ball, stopping just short of it, then from the ball to the sky.
+        let origin = offset_towards(at.point, at.geometric, path.direction);
+        let to_ball = path.point - origin;
+        let length = to_ball.length();
+        let reach = length - 2.0 * surface_offset(path.point);
+        let time = at.time;
+        let leg = Ray {
+            origin,
+            direction: to_ball / length,
+            time,
+            t_min: 0.0,
+        };
+        if reach <= 0.0 || self.occluded(&leg, reach) {
+            return Color::BLACK;
+        }
+        let beyond = Ray {
+            origin: path.point + path.normal * surface_offset(path.point),
+            direction: towards,
+            time,
+            t_min: 0.0,
+        };
+        if self.occluded(&beyond, f64::INFINITY) {
+            return Color::BLACK;
+        }
+        // The density of this direction from the vertex: the map's, narrowed by the spread.
+        let pdf = sky_pdf * mirror_spread(path.distance, path.cos_incidence, ball.radius);
+        let weight = power_heuristic(pdf, bsdf.pdf(at.wo_local, wi_local));
+        f.hadamard(ball.reflectance(path.cos_incidence))
+            .hadamard(sky)
+            * (weight / pdf)
+    }
+
     /// The radiance arriving along the camera ray `ray`, and what its first hit looks like.
     pub fn radiance(&mut self, ray: Ray, stream: &mut SampleStream) -> (Color, FirstHit) {
         let world = self.world;
@@ -144,10 +217,18 @@ impl<'w> PathContext<'w> {
         let mut specular = true;
         let mut from = ray.origin;
         let mut depth = 0;
+        // Where the path last left a non-delta surface for a mirror ball: the density of that
+        // direction and the ball's spread, for weighing the sky beyond the ball against
+        // sampling it through the ball.
+        let mut mirror_leg: Option<(f64, f64)> = None;
         loop {
             self.rays += 1;
             let Some(hit) = self.index.closest_hit(world, &ray) else {
-                let (sky, weight) = if specular {
+                let leg = mirror_leg.zip(self.emitters.environment());
+                let (sky, weight) = if let Some(((leg_pdf, spread), map)) = leg {
+                    let (sky, pdf) = map.radiance_and_pdf(ray.direction);
+                    (sky, power_heuristic(leg_pdf, pdf * spread))
+                } else if specular {
                     (self.emitters.sky_radiance(ray.direction), 1.0)
                 } else {
                     let (sky, pdf) = self.emitters.sky_radiance_and_pdf(ray.direction);
@@ -171,6 +252,17 @@ impl<'w> PathContext<'w> {
             let local = hit.local();
             let at = surface.shape.surface_point(&local);
             let geometric = hit.object.normal_at_hit(point, &hit);
+            // Met by a direction sampled at a non-delta surface: if this is a mirror ball, what
+            // the sky beyond it gives is weighed against sampling the sky through the ball.
+            mirror_leg = if specular || self.emitters.mirror_balls().is_empty() {
+                None
+            } else {
+                let index = object_index(world, hit.object);
+                self.emitters.mirror_ball_of(index).map(|ball| {
+                    let cos = geometric.dot(wo).abs();
+                    (bsdf_pdf, mirror_spread(hit.t, cos, ball.radius))
+                })
+            };
             let mut shading = match &material.bump {
                 Some(bump) => {
                     let transform = surface.transform_at(hit.time);
@@ -290,6 +382,22 @@ impl<'w> PathContext<'w> {
                             radiance += throughput.hadamard(f).hadamard(light.radiance)
                                 * (weight / light.pdf);
                         }
+                    }
+                }
+                // The sky in the mirror balls. (A path ending at the next vertex could not
+                // reach the sky beyond a ball, so neither may this.)
+                let emitters = self.emitters;
+                if let (Some(map), true) = (emitters.environment(), depth + 1 < self.max_depth) {
+                    let at = Vertex {
+                        point,
+                        geometric,
+                        frame: &frame,
+                        wo_local,
+                        time: ray.time,
+                    };
+                    for ball in emitters.mirror_balls() {
+                        let light = self.sky_in_mirror(ball, map, &at, &layer, u_point);
+                        radiance += throughput.hadamard(light);
                     }
                 }
             }

@@ -1,0 +1,386 @@
+//! Polished metal balls as a way for the sky's light to reach a surface: the reflection point
+//! found directly, so that the sun's image in a mirror ball lights a diffuse surface by
+//! next-event estimation instead of by the rare path that happens to bounce towards it.
+//!
+//! A path tracer finds light reflected by a perfect mirror onto a diffuse surface (a caustic)
+//! only when the surface's own sampled direction meets the mirror just where the mirror shows
+//! the light: for a small sun in a convex mirror, a tiny set of directions, so a few samples
+//! carry enormous weights and the caustic stays speckled for thousands of samples. Manifold
+//! next-event estimation (Hanika, Droske and Fascione, 2015) instead draws the light's
+//! direction and solves for the point of the mirror that sends it to the surface. For a sphere
+//! and a distant light the solution lies in the plane through the sphere's centre, the surface
+//! point and the light's direction, so it is a root in one angle, bracketed and unique on the
+//! part of the sphere the point sees (the reflected direction turns monotonically from straight
+//! back to grazing as the reflection point moves out from the sphere's nearest point).
+//!
+//! The estimate needs how the mirror spreads directions: a pencil of rays of solid angle `dd`
+//! leaving the surface point, reflected at distance `s` with incidence `i` by a convex sphere
+//! of radius `R`, leaves as if from two virtual foci (Coddington's equations for a mirror, in
+//! the plane of incidence and across it) and spans
+//! `dω = dd · (1 + 2s / (R cos i)) · (1 + 2s cos i / R)`. It is 1 for a flat mirror and tends
+//! to `4s² / R²` far away, where a ball spreads a parallel beam evenly over the whole sphere of
+//! directions.
+//!
+//! Only balls that reflect the same everywhere qualify: a sphere placed by a similarity (no
+//! stretch), standing still, of a smooth conductor with a plain colour and no bump map, that
+//! does not glow. The path tracer weighs this strategy against the surface's BSDF sampling by
+//! the power heuristic, which needs the same spread for a path that found the mirror by itself
+//! ([`spread`]).
+
+use super::object::Object;
+use super::shape::Shape;
+use crate::color::Color;
+use crate::math::{sin_cos_turns, Point3, Vec3};
+use crate::shading::bsdf::{fresnel, MIN_ALPHA};
+use crate::shading::Physical;
+use std::f64::consts::TAU;
+
+/// A polished metal ball, in world space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MirrorBall {
+    /// Its index in the world's objects.
+    pub object: u32,
+    /// Its centre.
+    pub centre: Point3,
+    /// Its radius.
+    pub radius: f64,
+    /// Real part of the metal's index of refraction, per channel.
+    eta: Color,
+    /// Its extinction coefficient, per channel.
+    k: Color,
+    /// The colour that tints its reflection.
+    tint: Color,
+}
+
+/// How a surface point sees a direction of the sky in a mirror ball.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MirrorPath {
+    /// The point of the ball that reflects the sky's direction to the surface point.
+    pub point: Point3,
+    /// The ball's outward normal there.
+    pub normal: Vec3,
+    /// The unit direction from the surface point to it.
+    pub direction: Vec3,
+    /// How far it is.
+    pub distance: f64,
+    /// The cosine of the angle of incidence there.
+    pub cos_incidence: f64,
+}
+
+/// `dω / dd`: how much wider in solid angle a pencil of rays leaves a convex mirror ball of
+/// radius `radius` than it arrived from a point `distance` away, meeting it with incidence
+/// cosine `cos_incidence` (see the [module](self) documentation).
+#[inline]
+pub fn spread(distance: f64, cos_incidence: f64, radius: f64) -> f64 {
+    let c = cos_incidence.max(1e-12);
+    (1.0 + 2.0 * distance / (radius * c)) * (1.0 + 2.0 * distance * c / radius)
+}
+
+impl MirrorBall {
+    /// `object` (the world's object `index`) as a mirror ball, if it is one (see the
+    /// [module](self) documentation for what qualifies).
+    pub fn of(object: &Object, index: u32) -> Option<Self> {
+        let material = &object.material;
+        let Some(Physical::Conductor { eta, k, alpha }) = material.physical else {
+            return None;
+        };
+        let plain = material.pattern.is_none()
+            && material.texture.is_none()
+            && material.bump.is_none()
+            && material.metal_rough.is_none()
+            && material.physical_patterns.is_none()
+            && material.emission.max_channel() <= 0.0;
+        if !matches!(object.shape, Shape::Sphere)
+            || object.motion.is_some()
+            || alpha >= MIN_ALPHA
+            || !plain
+        {
+            return None;
+        }
+        // A similarity: the images of three unit axes are orthogonal and of one length.
+        let t = &object.transform;
+        let (x, y, z) = (t.vector(Vec3::X), t.vector(Vec3::Y), t.vector(Vec3::Z));
+        let radius = x.length();
+        let tolerance = 1e-9 * radius * radius;
+        let similar = (y.length_squared() - radius * radius).abs() <= tolerance
+            && (z.length_squared() - radius * radius).abs() <= tolerance
+            && x.dot(y).abs() <= tolerance
+            && y.dot(z).abs() <= tolerance
+            && z.dot(x).abs() <= tolerance;
+        if !(similar && radius.is_finite() && radius > 0.0) {
+            return None;
+        }
+        Some(Self {
+            object: index,
+            centre: t.point(Point3::ZERO),
+            radius,
+            eta,
+            k,
+            tint: material.color,
+        })
+    }
+
+    /// The share of light the ball reflects at incidence cosine `cos_incidence`: the conductor
+    /// Fresnel reflectance, tinted, as its BSDF gives it.
+    pub fn reflectance(&self, cos_incidence: f64) -> Color {
+        self.tint
+            .hadamard(fresnel::conductor(cos_incidence, self.eta, self.k))
+    }
+
+    /// Where the ball reflects light arriving from the far direction `towards` (unit, pointing
+    /// away from the ball to where the light comes from) into the point `from`: `None` when
+    /// `from` is inside or on the ball, or when no point of the ball that `from` sees sends
+    /// that direction to it (it lies beyond the grazing reflections, behind the ball).
+    pub fn reflection_towards(&self, from: Point3, towards: Vec3) -> Option<MirrorPath> {
+        let r = self.radius;
+        let offset = from - self.centre;
+        let d = offset.length();
+        if d.is_nan() || d <= r * (1.0 + 1e-9) || !towards.is_finite() {
+            return None;
+        }
+        // The plane of the centre, the point and the direction: e1 towards the point, e2
+        // towards the direction's side. In it the normal is (cos α, sin α), α from 0 (the
+        // nearest point) to the edge the point sees, acos(R / d).
+        let e1 = offset / d;
+        let along = towards.dot(e1);
+        let across = towards - e1 * along;
+        let side = across.length();
+        let omega = [along, side];
+        let e2 = if side > 1e-12 {
+            across / side
+        } else if along > 0.0 {
+            // Straight back along the axis: the nearest point reflects it.
+            return Some(self.path(from, e1));
+        } else {
+            return None;
+        };
+        // The reflected direction at α and how far it still is, clockwise, from ω (the
+        // cross product): positive at α = 0, where the reflection points straight back.
+        let behind = |alpha: f64| {
+            let (sin, cos) = sin_cos_turns(alpha / TAU);
+            let (px, py) = (r * cos, r * sin);
+            let (vx, vy) = (d - px, -py);
+            let length = (vx * vx + vy * vy).sqrt();
+            let (ux, uy) = (vx / length, vy / length);
+            let un = ux * cos + uy * sin;
+            let (rx, ry) = (2.0 * un * cos - ux, 2.0 * un * sin - uy);
+            rx * omega[1] - ry * omega[0]
+        };
+        let edge = (r / d).acos();
+        let (mut lo, mut hi) = (0.0, edge);
+        let (mut f_lo, mut f_hi) = (behind(lo), behind(hi));
+        if f_lo.is_nan() || f_hi.is_nan() || f_hi >= 0.0 {
+            return None;
+        }
+        // Regula falsi with the Illinois step, which keeps the bracket shrinking from both
+        // ends; within a hundred steps the bracket is at the limit of precision.
+        let mut alpha = lo;
+        let mut last_side = 0i8;
+        for _ in 0..100 {
+            alpha = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+            if !(alpha > lo && alpha < hi) {
+                alpha = 0.5 * (lo + hi);
+            }
+            let f = behind(alpha);
+            if f == 0.0 || hi - lo <= 1e-15 * edge.max(1.0) {
+                break;
+            }
+            if f > 0.0 {
+                lo = alpha;
+                f_lo = f;
+                if last_side == 1 {
+                    f_hi *= 0.5;
+                }
+                last_side = 1;
+            } else {
+                hi = alpha;
+                f_hi = f;
+                if last_side == -1 {
+                    f_lo *= 0.5;
+                }
+                last_side = -1;
+            }
+        }
+        let (sin, cos) = sin_cos_turns(alpha / TAU);
+        Some(self.path(from, e1 * cos + e2 * sin))
+    }
+
+    /// The path from `from` to the point of the ball with outward normal `normal`.
+    fn path(&self, from: Point3, normal: Vec3) -> MirrorPath {
+        let point = self.centre + normal * self.radius;
+        let to = point - from;
+        let distance = to.length();
+        let direction = to / distance;
+        MirrorPath {
+            point,
+            normal,
+            direction,
+            distance,
+            cos_incidence: (-direction.dot(normal)).max(0.0),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::random::{Jitter, SplitMix64};
+    use crate::math::{Transform, EPSILON};
+    use crate::shading::Material;
+    use glam::DMat4;
+    use std::f64::consts::PI;
+
+    fn ball(centre: Point3, radius: f64) -> MirrorBall {
+        MirrorBall {
+            object: 0,
+            centre,
+            radius,
+            eta: Color::new(1.6, 0.9, 0.5),
+            k: Color::new(9.2, 6.3, 4.8),
+            tint: Color::WHITE,
+        }
+    }
+
+    fn unit_on_sphere(rng: &mut SplitMix64) -> Vec3 {
+        let z = 1.0 - 2.0 * rng.next_offset();
+        let phi = TAU * rng.next_offset();
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+
+    #[test]
+    fn the_reflection_point_sends_the_direction_to_the_point() {
+        let mirror = ball(Point3::new(0.3, -0.2, 1.0), 0.7);
+        let mut rng = SplitMix64::new(5);
+        let (mut found, mut tries) = (0, 0);
+        while tries < 20_000 {
+            tries += 1;
+            let from = mirror.centre + unit_on_sphere(&mut rng) * (0.71 + 5.0 * rng.next_offset());
+            let towards = unit_on_sphere(&mut rng);
+            let Some(path) = mirror.reflection_towards(from, towards) else {
+                continue;
+            };
+            found += 1;
+            // On the ball, seen from the front, reflecting the ray into `towards`.
+            assert!(((path.point - mirror.centre).length() - 0.7).abs() < 1e-12);
+            assert!(path.cos_incidence > 0.0);
+            let d = path.direction;
+            let reflected = d - path.normal * (2.0 * d.dot(path.normal));
+            assert!(
+                (reflected - towards).length() < 1e-9,
+                "{reflected} vs {towards} from {from}"
+            );
+            // The point is the first the ray meets (the near side of the ball).
+            let oc = from - mirror.centre;
+            let b = oc.dot(d);
+            let c = oc.length_squared() - 0.7 * 0.7;
+            let near = -b - (b * b - c).max(0.0).sqrt();
+            assert!((near - path.distance).abs() < 1e-9 * path.distance.max(1.0));
+        }
+        // Most directions are reachable: all but those behind the ball.
+        assert!(found > 10_000, "{found}");
+        // From inside the ball, or on it, there is none.
+        assert!(mirror
+            .reflection_towards(mirror.centre + Vec3::X * 0.5, Vec3::Y)
+            .is_none());
+    }
+
+    #[test]
+    fn directions_behind_the_ball_are_not_reflected() {
+        let mirror = ball(Point3::ZERO, 1.0);
+        let from = Point3::new(0.0, 0.0, 3.0);
+        // Straight away from the point, through the ball: no reflection reaches it.
+        assert!(mirror.reflection_towards(from, -Vec3::Z).is_none());
+        // Straight back: the nearest point.
+        let path = mirror.reflection_towards(from, Vec3::Z).unwrap();
+        assert!((path.point - Point3::new(0.0, 0.0, 1.0)).length() < 1e-12);
+        assert!((path.distance - 2.0).abs() < 1e-12);
+        assert!((path.cos_incidence - 1.0).abs() < 1e-12);
+    }
+
+    /// Every direction from a point that meets the ball leaves it reflected; together they
+    /// cover the cap of directions around the axis out to the grazing reflection. So the
+    /// spread, integrated over the directions towards the ball, is that cap's solid angle.
+    #[test]
+    fn the_spread_integrates_to_the_solid_angle_of_the_reflections() {
+        for (distance, radius) in [(3.0, 1.0), (1.2, 1.0), (40.0, 0.5)] {
+            let mirror = ball(Point3::ZERO, radius);
+            let from = Point3::new(0.0, 0.0, distance);
+            // Directions towards the ball: a cone of half-angle β about −Z, by the midpoint
+            // rule in cos and azimuth (the integrand does not depend on the azimuth).
+            let beta = (radius / distance).asin();
+            let n = 20_000;
+            let mut total = 0.0;
+            for i in 0..n {
+                let cos = 1.0 - (1.0 - beta.cos()) * (i as f64 + 0.5) / n as f64;
+                let sin = (1.0 - cos * cos).max(0.0).sqrt();
+                let d = Vec3::new(sin, 0.0, -cos);
+                let oc = from - mirror.centre;
+                let b = oc.dot(d);
+                let c = oc.length_squared() - radius * radius;
+                let disc = b * b - c;
+                if disc < 0.0 {
+                    continue;
+                }
+                let s = -b - disc.sqrt();
+                let normal = (from + d * s - mirror.centre) / radius;
+                total += spread(s, -d.dot(normal), radius);
+            }
+            total *= 2.0 * PI * (1.0 - beta.cos()) / n as f64;
+            let expected = 2.0 * PI * (1.0 + beta.cos());
+            assert!(
+                (total - expected).abs() < 2e-3 * expected,
+                "{distance}, {radius}: {total} vs {expected}"
+            );
+        }
+        // A flat mirror does not spread.
+        assert!((spread(2.0, 0.6, 1e12) - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn only_still_plain_polished_metal_balls_qualify() {
+        let metal = Material {
+            physical: Some(Physical::Conductor {
+                eta: Color::new(1.6, 0.9, 0.5),
+                k: Color::new(9.2, 6.3, 4.8),
+                alpha: 0.0,
+            }),
+            ..Material::DEFAULT
+        };
+        let placed = Transform::new(
+            DMat4::from_translation(Vec3::new(1.0, 2.0, 3.0))
+                * DMat4::from_rotation_y(0.4)
+                * DMat4::from_scale(Vec3::splat(0.5)),
+        );
+        let mut sphere = Object::sphere();
+        sphere.material = metal.clone();
+        sphere.transform = placed;
+        let found = MirrorBall::of(&sphere, 7).expect("a mirror ball");
+        assert_eq!(found.object, 7);
+        assert!((found.centre - Point3::new(1.0, 2.0, 3.0)).length() < EPSILON);
+        assert!((found.radius - 0.5).abs() < 1e-12);
+        // Stretched, rough, of another material or another shape: not one.
+        let mut stretched = sphere.clone();
+        stretched.transform = Transform::new(DMat4::from_scale(Vec3::new(1.0, 2.0, 1.0)));
+        assert!(MirrorBall::of(&stretched, 0).is_none());
+        let mut rough = sphere.clone();
+        rough.material.physical = Some(Physical::Conductor {
+            eta: Color::WHITE,
+            k: Color::WHITE,
+            alpha: 0.2,
+        });
+        assert!(MirrorBall::of(&rough, 0).is_none());
+        let mut diffuse = sphere.clone();
+        diffuse.material.physical = Some(Physical::Diffuse);
+        assert!(MirrorBall::of(&diffuse, 0).is_none());
+        let mut cube = Object::cube();
+        cube.material = metal;
+        assert!(MirrorBall::of(&cube, 0).is_none());
+        // Its reflectance is the conductor's Fresnel term.
+        let f = found.reflectance(0.5);
+        assert_eq!(
+            f,
+            fresnel::conductor(0.5, Color::new(1.6, 0.9, 0.5), Color::new(9.2, 6.3, 4.8))
+        );
+    }
+}
