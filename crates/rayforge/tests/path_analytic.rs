@@ -11,11 +11,17 @@ use rayforge::{point, vector, Camera, Color, Object, World};
 
 /// Renders `world` through `camera` at `spp` samples per pixel with `sampler`.
 fn render(world: &World, camera: &Camera, spp: u64, sampler: SamplerKind) -> Film {
+    let options = PathOptions {
+        sampler,
+        ..PathOptions::default()
+    };
+    render_with(world, camera, spp, options)
+}
+
+/// Renders `world` through `camera` at `spp` samples per pixel with `options`.
+fn render_with(world: &World, camera: &Camera, spp: u64, options: PathOptions) -> Film {
     let job = PathJob {
-        options: PathOptions {
-            sampler,
-            ..PathOptions::default()
-        },
+        options,
         samples: 0..spp,
         progress: None,
         cancel: None,
@@ -943,20 +949,11 @@ fn a_mirror_balls_caustic_is_the_same_sampled_through_the_ball_or_found_by_bounc
     let batches = |world: &World, count: u64| -> Vec<f64> {
         (0..count)
             .map(|batch| {
-                let job = PathJob {
-                    options: PathOptions {
-                        seed: batch,
-                        ..PathOptions::default()
-                    },
-                    samples: 0..64,
-                    progress: None,
-                    cancel: None,
-                    on_row: None,
+                let options = PathOptions {
+                    seed: batch,
+                    ..PathOptions::default()
                 };
-                let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
-                let mut done = vec![false; camera.vsize()];
-                render_path(&camera, world, &job, &film, None, &mut done).unwrap();
-                let p = pixels(&film.into_film());
+                let p = pixels(&render_with(world, &camera, 64, options));
                 p.iter().sum::<f64>() / p.len() as f64
             })
             .collect()
