@@ -103,6 +103,24 @@ fn offset_towards(point: Point3, normal: Vec3, direction: Vec3) -> Point3 {
     point + normal * (side * surface_offset(point))
 }
 
+/// A shadow ray from `point` (on a surface of geometric normal `normal`) towards `target`,
+/// and how far it must stay clear. It leaves from the point nudged to the side it goes
+/// towards and stops just short of the target: measured from the point itself, a ray leaving
+/// at a grazing angle would meet the target's own surface before its end.
+#[inline]
+fn shadow_ray_to(point: Point3, normal: Vec3, target: Point3, time: f64) -> (Ray, f64) {
+    let origin = offset_towards(point, normal, target - point);
+    let to_target = target - origin;
+    let length = to_target.length();
+    let ray = Ray {
+        origin,
+        direction: to_target / length,
+        time,
+        t_min: 0.0,
+    };
+    (ray, length - 2.0 * surface_offset(target))
+}
+
 /// A path vertex as next-event estimation through a mirror ball needs it.
 struct Vertex<'a> {
     point: Point3,
@@ -169,25 +187,15 @@ impl<'w> PathContext<'w> {
         if f.max_channel() <= 0.0 {
             return Color::BLACK;
         }
-        // To the ball, stopping just short of it, then from the ball to the sky.
-        let origin = offset_towards(at.point, at.geometric, path.direction);
-        let to_ball = path.point - origin;
-        let length = to_ball.length();
-        let reach = length - 2.0 * surface_offset(path.point);
-        let time = at.time;
-        let leg = Ray {
-            origin,
-            direction: to_ball / length,
-            time,
-            t_min: 0.0,
-        };
+        // To the ball, then from the ball to the sky.
+        let (leg, reach) = shadow_ray_to(at.point, at.geometric, path.point, at.time);
         if reach <= 0.0 || self.occluded(&leg, reach) {
             return Color::BLACK;
         }
         let beyond = Ray {
             origin: path.point + path.normal * surface_offset(path.point),
             direction: towards,
-            time,
+            time: at.time,
             t_min: 0.0,
         };
         if self.occluded(&beyond, f64::INFINITY) {
@@ -355,23 +363,17 @@ impl<'w> PathContext<'w> {
                     let wi_local = frame.to_local(light.direction);
                     let f = bsdf.eval(wo_local, wi_local) * layer.scale;
                     if f.max_channel() > 0.0 {
-                        let origin = offset_towards(point, geometric, light.direction);
-                        // Towards the light's point from the nudged origin, stopping just short
-                        // of it: measured from the point itself, a shadow ray leaving at a
-                        // grazing angle would meet the light's own surface before its end.
-                        let (direction, reach) = if light.distance.is_finite() {
+                        let (shadow, reach) = if light.distance.is_finite() {
                             let target = point + light.direction * light.distance;
-                            let to_target = target - origin;
-                            let length = to_target.length();
-                            (to_target / length, length - 2.0 * surface_offset(target))
+                            shadow_ray_to(point, geometric, target, ray.time)
                         } else {
-                            (light.direction, f64::INFINITY)
-                        };
-                        let shadow = Ray {
-                            origin,
-                            direction,
-                            time: ray.time,
-                            t_min: 0.0,
+                            let shadow = Ray {
+                                origin: offset_towards(point, geometric, light.direction),
+                                direction: light.direction,
+                                time: ray.time,
+                                t_min: 0.0,
+                            };
+                            (shadow, f64::INFINITY)
                         };
                         if reach > 0.0 && !self.occluded(&shadow, reach) {
                             let weight = if light.delta {
