@@ -17,8 +17,8 @@ use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::color::Color;
 use rayforge::film::{Film, SharedFilm};
-use rayforge::options::PathOptions;
-use rayforge::render::path::{render_path, Aovs, PathJob, PathStats};
+use rayforge::options::{PathOptions, Roulette};
+use rayforge::render::path::{learn_roulette_scale, render_path, Aovs, PathJob, PathStats};
 use rayforge::render::PartialImage;
 use rayforge_scene::Scene;
 use rayon::ThreadPool;
@@ -167,6 +167,16 @@ pub fn path_render(
         checkpointed::render(settings, height, already, log, display, |hooks| {
             let mut total = PathStats::default();
             let mut reached = 0;
+            // In passes, the roulette is learned once, not again in each pass.
+            let options = match options.roulette {
+                Roulette::Learned if passes.len() > 1 => PathOptions {
+                    roulette: Roulette::Scale(
+                        pool.install(|| learn_roulette_scale(camera, &scene.world, &options)),
+                    ),
+                    ..options
+                },
+                _ => options,
+            };
             for (i, pass) in passes.iter().enumerate() {
                 if i > 0 {
                     // A pass takes about its share of samples of the time so far.

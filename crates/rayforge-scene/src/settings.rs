@@ -8,7 +8,7 @@
 //!     renderer: raster        # ray (the default), raster or path; raster then optionally
 //!                             # `shading`, `sphere-divisions`, `wireframe` and
 //!                             # `texture-filter`; path `sampler`, `filter`, `filter-radius`,
-//!                             # `seed` and `roulette-depth`
+//!                             # `seed`, `roulette-depth` and `roulette-scale`
 //! ```
 
 use crate::assets::Assets;
@@ -17,7 +17,9 @@ use crate::error::SceneError;
 use crate::material::color;
 use crate::source::{check_keys, Entry, Node, Source};
 use rayforge::film::{PixelFilter, MAX_FILTER_RADIUS};
-use rayforge::options::{PathOptions, RasterOptions, SamplerKind, Shading, TextureFilter};
+use rayforge::options::{
+    PathOptions, RasterOptions, Roulette, SamplerKind, Shading, TextureFilter,
+};
 use rayforge::{LightingModel, World};
 
 /// The deepest recursion a scene may ask for (as `--max-depth` allows).
@@ -45,6 +47,7 @@ const PATH_KEYS: &[&str] = &[
     "filter-radius",
     "seed",
     "roulette-depth",
+    "roulette-scale",
 ];
 
 /// The largest `seed` (every whole number up to it is exact in a YAML float too).
@@ -108,6 +111,7 @@ pub fn apply(
             "filter-radius",
             "seed",
             "roulette-depth",
+            "roulette-scale",
             "environment",
         ],
     )?;
@@ -168,8 +172,8 @@ pub fn apply(
     })
 }
 
-/// The path tracer's options from `sampler`, `filter`, `filter-radius`, `seed` and
-/// `roulette-depth` (`max-depth` is read with the other renderers' keys).
+/// The path tracer's options from `sampler`, `filter`, `filter-radius`, `seed`,
+/// `roulette-depth` and `roulette-scale` (`max-depth` is read with the other renderers' keys).
 fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOptions, SceneError> {
     let mut options = PathOptions::default();
     let radius = entries.iter().find(|e| e.name == "filter-radius");
@@ -248,10 +252,33 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
             "roulette-depth" => {
                 options.roulette_depth = source.integer(e.value, "roulette-depth", 1)? as u32;
             }
+            "roulette-scale" => {
+                options.roulette = roulette(source, e.value)?;
+            }
             _ => {}
         }
     }
     Ok(options)
+}
+
+/// `roulette-scale`: `auto` (learned for the scene) or a number from
+/// [`Roulette::MIN_SCALE`] to [`Roulette::MAX_SCALE`].
+fn roulette(source: &Source<'_>, value: &Node<'_>) -> Result<Roulette, SceneError> {
+    if source
+        .string(value, "roulette-scale")
+        .is_ok_and(|s| s == "auto")
+    {
+        return Ok(Roulette::Learned);
+    }
+    let (low, high) = (Roulette::MIN_SCALE, Roulette::MAX_SCALE);
+    match source.number(value, "roulette-scale") {
+        Ok(v) if (low..=high).contains(&v) => Ok(Roulette::Scale(v)),
+        _ => Err(source.error(
+            value,
+            "roulette-scale",
+            format!("expected `auto` or a number from {low} to {high}"),
+        )),
+    }
 }
 
 /// The rasterizer's options from `shading`, `sphere-divisions`, `wireframe`, `texture-filter`.

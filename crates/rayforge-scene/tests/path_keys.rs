@@ -1,7 +1,7 @@
 //! The path tracer's keys: `emission` and the physical material `type:` (with `metal`, `eta`,
 //! `k`, `alpha`, `roughness`, `refractive-index`), and `renderer: path` with its `world:` keys.
 use rayforge::film::PixelFilter;
-use rayforge::options::{PathOptions, SamplerKind};
+use rayforge::options::{PathOptions, Roulette, SamplerKind};
 use rayforge::shading::bsdf::{metal, METAL_NAMES};
 use rayforge::shading::Physical;
 use rayforge::{Color, Material};
@@ -514,6 +514,7 @@ fn the_path_tracers_keys_are_read() {
             filter: PixelFilter::Tent { radius: 2.0 },
             max_depth: 10,
             roulette_depth: 5,
+            roulette: Roulette::Learned,
             seed: 42,
         })
     );
@@ -543,6 +544,10 @@ fn the_path_tracers_keys_are_read() {
     assert_eq!(path("seed: 9007199254740992").seed, 1 << 53);
     assert_eq!(path("max-depth: 0").max_depth, 0);
     assert_eq!(path("roulette-depth: 1").roulette_depth, 1);
+    assert_eq!(path("roulette-scale: auto").roulette, Roulette::Learned);
+    assert_eq!(path("roulette-scale: 1").roulette, Roulette::Scale(1.0));
+    assert_eq!(path("roulette-scale: 0.25").roulette, Roulette::Scale(0.25));
+    assert_eq!(path("roulette-scale: 64").roulette, Roulette::Scale(64.0));
 }
 
 #[test]
@@ -553,6 +558,7 @@ fn the_path_tracers_keys_need_renderer_path() {
         "filter-radius: 1",
         "seed: 1",
         "roulette-depth: 2",
+        "roulette-scale: 2",
     ] {
         let name = key.split(':').next().unwrap();
         assert_error(world(key), 9, 5, name, "add `renderer: path`");
@@ -636,6 +642,15 @@ fn bad_path_tracer_values_are_errors_naming_the_key() {
         "at least 1",
     );
     assert_error(path("max-depth: 65"), 10, 16, "max-depth", "the limit 64");
+    for bad in ["0.2", "65", "-1", "nan", "often", "[1, 2]"] {
+        assert_error(
+            path(&format!("roulette-scale: {bad}")),
+            10,
+            21,
+            "roulette-scale",
+            "`auto` or a number from 0.25 to 64",
+        );
+    }
 }
 
 #[test]

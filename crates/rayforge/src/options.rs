@@ -100,6 +100,28 @@ pub enum SamplerKind {
     Sobol,
 }
 
+/// How the path tracer's Russian roulette weighs a path's chance to go on.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Roulette {
+    /// Chosen for the scene before the render by a short pilot pass that weighs the light a
+    /// path still has to gather against what gathering it costs (see
+    /// `render::path::learn_roulette_scale`).
+    #[default]
+    Learned,
+    /// A path survives with probability `scale × throughput` (at most 0.95): 1 is the classic
+    /// rule of Mitsuba and pbrt, larger lets paths live longer.
+    Scale(f64),
+}
+
+impl Roulette {
+    /// The largest scale a scene or the pilot may choose: past it a path's weight barely
+    /// changes and only its cost grows.
+    pub const MAX_SCALE: f64 = 64.0;
+    /// The smallest: below it the roulette would end paths while their light is still
+    /// a large part of the pixel's.
+    pub const MIN_SCALE: f64 = 0.25;
+}
+
 /// How the path tracer renders: its random numbers, its pixel filter, how deep paths go and
 /// the seed that picks one of many equally good images.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -113,6 +135,8 @@ pub struct PathOptions {
     pub max_depth: u32,
     /// Bounces before Russian roulette may end a path.
     pub roulette_depth: u32,
+    /// How the roulette chooses, past `roulette_depth`, whether a path goes on.
+    pub roulette: Roulette,
     /// The seed: renders with different seeds are independent estimates of the same image.
     pub seed: u64,
 }
@@ -134,6 +158,7 @@ impl Default for PathOptions {
             filter: PixelFilter::Box,
             max_depth: Self::DEFAULT_MAX_DEPTH,
             roulette_depth: 5,
+            roulette: Roulette::Learned,
             seed: 0,
         }
     }

@@ -21,9 +21,9 @@ use clap::Parser;
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::film::{Film, SharedFilm};
-use rayforge::options::{PathOptions, RasterOptions};
+use rayforge::options::{PathOptions, RasterOptions, Roulette};
 use rayforge::raster::Rasterizer;
-use rayforge::render::path::{render_path, PathJob};
+use rayforge::render::path::{learn_roulette_scale, render_path, PathJob};
 use rayforge::render::{render_rows, RenderOptions, Sampling};
 use rayforge::LightingModel;
 use rayforge_scene::Scene;
@@ -472,6 +472,13 @@ fn path_passes(
         .map_err(|e| Stop::Failed(e.to_string()))?;
     let film = SharedFilm::from(film);
     let mut done = vec![false; height];
+    // The roulette is learned once, not again in each pass.
+    let options = PathOptions {
+        roulette: Roulette::Scale(
+            pool.install(|| learn_roulette_scale(camera, &scene.world, &options)),
+        ),
+        ..options
+    };
     let passes = doubling_passes(spp);
     let count = passes.len();
     for (i, samples) in passes.into_iter().enumerate() {

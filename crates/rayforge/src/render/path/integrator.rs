@@ -41,6 +41,11 @@ pub struct PathContext<'w> {
     pub max_depth: u32,
     /// Bounces before Russian roulette.
     pub roulette_depth: u32,
+    /// How much longer than the classic rule the roulette lets paths live: a path survives
+    /// with probability `roulette_scale × throughput` (at most 0.95). 1 is the classic rule
+    /// (Mitsuba's, pbrt's); [`learn_roulette_scale`](super::learn_roulette_scale) picks one
+    /// for the scene.
+    pub roulette_scale: f64,
     /// The last blocker of a shadow ray.
     hint: u32,
     /// Rays cast so far.
@@ -121,6 +126,24 @@ fn shadow_ray_to(point: Point3, normal: Vec3, target: Point3, time: f64) -> (Ray
     (ray, length - 2.0 * surface_offset(target))
 }
 
+/// What a pilot pass is told of a path as it is traced: each Russian roulette decision.
+pub trait PathLog {
+    /// The roulette ended the path here.
+    fn ended(&mut self);
+    /// The path survived the roulette, with probability `survive`; its throughput's largest
+    /// channel is now `throughput`, the radiance it has gathered so far `gathered`, and the
+    /// rays cast by its context so far `rays`.
+    fn survived(&mut self, survive: f64, throughput: f64, gathered: Color, rays: u64);
+}
+
+/// The log of a render: nothing is kept (and nothing is left of it once inlined).
+impl PathLog for () {
+    #[inline]
+    fn ended(&mut self) {}
+    #[inline]
+    fn survived(&mut self, _: f64, _: f64, _: Color, _: u64) {}
+}
+
 /// A path vertex as next-event estimation through a mirror ball needs it.
 struct Vertex<'a> {
     point: Point3,
@@ -145,6 +168,7 @@ impl<'w> PathContext<'w> {
             emitters,
             max_depth,
             roulette_depth,
+            roulette_scale: 1.0,
             hint: NO_OBJECT,
             rays: 0,
         }
@@ -210,7 +234,18 @@ impl<'w> PathContext<'w> {
     }
 
     /// The radiance arriving along the camera ray `ray`, and what its first hit looks like.
+    #[inline]
     pub fn radiance(&mut self, ray: Ray, stream: &mut SampleStream) -> (Color, FirstHit) {
+        self.radiance_logged(ray, stream, &mut ())
+    }
+
+    /// [`radiance`](Self::radiance), telling `log` of each Russian roulette decision.
+    pub fn radiance_logged(
+        &mut self,
+        ray: Ray,
+        stream: &mut SampleStream,
+        log: &mut impl PathLog,
+    ) -> (Color, FirstHit) {
         let world = self.world;
         let mut ray = Ray {
             direction: unit(ray.direction),
@@ -424,11 +459,13 @@ impl<'w> PathContext<'w> {
             // Russian roulette: a path carrying little light ends with a probability that
             // grows as it dims, and one that survives carries more, so the mean is unchanged.
             if depth >= self.roulette_depth {
-                let survive = throughput.max_channel().min(0.95);
+                let survive = (throughput.max_channel() * self.roulette_scale).min(0.95);
                 if survive.is_nan() || survive <= 0.0 || u_roulette >= survive {
+                    log.ended();
                     break;
                 }
                 throughput = throughput * (1.0 / survive);
+                log.survived(survive, throughput.max_channel(), radiance, self.rays);
             }
             if throughput.max_channel() <= 0.0 {
                 break;

@@ -15,16 +15,19 @@
 //! order without changing a bit.
 
 mod integrator;
+mod roulette;
 mod sampler;
 
-pub use integrator::{FirstHit, PathContext, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS};
+pub use integrator::{FirstHit, PathContext, PathLog, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS};
+pub use roulette::{learn_roulette_scale, PilotStats, PILOT_PIXELS, PILOT_SAMPLES};
 pub use sampler::SampleStream;
 
 use super::RowCallback;
 use crate::camera::{Camera, CameraSample};
 use crate::color::Color;
 use crate::film::{Film, FilmError, PixelFilter, SharedFilm};
-use crate::options::PathOptions;
+use crate::math::Ray;
+use crate::options::{PathOptions, Roulette};
 use crate::scene::{Emitters, World, WorldIndex};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -111,6 +114,34 @@ fn filter_offset(filter: PixelFilter, [u, v]: [f64; 2]) -> (f64, f64, f64) {
     }
 }
 
+/// The camera ray of the sample `stream` is at in pixel (`x`, `y`), drawn over `filter`'s
+/// support, and the sample's filter weight. Over a `still` world seen through a pinhole, no
+/// lens point nor instant is drawn.
+#[inline]
+fn camera_ray(
+    camera: &Camera,
+    filter: PixelFilter,
+    still: bool,
+    x: usize,
+    y: usize,
+    stream: &mut SampleStream,
+) -> (Ray, f64) {
+    let (dx, dy, weight) = filter_offset(filter, stream.next_2d());
+    let ([lens_u, lens_v], time) = if still {
+        ([0.5, 0.5], 0.5)
+    } else {
+        (stream.next_2d(), stream.next_1d())
+    };
+    let sample = CameraSample {
+        x: x as f64 + 0.5 + dx,
+        y: y as f64 + 0.5 + dy,
+        lens_u,
+        lens_v,
+        time,
+    };
+    (camera.ray_for_sample(&sample), weight)
+}
+
 /// Path traces `world` through `camera` into `film` (and the `aovs`, when given), the rows not
 /// marked in `done`, marking each as it is finished. The films may hold only those rows
 /// ([`SharedFilm::with_rows`]: a slice's). Refused when the films are not the camera's size,
@@ -157,18 +188,24 @@ pub fn render_path(
     let options = job.options;
     let spp = job.samples.end.saturating_sub(job.samples.start);
     let still = camera.aperture() == 0.0 && world.objects.iter().all(|o| o.motion.is_none());
+    let roulette_scale = match options.roulette {
+        Roulette::Scale(k) => k,
+        Roulette::Learned => roulette::learned_scale(camera, world, &index, &emitters, &options),
+    };
     (0..height)
         .into_par_iter()
         .zip(done.par_iter_mut())
         .try_for_each_init(
             || {
-                PathContext::new(
+                let mut context = PathContext::new(
                     world,
                     &index,
                     &emitters,
                     options.max_depth,
                     options.roulette_depth.max(1),
-                )
+                );
+                context.roulette_scale = roulette_scale;
+                context
             },
             |context, (y, done)| -> Result<(), FilmError> {
                 if *done || cancelled() {
@@ -212,21 +249,7 @@ pub fn render_path(
                             return Ok(());
                         }
                         stream.start(s);
-                        let (dx, dy, weight) = filter_offset(filter, stream.next_2d());
-                        // A pinhole over a still world needs no lens point nor instant.
-                        let ([lens_u, lens_v], time) = if still {
-                            ([0.5, 0.5], 0.5)
-                        } else {
-                            (stream.next_2d(), stream.next_1d())
-                        };
-                        let sample = CameraSample {
-                            x: x as f64 + 0.5 + dx,
-                            y: y as f64 + 0.5 + dy,
-                            lens_u,
-                            lens_v,
-                            time,
-                        };
-                        let ray = camera.ray_for_sample(&sample);
+                        let (ray, weight) = camera_ray(camera, filter, still, x, y, &mut stream);
                         let (radiance, first) = context.radiance(ray, &mut stream);
                         let finite = radiance.red.is_finite()
                             && radiance.green.is_finite()

@@ -1,0 +1,280 @@
+//! Efficiency-aware Russian roulette, learned for each scene by a short pilot pass.
+//!
+//! The classic rule (Mitsuba's, pbrt's) lets a path go on with probability equal to its
+//! throughput: what it has left to carry, as if the light still to come were always worth as
+//! much as the pixel's. That is far from right where light keeps coming (inside a closed,
+//! bright, emitting room a path at its fifth bounce still has a third of its pixel's light to
+//! gather, and ending it costs more noise than carrying it on costs time) and can be too
+//! generous where little does. Rath et al. ("EARS: Efficiency-Aware Russian Roulette and
+//! Splitting", 2022) weigh both: a vertex whose remaining light has second moment `m₂` per
+//! unit throughput and costs `c` to gather, in a pixel whose samples have variance `V` and
+//! cost `C`, adds `T² m₂ (1/q − 1)` of variance for `(q − 1) c` of cost when it goes on with
+//! probability `q`, and the product of the two is least at `q = T √(m₂ C ∕ (c V))`.
+//!
+//! Their method keeps `m₂` and `c` in a spatial cache learned while rendering. Here they are
+//! the scene's averages over a pilot pass, so the rule stays `q = k T` with one scale `k` for
+//! the whole scene: a pure function of the scene, its camera and the options (the pilot's
+//! pixels, samples and seed are fixed), so the image is still the same for any thread count
+//! and sample ranges rendered apart still merge exactly. The pilot traces a grid of about
+//! [`PILOT_PIXELS`] pixels at [`PILOT_SAMPLES`] samples each, twice: the first with the
+//! classic rule, the second with the scale the first found (the variance and cost it measures
+//! depend on the rule it renders with); the second's answer is used.
+
+use super::integrator::{PathContext, PathLog};
+use super::{camera_ray, SampleStream};
+use crate::camera::Camera;
+use crate::color::Color;
+use crate::options::{PathOptions, Roulette};
+use crate::scene::{Emitters, World, WorldIndex};
+use rayon::prelude::*;
+
+/// About how many pixels the pilot traces (a grid over the image).
+pub const PILOT_PIXELS: usize = 1024;
+/// Samples the pilot takes in each of its pixels (enough for a pixel's variance).
+pub const PILOT_SAMPLES: u64 = 8;
+/// The most pilot passes.
+const PILOT_ROUNDS: usize = 4;
+/// A pass whose scale is within this fraction of the one it rendered with ends the pilot.
+const SETTLED: f64 = 0.15;
+/// Fewer roulette decisions than this in the pilot (a scene where paths seldom live past
+/// the roulette depth) leave the classic rule: too few to weigh, and too few to matter.
+const MIN_DECISIONS: u64 = 64;
+
+/// The scale of the roulette `options` ask for: theirs, or learned for `world` seen through
+/// `camera` (see the [module](self)).
+pub fn learn_roulette_scale(camera: &Camera, world: &World, options: &PathOptions) -> f64 {
+    match options.roulette {
+        Roulette::Scale(k) => k,
+        Roulette::Learned => {
+            let index = WorldIndex::build(world);
+            let emitters = Emitters::new(world);
+            learned_scale(camera, world, &index, &emitters, options)
+        }
+    }
+}
+
+/// The pilot's scale for `world`, its `index` and `emitters` already built.
+pub(super) fn learned_scale(
+    camera: &Camera,
+    world: &World,
+    index: &WorldIndex,
+    emitters: &Emitters,
+    options: &PathOptions,
+) -> f64 {
+    // The variance and cost a pilot measures depend on the scale it renders with: each pass
+    // renders with the last one's answer, until the answer settles.
+    let mut k = 1.0;
+    for _ in 0..PILOT_ROUNDS {
+        let stats = pilot(camera, world, index, emitters, options, k);
+        let Some(next) = stats.scale() else {
+            break;
+        };
+        let settled = (next / k - 1.0).abs() < SETTLED;
+        k = next;
+        if settled {
+            break;
+        }
+    }
+    k
+}
+
+/// What a pilot pass measured (sums over its pixels, in the pixels' order).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PilotStats {
+    /// Roulette decisions taken.
+    pub decisions: u64,
+    /// The second moment of the light a path gathered after a decision, per unit of its
+    /// throughput there, summed over the survivors each weighed by one over its chance.
+    pub moment: f64,
+    /// The rays a path cast after a decision, summed the same way.
+    pub cost: f64,
+    /// Paths traced.
+    pub paths: u64,
+    /// Rays cast by them.
+    pub rays: u64,
+    /// The sum over pixels of the variance of their samples (the mean over channels).
+    pub variance: f64,
+    /// Pixels whose variance is in `variance`.
+    pub pixels: u64,
+}
+
+impl PilotStats {
+    /// Adds `other` to these.
+    fn add(mut self, other: &Self) -> Self {
+        self.decisions += other.decisions;
+        self.moment += other.moment;
+        self.cost += other.cost;
+        self.paths += other.paths;
+        self.rays += other.rays;
+        self.variance += other.variance;
+        self.pixels += other.pixels;
+        self
+    }
+
+    /// The scale `k` of `q = k T` that these measure, `√(m₂ C ∕ (c V))`, within
+    /// [`Roulette::MIN_SCALE`] and [`Roulette::MAX_SCALE`]; `None` where there is too little
+    /// to tell (few decisions, no variance).
+    pub fn scale(&self) -> Option<f64> {
+        if self.decisions < MIN_DECISIONS || self.paths == 0 || self.pixels == 0 {
+            return None;
+        }
+        let n = self.decisions as f64;
+        let (moment, cost) = (self.moment / n, self.cost / n);
+        let pixel_cost = self.rays as f64 / self.paths as f64;
+        let pixel_variance = self.variance / self.pixels as f64;
+        let k = (moment * pixel_cost / (cost * pixel_variance)).sqrt();
+        k.is_finite()
+            .then(|| k.clamp(Roulette::MIN_SCALE, Roulette::MAX_SCALE))
+    }
+}
+
+/// One survived roulette decision, as the path went on from it.
+#[derive(Debug, Clone, Copy)]
+struct Decision {
+    weight: f64,
+    throughput: f64,
+    gathered: Color,
+    rays: u64,
+}
+
+/// The decisions of the path being traced.
+#[derive(Debug, Default)]
+struct Decisions {
+    ended: u64,
+    survived: Vec<Decision>,
+}
+
+impl PathLog for Decisions {
+    fn ended(&mut self) {
+        self.ended += 1;
+    }
+
+    fn survived(&mut self, survive: f64, throughput: f64, gathered: Color, rays: u64) {
+        self.survived.push(Decision {
+            weight: 1.0 / survive,
+            throughput,
+            gathered,
+            rays,
+        });
+    }
+}
+
+/// The mean over channels of `c`'s squares.
+fn mean_square(c: Color) -> f64 {
+    (c.red * c.red + c.green * c.green + c.blue * c.blue) / 3.0
+}
+
+/// One pilot pass with the roulette at scale `k`.
+fn pilot(
+    camera: &Camera,
+    world: &World,
+    index: &WorldIndex,
+    emitters: &Emitters,
+    options: &PathOptions,
+    k: f64,
+) -> PilotStats {
+    let (width, height) = (camera.hsize(), camera.vsize());
+    let stride = ((width * height) as f64 / PILOT_PIXELS as f64)
+        .sqrt()
+        .ceil()
+        .max(1.0) as usize;
+    let pixels: Vec<(usize, usize)> = (stride / 2..height)
+        .step_by(stride)
+        .flat_map(|y| (stride / 2..width).step_by(stride).map(move |x| (x, y)))
+        .collect();
+    let still = camera.aperture() == 0.0 && world.objects.iter().all(|o| o.motion.is_none());
+    // Its own seed: the scale it finds is independent of the render's numbers.
+    let seed = options.seed ^ 0x7069_6C6F_745F_7272;
+    let per_pixel: Vec<PilotStats> = pixels
+        .par_iter()
+        .map_init(
+            || {
+                let mut context = PathContext::new(
+                    world,
+                    index,
+                    emitters,
+                    options.max_depth,
+                    options.roulette_depth.max(1),
+                );
+                context.roulette_scale = k;
+                (context, Decisions::default())
+            },
+            |(context, log), &(x, y)| {
+                let mut stats = PilotStats::default();
+                let mut stream = SampleStream::new(options.sampler, seed, x as u32, y as u32, 0);
+                let (mut sum, mut sum_squares) = (Color::BLACK, Color::BLACK);
+                for s in 0..PILOT_SAMPLES {
+                    stream.start(s);
+                    let (ray, _) = camera_ray(camera, options.filter, still, x, y, &mut stream);
+                    let before = context.rays;
+                    log.ended = 0;
+                    log.survived.clear();
+                    let (radiance, _) = context.radiance_logged(ray, &mut stream, log);
+                    if !(radiance.red.is_finite()
+                        && radiance.green.is_finite()
+                        && radiance.blue.is_finite())
+                    {
+                        continue;
+                    }
+                    stats.paths += 1;
+                    stats.rays += context.rays - before;
+                    stats.decisions += log.ended + log.survived.len() as u64;
+                    for d in &log.survived {
+                        let future = (radiance - d.gathered) * (1.0 / d.throughput);
+                        stats.moment += d.weight * mean_square(future);
+                        stats.cost += d.weight * (context.rays - d.rays) as f64;
+                    }
+                    sum += radiance;
+                    sum_squares += radiance.hadamard(radiance);
+                }
+                if stats.paths > 1 {
+                    let n = stats.paths as f64;
+                    let mean = sum * (1.0 / n);
+                    let spread = (sum_squares - mean.hadamard(sum)) * (1.0 / (n - 1.0));
+                    stats.variance = (spread.red + spread.green + spread.blue) / 3.0;
+                    stats.pixels = 1;
+                }
+                stats
+            },
+        )
+        .collect();
+    per_pixel
+        .iter()
+        .fold(PilotStats::default(), |total, s| total.add(s))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_scale_balances_the_light_to_come_against_its_cost() {
+        // m₂ = 2, c = 4, C = 8, V = 0.25: k = √(2 · 8 ∕ (4 · 0.25)) = 4.
+        let stats = PilotStats {
+            decisions: 100,
+            moment: 200.0,
+            cost: 400.0,
+            paths: 10,
+            rays: 80,
+            variance: 2.5,
+            pixels: 10,
+        };
+        assert!((stats.scale().unwrap() - 4.0).abs() < 1e-12);
+        // Noisier pixels leave less to gain from long paths.
+        let noisy = PilotStats {
+            variance: 2500.0,
+            ..stats
+        };
+        assert_eq!(noisy.scale(), Some(Roulette::MIN_SCALE));
+        let few = PilotStats {
+            decisions: MIN_DECISIONS - 1,
+            ..stats
+        };
+        assert_eq!(few.scale(), None);
+        let still = PilotStats {
+            variance: 0.0,
+            ..stats
+        };
+        assert_eq!(still.scale(), None);
+    }
+}
