@@ -59,6 +59,8 @@ Render options (`rayforge render --help` describes each in full):
       --sampler <NAME>      path only: sobol or independent [default: sobol]
       --filter <NAME>       path only: box, tent or gaussian pixel filter [default: box]
       --filter-radius <PX>  path only: the tent or Gaussian filter's radius [default: 1.5]
+      --roulette-scale <K>  path only: auto (learned for the scene) or 0.25 to 64; 1 is the
+                            classic Russian roulette [default: auto]
       --aovs                path only: also write the first hit's albedo and normal
       --time <DURATION>     ray and path: refine in passes until this time is spent (30s, 5m)
       --display-server <HOST:PORT> show the image in the tev viewer while it renders
@@ -391,6 +393,13 @@ pub struct RenderArgs {
     /// [default: 1.5].
     #[arg(long, value_name = "PIXELS")]
     pub filter_radius: Option<f64>,
+
+    /// Path tracer: how long Russian roulette lets paths live, `auto` (learned for the
+    /// scene by a pilot pass) or a number from 0.25 to 64 (a path goes on with probability
+    /// the number × its throughput; 1 is the classic rule) [default: the scene's
+    /// `roulette-scale`, else auto].
+    #[arg(long, value_name = "K")]
+    pub roulette_scale: Option<String>,
 
     /// Path tracer: also write the albedo and the normal of the first surface each pixel
     /// sees, for denoisers, beside the image (`out.albedo.pfm` and `out.normal.pfm` for

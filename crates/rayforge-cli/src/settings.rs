@@ -6,7 +6,7 @@ use crate::format::ImageFormat;
 use crate::sizing::SizeRequest;
 use crate::slice::{Cut, Slice, SliceRequest};
 use rayforge::film::PixelFilter;
-use rayforge::options::{PathOptions, SamplerKind};
+use rayforge::options::{PathOptions, Roulette, SamplerKind};
 use rayforge::raster::{RasterOptions, Shading, TextureFilter};
 use std::path::PathBuf;
 
@@ -100,6 +100,8 @@ pub struct PathRequest {
     pub sampler: Option<SamplerKind>,
     /// `--filter` with `--filter-radius`.
     pub filter: Option<PixelFilter>,
+    /// `--roulette-scale`.
+    pub roulette: Option<Roulette>,
     /// `--aovs`.
     pub aovs: bool,
     /// `--time`: render in passes within this budget (the ray tracer too; not the
@@ -114,6 +116,7 @@ impl PathRequest {
             ("--seed", self.seed.is_some()),
             ("--sampler", self.sampler.is_some()),
             ("--filter", self.filter.is_some()),
+            ("--roulette-scale", self.roulette.is_some()),
             ("--aovs", self.aovs),
         ])
     }
@@ -154,6 +157,21 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
         Some(PixelFilterArg::Tent) => Some(PixelFilter::Tent { radius }),
         Some(PixelFilterArg::Gaussian) => Some(PixelFilter::Gaussian { radius }),
     };
+    let roulette = args
+        .roulette_scale
+        .as_deref()
+        .map(|text| {
+            let (low, high) = (Roulette::MIN_SCALE, Roulette::MAX_SCALE);
+            match text.parse::<f64>() {
+                _ if text == "auto" => Ok(Roulette::Learned),
+                Ok(k) if (low..=high).contains(&k) => Ok(Roulette::Scale(k)),
+                _ => Err(Failure::usage(format!(
+                    "--roulette-scale takes auto or a number from {low} to {high}, found `{}`",
+                    rayforge_scene::clip(text)
+                ))),
+            }
+        })
+        .transpose()?;
     Ok(PathRequest {
         seed: args.seed,
         sampler: args.sampler.map(|s| match s {
@@ -161,6 +179,7 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
             SamplerArg::Independent => SamplerKind::Independent,
         }),
         filter,
+        roulette,
         aovs: args.aovs,
         time: args.time.as_deref().map(parse_duration).transpose()?,
     })
@@ -253,6 +272,9 @@ impl RenderSettings {
                 }
                 if let Some(filter) = self.path.filter {
                     options.filter = filter;
+                }
+                if let Some(roulette) = self.path.roulette {
+                    options.roulette = roulette;
                 }
                 Ok(Chosen::Path(options))
             }

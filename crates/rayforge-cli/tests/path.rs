@@ -147,6 +147,8 @@ fn a_book_scene_path_traces_to_png_with_every_sampler_and_filter() {
             "2",
         ][..],
         &["--renderer", "path", "--filter", "tent"][..],
+        &["--renderer", "path", "--roulette-scale", "1"][..],
+        &["--renderer", "path", "--roulette-scale", "auto"][..],
     ]
     .iter()
     .enumerate()
@@ -181,6 +183,18 @@ fn path_flags_are_refused_with_the_other_renderers_and_with_each_other() {
                 "9",
             ][..],
             "--filter-radius must be above 0 and at most 8",
+        ),
+        (
+            &["--roulette-scale", "2"][..],
+            "--roulette-scale applies to the path tracer",
+        ),
+        (
+            &["--renderer", "path", "--roulette-scale", "0.1"][..],
+            "--roulette-scale takes auto or a number from 0.25 to 64, found `0.1`",
+        ),
+        (
+            &["--renderer", "path", "--roulette-scale", "often"][..],
+            "--roulette-scale takes auto or a number from 0.25 to 64, found `often`",
         ),
         (
             &["--renderer", "path", "--adaptive", "0.1"][..],

@@ -55,25 +55,32 @@ fn pixels(film: &Film) -> Vec<f64> {
     out
 }
 
-#[test]
-fn inside_a_closed_sphere_of_albedo_half_that_emits_half_every_pixel_is_one() {
-    // L = Le + a L  ⇒  L = 0.5 / (1 − 0.5) = 1 everywhere inside.
+/// A closed sphere of `albedo` that emits `emission` inwards, and a camera of `size` × `size`
+/// pixels at its centre: L = Le + a L, so every pixel converges to `emission / (1 − albedo)`.
+fn closed_room(albedo: f64, emission: f64, size: usize) -> (World, Camera) {
     let sphere = Object::sphere()
         .with_transform(scaling(10.0, 10.0, 10.0))
         .with_material(Material {
-            emission: Color::new(0.5, 0.5, 0.5),
+            emission: Color::new(emission, emission, emission),
             emission_side: EmissionSide::Back,
-            ..diffuse(0.5)
+            ..diffuse(albedo)
         });
     let world = World {
         objects: vec![sphere],
         ..World::default()
     };
-    let camera = Camera::new(6, 6, 1.2).with_transform(view_transform(
+    let camera = Camera::new(size, size, 1.2).with_transform(view_transform(
         point(0.0, 0.0, 0.0),
         point(0.0, 0.0, 1.0),
         vector(0.0, 1.0, 0.0),
     ));
+    (world, camera)
+}
+
+#[test]
+fn inside_a_closed_sphere_of_albedo_half_that_emits_half_every_pixel_is_one() {
+    // L = 0.5 / (1 − 0.5) = 1 everywhere inside.
+    let (world, camera) = closed_room(0.5, 0.5, 6);
     for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
         for (i, v) in pixels(&render(&world, &camera, 256, sampler))
             .into_iter()
@@ -89,22 +96,7 @@ fn in_a_bright_closed_room_the_learned_roulette_lets_paths_live_longer_and_is_qu
     // Albedo 0.8, emission 0.2: L = 0.2 / (1 − 0.8) = 1 everywhere inside, and a path at its
     // fifth bounce still has a third of its light to gather, so ending it as the classic rule
     // does (with probability 1 − 0.8⁵) is where the noise comes from.
-    let sphere = Object::sphere()
-        .with_transform(scaling(10.0, 10.0, 10.0))
-        .with_material(Material {
-            emission: Color::new(0.2, 0.2, 0.2),
-            emission_side: EmissionSide::Back,
-            ..diffuse(0.8)
-        });
-    let world = World {
-        objects: vec![sphere],
-        ..World::default()
-    };
-    let camera = Camera::new(8, 8, 1.2).with_transform(view_transform(
-        point(0.0, 0.0, 0.0),
-        point(0.0, 0.0, 1.0),
-        vector(0.0, 1.0, 0.0),
-    ));
+    let (world, camera) = closed_room(0.8, 0.2, 8);
     let learned = PathOptions::default();
     let scale = learn_roulette_scale(&camera, &world, &learned);
     assert!(scale > 4.0, "the learned scale is {scale}");
