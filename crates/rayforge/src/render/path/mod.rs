@@ -19,7 +19,7 @@ mod roulette;
 mod sampler;
 
 pub use integrator::{FirstHit, PathContext, PathLog, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS};
-pub use roulette::{learn_roulette_scale, PilotStats, PILOT_PIXELS, PILOT_SAMPLES};
+pub use roulette::learn_roulette_scale;
 pub use sampler::SampleStream;
 
 use super::RowCallback;

@@ -29,9 +29,9 @@ use crate::scene::{Emitters, World, WorldIndex};
 use rayon::prelude::*;
 
 /// About how many pixels the pilot traces (a grid over the image).
-pub const PILOT_PIXELS: usize = 1024;
+const PILOT_PIXELS: usize = 1024;
 /// Samples the pilot takes in each of its pixels (enough for a pixel's variance).
-pub const PILOT_SAMPLES: u64 = 8;
+const PILOT_SAMPLES: u64 = 8;
 /// The most pilot passes.
 const PILOT_ROUNDS: usize = 4;
 /// A pass whose scale is within this fraction of the one it rendered with ends the pilot.
@@ -80,22 +80,22 @@ pub(super) fn learned_scale(
 
 /// What a pilot pass measured (sums over its pixels, in the pixels' order).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct PilotStats {
+struct PilotStats {
     /// Roulette decisions taken.
-    pub decisions: u64,
+    decisions: u64,
     /// The second moment of the light a path gathered after a decision, per unit of its
     /// throughput there, summed over the survivors each weighed by one over its chance.
-    pub moment: f64,
+    moment: f64,
     /// The rays a path cast after a decision, summed the same way.
-    pub cost: f64,
+    cost: f64,
     /// Paths traced.
-    pub paths: u64,
+    paths: u64,
     /// Rays cast by them.
-    pub rays: u64,
+    rays: u64,
     /// The sum over pixels of the variance of their samples (the mean over channels).
-    pub variance: f64,
+    variance: f64,
     /// Pixels whose variance is in `variance`.
-    pub pixels: u64,
+    pixels: u64,
 }
 
 impl PilotStats {
@@ -114,7 +114,7 @@ impl PilotStats {
     /// The scale `k` of `q = k T` that these measure, `√(m₂ C ∕ (c V))`, within
     /// [`Roulette::MIN_SCALE`] and [`Roulette::MAX_SCALE`]; `None` where there is too little
     /// to tell (few decisions, no variance).
-    pub fn scale(&self) -> Option<f64> {
+    fn scale(&self) -> Option<f64> {
         if self.decisions < MIN_DECISIONS || self.paths == 0 || self.pixels == 0 {
             return None;
         }
