@@ -41,7 +41,8 @@ const SETTLED: f64 = 0.15;
 const MIN_DECISIONS: u64 = 64;
 
 /// The scale of the roulette `options` ask for: theirs, or learned for `world` seen through
-/// `camera` (see the [module](self)).
+/// `camera` by a pilot pass that weighs the light paths still have to gather against the
+/// rays it costs (efficiency-aware roulette, Rath et al. 2022, with the scene's averages).
 pub fn learn_roulette_scale(camera: &Camera, world: &World, options: &PathOptions) -> f64 {
     match options.roulette {
         Roulette::Scale(k) => k,
