@@ -162,10 +162,10 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
         .as_deref()
         .map(|text| {
             let (low, high) = (Roulette::MIN_SCALE, Roulette::MAX_SCALE);
-            match text.parse::<f64>() {
+            match text.parse::<f64>().ok().and_then(Roulette::scale) {
                 _ if text == "auto" => Ok(Roulette::Learned),
-                Ok(k) if (low..=high).contains(&k) => Ok(Roulette::Scale(k)),
-                _ => Err(Failure::usage(format!(
+                Some(roulette) => Ok(roulette),
+                None => Err(Failure::usage(format!(
                     "--roulette-scale takes auto or a number from {low} to {high}, found `{}`",
                     rayforge_scene::clip(text)
                 ))),

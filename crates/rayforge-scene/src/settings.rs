@@ -271,8 +271,8 @@ fn roulette(source: &Source<'_>, value: &Node<'_>) -> Result<Roulette, SceneErro
         return Ok(Roulette::Learned);
     }
     let (low, high) = (Roulette::MIN_SCALE, Roulette::MAX_SCALE);
-    match source.number(value, "roulette-scale") {
-        Ok(v) if (low..=high).contains(&v) => Ok(Roulette::Scale(v)),
+    match source.number(value, "roulette-scale").map(Roulette::scale) {
+        Ok(Some(roulette)) => Ok(roulette),
         _ => Err(source.error(
             value,
             "roulette-scale",

@@ -120,6 +120,14 @@ impl Roulette {
     /// The smallest: below it the roulette would end paths while their light is still
     /// a large part of the pixel's.
     pub const MIN_SCALE: f64 = 0.25;
+
+    /// The roulette of the fixed scale `k`, if it lies from [`MIN_SCALE`](Self::MIN_SCALE) to
+    /// [`MAX_SCALE`](Self::MAX_SCALE) (what a scene or the command line may ask for).
+    pub fn scale(k: f64) -> Option<Self> {
+        (Self::MIN_SCALE..=Self::MAX_SCALE)
+            .contains(&k)
+            .then_some(Self::Scale(k))
+    }
 }
 
 /// How the path tracer renders: its random numbers, its pixel filter, how deep paths go and

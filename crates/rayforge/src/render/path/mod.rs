@@ -114,32 +114,64 @@ fn filter_offset(filter: PixelFilter, [u, v]: [f64; 2]) -> (f64, f64, f64) {
     }
 }
 
-/// The camera ray of the sample `stream` is at in pixel (`x`, `y`), drawn over `filter`'s
-/// support, and the sample's filter weight. Over a `still` world seen through a pinhole, no
-/// lens point nor instant is drawn.
-#[inline]
-fn camera_ray(
-    camera: &Camera,
+/// Where a pixel's samples come from: the camera, the pixel filter, and whether the world
+/// stands still before a pinhole (then no lens point nor instant is drawn).
+struct CameraSampler<'c> {
+    camera: &'c Camera,
     filter: PixelFilter,
     still: bool,
-    x: usize,
-    y: usize,
-    stream: &mut SampleStream,
-) -> (Ray, f64) {
-    let (dx, dy, weight) = filter_offset(filter, stream.next_2d());
-    let ([lens_u, lens_v], time) = if still {
-        ([0.5, 0.5], 0.5)
-    } else {
-        (stream.next_2d(), stream.next_1d())
-    };
-    let sample = CameraSample {
-        x: x as f64 + 0.5 + dx,
-        y: y as f64 + 0.5 + dy,
-        lens_u,
-        lens_v,
-        time,
-    };
-    (camera.ray_for_sample(&sample), weight)
+}
+
+impl<'c> CameraSampler<'c> {
+    /// The sampler of `camera` over `world` with `filter`.
+    fn new(camera: &'c Camera, world: &World, filter: PixelFilter) -> Self {
+        let still = camera.aperture() == 0.0 && world.objects.iter().all(|o| o.motion.is_none());
+        Self {
+            camera,
+            filter,
+            still,
+        }
+    }
+
+    /// The camera ray of the sample `stream` is at in pixel (`x`, `y`), drawn over the
+    /// filter's support, and the sample's filter weight.
+    #[inline]
+    fn ray(&self, x: usize, y: usize, stream: &mut SampleStream) -> (Ray, f64) {
+        let (dx, dy, weight) = filter_offset(self.filter, stream.next_2d());
+        let ([lens_u, lens_v], time) = if self.still {
+            ([0.5, 0.5], 0.5)
+        } else {
+            (stream.next_2d(), stream.next_1d())
+        };
+        let sample = CameraSample {
+            x: x as f64 + 0.5 + dx,
+            y: y as f64 + 0.5 + dy,
+            lens_u,
+            lens_v,
+            time,
+        };
+        (self.camera.ray_for_sample(&sample), weight)
+    }
+}
+
+/// A path tracer's context for `world` (its `index` and `emitters`) as `options` ask, with
+/// the roulette at `roulette_scale`.
+fn path_context<'w>(
+    world: &'w World,
+    index: &'w WorldIndex,
+    emitters: &'w Emitters,
+    options: &PathOptions,
+    roulette_scale: f64,
+) -> PathContext<'w> {
+    let mut context = PathContext::new(
+        world,
+        index,
+        emitters,
+        options.max_depth,
+        options.roulette_depth.max(1),
+    );
+    context.roulette_scale = roulette_scale;
+    context
 }
 
 /// Path traces `world` through `camera` into `film` (and the `aovs`, when given), the rows not
@@ -187,7 +219,7 @@ pub fn render_path(
     let cancelled = || job.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let options = job.options;
     let spp = job.samples.end.saturating_sub(job.samples.start);
-    let still = camera.aperture() == 0.0 && world.objects.iter().all(|o| o.motion.is_none());
+    let sampler = CameraSampler::new(camera, world, filter);
     let roulette_scale = match options.roulette {
         Roulette::Scale(k) => k,
         Roulette::Learned => roulette::learned_scale(camera, world, &index, &emitters, &options),
@@ -196,17 +228,7 @@ pub fn render_path(
         .into_par_iter()
         .zip(done.par_iter_mut())
         .try_for_each_init(
-            || {
-                let mut context = PathContext::new(
-                    world,
-                    &index,
-                    &emitters,
-                    options.max_depth,
-                    options.roulette_depth.max(1),
-                );
-                context.roulette_scale = roulette_scale;
-                context
-            },
+            || path_context(world, &index, &emitters, &options, roulette_scale),
             |context, (y, done)| -> Result<(), FilmError> {
                 if *done || cancelled() {
                     return Ok(());
@@ -249,7 +271,7 @@ pub fn render_path(
                             return Ok(());
                         }
                         stream.start(s);
-                        let (ray, weight) = camera_ray(camera, filter, still, x, y, &mut stream);
+                        let (ray, weight) = sampler.ray(x, y, &mut stream);
                         let (radiance, first) = context.radiance(ray, &mut stream);
                         let finite = radiance.red.is_finite()
                             && radiance.green.is_finite()

@@ -20,8 +20,8 @@
 //! classic rule, the second with the scale the first found (the variance and cost it measures
 //! depend on the rule it renders with); the second's answer is used.
 
-use super::integrator::{PathContext, PathLog};
-use super::{camera_ray, SampleStream};
+use super::integrator::PathLog;
+use super::{path_context, CameraSampler, SampleStream};
 use crate::camera::Camera;
 use crate::color::Color;
 use crate::options::{PathOptions, Roulette};
@@ -183,22 +183,17 @@ fn pilot(
         .step_by(stride)
         .flat_map(|y| (stride / 2..width).step_by(stride).map(move |x| (x, y)))
         .collect();
-    let still = camera.aperture() == 0.0 && world.objects.iter().all(|o| o.motion.is_none());
+    let sampler = CameraSampler::new(camera, world, options.filter);
     // Its own seed: the scale it finds is independent of the render's numbers.
     let seed = options.seed ^ 0x7069_6C6F_745F_7272;
     let per_pixel: Vec<PilotStats> = pixels
         .par_iter()
         .map_init(
             || {
-                let mut context = PathContext::new(
-                    world,
-                    index,
-                    emitters,
-                    options.max_depth,
-                    options.roulette_depth.max(1),
-                );
-                context.roulette_scale = k;
-                (context, Decisions::default())
+                (
+                    path_context(world, index, emitters, options, k),
+                    Decisions::default(),
+                )
             },
             |(context, log), &(x, y)| {
                 let mut stats = PilotStats::default();
@@ -206,7 +201,7 @@ fn pilot(
                 let (mut sum, mut sum_squares) = (Color::BLACK, Color::BLACK);
                 for s in 0..PILOT_SAMPLES {
                     stream.start(s);
-                    let (ray, _) = camera_ray(camera, options.filter, still, x, y, &mut stream);
+                    let (ray, _) = sampler.ray(x, y, &mut stream);
                     let before = context.rays;
                     log.ended = 0;
                     log.survived.clear();
