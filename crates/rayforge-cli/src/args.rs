@@ -61,6 +61,8 @@ Render options (`rayforge render --help` describes each in full):
       --filter-radius <PX>  path only: the tent or Gaussian filter's radius [default: 1.5]
       --roulette-scale <K>  path only: auto (learned for the scene) or 0.25 to 64; 1 is the
                             classic Russian roulette [default: auto]
+      --sample-allocation <NAME> path only: adaptive (samples where the noise is; --spp
+                            is the mean) or uniform [default: adaptive]
       --aovs                path only: also write the first hit's albedo and normal
       --time <DURATION>     ray and path: refine in passes until this time is spent (30s, 5m)
       --display-server <HOST:PORT> show the image in the tev viewer while it renders
@@ -401,6 +403,13 @@ pub struct RenderArgs {
     #[arg(long, value_name = "K")]
     pub roulette_scale: Option<String>,
 
+    /// Path tracer: how a render's samples are shared among its pixels: `adaptive` (each
+    /// pixel takes samples as it is noisy, as a pilot pass finds it, --spp being the mean;
+    /// renders in passes and of fewer than 16 samples per pixel share them evenly) or
+    /// `uniform` (--spp each) [default: the scene's `sample-allocation`, else adaptive].
+    #[arg(long, value_name = "NAME", value_enum)]
+    pub sample_allocation: Option<SampleAllocationArg>,
+
     /// Path tracer: also write the albedo and the normal of the first surface each pixel
     /// sees, for denoisers, beside the image (`out.albedo.pfm` and `out.normal.pfm` for
     /// `out.pfm`; the normals as (n + 1) / 2 in an 8-bit image), or in an OpenEXR output as
@@ -485,6 +494,15 @@ pub enum SamplerArg {
     Sobol,
     /// Independent random numbers.
     Independent,
+}
+
+/// How the path tracer shares samples among pixels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SampleAllocationArg {
+    /// As each pixel is noisy, from a pilot pass.
+    Adaptive,
+    /// The same in every pixel.
+    Uniform,
 }
 
 /// The path tracer's pixel filters.

@@ -18,7 +18,9 @@ use rayforge::canvas::Canvas;
 use rayforge::color::Color;
 use rayforge::film::{Film, SharedFilm};
 use rayforge::options::{PathOptions, Roulette};
-use rayforge::render::path::{learn_roulette_scale, render_path, Aovs, PathJob, PathStats};
+use rayforge::render::path::{
+    learn_roulette_scale, prepare_render, render_path, Aovs, PathJob, PathStats,
+};
 use rayforge::render::PartialImage;
 use rayforge_scene::Scene;
 use rayon::ThreadPool;
@@ -167,15 +169,21 @@ pub fn path_render(
         checkpointed::render(settings, height, already, log, display, |hooks| {
             let mut total = PathStats::default();
             let mut reached = 0;
-            // In passes, the roulette is learned once, not again in each pass.
-            let options = match options.roulette {
-                Roulette::Learned if passes.len() > 1 => PathOptions {
-                    roulette: Roulette::Scale(
-                        pool.install(|| learn_roulette_scale(camera, &scene.world, &options)),
-                    ),
-                    ..options
-                },
-                _ => options,
+            let (options, plan) = if passes.len() > 1 {
+                // In passes, samples are shared evenly, and the roulette is learned once, not
+                // again in each pass.
+                let options = match options.roulette {
+                    Roulette::Learned => PathOptions {
+                        roulette: Roulette::Scale(
+                            pool.install(|| learn_roulette_scale(camera, &scene.world, &options)),
+                        ),
+                        ..options
+                    },
+                    Roulette::Scale(_) => options,
+                };
+                (options, None)
+            } else {
+                pool.install(|| prepare_render(camera, &scene.world, &options, spp))
             };
             for (i, pass) in passes.iter().enumerate() {
                 if i > 0 {
@@ -195,6 +203,7 @@ pub fn path_render(
                 let job = PathJob {
                     options,
                     samples: pass.clone(),
+                    plan: plan.as_ref(),
                     progress: Some(hooks.progress),
                     cancel: Some(hooks.stop),
                     on_row: Some(hooks.on_row),

@@ -1,12 +1,14 @@
 //! Validated settings: what the render command runs with, checked before any work starts.
 
-use crate::args::{FilterArg, PixelFilterArg, RenderArgs, Renderer, SamplerArg, ShadingArg};
+use crate::args::{
+    FilterArg, PixelFilterArg, RenderArgs, Renderer, SampleAllocationArg, SamplerArg, ShadingArg,
+};
 use crate::failure::Failure;
 use crate::format::ImageFormat;
 use crate::sizing::SizeRequest;
 use crate::slice::{Cut, Slice, SliceRequest};
 use rayforge::film::PixelFilter;
-use rayforge::options::{PathOptions, Roulette, SamplerKind};
+use rayforge::options::{PathOptions, Roulette, SampleAllocation, SamplerKind};
 use rayforge::raster::{RasterOptions, Shading, TextureFilter};
 use std::path::PathBuf;
 
@@ -102,6 +104,8 @@ pub struct PathRequest {
     pub filter: Option<PixelFilter>,
     /// `--roulette-scale`.
     pub roulette: Option<Roulette>,
+    /// `--sample-allocation`.
+    pub allocation: Option<SampleAllocation>,
     /// `--aovs`.
     pub aovs: bool,
     /// `--time`: render in passes within this budget (the ray tracer too; not the
@@ -117,6 +121,7 @@ impl PathRequest {
             ("--sampler", self.sampler.is_some()),
             ("--filter", self.filter.is_some()),
             ("--roulette-scale", self.roulette.is_some()),
+            ("--sample-allocation", self.allocation.is_some()),
             ("--aovs", self.aovs),
         ])
     }
@@ -180,6 +185,10 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
         }),
         filter,
         roulette,
+        allocation: args.sample_allocation.map(|a| match a {
+            SampleAllocationArg::Adaptive => SampleAllocation::Adaptive,
+            SampleAllocationArg::Uniform => SampleAllocation::Uniform,
+        }),
         aovs: args.aovs,
         time: args.time.as_deref().map(parse_duration).transpose()?,
     })
@@ -275,6 +284,9 @@ impl RenderSettings {
                 }
                 if let Some(roulette) = self.path.roulette {
                     options.roulette = roulette;
+                }
+                if let Some(allocation) = self.path.allocation {
+                    options.allocation = allocation;
                 }
                 Ok(Chosen::Path(options))
             }

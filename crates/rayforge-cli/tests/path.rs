@@ -134,6 +134,43 @@ fn aovs_write_the_first_hits_albedo_normal_depth_and_sample_count_beside_the_ima
 }
 
 #[test]
+fn adaptive_sample_allocation_gives_the_noisy_pixels_more_samples() {
+    // spheres-materials: the black sky never varies, the glass sphere's caustic does most.
+    let dir = temp();
+    let image = out(&dir, "spheres.pfm");
+    let args = [
+        "--width",
+        "24",
+        "--height",
+        "24",
+        "--spp",
+        "128",
+        "--aovs",
+        "--sample-allocation",
+        "adaptive",
+    ];
+    let (ok, stderr) = render("scenes/pbr/spheres-materials.yml", &image, &args);
+    assert!(ok, "{stderr}");
+    let samples = pfm_floats(&out(&dir, "spheres.samples.pfm"));
+    let (least, most) = samples
+        .iter()
+        .fold((f32::MAX, 0.0f32), |(a, b), &n| (a.min(n), b.max(n)));
+    assert_eq!(least, 16.0, "the sky's pixels take an eighth of --spp");
+    assert!(
+        most > 256.0,
+        "the noisiest pixel takes more than twice: {most}"
+    );
+    // And uniform takes --spp everywhere.
+    let even = out(&dir, "even.pfm");
+    let mut args = args.to_vec();
+    args[8] = "uniform";
+    let (ok, stderr) = render("scenes/pbr/spheres-materials.yml", &even, &args);
+    assert!(ok, "{stderr}");
+    let samples = pfm_floats(&out(&dir, "even.samples.pfm"));
+    assert!(samples.iter().all(|&n| n == 128.0));
+}
+
+#[test]
 fn a_book_scene_path_traces_to_png_with_every_sampler_and_filter() {
     let dir = temp();
     for (i, extra) in [
@@ -149,6 +186,7 @@ fn a_book_scene_path_traces_to_png_with_every_sampler_and_filter() {
         &["--renderer", "path", "--filter", "tent"][..],
         &["--renderer", "path", "--roulette-scale", "1"][..],
         &["--renderer", "path", "--roulette-scale", "auto"][..],
+        &["--renderer", "path", "--sample-allocation", "adaptive"][..],
     ]
     .iter()
     .enumerate()
@@ -195,6 +233,14 @@ fn path_flags_are_refused_with_the_other_renderers_and_with_each_other() {
         (
             &["--renderer", "path", "--roulette-scale", "often"][..],
             "--roulette-scale takes auto or a number from 0.25 to 64, found `often`",
+        ),
+        (
+            &["--sample-allocation", "uniform"][..],
+            "--sample-allocation applies to the path tracer",
+        ),
+        (
+            &["--renderer", "path", "--sample-allocation", "even"][..],
+            "invalid value 'even' for '--sample-allocation <NAME>'",
         ),
         (
             &["--renderer", "path", "--adaptive", "0.1"][..],

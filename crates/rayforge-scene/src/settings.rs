@@ -8,17 +8,18 @@
 //!     renderer: raster        # ray (the default), raster or path; raster then optionally
 //!                             # `shading`, `sphere-divisions`, `wireframe` and
 //!                             # `texture-filter`; path `sampler`, `filter`, `filter-radius`,
-//!                             # `seed`, `roulette-depth` and `roulette-scale`
+//!                             # `seed`, `roulette-depth`, `roulette-scale` and
+//!                             # `sample-allocation`
 //! ```
 
 use crate::assets::Assets;
 use crate::environment::environment;
-use crate::error::SceneError;
+use crate::error::{clip, SceneError};
 use crate::material::color;
 use crate::source::{check_keys, Entry, Node, Source};
 use rayforge::film::{PixelFilter, MAX_FILTER_RADIUS};
 use rayforge::options::{
-    PathOptions, RasterOptions, Roulette, SamplerKind, Shading, TextureFilter,
+    PathOptions, RasterOptions, Roulette, SampleAllocation, SamplerKind, Shading, TextureFilter,
 };
 use rayforge::{LightingModel, World};
 
@@ -48,6 +49,7 @@ const PATH_KEYS: &[&str] = &[
     "seed",
     "roulette-depth",
     "roulette-scale",
+    "sample-allocation",
 ];
 
 /// The largest `seed` (every whole number up to it is exact in a YAML float too).
@@ -112,6 +114,7 @@ pub fn apply(
             "seed",
             "roulette-depth",
             "roulette-scale",
+            "sample-allocation",
             "environment",
         ],
     )?;
@@ -254,6 +257,16 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
             }
             "roulette-scale" => {
                 options.roulette = roulette(source, e.value)?;
+            }
+            "sample-allocation" => {
+                let name = source.string(e.value, "sample-allocation")?;
+                options.allocation = SampleAllocation::from_name(name).ok_or_else(|| {
+                    source.error(
+                        e.value,
+                        "sample-allocation",
+                        format!("expected `uniform` or `adaptive`, found `{}`", clip(name)),
+                    )
+                })?;
             }
             _ => {}
         }

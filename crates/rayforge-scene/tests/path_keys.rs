@@ -1,7 +1,7 @@
 //! The path tracer's keys: `emission` and the physical material `type:` (with `metal`, `eta`,
 //! `k`, `alpha`, `roughness`, `refractive-index`), and `renderer: path` with its `world:` keys.
 use rayforge::film::PixelFilter;
-use rayforge::options::{PathOptions, Roulette, SamplerKind};
+use rayforge::options::{PathOptions, Roulette, SampleAllocation, SamplerKind};
 use rayforge::shading::bsdf::{metal, METAL_NAMES};
 use rayforge::shading::Physical;
 use rayforge::{Color, Material};
@@ -516,6 +516,7 @@ fn the_path_tracers_keys_are_read() {
             roulette_depth: 5,
             roulette: Roulette::Learned,
             seed: 42,
+            allocation: SampleAllocation::Uniform,
         })
     );
     // `max-depth` is still given to the other renderers' setting too.
@@ -548,6 +549,15 @@ fn the_path_tracers_keys_are_read() {
     assert_eq!(path("roulette-scale: 1").roulette, Roulette::Scale(1.0));
     assert_eq!(path("roulette-scale: 0.25").roulette, Roulette::Scale(0.25));
     assert_eq!(path("roulette-scale: 64").roulette, Roulette::Scale(64.0));
+    assert_eq!(
+        path("sample-allocation: adaptive").allocation,
+        SampleAllocation::Adaptive
+    );
+    assert_eq!(
+        path("sample-allocation: uniform").allocation,
+        SampleAllocation::Uniform
+    );
+    assert_eq!(path("seed: 1").allocation, SampleAllocation::Uniform);
 }
 
 #[test]
@@ -559,6 +569,7 @@ fn the_path_tracers_keys_need_renderer_path() {
         "seed: 1",
         "roulette-depth: 2",
         "roulette-scale: 2",
+        "sample-allocation: adaptive",
     ] {
         let name = key.split(':').next().unwrap();
         assert_error(world(key), 9, 5, name, "add `renderer: path`");
@@ -642,6 +653,13 @@ fn bad_path_tracer_values_are_errors_naming_the_key() {
         "at least 1",
     );
     assert_error(path("max-depth: 65"), 10, 16, "max-depth", "the limit 64");
+    assert_error(
+        path("sample-allocation: even"),
+        10,
+        24,
+        "sample-allocation",
+        "expected `uniform` or `adaptive`, found `even`",
+    );
     for bad in ["0.2", "65", "-1", "nan", "often", "[1, 2]"] {
         assert_error(
             path(&format!("roulette-scale: {bad}")),

@@ -147,6 +147,32 @@ pub struct PathOptions {
     pub roulette: Roulette,
     /// The seed: renders with different seeds are independent estimates of the same image.
     pub seed: u64,
+    /// How a render's samples are shared among its pixels.
+    pub allocation: SampleAllocation,
+}
+
+/// How the path tracer shares a render's samples among its pixels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SampleAllocation {
+    /// Every pixel takes the same number.
+    #[default]
+    Uniform,
+    /// Each pixel takes samples as it is noisy for its cost, as a pilot pass finds them, the
+    /// render costing what the samples per pixel everywhere would
+    /// (`render::path::plan_samples`). Renders in passes, and of fewer than 16 samples per
+    /// pixel, share them evenly.
+    Adaptive,
+}
+
+impl SampleAllocation {
+    /// The allocation a scene or the command line names: `adaptive` or `uniform`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "adaptive" => Some(Self::Adaptive),
+            "uniform" => Some(Self::Uniform),
+            _ => None,
+        }
+    }
 }
 
 impl PathOptions {
@@ -168,6 +194,7 @@ impl Default for PathOptions {
             roulette_depth: 5,
             roulette: Roulette::Learned,
             seed: 0,
+            allocation: SampleAllocation::Uniform,
         }
     }
 }

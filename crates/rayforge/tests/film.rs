@@ -494,6 +494,7 @@ fn renders_into_a_film_of_some_rows_are_those_rows_of_the_whole_render() {
             ..PathOptions::default()
         },
         samples: 0..3,
+        plan: None,
         progress: None,
         cancel: None,
         on_row: None,

@@ -23,6 +23,7 @@ fn render_with(world: &World, camera: &Camera, spp: u64, options: PathOptions) -
     let job = PathJob {
         options,
         samples: 0..spp,
+        plan: None,
         progress: None,
         cancel: None,
         on_row: None,
@@ -235,6 +236,7 @@ fn sample_ranges_rendered_apart_merge_into_the_render_of_their_union() {
         let job = PathJob {
             options: PathOptions::default(),
             samples,
+            plan: None,
             progress: None,
             cancel: None,
             on_row: None,
@@ -271,6 +273,7 @@ fn passes_into_one_film_give_the_bits_of_a_single_pass() {
         let job = PathJob {
             options: PathOptions::default(),
             samples,
+            plan: None,
             progress: None,
             cancel: None,
             on_row: None,
@@ -284,6 +287,7 @@ fn passes_into_one_film_give_the_bits_of_a_single_pass() {
     let job = PathJob {
         options: PathOptions::default(),
         samples: 0..12,
+        plan: None,
         progress: None,
         cancel: None,
         on_row: None,

@@ -489,6 +489,7 @@ fn path_passes(
         let job = PathJob {
             options,
             samples,
+            plan: None,
             progress: Some(&add),
             cancel: Some(&pass.job.cancel),
             on_row: None,

@@ -10,6 +10,7 @@ pub fn render(scene: &Scene, width: usize, height: usize, spp: u64) -> Film {
     let job = PathJob {
         options: scene.path.unwrap_or_default(),
         samples: 0..spp,
+        plan: None,
         progress: None,
         cancel: None,
         on_row: None,

@@ -50,6 +50,8 @@ pub struct PathContext<'w> {
     hint: u32,
     /// Rays cast so far.
     pub rays: u64,
+    /// Surfaces paths have met so far (each shaded, the costlier part of a bounce).
+    pub vertices: u64,
 }
 
 /// What the first surface a camera ray meets looks like, for a denoiser.
@@ -171,6 +173,7 @@ impl<'w> PathContext<'w> {
             roulette_scale: 1.0,
             hint: NO_OBJECT,
             rays: 0,
+            vertices: 0,
         }
     }
 
@@ -284,6 +287,7 @@ impl<'w> PathContext<'w> {
                 }
                 break;
             };
+            self.vertices += 1;
             let point = ray.position(hit.t);
             if depth == 0 {
                 // The camera ray's direction is a unit vector: `t` is the distance.

@@ -14,10 +14,12 @@
 //! is shared between pixels, so no two threads ever add to one pixel and rows finish in any
 //! order without changing a bit.
 
+mod adaptive;
 mod integrator;
 mod roulette;
 mod sampler;
 
+pub use adaptive::{plan_samples, prepare_render, SamplePlan, MIN_ADAPTIVE_SPP};
 pub use integrator::{FirstHit, PathContext, PathLog, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS};
 pub use roulette::learn_roulette_scale;
 pub use sampler::SampleStream;
@@ -44,6 +46,10 @@ pub struct PathJob<'p> {
     /// Which samples of every pixel, by index: `0..spp` for a whole render; disjoint ranges
     /// rendered apart merge into the render of their union.
     pub samples: Range<u64>,
+    /// How many samples each pixel takes ([`plan_samples`]), `samples` then being a range of
+    /// the plan's nominal `0..spp` that each pixel scales to its own count
+    /// ([`SamplePlan::range`]); `None`: every pixel takes `samples` as they are.
+    pub plan: Option<&'p SamplePlan>,
     /// Called with the number of rows just finished (from any thread).
     pub progress: Option<&'p (dyn Fn(usize) + Sync)>,
     /// Checked before each row is started and every few samples inside a pixel: once set, no
@@ -203,6 +209,12 @@ pub fn render_path(
             height,
         ));
     }
+    if let Some(plan) = job.plan {
+        let (w, h) = plan.size();
+        if mismatch(w, h) {
+            return Err(FilmError::SizeMismatch(w, h, width, height));
+        }
+    }
     film.check_holds_undone(done)?;
     for layer in aovs.iter().flat_map(|a| a.films()) {
         layer.check_holds_undone(done)?;
@@ -215,10 +227,9 @@ pub fn render_path(
     let emitters = Emitters::new(world);
     let rays = AtomicU64::new(0);
     let discarded = AtomicU64::new(0);
-    let rows = AtomicU64::new(0);
+    let samples = AtomicU64::new(0);
     let cancelled = || job.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let options = job.options;
-    let spp = job.samples.end.saturating_sub(job.samples.start);
     let sampler = CameraSampler::new(camera, world, filter);
     let roulette_scale = match options.roulette {
         Roulette::Scale(k) => k,
@@ -246,8 +257,14 @@ pub fn render_path(
                     ]),
                     None => None,
                 };
-                let mut row_discarded = 0;
+                let (mut row_discarded, mut row_samples) = (0, 0);
                 for x in 0..width {
+                    let range = match job.plan {
+                        Some(plan) => plan.range(x, y, &job.samples),
+                        None => job.samples.clone(),
+                    };
+                    let taken = range.end.saturating_sub(range.start);
+                    row_samples += taken;
                     let mut sum = beauty.sum(x, 0);
                     let mut weights = beauty.weight(x, 0);
                     let [mut albedo_sum, mut normal_sum, mut depth_sum, mut count] = match &layers {
@@ -262,9 +279,9 @@ pub fn render_path(
                         options.seed,
                         x as u32,
                         y as u32,
-                        job.samples.start,
+                        range.start,
                     );
-                    for s in job.samples.clone() {
+                    for s in range {
                         // A pixel may take millions of samples: a stop is heeded inside it,
                         // and the row, unfinished, is left undone.
                         if s % CANCEL_CHECK_SAMPLES == 0 && cancelled() {
@@ -292,9 +309,9 @@ pub fn render_path(
                     }
                     beauty.set_pixel_sum(x, 0, sum, weights);
                     if let Some([albedo, normal, depth, samples]) = &mut layers {
-                        let taken = albedo.weight(x, 0) + spp as f64;
-                        albedo.set_pixel_sum(x, 0, albedo_sum, taken);
-                        normal.set_pixel_sum(x, 0, normal_sum, taken);
+                        let weight = albedo.weight(x, 0) + taken as f64;
+                        albedo.set_pixel_sum(x, 0, albedo_sum, weight);
+                        normal.set_pixel_sum(x, 0, normal_sum, weight);
                         depth.set_pixel_sum(x, 0, depth_sum, hits);
                         samples.set_pixel_sum(x, 0, count, 1.0);
                     }
@@ -314,7 +331,7 @@ pub fn render_path(
                     on_row(y, &values);
                 }
                 rays.fetch_add(context.rays - before, Ordering::Relaxed);
-                rows.fetch_add(1, Ordering::Relaxed);
+                samples.fetch_add(row_samples, Ordering::Relaxed);
                 discarded.fetch_add(row_discarded, Ordering::Relaxed);
                 if let Some(progress) = job.progress {
                     progress(1);
@@ -324,7 +341,7 @@ pub fn render_path(
         )?;
     Ok(PathStats {
         rays: rays.into_inner(),
-        samples: rows.into_inner() * spp * width as u64,
+        samples: samples.into_inner(),
         discarded: discarded.into_inner(),
     })
 }
