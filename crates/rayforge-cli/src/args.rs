@@ -422,7 +422,8 @@ pub struct RenderArgs {
     /// samples per pixel to one film (with --spp, at most that many in all); the ray tracer
     /// renders 1, 4, 16, … camera rays per pixel, each pass afresh (up to --spp, --adaptive or
     /// the camera's anti-aliasing when given). The image is the one a render at the samples
-    /// reached makes in one pass. Not with the rasterizer.
+    /// reached makes in one pass (the path tracer's with --sample-allocation uniform: passes
+    /// share samples evenly). Not with the rasterizer.
     #[arg(long, value_name = "DURATION")]
     pub time: Option<String>,
 

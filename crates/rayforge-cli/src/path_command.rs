@@ -183,7 +183,7 @@ pub fn path_render(
                 };
                 (options, None)
             } else {
-                pool.install(|| prepare_render(camera, &scene.world, &options, spp))
+                pool.install(|| prepare_render(camera, &scene.world, &options, spp, aovs.is_some()))
             };
             for (i, pass) in passes.iter().enumerate() {
                 if i > 0 {

@@ -28,8 +28,8 @@ use crate::settings::{Chosen, RenderSettings};
 use crate::slice::{Cut, Slice};
 use rayforge::camera::Camera;
 use rayforge::film::{Film, PixelFilter, SharedFilm, MAX_FILM_PIXELS};
-use rayforge::options::PathOptions;
-use rayforge::render::path::{prepare_render, render_path, PathJob};
+use rayforge::options::{PathOptions, SampleAllocation};
+use rayforge::render::path::{render_path, PathJob};
 use rayforge::render::{exposure, render_rows_into, RenderOptions};
 use rayforge_scene::Scene;
 use rayon::ThreadPool;
@@ -67,7 +67,7 @@ pub fn run(settings: &RenderSettings, slice: &Slice) -> Result<(), Failure> {
     let film = match chosen {
         Chosen::Ray => render.ray()?,
         Chosen::Raster(options) => render.raster(&options)?,
-        Chosen::Path(options) => render.path(options, header.samples(), header.spp)?,
+        Chosen::Path(options) => render.path(options, header.samples())?,
     };
     let elapsed = started.elapsed();
     let samples = header.samples();
@@ -106,7 +106,15 @@ fn prepare(
     slice: &Slice,
 ) -> Result<(Scene, Camera, Chosen, PartHeader), Failure> {
     let (scene, camera) = load_scene(settings, 0)?;
-    let chosen = settings.choose(scene.raster, scene.path)?;
+    let chosen = match settings.choose(scene.raster, scene.path)? {
+        // A slice shares samples evenly: an adaptive plan would cost every slice a pilot of
+        // the whole image, an eighth of the render, however small its own share.
+        Chosen::Path(options) => Chosen::Path(PathOptions {
+            allocation: SampleAllocation::Uniform,
+            ..options
+        }),
+        other => other,
+    };
     let header = header(settings, slice, &scene, &camera, &chosen)?;
     Ok((scene, camera, chosen, header))
 }
@@ -293,26 +301,15 @@ impl SliceRender<'_> {
         Ok(film.into_film())
     }
 
-    /// The path tracer's rows of the slice, with its `samples` of the render's `spp`. Shared
-    /// out adaptively, each slice plans the whole render as one process would (the plan is a
-    /// pure function of the scene, the seed and `spp`), so the slices still merge into it.
-    fn path(
-        &self,
-        options: PathOptions,
-        samples: std::ops::Range<u64>,
-        spp: u64,
-    ) -> Result<Film, Failure> {
+    /// The path tracer's rows of the slice, with its `samples`.
+    fn path(&self, options: PathOptions, samples: std::ops::Range<u64>) -> Result<Film, Failure> {
         let film = self.film(options.filter)?;
         let mut done = self.others_done();
-        let world = &self.scene.world;
-        let (options, plan) = self
-            .pool
-            .install(|| prepare_render(self.camera, world, &options, spp));
         let stats = self.with_hooks(|progress, stop| {
             let job = PathJob {
                 options,
                 samples,
-                plan: plan.as_ref(),
+                plan: None,
                 progress: Some(progress),
                 cancel: Some(stop),
                 on_row: None,

@@ -186,8 +186,18 @@ fn sample_slices_of_the_path_tracer_agree_within_the_stated_bound() {
     let scene = repo().join("scenes/pbr/cornell.yml");
     for (filter, spp) in [("box", 24u64), ("tent", 13)] {
         let spp_text = spp.to_string();
+        // Slices share samples evenly; so must the one-process render they are held to.
         let args = [
-            "--width", "8", "--height", "7", "--spp", &spp_text, "--filter", filter,
+            "--width",
+            "8",
+            "--height",
+            "7",
+            "--spp",
+            &spp_text,
+            "--filter",
+            filter,
+            "--sample-allocation",
+            "uniform",
         ];
         // One slice of all samples is the one-process film (merged bit for bit, below).
         let whole = slices(&scene, dir.path(), 1, "samples", &args);

@@ -316,7 +316,15 @@ fn an_image_refined_in_passes_equals_the_one_pass_image_at_the_samples_reached()
     let mut args = size.to_vec();
     let spp_text = spp.to_string();
     // Named: without it, --spp is held to the ray tracer's 4096, which a fast second passes.
-    args.extend(["--renderer", "path", "--spp", &spp_text]);
+    // Passes share samples evenly; one pass would share them adaptively.
+    args.extend([
+        "--renderer",
+        "path",
+        "--spp",
+        &spp_text,
+        "--sample-allocation",
+        "uniform",
+    ]);
     let o = render("scenes/pbr/spheres-materials.yml", &once, &args);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(

@@ -516,7 +516,7 @@ fn the_path_tracers_keys_are_read() {
             roulette_depth: 5,
             roulette: Roulette::Learned,
             seed: 42,
-            allocation: SampleAllocation::Uniform,
+            allocation: SampleAllocation::Adaptive,
         })
     );
     // `max-depth` is still given to the other renderers' setting too.
@@ -557,7 +557,7 @@ fn the_path_tracers_keys_are_read() {
         path("sample-allocation: uniform").allocation,
         SampleAllocation::Uniform
     );
-    assert_eq!(path("seed: 1").allocation, SampleAllocation::Uniform);
+    assert_eq!(path("seed: 1").allocation, SampleAllocation::Adaptive);
 }
 
 #[test]

@@ -154,14 +154,15 @@ pub struct PathOptions {
 /// How the path tracer shares a render's samples among its pixels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SampleAllocation {
-    /// Every pixel takes the same number.
+    /// Each pixel takes samples as it is noisy for what they cost there, as a pilot pass of
+    /// the render's first samples finds it, the render costing what the samples per pixel
+    /// everywhere would (`render::path::prepare_render`). A render in one pass of at least 16
+    /// samples per pixel, or in slices of one; renders in passes share samples evenly, and
+    /// so does a scene whose noise is about even.
     #[default]
-    Uniform,
-    /// Each pixel takes samples as it is noisy for its cost, as a pilot pass finds them, the
-    /// render costing what the samples per pixel everywhere would
-    /// (`render::path::plan_samples`). Renders in passes, and of fewer than 16 samples per
-    /// pixel, share them evenly.
     Adaptive,
+    /// Every pixel takes the same number.
+    Uniform,
 }
 
 impl SampleAllocation {
@@ -194,7 +195,7 @@ impl Default for PathOptions {
             roulette_depth: 5,
             roulette: Roulette::Learned,
             seed: 0,
-            allocation: SampleAllocation::Uniform,
+            allocation: SampleAllocation::Adaptive,
         }
     }
 }

@@ -83,7 +83,7 @@ fn render(
 #[test]
 fn adaptive_sampling_gives_the_noisy_pixels_more_samples_and_every_pixel_its_true_value() {
     let (world, camera) = grey_furnace();
-    let plan = plan_samples(&camera, &world, &adaptive(), 256).expect("the noise is uneven");
+    let plan = plan_samples(&camera, &world, &adaptive(), 256, false).expect("the noise is uneven");
     assert_eq!(plan.size(), (16, 16));
     assert_eq!(plan.spp(), 256);
     // A corner sees only the sky; the middle the sphere; (4, 8) its outline.
@@ -118,7 +118,7 @@ fn adaptive_sampling_gives_the_noisy_pixels_more_samples_and_every_pixel_its_tru
 #[test]
 fn slices_of_a_planned_renders_samples_merge_into_the_whole() {
     let (world, camera) = grey_furnace();
-    let plan = plan_samples(&camera, &world, &adaptive(), 256).expect("the noise is uneven");
+    let plan = plan_samples(&camera, &world, &adaptive(), 256, false).expect("the noise is uneven");
     let mut merged = render(&world, &camera, adaptive(), Some(&plan), 0..85);
     merged
         .merge(&render(&world, &camera, adaptive(), Some(&plan), 85..256))
@@ -143,7 +143,7 @@ fn the_plan_is_the_same_for_any_thread_count_and_seed_bound() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| plan_samples(&camera, &world, &options, 256))
+            .install(|| plan_samples(&camera, &world, &options, 256, false))
     };
     let one = plan_on(1, adaptive());
     assert!(one.is_some());
@@ -156,7 +156,7 @@ fn the_plan_is_the_same_for_any_thread_count_and_seed_bound() {
 }
 
 #[test]
-fn an_evenly_noisy_scene_or_few_samples_keep_an_even_share() {
+fn an_evenly_noisy_scene_keeps_an_even_share_and_the_bits_of_a_plain_render() {
     // Inside a closed glowing sphere every pixel is as noisy as the next: nothing to gain.
     let sphere = Object::sphere()
         .with_transform(scaling(10.0, 10.0, 10.0))
@@ -174,23 +174,68 @@ fn an_evenly_noisy_scene_or_few_samples_keep_an_even_share() {
         point(0.0, 0.0, 1.0),
         vector(0.0, 1.0, 0.0),
     ));
-    assert_eq!(plan_samples(&camera, &world, &adaptive(), 256), None);
-    // Below 16 samples per pixel a pilot would cost too large a share.
+    let plan = plan_samples(&camera, &world, &adaptive(), 64, false).expect("a plan");
+    assert!((0..16).all(|y| (0..16).all(|x| plan.count(x, y) == 64)));
+    // The pilot's samples, kept in the plan, are the render's first: the planned render is
+    // the plain one to the bit.
+    let planned = render(&world, &camera, adaptive(), Some(&plan), 0..64);
+    let plain = render(&world, &camera, adaptive(), None, 0..64);
+    assert_eq!(planned, plain);
+}
+
+#[test]
+fn a_planned_render_with_aovs_starts_from_the_pilots_sums() {
+    use rayforge::render::path::Aovs;
     let (world, camera) = grey_furnace();
-    assert_eq!(plan_samples(&camera, &world, &adaptive(), 15), None);
+    let (w, h) = (camera.hsize(), camera.vsize());
+    let render_aovs = |plan: Option<&SamplePlan>| {
+        let job = PathJob {
+            options: adaptive(),
+            samples: 0..64,
+            plan,
+            progress: None,
+            cancel: None,
+            on_row: None,
+        };
+        let (film, aovs) = (SharedFilm::from(Film::new(w, h)), Aovs::new(w, h));
+        let mut done = vec![false; h];
+        render_path(&camera, &world, &job, &film, Some(&aovs), &mut done).unwrap();
+        let [albedo, normal, depth, samples] =
+            [aovs.albedo, aovs.normal, aovs.depth, aovs.samples].map(|f| f.into_film());
+        (film.into_film(), albedo, normal, depth, samples)
+    };
+    // A plan whose pilot kept the AOVs, and one whose pilot did not (the render then traces
+    // the pilot's samples again): the same films.
+    let with = plan_samples(&camera, &world, &adaptive(), 64, true).unwrap();
+    assert!(with.count(8, 8) > with.count(0, 0), "an uneven plan");
+    let without = plan_samples(&camera, &world, &adaptive(), 64, false).unwrap();
+    let (a, b) = (render_aovs(Some(&with)), render_aovs(Some(&without)));
+    assert_eq!(a, b);
+    // The sample-count AOV holds each pixel's count.
+    let samples = a.4.resolve();
+    for (x, y) in [(0, 0), (8, 8), (4, 8)] {
+        assert_eq!(samples.pixel_at(x, y).red, with.count(x, y) as f64);
+    }
+}
+
+#[test]
+fn few_samples_or_an_even_share_asked_for_need_no_plan() {
+    // Below 16 samples per pixel the pilot's share would be too few samples to judge by.
+    let (world, camera) = grey_furnace();
+    assert_eq!(plan_samples(&camera, &world, &adaptive(), 15, false), None);
     // Asked for an even share, no plan, and the roulette left to the render to learn.
-    let uniform = PathOptions::default();
-    assert_eq!(uniform.allocation, SampleAllocation::Uniform);
-    assert_eq!(
-        prepare_render(&camera, &world, &uniform, 64),
-        (uniform, None)
-    );
-    // Asked for an adaptive one, the roulette is learned once, for the pilot and the render.
-    let learned = PathOptions {
-        allocation: SampleAllocation::Adaptive,
+    let uniform = PathOptions {
+        allocation: SampleAllocation::Uniform,
         ..PathOptions::default()
     };
-    let (options, plan) = prepare_render(&camera, &world, &learned, 256);
+    assert_eq!(
+        prepare_render(&camera, &world, &uniform, 64, false),
+        (uniform, None)
+    );
+    // Adaptive by default; the roulette then learned once, for the pilot and the render.
+    let learned = PathOptions::default();
+    assert_eq!(learned.allocation, SampleAllocation::Adaptive);
+    let (options, plan) = prepare_render(&camera, &world, &learned, 256, false);
     assert!(matches!(options.roulette, Roulette::Scale(_)));
     assert!(plan.is_some());
 }

@@ -1,53 +1,49 @@
-//! Adaptive sampling: a render's samples shared out among its pixels by how noisy each is,
-//! instead of the same number everywhere.
+//! Adaptive sampling: a render's samples shared out among its pixels by how noisy each is
+//! for what its samples cost, instead of the same number everywhere.
 //!
 //! A pixel's error after n samples is σ ∕ √n, σ being the spread of its samples, so the
-//! image's mean squared error, Σ σᵢ² ∕ nᵢ over the pixels, is least for a given total of
-//! samples when nᵢ grows as σᵢ: the quiet pixels (a plain wall, the black sky) give samples
-//! to the noisy ones (a caustic, the edge of a soft shadow, a glossy highlight). Where the
-//! spread varies across the image, as it does in most scenes, the same total buys a
-//! markedly smaller error (on the reference scenes, a third to two thirds of the RMSE).
+//! image's mean squared error, Σ σᵢ² ∕ nᵢ over the pixels, is least for a given time,
+//! Σ cᵢ nᵢ (cᵢ a sample's cost there), when nᵢ grows as σᵢ ∕ √cᵢ: the quiet pixels (a plain
+//! wall, the black sky) give samples to the noisy ones (a caustic, the edge of a soft shadow,
+//! a glossy highlight).
 //!
-//! The spreads come from a pilot pass before the render ([`plan_samples`]): a few samples of
-//! every pixel on a seed of its own, their variance smoothed over each pixel's neighbours (a
-//! few samples of one pixel estimate it poorly, and noise comes in patches). The pilot's
-//! samples are not in the image: each pixel's count is then a function of other numbers
-//! than those it averages, so every pixel's estimate stays unbiased (taking a pixel's own
-//! samples both to decide how many it takes and to average them would bias it: a pixel that
-//! drew a rare bright sample would take more samples and dilute it).
+//! The spreads and costs come from a pilot pass ([`prepare_render`]): the first samples of
+//! every pixel (an eighth of the samples per pixel), whose variance and rays are averaged over
+//! each pixel's neighbours, leaving the pixel itself out. The pilot's samples are the
+//! render's own first samples, kept in the plan and added to the image, so the pilot costs
+//! nothing; and as a pixel's count depends on its neighbours' samples, not its own, each
+//! pixel's estimate stays unbiased (were its own samples to decide how many it takes, a pixel
+//! that drew a rare bright sample would take more and dilute it). The plan is made only
+//! where it foresees a gain: planned from one half of the pilot's samples and judged by the
+//! other, it must take [`MIN_GAIN`] off the squared error; else every pixel takes the same.
 //!
 //! A plan is a pure function of the scene, the seed and the samples per pixel, so the image
 //! is still the same for any thread count, and a range of the nominal samples
 //! ([`SamplePlan::range`]) maps to a range of each pixel's own: slices of `0..spp` rendered
 //! apart still merge into the render of the whole.
 
-use super::{learn_roulette_scale, path_context, CameraSampler, SampleStream};
+use super::{learn_roulette_scale, render_path_logged, Aovs, PathJob};
 use crate::camera::Camera;
 use crate::color::Color;
+use crate::film::{Film, SharedFilm};
 use crate::math::random::SplitMix64;
 use crate::options::{PathOptions, Roulette, SampleAllocation};
-use crate::scene::{Emitters, World, WorldIndex};
-use rayon::prelude::*;
+use crate::scene::World;
 use std::ops::Range;
+use std::sync::OnceLock;
 
-/// Fewer samples per pixel than this are shared out evenly: a pilot would cost too large a
-/// part of them.
+/// Fewer samples per pixel than this are shared out evenly: the pilot's share would be too
+/// few samples to judge a pixel by.
 pub const MIN_ADAPTIVE_SPP: u64 = 16;
 
-/// The pilot's samples per pixel are the render's divided by this (16: about 6 % of the
-/// render's time), within [`PILOT_SPP`].
-const PILOT_SHARE: u64 = 16;
+/// The pilot's samples per pixel are the render's divided by this: the fewest any pixel
+/// takes.
+const PILOT_SHARE: u64 = 8;
 
-/// The fewest and most samples per pixel of the pilot.
-const PILOT_SPP: (u64, u64) = (2, 8);
-
-/// How far, in pixels, a pixel's variance is averaged with its neighbours' (a square of
-/// 5 × 5: with a 4-sample pilot, a hundred samples to each estimate).
+/// How far, in pixels, a pixel's variance and cost are averaged over its neighbours (a
+/// square of 5 × 5, the pixel itself left out: at 64 samples per pixel, some 190 samples to
+/// each estimate).
 const SMOOTHING_RADIUS: usize = 2;
-
-/// The fewest samples a pixel takes, as a share of the samples per pixel: a pixel whose
-/// pilot saw nothing vary may still hide something small and bright.
-const MIN_SHARE: f64 = 1.0 / 8.0;
 
 /// The most samples a pixel takes, as a multiple of the samples per pixel.
 const MAX_SHARE: f64 = 8.0;
@@ -56,13 +52,20 @@ const MAX_SHARE: f64 = 8.0;
 /// from one half of the pilot and judged by the other (else the samples are shared evenly).
 const MIN_GAIN: f64 = 0.1;
 
-/// How many samples each pixel takes, for a render of `spp` samples per pixel on average.
+/// How many samples each pixel takes, for a render of `spp` samples per pixel at the cost of
+/// `spp` everywhere, and the pilot's samples, the first of every pixel.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SamplePlan {
     width: usize,
     height: usize,
     spp: u64,
     counts: Vec<u64>,
+    /// How many samples of each pixel the pilot took (the first).
+    pilot: u64,
+    /// The pilot's samples as the films summed them, from empty films.
+    kept: Film,
+    /// The same of the albedo, normal, depth and sample-count films, where the pilot had them.
+    kept_aovs: Option<[Film; 4]>,
 }
 
 impl SamplePlan {
@@ -89,153 +92,58 @@ impl SamplePlan {
         let scale = |s: u64| (u128::from(s) * count / u128::from(self.spp.max(1))) as u64;
         scale(nominal.start)..scale(nominal.end.max(nominal.start))
     }
-}
 
-/// `options` as a render of `spp` samples per pixel in one pass (or in slices of its
-/// samples or rows) takes them, and its plan: where samples are shared out adaptively, the
-/// roulette is learned here, once for the pilot and the render, and the plan made
-/// ([`plan_samples`]); else `options` as they are, and no plan.
-pub fn prepare_render(
-    camera: &Camera,
-    world: &World,
-    options: &PathOptions,
-    spp: u64,
-) -> (PathOptions, Option<SamplePlan>) {
-    if options.allocation != SampleAllocation::Adaptive || spp < MIN_ADAPTIVE_SPP {
-        return (*options, None);
+    /// How many of the first samples of every pixel the plan holds, as the films summed
+    /// them (with the AOVs' when `aovs`): a range from 0 past them may start from these.
+    pub(super) fn kept_samples(&self, aovs: bool) -> u64 {
+        if aovs && self.kept_aovs.is_none() {
+            0
+        } else {
+            self.pilot
+        }
     }
-    let options = match options.roulette {
-        Roulette::Learned => PathOptions {
-            roulette: Roulette::Scale(learn_roulette_scale(camera, world, options)),
-            ..*options
-        },
-        Roulette::Scale(_) => *options,
-    };
-    let plan = plan_samples(camera, world, &options, spp);
-    (options, plan)
-}
 
-/// The pilot's samples per pixel for a render of `spp`.
-fn pilot_spp(spp: u64) -> u64 {
-    (spp / PILOT_SHARE).clamp(PILOT_SPP.0, PILOT_SPP.1)
-}
-
-/// Plans a render of `world` through `camera` at `spp` samples per pixel on average, from a
-/// pilot pass with `options` (see the [module](self)); `None` below [`MIN_ADAPTIVE_SPP`],
-/// where samples are best shared out evenly. The roulette of `options` should be the one the
-/// render uses (a scale, not one to learn: learning it is the caller's, once for both).
-pub fn plan_samples(
-    camera: &Camera,
-    world: &World,
-    options: &PathOptions,
-    spp: u64,
-) -> Option<SamplePlan> {
-    if spp < MIN_ADAPTIVE_SPP {
-        return None;
+    /// The pilot's sums of pixel (`x`, `y`): the image's sum and weight, and the AOVs' sums
+    /// (albedo, normal, depth, samples) with the depth's weight, where it had them.
+    pub(super) fn kept(&self, x: usize, y: usize) -> (Color, f64, Option<([Color; 4], f64)>) {
+        let aovs = self
+            .kept_aovs
+            .as_ref()
+            .map(|films| (films.each_ref().map(|f| f.sum(x, y)), films[2].weight(x, y)));
+        (self.kept.sum(x, y), self.kept.weight(x, y), aovs)
     }
-    let (width, height) = (camera.hsize(), camera.vsize());
-    let index = WorldIndex::build(world);
-    let emitters = Emitters::new(world);
-    let roulette_scale = match options.roulette {
-        Roulette::Scale(k) => k,
-        Roulette::Learned => 1.0,
-    };
-    let sampler = CameraSampler::new(camera, world, options.filter);
-    // Its own seed: the plan is independent of the numbers the render averages.
-    let seed = options.seed ^ 0x6164_6170_7469_7665;
-    let samples = pilot_spp(spp);
-    // Each pixel's variance per sample, from all its pilot samples and from each half of
-    // them (the even and the odd), and its cost per sample.
-    let pilot: Vec<PilotPixel> = (0..height)
-        .into_par_iter()
-        .flat_map_iter(|y| {
-            let mut context = path_context(world, &index, &emitters, options, roulette_scale);
-            let sampler = &sampler;
-            (0..width)
-                .map(move |x| {
-                    let mut stream =
-                        SampleStream::new(options.sampler, seed, x as u32, y as u32, 0);
-                    let mut halves = [Moments::default(); 2];
-                    let (rays, vertices) = (context.rays, context.vertices);
-                    for s in 0..samples {
-                        stream.start(s);
-                        let (ray, _) = sampler.ray(x, y, &mut stream);
-                        let (radiance, _) = context.radiance(ray, &mut stream);
-                        halves[(s % 2) as usize].add(radiance);
-                    }
-                    // A sample costs its rays, twice its surfaces (shading one costs about
-                    // two rays) and the camera's and film's share, about a ray's.
-                    let work = (context.rays - rays) + 2 * (context.vertices - vertices);
-                    PilotPixel {
-                        variance: halves[0].merged(&halves[1]).variance(),
-                        halves: halves.map(|h| h.variance()),
-                        cost: 1.0 + work as f64 / samples as f64,
-                    }
-                })
-                .collect::<Vec<_>>()
-        })
-        .collect();
-    let smooth = |value: &dyn Fn(&PilotPixel) -> f64| {
-        let values: Vec<f64> = pilot.iter().map(value).collect();
-        smoothed(&values, width, height, SMOOTHING_RADIUS)
-    };
-    let cost = smooth(&|p| p.cost);
-    let [even, odd] = [0, 1].map(|h| smooth(&|p: &PilotPixel| p.halves[h]));
-    // Planned from one half of the pilot and judged by the other, a plan must foresee a
-    // gain: where the spreads are noise, it would not (the halves disagree).
-    let n = spp as f64;
-    let judged = |plan: &[f64], judge: &[f64]| -> (f64, f64) {
-        (plan.iter().zip(judge))
-            .map(|(&share, &v)| (usable(v) / share, usable(v) / n))
-            .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y))
-    };
-    let (a, b) = (shares(&even, &cost, spp)?, shares(&odd, &cost, spp)?);
-    let (planned_a, even_a) = judged(&a, &odd);
-    let (planned_b, even_b) = judged(&b, &even);
-    let foreseen = planned_a + planned_b < (1.0 - MIN_GAIN) * (even_a + even_b);
-    if !foreseen {
-        return None;
-    }
-    let shares = shares(&smooth(&|p| p.variance), &cost, spp)?;
-    let mut dither = SplitMix64::new(options.seed ^ 0x726f_756e_6469_6e67);
-    let counts = shares
-        .iter()
-        .map(|&share| {
-            let u = (dither.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-            ((share + u).floor() as u64).max(1)
-        })
-        .collect();
-    Some(SamplePlan {
-        width,
-        height,
-        spp,
-        counts,
-    })
 }
 
-/// What the pilot finds of one pixel: its variance per sample (the mean over the channels),
-/// that of each half of its samples, and its cost per sample.
-struct PilotPixel {
-    variance: f64,
-    halves: [f64; 2],
-    cost: f64,
+/// What the pilot records of each pixel: its samples' moments, the even and the odd apart,
+/// and what they cost: rays, surfaces shaded, reflections through a mirror ball solved.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct PilotPixel {
+    pub halves: [Moments; 2],
+    pub rays: u64,
+    pub vertices: u64,
+    pub solves: u64,
+}
+
+/// The pilot's record, row by row (each row set once, by the thread that renders it).
+pub(super) struct PilotLog {
+    pub rows: Vec<OnceLock<Vec<PilotPixel>>>,
 }
 
 /// The count, sum and sum of squares of a pixel's finite samples.
 #[derive(Debug, Clone, Copy, Default)]
-struct Moments {
+pub(super) struct Moments {
     n: f64,
     sum: Color,
     squares: Color,
 }
 
 impl Moments {
-    fn add(&mut self, radiance: Color) {
-        if radiance.red.is_finite() && radiance.green.is_finite() && radiance.blue.is_finite() {
-            self.n += 1.0;
-            self.sum += radiance;
-            self.squares += radiance.hadamard(radiance);
-        }
+    /// Counts `radiance` in.
+    #[inline]
+    pub fn add(&mut self, radiance: Color) {
+        self.n += 1.0;
+        self.sum += radiance;
+        self.squares += radiance.hadamard(radiance);
     }
 
     fn merged(&self, other: &Self) -> Self {
@@ -257,6 +165,139 @@ impl Moments {
     }
 }
 
+/// `options` as a render of `spp` samples per pixel in one pass (or in slices of its
+/// samples or rows) takes them, and its plan: where samples are shared out adaptively, the
+/// roulette learned once for the pilot and the render, and the plan ([`plan_samples`]); else
+/// `options` as they are, and no plan. With `aovs`, the pilot keeps their sums too.
+pub fn prepare_render(
+    camera: &Camera,
+    world: &World,
+    options: &PathOptions,
+    spp: u64,
+    aovs: bool,
+) -> (PathOptions, Option<SamplePlan>) {
+    if options.allocation != SampleAllocation::Adaptive || spp < MIN_ADAPTIVE_SPP {
+        return (*options, None);
+    }
+    let options = match options.roulette {
+        Roulette::Learned => PathOptions {
+            roulette: Roulette::Scale(learn_roulette_scale(camera, world, options)),
+            ..*options
+        },
+        Roulette::Scale(_) => *options,
+    };
+    let plan = plan_samples(camera, world, &options, spp, aovs);
+    (options, plan)
+}
+
+/// Plans a render of `world` through `camera` at `spp` samples per pixel, from a pilot pass
+/// of its first samples with `options` (see the [module](self)): where the pilot foresees no
+/// gain, `spp` for every pixel (the pilot's samples still kept). `None` below
+/// [`MIN_ADAPTIVE_SPP`] (or were the pilot refused its film). With `aovs`, the pilot keeps
+/// their sums too. The roulette of `options` should be the one the render uses (a scale, not
+/// one to learn: [`prepare_render`] learns it once for both).
+pub fn plan_samples(
+    camera: &Camera,
+    world: &World,
+    options: &PathOptions,
+    spp: u64,
+    aovs: bool,
+) -> Option<SamplePlan> {
+    if spp < MIN_ADAPTIVE_SPP {
+        return None;
+    }
+    let (width, height) = (camera.hsize(), camera.vsize());
+    let pilot = spp / PILOT_SHARE;
+    let film = SharedFilm::from(Film::with_filter(width, height, options.filter).ok()?);
+    let aov_films = aovs.then(|| Aovs::new(width, height));
+    let log = PilotLog {
+        rows: (0..height).map(|_| OnceLock::new()).collect(),
+    };
+    let job = PathJob {
+        options: *options,
+        samples: 0..pilot,
+        plan: None,
+        progress: None,
+        cancel: None,
+        on_row: None,
+    };
+    let mut done = vec![false; height];
+    render_path_logged(
+        camera,
+        world,
+        &job,
+        &film,
+        aov_films.as_ref(),
+        &mut done,
+        Some(&log),
+    )
+    .ok()?;
+    let pixels: Vec<PilotPixel> = log
+        .rows
+        .into_iter()
+        .flat_map(|row| row.into_inner().unwrap_or_default())
+        .collect();
+    if pixels.len() != width * height {
+        return None;
+    }
+    let smooth = |value: &dyn Fn(&PilotPixel) -> f64| {
+        let values: Vec<f64> = pixels.iter().map(value).collect();
+        neighbours_mean(&values, width, height, SMOOTHING_RADIUS)
+    };
+    // A sample's cost, in rays: its rays, two and a half times its surfaces shaded and ten
+    // times its mirror-ball reflections (an iterated root), and a quarter for the camera and
+    // the film (weights fitted to the time each pixel's samples took in the reference scenes).
+    let cost = smooth(&|p| {
+        0.25 + (p.rays as f64 + 2.5 * p.vertices as f64 + 10.0 * p.solves as f64) / pilot as f64
+    });
+    let [even, odd] = [0, 1].map(|h| smooth(&|p: &PilotPixel| p.halves[h].variance()));
+    let low = pilot as f64;
+    // Planned from one half of the pilot and judged by the other, a plan must foresee a
+    // gain: where the spreads are noise, it would not (the halves disagree).
+    let n = spp as f64;
+    let judged = |plan: &[f64], judge: &[f64]| -> (f64, f64) {
+        (plan.iter().zip(judge))
+            .map(|(&share, &v)| (usable(v) / share, usable(v) / n))
+            .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y))
+    };
+    let foreseen = match (
+        shares(&even, &cost, spp, low),
+        shares(&odd, &cost, spp, low),
+    ) {
+        (Some(a), Some(b)) => {
+            let (planned_a, even_a) = judged(&a, &odd);
+            let (planned_b, even_b) = judged(&b, &even);
+            planned_a + planned_b < (1.0 - MIN_GAIN) * (even_a + even_b)
+        }
+        _ => false,
+    };
+    let variance = smooth(&|p| p.halves[0].merged(&p.halves[1]).variance());
+    let counts = match shares(&variance, &cost, spp, low) {
+        Some(shares) if foreseen => {
+            let mut dither = SplitMix64::new(options.seed ^ 0x726f_756e_6469_6e67);
+            shares
+                .iter()
+                .map(|&share| {
+                    let u = (dither.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                    ((share + u).floor() as u64).max(pilot)
+                })
+                .collect()
+        }
+        // No gain foreseen: the same number everywhere, the pilot's samples still kept.
+        _ => vec![spp; width * height],
+    };
+    Some(SamplePlan {
+        width,
+        height,
+        spp,
+        counts,
+        pilot,
+        kept: film.into_film(),
+        kept_aovs: aov_films
+            .map(|a| [a.albedo, a.normal, a.depth, a.samples].map(SharedFilm::into_film)),
+    })
+}
+
 /// `v` where it is a usable variance or cost, else 0.
 fn usable(v: f64) -> f64 {
     if v.is_finite() && v > 0.0 {
@@ -267,23 +308,28 @@ fn usable(v: f64) -> f64 {
 }
 
 /// `values` (a `width` × `height` image, row by row) averaged over the square of `radius`
-/// around each pixel (the part of it inside the image).
-fn smoothed(values: &[f64], width: usize, height: usize, radius: usize) -> Vec<f64> {
+/// around each pixel (the part of it inside the image), the pixel itself left out.
+fn neighbours_mean(values: &[f64], width: usize, height: usize, radius: usize) -> Vec<f64> {
     let window = |i: usize, n: usize| i.saturating_sub(radius)..(i + radius + 1).min(n);
     let mut rows = vec![0.0; values.len()];
     for y in 0..height {
         let row = &values[y * width..(y + 1) * width];
         for x in 0..width {
-            let w = window(x, width);
-            rows[y * width + x] = row[w.clone()].iter().sum::<f64>() / w.len() as f64;
+            rows[y * width + x] = row[window(x, width)].iter().sum::<f64>();
         }
     }
     let mut out = vec![0.0; values.len()];
     for y in 0..height {
         let w = window(y, height);
         for x in 0..width {
-            out[y * width + x] =
-                w.clone().map(|yy| rows[yy * width + x]).sum::<f64>() / w.len() as f64;
+            let cells = w.len() * window(x, width).len();
+            let sum = w.clone().map(|yy| rows[yy * width + x]).sum::<f64>();
+            let own = values[y * width + x];
+            out[y * width + x] = if cells > 1 {
+                (sum - own) / (cells - 1) as f64
+            } else {
+                own
+            };
         }
     }
     out
@@ -291,12 +337,12 @@ fn smoothed(values: &[f64], width: usize, height: usize, radius: usize) -> Vec<f
 
 /// Each pixel's share of samples for the pixels' `variance` and `cost` per sample: as many
 /// as σ ∕ √cost (σ² being the variance), which makes the image's squared error least for the
-/// time (the error is Σ σ² ∕ n, the time Σ cost × n), between [`MIN_SHARE`] and
-/// [`MAX_SHARE`] of `spp`, costing in all what `spp` samples of every pixel would. The scale
-/// is found by bisection (the clamped cost grows with it). `None` where nothing varies.
-fn shares(variance: &[f64], cost: &[f64], spp: u64) -> Option<Vec<f64>> {
+/// time (the error is Σ σ² ∕ n, the time Σ cost × n), between `low` and [`MAX_SHARE`] ×
+/// `spp`, costing in all what `spp` samples of every pixel would. The scale is found by
+/// bisection (the clamped cost grows with it). `None` where nothing varies.
+fn shares(variance: &[f64], cost: &[f64], spp: u64, low: f64) -> Option<Vec<f64>> {
     let n = spp as f64;
-    let (low, high) = ((n * MIN_SHARE).max(1.0), n * MAX_SHARE);
+    let (low, high) = (low.max(1.0), n * MAX_SHARE);
     let cost: Vec<f64> = cost.iter().map(|&c| usable(c).max(1.0)).collect();
     let weight: Vec<f64> = (variance.iter().zip(&cost))
         .map(|(&v, &c)| (usable(v) / c).sqrt())
@@ -341,7 +387,7 @@ mod tests {
         variance.extend([64.0, 1e8, 0.0]);
         let mut cost = vec![1.0; 10];
         cost.extend([2.0, 1.0, 1.0]);
-        let counts = shares(&variance, &cost, 64).expect("uneven");
+        let counts = shares(&variance, &cost, 64, 8.0).expect("uneven");
         // The very noisy one is held to 8 × 64, the silent one given 64 ∕ 8.
         assert_eq!(counts[11], 512.0);
         assert_eq!(counts[12], 8.0);
@@ -359,9 +405,9 @@ mod tests {
 
     #[test]
     fn even_noise_shares_evenly_and_none_at_all_asks_for_no_plan() {
-        assert_eq!(shares(&[2.0; 9], &[3.0; 9], 64), Some(vec![64.0; 9]));
-        assert_eq!(shares(&[0.0; 9], &[1.0; 9], 64), None);
-        assert_eq!(shares(&[f64::NAN; 9], &[1.0; 9], 64), None);
+        assert_eq!(shares(&[2.0; 9], &[3.0; 9], 64, 8.0), Some(vec![64.0; 9]));
+        assert_eq!(shares(&[0.0; 9], &[1.0; 9], 64, 8.0), None);
+        assert_eq!(shares(&[f64::NAN; 9], &[1.0; 9], 64, 8.0), None);
     }
 
     #[test]
@@ -371,6 +417,9 @@ mod tests {
             height: 1,
             spp: 10,
             counts: vec![1, 7, 80],
+            pilot: 1,
+            kept: Film::new(3, 1),
+            kept_aovs: None,
         };
         for x in 0..3 {
             let cuts = [0, 3, 3, 7, 10];
@@ -387,15 +436,17 @@ mod tests {
     }
 
     #[test]
-    fn smoothing_averages_each_pixel_with_its_neighbours_inside_the_image() {
+    fn each_pixel_takes_its_neighbours_mean_leaving_itself_out() {
         let mut values = vec![0.0; 81];
-        values[4 * 9 + 4] = 25.0;
-        let out = smoothed(&values, 9, 9, 2);
-        // The 5 × 5 squares around the spike share it; the corners' lie apart from it.
-        assert_eq!(out[4 * 9 + 4], 1.0);
+        values[4 * 9 + 4] = 24.0;
+        let out = neighbours_mean(&values, 9, 9, 2);
+        // The spike is not its own estimate; its neighbours within two pixels share it.
+        assert_eq!(out[4 * 9 + 4], 0.0);
         assert_eq!(out[2 * 9 + 2], 1.0);
         assert_eq!(out[0], 0.0);
         // A constant stays itself, at the edges too.
-        assert!(smoothed(&[4.0; 12], 4, 3, 2).iter().all(|&v| v == 4.0));
+        assert!(neighbours_mean(&[4.0; 12], 4, 3, 2)
+            .iter()
+            .all(|&v| (v - 4.0).abs() < 1e-12));
     }
 }

@@ -52,6 +52,8 @@ pub struct PathContext<'w> {
     pub rays: u64,
     /// Surfaces paths have met so far (each shaded, the costlier part of a bounce).
     pub vertices: u64,
+    /// Reflections through a mirror ball solved so far (each a root found by iteration).
+    pub solves: u64,
 }
 
 /// What the first surface a camera ray meets looks like, for a denoiser.
@@ -174,6 +176,7 @@ impl<'w> PathContext<'w> {
             hint: NO_OBJECT,
             rays: 0,
             vertices: 0,
+            solves: 0,
         }
     }
 
@@ -205,6 +208,7 @@ impl<'w> PathContext<'w> {
         let Some((towards, sky, sky_pdf)) = map.sample(u) else {
             return Color::BLACK;
         };
+        self.solves += 1;
         let Some(path) = ball.reflection_towards(at.point, towards) else {
             return Color::BLACK;
         };

@@ -20,6 +20,8 @@ mod roulette;
 mod sampler;
 
 pub use adaptive::{plan_samples, prepare_render, SamplePlan, MIN_ADAPTIVE_SPP};
+
+use adaptive::{PilotLog, PilotPixel};
 pub use integrator::{FirstHit, PathContext, PathLog, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS};
 pub use roulette::learn_roulette_scale;
 pub use sampler::SampleStream;
@@ -193,6 +195,20 @@ pub fn render_path(
     aovs: Option<&Aovs>,
     done: &mut [bool],
 ) -> Result<PathStats, FilmError> {
+    render_path_logged(camera, world, job, film, aovs, done, None)
+}
+
+/// [`render_path`], recording each pixel's samples in `log` when given (an adaptive plan's
+/// pilot).
+fn render_path_logged(
+    camera: &Camera,
+    world: &World,
+    job: &PathJob<'_>,
+    film: &SharedFilm,
+    aovs: Option<&Aovs>,
+    done: &mut [bool],
+    log: Option<&PilotLog>,
+) -> Result<PathStats, FilmError> {
     let (width, height) = (camera.hsize(), camera.vsize());
     let mismatch = |w: usize, h: usize| (w, h) != (width, height);
     if mismatch(film.width(), film.height())
@@ -258,6 +274,7 @@ pub fn render_path(
                     None => None,
                 };
                 let (mut row_discarded, mut row_samples) = (0, 0);
+                let mut row_pilot = Vec::with_capacity(if log.is_some() { width } else { 0 });
                 for x in 0..width {
                     let range = match job.plan {
                         Some(plan) => plan.range(x, y, &job.samples),
@@ -274,14 +291,36 @@ pub fn render_path(
                     let mut hits = layers
                         .as_ref()
                         .map_or(0.0, |[_, _, depth, _]| depth.weight(x, 0));
+                    // A planned pixel's first samples are the pilot's, summed in the plan as
+                    // these films would have summed them.
+                    let mut first_sample = range.start;
+                    if let Some(plan) = job.plan {
+                        let kept = plan.kept_samples(layers.is_some());
+                        if range.start == 0 && kept > 0 && range.end >= kept {
+                            let (kept_sum, kept_weight, kept_aovs) = plan.kept(x, y);
+                            sum += kept_sum;
+                            weights += kept_weight;
+                            if let (Some(([a, n, d, c], h)), Some(_)) = (kept_aovs, &layers) {
+                                albedo_sum += a;
+                                normal_sum += n;
+                                depth_sum += d;
+                                count += c;
+                                hits += h;
+                            }
+                            first_sample = kept;
+                        }
+                    }
+                    let mut pilot = PilotPixel::default();
+                    let (rays_before, vertices_before, solves_before) =
+                        (context.rays, context.vertices, context.solves);
                     let mut stream = SampleStream::new(
                         options.sampler,
                         options.seed,
                         x as u32,
                         y as u32,
-                        range.start,
+                        first_sample,
                     );
-                    for s in range {
+                    for s in first_sample..range.end {
                         // A pixel may take millions of samples: a stop is heeded inside it,
                         // and the row, unfinished, is left undone.
                         if s % CANCEL_CHECK_SAMPLES == 0 && cancelled() {
@@ -297,6 +336,9 @@ pub fn render_path(
                             sum += radiance * weight;
                             weights += weight;
                             count += Color::WHITE;
+                            if log.is_some() {
+                                pilot.halves[(s % 2) as usize].add(radiance);
+                            }
                         } else {
                             row_discarded += 1;
                         }
@@ -315,6 +357,16 @@ pub fn render_path(
                         depth.set_pixel_sum(x, 0, depth_sum, hits);
                         samples.set_pixel_sum(x, 0, count, 1.0);
                     }
+                    if log.is_some() {
+                        pilot.rays = context.rays - rays_before;
+                        pilot.vertices = context.vertices - vertices_before;
+                        pilot.solves = context.solves - solves_before;
+                        row_pilot.push(pilot);
+                    }
+                }
+                if let Some(log) = log {
+                    // Each row is rendered once: the first record is the only one.
+                    let _ = log.rows[y].set(row_pilot);
                 }
                 film.set_row(y, &beauty)?;
                 if let (Some(aovs), Some(rows)) = (aovs, &layers) {
