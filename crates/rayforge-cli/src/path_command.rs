@@ -17,9 +17,9 @@ use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::color::Color;
 use rayforge::film::{Film, SharedFilm};
-use rayforge::options::{PathOptions, Roulette};
+use rayforge::options::{PathOptions, Roulette, SampleAllocation};
 use rayforge::render::path::{
-    learn_roulette_scale, prepare_render, render_path, Aovs, PathJob, PathStats,
+    learn_roulette_scale, prepare_render, render_path, Aovs, PathJob, PathStats, MIN_ADAPTIVE_SPP,
 };
 use rayforge::render::PartialImage;
 use rayforge_scene::Scene;
@@ -105,6 +105,22 @@ fn restore_rows(
         *done = true;
     }
     Ok(())
+}
+
+/// How many films' worth of memory a path traced render holds at its peak: the image's and,
+/// with --aovs, the four AOVs' (`AOV_NAMES`); with an adaptive plan, as many again for the
+/// pilot's sums the plan keeps, and one for the pilot's record of each pixel.
+pub fn films_held(settings: &RenderSettings, scene: &Scene, options: &PathOptions) -> u64 {
+    let films = if settings.path.aovs { 5 } else { 1 };
+    let spp = samples_per_pixel(settings, scene);
+    let planned = options.allocation == SampleAllocation::Adaptive
+        && spp >= MIN_ADAPTIVE_SPP
+        && passes(settings, spp).len() == 1;
+    if planned {
+        2 * films + 1
+    } else {
+        films
+    }
 }
 
 /// Path traces the scene and writes the image (and the AOVs); a summary line after. Finished

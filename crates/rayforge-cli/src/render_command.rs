@@ -65,8 +65,8 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
             return raster_render(settings, &scene, &camera, &pool, &options, output);
         }
         Chosen::Path(options) => {
-            // The image's film and, with --aovs, the four AOVs' (path_command::AOV_NAMES).
-            reserve_for_render(width, height, if settings.path.aovs { 5 } else { 1 })?;
+            let films = crate::path_command::films_held(settings, &scene, &options);
+            reserve_for_render(width, height, films)?;
             return crate::path_command::path_render(
                 settings, &scene, &camera, &pool, options, output,
             );

@@ -13,7 +13,9 @@
 //! render's own first samples, kept in the plan and added to the image, so the pilot costs
 //! nothing; and as a pixel's count depends on its neighbours' samples, not its own, each
 //! pixel's estimate stays unbiased (were its own samples to decide how many it takes, a pixel
-//! that drew a rare bright sample would take more and dilute it). The plan is made only
+//! that drew a rare bright sample would take more and dilute it); its own samples weigh only
+//! in the plan's two choices over the whole image, whether to plan and the scale that meets
+//! the budget, one part in the number of pixels. The plan is made only
 //! where it foresees a gain: planned from one half of the pilot's samples and judged by the
 //! other, it must take [`MIN_GAIN`] off the squared error; else every pixel takes the same.
 //!
@@ -114,14 +116,30 @@ impl SamplePlan {
     }
 }
 
-/// What the pilot records of each pixel: its samples' moments, the even and the odd apart,
-/// and what they cost: rays, surfaces shaded, reflections through a mirror ball solved.
+/// What the pilot records of each pixel: the variance of its samples (the mean over the
+/// channels), of the even and the odd ones apart and of all, and a sample's cost in rays.
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct PilotPixel {
-    pub halves: [Moments; 2],
-    pub rays: u64,
-    pub vertices: u64,
-    pub solves: u64,
+    variance: [f64; 3],
+    cost: f64,
+}
+
+impl PilotPixel {
+    /// The record of a pixel whose `samples` samples had the moments `halves` (the even and
+    /// the odd) and cast `rays`, shaded `vertices` surfaces and solved `solves` reflections
+    /// through a mirror ball.
+    pub fn new(halves: &[Moments; 2], samples: u64, rays: u64, vertices: u64, solves: u64) -> Self {
+        let [even, odd] = halves;
+        // A sample's cost, in rays: its rays, two and a half times its surfaces shaded and
+        // ten times its mirror-ball reflections (an iterated root), and a quarter for the
+        // camera and the film (weights fitted to the time each pixel's samples took in the
+        // reference scenes).
+        let work = rays as f64 + 2.5 * vertices as f64 + 10.0 * solves as f64;
+        Self {
+            variance: [even.variance(), odd.variance(), even.merged(odd).variance()],
+            cost: 0.25 + work / samples.max(1) as f64,
+        }
+    }
 }
 
 /// The pilot's record, row by row (each row set once, by the thread that renders it).
@@ -244,13 +262,8 @@ pub fn plan_samples(
         let values: Vec<f64> = pixels.iter().map(value).collect();
         neighbours_mean(&values, width, height, SMOOTHING_RADIUS)
     };
-    // A sample's cost, in rays: its rays, two and a half times its surfaces shaded and ten
-    // times its mirror-ball reflections (an iterated root), and a quarter for the camera and
-    // the film (weights fitted to the time each pixel's samples took in the reference scenes).
-    let cost = smooth(&|p| {
-        0.25 + (p.rays as f64 + 2.5 * p.vertices as f64 + 10.0 * p.solves as f64) / pilot as f64
-    });
-    let [even, odd] = [0, 1].map(|h| smooth(&|p: &PilotPixel| p.halves[h].variance()));
+    let cost = smooth(&|p| p.cost);
+    let [even, odd] = [0, 1].map(|h| smooth(&|p: &PilotPixel| p.variance[h]));
     let low = pilot as f64;
     // Planned from one half of the pilot and judged by the other, a plan must foresee a
     // gain: where the spreads are noise, it would not (the halves disagree).
@@ -271,7 +284,7 @@ pub fn plan_samples(
         }
         _ => false,
     };
-    let variance = smooth(&|p| p.halves[0].merged(&p.halves[1]).variance());
+    let variance = smooth(&|p| p.variance[2]);
     let counts = match shares(&variance, &cost, spp, low) {
         Some(shares) if foreseen => {
             let mut dither = SplitMix64::new(options.seed ^ 0x726f_756e_6469_6e67);

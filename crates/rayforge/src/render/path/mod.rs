@@ -21,7 +21,7 @@ mod sampler;
 
 pub use adaptive::{plan_samples, prepare_render, SamplePlan, MIN_ADAPTIVE_SPP};
 
-use adaptive::{PilotLog, PilotPixel};
+use adaptive::{Moments, PilotLog, PilotPixel};
 pub use integrator::{FirstHit, PathContext, PathLog, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS};
 pub use roulette::learn_roulette_scale;
 pub use sampler::SampleStream;
@@ -310,7 +310,7 @@ fn render_path_logged(
                             first_sample = kept;
                         }
                     }
-                    let mut pilot = PilotPixel::default();
+                    let mut halves = [Moments::default(); 2];
                     let (rays_before, vertices_before, solves_before) =
                         (context.rays, context.vertices, context.solves);
                     let mut stream = SampleStream::new(
@@ -337,7 +337,7 @@ fn render_path_logged(
                             weights += weight;
                             count += Color::WHITE;
                             if log.is_some() {
-                                pilot.halves[(s % 2) as usize].add(radiance);
+                                halves[(s % 2) as usize].add(radiance);
                             }
                         } else {
                             row_discarded += 1;
@@ -358,10 +358,13 @@ fn render_path_logged(
                         samples.set_pixel_sum(x, 0, count, 1.0);
                     }
                     if log.is_some() {
-                        pilot.rays = context.rays - rays_before;
-                        pilot.vertices = context.vertices - vertices_before;
-                        pilot.solves = context.solves - solves_before;
-                        row_pilot.push(pilot);
+                        row_pilot.push(PilotPixel::new(
+                            &halves,
+                            taken,
+                            context.rays - rays_before,
+                            context.vertices - vertices_before,
+                            context.solves - solves_before,
+                        ));
                     }
                 }
                 if let Some(log) = log {
