@@ -199,7 +199,11 @@ pub fn path_render(
                 };
                 (options, None)
             } else {
-                pool.install(|| prepare_render(camera, &scene.world, &options, spp, aovs.is_some()))
+                // The pilot heeds a stop; the render after it then stops at once.
+                let aovs = aovs.is_some();
+                pool.install(|| {
+                    prepare_render(camera, &scene.world, &options, spp, aovs, Some(hooks.stop))
+                })
             };
             for (i, pass) in passes.iter().enumerate() {
                 if i > 0 {

@@ -83,7 +83,8 @@ fn render(
 #[test]
 fn adaptive_sampling_gives_the_noisy_pixels_more_samples_and_every_pixel_its_true_value() {
     let (world, camera) = grey_furnace();
-    let plan = plan_samples(&camera, &world, &adaptive(), 256, false).expect("the noise is uneven");
+    let plan =
+        plan_samples(&camera, &world, &adaptive(), 256, false, None).expect("the noise is uneven");
     assert_eq!(plan.size(), (16, 16));
     assert_eq!(plan.spp(), 256);
     // A corner sees only the sky; the middle the sphere; (4, 8) its outline.
@@ -118,7 +119,8 @@ fn adaptive_sampling_gives_the_noisy_pixels_more_samples_and_every_pixel_its_tru
 #[test]
 fn slices_of_a_planned_renders_samples_merge_into_the_whole() {
     let (world, camera) = grey_furnace();
-    let plan = plan_samples(&camera, &world, &adaptive(), 256, false).expect("the noise is uneven");
+    let plan =
+        plan_samples(&camera, &world, &adaptive(), 256, false, None).expect("the noise is uneven");
     let mut merged = render(&world, &camera, adaptive(), Some(&plan), 0..85);
     merged
         .merge(&render(&world, &camera, adaptive(), Some(&plan), 85..256))
@@ -143,7 +145,7 @@ fn the_plan_is_the_same_for_any_thread_count_and_seed_bound() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| plan_samples(&camera, &world, &options, 256, false))
+            .install(|| plan_samples(&camera, &world, &options, 256, false, None))
     };
     let one = plan_on(1, adaptive());
     assert!(one.is_some());
@@ -174,7 +176,7 @@ fn an_evenly_noisy_scene_keeps_an_even_share_and_the_bits_of_a_plain_render() {
         point(0.0, 0.0, 1.0),
         vector(0.0, 1.0, 0.0),
     ));
-    let plan = plan_samples(&camera, &world, &adaptive(), 64, false).expect("a plan");
+    let plan = plan_samples(&camera, &world, &adaptive(), 64, false, None).expect("a plan");
     assert!((0..16).all(|y| (0..16).all(|x| plan.count(x, y) == 64)));
     // The pilot's samples, kept in the plan, are the render's first: the planned render is
     // the plain one to the bit.
@@ -206,9 +208,9 @@ fn a_planned_render_with_aovs_starts_from_the_pilots_sums() {
     };
     // A plan whose pilot kept the AOVs, and one whose pilot did not (the render then traces
     // the pilot's samples again): the same films.
-    let with = plan_samples(&camera, &world, &adaptive(), 64, true).unwrap();
+    let with = plan_samples(&camera, &world, &adaptive(), 64, true, None).unwrap();
     assert!(with.count(8, 8) > with.count(0, 0), "an uneven plan");
-    let without = plan_samples(&camera, &world, &adaptive(), 64, false).unwrap();
+    let without = plan_samples(&camera, &world, &adaptive(), 64, false, None).unwrap();
     let (a, b) = (render_aovs(Some(&with)), render_aovs(Some(&without)));
     assert_eq!(a, b);
     // The sample-count AOV holds each pixel's count.
@@ -219,23 +221,36 @@ fn a_planned_render_with_aovs_starts_from_the_pilots_sums() {
 }
 
 #[test]
+fn a_stopped_pilot_makes_no_plan() {
+    let (world, camera) = grey_furnace();
+    let stop = std::sync::atomic::AtomicBool::new(true);
+    assert_eq!(
+        plan_samples(&camera, &world, &adaptive(), 256, false, Some(&stop)),
+        None
+    );
+}
+
+#[test]
 fn few_samples_or_an_even_share_asked_for_need_no_plan() {
     // Below 16 samples per pixel the pilot's share would be too few samples to judge by.
     let (world, camera) = grey_furnace();
-    assert_eq!(plan_samples(&camera, &world, &adaptive(), 15, false), None);
+    assert_eq!(
+        plan_samples(&camera, &world, &adaptive(), 15, false, None),
+        None
+    );
     // Asked for an even share, no plan, and the roulette left to the render to learn.
     let uniform = PathOptions {
         allocation: SampleAllocation::Uniform,
         ..PathOptions::default()
     };
     assert_eq!(
-        prepare_render(&camera, &world, &uniform, 64, false),
+        prepare_render(&camera, &world, &uniform, 64, false, None),
         (uniform, None)
     );
     // Adaptive by default; the roulette then learned once, for the pilot and the render.
     let learned = PathOptions::default();
     assert_eq!(learned.allocation, SampleAllocation::Adaptive);
-    let (options, plan) = prepare_render(&camera, &world, &learned, 256, false);
+    let (options, plan) = prepare_render(&camera, &world, &learned, 256, false, None);
     assert!(matches!(options.roulette, Roulette::Scale(_)));
     assert!(plan.is_some());
 }

@@ -32,6 +32,7 @@ use crate::math::random::SplitMix64;
 use crate::options::{PathOptions, Roulette, SampleAllocation};
 use crate::scene::World;
 use std::ops::Range;
+use std::sync::atomic::AtomicBool;
 use std::sync::OnceLock;
 
 /// Fewer samples per pixel than this are shared out evenly: the pilot's share would be too
@@ -186,13 +187,15 @@ impl Moments {
 /// `options` as a render of `spp` samples per pixel in one pass (or in slices of its
 /// samples or rows) takes them, and its plan: where samples are shared out adaptively, the
 /// roulette learned once for the pilot and the render, and the plan ([`plan_samples`]); else
-/// `options` as they are, and no plan. With `aovs`, the pilot keeps their sums too.
+/// `options` as they are, and no plan. With `aovs`, the pilot keeps their sums too. Once
+/// `cancel` is set the pilot stops, and no plan is made.
 pub fn prepare_render(
     camera: &Camera,
     world: &World,
     options: &PathOptions,
     spp: u64,
     aovs: bool,
+    cancel: Option<&AtomicBool>,
 ) -> (PathOptions, Option<SamplePlan>) {
     if options.allocation != SampleAllocation::Adaptive || spp < MIN_ADAPTIVE_SPP {
         return (*options, None);
@@ -204,22 +207,24 @@ pub fn prepare_render(
         },
         Roulette::Scale(_) => *options,
     };
-    let plan = plan_samples(camera, world, &options, spp, aovs);
+    let plan = plan_samples(camera, world, &options, spp, aovs, cancel);
     (options, plan)
 }
 
 /// Plans a render of `world` through `camera` at `spp` samples per pixel, from a pilot pass
 /// of its first samples with `options` (see the [module](self)): where the pilot foresees no
 /// gain, `spp` for every pixel (the pilot's samples still kept). `None` below
-/// [`MIN_ADAPTIVE_SPP`] (or were the pilot refused its film). With `aovs`, the pilot keeps
-/// their sums too. The roulette of `options` should be the one the render uses (a scale, not
-/// one to learn: [`prepare_render`] learns it once for both).
+/// [`MIN_ADAPTIVE_SPP`], or where `cancel` was set before the pilot was through (or were the
+/// pilot refused its film). With `aovs`, the pilot keeps their sums too. The roulette of
+/// `options` should be the one the render uses (a scale, not one to learn:
+/// [`prepare_render`] learns it once for both).
 pub fn plan_samples(
     camera: &Camera,
     world: &World,
     options: &PathOptions,
     spp: u64,
     aovs: bool,
+    cancel: Option<&AtomicBool>,
 ) -> Option<SamplePlan> {
     if spp < MIN_ADAPTIVE_SPP {
         return None;
@@ -236,7 +241,7 @@ pub fn plan_samples(
         samples: 0..pilot,
         plan: None,
         progress: None,
-        cancel: None,
+        cancel,
         on_row: None,
     };
     let mut done = vec![false; height];
