@@ -188,14 +188,11 @@ pub fn path_render(
             let (options, plan) = if passes.len() > 1 {
                 // In passes, samples are shared evenly, and the roulette is learned once, not
                 // again in each pass.
-                let options = match options.roulette {
-                    Roulette::Learned => PathOptions {
-                        roulette: Roulette::Scale(
-                            pool.install(|| learn_roulette_scale(camera, &scene.world, &options)),
-                        ),
-                        ..options
-                    },
-                    Roulette::Scale(_) => options,
+                let options = PathOptions {
+                    roulette: Roulette::Scale(
+                        pool.install(|| learn_roulette_scale(camera, &scene.world, &options)),
+                    ),
+                    ..options
                 };
                 (options, None)
             } else {

@@ -59,13 +59,11 @@ const MIN_GAIN: f64 = 0.1;
 /// `spp` everywhere, and the pilot's samples, the first of every pixel.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SamplePlan {
-    width: usize,
-    height: usize,
     spp: u64,
     counts: Vec<u64>,
     /// How many samples of each pixel the pilot took (the first).
     pilot: u64,
-    /// The pilot's samples as the films summed them, from empty films.
+    /// The pilot's samples as the films summed them, from empty films (the image's size).
     kept: Film,
     /// The same of the albedo, normal, depth and sample-count films, where the pilot had them.
     kept_aovs: Option<[Film; 4]>,
@@ -74,7 +72,7 @@ pub struct SamplePlan {
 impl SamplePlan {
     /// The width and height of the image the plan is for.
     pub fn size(&self) -> (usize, usize) {
-        (self.width, self.height)
+        (self.kept.width(), self.kept.height())
     }
 
     /// The samples per pixel on average.
@@ -84,7 +82,7 @@ impl SamplePlan {
 
     /// The samples pixel (`x`, `y`) takes in a render of `spp`.
     pub fn count(&self, x: usize, y: usize) -> u64 {
-        self.counts[y * self.width + x]
+        self.counts[y * self.kept.width() + x]
     }
 
     /// The pixel's own sample indices that the nominal range `nominal` (a part of `0..spp`,
@@ -119,7 +117,7 @@ impl SamplePlan {
 
 /// What the pilot records of each pixel: the variance of its samples (the mean over the
 /// channels), of the even and the odd ones apart and of all, and a sample's cost in rays.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub(super) struct PilotPixel {
     variance: [f64; 3],
     cost: f64,
@@ -200,12 +198,9 @@ pub fn prepare_render(
     if options.allocation != SampleAllocation::Adaptive || spp < MIN_ADAPTIVE_SPP {
         return (*options, None);
     }
-    let options = match options.roulette {
-        Roulette::Learned => PathOptions {
-            roulette: Roulette::Scale(learn_roulette_scale(camera, world, options)),
-            ..*options
-        },
-        Roulette::Scale(_) => *options,
+    let options = PathOptions {
+        roulette: Roulette::Scale(learn_roulette_scale(camera, world, options)),
+        ..*options
     };
     let plan = plan_samples(camera, world, &options, spp, aovs, cancel);
     (options, plan)
@@ -305,8 +300,6 @@ pub fn plan_samples(
         _ => vec![spp; width * height],
     };
     Some(SamplePlan {
-        width,
-        height,
         spp,
         counts,
         pilot,
@@ -431,8 +424,6 @@ mod tests {
     #[test]
     fn slices_of_the_nominal_samples_split_each_pixels_own() {
         let plan = SamplePlan {
-            width: 3,
-            height: 1,
             spp: 10,
             counts: vec![1, 7, 80],
             pilot: 1,
