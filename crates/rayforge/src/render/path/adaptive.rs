@@ -369,11 +369,19 @@ fn shares(variance: &[f64], cost: &[f64], spp: u64, low: f64) -> Option<Vec<f64>
             .sum::<f64>()
     };
     // The cost runs from that of `low` samples each (scale 0) to that of `high` each, and
-    // the budget lies between.
+    // the budget lies between. Past the scale that holds the faintest noisy pixel at `high`
+    // nothing changes (and where most pixels are silent, as around a furnace's ball, the
+    // budget is never reached: the search stops there instead of doubling to overflow).
     let budget = n * cost.iter().sum::<f64>();
-    let (mut lo, mut hi) = (0.0, n / mean);
-    while spent(hi) < budget && hi < f64::MAX / 4.0 {
-        hi *= 2.0;
+    let faintest = weight
+        .iter()
+        .copied()
+        .filter(|&w| w > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let saturated = high / faintest;
+    let (mut lo, mut hi) = (0.0, (n / mean).min(saturated));
+    while spent(hi) < budget && hi < saturated {
+        hi = (hi * 2.0).min(saturated);
     }
     for _ in 0..64 {
         let mid = 0.5 * (lo + hi);
@@ -412,6 +420,17 @@ mod tests {
             (spent - budget).abs() <= 1e-6 * budget,
             "{spent} against {budget}"
         );
+    }
+
+    #[test]
+    fn a_budget_the_noisy_few_cannot_spend_holds_them_at_the_most() {
+        // A furnace's ball in a silent sky: even at eight times the samples the two noisy
+        // pixels spend less than the budget, so they take the most and the rest the least.
+        let mut variance = vec![0.0; 1000];
+        variance.extend([1.0, 4.0]);
+        let counts = shares(&variance, &[1.0; 1002], 64, 8.0).expect("uneven");
+        assert!(counts[..1000].iter().all(|&n| n == 8.0));
+        assert_eq!(&counts[1000..], &[512.0, 512.0]);
     }
 
     #[test]
