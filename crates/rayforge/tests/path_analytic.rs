@@ -157,6 +157,29 @@ fn the_white_furnace_vanishes() {
 }
 
 #[test]
+fn a_glass_ball_in_the_white_furnace_vanishes() {
+    // Smooth glass loses nothing: what it reflects and what passes through (split apart
+    // where the camera meets it) add up to the sky's 1 in every pixel.
+    let (mut world, camera) = furnace(1.0);
+    world.objects[0].material = Material {
+        color: Color::WHITE,
+        physical: Some(Physical::Dielectric {
+            eta: 1.5,
+            alpha: 0.0,
+        }),
+        ..Material::DEFAULT
+    };
+    for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
+        for (i, v) in pixels(&render(&world, &camera, 64, sampler))
+            .into_iter()
+            .enumerate()
+        {
+            assert!((v - 1.0).abs() <= 0.01, "{sampler:?}: channel {i} is {v}");
+        }
+    }
+}
+
+#[test]
 fn a_grey_convex_object_in_the_furnace_shows_its_albedo() {
     // A convex object sees only the sky: one bounce, L = albedo × 1 on the sphere, 1 beside.
     let (world, camera) = furnace(0.8);

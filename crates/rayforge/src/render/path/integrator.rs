@@ -7,6 +7,12 @@
 //! sampled from the surface, through the ball's reflection point ([`MirrorBall`]), and
 //! weighed by the power heuristic against the paths that reach the ball by BSDF sampling.
 //!
+//! Where the camera first sees smooth glass (directly, or through mirror-like bounces), the
+//! path splits: the reflected half and the transmitted half are both followed, each weighed by
+//! its Fresnel share, instead of one chosen by chance. A light reflected in glass then shows
+//! in every sample at its true strength rather than at twenty-five times it in one sample of
+//! twenty-five, and it costs a second path only where glass is seen.
+//!
 //! A path's random numbers come from its [`SampleStream`] in a fixed layout, so a Sobol
 //! sampler stratifies each vertex's choices together: the camera takes the first
 //! [`CAMERA_DIMENSIONS`], then each vertex [`VERTEX_DIMENSIONS`] (layer, light, light point,
@@ -138,6 +144,9 @@ pub trait PathLog {
     /// channel is now `throughput`, the radiance it has gathered so far `gathered`, and the
     /// rays cast by its context so far `rays`.
     fn survived(&mut self, survive: f64, throughput: f64, gathered: Color, rays: u64);
+    /// A branch of the path ended (the path itself, or one of the two a split made), the
+    /// radiance gathered so far being `gathered`: what its decisions led to.
+    fn branch_ended(&mut self, gathered: Color);
 }
 
 /// The log of a render: nothing is kept (and nothing is left of it once inlined).
@@ -146,6 +155,19 @@ impl PathLog for () {
     fn ended(&mut self) {}
     #[inline]
     fn survived(&mut self, _: f64, _: f64, _: Color, _: u64) {}
+    #[inline]
+    fn branch_ended(&mut self, _: Color) {}
+}
+
+/// The other half of a path split at smooth glass, waiting to be followed once the first
+/// half ends: where it leaves the glass, and what it carries.
+struct Branch {
+    ray: Ray,
+    throughput: Color,
+    from: Point3,
+    depth: u32,
+    /// The chance a path that chose one lobe would have taken this one with.
+    share: f64,
 }
 
 /// A path vertex as next-event estimation through a mirror ball needs it.
@@ -271,213 +293,272 @@ impl<'w> PathContext<'w> {
         // direction and the ball's spread, for weighing the sky beyond the ball against
         // sampling it through the ball.
         let mut mirror_leg: Option<(f64, f64)> = None;
+        // The first smooth glass on the camera's chain of mirror-like bounces splits the path
+        // in two, reflected and transmitted (see `Bsdf::split`); the second half waits here.
+        let mut camera_chain = true;
+        let mut pending: Option<Branch> = None;
+        let mut may_split = true;
+        // The share of its path's light a branch of a split carries (1 unsplit): the roulette
+        // weighs a branch by its throughput over this share, as it would the unsplit path, so
+        // that splitting does not end paths sooner.
+        let mut share = 1.0;
         loop {
-            self.rays += 1;
-            let Some(hit) = self.index.closest_hit(world, &ray) else {
-                let leg = mirror_leg.zip(self.emitters.environment());
-                let (sky, weight) = if let Some(((leg_pdf, spread), map)) = leg {
-                    let (sky, pdf) = map.radiance_and_pdf(ray.direction);
-                    (sky, power_heuristic(leg_pdf, pdf * spread))
-                } else if specular {
-                    (self.emitters.sky_radiance(ray.direction), 1.0)
-                } else {
-                    let (sky, pdf) = self.emitters.sky_radiance_and_pdf(ray.direction);
-                    (sky, power_heuristic(bsdf_pdf, pdf))
+            // One branch (the whole path, unless it splits): bounce by bounce, until it
+            // escapes, is absorbed, reaches the most bounces or loses the roulette.
+            loop {
+                self.rays += 1;
+                let Some(hit) = self.index.closest_hit(world, &ray) else {
+                    let leg = mirror_leg.zip(self.emitters.environment());
+                    let (sky, weight) = if let Some(((leg_pdf, spread), map)) = leg {
+                        let (sky, pdf) = map.radiance_and_pdf(ray.direction);
+                        (sky, power_heuristic(leg_pdf, pdf * spread))
+                    } else if specular {
+                        (self.emitters.sky_radiance(ray.direction), 1.0)
+                    } else {
+                        let (sky, pdf) = self.emitters.sky_radiance_and_pdf(ray.direction);
+                        (sky, power_heuristic(bsdf_pdf, pdf))
+                    };
+                    radiance += throughput.hadamard(sky) * weight;
+                    if depth == 0 {
+                        first.albedo = sky;
+                        first.depth = f64::INFINITY;
+                    }
+                    break;
                 };
-                radiance += throughput.hadamard(sky) * weight;
+                self.vertices += 1;
+                let point = ray.position(hit.t);
                 if depth == 0 {
-                    first.albedo = sky;
-                    first.depth = f64::INFINITY;
+                    // The camera ray's direction is a unit vector: `t` is the distance.
+                    first.depth = hit.t;
                 }
-                break;
-            };
-            self.vertices += 1;
-            let point = ray.position(hit.t);
-            if depth == 0 {
-                // The camera ray's direction is a unit vector: `t` is the distance.
-                first.depth = hit.t;
-            }
-            let wo = -ray.direction;
-            let surface = hit.object.surface(hit.leaf);
-            let material = &surface.material;
-            let local = hit.local();
-            let at = surface.shape.surface_point(&local);
-            let geometric = hit.object.normal_at_hit(point, &hit);
-            // Met by a direction sampled at a non-delta surface: if this is a mirror ball, what
-            // the sky beyond it gives is weighed against sampling the sky through the ball.
-            mirror_leg = if specular || self.emitters.mirror_balls().is_empty() {
-                None
-            } else {
-                let index = object_index(world, hit.object);
-                self.emitters.mirror_ball_of(index).map(|ball| {
-                    let cos = geometric.dot(wo).abs();
-                    (bsdf_pdf, mirror_spread(hit.t, cos, ball.radius))
-                })
-            };
-            let mut shading = match &material.bump {
-                Some(bump) => {
-                    let transform = surface.transform_at(hit.time);
-                    bump.perturb(geometric, transform.inverse_point(point), &transform)
-                }
-                None => geometric,
-            };
-            if let Some(m) = &material.metal_rough {
-                shading = m.mapped_normal(&at, shading, surface.tangent_at(&local));
-            }
-
-            // Light given off here, towards where the path came from.
-            let emission = match &material.metal_rough {
-                Some(m) => m.emission_at(&at),
-                None => material.emission,
-            };
-            if emission.max_channel() > 0.0
-                && material.emission_side.emits_towards(geometric.dot(wo))
-            {
-                let weight = if specular {
-                    1.0
+                let wo = -ray.direction;
+                let surface = hit.object.surface(hit.leaf);
+                let material = &surface.material;
+                let local = hit.local();
+                let at = surface.shape.surface_point(&local);
+                let geometric = hit.object.normal_at_hit(point, &hit);
+                // Met by a direction sampled at a non-delta surface: if this is a mirror ball, what
+                // the sky beyond it gives is weighed against sampling the sky through the ball.
+                mirror_leg = if specular || self.emitters.mirror_balls().is_empty() {
+                    None
                 } else {
                     let index = object_index(world, hit.object);
-                    let light_pdf =
-                        self.emitters
-                            .object_pdf(world, index, from, point, ray.direction, &local);
-                    power_heuristic(bsdf_pdf, light_pdf)
+                    self.emitters.mirror_ball_of(index).map(|ball| {
+                        let cos = geometric.dot(wo).abs();
+                        (bsdf_pdf, mirror_spread(hit.t, cos, ball.radius))
+                    })
                 };
-                radiance += throughput.hadamard(emission) * weight;
-            }
-            if depth >= self.max_depth {
-                break;
-            }
-            // A one-sided surface seen from behind is black: it scatters nothing.
-            if !material.two_sided && geometric.dot(wo) < 0.0 {
-                if depth == 0 {
-                    first.normal = -geometric;
-                }
-                break;
-            }
-
-            let colour = surface.surface_color(point, &at, hit.time);
-            let physical = material.physical_at(|| surface.world_to_object_at(point, hit.time));
-            let scattering = match (&material.metal_rough, physical) {
-                (Some(m), _) => {
-                    Scattering::metal_rough(&m.sample_at(&at), m.ior, world.ambient_index)
-                }
-                (None, Some(physical)) => {
-                    Scattering::single(physical.bsdf(colour, world.ambient_index))
-                }
-                (None, None) => match world.lighting {
-                    LightingModel::Phong => {
-                        Scattering::phong(material, colour, world.ambient_index)
+                let mut shading = match &material.bump {
+                    Some(bump) => {
+                        let transform = surface.transform_at(hit.time);
+                        bump.perturb(geometric, transform.inverse_point(point), &transform)
                     }
-                    LightingModel::Flat | LightingModel::Cgfs => {
-                        Scattering::cgfs(material, colour, world.ambient_index)
-                    }
-                    LightingModel::Optics => {
-                        Scattering::optics(material, colour, world.ambient_index)
-                    }
-                },
-            };
-            if depth == 0 {
-                first.albedo = scattering.albedo();
-                first.normal = if shading.dot(wo) < 0.0 {
-                    -shading
-                } else {
-                    shading
+                    None => geometric,
                 };
-            }
+                if let Some(m) = &material.metal_rough {
+                    shading = m.mapped_normal(&at, shading, surface.tangent_at(&local));
+                }
 
-            // This vertex's numbers, in a fixed layout.
-            stream.seek(CAMERA_DIMENSIONS + depth * VERTEX_DIMENSIONS);
-            let (layer, u_lobe) = scattering.pick(stream.next_1d());
-            let u_light = stream.next_1d();
-            let u_point = stream.next_2d();
-            let u_direction = stream.next_2d();
-            let u_roulette = stream.next_1d();
-
-            let frame = Frame::from_normal(shading);
-            let wo_local = frame.to_local(wo);
-            let bsdf = layer.bsdf;
-
-            // Next-event estimation.
-            if !bsdf.is_delta() {
-                if let Some(light) = self
-                    .emitters
-                    .sample(world, point, ray.time, u_light, u_point)
+                // Light given off here, towards where the path came from.
+                let emission = match &material.metal_rough {
+                    Some(m) => m.emission_at(&at),
+                    None => material.emission,
+                };
+                if emission.max_channel() > 0.0
+                    && material.emission_side.emits_towards(geometric.dot(wo))
                 {
-                    let wi_local = frame.to_local(light.direction);
-                    let f = bsdf.eval(wo_local, wi_local) * layer.scale;
-                    if f.max_channel() > 0.0 {
-                        let (shadow, reach) = if light.distance.is_finite() {
-                            let target = point + light.direction * light.distance;
-                            shadow_ray_to(point, geometric, target, ray.time)
-                        } else {
-                            let shadow = Ray {
-                                origin: offset_towards(point, geometric, light.direction),
-                                direction: light.direction,
-                                time: ray.time,
-                                t_min: 0.0,
-                            };
-                            (shadow, f64::INFINITY)
-                        };
-                        if reach > 0.0 && !self.occluded(&shadow, reach) {
-                            let weight = if light.delta {
-                                1.0
+                    let weight = if specular {
+                        1.0
+                    } else {
+                        let index = object_index(world, hit.object);
+                        let light_pdf = self.emitters.object_pdf(
+                            world,
+                            index,
+                            from,
+                            point,
+                            ray.direction,
+                            &local,
+                        );
+                        power_heuristic(bsdf_pdf, light_pdf)
+                    };
+                    radiance += throughput.hadamard(emission) * weight;
+                }
+                if depth >= self.max_depth {
+                    break;
+                }
+                // A one-sided surface seen from behind is black: it scatters nothing.
+                if !material.two_sided && geometric.dot(wo) < 0.0 {
+                    if depth == 0 {
+                        first.normal = -geometric;
+                    }
+                    break;
+                }
+
+                let colour = surface.surface_color(point, &at, hit.time);
+                let physical = material.physical_at(|| surface.world_to_object_at(point, hit.time));
+                let scattering = match (&material.metal_rough, physical) {
+                    (Some(m), _) => {
+                        Scattering::metal_rough(&m.sample_at(&at), m.ior, world.ambient_index)
+                    }
+                    (None, Some(physical)) => {
+                        Scattering::single(physical.bsdf(colour, world.ambient_index))
+                    }
+                    (None, None) => match world.lighting {
+                        LightingModel::Phong => {
+                            Scattering::phong(material, colour, world.ambient_index)
+                        }
+                        LightingModel::Flat | LightingModel::Cgfs => {
+                            Scattering::cgfs(material, colour, world.ambient_index)
+                        }
+                        LightingModel::Optics => {
+                            Scattering::optics(material, colour, world.ambient_index)
+                        }
+                    },
+                };
+                if depth == 0 {
+                    first.albedo = scattering.albedo();
+                    first.normal = if shading.dot(wo) < 0.0 {
+                        -shading
+                    } else {
+                        shading
+                    };
+                }
+
+                // This vertex's numbers, in a fixed layout.
+                stream.seek(CAMERA_DIMENSIONS + depth * VERTEX_DIMENSIONS);
+                let (layer, u_lobe) = scattering.pick(stream.next_1d());
+                let u_light = stream.next_1d();
+                let u_point = stream.next_2d();
+                let u_direction = stream.next_2d();
+                let u_roulette = stream.next_1d();
+
+                let frame = Frame::from_normal(shading);
+                let wo_local = frame.to_local(wo);
+                let bsdf = layer.bsdf;
+
+                // Next-event estimation.
+                if !bsdf.is_delta() {
+                    if let Some(light) = self
+                        .emitters
+                        .sample(world, point, ray.time, u_light, u_point)
+                    {
+                        let wi_local = frame.to_local(light.direction);
+                        let f = bsdf.eval(wo_local, wi_local) * layer.scale;
+                        if f.max_channel() > 0.0 {
+                            let (shadow, reach) = if light.distance.is_finite() {
+                                let target = point + light.direction * light.distance;
+                                shadow_ray_to(point, geometric, target, ray.time)
                             } else {
-                                power_heuristic(light.pdf, bsdf.pdf(wo_local, wi_local))
+                                let shadow = Ray {
+                                    origin: offset_towards(point, geometric, light.direction),
+                                    direction: light.direction,
+                                    time: ray.time,
+                                    t_min: 0.0,
+                                };
+                                (shadow, f64::INFINITY)
                             };
-                            radiance += throughput.hadamard(f).hadamard(light.radiance)
-                                * (weight / light.pdf);
+                            if reach > 0.0 && !self.occluded(&shadow, reach) {
+                                let weight = if light.delta {
+                                    1.0
+                                } else {
+                                    power_heuristic(light.pdf, bsdf.pdf(wo_local, wi_local))
+                                };
+                                radiance += throughput.hadamard(f).hadamard(light.radiance)
+                                    * (weight / light.pdf);
+                            }
+                        }
+                    }
+                    // The sky in the mirror balls. (A path ending at the next vertex could not
+                    // reach the sky beyond a ball, so neither may this.)
+                    let emitters = self.emitters;
+                    if let (Some(map), true) = (emitters.environment(), depth + 1 < self.max_depth)
+                    {
+                        let at = Vertex {
+                            point,
+                            geometric,
+                            frame: &frame,
+                            wo_local,
+                            time: ray.time,
+                        };
+                        for ball in emitters.mirror_balls() {
+                            let light = self.sky_in_mirror(ball, map, &at, &layer, u_point);
+                            radiance += throughput.hadamard(light);
                         }
                     }
                 }
-                // The sky in the mirror balls. (A path ending at the next vertex could not
-                // reach the sky beyond a ball, so neither may this.)
-                let emitters = self.emitters;
-                if let (Some(map), true) = (emitters.environment(), depth + 1 < self.max_depth) {
-                    let at = Vertex {
-                        point,
-                        geometric,
-                        frame: &frame,
-                        wo_local,
-                        time: ray.time,
+
+                // The next direction: both, where the camera first sees smooth glass.
+                let split = (may_split && camera_chain)
+                    .then(|| bsdf.split(wo_local))
+                    .flatten();
+                let sample =
+                    if let Some([(reflected, reflected_share), (transmitted, transmitted_share)]) =
+                        split
+                    {
+                        may_split = false;
+                        share = reflected_share;
+                        let direction = unit(frame.to_world(transmitted.wi));
+                        pending = Some(Branch {
+                            ray: Ray {
+                                origin: offset_towards(point, geometric, direction),
+                                direction,
+                                time: ray.time,
+                                t_min: 0.0,
+                            },
+                            throughput: throughput.hadamard(transmitted.weight) * layer.scale,
+                            from: point,
+                            depth: depth + 1,
+                            share: transmitted_share,
+                        });
+                        reflected
+                    } else {
+                        let Some(sample) = bsdf.sample(wo_local, u_lobe, u_direction) else {
+                            break;
+                        };
+                        sample
                     };
-                    for ball in emitters.mirror_balls() {
-                        let light = self.sky_in_mirror(ball, map, &at, &layer, u_point);
-                        radiance += throughput.hadamard(light);
+                camera_chain &= sample.delta;
+                throughput = throughput.hadamard(sample.weight) * layer.scale;
+                bsdf_pdf = sample.pdf;
+                specular = sample.delta;
+                let direction = unit(frame.to_world(sample.wi));
+                from = point;
+                ray = Ray {
+                    origin: offset_towards(point, geometric, direction),
+                    direction,
+                    time: ray.time,
+                    t_min: 0.0,
+                };
+                depth += 1;
+
+                // Russian roulette: a path carrying little light ends with a probability that
+                // grows as it dims, and one that survives carries more, so the mean is unchanged.
+                if depth >= self.roulette_depth {
+                    let survive =
+                        (throughput.max_channel() / share * self.roulette_scale).min(0.95);
+                    if survive.is_nan() || survive <= 0.0 || u_roulette >= survive {
+                        log.ended();
+                        break;
                     }
+                    throughput = throughput * (1.0 / survive);
+                    log.survived(survive, throughput.max_channel(), radiance, self.rays);
                 }
-            }
-
-            // The next direction.
-            let Some(sample) = bsdf.sample(wo_local, u_lobe, u_direction) else {
-                break;
-            };
-            throughput = throughput.hadamard(sample.weight) * layer.scale;
-            bsdf_pdf = sample.pdf;
-            specular = sample.delta;
-            let direction = unit(frame.to_world(sample.wi));
-            from = point;
-            ray = Ray {
-                origin: offset_towards(point, geometric, direction),
-                direction,
-                time: ray.time,
-                t_min: 0.0,
-            };
-            depth += 1;
-
-            // Russian roulette: a path carrying little light ends with a probability that
-            // grows as it dims, and one that survives carries more, so the mean is unchanged.
-            if depth >= self.roulette_depth {
-                let survive = (throughput.max_channel() * self.roulette_scale).min(0.95);
-                if survive.is_nan() || survive <= 0.0 || u_roulette >= survive {
-                    log.ended();
+                if throughput.max_channel() <= 0.0 {
                     break;
                 }
-                throughput = throughput * (1.0 / survive);
-                log.survived(survive, throughput.max_channel(), radiance, self.rays);
             }
-            if throughput.max_channel() <= 0.0 {
+            log.branch_ended(radiance);
+            // The other half of a split path, from the glass: a delta bounce, as the first was.
+            let Some(branch) = pending.take() else {
                 break;
-            }
+            };
+            ray = branch.ray;
+            throughput = branch.throughput;
+            from = branch.from;
+            depth = branch.depth;
+            share = branch.share;
+            specular = true;
+            mirror_leg = None;
         }
         (radiance, first)
     }

@@ -154,6 +154,9 @@ struct Decision {
     throughput: f64,
     gathered: Color,
     rays: u64,
+    /// The radiance gathered when its branch of the path ended (a path split at glass goes on
+    /// with its other half, whose light this decision did not lead to).
+    end: Color,
 }
 
 /// The decisions of the path being traced.
@@ -161,6 +164,8 @@ struct Decision {
 struct Decisions {
     ended: u64,
     survived: Vec<Decision>,
+    /// How many of `survived` belong to branches that have ended.
+    closed: usize,
 }
 
 impl PathLog for Decisions {
@@ -174,7 +179,15 @@ impl PathLog for Decisions {
             throughput,
             gathered,
             rays,
+            end: gathered,
         });
+    }
+
+    fn branch_ended(&mut self, gathered: Color) {
+        for d in &mut self.survived[self.closed..] {
+            d.end = gathered;
+        }
+        self.closed = self.survived.len();
     }
 }
 
@@ -223,6 +236,7 @@ fn pilot(
                     let before = context.rays;
                     log.ended = 0;
                     log.survived.clear();
+                    log.closed = 0;
                     let (radiance, _) = context.radiance_logged(ray, &mut stream, log);
                     if !(radiance.red.is_finite()
                         && radiance.green.is_finite()
@@ -234,7 +248,7 @@ fn pilot(
                     stats.rays += context.rays - before;
                     stats.decisions += log.ended + log.survived.len() as u64;
                     for d in &log.survived {
-                        let future = (radiance - d.gathered) * (1.0 / d.throughput);
+                        let future = (d.end - d.gathered) * (1.0 / d.throughput);
                         stats.moment += d.weight * mean_square(future);
                         stats.cost += d.weight * (context.rays - d.rays) as f64;
                     }

@@ -332,6 +332,40 @@ impl Bsdf {
         }
     }
 
+    /// Both lobes of a perfectly smooth boundary that reflects and transmits (smooth glass, a
+    /// thin sheet), so that a path can follow both at once: where a camera sees glass,
+    /// choosing one lobe by chance makes the few samples that reflect a light carry it all
+    /// (speckle on the glass that only many samples smooth out). Each comes with the chance
+    /// [`sample`](Self::sample) would have chosen it with, by which its weight is already
+    /// multiplied (its `pdf` is 1: it is followed for certain). `None` for other materials,
+    /// and where one lobe takes all the light (total internal reflection).
+    pub fn split(&self, wo: Vec3) -> Option<[(BsdfSample, f64); 2]> {
+        let splits = match *self {
+            Self::Dielectric { alpha, .. } => is_smooth(alpha),
+            Self::ThinDielectric { .. } => true,
+            _ => false,
+        };
+        if !splits {
+            return None;
+        }
+        // The lobe is chosen by `u_lobe` against the reflectance: 0 reflects wherever anything
+        // does, the number just below 1 transmits wherever anything does.
+        let reflected = self.sample(wo, 0.0, [0.5; 2])?;
+        let transmitted = self.sample(wo, 1.0 - f64::EPSILON / 2.0, [0.5; 2])?;
+        if reflected.wi.z * wo.z <= 0.0 || transmitted.wi.z * wo.z >= 0.0 {
+            return None;
+        }
+        let whole = |s: BsdfSample| {
+            let certain = BsdfSample {
+                weight: s.weight * s.pdf,
+                pdf: 1.0,
+                ..s
+            };
+            (certain, s.pdf)
+        };
+        Some([whole(reflected), whole(transmitted)])
+    }
+
     /// Whether the material has any non-delta lobe, i.e. whether next-event estimation (light
     /// sampling) can contribute at all. Smooth plastic has one (its base) besides its delta coat.
     pub fn has_non_delta_lobe(&self) -> bool {

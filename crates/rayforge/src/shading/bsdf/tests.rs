@@ -235,6 +235,39 @@ fn smooth_glass_reflects_the_fresnel_fraction_and_scales_refracted_radiance() {
 }
 
 #[test]
+fn split_glass_follows_both_lobes_each_weighed_by_its_chance() {
+    let sheet = Bsdf::ThinDielectric {
+        eta: 1.5,
+        tint: Color::WHITE,
+    };
+    for bsdf in [dielectric(0.0), sheet] {
+        for cos in [0.9, 0.4, 0.1, -0.9, -0.8] {
+            let wo = at(cos);
+            let [reflected, transmitted] = bsdf.split(wo).expect("both lobes");
+            // What a sampled path carries on average: each lobe's weight times its chance.
+            let lobe = |u| bsdf.sample(wo, u, [0.5, 0.5]).expect("scatters");
+            let mut chances = 0.0;
+            for ((split, chance), sampled) in
+                [(reflected, lobe(0.0)), (transmitted, lobe(0.999_999))]
+            {
+                assert_eq!(split.wi, sampled.wi, "{bsdf:?} at {cos}");
+                assert_eq!(chance, sampled.pdf);
+                let expected = sampled.weight * sampled.pdf;
+                assert!((split.weight.red - expected.red).abs() < 1e-12);
+                assert!(split.delta && split.pdf == 1.0);
+                chances += chance;
+            }
+            assert!((chances - 1.0).abs() < 1e-12);
+            assert!(reflected.0.wi.z * wo.z > 0.0 && transmitted.0.wi.z * wo.z < 0.0);
+        }
+    }
+    // Total internal reflection leaves one lobe; rough glass and opaque materials none.
+    assert!(dielectric(0.0).split(at(-0.3)).is_none());
+    assert!(dielectric(0.3).split(at(0.5)).is_none());
+    assert!(conductor(0.0).split(at(0.5)).is_none());
+}
+
+#[test]
 fn a_smooth_metal_reflects_its_exact_fresnel_reflectance() {
     let (eta, k) = aluminium();
     let mirror = conductor(0.0);
