@@ -17,9 +17,9 @@ use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::color::Color;
 use rayforge::film::{Film, SharedFilm};
-use rayforge::options::{PathOptions, Roulette, SampleAllocation};
+use rayforge::options::{PathOptions, Roulette};
 use rayforge::render::path::{
-    learn_roulette_scale, prepare_render, render_path, Aovs, PathJob, PathStats, MIN_ADAPTIVE_SPP,
+    learn_roulette_scale, plans_samples, prepare_render, render_path, Aovs, PathJob, PathStats,
 };
 use rayforge::render::PartialImage;
 use rayforge_scene::Scene;
@@ -113,9 +113,7 @@ fn restore_rows(
 pub fn films_held(settings: &RenderSettings, scene: &Scene, options: &PathOptions) -> u64 {
     let films = if settings.path.aovs { 5 } else { 1 };
     let spp = samples_per_pixel(settings, scene);
-    let planned = options.allocation == SampleAllocation::Adaptive
-        && spp >= MIN_ADAPTIVE_SPP
-        && passes(settings, spp).len() == 1;
+    let planned = plans_samples(options, spp) && passes(settings, spp).len() == 1;
     if planned {
         2 * films + 1
     } else {

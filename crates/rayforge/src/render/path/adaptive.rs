@@ -24,6 +24,7 @@
 //! ([`SamplePlan::range`]) maps to a range of each pixel's own: slices of `0..spp` rendered
 //! apart still merge into the render of the whole.
 
+use super::moments::Moments;
 use super::{learn_roulette_scale, render_path_logged, Aovs, PathJob};
 use crate::camera::Camera;
 use crate::color::Color;
@@ -146,40 +147,10 @@ pub(super) struct PilotLog {
     pub rows: Vec<OnceLock<Vec<PilotPixel>>>,
 }
 
-/// The count, sum and sum of squares of a pixel's finite samples.
-#[derive(Debug, Clone, Copy, Default)]
-pub(super) struct Moments {
-    n: f64,
-    sum: Color,
-    squares: Color,
-}
-
-impl Moments {
-    /// Counts `radiance` in.
-    #[inline]
-    pub fn add(&mut self, radiance: Color) {
-        self.n += 1.0;
-        self.sum += radiance;
-        self.squares += radiance.hadamard(radiance);
-    }
-
-    fn merged(&self, other: &Self) -> Self {
-        Self {
-            n: self.n + other.n,
-            sum: self.sum + other.sum,
-            squares: self.squares + other.squares,
-        }
-    }
-
-    /// The unbiased variance, the mean over the channels (0 from fewer than two samples).
-    fn variance(&self) -> f64 {
-        if self.n < 2.0 {
-            return 0.0;
-        }
-        let mean = self.sum * (1.0 / self.n);
-        let spread = (self.squares - mean.hadamard(self.sum)) * (1.0 / (self.n - 1.0));
-        ((spread.red + spread.green + spread.blue) / 3.0).max(0.0)
-    }
+/// Whether a render of `spp` samples per pixel in one pass with `options` plans its samples
+/// ([`prepare_render`] makes a pilot and, where it foresees a gain, a plan).
+pub fn plans_samples(options: &PathOptions, spp: u64) -> bool {
+    options.allocation == SampleAllocation::Adaptive && spp >= MIN_ADAPTIVE_SPP
 }
 
 /// `options` as a render of `spp` samples per pixel in one pass (or in slices of its
@@ -195,7 +166,7 @@ pub fn prepare_render(
     aovs: bool,
     cancel: Option<&AtomicBool>,
 ) -> (PathOptions, Option<SamplePlan>) {
-    if options.allocation != SampleAllocation::Adaptive || spp < MIN_ADAPTIVE_SPP {
+    if !plans_samples(options, spp) {
         return (*options, None);
     }
     let options = PathOptions {

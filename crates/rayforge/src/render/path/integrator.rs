@@ -295,9 +295,9 @@ impl<'w> PathContext<'w> {
         let mut mirror_leg: Option<(f64, f64)> = None;
         // The first smooth glass on the camera's chain of mirror-like bounces splits the path
         // in two, reflected and transmitted (see `Bsdf::split`); the second half waits here.
-        let mut camera_chain = true;
-        let mut pending: Option<Branch> = None;
+        // A path may split while it has bounced only off deltas and has not split yet.
         let mut may_split = true;
+        let mut pending: Option<Branch> = None;
         // The share of its path's light a branch of a split carries (1 unsplit): the roulette
         // weighs a branch by its throughput over this share, as it would the unsplit path, so
         // that splitting does not end paths sooner.
@@ -488,9 +488,7 @@ impl<'w> PathContext<'w> {
                 }
 
                 // The next direction: both, where the camera first sees smooth glass.
-                let split = (may_split && camera_chain)
-                    .then(|| bsdf.split(wo_local))
-                    .flatten();
+                let split = may_split.then(|| bsdf.split(wo_local)).flatten();
                 let sample =
                     if let Some([(reflected, reflected_share), (transmitted, transmitted_share)]) =
                         split
@@ -517,7 +515,7 @@ impl<'w> PathContext<'w> {
                         };
                         sample
                     };
-                camera_chain &= sample.delta;
+                may_split &= sample.delta;
                 throughput = throughput.hadamard(sample.weight) * layer.scale;
                 bsdf_pdf = sample.pdf;
                 specular = sample.delta;

@@ -16,12 +16,11 @@
 
 mod adaptive;
 mod integrator;
+mod moments;
 mod roulette;
 mod sampler;
 
-pub use adaptive::{plan_samples, prepare_render, SamplePlan, MIN_ADAPTIVE_SPP};
-
-use adaptive::{Moments, PilotLog, PilotPixel};
+pub use adaptive::{plan_samples, plans_samples, prepare_render, SamplePlan, MIN_ADAPTIVE_SPP};
 pub use integrator::{FirstHit, PathContext, PathLog, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS};
 pub use roulette::learn_roulette_scale;
 pub use sampler::SampleStream;
@@ -33,6 +32,8 @@ use crate::film::{Film, FilmError, PixelFilter, SharedFilm};
 use crate::math::Ray;
 use crate::options::{PathOptions, Roulette};
 use crate::scene::{Emitters, World, WorldIndex};
+use adaptive::{PilotLog, PilotPixel};
+use moments::Moments;
 use rayon::prelude::*;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};

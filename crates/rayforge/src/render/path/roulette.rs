@@ -28,6 +28,7 @@
 //! quarter above that of a lenient roulette for the same time. There the roulette is lenient.
 
 use super::integrator::PathLog;
+use super::moments::Moments;
 use super::{path_context, CameraSampler, SampleStream};
 use crate::camera::Camera;
 use crate::color::Color;
@@ -229,7 +230,7 @@ fn pilot(
             |(context, log), &(x, y)| {
                 let mut stats = PilotStats::default();
                 let mut stream = SampleStream::new(options.sampler, seed, x as u32, y as u32, 0);
-                let (mut sum, mut sum_squares) = (Color::BLACK, Color::BLACK);
+                let mut moments = Moments::default();
                 for s in 0..PILOT_SAMPLES {
                     stream.start(s);
                     let (ray, _) = sampler.ray(x, y, &mut stream);
@@ -252,14 +253,10 @@ fn pilot(
                         stats.moment += d.weight * mean_square(future);
                         stats.cost += d.weight * (context.rays - d.rays) as f64;
                     }
-                    sum += radiance;
-                    sum_squares += radiance.hadamard(radiance);
+                    moments.add(radiance);
                 }
                 if stats.paths > 1 {
-                    let n = stats.paths as f64;
-                    let mean = sum * (1.0 / n);
-                    let spread = (sum_squares - mean.hadamard(sum)) * (1.0 / (n - 1.0));
-                    stats.variance = (spread.red + spread.green + spread.blue) / 3.0;
+                    stats.variance = moments.variance();
                     stats.pixels = 1;
                 }
                 stats
