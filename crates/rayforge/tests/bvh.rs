@@ -2,9 +2,10 @@
 use proptest::prelude::*;
 use rayforge::accel::{Bvh, NO_PRIMITIVE};
 use rayforge::book::BookWorld;
-use rayforge::math::{scaling, translation, Aabb};
-use rayforge::scene::WorldIndex;
+use rayforge::math::{rotation_x, rotation_y, rotation_z, scaling, translation, Aabb};
+use rayforge::scene::{WorldIndex, NO_OBJECT};
 use rayforge::{hit, point, vector, Object, Ray, Shape, World};
+use std::f64::consts::{FRAC_PI_2, PI};
 use std::ops::ControlFlow;
 
 fn world_of(objects: &[(u8, (f64, f64, f64), f64)]) -> World {
@@ -46,6 +47,63 @@ proptest! {
         let expected = hit(&w.intersect(&ray)).map(|i| i.t);
         let actual = index.closest_hit(&w, &ray).map(|i| i.t);
         prop_assert_eq!(actual, expected);
+    }
+}
+
+/// A world of at most eight objects (tested without the hierarchy): rectangles lying in the
+/// planes of the axes (tested outright in world space), some turned otherwise, and blocks.
+fn few_world(objects: &[(u8, (f64, f64, f64), f64)]) -> World {
+    let mut w = World::new();
+    for &(kind, (x, y, z), size) in objects {
+        let stretch = scaling(size, 1.0, 0.5 * size);
+        let (shape, turn) = match kind % 5 {
+            0 => (Shape::Rectangle, rotation_x(PI)),
+            1 => (Shape::Rectangle, rotation_z(FRAC_PI_2)),
+            2 => (Shape::Rectangle, rotation_x(-FRAC_PI_2)),
+            3 => (Shape::Rectangle, rotation_y(0.4) * rotation_x(0.3)),
+            _ => (Shape::Cube, rotation_y(0.5)),
+        };
+        w.objects
+            .push(Object::new(shape).with_transform(translation(x, y, z) * turn * stretch));
+    }
+    w
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// In a world of a few rectangles and blocks, the index finds the nearest hit every
+    /// object's own test finds (a rectangle along the axes is hit in world space, so the
+    /// distance agrees to rounding), on the same object, and a shadow ray is blocked where
+    /// that hit lies before its end.
+    #[test]
+    fn a_few_rectangles_are_hit_where_their_own_tests_hit_them(
+        objects in prop::collection::vec(
+            (0u8..5, (-3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64), 0.2..2.0f64), 1..9),
+        origin in (-5.0..5.0f64, -5.0..5.0f64, -5.0..5.0f64),
+        direction in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64),
+        reach in 0.1..10.0f64,
+    ) {
+        let d = vector(direction.0, direction.1, direction.2);
+        prop_assume!(d.length() > 1e-3);
+        let w = few_world(&objects);
+        let index = WorldIndex::build(&w);
+        let ray = Ray::new(point(origin.0, origin.1, origin.2), d.normalize());
+        let expected = hit(&w.intersect(&ray)).map(|i| (i.t, i.object as *const Object));
+        let actual = index.closest_hit(&w, &ray).map(|i| (i.t, i.object as *const Object));
+        match (actual, expected) {
+            (Some((a, p)), Some((b, q))) => {
+                prop_assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{} against {}", a, b);
+                prop_assert!(std::ptr::eq(p, q), "another object");
+            }
+            (a, b) => prop_assert_eq!(a.is_some(), b.is_some()),
+        }
+        let first = expected.map(|(t, _)| t);
+        let mut last = NO_OBJECT;
+        let blocked = index.blocked(&w, &ray, 0.0, reach, &mut last, |object| {
+            object.any_local_hit(&object.ray_to_object(&ray), 0.0, reach)
+        });
+        prop_assert_eq!(blocked, first.is_some_and(|t| t < reach));
     }
 }
 

@@ -2,9 +2,11 @@
 //! (planes, infinite cylinders and cones) that are tested on every ray.
 
 use super::intersection::{sort_intersections, Intersection};
+use super::level::{Level, Probe};
 use super::object::Object;
 use super::world::World;
 use crate::accel::Bvh;
+use crate::geometry::LocalHit;
 use crate::math::{Aabb, Ray};
 use std::ops::ControlFlow;
 
@@ -21,11 +23,19 @@ pub struct WorldIndex {
     bvh: Bvh,
     /// Objects whose bounds are infinite (never in the BVH).
     unbounded: Vec<u32>,
-    /// For a world of at most [`FEW_OBJECTS`] bounded objects, each with its box (widened by a
-    /// billionth, for rounding), tried in turn instead of walking the BVH: setting a walk up
-    /// (the ray in the hierarchy's single precision, the dispatch to the vector unit) costs
-    /// more per ray than testing a few boxes, and most scenes of a book hold one to four solids.
-    few: Option<Vec<(u32, Aabb)>>,
+    /// For a world of at most [`FEW_OBJECTS`] bounded objects, those objects, tried in turn
+    /// instead of walking the BVH: setting a walk up (the ray in the hierarchy's single
+    /// precision, the dispatch to the vector unit) costs more per ray than testing a few
+    /// objects, and most scenes of a book hold one to four solids.
+    few: Option<FewObjects>,
+}
+
+/// The objects of a world of few: level rectangles, tested outright in world space (see
+/// [`Level`]), and the others, each behind its box (widened by a billionth, for rounding).
+#[derive(Debug, Clone, Default)]
+struct FewObjects {
+    levels: Vec<(u32, Level)>,
+    boxed: Vec<(u32, Aabb)>,
 }
 
 impl WorldIndex {
@@ -40,18 +50,27 @@ impl WorldIndex {
                 *b = Aabb::EMPTY;
             }
         }
-        let bounded: Vec<(u32, Aabb)> = (0u32..)
+        let bounded: Vec<(u32, &Aabb)> = (0u32..)
             .zip(&boxes)
             .filter(|(_, b)| !b.is_empty())
-            .map(|(i, b)| {
-                let pad = (b.max - b.min + b.min.abs() + b.max.abs()) * 1e-9;
-                (i, Aabb::new(b.min - pad, b.max + pad))
-            })
             .collect();
+        let few = (bounded.len() <= FEW_OBJECTS).then(|| {
+            let mut few = FewObjects::default();
+            for (i, b) in bounded {
+                match Level::of(&world.objects[i as usize]) {
+                    Some(level) => few.levels.push((i, level)),
+                    None => {
+                        let pad = (b.max - b.min + b.min.abs() + b.max.abs()) * 1e-9;
+                        few.boxed.push((i, Aabb::new(b.min - pad, b.max + pad)));
+                    }
+                }
+            }
+            few
+        });
         Self {
             bvh: Bvh::build(&boxes),
             unbounded,
-            few: (bounded.len() <= FEW_OBJECTS).then_some(bounded),
+            few,
         }
     }
 
@@ -65,21 +84,24 @@ impl WorldIndex {
         mut t_max: f64,
         mut visit: impl FnMut(usize, &mut f64) -> ControlFlow<()>,
     ) {
+        if let Some(few) = &self.few {
+            if !few.levels.is_empty() {
+                let probe = Probe::new(ray.origin, ray.direction);
+                for (i, level) in &few.levels {
+                    if level.may_meet(&probe, t_min, t_max)
+                        && visit(*i as usize, &mut t_max).is_break()
+                    {
+                        return;
+                    }
+                }
+            }
+            self.unbounded_and_boxed(few, ray, t_min, t_max, visit);
+            return;
+        }
         for &i in &self.unbounded {
             if visit(i as usize, &mut t_max).is_break() {
                 return;
             }
-        }
-        if let Some(few) = &self.few {
-            let inv_direction = ray.direction.recip();
-            for (i, b) in few {
-                if b.hit_by(ray.origin, inv_direction, t_min, t_max).is_some()
-                    && visit(*i as usize, &mut t_max).is_break()
-                {
-                    return;
-                }
-            }
-            return;
         }
         self.bvh
             .traverse(ray.origin, ray.direction, t_min, t_max, |i, t| {
@@ -87,10 +109,61 @@ impl WorldIndex {
             });
     }
 
+    /// [`WorldIndex::candidates`] for a world of few objects, less its level rectangles.
+    #[inline]
+    fn unbounded_and_boxed(
+        &self,
+        few: &FewObjects,
+        ray: &Ray,
+        t_min: f64,
+        mut t_max: f64,
+        mut visit: impl FnMut(usize, &mut f64) -> ControlFlow<()>,
+    ) {
+        for &i in &self.unbounded {
+            if visit(i as usize, &mut t_max).is_break() {
+                return;
+            }
+        }
+        let inv_direction = ray.direction.recip();
+        for (i, b) in &few.boxed {
+            if b.hit_by(ray.origin, inv_direction, t_min, t_max).is_some()
+                && visit(*i as usize, &mut t_max).is_break()
+            {
+                return;
+            }
+        }
+    }
+
     /// The nearest intersection with `t >= ray.t_min` (the book's `hit` of `intersect_world`,
     /// which takes `t >= 0`).
     pub fn closest_hit<'w>(&self, world: &'w World, ray: &Ray) -> Option<Intersection<'w>> {
         let mut best: Option<Intersection<'w>> = None;
+        if let Some(few) = self.few.as_ref().filter(|f| !f.levels.is_empty()) {
+            // The level rectangles are hit in world space: nothing is left for a visit.
+            let probe = Probe::new(ray.origin, ray.direction);
+            let mut t_max = f64::INFINITY;
+            for (i, level) in &few.levels {
+                if let Some(t) = level.hit(&probe, ray.t_min, t_max) {
+                    t_max = t;
+                    let hit = LocalHit {
+                        time: ray.time,
+                        ..LocalHit::at(t)
+                    };
+                    best = Some(Intersection::from_local(&world.objects[*i as usize], hit));
+                }
+            }
+            // The others as always, nearer than any level rectangle's hit.
+            self.unbounded_and_boxed(few, ray, ray.t_min, t_max, |i, t_max| {
+                let object = &world.objects[i];
+                let local = object.ray_to_object(ray);
+                if let Some(h) = object.closest_local_hit(&local, ray.t_min, *t_max) {
+                    *t_max = h.t;
+                    best = Some(Intersection::from_local(object, h));
+                }
+                ControlFlow::Continue(())
+            });
+            return best;
+        }
         self.candidates(ray, ray.t_min, f64::INFINITY, |i, t_max| {
             let object = &world.objects[i];
             let local = object.ray_to_object(ray);

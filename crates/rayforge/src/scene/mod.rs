@@ -9,6 +9,7 @@ mod emitters;
 mod group;
 mod index;
 mod intersection;
+mod level;
 mod mirror;
 mod object;
 mod shape;
