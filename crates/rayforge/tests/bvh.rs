@@ -74,8 +74,9 @@ proptest! {
 
     /// In a world of a few rectangles and blocks, the index finds the nearest hit every
     /// object's own test finds (a rectangle along the axes is hit in world space, so the
-    /// distance agrees to rounding), on the same object, and a shadow ray is blocked where
-    /// that hit lies before its end.
+    /// distance agrees to rounding), on the same object, at the distance the list of every
+    /// crossing up to it gives it, and a shadow ray is blocked where that hit lies before its
+    /// end.
     #[test]
     fn a_few_rectangles_are_hit_where_their_own_tests_hit_them(
         objects in prop::collection::vec(
@@ -97,6 +98,12 @@ proptest! {
                 prop_assert!(std::ptr::eq(p, q), "another object");
             }
             (a, b) => prop_assert_eq!(a.is_some(), b.is_some()),
+        }
+        // Refraction finds the hit in the list of every crossing up to it, by its distance.
+        if let Some(found) = index.closest_hit(&w, &ray) {
+            let mut list = Vec::new();
+            index.intersections_up_to(&w, &ray, found.t, &mut list);
+            prop_assert!(list.iter().any(|i| i.same_as(&found)), "the hit is not in the list");
         }
         let first = expected.map(|(t, _)| t);
         let mut last = NO_OBJECT;

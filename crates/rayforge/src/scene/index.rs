@@ -186,14 +186,33 @@ impl WorldIndex {
         out: &mut Vec<Intersection<'w>>,
     ) {
         out.clear();
-        self.candidates(ray, f64::NEG_INFINITY, t_max, |i, _| {
+        // Level rectangles as `closest_hit` finds them: the hit it returned must be in the
+        // list at the very same distance, for refraction to tell which it is.
+        let few_levels = self.few.as_ref().filter(|f| !f.levels.is_empty());
+        if let Some(few) = few_levels {
+            let probe = Probe::new(ray.origin, ray.direction);
+            for (i, level) in &few.levels {
+                if let Some(t) = level.crossing_at(&probe).filter(|&t| t <= t_max) {
+                    let hit = LocalHit {
+                        time: ray.time,
+                        ..LocalHit::at(t)
+                    };
+                    out.push(Intersection::from_local(&world.objects[*i as usize], hit));
+                }
+            }
+        }
+        let add = |i: usize, _: &mut f64| {
             let object = &world.objects[i];
             let local = object.ray_to_object(ray);
             object.shape.hits_up_to(&local, t_max, |h| {
                 out.push(Intersection::from_local(object, h))
             });
             ControlFlow::Continue(())
-        });
+        };
+        match few_levels {
+            Some(few) => self.unbounded_and_boxed(few, ray, f64::NEG_INFINITY, t_max, add),
+            None => self.candidates(ray, f64::NEG_INFINITY, t_max, add),
+        }
         sort_intersections(out);
     }
 

@@ -109,10 +109,16 @@ impl Level {
     /// nothing.
     #[inline]
     pub fn hit(&self, ray: &Probe, t_min: f64, t_max: f64) -> Option<f64> {
+        self.crossing_at(ray).filter(|&t| t >= t_min && t < t_max)
+    }
+
+    /// Where the ray's line crosses the rectangle (its edges included), at any `t`.
+    #[inline]
+    pub fn crossing_at(&self, ray: &Probe) -> Option<f64> {
         let (t, x, y) = self.crossing(ray);
         let inside =
             (self.min[0]..=self.max[0]).contains(&x) && (self.min[1]..=self.max[1]).contains(&y);
-        (inside && t >= t_min && t < t_max).then_some(t)
+        inside.then_some(t)
     }
 
     /// Whether the ray may meet the rectangle at some `t` in `[t_min, t_max]` (`false` only
