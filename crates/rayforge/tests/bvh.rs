@@ -51,16 +51,21 @@ proptest! {
 }
 
 /// A world of at most eight objects (tested without the hierarchy): rectangles lying in the
-/// planes of the axes (tested outright in world space), some turned otherwise, and blocks.
+/// planes of the axes and round balls (tested outright in world space), rectangles turned
+/// otherwise, and blocks.
 fn few_world(objects: &[(u8, (f64, f64, f64), f64)]) -> World {
     let mut w = World::new();
     for &(kind, (x, y, z), size) in objects {
-        let stretch = scaling(size, 1.0, 0.5 * size);
-        let (shape, turn) = match kind % 5 {
+        let mut stretch = scaling(size, 1.0, 0.5 * size);
+        let (shape, turn) = match kind % 6 {
             0 => (Shape::Rectangle, rotation_x(PI)),
             1 => (Shape::Rectangle, rotation_z(FRAC_PI_2)),
             2 => (Shape::Rectangle, rotation_x(-FRAC_PI_2)),
             3 => (Shape::Rectangle, rotation_y(0.4) * rotation_x(0.3)),
+            4 => {
+                stretch = scaling(size, size, size);
+                (Shape::Sphere, rotation_y(0.5))
+            }
             _ => (Shape::Cube, rotation_y(0.5)),
         };
         w.objects
@@ -72,15 +77,15 @@ fn few_world(objects: &[(u8, (f64, f64, f64), f64)]) -> World {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
-    /// In a world of a few rectangles and blocks, the index finds the nearest hit every
-    /// object's own test finds (a rectangle along the axes is hit in world space, so the
-    /// distance agrees to rounding), on the same object, at the distance the list of every
+    /// In a world of a few rectangles, balls and blocks, the index finds the nearest hit every
+    /// object's own test finds (a rectangle along the axes or a ball is hit in world space, so
+    /// the distance agrees to rounding), on the same object, at the distance the list of every
     /// crossing up to it gives it, and a shadow ray is blocked where that hit lies before its
     /// end.
     #[test]
-    fn a_few_rectangles_are_hit_where_their_own_tests_hit_them(
+    fn a_few_rectangles_and_balls_are_hit_where_their_own_tests_hit_them(
         objects in prop::collection::vec(
-            (0u8..5, (-3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64), 0.2..2.0f64), 1..9),
+            (0u8..6, (-3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64), 0.2..2.0f64), 1..9),
         origin in (-5.0..5.0f64, -5.0..5.0f64, -5.0..5.0f64),
         direction in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64),
         reach in 0.1..10.0f64,

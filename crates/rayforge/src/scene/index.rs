@@ -1,6 +1,7 @@
 //! The world's acceleration index: a BVH over every bounded object, plus the unbounded ones
 //! (planes, infinite cylinders and cones) that are tested on every ray.
 
+use super::ball::Ball;
 use super::intersection::{sort_intersections, Intersection};
 use super::level::{Level, Probe};
 use super::object::Object;
@@ -30,12 +31,32 @@ pub struct WorldIndex {
     few: Option<FewObjects>,
 }
 
-/// The objects of a world of few: level rectangles, tested outright in world space (see
-/// [`Level`]), and the others, each behind its box (widened by a billionth, for rounding).
+/// The objects of a world of few: level rectangles and round balls, which a nearest-hit
+/// search tests outright in world space (see [`Level`] and [`Ball`]), and the others, each
+/// behind its box (widened by a billionth, for rounding).
 #[derive(Debug, Clone, Default)]
 struct FewObjects {
     levels: Vec<(u32, Level)>,
+    /// Each with its box, for the searches whose visitor decides.
+    balls: Vec<(u32, Ball, Aabb)>,
     boxed: Vec<(u32, Aabb)>,
+}
+
+impl FewObjects {
+    /// Whether any object is tested outright.
+    fn outright(&self) -> bool {
+        !self.levels.is_empty() || !self.balls.is_empty()
+    }
+}
+
+/// The intersection of `ray` with `object` at `t`, found outright in world space.
+#[inline]
+fn outright_hit<'w>(object: &'w Object, ray: &Ray, t: f64) -> Intersection<'w> {
+    let hit = LocalHit {
+        time: ray.time,
+        ..LocalHit::at(t)
+    };
+    Intersection::from_local(object, hit)
 }
 
 impl WorldIndex {
@@ -57,12 +78,15 @@ impl WorldIndex {
         let few = (bounded.len() <= FEW_OBJECTS).then(|| {
             let mut few = FewObjects::default();
             for (i, b) in bounded {
-                match Level::of(&world.objects[i as usize]) {
-                    Some(level) => few.levels.push((i, level)),
-                    None => {
-                        let pad = (b.max - b.min + b.min.abs() + b.max.abs()) * 1e-9;
-                        few.boxed.push((i, Aabb::new(b.min - pad, b.max + pad)));
-                    }
+                let object = &world.objects[i as usize];
+                let pad = (b.max - b.min + b.min.abs() + b.max.abs()) * 1e-9;
+                let widened = Aabb::new(b.min - pad, b.max + pad);
+                if let Some(level) = Level::of(object) {
+                    few.levels.push((i, level));
+                } else if let Some(ball) = Ball::of(object) {
+                    few.balls.push((i, ball, widened));
+                } else {
+                    few.boxed.push((i, widened));
                 }
             }
             few
@@ -95,6 +119,14 @@ impl WorldIndex {
                     }
                 }
             }
+            let inv_direction = ray.direction.recip();
+            for (i, _, b) in &few.balls {
+                if b.hit_by(ray.origin, inv_direction, t_min, t_max).is_some()
+                    && visit(*i as usize, &mut t_max).is_break()
+                {
+                    return;
+                }
+            }
             self.unbounded_and_boxed(few, ray, t_min, t_max, visit);
             return;
         }
@@ -109,7 +141,7 @@ impl WorldIndex {
             });
     }
 
-    /// [`WorldIndex::candidates`] for a world of few objects, less its level rectangles.
+    /// [`WorldIndex::candidates`] for a world of few objects, less those tested outright.
     #[inline]
     fn unbounded_and_boxed(
         &self,
@@ -138,21 +170,24 @@ impl WorldIndex {
     /// which takes `t >= 0`).
     pub fn closest_hit<'w>(&self, world: &'w World, ray: &Ray) -> Option<Intersection<'w>> {
         let mut best: Option<Intersection<'w>> = None;
-        if let Some(few) = self.few.as_ref().filter(|f| !f.levels.is_empty()) {
-            // The level rectangles are hit in world space: nothing is left for a visit.
+        if let Some(few) = self.few.as_ref().filter(|f| f.outright()) {
+            // Level rectangles and round balls are hit in world space: nothing is left for a
+            // visit.
             let probe = Probe::new(ray.origin, ray.direction);
             let mut t_max = f64::INFINITY;
             for (i, level) in &few.levels {
                 if let Some(t) = level.hit(&probe, ray.t_min, t_max) {
                     t_max = t;
-                    let hit = LocalHit {
-                        time: ray.time,
-                        ..LocalHit::at(t)
-                    };
-                    best = Some(Intersection::from_local(&world.objects[*i as usize], hit));
+                    best = Some(outright_hit(&world.objects[*i as usize], ray, t));
                 }
             }
-            // The others as always, nearer than any level rectangle's hit.
+            for (i, ball, _) in &few.balls {
+                if let Some(t) = ball.hit(&probe, ray.t_min, t_max) {
+                    t_max = t;
+                    best = Some(outright_hit(&world.objects[*i as usize], ray, t));
+                }
+            }
+            // The others as always, nearer than any hit found outright.
             self.unbounded_and_boxed(few, ray, ray.t_min, t_max, |i, t_max| {
                 let object = &world.objects[i];
                 let local = object.ray_to_object(ray);
@@ -186,18 +221,25 @@ impl WorldIndex {
         out: &mut Vec<Intersection<'w>>,
     ) {
         out.clear();
-        // Level rectangles as `closest_hit` finds them: the hit it returned must be in the
+        // What `closest_hit` tests outright as it finds it: the hit it returned must be in the
         // list at the very same distance, for refraction to tell which it is.
-        let few_levels = self.few.as_ref().filter(|f| !f.levels.is_empty());
-        if let Some(few) = few_levels {
+        let outright = self.few.as_ref().filter(|f| f.outright());
+        if let Some(few) = outright {
             let probe = Probe::new(ray.origin, ray.direction);
             for (i, level) in &few.levels {
                 if let Some(t) = level.crossing_at(&probe).filter(|&t| t <= t_max) {
-                    let hit = LocalHit {
-                        time: ray.time,
-                        ..LocalHit::at(t)
-                    };
-                    out.push(Intersection::from_local(&world.objects[*i as usize], hit));
+                    out.push(outright_hit(&world.objects[*i as usize], ray, t));
+                }
+            }
+            for (i, ball, _) in &few.balls {
+                if let Some((t0, t1)) = ball.crossings(&probe) {
+                    let object = &world.objects[*i as usize];
+                    out.extend(
+                        [t0, t1]
+                            .into_iter()
+                            .filter(|&t| t <= t_max)
+                            .map(|t| outright_hit(object, ray, t)),
+                    );
                 }
             }
         }
@@ -209,7 +251,7 @@ impl WorldIndex {
             });
             ControlFlow::Continue(())
         };
-        match few_levels {
+        match outright {
             Some(few) => self.unbounded_and_boxed(few, ray, f64::NEG_INFINITY, t_max, add),
             None => self.candidates(ray, f64::NEG_INFINITY, t_max, add),
         }

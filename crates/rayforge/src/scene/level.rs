@@ -60,6 +60,18 @@ impl Probe {
             inv_direction: direction.recip().to_array(),
         }
     }
+
+    /// Where the ray starts.
+    #[inline]
+    pub fn origin(&self) -> &[f64; 3] {
+        &self.origin
+    }
+
+    /// Which way it goes.
+    #[inline]
+    pub fn direction(&self) -> &[f64; 3] {
+        &self.direction
+    }
 }
 
 /// The one axis `v` lies along, if it leans from it by less than [`LEAN`].

@@ -3,6 +3,7 @@
 //! computations prepared at a hit, the world and its acceleration index. Nothing here traces a
 //! ray to a colour: that is the integrators' work, in the `render` module.
 
+mod ball;
 mod computations;
 mod csg;
 mod emitters;
