@@ -80,8 +80,8 @@ proptest! {
     /// In a world of a few rectangles, balls and blocks, the index finds the nearest hit every
     /// object's own test finds (a rectangle along the axes or a ball is hit in world space, so
     /// the distance agrees to rounding), on the same object, at the distance the list of every
-    /// crossing up to it gives it, and a shadow ray is blocked where that hit lies before its
-    /// end.
+    /// crossing up to it gives it, and a shadow ray is blocked (by either search) where that
+    /// hit lies before its end.
     #[test]
     fn a_few_rectangles_and_balls_are_hit_where_their_own_tests_hit_them(
         objects in prop::collection::vec(
@@ -116,6 +116,10 @@ proptest! {
             object.any_local_hit(&object.ray_to_object(&ray), 0.0, reach)
         });
         prop_assert_eq!(blocked, first.is_some_and(|t| t < reach));
+        let shadowed = index.shadowed(&w, &ray, 0.0, reach, &mut last, |_| true);
+        prop_assert_eq!(shadowed, blocked);
+        let none_cast = index.shadowed(&w, &ray, 0.0, reach, &mut last, |_| false);
+        prop_assert!(!none_cast);
     }
 }
 

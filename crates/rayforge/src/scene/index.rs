@@ -258,6 +258,54 @@ impl WorldIndex {
         sort_intersections(out);
     }
 
+    /// Whether an object that `casts` a shadow has a surface along `ray` at some `t` in
+    /// `[t_min, t_max)`: [`WorldIndex::blocked`] for a lighting model whose rule for what
+    /// blocks light is the surface itself, met at all (the path tracer's), so that the index
+    /// can test level rectangles and round balls outright, as `closest_hit` does.
+    pub fn shadowed<'w>(
+        &self,
+        world: &'w World,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        last: &mut u32,
+        casts: impl Fn(&'w Object) -> bool,
+    ) -> bool {
+        let surface = |object: &'w Object| {
+            casts(object) && object.any_local_hit(&object.ray_to_object(ray), t_min, t_max)
+        };
+        let Some(few) = self.few.as_ref().filter(|f| f.outright()) else {
+            return self.blocked(world, ray, t_min, t_max, last, surface);
+        };
+        // A world of few objects tries them all in turn: no blocker is remembered.
+        *last = NO_OBJECT;
+        let probe = Probe::new(ray.origin, ray.direction);
+        let outright = (few
+            .levels
+            .iter()
+            .map(|&(i, level)| (i, level.hit(&probe, t_min, t_max))))
+        .chain(
+            few.balls
+                .iter()
+                .map(|&(i, ball, _)| (i, ball.hit(&probe, t_min, t_max))),
+        );
+        for (i, hit) in outright {
+            if hit.is_some() && casts(&world.objects[i as usize]) {
+                return true;
+            }
+        }
+        let mut blocked = false;
+        self.unbounded_and_boxed(few, ray, t_min, t_max, |i, _| {
+            blocked = surface(&world.objects[i]);
+            if blocked {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+        blocked
+    }
+
     /// Whether any object for which `blocks` holds lies along `ray` (the shadow test of every
     /// lighting model, each with its own rule in `blocks`), visiting the objects that might
     /// meet the ray within `[t_min, t_max]`; stops at the first blocker.

@@ -207,11 +207,8 @@ impl<'w> PathContext<'w> {
         self.rays += 1;
         let world = self.world;
         self.index
-            .blocked(world, ray, 0.0, distance, &mut self.hint, |object| {
-                object.casts_shadow && {
-                    let local = object.ray_to_object(ray);
-                    object.any_local_hit(&local, 0.0, distance)
-                }
+            .shadowed(world, ray, 0.0, distance, &mut self.hint, |object| {
+                object.casts_shadow
             })
     }
 
