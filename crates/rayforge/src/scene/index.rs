@@ -280,19 +280,11 @@ impl WorldIndex {
         // A world of few objects tries them all in turn: no blocker is remembered.
         *last = NO_OBJECT;
         let probe = Probe::new(ray.origin, ray.direction);
-        let outright = (few
-            .levels
-            .iter()
-            .map(|&(i, level)| (i, level.hit(&probe, t_min, t_max))))
-        .chain(
-            few.balls
-                .iter()
-                .map(|&(i, ball, _)| (i, ball.hit(&probe, t_min, t_max))),
-        );
-        for (i, hit) in outright {
-            if hit.is_some() && casts(&world.objects[i as usize]) {
-                return true;
-            }
+        let crossed = |i: u32, hit: Option<f64>| hit.is_some() && casts(&world.objects[i as usize]);
+        if (few.levels.iter()).any(|&(i, level)| crossed(i, level.hit(&probe, t_min, t_max)))
+            || (few.balls.iter()).any(|&(i, ball, _)| crossed(i, ball.hit(&probe, t_min, t_max)))
+        {
+            return true;
         }
         let mut blocked = false;
         self.unbounded_and_boxed(few, ray, t_min, t_max, |i, _| {
