@@ -17,7 +17,7 @@ use crate::math::{Point3, Vec3};
 /// from a uniform scale's (relative) for it to be taken as round.
 const ROUND: f64 = 1e-12;
 
-/// A sphere of radius `radius` (squared: `radius_squared`) about `centre`.
+/// A sphere about `centre` whose radius, squared, is `radius_squared`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ball {
     centre: [f64; 3],
