@@ -59,6 +59,26 @@ fn outright_hit<'w>(object: &'w Object, ray: &Ray, t: f64) -> Intersection<'w> {
     Intersection::from_local(object, hit)
 }
 
+/// Visits, in turn, each object of `boxes` whose box `ray` (`probe`) meets within
+/// `[t_min, t_max]`, `t_max` lowered as the visitor finds hits; `Break` once it stops.
+#[inline]
+fn visit_boxes<'a>(
+    boxes: impl Iterator<Item = (u32, &'a Aabb)>,
+    ray: &Ray,
+    probe: &Probe,
+    t_min: f64,
+    t_max: &mut f64,
+    visit: &mut impl FnMut(usize, &mut f64) -> ControlFlow<()>,
+) -> ControlFlow<()> {
+    let inv_direction = probe.inv_direction();
+    for (i, b) in boxes {
+        if b.hit_by(ray.origin, inv_direction, t_min, *t_max).is_some() {
+            visit(i as usize, t_max)?;
+        }
+    }
+    ControlFlow::Continue(())
+}
+
 impl WorldIndex {
     /// Indexes the objects of `world`.
     pub fn build(world: &World) -> Self {
@@ -109,25 +129,18 @@ impl WorldIndex {
         mut visit: impl FnMut(usize, &mut f64) -> ControlFlow<()>,
     ) {
         if let Some(few) = &self.few {
-            if !few.levels.is_empty() {
-                let probe = Probe::new(ray.origin, ray.direction);
-                for (i, level) in &few.levels {
-                    if level.may_meet(&probe, t_min, t_max)
-                        && visit(*i as usize, &mut t_max).is_break()
-                    {
-                        return;
-                    }
-                }
-            }
-            let inv_direction = ray.direction.recip();
-            for (i, _, b) in &few.balls {
-                if b.hit_by(ray.origin, inv_direction, t_min, t_max).is_some()
-                    && visit(*i as usize, &mut t_max).is_break()
+            let probe = Probe::new(ray.origin, ray.direction);
+            for (i, level) in &few.levels {
+                if level.may_meet(&probe, t_min, t_max) && visit(*i as usize, &mut t_max).is_break()
                 {
                     return;
                 }
             }
-            self.unbounded_and_boxed(few, ray, t_min, t_max, visit);
+            let balls = few.balls.iter().map(|(i, _, b)| (*i, b));
+            if visit_boxes(balls, ray, &probe, t_min, &mut t_max, &mut visit).is_break() {
+                return;
+            }
+            self.unbounded_and_boxed(few, ray, &probe, t_min, t_max, visit);
             return;
         }
         for &i in &self.unbounded {
@@ -147,6 +160,7 @@ impl WorldIndex {
         &self,
         few: &FewObjects,
         ray: &Ray,
+        probe: &Probe,
         t_min: f64,
         mut t_max: f64,
         mut visit: impl FnMut(usize, &mut f64) -> ControlFlow<()>,
@@ -156,14 +170,8 @@ impl WorldIndex {
                 return;
             }
         }
-        let inv_direction = ray.direction.recip();
-        for (i, b) in &few.boxed {
-            if b.hit_by(ray.origin, inv_direction, t_min, t_max).is_some()
-                && visit(*i as usize, &mut t_max).is_break()
-            {
-                return;
-            }
-        }
+        let boxed = few.boxed.iter().map(|(i, b)| (*i, b));
+        let _ = visit_boxes(boxed, ray, probe, t_min, &mut t_max, &mut visit);
     }
 
     /// The nearest intersection with `t >= ray.t_min` (the book's `hit` of `intersect_world`,
@@ -188,7 +196,7 @@ impl WorldIndex {
                 }
             }
             // The others as always, nearer than any hit found outright.
-            self.unbounded_and_boxed(few, ray, ray.t_min, t_max, |i, t_max| {
+            self.unbounded_and_boxed(few, ray, &probe, ray.t_min, t_max, |i, t_max| {
                 let object = &world.objects[i];
                 let local = object.ray_to_object(ray);
                 if let Some(h) = object.closest_local_hit(&local, ray.t_min, *t_max) {
@@ -224,8 +232,8 @@ impl WorldIndex {
         // What `closest_hit` tests outright as it finds it: the hit it returned must be in the
         // list at the very same distance, for refraction to tell which it is.
         let outright = self.few.as_ref().filter(|f| f.outright());
+        let probe = Probe::new(ray.origin, ray.direction);
         if let Some(few) = outright {
-            let probe = Probe::new(ray.origin, ray.direction);
             for (i, level) in &few.levels {
                 if let Some(t) = level.crossing_at(&probe).filter(|&t| t <= t_max) {
                     out.push(outright_hit(&world.objects[*i as usize], ray, t));
@@ -252,7 +260,7 @@ impl WorldIndex {
             ControlFlow::Continue(())
         };
         match outright {
-            Some(few) => self.unbounded_and_boxed(few, ray, f64::NEG_INFINITY, t_max, add),
+            Some(few) => self.unbounded_and_boxed(few, ray, &probe, f64::NEG_INFINITY, t_max, add),
             None => self.candidates(ray, f64::NEG_INFINITY, t_max, add),
         }
         sort_intersections(out);
@@ -287,7 +295,7 @@ impl WorldIndex {
             return true;
         }
         let mut blocked = false;
-        self.unbounded_and_boxed(few, ray, t_min, t_max, |i, _| {
+        self.unbounded_and_boxed(few, ray, &probe, t_min, t_max, |i, _| {
             blocked = surface(&world.objects[i]);
             if blocked {
                 ControlFlow::Break(())

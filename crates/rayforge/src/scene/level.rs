@@ -72,6 +72,12 @@ impl Probe {
     pub fn direction(&self) -> &[f64; 3] {
         &self.direction
     }
+
+    /// The reciprocal of its direction (what a box's slab test takes).
+    #[inline]
+    pub fn inv_direction(&self) -> Vec3 {
+        Vec3::from_array(self.inv_direction)
+    }
 }
 
 /// The one axis `v` lies along, if it leans from it by less than [`LEAN`].
