@@ -154,51 +154,59 @@ impl MirrorBall {
         } else {
             return None;
         };
-        // The reflected direction at α and how far it still is, clockwise, from ω (the
-        // cross product): positive at α = 0, where the reflection points straight back.
-        let behind = |alpha: f64| {
-            let (sin, cos) = sin_cos_turns(alpha / TAU);
-            let (px, py) = (r * cos, r * sin);
-            let (vx, vy) = (d - px, -py);
-            let length = (vx * vx + vy * vy).sqrt();
-            let (ux, uy) = (vx / length, vy / length);
-            let un = ux * cos + uy * sin;
-            let (rx, ry) = (2.0 * un * cos - ux, 2.0 * un * sin - uy);
-            rx * omega[1] - ry * omega[0]
-        };
+        // At the point of normal angle α the reflected direction has angle ψ(α) = 2α + β(α),
+        // β the angle at the ball's point between the centre's line and the surface point
+        // (tan β = R sin α / (d − R cos α)). ψ rises from 0 at α = 0 to π/2 + edge at the edge
+        // of what the point sees, α = acos(R / d); ω's angle φ in (0, π] is reached once, if
+        // below that. `ahead(α)` is sin(φ − ψ) times the distance to the surface point, which
+        // needs no inverse trigonometry: positive before the root, negative after it.
         let edge = (r / d).acos();
-        let (mut lo, mut hi) = (0.0, edge);
-        let (mut f_lo, mut f_hi) = (behind(lo), behind(hi));
-        if f_lo.is_nan() || f_hi.is_nan() || f_hi >= 0.0 {
+        let (cos_phi, sin_phi) = (omega[0], omega[1]);
+        let ahead = |alpha: f64| {
+            let (sin, cos) = sin_cos_turns(alpha / TAU);
+            let (sin_2a, cos_2a) = (2.0 * sin * cos, cos * cos - sin * sin);
+            // sin(φ − 2α) and cos(φ − 2α), then sin(φ − 2α − β)·L with cos β·L = d − R cos α
+            // and sin β·L = R sin α.
+            let sin_rest = sin_phi * cos_2a - cos_phi * sin_2a;
+            let cos_rest = cos_phi * cos_2a + sin_phi * sin_2a;
+            let length_squared = d * d + r * r - 2.0 * d * r * cos;
+            let value = sin_rest * (d - r * cos) - cos_rest * r * sin;
+            // ψ'(α) = 2 + β'(α), β' = R (d cos α − R) / L².
+            let slope = 2.0 + r * (d * cos - r) / length_squared;
+            (value / length_squared.sqrt(), slope)
+        };
+        // Behind the ball: φ is not below ψ(edge) = π/2 + edge, whose cosine is −sin(edge).
+        if !(cos_phi > -(1.0 - (r / d) * (r / d)).max(0.0).sqrt()) || edge.is_nan() {
             return None;
         }
-        // Regula falsi with the Illinois step, which keeps the bracket shrinking from both
-        // ends; within a hundred steps the bracket is at the limit of precision.
-        let mut alpha = lo;
-        let mut last_side = 0i8;
-        for _ in 0..100 {
-            alpha = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
-            if !(alpha > lo && alpha < hi) {
-                alpha = 0.5 * (lo + hi);
-            }
-            let f = behind(alpha);
-            if f == 0.0 || hi - lo <= 1e-15 * edge.max(1.0) {
+        // Newton's method on φ − ψ (read as its sine, so a far step falls short rather than
+        // overshooting), kept within a bracket that shrinks with every value seen; from the
+        // bisector of the point's direction and ω (right for a far point), three steps reach
+        // the limit of precision.
+        let (mut lo, mut hi) = (0.0, edge);
+        let mut alpha = (0.5 * side.atan2(along)).clamp(0.0, edge);
+        for _ in 0..60 {
+            let (value, slope) = ahead(alpha);
+            if value == 0.0 || value.is_nan() {
                 break;
             }
-            if f > 0.0 {
+            if value > 0.0 {
                 lo = alpha;
-                f_lo = f;
-                if last_side == 1 {
-                    f_hi *= 0.5;
-                }
-                last_side = 1;
             } else {
                 hi = alpha;
-                f_hi = f;
-                if last_side == -1 {
-                    f_lo *= 0.5;
-                }
-                last_side = -1;
+            }
+            let newton = alpha + value / slope;
+            let next = if (lo..=hi).contains(&newton) {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            let step = (next - alpha).abs();
+            alpha = next;
+            // A Newton step leaves an error of about its square times ψ''/ψ' (at most of the
+            // order of 1/edge²): below 10⁻⁸·edge, the point is as good as the arithmetic.
+            if step <= 1e-8 * edge || hi - lo <= 1e-15 * edge {
+                break;
             }
         }
         let (sin, cos) = sin_cos_turns(alpha / TAU);
@@ -267,7 +275,7 @@ mod tests {
             let d = path.direction;
             let reflected = d - path.normal * (2.0 * d.dot(path.normal));
             assert!(
-                (reflected - towards).length() < 1e-9,
+                (reflected - towards).length() < 1e-12,
                 "{reflected} vs {towards} from {from}"
             );
             // The point is the first the ray meets (the near side of the ball).
