@@ -176,7 +176,8 @@ impl MirrorBall {
             (value / length_squared.sqrt(), slope)
         };
         // Behind the ball: φ is not below ψ(edge) = π/2 + edge, whose cosine is −sin(edge).
-        if !(cos_phi > -(1.0 - (r / d) * (r / d)).max(0.0).sqrt()) || edge.is_nan() {
+        // (Both sides are finite: `towards` is, and R / d lies in (0, 1).)
+        if cos_phi <= -(1.0 - (r / d) * (r / d)).max(0.0).sqrt() {
             return None;
         }
         // Newton's method on φ − ψ (read as its sine, so a far step falls short rather than
