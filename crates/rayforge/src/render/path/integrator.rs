@@ -52,6 +52,9 @@ pub struct PathContext<'w> {
     /// (Mitsuba's, pbrt's); [`learn_roulette_scale`](super::learn_roulette_scale) picks one
     /// for the scene.
     pub roulette_scale: f64,
+    /// Whether [`FirstHit`]'s albedo and normal are wanted (an image of each is being made):
+    /// a metal's albedo costs a Fresnel term per sample, for nothing when there is no image.
+    pub first_hit_shading: bool,
     /// The last blocker of a shadow ray.
     hint: u32,
     /// Rays cast so far.
@@ -62,7 +65,8 @@ pub struct PathContext<'w> {
     pub solves: u64,
 }
 
-/// What the first surface a camera ray meets looks like, for a denoiser.
+/// What the first surface a camera ray meets looks like, for a denoiser. The albedo and normal
+/// of a surface are left zero where the context's `first_hit_shading` is off.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct FirstHit {
     /// Its albedo (the sky's radiance where the ray escapes).
@@ -195,6 +199,7 @@ impl<'w> PathContext<'w> {
             max_depth,
             roulette_depth,
             roulette_scale: 1.0,
+            first_hit_shading: true,
             hint: NO_OBJECT,
             rays: 0,
             vertices: 0,
@@ -412,7 +417,7 @@ impl<'w> PathContext<'w> {
                         }
                     },
                 };
-                if depth == 0 {
+                if depth == 0 && self.first_hit_shading {
                     first.albedo = scattering.albedo();
                     first.normal = if shading.dot(wo) < 0.0 {
                         -shading

@@ -256,7 +256,11 @@ fn render_path_logged(
         .into_par_iter()
         .zip(done.par_iter_mut())
         .try_for_each_init(
-            || path_context(world, &index, &emitters, &options, roulette_scale),
+            || {
+                let mut context = path_context(world, &index, &emitters, &options, roulette_scale);
+                context.first_hit_shading = aovs.is_some();
+                context
+            },
             |context, (y, done)| -> Result<(), FilmError> {
                 if *done || cancelled() {
                     return Ok(());
