@@ -45,9 +45,32 @@ proptest! {
         let index = WorldIndex::build(&w);
         let ray = Ray::new(point(origin.0, origin.1, origin.2), d.normalize());
         let expected = hit(&w.intersect(&ray)).map(|i| i.t);
-        let actual = index.closest_hit(&w, &ray).map(|i| i.t);
-        prop_assert_eq!(actual, expected);
+        let found = index.closest_hit(&w, &ray);
+        prop_assert_eq!(found.map(|i| i.t), expected);
+        if let Some(found) = found {
+            the_normal_is_the_objects(&w, &index, &ray, &found)?;
+        }
     }
+}
+
+/// The index's normal at a hit (found with less work on flat surfaces and round balls) is
+/// the object's own, to rounding.
+fn the_normal_is_the_objects(
+    w: &World,
+    index: &WorldIndex,
+    ray: &Ray,
+    found: &rayforge::Intersection<'_>,
+) -> Result<(), TestCaseError> {
+    let at = ray.position(found.t);
+    let own = found.object.normal_at_hit(at, found);
+    let indexed = index.normal_at_hit(w, at, found);
+    prop_assert!(
+        (indexed - own).length() <= 1e-12,
+        "{} against {}",
+        indexed,
+        own
+    );
+    Ok(())
 }
 
 /// A world of at most eight objects (tested without the hierarchy): rectangles lying in the
@@ -106,6 +129,7 @@ proptest! {
         }
         // Refraction finds the hit in the list of every crossing up to it, by its distance.
         if let Some(found) = index.closest_hit(&w, &ray) {
+            the_normal_is_the_objects(&w, &index, &ray, &found)?;
             let mut list = Vec::new();
             index.intersections_up_to(&w, &ray, found.t, &mut list);
             prop_assert!(list.iter().any(|i| i.same_as(&found)), "the hit is not in the list");

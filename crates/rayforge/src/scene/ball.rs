@@ -22,6 +22,8 @@ const ROUND: f64 = 1e-12;
 pub struct Ball {
     centre: [f64; 3],
     radius_squared: f64,
+    /// One over the radius, for the normal.
+    inv_radius: f64,
 }
 
 impl Ball {
@@ -44,7 +46,16 @@ impl Ball {
         round.then(|| Self {
             centre: t.point(Point3::ZERO).to_array(),
             radius_squared: scale,
+            inv_radius: 1.0 / scale.sqrt(),
         })
+    }
+
+    /// The outward unit normal at `point` of the surface: from the centre, over the radius
+    /// (what the sphere's transform gives its object-space normal, without the transform; a
+    /// mirroring one turns the sphere inside out no more than it does there).
+    #[inline]
+    pub fn normal_at(&self, point: Point3) -> Vec3 {
+        (point - Point3::from_array(self.centre)) * self.inv_radius
     }
 
     /// Both crossings of the ray's line with the sphere, nearer first (a tangent ray gives the
@@ -93,7 +104,8 @@ mod tests {
             ball,
             Some(Ball {
                 centre: [1.0, 2.0, 3.0],
-                radius_squared: 0.25
+                radius_squared: 0.25,
+                inv_radius: 2.0,
             })
         );
         assert!(Ball::of(&sphere(rotation_y(0.3) * scaling(2.0, 2.0, 2.0))).is_some());
@@ -143,6 +155,29 @@ mod tests {
             }
         }
         assert!(crossed > 1000, "the rays crossed: {crossed}");
+    }
+
+    /// On balls placed many ways (one of them mirrored), the normal from the centre is the
+    /// one the object's transform gives its shape's normal, to rounding.
+    #[test]
+    fn a_balls_normal_is_its_objects_normal() {
+        let mut rng = SplitMix64::new(4);
+        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        for matrix in [
+            glam::DMat4::IDENTITY,
+            translation(0.5, -1.0, 2.0) * rotation_y(0.4) * scaling(0.3, 0.3, 0.3),
+            translation(2.0, 0.0, -1.0) * rotation_x(0.7) * scaling(-1.5, 1.5, 1.5),
+        ] {
+            let object = sphere(matrix);
+            let ball = Ball::of(&object).expect("round");
+            for _ in 0..200 {
+                let on = vector(unit() - 0.5, unit() - 0.5, unit() - 0.5).normalize();
+                let point = object.transform.point(Point3::ZERO + on);
+                let own = object.normal_at(point);
+                let mine = ball.normal_at(point);
+                assert!((mine - own).length() < 1e-12, "{mine} against {own}");
+            }
+        }
     }
 
     #[test]

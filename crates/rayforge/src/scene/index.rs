@@ -5,10 +5,11 @@ use super::ball::Ball;
 use super::intersection::{sort_intersections, Intersection};
 use super::level::{Level, Probe};
 use super::object::Object;
+use super::shape::Shape;
 use super::world::World;
 use crate::accel::Bvh;
 use crate::geometry::LocalHit;
-use crate::math::{Aabb, Ray};
+use crate::math::{Aabb, Point3, Ray, Vec3};
 use std::ops::ControlFlow;
 
 /// Worlds of at most this many bounded objects skip the hierarchy (see `WorldIndex::few`).
@@ -29,6 +30,43 @@ pub struct WorldIndex {
     /// precision, the dispatch to the vector unit) costs more per ray than testing a few
     /// objects, and most scenes of a book hold one to four solids.
     few: Option<FewObjects>,
+    /// How each object's world normal is found, by object: see [`normal_at_hit`](Self::normal_at_hit).
+    normals: Vec<SurfaceNormal>,
+}
+
+/// How the world normal at a hit on an object is found. Through the object's transform, its
+/// shape's normal is a point taken into object space, the shape's normal there and the
+/// normal matrix; a path tracer asks it at every vertex, and for the commonest surfaces of a
+/// scene far less will do.
+#[derive(Debug, Clone, Copy, Default)]
+enum SurfaceNormal {
+    /// Through the object's transform (any object).
+    #[default]
+    Transformed,
+    /// The same everywhere: a plane, rectangle or ring that stands still (the very normal
+    /// its transform gives, taken once).
+    Flat(Vec3),
+    /// A round ball: from its centre (see [`Ball::normal_at`]).
+    Round(Ball),
+}
+
+impl SurfaceNormal {
+    /// The rule for `object`.
+    fn of(object: &Object) -> Self {
+        let flat = matches!(
+            object.shape,
+            Shape::Plane | Shape::Rectangle | Shape::Ring { .. }
+        );
+        if object.motion.is_some() {
+            Self::Transformed
+        } else if flat {
+            Self::Flat(object.normal_to_world(Vec3::Y))
+        } else if let Some(ball) = Ball::of(object) {
+            Self::Round(ball)
+        } else {
+            Self::Transformed
+        }
+    }
 }
 
 /// The objects of a world of few: level rectangles and round balls, which a nearest-hit
@@ -115,6 +153,27 @@ impl WorldIndex {
             bvh: Bvh::build(&boxes),
             unbounded,
             few,
+            normals: world.objects.iter().map(SurfaceNormal::of).collect(),
+        }
+    }
+
+    /// The unit world normal at `point`, where `hit` (on one of the world's objects) is: the
+    /// object's [`normal_at_hit`](Object::normal_at_hit), found with less work on a still
+    /// flat surface or a round ball.
+    #[inline]
+    pub fn normal_at_hit(&self, world: &World, point: Point3, hit: &Intersection<'_>) -> Vec3 {
+        let size = std::mem::size_of::<Object>().max(1);
+        let index = (hit.object as *const Object as usize)
+            .wrapping_sub(world.objects.as_ptr() as usize)
+            / size;
+        let indexed = world
+            .objects
+            .get(index)
+            .is_some_and(|o| std::ptr::eq(o, hit.object));
+        match self.normals.get(index) {
+            Some(SurfaceNormal::Flat(normal)) if indexed => *normal,
+            Some(SurfaceNormal::Round(ball)) if indexed => ball.normal_at(point),
+            _ => hit.object.normal_at_hit(point, hit),
         }
     }
 

@@ -338,7 +338,7 @@ impl<'w> PathContext<'w> {
                 let material = &surface.material;
                 let local = hit.local();
                 let at = surface.shape.surface_point(&local);
-                let geometric = hit.object.normal_at_hit(point, &hit);
+                let geometric = self.index.normal_at_hit(world, point, &hit);
                 // Met by a direction sampled at a non-delta surface: if this is a mirror ball, what
                 // the sky beyond it gives is weighed against sampling the sky through the ball.
                 mirror_leg = if specular || self.emitters.mirror_balls().is_empty() {
