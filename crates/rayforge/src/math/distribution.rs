@@ -192,8 +192,13 @@ impl Distribution1D {
     /// [`sample_discrete`](Self::sample_discrete), and also `u` rescaled to `[0, 1)` within the
     /// chosen bin's share of the unit interval: a fresh random number for the choices that
     /// follow (a light's point after the light), uniform and independent of the bin.
+    #[inline]
     pub fn sample_discrete_reused(&self, u: f64) -> (usize, f64, f64) {
         let u = unit(u);
+        // One bin (a scene's only light) keeps the whole interval: `u` itself.
+        if self.len() == 1 {
+            return (0, self.probabilities[0], u);
+        }
         let index = self.bin_of(u);
         let (start, end) = (self.cdf[index], self.cdf[index + 1]);
         let rest = if end > start {
