@@ -31,7 +31,9 @@ fn world_of(objects: &[(u8, (f64, f64, f64), f64)]) -> World {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
-    /// The index finds the same nearest hit as testing every object.
+    /// The index finds the same nearest hit as testing every object (to rounding: a world of
+    /// few objects finds a round ball's hits in world space, where the scan finds them in the
+    /// ball's own).
     #[test]
     fn the_closest_hit_matches_a_linear_scan(
         objects in prop::collection::vec(
@@ -44,11 +46,15 @@ proptest! {
         let w = world_of(&objects);
         let index = WorldIndex::build(&w);
         let ray = Ray::new(point(origin.0, origin.1, origin.2), d.normalize());
-        let expected = hit(&w.intersect(&ray)).map(|i| i.t);
+        let expected = hit(&w.intersect(&ray));
         let found = index.closest_hit(&w, &ray);
-        prop_assert_eq!(found.map(|i| i.t), expected);
-        if let Some(found) = found {
-            the_normal_is_the_objects(&w, &index, &ray, &found)?;
+        match (found, expected) {
+            (Some(a), Some(b)) => {
+                prop_assert!((a.t - b.t).abs() <= 1e-12 * b.t.abs().max(1.0), "{} against {}", a.t, b.t);
+                prop_assert!(std::ptr::eq(a.object, b.object), "another object");
+                the_normal_is_the_objects(&w, &index, &ray, &a)?;
+            }
+            (a, b) => prop_assert_eq!(a.is_some(), b.is_some()),
         }
     }
 }
