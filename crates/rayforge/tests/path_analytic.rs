@@ -159,7 +159,10 @@ fn the_white_furnace_vanishes() {
 #[test]
 fn a_glass_ball_in_the_white_furnace_vanishes() {
     // Smooth glass loses nothing: what it reflects and what passes through (split apart
-    // where the camera meets it) add up to the sky's 1 in every pixel.
+    // where the camera meets it) add up to the sky's 1 in every pixel. The paths inside the
+    // ball are long chains of chance reflections: at 64 samples the worst of the image's 108
+    // channels strays by about 1 % (0.3 to 1.1 % as the numbers' layout changes), at 256 by
+    // about 0.5 %, which the 1 % bound then holds with a margin.
     let (mut world, camera) = furnace(1.0);
     world.objects[0].material = Material {
         color: Color::WHITE,
@@ -170,7 +173,7 @@ fn a_glass_ball_in_the_white_furnace_vanishes() {
         ..Material::DEFAULT
     };
     for sampler in [SamplerKind::Sobol, SamplerKind::Independent] {
-        for (i, v) in pixels(&render(&world, &camera, 64, sampler))
+        for (i, v) in pixels(&render(&world, &camera, 256, sampler))
             .into_iter()
             .enumerate()
         {

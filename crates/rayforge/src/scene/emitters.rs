@@ -823,6 +823,18 @@ impl Emitters {
         pick.probability(slot as usize) * density
     }
 
+    /// Whether [`sample`](Self::sample) uses its number `pick`: to choose among several
+    /// emitters, or a part of the one surface that emits (a mesh's triangle, a cube's face, a
+    /// solid's primitive). Where it does not (one lamp, one sky), a path tracer need not draw
+    /// the number at all.
+    pub fn chooses(&self) -> bool {
+        self.list.len() > 1
+            || matches!(
+                self.list.first(),
+                Some(Emitter::Surface { .. } | Emitter::Csg { .. })
+            )
+    }
+
     /// Picks an emitter with `pick` and a point or direction on it with `u`, for lighting
     /// `point` in `world` at shutter instant `time`; `None` when nothing emits or the choice
     /// gives no light (the back of a one-sided emitter, a point outside a spotlight's cone).
@@ -1540,6 +1552,41 @@ mod tests {
             }
             assert!(checked > 100, "{:?}: {checked}", world.objects[0].shape);
         }
+    }
+
+    /// Where the lights say they choose nothing (one lamp sampled as a whole), a light sample
+    /// is the same whatever its pick number (the path tracer then leaves it undrawn); where a
+    /// sample depends on it (several lamps, a mesh's triangles), they say they choose.
+    #[test]
+    fn the_pick_number_is_used_only_where_the_lights_choose() {
+        let from = point(4.0, 3.0, -5.0);
+        let one_each = lamps(EmissionSide::Both).into_iter().map(|o| vec![o]);
+        let two = lamps(EmissionSide::Both)[1..3].to_vec();
+        let (mut unchosen, mut depending) = (0, 0);
+        for objects in one_each.chain([two]) {
+            let world = World {
+                objects,
+                ..World::default()
+            };
+            let emitters = Emitters::new(&world);
+            let mut rng = SplitMixStream(77);
+            let mut differs = false;
+            for _ in 0..200 {
+                let u = [rng.next(), rng.next()];
+                let low = emitters.sample(&world, from, 0.0, 0.0, u);
+                let high = emitters.sample(&world, from, 0.0, 0.999, u);
+                differs |= low != high;
+            }
+            assert!(
+                !differs || emitters.chooses(),
+                "{:?}",
+                world.objects[0].shape
+            );
+            unchosen += usize::from(!emitters.chooses());
+            depending += usize::from(differs);
+        }
+        // The rectangle (a parallelogram) chooses nothing; the mesh, the cube and the pair do.
+        assert!(unchosen >= 1 && depending >= 3, "{unchosen}, {depending}");
     }
 
     #[test]

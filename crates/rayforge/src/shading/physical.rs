@@ -341,6 +341,12 @@ impl Scattering {
             })
     }
 
+    /// Whether [`pick`](Self::pick)'s number is used: to choose a layer, or a lobe of the one
+    /// layer (see [`Bsdf::chooses_lobe`]).
+    pub fn chooses(&self) -> bool {
+        self.len > 1 || self.layers[0].1.chooses_lobe()
+    }
+
     /// Whether every layer is a mirror or smooth glass (nothing for light sampling to find).
     pub fn is_delta(&self) -> bool {
         self.layers[..self.len].iter().all(|(_, b)| b.is_delta())

@@ -15,8 +15,8 @@
 //!
 //! A path's random numbers come from its [`SampleStream`] in a fixed layout, so a Sobol
 //! sampler stratifies each vertex's choices together: the camera takes the first
-//! [`CAMERA_DIMENSIONS`], then each vertex [`VERTEX_DIMENSIONS`] (layer, light, light point,
-//! direction, roulette).
+//! [`CAMERA_DIMENSIONS`], then each vertex [`VERTEX_DIMENSIONS`] (direction, light point,
+//! then the layer, the light and the roulette's coin where they are chosen).
 
 use super::sampler::SampleStream;
 use crate::color::Color;
@@ -31,7 +31,12 @@ use crate::shading::{EnvironmentMap, Layer, Scattering};
 /// Dimensions a camera sample uses: the image point, the lens point, the instant (and one
 /// spare, so that vertices start on a group of four).
 pub const CAMERA_DIMENSIONS: u32 = 8;
-/// Dimensions each path vertex uses.
+/// Dimensions each path vertex uses: a group of four for the next direction and a light's
+/// point, drawn where the surface is not a mirror or smooth glass (which use neither), and one
+/// for its choices (the layer or lobe, the light, the roulette's coin, and one spare), drawn
+/// only at vertices that make one: a diffuse surface lit by one lamp, before the roulette
+/// starts, chooses nothing, and a group of four drawn costs as much as a ray against a few
+/// objects.
 pub const VERTEX_DIMENSIONS: u32 = 8;
 
 /// What a path tracer thread works with: the world, its index and lights, and the last object
@@ -426,17 +431,30 @@ impl<'w> PathContext<'w> {
                     };
                 }
 
-                // This vertex's numbers, in a fixed layout.
-                stream.seek(CAMERA_DIMENSIONS + depth * VERTEX_DIMENSIONS);
-                let (layer, u_lobe) = scattering.pick(stream.next_1d());
-                let u_light = stream.next_1d();
-                let u_point = stream.next_2d();
-                let u_direction = stream.next_2d();
-                let u_roulette = stream.next_1d();
+                // This vertex's numbers, in a fixed layout: two pairs (its direction and a
+                // light's point), then its choices, each drawn only where it is used (see
+                // `VERTEX_DIMENSIONS`): a mirror or smooth glass needs neither pair.
+                let vertex = CAMERA_DIMENSIONS + depth * VERTEX_DIMENSIONS;
+                let mut choice = |k: u32, wanted: bool| {
+                    if wanted {
+                        stream.seek(vertex + 4 + k);
+                        stream.next_1d()
+                    } else {
+                        0.0
+                    }
+                };
+                let (layer, u_lobe) = scattering.pick(choice(0, scattering.chooses()));
+                let bsdf = layer.bsdf;
+                let u_light = choice(1, self.emitters.chooses() && !bsdf.is_delta());
+                let (u_direction, u_point) = if bsdf.is_delta() {
+                    ([0.0; 2], [0.0; 2])
+                } else {
+                    stream.seek(vertex);
+                    (stream.next_2d(), stream.next_2d())
+                };
 
                 let frame = Frame::from_normal(shading);
                 let wo_local = frame.to_local(wo);
-                let bsdf = layer.bsdf;
 
                 // Next-event estimation.
                 if !bsdf.is_delta() {
@@ -534,6 +552,8 @@ impl<'w> PathContext<'w> {
                 // Russian roulette: a path carrying little light ends with a probability that
                 // grows as it dims, and one that survives carries more, so the mean is unchanged.
                 if depth >= self.roulette_depth {
+                    stream.seek(vertex + 6);
+                    let u_roulette = stream.next_1d();
                     let survive =
                         (throughput.max_channel() / share * self.roulette_scale).min(0.95);
                     if survive.is_nan() || survive <= 0.0 || u_roulette >= survive {

@@ -322,6 +322,16 @@ impl Bsdf {
         ok.then_some(sample)
     }
 
+    /// Whether [`sample`](Self::sample) uses its number `u_lobe`: to choose between reflection
+    /// and transmission (glass, a thin sheet) or between a coat and what lies under it
+    /// (plastic). Where it does not, a path tracer need not draw the number at all.
+    pub fn chooses_lobe(&self) -> bool {
+        match *self {
+            Self::Dielectric { .. } | Self::ThinDielectric { .. } | Self::Plastic { .. } => true,
+            Self::Diffuse { .. } | Self::Conductor { .. } | Self::Mirror { .. } => false,
+        }
+    }
+
     /// Whether every lobe is a delta: the integrator then skips light sampling, which could
     /// never hit a direction the material scatters into.
     pub fn is_delta(&self) -> bool {

@@ -435,6 +435,50 @@ fn nothing_returns_nan_or_infinity() {
     }
 }
 
+/// A material that says it makes no choice of lobe samples the same whatever its lobe number
+/// (the path tracer then leaves the number undrawn), and one that says it does depends on it;
+/// a delta material ignores its direction numbers.
+#[test]
+fn the_lobe_number_is_used_exactly_where_a_lobe_is_chosen() {
+    let colour = Color::new(0.9, 0.5, 0.1);
+    let materials = [
+        Bsdf::Diffuse { albedo: colour },
+        conductor(0.0),
+        conductor(0.3),
+        Bsdf::Mirror { tint: colour },
+        dielectric(0.0),
+        dielectric(0.3),
+        Bsdf::ThinDielectric {
+            eta: 1.5,
+            tint: colour,
+        },
+        plastic(0.2, colour),
+    ];
+    let mut rng = SplitMix64::new(8);
+    for bsdf in &materials {
+        let mut differs = false;
+        for _ in 0..200 {
+            let wo = random_direction(&mut rng);
+            let u = [rng.next_offset(), rng.next_offset()];
+            let (low, high) = (bsdf.sample(wo, 0.0, u), bsdf.sample(wo, 0.999, u));
+            if !bsdf.chooses_lobe() {
+                assert_eq!(low, high, "{bsdf:?} at {wo}");
+            }
+            // A delta material's direction needs no numbers at all.
+            if bsdf.is_delta() {
+                let other = [rng.next_offset(), rng.next_offset()];
+                assert_eq!(
+                    bsdf.sample(wo, 0.3, u),
+                    bsdf.sample(wo, 0.3, other),
+                    "{bsdf:?}"
+                );
+            }
+            differs |= low != high;
+        }
+        assert_eq!(differs, bsdf.chooses_lobe(), "{bsdf:?}");
+    }
+}
+
 #[test]
 fn delta_flags_and_albedos() {
     let colour = Color::new(0.6, 0.4, 0.2);
