@@ -197,16 +197,14 @@ impl MirrorBall {
                 hi = alpha;
             }
             let newton = alpha + value / slope;
-            let next = if (lo..=hi).contains(&newton) {
-                newton
-            } else {
-                0.5 * (lo + hi)
-            };
+            let in_bracket = (lo..=hi).contains(&newton);
+            let next = if in_bracket { newton } else { 0.5 * (lo + hi) };
             let step = (next - alpha).abs();
             alpha = next;
             // A Newton step leaves an error of about its square times ψ''/ψ' (at most of the
-            // order of 1/edge²): below 10⁻⁸·edge, the point is as good as the arithmetic.
-            if step <= 1e-8 * edge || hi - lo <= 1e-15 * edge {
+            // order of 1/edge²): below 10⁻⁸·edge, the point is as good as the arithmetic. (A
+            // bisection's step says nothing of the error, only the bracket does.)
+            if (in_bracket && step <= 1e-8 * edge) || hi - lo <= 1e-15 * edge {
                 break;
             }
         }
