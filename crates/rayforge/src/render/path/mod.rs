@@ -252,9 +252,14 @@ fn render_path_logged(
         Roulette::Scale(k) => k,
         Roulette::Learned => roulette::learned_scale(camera, world, &index, &emitters, &options),
     };
+    // A row at a time for each thread to take: rayon otherwise runs a quarter of the rows per
+    // thread as one unsplittable piece, and with rows of unequal cost (adaptive sampling puts
+    // eight times the samples on some) one thread was left with a long tail while the other
+    // idled, a seventh of a short two-thread render.
     (0..height)
         .into_par_iter()
         .zip(done.par_iter_mut())
+        .with_max_len(1)
         .try_for_each_init(
             || {
                 let mut context = path_context(world, &index, &emitters, &options, roulette_scale);

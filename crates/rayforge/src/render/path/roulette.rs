@@ -218,8 +218,10 @@ fn pilot(
     let sampler = CameraSampler::new(camera, world, options.filter);
     // Its own seed: the scale it finds is independent of the render's numbers.
     let seed = options.seed ^ 0x7069_6C6F_745F_7272;
+    // In small pieces, as the render's rows (see `render_path_logged`): pixels differ in cost.
     let per_pixel: Vec<PilotStats> = pixels
         .par_iter()
+        .with_max_len(16)
         .map_init(
             || {
                 (
