@@ -389,17 +389,26 @@ fn error(v: f64) -> String {
 /// One configuration of the samples-per-second table.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Config {
+    /// rayforge as it renders by default (its roulette learned for the scene), at this many
+    /// threads.
     Rayforge(usize),
+    /// rayforge with the classic roulette (`--roulette-scale 1`, the rule of Mitsuba's `path`
+    /// integrator), at this many threads: its paths are Mitsuba's length, so samples per
+    /// second compare the work of a bounce alone. The learned roulette keeps paths longer
+    /// where that buys more than it costs (the closed furnace's, about twice as long), which
+    /// lowers the samples per second of a render and its error at equal time both.
+    RayforgeClassic(usize),
     Mitsuba(&'static str, usize),
 }
 
-/// The configurations in the order each round runs them: rayforge, then Mitsuba, per
-/// thread count, so the sides take turns.
+/// The configurations in the order each round runs them: rayforge (by default, then with
+/// the classic roulette), then Mitsuba, per thread count, so the sides take turns.
 fn configs() -> Vec<Config> {
     THREADS
         .iter()
         .flat_map(|&t| {
-            std::iter::once(Config::Rayforge(t))
+            [Config::Rayforge(t), Config::RayforgeClassic(t)]
+                .into_iter()
                 .chain(VARIANTS.iter().map(move |&v| Config::Mitsuba(v, t)))
         })
         .collect()
@@ -424,6 +433,8 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
             "ratio",
             "Mitsuba llvm_ad_rgb",
             "ratio",
+            "rayforge, classic roulette",
+            "ratio to scalar_rgb",
         ],
     );
     let mitsuba = Mitsuba::find(&s.python, Path::new(DRIVER));
@@ -509,9 +520,15 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
                     round + 1
                 ));
                 let result = match *config {
-                    Config::Rayforge(t) => {
+                    Config::Rayforge(t) | Config::RayforgeClassic(t) => {
                         let mut c = Command::new(&rayforge);
-                        c.arg("render").arg(&yml).arg("-o").arg(image(t));
+                        c.arg("render").arg(&yml).arg("-o");
+                        if *config == Config::Rayforge(t) {
+                            c.arg(image(t));
+                        } else {
+                            c.arg(dir.join(format!("{scene}-rayforge-classic-{spp}spp-t{t}.pfm")));
+                            c.args(["--roulette-scale", "1"]);
+                        }
                         c.args(["--spp", &spp.to_string(), "--threads", &t.to_string()]);
                         run_process(c).and_then(|out| {
                             let run = parse_path_summary(&String::from_utf8_lossy(&out.stderr))
@@ -566,6 +583,12 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
                     _ => "—".into(),
                 });
             }
+            let classic = rate_of(Config::RayforgeClassic(t));
+            cells.push(classic.map_or("failed".into(), msps));
+            cells.push(match (classic, rate_of(Config::Mitsuba(VARIANTS[0], t))) {
+                (Some(a), Some(b)) => times(a / b),
+                _ => "—".into(),
+            });
             rates.row(cells);
         }
 
@@ -677,7 +700,10 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
          that compiles its kernels left out); Mitsuba's threads set with \
          `drjit.set_thread_count`. rayforge: `rayforge render scenes/pbr/NAME.yml --spp {spp} \
          --threads T`, the render time of its summary line (scene loading left out; printed to \
-         10 ms). Ratios: rayforge's samples/s ÷ Mitsuba's (above 1, rayforge is faster).",
+         10 ms). Ratios: rayforge's samples/s ÷ Mitsuba's (above 1, rayforge is faster). \
+         \"Classic roulette\": the same render with `--roulette-scale 1`, Mitsuba's rule, so that \
+         paths are as long as Mitsuba's (by default rayforge learns the scale per scene and \
+         keeps paths longer where that lowers the error reached in a given time).",
         mitsuba.version,
         s.python.display()
     ));
@@ -759,10 +785,11 @@ mod tests {
     #[test]
     fn the_configurations_alternate_between_the_sides() {
         let c = configs();
-        assert_eq!(c.len(), 6);
+        assert_eq!(c.len(), 8);
         assert_eq!(c[0], Config::Rayforge(1));
-        assert_eq!(c[1], Config::Mitsuba("scalar_rgb", 1));
-        assert_eq!(c[3], Config::Rayforge(2));
+        assert_eq!(c[1], Config::RayforgeClassic(1));
+        assert_eq!(c[2], Config::Mitsuba("scalar_rgb", 1));
+        assert_eq!(c[4], Config::Rayforge(2));
     }
 
     fn pfm_bytes(header: &str, values: &[f32], little: bool) -> Vec<u8> {
