@@ -43,6 +43,7 @@
 //!   indirect light is what it stood for.
 
 use super::csg::Csg;
+use super::cuboid::Cuboid;
 use super::mirror::MirrorBall;
 use super::object::Object;
 use super::shape::Shape;
@@ -537,6 +538,20 @@ enum Emitter {
         radiance: Color,
         side: EmissionSide,
     },
+    /// A cube that stands still, turned and scaled along its axes, and glows with a plain
+    /// colour (see [`Cuboid`]): a face picked by its area, a point on it uniformly, all in
+    /// world space, where the general surface took every point and normal through the
+    /// transform and back (a closed furnace's light samples and densities were a fifth of
+    /// its render).
+    Cuboid {
+        cuboid: Cuboid,
+        /// The faces, in proportion to their areas.
+        faces: Distribution1D,
+        /// The density per unit of world area: one over the whole surface's area.
+        density: f64,
+        radiance: Color,
+        side: EmissionSide,
+    },
     /// The world's object `object`, whose material emits (sampled where the object is at the
     /// path's instant, when it moves).
     Surface {
@@ -777,6 +792,15 @@ impl Emitters {
                 }
                 density * (point - from).length_squared() / cos
             }
+            Some(Emitter::Cuboid {
+                cuboid, density, ..
+            }) => {
+                let cos = cuboid.normal_at(point).dot(direction).abs();
+                if cos <= 0.0 {
+                    return 0.0;
+                }
+                density * (point - from).length_squared() / cos
+            }
             Some(Emitter::Surface {
                 surface,
                 object,
@@ -824,9 +848,10 @@ impl Emitters {
     }
 
     /// Whether [`sample`](Self::sample) uses its number `pick`: to choose among several
-    /// emitters, or a part of the one surface that emits (a mesh's triangle, a cube's face, a
-    /// solid's primitive). Where it does not (one lamp, one sky), a path tracer need not draw
-    /// the number at all.
+    /// emitters, or a part of the one surface that emits (a mesh's triangle, a moving or
+    /// sheared cube's face, a solid's primitive; a still box takes its face from the point's
+    /// numbers). Where it does not (one lamp, one sky), a path tracer need not draw the
+    /// number at all.
     pub fn chooses(&self) -> bool {
         self.list.len() > 1
             || matches!(
@@ -913,6 +938,34 @@ impl Emitters {
                 side,
             } => {
                 let on_light = *corner + *edge_u * u[0] + *edge_v * u[1];
+                let to_light = on_light - point;
+                let distance_squared = to_light.length_squared();
+                let distance = distance_squared.sqrt();
+                if distance <= 0.0 {
+                    return None;
+                }
+                let direction = to_light / distance;
+                let cos = -normal.dot(direction);
+                (cos != 0.0 && side.emits_towards(cos)).then(|| LightSample {
+                    direction,
+                    distance,
+                    radiance: *radiance,
+                    pdf: probability * density * distance_squared / cos.abs(),
+                    delta: false,
+                })
+            }
+            Emitter::Cuboid {
+                cuboid,
+                faces,
+                density,
+                radiance,
+                side,
+            } => {
+                // The face from the point's first number (what is left of it places the point
+                // on the face): the pick's number is then drawn only where there are several
+                // lights to choose among.
+                let (face, _, across) = faces.sample_discrete_reused(u[0]);
+                let (on_light, normal) = cuboid.face_point(face, [across, u[1]]);
                 let to_light = on_light - point;
                 let distance_squared = to_light.length_squared();
                 let distance = distance_squared.sqrt();
@@ -1170,6 +1223,20 @@ fn object_emitter(object: &Object, index: u32, disc: f64) -> Option<(Emitter, f6
             };
             (density > 0.0).then(|| (emitter, power() * rough_world_area(area, t)))
         }
+        Shape::Cube if object.material.metal_rough.is_none() && Cuboid::of(object).is_some() => {
+            let cuboid = Cuboid::of(object)?;
+            let areas = cuboid.face_areas();
+            let area: f64 = areas.iter().sum();
+            let faces = Distribution1D::new(&areas).ok()?;
+            let emitter = Emitter::Cuboid {
+                cuboid,
+                faces,
+                density: 1.0 / area,
+                radiance: emitted(object, &LocalHit::default()),
+                side: object.material.emission_side,
+            };
+            (area > 0.0 && area.is_finite()).then(|| (emitter, power() * area))
+        }
         shape => {
             let surface = Surface::of(shape)?;
             let area = surface.area();
@@ -1347,6 +1414,14 @@ mod tests {
                     minor: 0.8,
                 },
                 stretch,
+                side,
+            ),
+            // Turned a right angle: a still box, sampled in world space.
+            lamp(
+                Shape::Cube,
+                translation(0.5, -0.2, 0.3)
+                    * rotation_y(std::f64::consts::FRAC_PI_2)
+                    * scaling(1.5, 0.6, 1.1),
                 side,
             ),
         ]

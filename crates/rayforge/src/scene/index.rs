@@ -2,6 +2,7 @@
 //! (planes, infinite cylinders and cones) that are tested on every ray.
 
 use super::ball::Ball;
+use super::cuboid::Cuboid;
 use super::intersection::{sort_intersections, Intersection};
 use super::level::{Level, Probe};
 use super::object::Object;
@@ -48,6 +49,8 @@ enum SurfaceNormal {
     Flat(Vec3),
     /// A round ball: from its centre (see [`Ball::normal_at`]).
     Round(Ball),
+    /// A still box: the face the point lies on (see [`Cuboid::normal_at`]).
+    Boxy(Cuboid),
 }
 
 impl SurfaceNormal {
@@ -63,28 +66,44 @@ impl SurfaceNormal {
             Self::Flat(object.normal_to_world(Vec3::Y))
         } else if let Some(ball) = Ball::of(object) {
             Self::Round(ball)
+        } else if let Some(cuboid) = Cuboid::of(object) {
+            Self::Boxy(cuboid)
         } else {
             Self::Transformed
         }
     }
 }
 
-/// The objects of a world of few: level rectangles and round balls, which a nearest-hit
-/// search tests outright in world space (see [`Level`] and [`Ball`]), and the others, each
-/// behind its box (widened by a billionth, for rounding).
+/// The objects of a world of few: level rectangles, round balls and still boxes, which a
+/// nearest-hit search tests outright in world space (see [`Level`], [`Ball`] and
+/// [`Cuboid`]), and the others, each behind its box (widened by a billionth, for rounding).
 #[derive(Debug, Clone, Default)]
 struct FewObjects {
     levels: Vec<(u32, Level)>,
     /// Each with its box, for the searches whose visitor decides.
     balls: Vec<(u32, Ball, Aabb)>,
+    /// Each with its box (widened), for the searches whose visitor decides.
+    cuboids: Vec<(u32, Cuboid, Aabb)>,
     boxed: Vec<(u32, Aabb)>,
 }
 
 impl FewObjects {
     /// Whether any object is tested outright.
     fn outright(&self) -> bool {
-        !self.levels.is_empty() || !self.balls.is_empty()
+        !self.levels.is_empty() || !self.balls.is_empty() || !self.cuboids.is_empty()
     }
+}
+
+/// Whether the ray (`probe`) surely misses the still box `cuboid` within `[t_min, t_max]`
+/// by its (widened) `bounds`: a turned box is tested in its own frame, which takes more than
+/// its box in the world does, and most rays miss both (a level one is its own box).
+#[inline]
+fn misses_bounds(cuboid: &Cuboid, bounds: &Aabb, probe: &Probe, t_min: f64, t_max: f64) -> bool {
+    let origin = Point3::from_array(*probe.origin());
+    !cuboid.is_level()
+        && bounds
+            .hit_by(origin, probe.inv_direction(), t_min, t_max)
+            .is_none()
 }
 
 /// The intersection of `ray` with `object` at `t`, found outright in world space.
@@ -143,6 +162,8 @@ impl WorldIndex {
                     few.levels.push((i, level));
                 } else if let Some(ball) = Ball::of(object) {
                     few.balls.push((i, ball, widened));
+                } else if let Some(cuboid) = Cuboid::of(object) {
+                    few.cuboids.push((i, cuboid, widened));
                 } else {
                     few.boxed.push((i, widened));
                 }
@@ -173,6 +194,7 @@ impl WorldIndex {
         match self.normals.get(index) {
             Some(SurfaceNormal::Flat(normal)) if indexed => *normal,
             Some(SurfaceNormal::Round(ball)) if indexed => ball.normal_at(point),
+            Some(SurfaceNormal::Boxy(cuboid)) if indexed => cuboid.normal_at(point),
             _ => hit.object.normal_at_hit(point, hit),
         }
     }
@@ -196,7 +218,17 @@ impl WorldIndex {
                 }
             }
             let balls = few.balls.iter().map(|(i, _, b)| (*i, b));
-            if visit_boxes(balls, ray, &probe, t_min, &mut t_max, &mut visit).is_break() {
+            let cuboids = few.cuboids.iter().map(|(i, _, b)| (*i, b));
+            if visit_boxes(
+                balls.chain(cuboids),
+                ray,
+                &probe,
+                t_min,
+                &mut t_max,
+                &mut visit,
+            )
+            .is_break()
+            {
                 return;
             }
             self.unbounded_and_boxed(few, ray, &probe, t_min, t_max, visit);
@@ -238,8 +270,8 @@ impl WorldIndex {
     pub fn closest_hit<'w>(&self, world: &'w World, ray: &Ray) -> Option<Intersection<'w>> {
         let mut best: Option<Intersection<'w>> = None;
         if let Some(few) = self.few.as_ref().filter(|f| f.outright()) {
-            // Level rectangles and round balls are hit in world space: nothing is left for a
-            // visit.
+            // Level rectangles, round balls and still boxes are hit in world space: nothing is
+            // left for a visit.
             let probe = Probe::new(ray.origin, ray.direction);
             let mut t_max = f64::INFINITY;
             for (i, level) in &few.levels {
@@ -250,6 +282,15 @@ impl WorldIndex {
             }
             for (i, ball, _) in &few.balls {
                 if let Some(t) = ball.hit(&probe, ray.t_min, t_max) {
+                    t_max = t;
+                    best = Some(outright_hit(&world.objects[*i as usize], ray, t));
+                }
+            }
+            for (i, cuboid, bounds) in &few.cuboids {
+                if misses_bounds(cuboid, bounds, &probe, ray.t_min, t_max) {
+                    continue;
+                }
+                if let Some(t) = cuboid.hit(&probe, ray.t_min, t_max) {
                     t_max = t;
                     best = Some(outright_hit(&world.objects[*i as usize], ray, t));
                 }
@@ -298,8 +339,17 @@ impl WorldIndex {
                     out.push(outright_hit(&world.objects[*i as usize], ray, t));
                 }
             }
-            for (i, ball, _) in &few.balls {
-                if let Some((t0, t1)) = ball.crossings(&probe) {
+            let balls = few
+                .balls
+                .iter()
+                .map(|(i, ball, _)| (i, ball.crossings(&probe)));
+            let cuboids = few.cuboids.iter().map(|(i, cuboid, bounds)| {
+                let near = !misses_bounds(cuboid, bounds, &probe, f64::NEG_INFINITY, t_max);
+                (i, near.then(|| cuboid.crossings(&probe)).flatten())
+            });
+            let crossings = balls.chain(cuboids);
+            for (i, crossed) in crossings {
+                if let Some((t0, t1)) = crossed {
                     let object = &world.objects[*i as usize];
                     out.extend(
                         [t0, t1]
@@ -328,7 +378,7 @@ impl WorldIndex {
     /// Whether an object that `casts` a shadow has a surface along `ray` at some `t` in
     /// `[t_min, t_max)`: [`WorldIndex::blocked`] for a lighting model whose rule for what
     /// blocks light is the surface itself, met at all (the path tracer's), so that the index
-    /// can test level rectangles and round balls outright, as `closest_hit` does.
+    /// can test level rectangles, round balls and still boxes outright, as `closest_hit` does.
     pub fn shadowed<'w>(
         &self,
         world: &'w World,
@@ -350,6 +400,10 @@ impl WorldIndex {
         let crossed = |i: u32, hit: Option<f64>| hit.is_some() && casts(&world.objects[i as usize]);
         if (few.levels.iter()).any(|&(i, level)| crossed(i, level.hit(&probe, t_min, t_max)))
             || (few.balls.iter()).any(|&(i, ball, _)| crossed(i, ball.hit(&probe, t_min, t_max)))
+            || (few.cuboids.iter()).any(|(i, c, bounds)| {
+                !misses_bounds(c, bounds, &probe, t_min, t_max)
+                    && crossed(*i, c.hit(&probe, t_min, t_max))
+            })
         {
             return true;
         }

@@ -78,6 +78,12 @@ impl Probe {
     pub fn inv_direction(&self) -> Vec3 {
         Vec3::from_array(self.inv_direction)
     }
+
+    /// The same, as an array.
+    #[inline]
+    pub fn inv_direction_array(&self) -> &[f64; 3] {
+        &self.inv_direction
+    }
 }
 
 /// The one axis `v` lies along, if it leans from it by less than [`LEAN`].

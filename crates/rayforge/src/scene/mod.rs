@@ -6,6 +6,7 @@
 mod ball;
 mod computations;
 mod csg;
+mod cuboid;
 mod emitters;
 mod group;
 mod index;
