@@ -31,7 +31,7 @@ pub use random::{Jitter, SplitMix64};
 pub use ray::Ray;
 pub use transform::{SingularTransform, Transform};
 pub use tuple::Tuple;
-pub use turn::sin_cos_turns;
+pub use turn::{atan2_turns, sin_cos_turns};
 
 /// A point in 3D space (the book's tuple with `w = 1`).
 pub type Point3 = glam::DVec3;

@@ -28,8 +28,8 @@
 
 use crate::color::Color;
 use crate::math::distribution::Distribution2D;
-use crate::math::sin_cos_turns;
 use crate::math::Vec3;
+use crate::math::{atan2_turns, sin_cos_turns};
 use glam::DMat3;
 use std::f64::consts::PI;
 
@@ -248,25 +248,29 @@ impl EnvironmentMap {
     /// map's frame; `None` for a zero or non-finite direction.
     fn locate(&self, direction: Vec3) -> Option<(CellPoint, f64)> {
         let d = (self.to_local * direction).try_normalize()?;
-        // atan2 rather than acos(y): full precision near the poles, where acos loses digits.
-        // (The components are those of a unit vector: the square root cannot overflow, and
-        // it is not the library's slower `hypot`.)
+        // An arctangent rather than acos(y): full precision near the poles, where acos loses
+        // digits. (The components are those of a unit vector: the square root cannot
+        // overflow, and it is not the library's slower `hypot`.) Both angles in turns.
         let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
-        let theta = sin_theta.atan2(d.y);
-        let mut phi = d.x.atan2(-d.z);
+        let theta = atan2_turns(sin_theta, d.y);
+        let mut phi = atan2_turns(d.x, -d.z);
         if phi < 0.0 {
-            phi += 2.0 * PI;
+            phi += 1.0;
         }
-        if phi >= 2.0 * PI {
+        if phi >= 1.0 {
             phi = 0.0;
         }
         let (w, h) = (self.width, self.height);
-        // Texel centres sit at whole numbers of s and t.
-        let s = phi / (2.0 * PI) * w as f64 - 0.5;
-        let t = (theta / PI * (h - 1) as f64).clamp(0.0, (h - 1) as f64);
-        let s0 = s.floor();
-        let column = (s0 as i64).rem_euclid(w as i64) as usize;
-        let row = (t.floor() as usize).min(h - 2);
+        // Texel centres sit at whole numbers of s and t. (θ in turns is at most ½.)
+        let s = phi * w as f64 - 0.5;
+        let t = (2.0 * theta * (h - 1) as f64).clamp(0.0, (h - 1) as f64);
+        // Whole parts by conversion (the library's `floor` is a call on the baseline target):
+        // s is at least −½, t not negative.
+        let whole = s as i64;
+        let s0 = if (whole as f64) > s { whole - 1 } else { whole };
+        let column = s0.rem_euclid(w as i64) as usize;
+        let s0 = s0 as f64;
+        let row = (t as usize).min(h - 2);
         let at = CellPoint {
             column,
             row,
