@@ -127,7 +127,10 @@ mod tests {
             let theirs = y.atan2(x) / TAU;
             worst = worst.max((ours - theirs).abs() / (theirs.abs() * f64::EPSILON));
         }
-        assert!(worst <= 4.0, "worst difference {worst} units in the last place");
+        assert!(
+            worst <= 4.0,
+            "worst difference {worst} units in the last place"
+        );
         // The axes and the origin exactly.
         assert_eq!(atan2_turns(0.0, 1.0), 0.0);
         assert_eq!(atan2_turns(1.0, 0.0), 0.25);

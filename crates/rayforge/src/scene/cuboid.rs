@@ -240,12 +240,12 @@ mod tests {
         let (mut hits, mut disagreements) = (0, 0);
         for matrix in placements {
             let object = cube(matrix);
-            let level = Cuboid::of(&object).expect("a box");
+            let boxed = Cuboid::of(&object).expect("a box");
             for _ in 0..5000 {
                 let origin = point(unit() * 8.0 - 4.0, unit() * 4.0 - 2.0, unit() * 8.0 - 4.0);
                 let direction = vector(unit() - 0.5, unit() - 0.5, unit() - 0.5);
                 let (t_min, t_max) = (unit() * 0.1, 0.5 + unit() * 8.0);
-                let mine = level.hit(&Probe::new(origin, direction), t_min, t_max);
+                let mine = boxed.hit(&Probe::new(origin, direction), t_min, t_max);
                 let ray = Ray::new(origin, direction);
                 let own = object.closest_local_hit(&object.ray_to_object(&ray), t_min, t_max);
                 match (mine, own) {
@@ -259,7 +259,7 @@ mod tests {
                         let at = ray.position(a);
                         let theirs =
                             object.normal_at_hit(at, &Intersection::from_local(&object, h));
-                        assert!((level.normal_at(at) - theirs).length() < 1e-9, "{at:?}");
+                        assert!((boxed.normal_at(at) - theirs).length() < 1e-9, "{at:?}");
                     }
                     (None, None) => {}
                     // Rounding may put a crossing just on either side of an edge or a limit.

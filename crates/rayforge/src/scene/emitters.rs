@@ -938,21 +938,8 @@ impl Emitters {
                 side,
             } => {
                 let on_light = *corner + *edge_u * u[0] + *edge_v * u[1];
-                let to_light = on_light - point;
-                let distance_squared = to_light.length_squared();
-                let distance = distance_squared.sqrt();
-                if distance <= 0.0 {
-                    return None;
-                }
-                let direction = to_light / distance;
-                let cos = -normal.dot(direction);
-                (cos != 0.0 && side.emits_towards(cos)).then(|| LightSample {
-                    direction,
-                    distance,
-                    radiance: *radiance,
-                    pdf: probability * density * distance_squared / cos.abs(),
-                    delta: false,
-                })
+                let density = probability * density;
+                flat_light(point, on_light, *normal, *side, *radiance, density)
             }
             Emitter::Cuboid {
                 cuboid,
@@ -966,21 +953,8 @@ impl Emitters {
                 // lights to choose among.
                 let (face, _, across) = faces.sample_discrete_reused(u[0]);
                 let (on_light, normal) = cuboid.face_point(face, [across, u[1]]);
-                let to_light = on_light - point;
-                let distance_squared = to_light.length_squared();
-                let distance = distance_squared.sqrt();
-                if distance <= 0.0 {
-                    return None;
-                }
-                let direction = to_light / distance;
-                let cos = -normal.dot(direction);
-                (cos != 0.0 && side.emits_towards(cos)).then(|| LightSample {
-                    direction,
-                    distance,
-                    radiance: *radiance,
-                    pdf: probability * density * distance_squared / cos.abs(),
-                    delta: false,
-                })
+                let density = probability * density;
+                flat_light(point, on_light, normal, *side, *radiance, density)
             }
             Emitter::Surface {
                 object,
@@ -1050,6 +1024,35 @@ impl Emitters {
             }
         }
     }
+}
+
+/// The light arriving at `point` from `on_light`, a point of a flat lamp of unit normal
+/// `normal` (its front) drawn with density `density` per unit of area, that glows with
+/// `radiance` on `side`: `None` from behind, or from the point itself.
+#[inline]
+fn flat_light(
+    point: Point3,
+    on_light: Point3,
+    normal: Vec3,
+    side: EmissionSide,
+    radiance: Color,
+    density: f64,
+) -> Option<LightSample> {
+    let to_light = on_light - point;
+    let distance_squared = to_light.length_squared();
+    let distance = distance_squared.sqrt();
+    if distance <= 0.0 {
+        return None;
+    }
+    let direction = to_light / distance;
+    let cos = -normal.dot(direction);
+    (cos != 0.0 && side.emits_towards(cos)).then(|| LightSample {
+        direction,
+        distance,
+        radiance,
+        pdf: density * distance_squared / cos.abs(),
+        delta: false,
+    })
 }
 
 /// The world-space area density of a point sampled uniformly on a surface of object-space area
