@@ -1,14 +1,19 @@
 //! Still boxes: cubes that stand still, turned and scaled along their own axes but not
-//! sheared (a closed room, a furnace, the two blocks of a Cornell box), which a world of few
-//! objects tests outright in world space, as it does its level rectangles (see
-//! [`Level`](super::level::Level)) and round balls.
+//! sheared (a closed room, a furnace, the two blocks of a Cornell box), whose hits a search
+//! that visits them finds without their transform, as a world of few objects does its level
+//! rectangles (see [`Level`](super::level::Level)) and round balls.
 //!
 //! Under such a transform the cube `[-1, 1]³` is a box about a centre with three
 //! perpendicular axes and a half size along each: the slab test runs in the box's own frame,
-//! taken by three dot products (no 4×4 inverse), its world normal is the axis of the face the
-//! point lies on, and its faces are the six rectangles a light sample picks among. A closed
-//! furnace (the camera inside one such box, which both lights and bounces every path) spent a
-//! third of a bounce taking points and normals through the transform and back.
+//! taken by three dot products (no 4×4 inverse), or in world space where its axes are the
+//! world's; its world normal is the axis of the face the point lies on, and its faces are the
+//! six rectangles a light sample picks among. A closed furnace (the camera inside one such
+//! box, which both lights and bounces every path) spent a third of a bounce taking points and
+//! normals through the transform and back.
+//!
+//! A box is still visited behind its box in the world, in its turn among the objects, so
+//! that which of two surfaces in one plane a ray meets first (a block standing on a floor)
+//! is decided as before, by the order of the search and the rounding of each distance.
 
 use super::level::Probe;
 use super::object::Object;
@@ -97,11 +102,6 @@ impl Cuboid {
             half,
             level,
         })
-    }
-
-    /// Whether its faces lie in planes of the world's axes (it needs no box around it).
-    pub fn is_level(&self) -> bool {
-        self.level.is_some()
     }
 
     /// `point` in the box's frame: its coordinates along the axes, from the centre.

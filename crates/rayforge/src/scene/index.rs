@@ -49,7 +49,8 @@ enum SurfaceNormal {
     Flat(Vec3),
     /// A round ball: from its centre (see [`Ball::normal_at`]).
     Round(Ball),
-    /// A still box: the face the point lies on (see [`Cuboid::normal_at`]).
+    /// A still box: the face the point lies on (see [`Cuboid::normal_at`]). Its hits are
+    /// found outright too, when a search visits it.
     Boxy(Cuboid),
 }
 
@@ -74,36 +75,22 @@ impl SurfaceNormal {
     }
 }
 
-/// The objects of a world of few: level rectangles, round balls and still boxes, which a
-/// nearest-hit search tests outright in world space (see [`Level`], [`Ball`] and
-/// [`Cuboid`]), and the others, each behind its box (widened by a billionth, for rounding).
+/// The objects of a world of few: level rectangles and round balls, which a nearest-hit
+/// search tests outright in world space (see [`Level`] and [`Ball`]), and the others, each
+/// behind its box (widened by a billionth, for rounding).
 #[derive(Debug, Clone, Default)]
 struct FewObjects {
     levels: Vec<(u32, Level)>,
     /// Each with its box, for the searches whose visitor decides.
     balls: Vec<(u32, Ball, Aabb)>,
-    /// Each with its box (widened), for the searches whose visitor decides.
-    cuboids: Vec<(u32, Cuboid, Aabb)>,
     boxed: Vec<(u32, Aabb)>,
 }
 
 impl FewObjects {
     /// Whether any object is tested outright.
     fn outright(&self) -> bool {
-        !self.levels.is_empty() || !self.balls.is_empty() || !self.cuboids.is_empty()
+        !self.levels.is_empty() || !self.balls.is_empty()
     }
-}
-
-/// Whether the ray (`probe`) surely misses the still box `cuboid` within `[t_min, t_max]`
-/// by its (widened) `bounds`: a turned box is tested in its own frame, which takes more than
-/// its box in the world does, and most rays miss both (a level one is its own box).
-#[inline]
-fn misses_bounds(cuboid: &Cuboid, bounds: &Aabb, probe: &Probe, t_min: f64, t_max: f64) -> bool {
-    let origin = Point3::from_array(*probe.origin());
-    !cuboid.is_level()
-        && bounds
-            .hit_by(origin, probe.inv_direction(), t_min, t_max)
-            .is_none()
 }
 
 /// The intersection of `ray` with `object` at `t`, found outright in world space.
@@ -162,8 +149,6 @@ impl WorldIndex {
                     few.levels.push((i, level));
                 } else if let Some(ball) = Ball::of(object) {
                     few.balls.push((i, ball, widened));
-                } else if let Some(cuboid) = Cuboid::of(object) {
-                    few.cuboids.push((i, cuboid, widened));
                 } else {
                     few.boxed.push((i, widened));
                 }
@@ -218,17 +203,7 @@ impl WorldIndex {
                 }
             }
             let balls = few.balls.iter().map(|(i, _, b)| (*i, b));
-            let cuboids = few.cuboids.iter().map(|(i, _, b)| (*i, b));
-            if visit_boxes(
-                balls.chain(cuboids),
-                ray,
-                &probe,
-                t_min,
-                &mut t_max,
-                &mut visit,
-            )
-            .is_break()
-            {
+            if visit_boxes(balls, ray, &probe, t_min, &mut t_max, &mut visit).is_break() {
                 return;
             }
             self.unbounded_and_boxed(few, ray, &probe, t_min, t_max, visit);
@@ -270,8 +245,8 @@ impl WorldIndex {
     pub fn closest_hit<'w>(&self, world: &'w World, ray: &Ray) -> Option<Intersection<'w>> {
         let mut best: Option<Intersection<'w>> = None;
         if let Some(few) = self.few.as_ref().filter(|f| f.outright()) {
-            // Level rectangles, round balls and still boxes are hit in world space: nothing is
-            // left for a visit.
+            // Level rectangles and round balls are hit in world space: nothing is left for a
+            // visit.
             let probe = Probe::new(ray.origin, ray.direction);
             let mut t_max = f64::INFINITY;
             for (i, level) in &few.levels {
@@ -286,37 +261,47 @@ impl WorldIndex {
                     best = Some(outright_hit(&world.objects[*i as usize], ray, t));
                 }
             }
-            for (i, cuboid, bounds) in &few.cuboids {
-                if misses_bounds(cuboid, bounds, &probe, ray.t_min, t_max) {
-                    continue;
-                }
-                if let Some(t) = cuboid.hit(&probe, ray.t_min, t_max) {
-                    t_max = t;
-                    best = Some(outright_hit(&world.objects[*i as usize], ray, t));
-                }
-            }
             // The others as always, nearer than any hit found outright.
             self.unbounded_and_boxed(few, ray, &probe, ray.t_min, t_max, |i, t_max| {
-                let object = &world.objects[i];
-                let local = object.ray_to_object(ray);
-                if let Some(h) = object.closest_local_hit(&local, ray.t_min, *t_max) {
+                if let Some(h) = self.nearest_on(world, i, ray, &probe, *t_max) {
                     *t_max = h.t;
-                    best = Some(Intersection::from_local(object, h));
+                    best = Some(h);
                 }
                 ControlFlow::Continue(())
             });
             return best;
         }
+        let probe = Probe::new(ray.origin, ray.direction);
         self.candidates(ray, ray.t_min, f64::INFINITY, |i, t_max| {
-            let object = &world.objects[i];
-            let local = object.ray_to_object(ray);
-            if let Some(h) = object.closest_local_hit(&local, ray.t_min, *t_max) {
+            if let Some(h) = self.nearest_on(world, i, ray, &probe, *t_max) {
                 *t_max = h.t;
-                best = Some(Intersection::from_local(object, h));
+                best = Some(h);
             }
             ControlFlow::Continue(())
         });
         best
+    }
+
+    /// The nearest hit of `ray` (`probe`) on object `i` with `ray.t_min <= t < t_max`: a still
+    /// box's found in world space or its own frame ([`Cuboid`], without the object's
+    /// transform), any other object's by its own test.
+    #[inline]
+    fn nearest_on<'w>(
+        &self,
+        world: &'w World,
+        i: usize,
+        ray: &Ray,
+        probe: &Probe,
+        t_max: f64,
+    ) -> Option<Intersection<'w>> {
+        let object = &world.objects[i];
+        if let Some(SurfaceNormal::Boxy(cuboid)) = self.normals.get(i) {
+            let t = cuboid.hit(probe, ray.t_min, t_max)?;
+            return Some(outright_hit(object, ray, t));
+        }
+        let local = object.ray_to_object(ray);
+        let h = object.closest_local_hit(&local, ray.t_min, t_max)?;
+        Some(Intersection::from_local(object, h))
     }
 
     /// Every intersection with `t <= t_max` (negative ones included), sorted: what refraction
@@ -339,17 +324,8 @@ impl WorldIndex {
                     out.push(outright_hit(&world.objects[*i as usize], ray, t));
                 }
             }
-            let balls = few
-                .balls
-                .iter()
-                .map(|(i, ball, _)| (i, ball.crossings(&probe)));
-            let cuboids = few.cuboids.iter().map(|(i, cuboid, bounds)| {
-                let near = !misses_bounds(cuboid, bounds, &probe, f64::NEG_INFINITY, t_max);
-                (i, near.then(|| cuboid.crossings(&probe)).flatten())
-            });
-            let crossings = balls.chain(cuboids);
-            for (i, crossed) in crossings {
-                if let Some((t0, t1)) = crossed {
+            for (i, ball, _) in &few.balls {
+                if let Some((t0, t1)) = ball.crossings(&probe) {
                     let object = &world.objects[*i as usize];
                     out.extend(
                         [t0, t1]
@@ -362,6 +338,18 @@ impl WorldIndex {
         }
         let add = |i: usize, _: &mut f64| {
             let object = &world.objects[i];
+            // A still box gives the very distances `closest_hit` gives it.
+            if let Some(SurfaceNormal::Boxy(cuboid)) = self.normals.get(i) {
+                if let Some((t0, t1)) = cuboid.crossings(&probe) {
+                    out.extend(
+                        [t0, t1]
+                            .into_iter()
+                            .filter(|&t| t <= t_max)
+                            .map(|t| outright_hit(object, ray, t)),
+                    );
+                }
+                return ControlFlow::Continue(());
+            }
             let local = object.ray_to_object(ray);
             object.shape.hits_up_to(&local, t_max, |h| {
                 out.push(Intersection::from_local(object, h))
@@ -378,7 +366,7 @@ impl WorldIndex {
     /// Whether an object that `casts` a shadow has a surface along `ray` at some `t` in
     /// `[t_min, t_max)`: [`WorldIndex::blocked`] for a lighting model whose rule for what
     /// blocks light is the surface itself, met at all (the path tracer's), so that the index
-    /// can test level rectangles, round balls and still boxes outright, as `closest_hit` does.
+    /// can test level rectangles and round balls outright, as `closest_hit` does.
     pub fn shadowed<'w>(
         &self,
         world: &'w World,
@@ -391,8 +379,19 @@ impl WorldIndex {
         let surface = |object: &'w Object| {
             casts(object) && object.any_local_hit(&object.ray_to_object(ray), t_min, t_max)
         };
+
         let Some(few) = self.few.as_ref().filter(|f| f.outright()) else {
             return self.blocked(world, ray, t_min, t_max, last, surface);
+        };
+        // A still box met outright, as `closest_hit` meets it.
+        let boxed_surface = |i: usize, probe: &Probe| {
+            let object = &world.objects[i];
+            match self.normals.get(i) {
+                Some(SurfaceNormal::Boxy(cuboid)) => {
+                    casts(object) && cuboid.hit(probe, t_min, t_max).is_some()
+                }
+                _ => surface(object),
+            }
         };
         // A world of few objects tries them all in turn: no blocker is remembered.
         *last = NO_OBJECT;
@@ -400,16 +399,12 @@ impl WorldIndex {
         let crossed = |i: u32, hit: Option<f64>| hit.is_some() && casts(&world.objects[i as usize]);
         if (few.levels.iter()).any(|&(i, level)| crossed(i, level.hit(&probe, t_min, t_max)))
             || (few.balls.iter()).any(|&(i, ball, _)| crossed(i, ball.hit(&probe, t_min, t_max)))
-            || (few.cuboids.iter()).any(|(i, c, bounds)| {
-                !misses_bounds(c, bounds, &probe, t_min, t_max)
-                    && crossed(*i, c.hit(&probe, t_min, t_max))
-            })
         {
             return true;
         }
         let mut blocked = false;
         self.unbounded_and_boxed(few, ray, &probe, t_min, t_max, |i, _| {
-            blocked = surface(&world.objects[i]);
+            blocked = boxed_surface(i, &probe);
             if blocked {
                 ControlFlow::Break(())
             } else {
