@@ -785,22 +785,10 @@ impl Emitters {
         let density = match self.list.get(slot as usize) {
             Some(Emitter::Parallelogram {
                 normal, density, ..
-            }) => {
-                let cos = normal.dot(direction).abs();
-                if cos <= 0.0 {
-                    return 0.0;
-                }
-                density * (point - from).length_squared() / cos
-            }
+            }) => flat_density(*normal, *density, from, point, direction),
             Some(Emitter::Cuboid {
                 cuboid, density, ..
-            }) => {
-                let cos = cuboid.normal_at(point).dot(direction).abs();
-                if cos <= 0.0 {
-                    return 0.0;
-                }
-                density * (point - from).length_squared() / cos
-            }
+            }) => flat_density(cuboid.normal_at(point), *density, from, point, direction),
             Some(Emitter::Surface {
                 surface,
                 object,
@@ -1053,6 +1041,18 @@ fn flat_light(
         pdf: density * distance_squared / cos.abs(),
         delta: false,
     })
+}
+
+/// The density per solid angle at `from` of the point `point` of a flat lamp of unit normal
+/// `normal`, seen along unit `direction`, drawn with `density` per unit of area (what
+/// [`flat_light`] reports for it).
+#[inline]
+fn flat_density(normal: Vec3, density: f64, from: Point3, point: Point3, direction: Vec3) -> f64 {
+    let cos = normal.dot(direction).abs();
+    if cos <= 0.0 {
+        return 0.0;
+    }
+    density * (point - from).length_squared() / cos
 }
 
 /// The world-space area density of a point sampled uniformly on a surface of object-space area

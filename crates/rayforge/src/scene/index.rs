@@ -263,7 +263,7 @@ impl WorldIndex {
             }
             // The others as always, nearer than any hit found outright.
             self.unbounded_and_boxed(few, ray, &probe, ray.t_min, t_max, |i, t_max| {
-                if let Some(h) = self.nearest_on(world, i, ray, &probe, *t_max) {
+                if let Some(h) = self.nearest_on(world, i, ray, Some(&probe), *t_max) {
                     *t_max = h.t;
                     best = Some(h);
                 }
@@ -271,9 +271,8 @@ impl WorldIndex {
             });
             return best;
         }
-        let probe = Probe::new(ray.origin, ray.direction);
         self.candidates(ray, ray.t_min, f64::INFINITY, |i, t_max| {
-            if let Some(h) = self.nearest_on(world, i, ray, &probe, *t_max) {
+            if let Some(h) = self.nearest_on(world, i, ray, None, *t_max) {
                 *t_max = h.t;
                 best = Some(h);
             }
@@ -282,21 +281,26 @@ impl WorldIndex {
         best
     }
 
-    /// The nearest hit of `ray` (`probe`) on object `i` with `ray.t_min <= t < t_max`: a still
-    /// box's found in world space or its own frame ([`Cuboid`], without the object's
-    /// transform), any other object's by its own test.
+    /// The nearest hit of `ray` on object `i` with `ray.t_min <= t < t_max`: a still box's
+    /// found in world space or its own frame ([`Cuboid`], without the object's transform),
+    /// any other object's by its own test. `probe` is the ray as a box reads it, where the
+    /// search has made one (else it is made here, for a box only: a hierarchy's walk has its
+    /// own, and most of its objects are not boxes).
     #[inline]
     fn nearest_on<'w>(
         &self,
         world: &'w World,
         i: usize,
         ray: &Ray,
-        probe: &Probe,
+        probe: Option<&Probe>,
         t_max: f64,
     ) -> Option<Intersection<'w>> {
         let object = &world.objects[i];
         if let Some(SurfaceNormal::Boxy(cuboid)) = self.normals.get(i) {
-            let t = cuboid.hit(probe, ray.t_min, t_max)?;
+            let t = match probe {
+                Some(probe) => cuboid.hit(probe, ray.t_min, t_max)?,
+                None => cuboid.hit(&Probe::new(ray.origin, ray.direction), ray.t_min, t_max)?,
+            };
             return Some(outright_hit(object, ray, t));
         }
         let local = object.ray_to_object(ray);
