@@ -14,9 +14,15 @@
 //! twenty-five, and it costs a second path only where glass is seen.
 //!
 //! A path's random numbers come from its [`SampleStream`] in a fixed layout, so a Sobol
-//! sampler stratifies each vertex's choices together: the camera takes the first
-//! [`CAMERA_DIMENSIONS`], then each vertex [`VERTEX_DIMENSIONS`] (direction, light point,
-//! then the layer, the light and the roulette's coin where they are chosen).
+//! sampler stratifies together the numbers that one integral takes: the camera takes the
+//! first [`CAMERA_DIMENSIONS`], then each vertex [`VERTEX_DIMENSIONS`] (its direction and the
+//! next vertex's light point, then the layer, the light and the roulette's coin where they
+//! are chosen). A vertex's light point is paired with what led to the vertex (the image point
+//! at the first hit, the direction taken at the one before): the light that reaches the
+//! camera by one bounce is a four-dimensional integral over those two pairs, which one Sobol
+//! point of four dimensions then covers evenly, where a direction and a light point drawn at
+//! the same vertex feed two separate estimates (on the Cornell box, 1 % less squared error at
+//! 64 samples, for nothing).
 
 use super::sampler::SampleStream;
 use crate::color::Color;
@@ -28,12 +34,17 @@ use crate::scene::{
 use crate::shading::bsdf::Bsdf;
 use crate::shading::{EnvironmentMap, Layer, Scattering};
 
-/// Dimensions a camera sample uses: the image point, the lens point, the instant (and one
-/// spare, so that vertices start on a group of four).
+/// Dimensions a camera sample uses: a group of four for the image point and the first
+/// vertex's light point, then the lens point, the instant and one spare.
 pub const CAMERA_DIMENSIONS: u32 = 8;
-/// Dimensions each path vertex uses: a group of four for the next direction and a light's
-/// point, drawn where the surface is not a mirror or smooth glass (which use neither), and one
-/// for its choices (the layer or lobe, the light, the roulette's coin, and one spare), drawn
+/// Where the first vertex's light point lies, beside the image point (see the module's
+/// documentation).
+pub const FIRST_LIGHT_DIMENSION: u32 = 2;
+/// Where the lens point lies (the instant follows it): the camera's second group of four.
+pub const LENS_DIMENSION: u32 = 4;
+/// Dimensions each path vertex uses: a group of four for the next direction and the next
+/// vertex's light point, drawn where the surface is not a mirror or smooth glass (which use
+/// neither direction nor light), and one for its choices (the layer or lobe, the light, the roulette's coin, and one spare), drawn
 /// only at vertices that make one: a diffuse surface lit by one lamp, before the roulette
 /// starts, chooses nothing, and a group of four drawn costs as much as a ray against a few
 /// objects.
@@ -309,6 +320,9 @@ impl<'w> PathContext<'w> {
         // weighs a branch by its throughput over this share, as it would the unsplit path, so
         // that splitting does not end paths sooner.
         let mut share = 1.0;
+        // This vertex's light point, where the vertex before drew it with its direction (from
+        // the same Sobol point, so that it costs nothing more).
+        let mut light_pair: Option<[f64; 2]> = None;
         loop {
             // One branch (the whole path, unless it splits): bounce by bounce, until it
             // escapes, is absorbed, reaches the most bounces or loses the roulette.
@@ -447,10 +461,20 @@ impl<'w> PathContext<'w> {
                 let bsdf = layer.bsdf;
                 let u_light = choice(1, self.emitters.chooses() && !bsdf.is_delta());
                 let (u_direction, u_point) = if bsdf.is_delta() {
+                    light_pair = None;
                     ([0.0; 2], [0.0; 2])
                 } else {
+                    let u_point = light_pair.take().unwrap_or_else(|| {
+                        stream.seek(match depth {
+                            0 => FIRST_LIGHT_DIMENSION,
+                            _ => vertex - VERTEX_DIMENSIONS + 2,
+                        });
+                        stream.next_2d()
+                    });
                     stream.seek(vertex);
-                    (stream.next_2d(), stream.next_2d())
+                    let u_direction = stream.next_2d();
+                    light_pair = Some(stream.next_2d());
+                    (u_direction, u_point)
                 };
 
                 let frame = Frame::from_normal(shading);
@@ -578,6 +602,7 @@ impl<'w> PathContext<'w> {
             depth = branch.depth;
             share = branch.share;
             specular = true;
+            light_pair = None;
             mirror_leg = None;
         }
         (radiance, first)

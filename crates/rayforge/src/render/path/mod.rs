@@ -33,6 +33,7 @@ use crate::math::Ray;
 use crate::options::{PathOptions, Roulette};
 use crate::scene::{Emitters, World, WorldIndex};
 use adaptive::{PilotLog, PilotPixel};
+use integrator::LENS_DIMENSION;
 use moments::Moments;
 use rayon::prelude::*;
 use std::ops::Range;
@@ -146,12 +147,17 @@ impl<'c> CameraSampler<'c> {
     /// filter's support, and the sample's filter weight.
     #[inline]
     fn ray(&self, x: usize, y: usize, stream: &mut SampleStream) -> (Ray, f64) {
-        let (dx, dy, weight) = filter_offset(self.filter, stream.next_2d());
+        // The lens and the instant first, from the camera's second group of four: the image
+        // point's group, which holds the first vertex's light point too, is then the one the
+        // stream has at hand.
         let ([lens_u, lens_v], time) = if self.still {
             ([0.5, 0.5], 0.5)
         } else {
+            stream.seek(LENS_DIMENSION);
             (stream.next_2d(), stream.next_1d())
         };
+        stream.seek(0);
+        let (dx, dy, weight) = filter_offset(self.filter, stream.next_2d());
         let sample = CameraSample {
             x: x as f64 + 0.5 + dx,
             y: y as f64 + 0.5 + dy,
@@ -254,7 +260,7 @@ fn render_path_logged(
     };
     // A row at a time for each thread to take: rayon otherwise runs a quarter of the rows per
     // thread as one unsplittable piece, and with rows of unequal cost (adaptive sampling puts
-    // eight times the samples on some) one thread was left with a long tail while the other
+    // four times the samples on some) one thread was left with a long tail while the other
     // idled, a seventh of a short two-thread render.
     (0..height)
         .into_par_iter()
