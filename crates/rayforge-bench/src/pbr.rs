@@ -340,7 +340,8 @@ fn rmse(image: &Pfm, reference: &Pfm) -> Result<(f64, usize), String> {
     Ok(((sum / n as f64).sqrt(), bad))
 }
 
-/// The reference of a scene: the 8192-spp image where there is one, else the 2048-spp mean.
+/// The reference of a scene: the high-sample image (`mitsuba-hi`, 8192 or 16384 spp) where
+/// there is one, else the 2048-spp mean.
 fn reference_for(dir: &Path, scene: &str) -> Option<PathBuf> {
     [
         format!("{scene}.mitsuba-hi.b0.pfm"),
@@ -708,8 +709,9 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
         s.python.display()
     ));
     errors.note(format!(
-        "RMSE over every pixel and channel against the reference in `{}` (8192 spp where there \
-         is one, else the 2048-spp mean; its own noise adds to both sides alike). rayforge: its \
+        "RMSE over every pixel and channel against the reference in `{}` (`NAME.mitsuba-hi`, \
+         8192 or 16384 spp, where there is one, else the 2048-spp mean; its own noise adds to \
+         both sides alike). rayforge: its \
          default Sobol sampler, seed 0. Mitsuba: the variant faster at {ERROR_THREADS} threads \
          above, the spp that fit in the budget at its measured rate (ldsampler: the power of 4 \
          below), seed {ERROR_SEED}; its RMSE at the budget scales by √(time ÷ budget), as the \
