@@ -105,12 +105,12 @@ pub fn atan2_turns(y: f64, x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::random::SplitMix64;
+    use crate::math::random::{Jitter, SplitMix64};
 
     #[test]
     fn the_angle_in_turns_agrees_with_the_library_everywhere() {
         let mut rng = SplitMix64::new(3);
-        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut unit = move || rng.next_offset();
         let mut worst: f64 = 0.0;
         for i in 0..400_000 {
             // Points all round the circle, near the axes and the diagonals, far and near.

@@ -90,7 +90,7 @@ impl Ball {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::random::SplitMix64;
+    use crate::math::random::{Jitter, SplitMix64};
     use crate::math::{point, rotation_x, rotation_y, scaling, shearing, translation, vector, Ray};
 
     fn sphere(matrix: glam::DMat4) -> Object {
@@ -123,7 +123,7 @@ mod tests {
     #[test]
     fn a_ball_is_crossed_where_its_own_test_crosses_it() {
         let mut rng = SplitMix64::new(9);
-        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut unit = move || rng.next_offset();
         let placements = [
             glam::DMat4::IDENTITY,
             translation(0.0, -1.0, 0.5) * scaling(0.3, 0.3, 0.3),
@@ -162,7 +162,7 @@ mod tests {
     #[test]
     fn a_balls_normal_is_its_objects_normal() {
         let mut rng = SplitMix64::new(4);
-        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut unit = move || rng.next_offset();
         for matrix in [
             glam::DMat4::IDENTITY,
             translation(0.5, -1.0, 2.0) * rotation_y(0.4) * scaling(0.3, 0.3, 0.3),

@@ -190,10 +190,11 @@ impl Cuboid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::random::SplitMix64;
+    use crate::math::random::{Jitter, SplitMix64};
     use crate::math::{point, rotation_x, rotation_y, rotation_z, scaling, translation, vector};
     use crate::math::{Motion, Ray, Transform};
     use crate::scene::intersection::Intersection;
+    use crate::scene::level::tests::ray_from_anywhere;
     use std::f64::consts::{FRAC_PI_2, PI};
 
     fn cube(matrix: glam::DMat4) -> Object {
@@ -222,7 +223,7 @@ mod tests {
     #[test]
     fn a_box_is_hit_where_its_own_test_hits_it_with_its_normal() {
         let mut rng = SplitMix64::new(11);
-        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut unit = move || rng.next_offset();
         let placements = [
             glam::DMat4::IDENTITY,
             translation(0.335, -0.7, 0.38) * scaling(0.3, 0.3, 0.3),
@@ -242,9 +243,7 @@ mod tests {
             let object = cube(matrix);
             let boxed = Cuboid::of(&object).expect("a box");
             for _ in 0..5000 {
-                let origin = point(unit() * 8.0 - 4.0, unit() * 4.0 - 2.0, unit() * 8.0 - 4.0);
-                let direction = vector(unit() - 0.5, unit() - 0.5, unit() - 0.5);
-                let (t_min, t_max) = (unit() * 0.1, 0.5 + unit() * 8.0);
+                let (origin, direction, t_min, t_max) = ray_from_anywhere(&mut unit);
                 let mine = boxed.hit(&Probe::new(origin, direction), t_min, t_max);
                 let ray = Ray::new(origin, direction);
                 let own = object.closest_local_hit(&object.ray_to_object(&ray), t_min, t_max);

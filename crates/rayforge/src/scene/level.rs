@@ -160,13 +160,24 @@ impl Level {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
-    use crate::math::random::SplitMix64;
+    use crate::math::random::{Jitter, SplitMix64};
     use crate::math::{
         point, rotation_x, rotation_y, rotation_z, scaling, translation, vector, Ray,
     };
     use std::f64::consts::{FRAC_PI_2, PI};
+
+    /// A ray from anywhere in a box around the origin (8 × 4 × 8), in any direction, and a
+    /// span along it, from the unit numbers `unit` draws: what the tests of the shapes hit in
+    /// world space try them with.
+    pub(in crate::scene) fn ray_from_anywhere(
+        unit: &mut impl FnMut() -> f64,
+    ) -> (Point3, Vec3, f64, f64) {
+        let origin = point(unit() * 8.0 - 4.0, unit() * 4.0 - 2.0, unit() * 8.0 - 4.0);
+        let direction = vector(unit() - 0.5, unit() - 0.5, unit() - 0.5);
+        (origin, direction, unit() * 0.1, 0.5 + unit() * 8.0)
+    }
 
     fn rectangle(matrix: glam::DMat4) -> Object {
         Object::new(Shape::Rectangle).with_transform(matrix)
@@ -191,7 +202,7 @@ mod tests {
     #[test]
     fn a_level_rectangle_is_hit_where_its_own_test_hits_it() {
         let mut rng = SplitMix64::new(5);
-        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut unit = move || rng.next_offset();
         let placements = [
             translation(0.0, -1.0, 0.0),
             translation(0.0, 1.0, 0.0) * rotation_x(PI),
@@ -205,9 +216,7 @@ mod tests {
             let object = rectangle(matrix);
             let level = Level::of(&object).expect("placed along the axes");
             for _ in 0..5000 {
-                let origin = point(unit() * 8.0 - 4.0, unit() * 4.0 - 2.0, unit() * 8.0 - 4.0);
-                let direction = vector(unit() - 0.5, unit() - 0.5, unit() - 0.5);
-                let (t_min, t_max) = (unit() * 0.1, 0.5 + unit() * 8.0);
+                let (origin, direction, t_min, t_max) = ray_from_anywhere(&mut unit);
                 let probe = Probe::new(origin, direction);
                 let mine = level.hit(&probe, t_min, t_max);
                 let local = object.ray_to_object(&Ray::new(origin, direction));

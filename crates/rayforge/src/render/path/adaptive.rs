@@ -29,7 +29,7 @@ use super::{learn_roulette_scale, render_path_logged, Aovs, PathJob};
 use crate::camera::Camera;
 use crate::color::Color;
 use crate::film::{Film, SharedFilm};
-use crate::math::random::SplitMix64;
+use crate::math::random::{Jitter, SplitMix64};
 use crate::options::{PathOptions, Roulette, SampleAllocation};
 use crate::scene::World;
 use std::ops::Range;
@@ -267,10 +267,7 @@ pub fn plan_samples(
             let mut dither = SplitMix64::new(options.seed ^ 0x726f_756e_6469_6e67);
             shares
                 .iter()
-                .map(|&share| {
-                    let u = (dither.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-                    ((share + u).floor() as u64).max(pilot)
-                })
+                .map(|&share| ((share + dither.next_offset()).floor() as u64).max(pilot))
                 .collect()
         }
         // No gain foreseen: the same number everywhere, the pilot's samples still kept.
