@@ -54,7 +54,7 @@ use crate::math::random::{Jitter, SplitMix64};
 use crate::math::{
     cosine_hemisphere, sin_cos_turns, Distribution1D, Frame, Point3, Transform, Vec3,
 };
-use crate::shading::{EmissionSide, EnvironmentMap, Light, Material, SpotLight};
+use crate::shading::{EmissionSide, EnvironmentMap, Light, Material, SkyDraw, SpotLight};
 use std::f64::consts::{FRAC_1_PI, PI, SQRT_2};
 use std::sync::Arc;
 
@@ -859,6 +859,21 @@ impl Emitters {
         pick: f64,
         u: [f64; 2],
     ) -> Option<LightSample> {
+        self.sample_sharing_sky(world, point, time, pick, u, &mut SkyDraw::new(u))
+    }
+
+    /// [`sample`](Self::sample), the sky's direction taken from `sky` (the draw for `u`, made
+    /// there if no one has made it yet): a path vertex that also looks for the sky in mirror
+    /// balls draws it once for both.
+    pub fn sample_sharing_sky(
+        &self,
+        world: &World,
+        point: Point3,
+        time: f64,
+        pick: f64,
+        u: [f64; 2],
+        sky: &mut SkyDraw,
+    ) -> Option<LightSample> {
         let distribution = self.pick.as_ref()?;
         let (slot, probability, rest) = distribution.sample_discrete_reused(pick);
         match &self.list[slot] {
@@ -1001,7 +1016,7 @@ impl Emitters {
                 )
             }
             Emitter::Sky => {
-                let (direction, radiance, pdf) = self.environment.as_ref()?.sample(u)?;
+                let (direction, radiance, pdf) = sky.of(self.environment.as_ref()?)?;
                 Some(LightSample {
                     direction,
                     distance: f64::INFINITY,

@@ -30,10 +30,10 @@
 use super::object::Object;
 use super::shape::Shape;
 use crate::color::Color;
-use crate::math::{sin_cos_turns, Point3, Vec3};
+use crate::math::{atan2_turns, sin_cos_turns, Point3, Vec3};
 use crate::shading::bsdf::{fresnel, MIN_ALPHA};
 use crate::shading::Physical;
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 
 /// A polished metal ball, in world space.
 #[derive(Debug, Clone, PartialEq)]
@@ -160,7 +160,10 @@ impl MirrorBall {
         // of what the point sees, α = acos(R / d); ω's angle φ in (0, π] is reached once, if
         // below that. `ahead(α)` is sin(φ − ψ) times the distance to the surface point, which
         // needs no inverse trigonometry: positive before the root, negative after it.
-        let edge = (r / d).acos();
+        // acos(R / d), and the sine of it, by the crate's arctangent (libm's `acos` and
+        // `atan2` were a twentieth of an environment-lit render).
+        let (cos_edge, sin_edge) = (r / d, (1.0 - (r / d) * (r / d)).max(0.0).sqrt());
+        let edge = TAU * atan2_turns(sin_edge, cos_edge);
         let (cos_phi, sin_phi) = (omega[0], omega[1]);
         let ahead = |alpha: f64| {
             let (sin, cos) = sin_cos_turns(alpha / TAU);
@@ -177,7 +180,7 @@ impl MirrorBall {
         };
         // Behind the ball: φ is not below ψ(edge) = π/2 + edge, whose cosine is −sin(edge).
         // (Both sides are finite: `towards` is, and R / d lies in (0, 1).)
-        if cos_phi <= -(1.0 - (r / d) * (r / d)).max(0.0).sqrt() {
+        if cos_phi <= -sin_edge {
             return None;
         }
         // Newton's method on φ − ψ (read as its sine, so a far step falls short rather than
@@ -185,7 +188,7 @@ impl MirrorBall {
         // bisector of the point's direction and ω (right for a far point), three steps reach
         // the limit of precision.
         let (mut lo, mut hi) = (0.0, edge);
-        let mut alpha = (0.5 * side.atan2(along)).clamp(0.0, edge);
+        let mut alpha = (PI * atan2_turns(side, along)).clamp(0.0, edge);
         for _ in 0..60 {
             let (value, slope) = ahead(alpha);
             if value == 0.0 || value.is_nan() {

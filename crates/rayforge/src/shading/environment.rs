@@ -247,7 +247,14 @@ impl EnvironmentMap {
     /// Where a world direction falls among the texel centres, and the sine of its θ in the
     /// map's frame; `None` for a zero or non-finite direction.
     fn locate(&self, direction: Vec3) -> Option<(CellPoint, f64)> {
-        let d = (self.to_local * direction).try_normalize()?;
+        // Rays' directions come unit already (to within rounding), and a rotation keeps them
+        // so: normalising again cost a square root and a division for every escaped path.
+        let d = self.to_local * direction;
+        let d = if (d.length_squared() - 1.0).abs() <= 1e-12 {
+            d
+        } else {
+            d.try_normalize()?
+        };
         // An arctangent rather than acos(y): full precision near the poles, where acos loses
         // digits. (The components are those of a unit vector: the square root cannot
         // overflow, and it is not the library's slower `hypot`.) Both angles in turns.
@@ -268,7 +275,8 @@ impl EnvironmentMap {
         // s is at least −½, t not negative.
         let whole = s as i64;
         let s0 = if (whole as f64) > s { whole - 1 } else { whole };
-        let column = s0.rem_euclid(w as i64) as usize;
+        // s0 lies in [−1, W − 1]: wrapping it needs no division.
+        let column = (if s0 < 0 { s0 + w as i64 } else { s0 } as usize).min(w - 1);
         let s0 = s0 as f64;
         let row = (t as usize).min(h - 2);
         let at = CellPoint {
@@ -370,6 +378,32 @@ impl EnvironmentMap {
     /// direction), the number to weigh against other lights' power when picking one.
     pub fn power(&self, scene_radius: f64) -> Color {
         self.average * (PI * scene_radius * scene_radius * 4.0 * PI)
+    }
+}
+
+/// A direction drawn from an environment map with given numbers, drawn at most once however
+/// many estimates read it: at a path vertex, next-event estimation (where it picks the sky)
+/// and the sky seen in each mirror ball take the same light point, and a draw is a cell
+/// found in two tables, two square roots and two sines.
+#[derive(Debug, Clone, Copy)]
+pub struct SkyDraw {
+    u: [f64; 2],
+    drawn: Option<Option<(Vec3, Color, f64)>>,
+}
+
+impl SkyDraw {
+    /// The draw for the numbers `u`, not made yet.
+    #[inline]
+    pub fn new(u: [f64; 2]) -> Self {
+        Self { u, drawn: None }
+    }
+
+    /// [`EnvironmentMap::sample`] of `map` with these numbers, made on the first call.
+    /// (Every call must name the same map.)
+    #[inline]
+    pub fn of(&mut self, map: &EnvironmentMap) -> Option<(Vec3, Color, f64)> {
+        let u = self.u;
+        *self.drawn.get_or_insert_with(|| map.sample(u))
     }
 }
 
@@ -794,9 +828,12 @@ mod tests {
             .unwrap();
         let mut rng = SplitMix64::new(9);
         for _ in 0..20_000 {
-            let (d, radiance, pdf) = map
-                .sample([rng.next_offset(), rng.next_offset()])
-                .expect("a sample");
+            let u = [rng.next_offset(), rng.next_offset()];
+            let (d, radiance, pdf) = map.sample(u).expect("a sample");
+            // A draw shared between estimates is the map's own, however often it is read.
+            let mut shared = SkyDraw::new(u);
+            assert_eq!(shared.of(&map), Some((d, radiance, pdf)));
+            assert_eq!(shared.of(&map), Some((d, radiance, pdf)));
             assert!((d.length() - 1.0).abs() < 1e-12);
             assert!(pdf > 0.0);
             let again = map.pdf(d);

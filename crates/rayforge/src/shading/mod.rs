@@ -22,7 +22,7 @@ mod texture;
 pub use crate::math::random::{Jitter, SplitMix64};
 pub use bump::{Bump, BumpKind};
 pub use cgfs::unshadowed_intensity;
-pub use environment::{EnvironmentError, EnvironmentMap};
+pub use environment::{EnvironmentError, EnvironmentMap, SkyDraw};
 pub use jitter::Sequence;
 pub use light::{AreaLight, DirectionalLight, Light, PointLight, SpotLight};
 pub use material::{Alpha, EmissionSide, Material, PhysicalPatterns};

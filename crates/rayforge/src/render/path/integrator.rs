@@ -32,7 +32,7 @@ use crate::scene::{
     NO_OBJECT,
 };
 use crate::shading::bsdf::Bsdf;
-use crate::shading::{EnvironmentMap, Layer, Scattering};
+use crate::shading::{EnvironmentMap, Layer, Scattering, SkyDraw};
 
 /// Dimensions a camera sample uses: a group of four for the image point and the first
 /// vertex's light point, then the lens point, the instant and one spare.
@@ -234,18 +234,19 @@ impl<'w> PathContext<'w> {
     }
 
     /// The environment map's light that the mirror ball `ball` reflects to the vertex `at`
-    /// and its layer `layer` scatters back along the path, from one direction of the map drawn
-    /// with `u` (the ball's reflection point solved for it), weighed by the power heuristic
-    /// against the layer's own sampling finding the same path.
+    /// and its layer `layer` scatters back along the path, from the direction of the map in
+    /// `draw` (the vertex's, which next-event estimation may have drawn already; the ball's
+    /// reflection point solved for it), weighed by the power heuristic against the layer's
+    /// own sampling finding the same path.
     fn sky_in_mirror(
         &mut self,
         ball: &MirrorBall,
         map: &EnvironmentMap,
         at: &Vertex,
         layer: &Layer,
-        u: [f64; 2],
+        draw: &mut SkyDraw,
     ) -> Color {
-        let Some((towards, sky, sky_pdf)) = map.sample(u) else {
+        let Some((towards, sky, sky_pdf)) = draw.of(map) else {
             return Color::BLACK;
         };
         self.solves += 1;
@@ -482,10 +483,15 @@ impl<'w> PathContext<'w> {
 
                 // Next-event estimation.
                 if !bsdf.is_delta() {
-                    if let Some(light) = self
-                        .emitters
-                        .sample(world, point, ray.time, u_light, u_point)
-                    {
+                    let mut sky_draw = SkyDraw::new(u_point);
+                    if let Some(light) = self.emitters.sample_sharing_sky(
+                        world,
+                        point,
+                        ray.time,
+                        u_light,
+                        u_point,
+                        &mut sky_draw,
+                    ) {
                         let wi_local = frame.to_local(light.direction);
                         let f = bsdf.eval(wo_local, wi_local) * layer.scale;
                         if f.max_channel() > 0.0 {
@@ -525,7 +531,7 @@ impl<'w> PathContext<'w> {
                             time: ray.time,
                         };
                         for ball in emitters.mirror_balls() {
-                            let light = self.sky_in_mirror(ball, map, &at, &layer, u_point);
+                            let light = self.sky_in_mirror(ball, map, &at, &layer, &mut sky_draw);
                             radiance += throughput.hadamard(light);
                         }
                     }
