@@ -161,7 +161,7 @@ impl MirrorBall {
         // below that. `ahead(α)` is sin(φ − ψ) times the distance to the surface point, which
         // needs no inverse trigonometry: positive before the root, negative after it.
         // acos(R / d), and the sine of it, by the crate's arctangent (libm's `acos` and
-        // `atan2` were a twentieth of an environment-lit render).
+        // `atan2` were 3 % of an environment-lit render).
         let (cos_edge, sin_edge) = (r / d, (1.0 - (r / d) * (r / d)).max(0.0).sqrt());
         let edge = TAU * atan2_turns(sin_edge, cos_edge);
         let (cos_phi, sin_phi) = (omega[0], omega[1]);
