@@ -859,21 +859,21 @@ impl Emitters {
         pick: f64,
         u: [f64; 2],
     ) -> Option<LightSample> {
-        self.sample_sharing_sky(world, point, time, pick, u, &mut SkyDraw::new(u))
+        self.sample_sharing_sky(world, point, time, pick, &mut SkyDraw::new(u))
     }
 
-    /// [`sample`](Self::sample), the sky's direction taken from `sky` (the draw for `u`, made
-    /// there if no one has made it yet): a path vertex that also looks for the sky in mirror
-    /// balls draws it once for both.
+    /// [`sample`](Self::sample) with the numbers of `sky`, the sky's direction taken from it
+    /// (made there if no one has made it yet): a path vertex that also looks for the sky in
+    /// mirror balls draws it once for both.
     pub fn sample_sharing_sky(
         &self,
         world: &World,
         point: Point3,
         time: f64,
         pick: f64,
-        u: [f64; 2],
         sky: &mut SkyDraw,
     ) -> Option<LightSample> {
+        let u = sky.numbers();
         let distribution = self.pick.as_ref()?;
         let (slot, probability, rest) = distribution.sample_discrete_reused(pick);
         match &self.list[slot] {

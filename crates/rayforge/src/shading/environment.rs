@@ -275,7 +275,8 @@ impl EnvironmentMap {
         // s is at least −½, t not negative.
         let whole = s as i64;
         let s0 = if (whole as f64) > s { whole - 1 } else { whole };
-        // s0 lies in [−1, W − 1]: wrapping it needs no division.
+        // s0 lies in [−1, W − 1]: wrapping it needs no division (the `min` only guards the
+        // index against rounding).
         let column = (if s0 < 0 { s0 + w as i64 } else { s0 } as usize).min(w - 1);
         let s0 = s0 as f64;
         let row = (t as usize).min(h - 2);
@@ -396,6 +397,12 @@ impl SkyDraw {
     #[inline]
     pub fn new(u: [f64; 2]) -> Self {
         Self { u, drawn: None }
+    }
+
+    /// The numbers the draw is made with.
+    #[inline]
+    pub fn numbers(&self) -> [f64; 2] {
+        self.u
     }
 
     /// [`EnvironmentMap::sample`] of `map` with these numbers, made on the first call.

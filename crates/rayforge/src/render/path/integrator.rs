@@ -489,7 +489,6 @@ impl<'w> PathContext<'w> {
                         point,
                         ray.time,
                         u_light,
-                        u_point,
                         &mut sky_draw,
                     ) {
                         let wi_local = frame.to_local(light.direction);
