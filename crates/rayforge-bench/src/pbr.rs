@@ -162,7 +162,7 @@ struct RayforgeRun {
     width: u64,
     height: u64,
     spp: u64,
-    /// The render time of the summary line (two decimals).
+    /// The render time of the summary line (to the millisecond).
     seconds: f64,
 }
 
@@ -175,7 +175,7 @@ impl RayforgeRun {
     }
 }
 
-/// Reads `path traced 256×256 at 64 spp in 3.10 s, …` (the last such line of `stderr`).
+/// Reads `path traced 256×256 at 64 spp in 3.104 s, …` (the last such line of `stderr`).
 fn parse_path_summary(stderr: &str) -> Option<RayforgeRun> {
     let line = stderr
         .lines()
@@ -701,7 +701,7 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
          that compiles its kernels left out); Mitsuba's threads set with \
          `drjit.set_thread_count`. rayforge: `rayforge render scenes/pbr/NAME.yml --spp {spp} \
          --threads T`, the render time of its summary line (scene loading left out; printed to \
-         10 ms). Ratios: rayforge's samples/s ÷ Mitsuba's (above 1, rayforge is faster). \
+         the millisecond). Ratios: rayforge's samples/s ÷ Mitsuba's (above 1, rayforge is faster). \
          \"Classic roulette\": the same render with `--roulette-scale 1`, Mitsuba's rule, so that \
          paths are as long as Mitsuba's (by default rayforge learns the scale per scene and \
          keeps paths longer where that lowers the error reached in a given time).",
@@ -749,15 +749,15 @@ mod tests {
             256,
             256,
             64,
-            Duration::from_millis(3100),
+            Duration::from_millis(3104),
             256 * 256 * 64,
             21_000_000,
             Path::new("out.pfm"),
         );
         let run = parse_path_summary(&format!("loading…\n{line}\n")).unwrap();
         assert_eq!((run.width, run.height, run.spp), (256, 256, 64));
-        assert_eq!(run.seconds, 3.10);
-        assert!((run.rate() - 256.0 * 256.0 * 64.0 / 3.1).abs() < 1e-6);
+        assert_eq!(run.seconds, 3.104, "the time to the millisecond");
+        assert!((run.rate() - 256.0 * 256.0 * 64.0 / 3.104).abs() < 1e-6);
         assert_eq!(parse_path_summary("rendered 10×10 in 1.00 s"), None);
     }
 

@@ -40,7 +40,9 @@ pub fn raster_summary_line(
     )
 }
 
-/// E.g. `path traced 256×256 at 64 spp in 3.10 s, 1.4 M samples/s (21.0 M rays) → out.pfm`.
+/// E.g. `path traced 256×256 at 64 spp in 3.104 s, 1.4 M samples/s (21.0 M rays) → out.pfm`.
+/// The time is given to the millisecond: a small render takes a tenth of a second, and to
+/// hundredths its rate (which `rayforge bench pbr` reads back) would be off by up to 5 %.
 pub fn path_summary_line(
     width: usize,
     height: usize,
@@ -52,7 +54,7 @@ pub fn path_summary_line(
 ) -> String {
     let rate = samples as f64 / elapsed.as_secs_f64().max(1e-9);
     format!(
-        "path traced {width}×{height} at {spp} spp in {:.2} s, {} samples/s ({} rays) → {}",
+        "path traced {width}×{height} at {spp} spp in {:.3} s, {} samples/s ({} rays) → {}",
         elapsed.as_secs_f64(),
         si(rate),
         si(rays as f64),
