@@ -5,7 +5,8 @@
 //! 1. **Samples per second**: `rayforge render` at 1 and 2 threads, and Mitsuba 3's
 //!    `scalar_rgb` and `llvm_ad_rgb` variants at 1 and 2 threads, the same scene, size and
 //!    samples per pixel, each render a process of its own, the configurations taking turns
-//!    (`--pbr-repeat` rounds, the median counts). rayforge's time is the render time of its
+//!    (`--pbr-repeat` rounds: the median rate counts, and each ratio is the median of the
+//!    rounds' ratios, see [`paired_ratio`]). rayforge's time is the render time of its
 //!    summary line; Mitsuba's is one `mi.render` call timed inside
 //!    `tools/fidelity/bench_mitsuba.py --one` (Python, scene loading and, for the JIT
 //!    variant, a warm-up render that compiles the kernels are left out).
@@ -225,6 +226,20 @@ fn median(values: &[f64]) -> Option<f64> {
     } else {
         (v[n / 2 - 1] + v[n / 2]) / 2.0
     })
+}
+
+/// The median over rounds of `ours ÷ theirs`, each round's two rates taken together (rounds
+/// where either failed left out). The renders of one round run within seconds of each other,
+/// so a slow spell of a shared machine that spans them slows both and cancels in their ratio,
+/// where the ratio of the two medians can pair one side's quiet round with the other's slow
+/// one.
+fn paired_ratio(ours: &[Option<f64>], theirs: &[Option<f64>]) -> Option<f64> {
+    let ratios: Vec<f64> = ours
+        .iter()
+        .zip(theirs)
+        .filter_map(|(a, b)| Some(a.as_ref()? / b.as_ref()?))
+        .collect();
+    median(&ratios)
 }
 
 /// A PFM image as stored: width, height and `width × height × 3` floats in file order
@@ -507,13 +522,15 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
         }
         // Samples per second: every configuration once per round, the rounds in turn.
         let configs = configs();
-        let mut timings: Vec<Vec<f64>> = vec![Vec::new(); configs.len()];
+        // Each configuration's rate in each round (`None` where it failed or was skipped).
+        let mut timings: Vec<Vec<Option<f64>>> = vec![Vec::new(); configs.len()];
         let mut failures: Vec<Option<String>> = vec![None; configs.len()];
         let mut size = None;
         let image = |t: usize| dir.join(format!("{scene}-rayforge-{spp}spp-t{t}.pfm"));
         for round in 0..repeat {
             for (k, config) in configs.iter().enumerate() {
                 if failures[k].is_some() {
+                    timings[k].push(None);
                     continue;
                 }
                 bench.progress(&format!(
@@ -553,14 +570,31 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
                         .map(|r| r.rate()),
                 };
                 match result {
-                    Ok(rate) => timings[k].push(rate),
-                    Err(why) => failures[k] = Some(why),
+                    Ok(rate) => timings[k].push(Some(rate)),
+                    Err(why) => {
+                        timings[k].push(None);
+                        failures[k] = Some(why);
+                    }
                 }
             }
         }
+        let rounds_of = |config: Config| -> &[Option<f64>] {
+            configs
+                .iter()
+                .position(|c| *c == config)
+                .map_or(&[], |k| &timings[k])
+        };
         let rate_of = |config: Config| -> Option<f64> {
-            let k = configs.iter().position(|c| *c == config)?;
-            median(&timings[k])
+            median(
+                &rounds_of(config)
+                    .iter()
+                    .flatten()
+                    .copied()
+                    .collect::<Vec<_>>(),
+            )
+        };
+        let ratio = |a: Config, b: Config| -> String {
+            paired_ratio(rounds_of(a), rounds_of(b)).map_or("—".into(), times)
         };
         for (k, why) in failures.iter().enumerate() {
             if let Some(why) = why {
@@ -579,25 +613,19 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
             for variant in VARIANTS {
                 let theirs = rate_of(Config::Mitsuba(variant, t));
                 cells.push(theirs.map_or("failed".into(), msps));
-                cells.push(match (ours, theirs) {
-                    (Some(a), Some(b)) => times(a / b),
-                    _ => "—".into(),
-                });
+                cells.push(ratio(Config::Rayforge(t), Config::Mitsuba(variant, t)));
             }
             let classic = rate_of(Config::RayforgeClassic(t));
             cells.push(classic.map_or("failed".into(), msps));
-            cells.push(match (classic, rate_of(Config::Mitsuba(VARIANTS[0], t))) {
-                (Some(a), Some(b)) => times(a / b),
-                _ => "—".into(),
-            });
+            cells.push(ratio(
+                Config::RayforgeClassic(t),
+                Config::Mitsuba(VARIANTS[0], t),
+            ));
             rates.row(cells);
         }
 
         // Equal time, at 2 threads, against Mitsuba's faster variant there.
-        let rayforge_timing = configs
-            .iter()
-            .position(|c| *c == Config::Rayforge(ERROR_THREADS))
-            .and_then(|k| median(&timings[k]));
+        let rayforge_timing = rate_of(Config::Rayforge(ERROR_THREADS));
         let Some(((width, height), our_rate)) = size.zip(rayforge_timing) else {
             continue;
         };
@@ -701,7 +729,9 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
          that compiles its kernels left out); Mitsuba's threads set with \
          `drjit.set_thread_count`. rayforge: `rayforge render scenes/pbr/NAME.yml --spp {spp} \
          --threads T`, the render time of its summary line (scene loading left out; printed to \
-         the millisecond). Ratios: rayforge's samples/s ÷ Mitsuba's (above 1, rayforge is faster). \
+         the millisecond). Ratios: rayforge's samples/s ÷ Mitsuba's (above 1, rayforge is faster), \
+         the median over the rounds of each round's ratio (a round's renders run back to back, \
+         so a slow spell of the machine that spans them cancels). \
          \"Classic roulette\": the same render with `--roulette-scale 1`, Mitsuba's rule, so that \
          paths are as long as Mitsuba's (by default rayforge learns the scale per scene and \
          keeps paths longer where that lowers the error reached in a given time).",
@@ -782,6 +812,24 @@ mod tests {
         assert_eq!(equal_time_spp(1e6, 2.56, 10_000, "ldsampler"), 256);
         assert_eq!(equal_time_spp(1.0, 1e-3, 10_000, "independent"), 1);
         assert_eq!(equal_time_spp(1.0, 1e-3, 10_000, "ldsampler"), 4);
+    }
+
+    #[test]
+    fn ratios_pair_the_renders_of_each_round() {
+        // The second round ran in a slow spell that halved both sides' rates: its ratio is
+        // still 2, as the first round's, and their median is 2. The ratio of the two medians
+        // pairs the third round's rates with each other only by chance: here 9 ÷ 4.
+        let ours = [Some(10.0), Some(5.0), Some(9.0)];
+        let theirs = [Some(5.0), Some(2.5), Some(4.0)];
+        assert_eq!(paired_ratio(&ours, &theirs), Some(2.0));
+        assert_eq!(median(&[10.0, 5.0, 9.0]), Some(9.0));
+        assert_eq!(median(&[5.0, 2.5, 4.0]), Some(4.0));
+        // Rounds where either side failed are left out.
+        assert_eq!(
+            paired_ratio(&[Some(3.0), None, Some(9.0)], &[Some(1.0), Some(1.0), None]),
+            Some(3.0)
+        );
+        assert_eq!(paired_ratio(&[None], &[Some(1.0)]), None);
     }
 
     #[test]
