@@ -17,9 +17,9 @@ use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::color::Color;
 use rayforge::film::{Film, SharedFilm};
-use rayforge::options::{PathOptions, Roulette};
+use rayforge::options::PathOptions;
 use rayforge::render::path::{
-    learn_roulette_scale, plans_samples, prepare_render, render_path, Aovs, PathJob, PathStats,
+    learn_roulette, plans_samples, prepare_render, render_path, Aovs, PathJob, PathStats,
 };
 use rayforge::render::PartialImage;
 use rayforge_scene::Scene;
@@ -183,16 +183,11 @@ pub fn path_render(
         checkpointed::render(settings, height, already, log, display, |hooks| {
             let mut total = PathStats::default();
             let mut reached = 0;
-            let (options, plan) = if passes.len() > 1 {
+            let (roulette, plan) = if passes.len() > 1 {
                 // In passes, samples are shared evenly, and the roulette is learned once, not
                 // again in each pass.
-                let options = PathOptions {
-                    roulette: Roulette::Scale(
-                        pool.install(|| learn_roulette_scale(camera, &scene.world, &options)),
-                    ),
-                    ..options
-                };
-                (options, None)
+                let roulette = pool.install(|| learn_roulette(camera, &scene.world, &options));
+                (roulette, None)
             } else {
                 // The pilot heeds a stop; the render after it then stops at once.
                 let aovs = aovs.is_some();
@@ -222,6 +217,7 @@ pub fn path_render(
                     progress: Some(hooks.progress),
                     cancel: Some(hooks.stop),
                     on_row: Some(hooks.on_row),
+                    roulette: Some(&roulette),
                 };
                 let stats = pool.install(|| {
                     render_path(camera, &scene.world, &job, &film, aovs.as_ref(), &mut done)

@@ -313,6 +313,7 @@ impl SliceRender<'_> {
                 progress: Some(progress),
                 cancel: Some(stop),
                 on_row: None,
+                roulette: None,
             };
             self.pool.install(|| {
                 render_path(self.camera, &self.scene.world, &job, &film, None, &mut done)

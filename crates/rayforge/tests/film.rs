@@ -498,6 +498,7 @@ fn renders_into_a_film_of_some_rows_are_those_rows_of_the_whole_render() {
         progress: None,
         cancel: None,
         on_row: None,
+        roulette: None,
     };
     let path = film(tent);
     render_path(&camera, &world, &job, &path, None, &mut done.clone()).unwrap();

@@ -5,7 +5,9 @@
 use rayforge::film::{Film, SharedFilm};
 use rayforge::math::{scaling, view_transform};
 use rayforge::options::{PathOptions, Roulette, SampleAllocation};
-use rayforge::render::path::{plan_samples, prepare_render, render_path, PathJob, SamplePlan};
+use rayforge::render::path::{
+    learn_roulette, plan_samples, prepare_render, render_path, PathJob, SamplePlan,
+};
 use rayforge::shading::{EmissionSide, Material, Physical};
 use rayforge::{point, vector, Camera, Color, Object, World};
 
@@ -58,6 +60,7 @@ fn render(
         progress: None,
         cancel: None,
         on_row: None,
+        roulette: None,
     };
     let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
     let mut done = vec![false; camera.vsize()];
@@ -83,8 +86,8 @@ fn render(
 #[test]
 fn adaptive_sampling_gives_the_noisy_pixels_more_samples_and_every_pixel_its_true_value() {
     let (world, camera) = grey_furnace();
-    let plan =
-        plan_samples(&camera, &world, &adaptive(), 256, false, None).expect("the noise is uneven");
+    let plan = plan_samples(&camera, &world, &adaptive(), None, 256, false, None)
+        .expect("the noise is uneven");
     assert_eq!(plan.size(), (16, 16));
     assert_eq!(plan.spp(), 256);
     // A corner sees only the sky; the middle the sphere; (4, 8) its outline.
@@ -119,8 +122,8 @@ fn adaptive_sampling_gives_the_noisy_pixels_more_samples_and_every_pixel_its_tru
 #[test]
 fn slices_of_a_planned_renders_samples_merge_into_the_whole() {
     let (world, camera) = grey_furnace();
-    let plan =
-        plan_samples(&camera, &world, &adaptive(), 256, false, None).expect("the noise is uneven");
+    let plan = plan_samples(&camera, &world, &adaptive(), None, 256, false, None)
+        .expect("the noise is uneven");
     let mut merged = render(&world, &camera, adaptive(), Some(&plan), 0..85);
     merged
         .merge(&render(&world, &camera, adaptive(), Some(&plan), 85..256))
@@ -145,7 +148,7 @@ fn the_plan_is_the_same_for_any_thread_count_and_seed_bound() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| plan_samples(&camera, &world, &options, 256, false, None))
+            .install(|| plan_samples(&camera, &world, &options, None, 256, false, None))
     };
     let one = plan_on(1, adaptive());
     assert!(one.is_some());
@@ -176,7 +179,7 @@ fn an_evenly_noisy_scene_keeps_an_even_share_and_the_bits_of_a_plain_render() {
         point(0.0, 0.0, 1.0),
         vector(0.0, 1.0, 0.0),
     ));
-    let plan = plan_samples(&camera, &world, &adaptive(), 64, false, None).expect("a plan");
+    let plan = plan_samples(&camera, &world, &adaptive(), None, 64, false, None).expect("a plan");
     assert!((0..16).all(|y| (0..16).all(|x| plan.count(x, y) == 64)));
     // The pilot's samples, kept in the plan, are the render's first: the planned render is
     // the plain one to the bit.
@@ -198,6 +201,7 @@ fn a_planned_render_with_aovs_starts_from_the_pilots_sums() {
             progress: None,
             cancel: None,
             on_row: None,
+            roulette: None,
         };
         let (film, aovs) = (SharedFilm::from(Film::new(w, h)), Aovs::new(w, h));
         let mut done = vec![false; h];
@@ -208,9 +212,9 @@ fn a_planned_render_with_aovs_starts_from_the_pilots_sums() {
     };
     // A plan whose pilot kept the AOVs, and one whose pilot did not (the render then traces
     // the pilot's samples again): the same films.
-    let with = plan_samples(&camera, &world, &adaptive(), 64, true, None).unwrap();
+    let with = plan_samples(&camera, &world, &adaptive(), None, 64, true, None).unwrap();
     assert!(with.count(8, 8) > with.count(0, 0), "an uneven plan");
-    let without = plan_samples(&camera, &world, &adaptive(), 64, false, None).unwrap();
+    let without = plan_samples(&camera, &world, &adaptive(), None, 64, false, None).unwrap();
     let (a, b) = (render_aovs(Some(&with)), render_aovs(Some(&without)));
     assert_eq!(a, b);
     // The sample-count AOV holds each pixel's count.
@@ -225,7 +229,7 @@ fn a_stopped_pilot_makes_no_plan() {
     let (world, camera) = grey_furnace();
     let stop = std::sync::atomic::AtomicBool::new(true);
     assert_eq!(
-        plan_samples(&camera, &world, &adaptive(), 256, false, Some(&stop)),
+        plan_samples(&camera, &world, &adaptive(), None, 256, false, Some(&stop)),
         None
     );
 }
@@ -235,22 +239,28 @@ fn few_samples_or_an_even_share_asked_for_need_no_plan() {
     // Below 16 samples per pixel the pilot's share would be too few samples to judge by.
     let (world, camera) = grey_furnace();
     assert_eq!(
-        plan_samples(&camera, &world, &adaptive(), 15, false, None),
+        plan_samples(&camera, &world, &adaptive(), None, 15, false, None),
         None
     );
-    // Asked for an even share, no plan, and the roulette left to the render to learn.
+    // Asked for an even share, no plan; the roulette is learned all the same, once.
     let uniform = PathOptions {
         allocation: SampleAllocation::Uniform,
         ..PathOptions::default()
     };
-    assert_eq!(
-        prepare_render(&camera, &world, &uniform, 64, false, None),
-        (uniform, None)
-    );
-    // Adaptive by default; the roulette then learned once, for the pilot and the render.
+    let (roulette, plan) = prepare_render(&camera, &world, &uniform, 64, false, None);
+    assert_eq!(roulette, learn_roulette(&camera, &world, &uniform));
+    assert_eq!(plan, None);
+    // A fixed scale is kept as it is, with nothing predicted.
+    let fixed = PathOptions {
+        roulette: Roulette::Scale(2.0),
+        ..uniform
+    };
+    let (roulette, _) = prepare_render(&camera, &world, &fixed, 64, false, None);
+    assert_eq!(roulette.scale, 2.0);
+    assert_eq!(roulette.continuation, None);
+    // Adaptive by default; the roulette learned once, for the pilot and the render.
     let learned = PathOptions::default();
     assert_eq!(learned.allocation, SampleAllocation::Adaptive);
-    let (options, plan) = prepare_render(&camera, &world, &learned, 256, false, None);
-    assert!(matches!(options.roulette, Roulette::Scale(_)));
+    let (_, plan) = prepare_render(&camera, &world, &learned, 256, false, None);
     assert!(plan.is_some());
 }

@@ -21,9 +21,9 @@ use clap::Parser;
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::film::{Film, SharedFilm};
-use rayforge::options::{PathOptions, RasterOptions, Roulette};
+use rayforge::options::{PathOptions, RasterOptions};
 use rayforge::raster::Rasterizer;
-use rayforge::render::path::{learn_roulette_scale, render_path, PathJob};
+use rayforge::render::path::{learn_roulette, render_path, PathJob};
 use rayforge::render::{render_rows, RenderOptions, Sampling};
 use rayforge::LightingModel;
 use rayforge_scene::Scene;
@@ -473,12 +473,7 @@ fn path_passes(
     let film = SharedFilm::from(film);
     let mut done = vec![false; height];
     // The roulette is learned once, not again in each pass.
-    let options = PathOptions {
-        roulette: Roulette::Scale(
-            pool.install(|| learn_roulette_scale(camera, &scene.world, &options)),
-        ),
-        ..options
-    };
+    let roulette = pool.install(|| learn_roulette(camera, &scene.world, &options));
     let passes = doubling_passes(spp);
     let count = passes.len();
     for (i, samples) in passes.into_iter().enumerate() {
@@ -493,6 +488,7 @@ fn path_passes(
             progress: Some(&add),
             cancel: Some(&pass.job.cancel),
             on_row: None,
+            roulette: Some(&roulette),
         };
         pool.install(|| render_path(camera, &scene.world, &job, &film, None, &mut done))
             .map_err(|e| Stop::Failed(format!("the path tracer refused its film: {e}")))?;

@@ -14,6 +14,7 @@ pub fn render(scene: &Scene, width: usize, height: usize, spp: u64) -> Film {
         progress: None,
         cancel: None,
         on_row: None,
+        roulette: None,
     };
     let film = SharedFilm::from(Film::with_filter(width, height, job.options.filter).unwrap());
     let mut done = vec![false; height];

@@ -25,12 +25,12 @@
 //! apart still merge into the render of the whole.
 
 use super::moments::Moments;
-use super::{learn_roulette_scale, render_path_logged, Aovs, PathJob};
+use super::{learn_roulette, render_path_logged, Aovs, LearnedRoulette, PathJob};
 use crate::camera::Camera;
 use crate::color::Color;
 use crate::film::{Film, SharedFilm};
 use crate::math::random::{Jitter, SplitMix64};
-use crate::options::{PathOptions, Roulette, SampleAllocation};
+use crate::options::{PathOptions, SampleAllocation};
 use crate::scene::World;
 use std::ops::Range;
 use std::sync::atomic::AtomicBool;
@@ -159,11 +159,10 @@ pub fn plans_samples(options: &PathOptions, spp: u64) -> bool {
     options.allocation == SampleAllocation::Adaptive && spp >= MIN_ADAPTIVE_SPP
 }
 
-/// `options` as a render of `spp` samples per pixel in one pass (or in slices of its
-/// samples or rows) takes them, and its plan: where samples are shared out adaptively, the
-/// roulette learned once for the pilot and the render, and the plan ([`plan_samples`]); else
-/// `options` as they are, and no plan. With `aovs`, the pilot keeps their sums too. Once
-/// `cancel` is set the pilot stops, and no plan is made.
+/// The roulette of a render of `spp` samples per pixel in one pass with `options` (learned
+/// once, for the pilot and the render), and its plan where samples are shared out
+/// adaptively ([`plan_samples`]; else none). With `aovs`, the pilot keeps their sums too.
+/// Once `cancel` is set the pilot stops, and no plan is made.
 pub fn prepare_render(
     camera: &Camera,
     world: &World,
@@ -171,29 +170,26 @@ pub fn prepare_render(
     spp: u64,
     aovs: bool,
     cancel: Option<&AtomicBool>,
-) -> (PathOptions, Option<SamplePlan>) {
-    if !plans_samples(options, spp) {
-        return (*options, None);
-    }
-    let options = PathOptions {
-        roulette: Roulette::Scale(learn_roulette_scale(camera, world, options)),
-        ..*options
-    };
-    let plan = plan_samples(camera, world, &options, spp, aovs, cancel);
-    (options, plan)
+) -> (LearnedRoulette, Option<SamplePlan>) {
+    let roulette = learn_roulette(camera, world, options);
+    let plan = plans_samples(options, spp)
+        .then(|| plan_samples(camera, world, options, Some(&roulette), spp, aovs, cancel))
+        .flatten();
+    (roulette, plan)
 }
 
 /// Plans a render of `world` through `camera` at `spp` samples per pixel, from a pilot pass
 /// of its first samples with `options` (see the [module](self)): where the pilot foresees no
 /// gain, `spp` for every pixel (the pilot's samples still kept). `None` below
 /// [`MIN_ADAPTIVE_SPP`], or where `cancel` was set before the pilot was through (or were the
-/// pilot refused its film). With `aovs`, the pilot keeps their sums too. The roulette of
-/// `options` should be the one the render uses (a scale, not one to learn:
-/// [`prepare_render`] learns it once for both).
+/// pilot refused its film). With `aovs`, the pilot keeps their sums too. The pilot plays
+/// `roulette` where given, which should be the one the render plays ([`prepare_render`]
+/// learns it once for both); else the one `options` ask for.
 pub fn plan_samples(
     camera: &Camera,
     world: &World,
     options: &PathOptions,
+    roulette: Option<&LearnedRoulette>,
     spp: u64,
     aovs: bool,
     cancel: Option<&AtomicBool>,
@@ -215,6 +211,7 @@ pub fn plan_samples(
         progress: None,
         cancel,
         on_row: None,
+        roulette,
     };
     let mut done = vec![false; height];
     render_path_logged(

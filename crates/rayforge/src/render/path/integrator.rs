@@ -24,6 +24,7 @@
 //! the same vertex feed two separate estimates (on the Cornell box, 0.8 % less squared error
 //! at 64 samples, for nothing).
 
+use super::continuation::ContinuationCache;
 use super::sampler::SampleStream;
 use crate::color::Color;
 use crate::math::{Frame, Point3, Ray, Vec3};
@@ -68,6 +69,10 @@ pub struct PathContext<'w> {
     /// (Mitsuba's, pbrt's); [`learn_roulette_scale`](super::learn_roulette_scale) picks one
     /// for the scene.
     pub roulette_scale: f64,
+    /// What paths still gather past diffuse vertices, where the pilot learned it: there the
+    /// roulette ends a path into that prediction, from the first bounce on, by the classic
+    /// rule (see [`ContinuationCache`]).
+    pub continuation: Option<&'w ContinuationCache>,
     /// Whether [`FirstHit`]'s albedo and normal are wanted (an image of each is being made):
     /// a metal's albedo costs a Fresnel term per sample, for nothing when there is no image.
     pub first_hit_shading: bool,
@@ -167,6 +172,17 @@ pub trait PathLog {
     /// A branch of the path ended (the path itself, or one of the two a split made), the
     /// radiance gathered so far being `gathered`: what its decisions led to.
     fn branch_ended(&mut self, gathered: Color);
+    /// The path goes on from its `bounce`th vertex, a diffuse one at `point` whose surface
+    /// faces `facing` there (towards the path), with throughput `throughput`, having gathered
+    /// `gathered`.
+    fn left_diffuse(
+        &mut self,
+        bounce: u32,
+        point: Point3,
+        facing: Vec3,
+        throughput: Color,
+        gathered: Color,
+    );
 }
 
 /// The log of a render: nothing is kept (and nothing is left of it once inlined).
@@ -177,6 +193,8 @@ impl PathLog for () {
     fn survived(&mut self, _: f64, _: f64, _: Color, _: u64) {}
     #[inline]
     fn branch_ended(&mut self, _: Color) {}
+    #[inline]
+    fn left_diffuse(&mut self, _: u32, _: Point3, _: Vec3, _: Color, _: Color) {}
 }
 
 /// The other half of a path split at smooth glass, waiting to be followed once the first
@@ -215,6 +233,7 @@ impl<'w> PathContext<'w> {
             max_depth,
             roulette_depth,
             roulette_scale: 1.0,
+            continuation: None,
             first_hit_shading: true,
             hint: NO_OBJECT,
             rays: 0,
@@ -580,7 +599,30 @@ impl<'w> PathContext<'w> {
 
                 // Russian roulette: a path carrying little light ends with a probability that
                 // grows as it dims, and one that survives carries more, so the mean is unchanged.
-                if depth >= self.roulette_depth {
+                // Where what is still to come past a diffuse vertex is predicted, a path ends
+                // into the prediction, and a survivor carries what the prediction misses.
+                let diffuse = matches!(bsdf, Bsdf::Diffuse { .. }) && !scattering.chooses();
+                let facing = if geometric.dot(wo) < 0.0 {
+                    -geometric
+                } else {
+                    geometric
+                };
+                let predicted = match self.continuation {
+                    Some(cache) if diffuse => cache.predict(point, facing),
+                    _ => None,
+                };
+                if let Some(rest) = predicted {
+                    stream.seek(vertex + 6);
+                    let u_roulette = stream.next_1d();
+                    let survive = (throughput.max_channel() / share).min(0.95);
+                    let expected = throughput.hadamard(rest);
+                    if survive.is_nan() || survive <= 0.0 || u_roulette >= survive {
+                        radiance += expected;
+                        break;
+                    }
+                    radiance += expected * ((survive - 1.0) / survive);
+                    throughput = throughput * (1.0 / survive);
+                } else if depth >= self.roulette_depth {
                     stream.seek(vertex + 6);
                     let u_roulette = stream.next_1d();
                     let survive =
@@ -594,6 +636,9 @@ impl<'w> PathContext<'w> {
                 }
                 if throughput.max_channel() <= 0.0 {
                     break;
+                }
+                if diffuse {
+                    log.left_diffuse(depth, point, facing, throughput, radiance);
                 }
             }
             log.branch_ended(radiance);

@@ -15,14 +15,16 @@
 //! order without changing a bit.
 
 mod adaptive;
+mod continuation;
 mod integrator;
 mod moments;
 mod roulette;
 mod sampler;
 
 pub use adaptive::{plan_samples, plans_samples, prepare_render, SamplePlan, MIN_ADAPTIVE_SPP};
+pub use continuation::ContinuationCache;
 pub use integrator::{FirstHit, PathContext, PathLog, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS};
-pub use roulette::learn_roulette_scale;
+pub use roulette::{learn_roulette, LearnedRoulette};
 pub use sampler::SampleStream;
 
 use super::RowCallback;
@@ -63,6 +65,10 @@ pub struct PathJob<'p> {
     /// when the albedo and normal are rendered, theirs. A row so saved and added back to the
     /// films as one sample of weight 1 per pixel resolves to the same bits.
     pub on_row: Option<&'p RowCallback<'p>>,
+    /// The roulette learned beforehand ([`learn_roulette`]) where the options ask for one
+    /// learned: a render in several passes learns it once for all of them. `None`: learned
+    /// here. Ignored where the options fix the scale.
+    pub roulette: Option<&'p LearnedRoulette>,
 }
 
 /// The images a denoiser wants beside the beauty image: the albedo and the normal of the
@@ -254,9 +260,20 @@ fn render_path_logged(
     let cancelled = || job.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let options = job.options;
     let sampler = CameraSampler::new(camera, world, filter);
-    let roulette_scale = match options.roulette {
-        Roulette::Scale(k) => k,
-        Roulette::Learned => roulette::learned_scale(camera, world, &index, &emitters, &options),
+    let learned_here;
+    let roulette = match (options.roulette, job.roulette) {
+        (Roulette::Learned, Some(learned)) => learned,
+        (Roulette::Learned, None) => {
+            learned_here = roulette::learned(camera, world, &index, &emitters, &options);
+            &learned_here
+        }
+        (Roulette::Scale(scale), _) => {
+            learned_here = LearnedRoulette {
+                scale,
+                continuation: None,
+            };
+            &learned_here
+        }
     };
     // A row at a time for each thread to take: rayon otherwise runs a quarter of the rows per
     // thread as one unsplittable piece, and with rows of unequal cost (adaptive sampling puts
@@ -268,7 +285,8 @@ fn render_path_logged(
         .with_max_len(1)
         .try_for_each_init(
             || {
-                let mut context = path_context(world, &index, &emitters, &options, roulette_scale);
+                let mut context = path_context(world, &index, &emitters, &options, roulette.scale);
+                context.continuation = roulette.continuation.as_ref();
                 context.first_hit_shading = aovs.is_some();
                 context
             },

@@ -30,12 +30,26 @@ impl Moments {
         }
     }
 
+    /// How many samples were counted.
+    pub fn count(&self) -> f64 {
+        self.n
+    }
+
+    /// Their mean (black from none).
+    pub fn mean(&self) -> Color {
+        if self.n > 0.0 {
+            self.sum * (1.0 / self.n)
+        } else {
+            Color::BLACK
+        }
+    }
+
     /// The unbiased variance, the mean over the channels (0 from fewer than two samples).
     pub fn variance(&self) -> f64 {
         if self.n < 2.0 {
             return 0.0;
         }
-        let mean = self.sum * (1.0 / self.n);
+        let mean = self.mean();
         let spread = (self.squares - mean.hadamard(self.sum)) * (1.0 / (self.n - 1.0));
         ((spread.red + spread.green + spread.blue) / 3.0).max(0.0)
     }

@@ -26,12 +26,20 @@
 //! such paths miss the rare bright ones that make the render's noise: its average had the
 //! spheres scene end paths more eagerly than the classic rule, and the image's error was a
 //! quarter above that of a lenient roulette for the same time. There the roulette is lenient.
+//!
+//! A pass before those, whose paths the roulette lets live long, records at each diffuse
+//! vertex they leave the light they went on to gather: a [`ContinuationCache`] learns from it
+//! where that light is predictable, and there the passes after it and the render end paths
+//! into the prediction (see [`continuation`](super::continuation)). The scale is then learned
+//! from the other vertices' decisions alone.
 
+use super::continuation::{ContinuationCache, Sighting};
 use super::integrator::PathLog;
 use super::moments::Moments;
 use super::{path_context, CameraSampler, SampleStream};
 use crate::camera::Camera;
 use crate::color::Color;
+use crate::math::{Point3, Vec3};
 use crate::options::{PathOptions, Roulette};
 use crate::scene::{Emitters, World, WorldIndex};
 use rayon::prelude::*;
@@ -51,37 +59,88 @@ const MIN_DECISIONS: u64 = 64;
 /// decisions, ending paths can save little time, and the light those few paths carry is what
 /// the pilot sees worst: the scale is then [`RARE_SCALE`] whatever the pilot's averages say.
 const RARE_SHARE: f64 = 0.05;
+/// The deepest the pass that learns the predictions follows a path (without roulette).
+const SIGHTING_DEPTH: u32 = 32;
+/// The vertices that pass records: its paths' first few, past which they still go on for
+/// another 24 bounces (what they would gather after those, a twentieth of the rest in a
+/// room of albedo 0.88, is not counted, so a prediction falls a little short, which costs
+/// only a little of its gain).
+const SIGHTED_BOUNCES: u32 = 8;
 /// The scale for scenes whose paths seldom outlive the roulette depth: paths end only once
 /// their throughput has fallen below an eighth.
 const RARE_SCALE: f64 = 8.0;
 
-/// The scale of the roulette `options` ask for: theirs, or learned for `world` seen through
-/// `camera` by a pilot pass that weighs the light paths still have to gather against the
-/// rays it costs (efficiency-aware roulette, Rath et al. 2022, with the scene's averages).
-pub fn learn_roulette_scale(camera: &Camera, world: &World, options: &PathOptions) -> f64 {
+/// The roulette a render plays: a path survives with probability `scale × throughput`, and
+/// where `continuation` predicts what a path still gathers, it ends into the prediction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LearnedRoulette {
+    /// The scale `k` of `q = k T`.
+    pub scale: f64,
+    /// The predictions, where the pilot learned any.
+    pub continuation: Option<ContinuationCache>,
+}
+
+/// The roulette `options` ask for: their scale (and no predictions), or one learned for
+/// `world` seen through `camera` by a pilot pass that weighs the light paths still have to
+/// gather against the rays it costs (efficiency-aware roulette, Rath et al. 2022, with the
+/// scene's averages) and learns where that light is predictable.
+pub fn learn_roulette(camera: &Camera, world: &World, options: &PathOptions) -> LearnedRoulette {
     match options.roulette {
-        Roulette::Scale(k) => k,
+        Roulette::Scale(scale) => LearnedRoulette {
+            scale,
+            continuation: None,
+        },
         Roulette::Learned => {
             let index = WorldIndex::build(world);
             let emitters = Emitters::new(world);
-            learned_scale(camera, world, &index, &emitters, options)
+            learned(camera, world, &index, &emitters, options)
         }
     }
 }
 
-/// The pilot's scale for `world`, its `index` and `emitters` already built.
-pub(super) fn learned_scale(
+/// The pilot's roulette for `world`, its `index` and `emitters` already built.
+pub(super) fn learned(
     camera: &Camera,
     world: &World,
     index: &WorldIndex,
     emitters: &Emitters,
     options: &PathOptions,
-) -> f64 {
+) -> LearnedRoulette {
+    // First the predictions, from paths that no roulette ends (so that what they record past
+    // a vertex is the light there, not the roulette's noise), cut at a depth where what
+    // they would still gather is lost in that noise anyway.
+    let mut sightings = Vec::new();
+    let whole = PathOptions {
+        max_depth: options.max_depth.min(SIGHTING_DEPTH),
+        roulette_depth: u32::MAX,
+        ..*options
+    };
+    pilot(
+        camera,
+        world,
+        index,
+        emitters,
+        &whole,
+        1.0,
+        None,
+        Some(&mut sightings),
+    );
+    let continuation = ContinuationCache::learn(&sightings);
+    drop(sightings);
     // The variance and cost a pilot measures depend on the scale it renders with: each pass
     // renders with the last one's answer, until the answer settles.
     let mut k = 1.0;
     for _ in 0..PILOT_ROUNDS {
-        let stats = pilot(camera, world, index, emitters, options, k);
+        let stats = pilot(
+            camera,
+            world,
+            index,
+            emitters,
+            options,
+            k,
+            continuation.as_ref(),
+            None,
+        );
         let Some(next) = stats.scale() else {
             break;
         };
@@ -91,7 +150,10 @@ pub(super) fn learned_scale(
             break;
         }
     }
-    k
+    LearnedRoulette {
+        scale: k,
+        continuation,
+    }
 }
 
 /// What a pilot pass measured (sums over its pixels, in the pixels' order).
@@ -160,6 +222,17 @@ struct Decision {
     end: Color,
 }
 
+/// A diffuse vertex the path being traced went on from (see [`PathLog::left_diffuse`]).
+#[derive(Debug, Clone, Copy)]
+struct Departure {
+    point: Point3,
+    facing: Vec3,
+    throughput: Color,
+    gathered: Color,
+    /// The radiance gathered when its branch ended.
+    end: Color,
+}
+
 /// The decisions of the path being traced.
 #[derive(Debug, Default)]
 struct Decisions {
@@ -167,6 +240,22 @@ struct Decisions {
     survived: Vec<Decision>,
     /// How many of `survived` belong to branches that have ended.
     closed: usize,
+    /// Whether diffuse vertices are recorded.
+    records: bool,
+    departures: Vec<Departure>,
+    /// How many of `departures` belong to branches that have ended.
+    departed: usize,
+}
+
+impl Decisions {
+    /// Ready for the next path.
+    fn clear(&mut self) {
+        self.ended = 0;
+        self.survived.clear();
+        self.closed = 0;
+        self.departures.clear();
+        self.departed = 0;
+    }
 }
 
 impl PathLog for Decisions {
@@ -189,7 +278,51 @@ impl PathLog for Decisions {
             d.end = gathered;
         }
         self.closed = self.survived.len();
+        for d in &mut self.departures[self.departed..] {
+            d.end = gathered;
+        }
+        self.departed = self.departures.len();
     }
+
+    fn left_diffuse(
+        &mut self,
+        bounce: u32,
+        point: Point3,
+        facing: Vec3,
+        throughput: Color,
+        gathered: Color,
+    ) {
+        if self.records && bounce <= SIGHTED_BOUNCES {
+            self.departures.push(Departure {
+                point,
+                facing,
+                throughput,
+                gathered,
+                end: gathered,
+            });
+        }
+    }
+}
+
+/// What `departure` saw: the light gathered past it per unit of its throughput, channel by
+/// channel; `None` where a channel carried nothing (what would come there is unknown).
+fn sighting(departure: &Departure) -> Option<Sighting> {
+    let t = departure.throughput;
+    if !(t.red > 0.0 && t.green > 0.0 && t.blue > 0.0) {
+        return None;
+    }
+    let future = departure.end - departure.gathered;
+    let light = Color::new(
+        future.red / t.red,
+        future.green / t.green,
+        future.blue / t.blue,
+    );
+    let finite = light.red.is_finite() && light.green.is_finite() && light.blue.is_finite();
+    finite.then_some(Sighting {
+        point: departure.point,
+        facing: departure.facing,
+        light,
+    })
 }
 
 /// The mean over channels of `c`'s squares.
@@ -197,7 +330,10 @@ fn mean_square(c: Color) -> f64 {
     (c.red * c.red + c.green * c.green + c.blue * c.blue) / 3.0
 }
 
-/// One pilot pass with the roulette at scale `k`.
+/// One pilot pass with the roulette at scale `k` and the predictions `continuation`, adding
+/// what its paths saw past diffuse vertices to `sightings` when given (in the pixels'
+/// order).
+#[allow(clippy::too_many_arguments)]
 fn pilot(
     camera: &Camera,
     world: &World,
@@ -205,7 +341,10 @@ fn pilot(
     emitters: &Emitters,
     options: &PathOptions,
     k: f64,
+    continuation: Option<&ContinuationCache>,
+    sightings: Option<&mut Vec<Sighting>>,
 ) -> PilotStats {
+    let records = sightings.is_some();
     let (width, height) = (camera.hsize(), camera.vsize());
     let stride = ((width * height) as f64 / PILOT_PIXELS as f64)
         .sqrt()
@@ -219,27 +358,29 @@ fn pilot(
     // Its own seed: the scale it finds is independent of the render's numbers.
     let seed = options.seed ^ 0x7069_6C6F_745F_7272;
     // In small pieces, as the render's rows (see `render_path_logged`): pixels differ in cost.
-    let per_pixel: Vec<PilotStats> = pixels
+    let per_pixel: Vec<(PilotStats, Vec<Sighting>)> = pixels
         .par_iter()
         .with_max_len(16)
         .map_init(
             || {
-                (
-                    path_context(world, index, emitters, options, k),
-                    Decisions::default(),
-                )
+                let mut context = path_context(world, index, emitters, options, k);
+                context.continuation = continuation;
+                let log = Decisions {
+                    records,
+                    ..Decisions::default()
+                };
+                (context, log)
             },
             |(context, log), &(x, y)| {
                 let mut stats = PilotStats::default();
+                let mut seen = Vec::new();
                 let mut stream = SampleStream::new(options.sampler, seed, x as u32, y as u32, 0);
                 let mut moments = Moments::default();
                 for s in 0..PILOT_SAMPLES {
                     stream.start(s);
                     let (ray, _) = sampler.ray(x, y, &mut stream);
                     let before = context.rays;
-                    log.ended = 0;
-                    log.survived.clear();
-                    log.closed = 0;
+                    log.clear();
                     let (radiance, _) = context.radiance_logged(ray, &mut stream, log);
                     if !(radiance.red.is_finite()
                         && radiance.green.is_finite()
@@ -255,19 +396,26 @@ fn pilot(
                         stats.moment += d.weight * mean_square(future);
                         stats.cost += d.weight * (context.rays - d.rays) as f64;
                     }
+                    seen.extend(log.departures.iter().filter_map(sighting));
                     moments.add(radiance);
                 }
                 if stats.paths > 1 {
                     stats.variance = moments.variance();
                     stats.pixels = 1;
                 }
-                stats
+                (stats, seen)
             },
         )
         .collect();
-    per_pixel
-        .iter()
-        .fold(PilotStats::default(), |total, s| total.add(s))
+    let mut total = PilotStats::default();
+    let mut sightings = sightings;
+    for (stats, seen) in per_pixel {
+        total = total.add(&stats);
+        if let Some(all) = sightings.as_deref_mut() {
+            all.extend(seen);
+        }
+    }
+    total
 }
 
 #[cfg(test)]
