@@ -27,8 +27,8 @@
 //! spheres scene end paths more eagerly than the classic rule, and the image's error was a
 //! quarter above that of a lenient roulette for the same time. There the roulette is lenient.
 //!
-//! A pass before those, whose paths the roulette lets live long, records at each diffuse
-//! vertex they leave the light they went on to gather: a [`ContinuationCache`] learns from it
+//! A pass before those, whose paths no roulette ends, records at each diffuse vertex they
+//! leave the light they went on to gather: a [`ContinuationCache`] learns from it
 //! where that light is predictable, and there the passes after it and the render end paths
 //! into the prediction (see [`continuation`](super::continuation)). The scale is then learned
 //! from the other vertices' decisions alone.
@@ -61,10 +61,11 @@ const MIN_DECISIONS: u64 = 64;
 const RARE_SHARE: f64 = 0.05;
 /// The deepest the pass that learns the predictions follows a path (without roulette).
 const SIGHTING_DEPTH: u32 = 32;
-/// The vertices that pass records: its paths' first few, past which they still go on for
-/// another 24 bounces (what they would gather after those, a twentieth of the rest in a
-/// room of albedo 0.88, is not counted, so a prediction falls a little short, which costs
-/// only a little of its gain).
+/// The vertices that pass records: its paths' first eight bounces, each followed for at
+/// least 24 more. What a path would gather past its 32nd bounce is left out, so a prediction
+/// falls short by up to albedo²⁴ of it (a two-hundredth in a room of albedo 0.8, a twentieth
+/// at 0.88): that costs a little of the gain and nothing of the mean. Counting every bounce
+/// instead set the closed furnace's predictions 13 % short, and its error rose by a fifth.
 const SIGHTED_BOUNCES: u32 = 8;
 /// The scale for scenes whose paths seldom outlive the roulette depth: paths end only once
 /// their throughput has fallen below an eighth.
