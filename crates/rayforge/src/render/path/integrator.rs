@@ -172,17 +172,21 @@ pub trait PathLog {
     /// A branch of the path ended (the path itself, or one of the two a split made), the
     /// radiance gathered so far being `gathered`: what its decisions led to.
     fn branch_ended(&mut self, gathered: Color);
-    /// The path goes on from its `bounce`th vertex, a diffuse one at `point` whose surface
-    /// faces `facing` there (towards the path), with throughput `throughput`, having gathered
-    /// `gathered`.
-    fn left_diffuse(
-        &mut self,
-        bounce: u32,
-        point: Point3,
-        facing: Vec3,
-        throughput: Color,
-        gathered: Color,
-    );
+    /// The path goes on from its `bounce`th vertex, a diffuse one.
+    fn left_diffuse(&mut self, bounce: u32, departure: DiffuseDeparture);
+}
+
+/// A diffuse vertex a path goes on from, as [`PathLog::left_diffuse`] is told of it.
+#[derive(Debug, Clone, Copy)]
+pub struct DiffuseDeparture {
+    /// Where the vertex is.
+    pub point: Point3,
+    /// Its surface's unit normal on the side the path is on.
+    pub facing: Vec3,
+    /// The path's throughput as it leaves.
+    pub throughput: Color,
+    /// The radiance the path has gathered so far.
+    pub gathered: Color,
 }
 
 /// The log of a render: nothing is kept (and nothing is left of it once inlined).
@@ -194,7 +198,7 @@ impl PathLog for () {
     #[inline]
     fn branch_ended(&mut self, _: Color) {}
     #[inline]
-    fn left_diffuse(&mut self, _: u32, _: Point3, _: Vec3, _: Color, _: Color) {}
+    fn left_diffuse(&mut self, _: u32, _: DiffuseDeparture) {}
 }
 
 /// The other half of a path split at smooth glass, waiting to be followed once the first
@@ -638,7 +642,13 @@ impl<'w> PathContext<'w> {
                     break;
                 }
                 if diffuse {
-                    log.left_diffuse(depth, point, facing, throughput, radiance);
+                    let departure = DiffuseDeparture {
+                        point,
+                        facing,
+                        throughput,
+                        gathered: radiance,
+                    };
+                    log.left_diffuse(depth, departure);
                 }
             }
             log.branch_ended(radiance);

@@ -23,7 +23,9 @@ mod sampler;
 
 pub use adaptive::{plan_samples, plans_samples, prepare_render, SamplePlan, MIN_ADAPTIVE_SPP};
 pub use continuation::ContinuationCache;
-pub use integrator::{FirstHit, PathContext, PathLog, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS};
+pub use integrator::{
+    DiffuseDeparture, FirstHit, PathContext, PathLog, CAMERA_DIMENSIONS, VERTEX_DIMENSIONS,
+};
 pub use roulette::{learn_roulette, LearnedRoulette};
 pub use sampler::SampleStream;
 

@@ -34,12 +34,11 @@
 //! from the other vertices' decisions alone.
 
 use super::continuation::{ContinuationCache, Sighting};
-use super::integrator::PathLog;
+use super::integrator::{DiffuseDeparture, PathLog};
 use super::moments::Moments;
 use super::{path_context, CameraSampler, SampleStream};
 use crate::camera::Camera;
 use crate::color::Color;
-use crate::math::{Point3, Vec3};
 use crate::options::{PathOptions, Roulette};
 use crate::scene::{Emitters, World, WorldIndex};
 use rayon::prelude::*;
@@ -223,14 +222,11 @@ struct Decision {
     end: Color,
 }
 
-/// A diffuse vertex the path being traced went on from (see [`PathLog::left_diffuse`]).
+/// A diffuse vertex the path being traced went on from, and the radiance gathered when its
+/// branch ended.
 #[derive(Debug, Clone, Copy)]
 struct Departure {
-    point: Point3,
-    facing: Vec3,
-    throughput: Color,
-    gathered: Color,
-    /// The radiance gathered when its branch ended.
+    from: DiffuseDeparture,
     end: Color,
 }
 
@@ -285,21 +281,11 @@ impl PathLog for Decisions {
         self.departed = self.departures.len();
     }
 
-    fn left_diffuse(
-        &mut self,
-        bounce: u32,
-        point: Point3,
-        facing: Vec3,
-        throughput: Color,
-        gathered: Color,
-    ) {
+    fn left_diffuse(&mut self, bounce: u32, from: DiffuseDeparture) {
         if self.records && bounce <= SIGHTED_BOUNCES {
             self.departures.push(Departure {
-                point,
-                facing,
-                throughput,
-                gathered,
-                end: gathered,
+                from,
+                end: from.gathered,
             });
         }
     }
@@ -308,11 +294,12 @@ impl PathLog for Decisions {
 /// What `departure` saw: the light gathered past it per unit of its throughput, channel by
 /// channel; `None` where a channel carried nothing (what would come there is unknown).
 fn sighting(departure: &Departure) -> Option<Sighting> {
-    let t = departure.throughput;
+    let Departure { from, end } = departure;
+    let t = from.throughput;
     if !(t.red > 0.0 && t.green > 0.0 && t.blue > 0.0) {
         return None;
     }
-    let future = departure.end - departure.gathered;
+    let future = *end - from.gathered;
     let light = Color::new(
         future.red / t.red,
         future.green / t.green,
@@ -320,8 +307,8 @@ fn sighting(departure: &Departure) -> Option<Sighting> {
     );
     let finite = light.red.is_finite() && light.green.is_finite() && light.blue.is_finite();
     finite.then_some(Sighting {
-        point: departure.point,
-        facing: departure.facing,
+        point: from.point,
+        facing: from.facing,
         light,
     })
 }
