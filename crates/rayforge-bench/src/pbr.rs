@@ -411,8 +411,9 @@ enum Config {
     /// rayforge with the classic roulette (`--roulette-scale 1`, the rule of Mitsuba's `path`
     /// integrator), at this many threads: its paths are Mitsuba's length, so samples per
     /// second compare the work of a bounce alone. The learned roulette keeps paths longer
-    /// where that buys more than it costs (the closed furnace's, about twice as long), which
-    /// lowers the samples per second of a render and its error at equal time both.
+    /// where that buys more than it costs, which lowers the samples per second of a render
+    /// and its error at equal time both, and ends them into a prediction of the light still
+    /// to come where that is known (the closed furnace's paths: about a third of the rays).
     RayforgeClassic(usize),
     Mitsuba(&'static str, usize),
 }
@@ -733,8 +734,9 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
          the median over the rounds of each round's ratio (a round's renders run back to back, \
          so a slow spell of the machine that spans them cancels). \
          \"Classic roulette\": the same render with `--roulette-scale 1`, Mitsuba's rule, so that \
-         paths are as long as Mitsuba's (by default rayforge learns the scale per scene and \
-         keeps paths longer where that lowers the error reached in a given time).",
+         paths are as long as Mitsuba's (by default rayforge learns the scale per scene, keeps \
+         paths longer where that lowers the error reached in a given time, and ends them into a \
+         prediction of the light still to come where its pilot could make one).",
         mitsuba.version,
         s.python.display()
     ));
