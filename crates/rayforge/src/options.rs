@@ -105,7 +105,7 @@ pub enum SamplerKind {
 pub enum Roulette {
     /// Chosen for the scene before the render by a short pilot pass that weighs the light a
     /// path still has to gather against what gathering it costs (see
-    /// `render::path::learn_roulette_scale`).
+    /// `render::path::learn_roulette`).
     #[default]
     Learned,
     /// A path survives with probability `scale × throughput` (at most 0.95): 1 is the classic

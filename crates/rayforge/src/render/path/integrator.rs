@@ -66,7 +66,7 @@ pub struct PathContext<'w> {
     pub roulette_depth: u32,
     /// How much longer than the classic rule the roulette lets paths live: a path survives
     /// with probability `roulette_scale × throughput` (at most 0.95). 1 is the classic rule
-    /// (Mitsuba's, pbrt's); [`learn_roulette_scale`](super::learn_roulette_scale) picks one
+    /// (Mitsuba's, pbrt's); [`learn_roulette`](super::learn_roulette) picks one
     /// for the scene.
     pub roulette_scale: f64,
     /// What paths still gather past diffuse vertices, where the pilot learned it: there the
@@ -611,32 +611,36 @@ impl<'w> PathContext<'w> {
                 } else {
                     geometric
                 };
+                // Such a vertex plays the classic rule, from the first bounce; the pilot's log
+                // learns the scale from the others' decisions alone.
                 let predicted = match self.continuation {
                     Some(cache) if diffuse => cache.predict(point, facing),
                     _ => None,
                 };
-                if let Some(rest) = predicted {
+                if predicted.is_some() || depth >= self.roulette_depth {
                     stream.seek(vertex + 6);
                     let u_roulette = stream.next_1d();
-                    let survive = (throughput.max_channel() / share).min(0.95);
-                    let expected = throughput.hadamard(rest);
+                    let scale = if predicted.is_some() {
+                        1.0
+                    } else {
+                        self.roulette_scale
+                    };
+                    let survive = (throughput.max_channel() / share * scale).min(0.95);
+                    let expected = predicted.map(|rest| throughput.hadamard(rest));
                     if survive.is_nan() || survive <= 0.0 || u_roulette >= survive {
-                        radiance += expected;
-                        break;
-                    }
-                    radiance += expected * ((survive - 1.0) / survive);
-                    throughput = throughput * (1.0 / survive);
-                } else if depth >= self.roulette_depth {
-                    stream.seek(vertex + 6);
-                    let u_roulette = stream.next_1d();
-                    let survive =
-                        (throughput.max_channel() / share * self.roulette_scale).min(0.95);
-                    if survive.is_nan() || survive <= 0.0 || u_roulette >= survive {
-                        log.ended();
+                        match expected {
+                            Some(expected) => radiance += expected,
+                            None => log.ended(),
+                        }
                         break;
                     }
                     throughput = throughput * (1.0 / survive);
-                    log.survived(survive, throughput.max_channel(), radiance, self.rays);
+                    match expected {
+                        Some(expected) => radiance += expected * ((survive - 1.0) / survive),
+                        None => {
+                            log.survived(survive, throughput.max_channel(), radiance, self.rays)
+                        }
+                    }
                 }
                 if throughput.max_channel() <= 0.0 {
                     break;

@@ -178,13 +178,14 @@ impl<'c> CameraSampler<'c> {
 }
 
 /// A path tracer's context for `world` (its `index` and `emitters`) as `options` ask, with
-/// the roulette at `roulette_scale`.
+/// the roulette at `roulette_scale` ending paths into `continuation`'s predictions.
 fn path_context<'w>(
     world: &'w World,
     index: &'w WorldIndex,
     emitters: &'w Emitters,
     options: &PathOptions,
     roulette_scale: f64,
+    continuation: Option<&'w ContinuationCache>,
 ) -> PathContext<'w> {
     let mut context = PathContext::new(
         world,
@@ -194,6 +195,7 @@ fn path_context<'w>(
         options.roulette_depth.max(1),
     );
     context.roulette_scale = roulette_scale;
+    context.continuation = continuation;
     context
 }
 
@@ -270,10 +272,7 @@ fn render_path_logged(
             &learned_here
         }
         (Roulette::Scale(scale), _) => {
-            learned_here = LearnedRoulette {
-                scale,
-                continuation: None,
-            };
+            learned_here = LearnedRoulette::fixed(scale);
             &learned_here
         }
     };
@@ -287,8 +286,9 @@ fn render_path_logged(
         .with_max_len(1)
         .try_for_each_init(
             || {
-                let mut context = path_context(world, &index, &emitters, &options, roulette.scale);
-                context.continuation = roulette.continuation.as_ref();
+                let (scale, continuation) = (roulette.scale, roulette.continuation.as_ref());
+                let mut context =
+                    path_context(world, &index, &emitters, &options, scale, continuation);
                 context.first_hit_shading = aovs.is_some();
                 context
             },

@@ -80,16 +80,23 @@ pub struct LearnedRoulette {
     pub continuation: Option<ContinuationCache>,
 }
 
+impl LearnedRoulette {
+    /// The roulette of the fixed scale `scale`, predicting nothing.
+    pub fn fixed(scale: f64) -> Self {
+        Self {
+            scale,
+            continuation: None,
+        }
+    }
+}
+
 /// The roulette `options` ask for: their scale (and no predictions), or one learned for
 /// `world` seen through `camera` by a pilot pass that weighs the light paths still have to
 /// gather against the rays it costs (efficiency-aware roulette, Rath et al. 2022, with the
 /// scene's averages) and learns where that light is predictable.
 pub fn learn_roulette(camera: &Camera, world: &World, options: &PathOptions) -> LearnedRoulette {
     match options.roulette {
-        Roulette::Scale(scale) => LearnedRoulette {
-            scale,
-            continuation: None,
-        },
+        Roulette::Scale(scale) => LearnedRoulette::fixed(scale),
         Roulette::Learned => {
             let index = WorldIndex::build(world);
             let emitters = Emitters::new(world);
@@ -330,7 +337,7 @@ fn pilot(
     options: &PathOptions,
     k: f64,
     continuation: Option<&ContinuationCache>,
-    sightings: Option<&mut Vec<Sighting>>,
+    mut sightings: Option<&mut Vec<Sighting>>,
 ) -> PilotStats {
     let records = sightings.is_some();
     let (width, height) = (camera.hsize(), camera.vsize());
@@ -351,8 +358,7 @@ fn pilot(
         .with_max_len(16)
         .map_init(
             || {
-                let mut context = path_context(world, index, emitters, options, k);
-                context.continuation = continuation;
+                let context = path_context(world, index, emitters, options, k, continuation);
                 let log = Decisions {
                     records,
                     ..Decisions::default()
@@ -396,7 +402,6 @@ fn pilot(
         )
         .collect();
     let mut total = PilotStats::default();
-    let mut sightings = sightings;
     for (stats, seen) in per_pixel {
         total = total.add(&stats);
         if let Some(all) = sightings.as_deref_mut() {
