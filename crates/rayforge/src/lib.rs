@@ -22,8 +22,9 @@
 //! | 2 | [`geometry`] | primitive shapes in object space, meshes |
 //! | 3 | [`shading`] | materials, patterns, textures, lights, each lighting model's local terms |
 //! | 4 | [`scene`] | objects, the `Shape` enum, groups, CSG, intersections, the world, its index |
-//! | 5 | [`render`], [`raster`] | integrators, sampler and render loop; the rasterizer |
-//! | 6 | [`book`] | the book's one-call entry points (`color_at`, `shade_hit`, …), used by tests |
+//! | 5 | [`lights`] | what gives off light, as the path tracer samples it; mirror balls |
+//! | 6 | [`render`], [`raster`] | integrators, sampler and render loop; the rasterizer |
+//! | 7 | [`book`] | the book's one-call entry points (`color_at`, `shade_hit`, …), used by tests |
 //!
 //! Inside the crate, modules name each other by their paths (`crate::scene::Object`), never by
 //! the re-exports below, which are for users of the crate.
@@ -41,6 +42,7 @@ pub mod color;
 pub mod draw2d;
 pub mod film;
 pub mod geometry;
+pub mod lights;
 pub mod math;
 pub mod options;
 pub mod raster;

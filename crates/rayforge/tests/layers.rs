@@ -18,6 +18,7 @@ const LAYERS: &[&[&str]] = &[
     &["geometry"],
     &["shading"],
     &["scene"],
+    &["lights"],
     &["render", "raster"],
     &["book"],
 ];

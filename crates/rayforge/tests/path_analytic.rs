@@ -216,9 +216,10 @@ fn a_floor_far_from_a_square_light_gets_the_light_its_form_factor_gives() {
     // A floor point lit at a grazing angle by a 2 × 2 light: the shadow ray must not stop on
     // the light's own surface. The floor's radiance is albedo/π times the irradiance, which a
     // fine quadrature over the light gives.
+    use rayforge::lights::Emitters;
     use rayforge::math::{rotation_x, translation};
     use rayforge::render::path::{PathContext, SampleStream};
-    use rayforge::scene::{Emitters, WorldIndex};
+    use rayforge::scene::WorldIndex;
     use rayforge::{Ray, Shape};
     let floor = Object::new(Shape::Rectangle)
         .with_transform(scaling(10.0, 1.0, 10.0))
@@ -408,8 +409,8 @@ fn a_one_sided_surface_is_black_from_behind() {
 
 mod emitter_sampling {
     use rayforge::geometry::{LocalHit, Mesh, MeshFace};
+    use rayforge::lights::Emitters;
     use rayforge::math::{rotation_x, rotation_y, rotation_z, scaling, translation, Frame};
-    use rayforge::scene::Emitters;
     use rayforge::shading::metal_rough::{TextureSlot, Wrap};
     use rayforge::shading::{
         EmissionSide, Filter, Jitter, Material, MetalRough, SplitMix64, Texture,

@@ -7,12 +7,10 @@ mod ball;
 mod computations;
 mod csg;
 mod cuboid;
-mod emitters;
 mod group;
 mod index;
 mod intersection;
 mod level;
-mod mirror;
 mod object;
 mod shape;
 mod world;
@@ -21,11 +19,10 @@ pub use computations::{
     prepare_computations, prepare_computations_with, schlick, surface_offset, Computations,
 };
 pub use csg::{intersection_allowed, Csg, CsgOperation};
-pub use emitters::{Emitters, LightSample};
+pub use cuboid::Cuboid;
 pub use group::{Group, Node};
 pub use index::{WorldIndex, NO_OBJECT};
 pub use intersection::{hit, sort_intersections, Intersection};
-pub use mirror::{spread as mirror_spread, MirrorBall, MirrorPath};
 pub use object::Object;
 pub use shape::Shape;
 pub use world::{default_world, LightingModel, World};

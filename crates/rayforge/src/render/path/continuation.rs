@@ -151,11 +151,12 @@ impl ContinuationCache {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lights::Emitters;
     use crate::math::random::{Jitter, SplitMix64};
     use crate::math::{scaling, Ray};
     use crate::options::SamplerKind;
     use crate::render::path::{PathContext, SampleStream};
-    use crate::scene::{Emitters, Object, World, WorldIndex};
+    use crate::scene::{Object, World, WorldIndex};
     use crate::shading::{EmissionSide, Material, Physical};
 
     fn sighting(point: Point3, facing: Vec3, light: f64) -> Sighting {

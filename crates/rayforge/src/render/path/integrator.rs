@@ -27,11 +27,9 @@
 use super::continuation::ContinuationCache;
 use super::sampler::SampleStream;
 use crate::color::Color;
+use crate::lights::{mirror_spread, Emitters, MirrorBall};
 use crate::math::{Frame, Point3, Ray, Vec3};
-use crate::scene::{
-    mirror_spread, surface_offset, Emitters, LightingModel, MirrorBall, Object, World, WorldIndex,
-    NO_OBJECT,
-};
+use crate::scene::{surface_offset, LightingModel, Object, World, WorldIndex, NO_OBJECT};
 use crate::shading::bsdf::Bsdf;
 use crate::shading::{EnvironmentMap, Layer, Scattering, SkyDraw};
 

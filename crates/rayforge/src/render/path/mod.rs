@@ -1,7 +1,7 @@
 //! The path tracer: a physically based renderer behind the same scene files as the book's
 //! ray tracer. Where the books stop (no indirect light, no glossy reflection, no light from
 //! emitting surfaces or a sky), it follows light along whole paths ([`PathContext`]) with the
-//! materials of [`crate::shading::bsdf`] and the lights of [`crate::scene::Emitters`].
+//! materials of [`crate::shading::bsdf`] and the lights of [`crate::lights::Emitters`].
 //!
 //! Every sample is a pure function of the pixel, its index and the seed ([`SampleStream`]), so
 //! the image is the same for any thread count, and any range of sample indices
@@ -33,9 +33,10 @@ use super::RowCallback;
 use crate::camera::{Camera, CameraSample};
 use crate::color::Color;
 use crate::film::{Film, FilmError, PixelFilter, SharedFilm};
+use crate::lights::Emitters;
 use crate::math::Ray;
 use crate::options::{PathOptions, Roulette};
-use crate::scene::{Emitters, World, WorldIndex};
+use crate::scene::{World, WorldIndex};
 use adaptive::{PilotLog, PilotPixel};
 use integrator::LENS_DIMENSION;
 use moments::Moments;

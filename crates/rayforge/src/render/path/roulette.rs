@@ -39,8 +39,9 @@ use super::moments::Moments;
 use super::{path_context, CameraSampler, SampleStream};
 use crate::camera::Camera;
 use crate::color::Color;
+use crate::lights::Emitters;
 use crate::options::{PathOptions, Roulette};
-use crate::scene::{Emitters, World, WorldIndex};
+use crate::scene::{World, WorldIndex};
 use rayon::prelude::*;
 
 /// About how many pixels the pilot traces (a grid over the image).

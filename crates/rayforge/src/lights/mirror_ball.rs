@@ -27,10 +27,9 @@
 //! the power heuristic, which needs the same spread for a path that found the mirror by itself
 //! ([`spread`]).
 
-use super::object::Object;
-use super::shape::Shape;
 use crate::color::Color;
 use crate::math::{atan2_turns, sin_cos_turns, Point3, Vec3};
+use crate::scene::{Object, Shape};
 use crate::shading::bsdf::{fresnel, MIN_ALPHA};
 use crate::shading::Physical;
 use std::f64::consts::{PI, TAU};

@@ -42,18 +42,14 @@
 //! - The cgfs model's ambient light has no physical meaning and is left out: the path tracer's
 //!   indirect light is what it stood for.
 
-use super::csg::Csg;
-use super::cuboid::Cuboid;
-use super::mirror::MirrorBall;
-use super::object::Object;
-use super::shape::Shape;
-use super::world::{LightingModel, World};
+use super::mirror_ball::MirrorBall;
 use crate::color::Color;
 use crate::geometry::{rectangle, LocalHit, Mesh};
 use crate::math::random::{Jitter, SplitMix64};
 use crate::math::{
     cosine_hemisphere, sin_cos_turns, Distribution1D, Frame, Point3, Transform, Vec3,
 };
+use crate::scene::{Csg, Cuboid, LightingModel, Object, Shape, World};
 use crate::shading::{EmissionSide, EnvironmentMap, Light, Material, SkyDraw, SpotLight};
 use std::f64::consts::{FRAC_1_PI, PI, SQRT_2};
 use std::sync::Arc;

@@ -1,0 +1,13 @@
+//! Everything that gives off light, as the path tracer samples it: the book's lights, objects
+//! whose material emits and the sky ([`Emitters`], the light list with its sampling densities
+//! for multiple importance sampling), and the polished metal balls through which the sky's
+//! light is sampled onto the surfaces they mirror ([`MirrorBall`]).
+//!
+//! It sits above `scene` (a light of an emitting object samples that object's shape where the
+//! object stands) and below `render` (the integrators ask it for light).
+
+mod emitters;
+mod mirror_ball;
+
+pub use emitters::{Emitters, LightSample};
+pub use mirror_ball::{spread as mirror_spread, MirrorBall, MirrorPath};
