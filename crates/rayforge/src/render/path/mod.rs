@@ -174,7 +174,7 @@ impl<'c> CameraSampler<'c> {
             lens_v,
             time,
         };
-        (self.camera.ray_for_sample(&sample), weight)
+        (self.camera.path_ray_for_sample(&sample), weight)
     }
 }
 
