@@ -408,7 +408,10 @@ fn deeply_nested_patterns_are_refused_with_a_location_not_an_overflow() {
     assert_eq!(scene.world.objects.len(), 1);
     // Past it, yet within the YAML reader's 128: the pattern reader refuses the level.
     let e = load_str(&nested(70), Path::new("scene.yml")).expect_err("70 levels are refused");
-    assert!(e.message.contains("patterns nest deeper than 64 levels"), "{e}");
+    assert!(
+        e.message.contains("patterns nest deeper than 64 levels"),
+        "{e}"
+    );
     assert_eq!(e.span.map(|s| s.line), Some(10), "{e}");
     // 200 levels: refused by the YAML reader before any recursion could overflow the stack.
     let e = load_str(&nested(200), Path::new("scene.yml")).expect_err("200 levels are refused");
