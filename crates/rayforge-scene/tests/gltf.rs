@@ -1117,6 +1117,7 @@ fn mean_around(film: &Film, at: &dyn Fn(f64, f64) -> (f64, f64), x: f64, y: f64,
 /// which way a square's normal leans follows its texture coordinates: towards the light on
 /// the first and third squares, away from it on the second and fifth. Also the squares'
 /// centres along x, and which way each leans (1 towards the light, −1 away, 0 plain).
+#[allow(clippy::type_complexity)]
 fn normal_maps() -> (Gltf, impl Fn(f64, f64) -> (f64, f64), Vec<(f64, i32)>) {
     let mut g = Gltf::default();
     let (s, c) = f64::to_radians(40.0).sin_cos();

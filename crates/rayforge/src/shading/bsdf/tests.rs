@@ -504,7 +504,11 @@ fn the_delta_flags_say_what_eval_pdf_and_sample_do() {
             true,
         ),
         ("mirror", Bsdf::Mirror { tint: colour }, true),
-        ("smooth plastic (a delta coat over a diffuse base)", plastic(0.0, colour), false),
+        (
+            "smooth plastic (a delta coat over a diffuse base)",
+            plastic(0.0, colour),
+            false,
+        ),
         ("rough plastic", plastic(0.2, colour), false),
     ];
     let mut rng = SplitMix64::new(43);
@@ -524,7 +528,11 @@ fn the_delta_flags_say_what_eval_pdf_and_sample_do() {
                 }
             }
         }
-        assert_eq!(evaluated > 0, bsdf.has_non_delta_lobe(), "{name}: {evaluated}");
+        assert_eq!(
+            evaluated > 0,
+            bsdf.has_non_delta_lobe(),
+            "{name}: {evaluated}"
+        );
         assert_eq!(sampled_non_delta > 0, !delta, "{name}: {sampled_non_delta}");
     }
 }
