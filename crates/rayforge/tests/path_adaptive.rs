@@ -22,7 +22,7 @@ fn diffuse(albedo: f64) -> Material {
 /// Adaptive options with the classic roulette (nothing to learn).
 fn adaptive() -> PathOptions {
     PathOptions {
-        allocation: SampleAllocation::Adaptive,
+        allocation: SampleAllocation::ByNoise,
         roulette: Roulette::Scale(1.0),
         ..PathOptions::default()
     }
@@ -260,7 +260,7 @@ fn few_samples_or_an_even_share_asked_for_need_no_plan() {
     assert_eq!(roulette.continuation, None);
     // Adaptive by default; the roulette learned once, for the pilot and the render.
     let learned = PathOptions::default();
-    assert_eq!(learned.allocation, SampleAllocation::Adaptive);
+    assert_eq!(learned.allocation, SampleAllocation::ByNoise);
     let (_, plan) = prepare_render(&camera, &world, &learned, 256, false, None);
     assert!(plan.is_some());
 }

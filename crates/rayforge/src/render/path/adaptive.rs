@@ -156,7 +156,7 @@ pub(super) struct PilotLog {
 /// Whether a render of `spp` samples per pixel in one pass with `options` plans its samples
 /// ([`prepare_render`] makes a pilot and, where it foresees a gain, a plan).
 pub fn plans_samples(options: &PathOptions, spp: u64) -> bool {
-    options.allocation == SampleAllocation::Adaptive && spp >= MIN_ADAPTIVE_SPP
+    options.allocation == SampleAllocation::ByNoise && spp >= MIN_ADAPTIVE_SPP
 }
 
 /// The roulette of a render of `spp` samples per pixel in one pass with `options` (learned
