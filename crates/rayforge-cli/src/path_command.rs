@@ -188,9 +188,8 @@ pub fn path_render(
                 // again in each pass.
                 // The pilot heeds a stop, and then nothing is rendered.
                 let stop = Some(hooks.stop);
-                let learned = pool.install(|| {
-                    learn_roulette(camera, &scene.world, &options, spp, stop)
-                });
+                let learned =
+                    pool.install(|| learn_roulette(camera, &scene.world, &options, spp, stop));
                 let Some(roulette) = learned else {
                     return (Ok((total, reached)), false);
                 };

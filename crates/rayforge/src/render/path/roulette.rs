@@ -603,8 +603,14 @@ mod tests {
                 let allowed = (width * height) as u64 * spp
                     / (PILOT_SHARE * PILOT_SAMPLES * (1 + PILOT_ROUNDS as u64));
                 let n = pilot_pixels(width, height, spp).len() as u64;
-                assert!(n <= allowed.min(PILOT_PIXELS), "{width} × {height}, {spp}: {n}");
-                assert!(n == 0 || n >= MIN_PILOT_PIXELS / 2, "{width} × {height}: {n}");
+                assert!(
+                    n <= allowed.min(PILOT_PIXELS),
+                    "{width} × {height}, {spp}: {n}"
+                );
+                assert!(
+                    n == 0 || n >= MIN_PILOT_PIXELS / 2,
+                    "{width} × {height}: {n}"
+                );
             }
         }
         // The reference scenes' 128 × 128 and 256 × 256 at 64 spp keep the full grid.
