@@ -248,7 +248,10 @@ fn few_samples_or_an_even_share_asked_for_need_no_plan() {
         ..PathOptions::default()
     };
     let (roulette, plan) = prepare_render(&camera, &world, &uniform, 64, false, None);
-    assert_eq!(roulette, learn_roulette(&camera, &world, &uniform));
+    assert_eq!(
+        Some(roulette),
+        learn_roulette(&camera, &world, &uniform, 64, None)
+    );
     assert_eq!(plan, None);
     // A fixed scale is kept as it is, with nothing predicted.
     let fixed = PathOptions {
