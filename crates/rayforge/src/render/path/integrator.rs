@@ -328,6 +328,8 @@ impl<'w> PathContext<'w> {
         let mut bsdf_pdf = 0.0;
         let mut specular = true;
         let mut from = ray.origin;
+        // The shading normal there (none at the camera): the light tree's pick depends on it.
+        let mut from_normal = None;
         let mut depth = 0;
         // Where the path last left a non-delta surface for a mirror ball: the density of that
         // direction and the ball's spread, for weighing the sky beyond the ball against
@@ -418,6 +420,7 @@ impl<'w> PathContext<'w> {
                             world,
                             index,
                             from,
+                            from_normal,
                             point,
                             ray.direction,
                             &local,
@@ -508,6 +511,7 @@ impl<'w> PathContext<'w> {
                     if let Some(light) = self.emitters.sample_sharing_sky(
                         world,
                         point,
+                        Some(shading),
                         ray.time,
                         u_light,
                         &mut sky_draw,
@@ -591,6 +595,7 @@ impl<'w> PathContext<'w> {
                 specular = sample.delta;
                 let direction = unit(frame.to_world(sample.wi));
                 from = point;
+                from_normal = Some(shading);
                 ray = Ray {
                     origin: offset_towards(point, geometric, direction),
                     direction,
@@ -661,6 +666,7 @@ impl<'w> PathContext<'w> {
             ray = branch.ray;
             throughput = branch.throughput;
             from = branch.from;
+            from_normal = None; // a delta bounce leaves it: no light density is asked there
             depth = branch.depth;
             share = branch.share;
             specular = true;

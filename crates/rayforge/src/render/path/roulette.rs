@@ -100,7 +100,7 @@ pub fn learn_roulette(camera: &Camera, world: &World, options: &PathOptions) -> 
         Roulette::Scale(scale) => LearnedRoulette::fixed(scale),
         Roulette::Learned => {
             let index = WorldIndex::build(world);
-            let emitters = Emitters::new(world);
+            let emitters = Emitters::with_sampler(world, options.light_sampler);
             learned(camera, world, &index, &emitters, options)
         }
     }
