@@ -538,7 +538,7 @@ mod emitter_sampling {
             let pick = random.next_offset();
             let u = [random.next_offset(), random.next_offset()];
             let value = emitters
-                .sample(world, at, 0.0, pick, u)
+                .sample(world, at, None, 0.0, pick, u)
                 .filter(|s| s.direction.dot(normal) > 0.0)
                 .filter(|s| {
                     first_hit(world, at, s.direction)

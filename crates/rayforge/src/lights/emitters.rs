@@ -814,6 +814,7 @@ impl Emitters {
     /// the object-space hit `hit` was (its face, for meshes, its primitive, for CSG solids, and
     /// its instant, for objects that move); 0 for objects not sampled, and for a point a CSG
     /// solid does not keep, which light sampling gives no light.
+    #[allow(clippy::too_many_arguments)] // the hit as the path met it, each part its own
     pub fn object_pdf(
         &self,
         world: &World,
