@@ -8,21 +8,26 @@ use std::path::PathBuf;
 /// The examples under `--help`.
 const EXAMPLES: &str = "\
 Examples:
-  bench/peers/setup.sh ~/src/raytracer_rs     # once: install and build the peers
+  bench/peers/setup.sh                        # once: Debian's peers and our harnesses
   rayforge bench                              # everything, on 2 threads
   rayforge bench primary --repeat 5
   rayforge bench scaling --plot docs/images/scaling.png
   rayforge bench pbr --pbr-reference /work/fidelity-data   # the path tracer against Mitsuba 3
   rayforge bench --quick                      # tiny sizes: checks the command, measures nothing
+  rayforge bench cross --peer cross-raytrace=/opt/raytrace/raytrace   # a peer you built
 
 `rayforge bench ARGS` runs this program, `rayforge-bench ARGS`, found beside `rayforge`; build
 both with `cargo build --release -p rayforge-cli -p rayforge-bench`.
 
-A peer that is not installed is reported as skipped. Exit status: 0 when every comparison ran
+A peer that is not installed is reported as skipped. Peers: embree_primary, povray and
+llvmpipe_frame (bench/peers/setup.sh: Debian's packages and our harnesses), raytracer_rs-cover,
+raytracer_rs-dragons and cross-raytrace (binaries you build yourself and name with --peer; this
+repository builds no other project's program). Exit status: 0 when every comparison ran
 (whether or not rayforge met its targets), 2 for bad arguments, 1 when a peer or a file failed.";
 
-/// Measure rayforge against its peers (Embree, POV-Ray, raytracer_rs, Don Cross's program, Mesa's llvmpipe) and print the tables of
-/// times and ratios (see bench/peers/setup.sh to install the peers).
+/// Measure rayforge against its peers (Embree, POV-Ray, Mesa's llvmpipe, Mitsuba 3, and
+/// raytracer_rs and Don Cross's program where you name their binaries) and print the tables of
+/// times and ratios (bench/peers/setup.sh installs Debian's peers and builds our harnesses).
 #[derive(Debug, Parser)]
 #[command(name = "rayforge-bench", version, long_about = None, after_help = EXAMPLES)]
 pub struct BenchArgs {
@@ -35,9 +40,17 @@ pub struct BenchArgs {
     #[arg(long, value_name = "N", default_value_t = 2)]
     pub threads: usize,
 
-    /// Where bench/peers/setup.sh put the peers (embree_primary, povray, raytracer_rs-*).
+    /// Where bench/peers/setup.sh put the peers (embree_primary, povray, llvmpipe_frame); a
+    /// peer is looked for here by its NAME unless --peer names its binary.
     #[arg(long, value_name = "DIR", default_value = "bench/peers/build")]
     pub peers: PathBuf,
+
+    /// A peer's binary, wherever it is (repeat for several): NAME is embree_primary, povray,
+    /// llvmpipe_frame, raytracer_rs-cover (renders cover.yml at 1080×1080, one sample),
+    /// raytracer_rs-dragons (renders bounding-boxes.yml at 1920×1080 with Samples::grid(4))
+    /// or cross-raytrace (Don Cross's program). Wins over the file in --peers.
+    #[arg(long = "peer", value_name = "NAME=FILE", value_parser = crate::peers::parse_peer_binary)]
+    pub peer_binaries: Vec<crate::peers::PeerBinary>,
 
     /// Where to write meshes, rays, images, the plot and bench.md (the tables).
     #[arg(long, value_name = "DIR", default_value = "target/bench")]
@@ -123,6 +136,25 @@ mod tests {
     use super::*;
 
     #[test]
+    fn peers_are_named_one_flag_each() {
+        let args = BenchArgs::try_parse_from([
+            "rayforge-bench",
+            "--peer",
+            "cross-raytrace=/opt/raytrace",
+            "--peer",
+            "raytracer_rs-cover=/opt/cover",
+        ])
+        .unwrap();
+        let names: Vec<_> = args
+            .peer_binaries
+            .iter()
+            .map(|p| p.peer.file_name())
+            .collect();
+        assert_eq!(names, ["cross-raytrace", "raytracer_rs-cover"]);
+        assert!(BenchArgs::try_parse_from(["rayforge-bench", "--peer", "nobody=/x"]).is_err());
+    }
+
+    #[test]
     fn the_command_line_definition_is_consistent() {
         use clap::CommandFactory;
         BenchArgs::command().debug_assert();
@@ -134,6 +166,7 @@ mod tests {
         assert_eq!(args.part, BenchPart::All);
         assert_eq!((args.threads, args.repeat, args.scene_repeat), (2, 3, 1));
         assert_eq!(args.peers, PathBuf::from("bench/peers/build"));
+        assert!(args.peer_binaries.is_empty());
         assert!(!args.quick && args.plot.is_none() && args.rayforge.is_none());
         assert_eq!((args.pbr_spp, args.pbr_repeat), (64, 3));
     }

@@ -1,11 +1,12 @@
-//! rayforge against Don Cross's program (Fundamentals of Ray Tracing, cosinekitty/raytrace),
-//! built unmodified by `bench/peers/setup.sh`. His program has one thread and no options: each
+//! rayforge against Don Cross's program (Fundamentals of Ray Tracing, cosinekitty/raytrace):
+//! a build of it the user made and named with `--peer cross-raytrace=FILE` (this repository
+//! does not build it). His program has one thread and no options: each
 //! command renders fixed scenes at their own size into the working directory. rayforge renders
 //! the same scenes (`scenes/fundamentals/NAME.yml`, each at the program's own size, zoom and
 //! anti-aliasing) one after the other with `--threads 1`, each render its own process as his
 //! are. Both are timed on the wall clock, best of `--scene-repeat`.
 
-use super::peers::skipped_hint;
+use super::peers::Peer;
 use super::report::{seconds, times, Check, Report, Table};
 use super::scenes::{rayforge_executable, time_process};
 use super::Bench;
@@ -70,7 +71,7 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
     let skipped = if bench.settings.quick {
         Some("--quick (his scenes have fixed sizes)".to_string())
     } else if cross.is_none() {
-        Some(skipped_hint("cross"))
+        Some(Peer::Cross.skipped_hint())
     } else if rayforge.is_none() {
         Some("no rayforge executable (see the whole renders)".to_string())
     } else {

@@ -12,7 +12,8 @@
 //! frames per second orbiting the cover). They share the meshes (`shapes.rs`), the rays (`rays.rs`), rayforge's
 //! tracing loop (`trace.rs`), the files handed to the Embree harness (`files.rs`, `embree.rs`)
 //! and the report (`report.rs`). Peers are found in the directory `bench/peers/setup.sh`
-//! fills (`peers.rs`); a missing one is a skipped row, never an error.
+//! fills, or where `--peer NAME=FILE` says (`peers.rs`); a missing one is a skipped row, never
+//! an error.
 
 // Every public item says what it measures or means: the tables are read by people who did not
 // write them. Nothing here needs `unsafe`; the tracer's own unsafe code stays in `rayforge`.
@@ -24,7 +25,7 @@ mod cross;
 mod embree;
 mod files;
 mod pbr;
-mod peers;
+pub mod peers;
 mod plot;
 mod pov_mesh;
 mod primary;
@@ -74,6 +75,8 @@ pub struct BenchSettings {
     pub threads: usize,
     /// Where the peers are.
     pub peers: PathBuf,
+    /// Peers' binaries named with `--peer`, each checked to be a file.
+    pub peer_binaries: Vec<peers::PeerBinary>,
     /// Where files go.
     pub out: PathBuf,
     /// Where the models beside the repository are.
@@ -135,6 +138,13 @@ impl BenchSettings {
                 path.display()
             )));
         }
+        if let Some(given) = args.peer_binaries.iter().find(|g| !g.path.is_file()) {
+            return Err(Failure::usage(format!(
+                "--peer {}=`{}` is not a file",
+                given.peer.file_name(),
+                given.path.display()
+            )));
+        }
         let all = args.part == BenchPart::All;
         Ok(Self {
             primary: all || args.part == BenchPart::Primary,
@@ -146,6 +156,7 @@ impl BenchSettings {
             raster: all || args.part == BenchPart::Raster,
             threads: args.threads,
             peers: args.peers,
+            peer_binaries: args.peer_binaries,
             out: args.out,
             models: args.models,
             povray_scenes: args.povray_scenes,
@@ -221,7 +232,7 @@ pub fn run(settings: &BenchSettings) -> Result<(), Failure> {
         })?;
     let bench = Bench {
         settings,
-        peers: Peers::find(&settings.peers),
+        peers: Peers::find(&settings.peers, &settings.peer_binaries),
         pool,
     };
     let mut preamble = String::from("## rayforge bench\n\n");

@@ -62,7 +62,7 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
     if bench.peers.embree.is_none() {
         table.note(format!(
             "Embree was skipped: {}.",
-            super::peers::skipped_hint("embree")
+            super::peers::Peer::Embree.skipped_hint()
         ));
     }
     report.table(&table);

@@ -10,7 +10,7 @@
 //! `--repeat` rounds of [`FRAMES`] frames each; the best round's mean counts on each side.
 //! Both means include the first frame (llvmpipe's compiles its shaders).
 
-use super::peers::skipped_hint;
+use super::peers::Peer;
 use super::report::{Check, Report, Table};
 use super::Bench;
 use rayforge::raster::{RasterOptions, Rasterizer};
@@ -59,7 +59,7 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
     let skipped = if bench.settings.quick {
         Some("--quick (the peer's frame has a fixed size)".to_string())
     } else {
-        peer.is_none().then(|| skipped_hint("llvmpipe"))
+        peer.is_none().then(|| Peer::Llvmpipe.skipped_hint())
     };
     match (&peer, skipped) {
         (Some(peer), None) => {

@@ -1,10 +1,11 @@
 //! Whole renders against POV-Ray and raytracer_rs, each renderer run as a process and timed on
 //! the wall clock from start to exit (parsing and loading included), at the same resolution,
 //! samples per pixel and reflection depth, on the same number of threads: rayforge with
-//! `--threads`, POV-Ray with `+WT`, raytracer_rs with `RAYON_NUM_THREADS`. The images land in
+//! `--threads`, POV-Ray with `+WT`, raytracer_rs (a binary named with `--peer`) with
+//! `RAYON_NUM_THREADS`. The images land in
 //! `--out`/scenes to check that both drew the same scene.
 
-use super::peers::skipped_hint;
+use super::peers;
 use super::report::{seconds, si, times, Check, Report, Table};
 use super::{pov_mesh, Bench};
 use rayforge_cli::failure::Failure;
@@ -34,7 +35,7 @@ enum Peer {
         file: &'static str,
         model: Option<&'static str>,
     },
-    /// A raytracer_rs example binary (its scene, size and samples are built in).
+    /// A raytracer_rs binary named with `--peer` (its scene, size and samples are built in).
     RaytracerRs { example: &'static str },
 }
 
@@ -350,7 +351,7 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
         table.row(cells);
     }
     table.note(format!(
-        "Images: `{}` (rayforge and POV-Ray; raytracer_rs writes into its own checkout).",
+        "Images: `{}` (rayforge and POV-Ray; a raytracer_rs binary writes where it was built to).",
         dir.display()
     ));
     report.table(&table);
@@ -369,7 +370,7 @@ fn peer_run(bench: &Bench, case: &Case, size: (u32, u32), dir: &Path) -> PeerRun
     match case.peer {
         Peer::PovRay { file, model } => {
             let Some(povray) = bench.peers.povray.clone() else {
-                return PeerRun::Skipped(skipped_hint("povray"));
+                return PeerRun::Skipped(peers::Peer::PovRay.skipped_hint());
             };
             let pov = bench.settings.povray_scenes.join(file);
             let Ok(pov) = pov.canonicalize() else {
@@ -408,12 +409,18 @@ fn peer_run(bench: &Bench, case: &Case, size: (u32, u32), dir: &Path) -> PeerRun
             ))
         }
         Peer::RaytracerRs { example } => {
-            let binary = match example {
-                "cover" => bench.peers.raytracer_rs_cover.clone(),
-                _ => bench.peers.raytracer_rs_dragons.clone(),
+            let (binary, peer) = match example {
+                "cover" => (
+                    bench.peers.raytracer_rs_cover.clone(),
+                    peers::Peer::RaytracerRsCover,
+                ),
+                _ => (
+                    bench.peers.raytracer_rs_dragons.clone(),
+                    peers::Peer::RaytracerRsDragons,
+                ),
             };
             let Some(binary) = binary else {
-                return PeerRun::Skipped(skipped_hint("raytracer_rs"));
+                return PeerRun::Skipped(peer.skipped_hint());
             };
             if bench.settings.quick {
                 return PeerRun::Skipped(

@@ -141,7 +141,7 @@ fn skipped_or_failed(table: &mut Table, bench: &Bench, measured: &[Measured]) {
     if bench.peers.embree.is_none() {
         table.note(format!(
             "Embree was skipped: {}.",
-            super::peers::skipped_hint("embree")
+            super::peers::Peer::Embree.skipped_hint()
         ));
     }
     for m in measured {

@@ -153,6 +153,15 @@ fn bad_bench_arguments_are_refused_with_exit_2() {
     let o = bench(&["--rayforge", "no-such-file"], dir.path(), dir.path());
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--rayforge"));
+    let o = bench(
+        &["cross", "--peer", "cross-raytrace=no-such-file"],
+        dir.path(),
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--peer cross-raytrace"));
+    let o = bench(&["cross", "--peer", "nobody=x"], dir.path(), dir.path());
+    assert_eq!(o.status.code(), Some(2));
     let o = bench(&["pbr", "--pbr-spp", "0"], dir.path(), dir.path());
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--pbr-spp"));
@@ -169,6 +178,9 @@ fn the_help_lists_every_option_and_the_parts() {
     for word in [
         "--threads",
         "--peers",
+        "--peer <NAME=FILE>",
+        "cross-raytrace",
+        "raytracer_rs-dragons",
         "--out",
         "--models",
         "--povray-scenes",

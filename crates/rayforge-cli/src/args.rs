@@ -36,16 +36,18 @@ Render options (`rayforge render --help` describes each in full):
       --width <PIXELS>      image width (keeps the camera's field of view; alone, its aspect ratio)
       --height <PIXELS>     image height (likewise)
       --threads <N>         worker threads [default: all cores]
-      --spp <N>             camera rays per pixel, stratified [default: the camera's `samples`]
-      --adaptive <T>        adaptive anti-aliasing with this threshold instead
-      --subsample <T>       trace every other pixel, interpolate where neighbours agree
+      --spp <N>             ray and path: samples per pixel, N for either renderer (the ray
+                            tracer's a grid when N is a square) [default: the camera's `samples`]
+      --adaptive-aa <T>     ray only: the chapter's adaptive anti-aliasing, this threshold
+      --subsample <T>       ray only: trace every other pixel, interpolate where neighbours agree
       --frames <A..B>       render animation frames A to B to a %04d-numbered output
-      --trace-pixel <X,Y>   print every ray that pixel casts, then render as usual
-      --max-depth <N>       reflection and refraction bounces [default: the scene's, else 5]
-      --bailout <WEIGHT>    leave out rays weighing less than this [default: 1/512; 0: none]
+      --trace-pixel <X,Y>   ray only: print every ray that pixel casts, then render as usual
+      --max-depth <N>       bounces: ray at most 64 [default: the scene's, else 5], path at
+                            most 1024 [default: the scene's, else 1024]
+      --bailout <WEIGHT>    ray only: leave out rays weighing less than this [default: 1/512]
       --max-pixels <PIXELS> the largest image accepted [default: 268435456, 2^28]
       --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
-      --max-rays-per-sample <N> the most rays one camera ray may lead to [default: 4194304]
+      --max-rays-per-sample <N> ray: the most rays one camera ray may lead to [default: 4194304]
       --allow-outside       let the scene name files outside its folder
       --camera <N|NAME>     a glTF model's camera, by index or name [default: its first]
       --resume              continue an interrupted render from its checkpoint
@@ -61,8 +63,8 @@ Render options (`rayforge render --help` describes each in full):
       --filter-radius <PX>  path only: the tent or Gaussian filter's radius [default: 1.5]
       --roulette-scale <K>  path only: auto (learned for the scene) or 0.25 to 64; 1 is the
                             classic Russian roulette [default: auto]
-      --sample-allocation <NAME> path only: adaptive (samples where the noise is; --spp
-                            is the mean) or uniform [default: adaptive]
+      --sample-allocation <NAME> path only: by-noise (samples where the noise is; --spp
+                            is the mean) or uniform [default: by-noise]
       --light-sampler <NAME> path only: uniform, power, bvh (a light tree) or auto (the
                             tree from 16 lights with a place) [default: auto]
       --aovs                path only: also write the first hit's albedo and normal
@@ -71,9 +73,14 @@ Render options (`rayforge render --help` describes each in full):
       --exr-half            write the .exr output in 16-bit half floats
       --shading <MODE>      raster only: flat, gouraud or phong [default: phong]
       --sphere-divisions <N> raster only: sphere resolution (N+1 rings of N) [default: 48]
-      --max-raster-triangles <N> raster only: the most triangles a frame may hold [default: 2^25]
+      --max-raster-triangles <N> raster: the most triangles a frame may hold [default: 2^25]
       --texture-filter <F>  raster only: nearest, bilinear or trilinear [default: trilinear]
       --wireframe           raster only: draw the triangles' edges
+
+A flag for one renderer given to another is refused (`ray only`), except the guards
+(--max-rays-per-sample, --max-raster-triangles, and --max-depth with the rasterizer): those
+are ignored with a warning, so one set of limits serves a batch of scenes that mixes renderers.
+Limits are the renderer's that draws the scene, the scene's own `renderer:` included.
 
 ",
     examples!()
@@ -265,15 +272,24 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
 
-    /// Camera rays per pixel, overriding the camera's `samples`: a stratified, jittered grid of
-    /// the smallest square with at least that many cells (4 → 2×2, 9 → 3×3); 1 is one ray
-    /// through the centre.
+    /// Samples per pixel, overriding the camera's `samples`: N for every renderer that
+    /// samples. The ray tracer casts N camera rays, a stratified, jittered grid when N is a
+    /// square (4 → 2×2, 9 → 3×3) and N-rooks otherwise (one ray in each of N columns and N
+    /// rows); 1 is one ray through the centre; at most 4096. The path tracer takes N samples
+    /// (their mean, with --sample-allocation by-noise), at most 1048576. Not with the
+    /// rasterizer, which does not anti-alias.
     #[arg(long, value_name = "N")]
     pub spp: Option<u32>,
 
-    /// Anti-alias adaptively instead (chapter 17): rays at each pixel's corners and centre,
-    /// splitting the pixel where they differ by more than this (0 to 1, per channel).
+    /// Ray tracer: anti-alias adaptively instead (the adaptive supersampling of the "next
+    /// steps" chapter): rays at each pixel's corners and centre, splitting the pixel where
+    /// they differ by more than this threshold (above 0, per channel), down to 3 levels.
+    /// The zoom camera's N × N grid is its `anti-alias` key.
     #[arg(long, value_name = "THRESHOLD")]
+    pub adaptive_aa: Option<f64>,
+
+    /// The old name of --adaptive-aa, read with a deprecation warning. Hidden from the help.
+    #[arg(long, value_name = "THRESHOLD", hide = true)]
     pub adaptive: Option<f64>,
 
     /// Print the tree of rays pixel X,Y (from the image's top-left corner) casts: each ray,
@@ -294,18 +310,22 @@ pub struct RenderArgs {
     #[arg(long, value_name = "THRESHOLD")]
     pub subsample: Option<f64>,
 
-    /// How many reflection and refraction bounces to follow [default: the scene's
-    /// `max-depth`, else 5].
+    /// How many bounces to follow: the ray tracer's reflections and refractions, at most 64
+    /// (every bounce can double the rays) [default: the scene's `max-depth`, else 5]; the path
+    /// tracer's path length, at most 1024 [default: the scene's `max-depth`, else 1024]. The
+    /// rasterizer follows none: ignored there, with a warning.
     #[arg(long, value_name = "N")]
     pub max_depth: Option<u32>,
 
-    /// Adaptive depth control (Phong lighting): a reflected or refracted ray that would bring
-    /// less than this fraction of its light to the pixel (the product of the reflectivities
-    /// and transparencies on its way) is not traced. The default, 1/512, changes no 8-bit
-    /// pixel by more than a step and saves the long chains of faint reflections; 0 traces
-    /// every bounce up to --max-depth, as the book does.
-    #[arg(long, value_name = "WEIGHT", default_value_t = DEFAULT_BAILOUT)]
-    pub bailout: f64,
+    /// Ray tracer: adaptive depth control (Phong lighting): a reflected or refracted ray that
+    /// would bring less than this fraction of its light to the pixel (the product of the
+    /// reflectivities and transparencies on its way) is not traced. The default, 1/512,
+    /// changes no 8-bit pixel by more than a step and saves the long chains of faint
+    /// reflections; 0 traces every bounce up to --max-depth, as the book does. Refused with
+    /// the path tracer (its paths end by Russian roulette, --roulette-scale) and the
+    /// rasterizer [default: 1/512].
+    #[arg(long, value_name = "WEIGHT")]
+    pub bailout: Option<f64>,
 
     /// The largest image to accept, in pixels (width × height), as a guard against typos
     /// that would take hours or all memory.
@@ -321,9 +341,11 @@ pub struct RenderArgs {
     /// The most rays one camera ray may lead to, its reflections, refractions and shadow rays
     /// all counted, in every lighting model: a guard against ray trees that would never end
     /// (a box of mirrors and glass many bounces deep doubles at every bounce). A render that
-    /// needs more stops with an error naming the pixel.
-    #[arg(long, value_name = "N", default_value_t = rayforge::render::DEFAULT_MAX_RAYS_PER_SAMPLE)]
-    pub max_rays_per_sample: u64,
+    /// needs more stops with an error naming the pixel. The ray tracer's guard: the path
+    /// tracer (one path a sample, at most --max-depth bounces) and the rasterizer ignore it,
+    /// with a warning [default: 4194304].
+    #[arg(long, value_name = "N")]
+    pub max_rays_per_sample: Option<u64>,
 
     /// Let the scene name files outside its own folder (models, material libraries, images,
     /// environment maps). Without it, an absolute path, a `..` that climbs out of the scene
@@ -405,10 +427,10 @@ pub struct RenderArgs {
     #[arg(long, value_name = "K")]
     pub roulette_scale: Option<String>,
 
-    /// Path tracer: how a render's samples are shared among its pixels: `adaptive` (each
+    /// Path tracer: how a render's samples are shared among its pixels: `by-noise` (each
     /// pixel takes samples as it is noisy, as a pilot pass finds it, --spp being the mean;
     /// renders in passes and of fewer than 16 samples per pixel share them evenly) or
-    /// `uniform` (--spp each) [default: the scene's `sample-allocation`, else adaptive].
+    /// `uniform` (--spp each) [default: the scene's `sample-allocation`, else by-noise].
     #[arg(long, value_name = "NAME", value_enum)]
     pub sample_allocation: Option<SampleAllocationArg>,
 
@@ -460,8 +482,8 @@ pub struct RenderArgs {
 
     /// The most triangles the rasterizer may hold for one frame, all objects' tessellations
     /// together (each placement counted), about 100 bytes each: a guard against sphere
-    /// resolutions that would take all memory [default: 33554432, 2^25]. Needs --renderer
-    /// raster.
+    /// resolutions that would take all memory [default: 33554432, 2^25]. The rasterizer's
+    /// guard: the other renderers ignore it, with a warning.
     #[arg(long, value_name = "N")]
     pub max_raster_triangles: Option<u64>,
 
@@ -509,9 +531,12 @@ pub enum SamplerArg {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum SampleAllocationArg {
     /// As each pixel is noisy, from a pilot pass.
-    Adaptive,
+    ByNoise,
     /// The same in every pixel.
     Uniform,
+    /// The old name of `by-noise`, read with a deprecation warning.
+    #[value(hide = true)]
+    Adaptive,
 }
 
 /// The path tracer's pixel filters.

@@ -186,7 +186,13 @@ pub fn path_render(
             let (roulette, plan) = if passes.len() > 1 {
                 // In passes, samples are shared evenly, and the roulette is learned once, not
                 // again in each pass.
-                let roulette = pool.install(|| learn_roulette(camera, &scene.world, &options));
+                // The pilot heeds a stop, and then nothing is rendered.
+                let stop = Some(hooks.stop);
+                let learned =
+                    pool.install(|| learn_roulette(camera, &scene.world, &options, spp, stop));
+                let Some(roulette) = learned else {
+                    return (Ok((total, reached)), false);
+                };
                 (roulette, None)
             } else {
                 // The pilot heeds a stop; the render after it then stops at once.

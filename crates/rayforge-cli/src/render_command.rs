@@ -201,10 +201,10 @@ pub(crate) fn ray_options<'p>(settings: &RenderSettings, scene: &Scene) -> Rende
     }
 }
 
-/// Where in each pixel the camera rays go: `--adaptive`, `--spp`, or the scene camera's own
-/// grid (`anti-alias`) or sample count.
+/// Where in each pixel the camera rays go: `--adaptive-aa`, `--spp` (that many rays), or the
+/// scene camera's own grid (`anti-alias`) or sample count (`samples`, as `--spp`).
 fn sampling(settings: &RenderSettings, scene: &Scene) -> Sampling {
-    match settings.adaptive {
+    match settings.adaptive_aa {
         // Three levels of splitting: at most 64 sub-squares, about 4 rays each, per pixel.
         Some(threshold) => Sampling::Adaptive {
             threshold,
@@ -366,7 +366,7 @@ const MOST_TIMED_PER_SIDE: u32 = 64;
 
 /// The ray tracer's render on a time budget (`--time`): passes of 1, 4, 16, … camera rays per
 /// pixel ([`Sampling::refining_passes`]), each a whole render of its own, up to the sampling
-/// asked for (`--spp`, `--adaptive` or the camera's own), or with none up to
+/// asked for (`--spp`, `--adaptive-aa` or the camera's own), or with none up to
 /// [`MOST_TIMED_PER_SIDE`] a side. A pass that would end past the budget (its time foreseen
 /// from the last pass's per camera ray) is not started, and the last whole pass is written: the
 /// very image a render at its sampling makes in one pass, however it was watched. Each pass's

@@ -2,6 +2,7 @@
 
 use crate::args::{
     FilterArg, PixelFilterArg, RenderArgs, Renderer, SampleAllocationArg, SamplerArg, ShadingArg,
+    DEFAULT_BAILOUT,
 };
 use crate::failure::Failure;
 use crate::format::ImageFormat;
@@ -12,15 +13,17 @@ use rayforge::options::{LightSamplerKind, PathOptions, Roulette, SampleAllocatio
 use rayforge::raster::{RasterOptions, Shading, TextureFilter};
 use std::path::PathBuf;
 
-/// Most camera rays per pixel accepted on the command line: the Whitted renderer's grid of 64
-/// × 64; the path tracer's references go further.
-const MAX_SPP: u32 = 4096;
+/// Most samples per pixel the ray tracer accepts on the command line, as many as its grid of
+/// 64 × 64 (each a tree of rays); the path tracer's references go further.
+const MAX_RAY_SPP: u32 = 4096;
 
 /// Most samples per pixel the path tracer accepts on the command line (2²⁰).
 pub const MAX_PATH_SPP: u32 = 1 << 20;
 
-/// Deepest recursion accepted: every bounce can spawn two rays, so deep limits explode.
-const MAX_DEPTH_LIMIT: u32 = 64;
+/// The ray tracer's deepest recursion: every bounce can spawn two rays, so deep limits
+/// explode (the scene's `max-depth` has the same limit). The path tracer's is
+/// [`PathOptions::MAX_DEPTH`].
+const MAX_RAY_DEPTH: u32 = rayforge_scene::MAX_RAY_DEPTH as u32;
 
 /// Most worker threads accepted. Rendering is bound by the CPU, so threads beyond the cores
 /// only add overhead; a number past this is a typo, and a pool of tens of thousands of
@@ -47,12 +50,14 @@ pub struct RenderSettings {
     pub max_depth: Option<u32>,
     /// Samples per pixel asked for on the command line.
     pub spp: Option<u32>,
-    /// Adaptive anti-aliasing threshold, when asked for.
-    pub adaptive: Option<f64>,
+    /// The ray tracer's adaptive anti-aliasing threshold, when asked for (`--adaptive-aa`).
+    pub adaptive_aa: Option<f64>,
     /// Subsampling threshold, when asked for.
     pub subsample: Option<f64>,
-    /// Adaptive depth control's weight (0: off).
+    /// Adaptive depth control's weight (0: off): `--bailout`, else [`DEFAULT_BAILOUT`].
     pub bailout: f64,
+    /// Whether `--bailout` was given (the renderers that do not use it refuse it).
+    pub bailout_given: bool,
     /// The animation frames to render, first and last, when asked for.
     pub frames: Option<(u64, u64)>,
     /// The pixel whose rays to print, when asked for.
@@ -61,8 +66,11 @@ pub struct RenderSettings {
     pub quiet: bool,
     /// The mesh size limit.
     pub max_triangles: usize,
-    /// The most rays one camera ray may lead to.
+    /// The most rays one camera ray may lead to: `--max-rays-per-sample`, else
+    /// [`rayforge::render::DEFAULT_MAX_RAYS_PER_SAMPLE`].
     pub max_rays_per_sample: u64,
+    /// Whether `--max-rays-per-sample` was given (the renderers that do not use it warn).
+    pub max_rays_given: bool,
     /// `--display-server`: where tev listens.
     pub display_server: Option<String>,
     /// Whether the scene may name files outside its folder.
@@ -189,8 +197,18 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
         filter,
         roulette,
         allocation: args.sample_allocation.map(|a| match a {
-            SampleAllocationArg::Adaptive => SampleAllocation::Adaptive,
+            SampleAllocationArg::ByNoise => SampleAllocation::ByNoise,
             SampleAllocationArg::Uniform => SampleAllocation::Uniform,
+            SampleAllocationArg::Adaptive => {
+                if !args.quiet {
+                    eprintln!(
+                        "warning: `--sample-allocation adaptive` is the old name of \
+                         `--sample-allocation by-noise` (the ray tracer's --adaptive-aa is \
+                         another thing): write by-noise"
+                    );
+                }
+                SampleAllocation::ByNoise
+            }
         }),
         light_sampler: args
             .light_sampler
@@ -239,13 +257,20 @@ impl RenderSettings {
         scene_raster: Option<RasterOptions>,
         scene_path: Option<PathOptions>,
     ) -> Result<Chosen, Failure> {
-        let renderer = self.raster.renderer.unwrap_or(if scene_raster.is_some() {
-            Renderer::Raster
-        } else if scene_path.is_some() {
-            Renderer::Path
-        } else {
-            Renderer::Ray
-        });
+        let (renderer, by) = match self.raster.renderer {
+            Some(renderer) => (renderer, ChosenBy::Flag),
+            None if scene_raster.is_some() => (Renderer::Raster, ChosenBy::Scene),
+            None if scene_path.is_some() => (Renderer::Path, ChosenBy::Scene),
+            None => (Renderer::Ray, ChosenBy::Default),
+        };
+        let drawn_by = Drawn { renderer, by };
+        self.check_limits(drawn_by)?;
+        self.refuse_unused(drawn_by)?;
+        if !self.quiet {
+            for warning in self.ignored(drawn_by) {
+                eprintln!("warning: {warning}");
+            }
+        }
         if renderer != Renderer::Path {
             if let Some(flag) = self.path.flag() {
                 return Err(Failure::usage(format!(
@@ -267,15 +292,6 @@ impl RenderSettings {
                 .map(|o| Chosen::Raster(o.unwrap_or_default())),
             Renderer::Path => {
                 self.raster.resolve(None, false)?;
-                if let Some(flag) = first_given([
-                    ("--adaptive", self.adaptive.is_some()),
-                    ("--subsample", self.subsample.is_some()),
-                    ("--trace-pixel", self.trace_pixel.is_some()),
-                ]) {
-                    return Err(Failure::usage(format!(
-                        "{flag} applies to the ray tracer, not to --renderer path"
-                    )));
-                }
                 let mut options = scene_path.unwrap_or_default();
                 if let Some(depth) = self.max_depth {
                     options.max_depth = depth;
@@ -300,6 +316,134 @@ impl RenderSettings {
                 }
                 Ok(Chosen::Path(options))
             }
+        }
+    }
+
+    /// `--spp` and `--max-depth` within the limits of the renderer that draws the scene.
+    fn check_limits(&self, drawn: Drawn) -> Result<(), Failure> {
+        let (most_spp, most_depth) = match drawn.renderer {
+            Renderer::Ray => (MAX_RAY_SPP, MAX_RAY_DEPTH),
+            Renderer::Path => (MAX_PATH_SPP, PathOptions::MAX_DEPTH),
+            // The rasterizer takes neither: `--spp` is refused, `--max-depth` ignored.
+            Renderer::Raster => return Ok(()),
+        };
+        // Where the path tracer would take it, a ray-traced scene's refusal says so.
+        let path_too = |most: u32| match drawn.renderer {
+            Renderer::Ray => format!(" (the path tracer's limit is {most})"),
+            _ => String::new(),
+        };
+        if let Some(spp) = self.spp.filter(|&spp| spp > most_spp) {
+            return Err(Failure::usage(format!(
+                "--spp {spp} is more than {most_spp}, the most samples per pixel {drawn} \
+                 takes{}",
+                path_too(MAX_PATH_SPP)
+            )));
+        }
+        if let Some(depth) = self.max_depth.filter(|&depth| depth > most_depth) {
+            return Err(Failure::usage(format!(
+                "--max-depth {depth} is more than {most_depth}, the most bounces {drawn} \
+                 follows{}",
+                path_too(PathOptions::MAX_DEPTH)
+            )));
+        }
+        Ok(())
+    }
+
+    /// Refuses the ray tracer's flags for a technique the renderer that draws the scene does
+    /// not have: they would change nothing, silently (the path tracer's and the rasterizer's
+    /// own flags are refused with the others in [`Self::choose`] and [`RasterRequest`]).
+    fn refuse_unused(&self, drawn: Drawn) -> Result<(), Failure> {
+        let why = match drawn.renderer {
+            Renderer::Ray => return Ok(()),
+            // The rasterizer's refusal of `--spp` and `--adaptive-aa` says why itself.
+            Renderer::Raster => "which traces no rays",
+            Renderer::Path => "whose paths end by Russian roulette (--roulette-scale)",
+        };
+        let ray_only = [
+            ("--bailout", self.bailout_given),
+            (
+                "--adaptive-aa",
+                self.adaptive_aa.is_some() && drawn.renderer == Renderer::Path,
+            ),
+            ("--subsample", self.subsample.is_some()),
+            ("--trace-pixel", self.trace_pixel.is_some()),
+        ];
+        match first_given(ray_only) {
+            Some(flag) => Err(Failure::usage(format!(
+                "{flag} applies to the ray tracer, not to {drawn}, {why}"
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// What a guard the renderer that draws the scene cannot exceed says when it is given:
+    /// the limits are ignored, not refused, so that one set of limits serves a batch of
+    /// scenes that mixes renderers (as `--max-pixels` and `--max-triangles` serve all).
+    fn ignored(&self, drawn: Drawn) -> Vec<String> {
+        let mut ignored = Vec::new();
+        let mut ignore = |flag: &str, why: &str| {
+            ignored.push(format!("{flag} is ignored: {drawn} {why}"));
+        };
+        match drawn.renderer {
+            Renderer::Ray => {}
+            Renderer::Path => {
+                if self.max_rays_given {
+                    ignore(
+                        "--max-rays-per-sample",
+                        "follows one path a sample, at most --max-depth bounces, no tree of \
+                         rays to bound",
+                    );
+                }
+            }
+            Renderer::Raster => {
+                if self.max_rays_given {
+                    ignore("--max-rays-per-sample", "traces no rays");
+                }
+                if self.max_depth.is_some() {
+                    ignore("--max-depth", "follows no reflections or refractions");
+                }
+            }
+        }
+        if drawn.renderer != Renderer::Raster && self.raster.max_triangles.is_some() {
+            ignore(
+                "--max-raster-triangles",
+                "draws no triangles (--max-triangles bounds the models)",
+            );
+        }
+        ignored
+    }
+}
+
+/// Who chose the renderer that draws the scene, for the messages that name it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ChosenBy {
+    /// `--renderer`.
+    Flag,
+    /// The scene's `world:` item, `renderer:`.
+    Scene,
+    /// Nobody: the ray tracer.
+    Default,
+}
+
+/// The renderer that draws the scene and who chose it; shown as, e.g., "the path tracer (the
+/// scene's `renderer: path`)".
+#[derive(Debug, Clone, Copy)]
+struct Drawn {
+    renderer: Renderer,
+    by: ChosenBy,
+}
+
+impl std::fmt::Display for Drawn {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (name, arg) = match self.renderer {
+            Renderer::Ray => ("the ray tracer", "ray"),
+            Renderer::Raster => ("the rasterizer", "raster"),
+            Renderer::Path => ("the path tracer", "path"),
+        };
+        match self.by {
+            ChosenBy::Flag => write!(f, "{name} (--renderer {arg})"),
+            ChosenBy::Scene => write!(f, "{name} (the scene's `renderer: {arg}`)"),
+            ChosenBy::Default => write!(f, "{name} (the default renderer)"),
         }
     }
 }
@@ -360,31 +504,20 @@ impl RenderSettings {
             }
         };
         let size = SizeRequest::new(args.width, args.height, args.max_pixels)?;
-        if let Some(spp) = args.spp {
-            let most = if args.renderer == Some(Renderer::Path) {
-                MAX_PATH_SPP
-            } else {
-                MAX_SPP
-            };
-            if spp == 0 || spp > most {
-                return Err(Failure::usage(format!(
-                    "--spp must be between 1 and {most}, found {spp}{}",
-                    if most == MAX_SPP {
-                        format!(" ({MAX_PATH_SPP} with --renderer path)")
-                    } else {
-                        String::new()
-                    }
-                )));
-            }
+        // The limits of --spp and --max-depth are the renderer's, known once the scene is
+        // read ([`Self::choose`]).
+        if args.spp == Some(0) {
+            return Err(Failure::usage("--spp must be at least 1, found 0"));
         }
-        if let Some(t) = args.adaptive {
+        let adaptive_aa = adaptive_aa(&args)?;
+        if let Some(t) = adaptive_aa {
             if !(t.is_finite() && t > 0.0) {
                 return Err(Failure::usage(format!(
-                    "--adaptive takes a threshold above 0, found {t}"
+                    "--adaptive-aa takes a threshold above 0, found {t}"
                 )));
             }
             if args.spp.is_some() {
-                return Err(Failure::usage("give --spp or --adaptive, not both"));
+                return Err(Failure::usage("give --spp or --adaptive-aa, not both"));
             }
         }
         if let Some(t) = args.subsample {
@@ -394,10 +527,10 @@ impl RenderSettings {
                 )));
             }
         }
-        if !(0.0..=1.0).contains(&args.bailout) {
+        let bailout = args.bailout.unwrap_or(DEFAULT_BAILOUT);
+        if !(0.0..=1.0).contains(&bailout) {
             return Err(Failure::usage(format!(
-                "--bailout takes a weight from 0 to 1, found {}",
-                args.bailout
+                "--bailout takes a weight from 0 to 1, found {bailout}"
             )));
         }
         if let Some(threads) = args.threads {
@@ -407,18 +540,13 @@ impl RenderSettings {
                 )));
             }
         }
-        if let Some(depth) = args.max_depth.filter(|&d| d > MAX_DEPTH_LIMIT) {
-            return Err(Failure::usage(format!(
-                "--max-depth must be at most {MAX_DEPTH_LIMIT}, found {depth}"
-            )));
-        }
         if args.max_triangles == 0 || args.max_triangles > MAX_TRIANGLE_LIMIT {
             return Err(Failure::usage(format!(
                 "--max-triangles must be between 1 and {MAX_TRIANGLE_LIMIT}, found {}",
                 args.max_triangles
             )));
         }
-        if args.max_rays_per_sample == 0 {
+        if args.max_rays_per_sample == Some(0) {
             return Err(Failure::usage(
                 "--max-rays-per-sample must be at least 1, found 0",
             ));
@@ -433,9 +561,10 @@ impl RenderSettings {
             threads: args.threads,
             max_depth: args.max_depth,
             spp: args.spp,
-            adaptive: args.adaptive,
+            adaptive_aa,
             subsample: args.subsample,
-            bailout: args.bailout,
+            bailout,
+            bailout_given: args.bailout.is_some(),
             frames,
             trace_pixel: match &args.trace_pixel {
                 None => None,
@@ -443,7 +572,10 @@ impl RenderSettings {
             },
             quiet: args.quiet,
             max_triangles: args.max_triangles,
-            max_rays_per_sample: args.max_rays_per_sample,
+            max_rays_per_sample: args
+                .max_rays_per_sample
+                .unwrap_or(rayforge::render::DEFAULT_MAX_RAYS_PER_SAMPLE),
+            max_rays_given: args.max_rays_per_sample.is_some(),
             display_server: args.display_server.clone(),
             allow_outside: args.allow_outside,
             camera: args.camera.clone(),
@@ -453,6 +585,26 @@ impl RenderSettings {
             path,
             slice,
         })
+    }
+}
+
+/// `--adaptive-aa`, or its old name `--adaptive` with a deprecation warning.
+fn adaptive_aa(args: &RenderArgs) -> Result<Option<f64>, Failure> {
+    match (args.adaptive_aa, args.adaptive) {
+        (Some(_), Some(_)) => Err(Failure::usage(
+            "give --adaptive-aa once: --adaptive is its old name",
+        )),
+        (None, Some(threshold)) => {
+            if !args.quiet {
+                eprintln!(
+                    "warning: --adaptive is the old name of --adaptive-aa (the ray tracer's \
+                     adaptive anti-aliasing; the path tracer's --sample-allocation by-noise is \
+                     another thing): write --adaptive-aa"
+                );
+            }
+            Ok(Some(threshold))
+        }
+        (new, None) => Ok(new),
     }
 }
 
@@ -514,7 +666,7 @@ pub struct RasterRequest {
     pub filter: Option<TextureFilter>,
     /// `--wireframe`.
     pub wireframe: bool,
-    /// Whether `--spp` or `--adaptive` was given (the rasterizer does not anti-alias).
+    /// Whether `--spp` or `--adaptive-aa` was given (the rasterizer does not anti-alias).
     pub sampling_flag: Option<&'static str>,
 }
 
@@ -524,7 +676,6 @@ impl RasterRequest {
         first_given([
             ("--shading", self.shading.is_some()),
             ("--sphere-divisions", self.sphere_divisions.is_some()),
-            ("--max-raster-triangles", self.max_triangles.is_some()),
             ("--texture-filter", self.filter.is_some()),
             ("--wireframe", self.wireframe),
         ])
@@ -532,8 +683,8 @@ impl RasterRequest {
 
     /// The rasterizer's options when `raster` (the rasterizer draws the scene), `None` for
     /// the other renderers. The command line's raster flags win over the scene's; they are
-    /// refused with the other renderers, and the ray tracer's sampling flags with the
-    /// rasterizer.
+    /// refused with the other renderers (`--max-raster-triangles`, a guard, is ignored there
+    /// with a warning), and the sampling flags with the rasterizer.
     fn resolve(
         &self,
         scene: Option<RasterOptions>,
@@ -549,7 +700,12 @@ impl RasterRequest {
         }
         if let Some(flag) = self.sampling_flag {
             return Err(Failure::usage(format!(
-                "{flag} applies to the ray tracer; the rasterizer does not anti-alias"
+                "{flag} applies to the {}; the rasterizer does not anti-alias",
+                if flag == "--spp" {
+                    "ray tracer and the path tracer"
+                } else {
+                    "ray tracer"
+                }
             )));
         }
         let mut options = scene.unwrap_or_default();
@@ -603,8 +759,8 @@ fn raster_request(args: &RenderArgs) -> Result<RasterRequest, Failure> {
         wireframe: args.wireframe,
         sampling_flag: if args.spp.is_some() {
             Some("--spp")
-        } else if args.adaptive.is_some() {
-            Some("--adaptive")
+        } else if args.adaptive_aa.is_some() || args.adaptive.is_some() {
+            Some("--adaptive-aa")
         } else {
             None
         },

@@ -29,7 +29,7 @@ use crate::slice::{Cut, Slice};
 use rayforge::camera::Camera;
 use rayforge::film::{Film, PixelFilter, SharedFilm, MAX_FILM_PIXELS};
 use rayforge::options::{PathOptions, SampleAllocation};
-use rayforge::render::path::{render_path, PathJob};
+use rayforge::render::path::{learn_roulette, render_path, LearnedRoulette, PathJob};
 use rayforge::render::{exposure, render_rows_into, RenderOptions};
 use rayforge_scene::Scene;
 use rayon::ThreadPool;
@@ -306,6 +306,15 @@ impl SliceRender<'_> {
         let film = self.film(options.filter)?;
         let mut done = self.others_done();
         let stats = self.with_hooks(|progress, stop| {
+            // Learned for the whole render's samples, as an unsliced render learns it, so
+            // that the slices merge into its image.
+            let spp = samples_per_pixel(self.settings, self.scene);
+            let world = &self.scene.world;
+            let learned = self
+                .pool
+                .install(|| learn_roulette(self.camera, world, &options, spp, Some(stop)));
+            // Stopped, the render after it stops at once, its rows undone.
+            let roulette = learned.unwrap_or(LearnedRoulette::fixed(1.0));
             let job = PathJob {
                 options,
                 samples,
@@ -313,7 +322,7 @@ impl SliceRender<'_> {
                 progress: Some(progress),
                 cancel: Some(stop),
                 on_row: None,
-                roulette: None,
+                roulette: Some(&roulette),
             };
             self.pool.install(|| {
                 render_path(self.camera, &self.scene.world, &job, &film, None, &mut done)

@@ -354,7 +354,7 @@ fn help_describes_every_option() {
         "--max-depth",
         "--max-pixels",
         "--spp",
-        "--adaptive",
+        "--adaptive-aa",
         "--max-triangles",
         "--resume",
         "--quiet",
@@ -389,7 +389,7 @@ fn supersampled_images_are_the_same_for_any_thread_count() {
     );
     assert_eq!(std::fs::read(&one).unwrap(), std::fs::read(&four).unwrap());
     let adaptive = d.path("adaptive.pfm");
-    assert!(render(&scene, &adaptive, &["-q", "--adaptive", "0.05"])
+    assert!(render(&scene, &adaptive, &["-q", "--adaptive-aa", "0.05"])
         .status
         .success());
 }
@@ -404,8 +404,8 @@ fn the_cameras_samples_key_and_bad_sampling_flags() {
     assert!(render(&scene, &d.path("o.png"), &["-q"]).status.success());
     for bad in [
         &["--spp", "0"][..],
-        &["--adaptive", "-1"],
-        &["--spp", "4", "--adaptive", "0.1"],
+        &["--adaptive-aa", "-1"],
+        &["--spp", "4", "--adaptive-aa", "0.1"],
     ] {
         let o = render(&scene, &d.path("o.png"), bad);
         assert_eq!(o.status.code(), Some(2), "{bad:?}");
@@ -681,7 +681,7 @@ fn raster_flags_need_the_rasterizer_and_sampling_flags_the_ray_tracer() {
         assert!(stderr(&o).contains(extra[0]), "{}", stderr(&o));
         assert!(stderr(&o).contains("--renderer raster"), "{}", stderr(&o));
     }
-    for extra in [&["--spp", "4"][..], &["--adaptive", "0.1"]] {
+    for extra in [&["--spp", "4"][..], &["--adaptive-aa", "0.1"]] {
         let mut args = vec!["--renderer", "raster"];
         args.extend_from_slice(extra);
         let o = render(&scene, &out, &args);

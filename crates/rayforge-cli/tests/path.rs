@@ -147,7 +147,7 @@ fn adaptive_sample_allocation_gives_the_noisy_pixels_more_samples() {
         "128",
         "--aovs",
         "--sample-allocation",
-        "adaptive",
+        "by-noise",
     ];
     let (ok, stderr) = render("scenes/pbr/spheres-materials.yml", &image, &args);
     assert!(ok, "{stderr}");
@@ -186,7 +186,7 @@ fn a_book_scene_path_traces_to_png_with_every_sampler_and_filter() {
         &["--renderer", "path", "--filter", "tent"][..],
         &["--renderer", "path", "--roulette-scale", "1"][..],
         &["--renderer", "path", "--roulette-scale", "auto"][..],
-        &["--renderer", "path", "--sample-allocation", "adaptive"][..],
+        &["--renderer", "path", "--sample-allocation", "by-noise"][..],
     ]
     .iter()
     .enumerate()
@@ -243,8 +243,8 @@ fn path_flags_are_refused_with_the_other_renderers_and_with_each_other() {
             "invalid value 'even' for '--sample-allocation <NAME>'",
         ),
         (
-            &["--renderer", "path", "--adaptive", "0.1"][..],
-            "--adaptive applies to the ray tracer",
+            &["--renderer", "path", "--adaptive-aa", "0.1"][..],
+            "--adaptive-aa applies to the ray tracer, not to the path tracer (--renderer path)",
         ),
         (
             &["--renderer", "path", "--shading", "flat"][..],
@@ -450,7 +450,14 @@ fn aovs_in_an_exr_are_layers_of_the_one_file_in_float_or_half() {
             assert!(String::from_utf8_lossy(&listing.stdout).contains("R, 16-bit floating-point"));
         }
         Err(_) if std::env::var_os("RAYFORGE_REQUIRE_EXRHEADER").is_none() => {
-            eprintln!("exrheader is not installed: OpenEXR's own check skipped");
+            // Straight to stderr, past the harness's capture (which hides what a passing
+            // test prints): a skip is seen, not taken for a pass.
+            use std::io::Write;
+            let _ = writeln!(
+                std::io::stderr(),
+                "skipped: OpenEXR's own reading of the EXR: exrheader is not on PATH \
+                 (apt-get install openexr)"
+            );
         }
         Err(e) => panic!("exrheader is required here: {e}"),
     }

@@ -1,6 +1,8 @@
-//! Seed inputs: the repository's own scenes and models, the copies of community files in
-//! `corpus/` (see `corpus/README.md` for where each comes from), and small images made here in
-//! every format and colour type the decoder reads.
+//! Seed inputs: the repository's own scenes and models, the inputs written for the fuzzer in
+//! `corpus/`, the community scenes and models and the Khronos glTF samples where they lie
+//! beside the repository (`../shared`, read there, never copied in; a clone without it fuzzes
+//! from the rest), and small images made here in every format and colour type the decoder
+//! reads.
 
 use crate::targets::{repo_root, Target};
 use std::path::Path;
@@ -9,22 +11,22 @@ use std::path::Path;
 pub fn seeds(target: Target) -> Vec<Vec<u8>> {
     let root = repo_root();
     let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus");
+    let shared = root.join("../shared");
     let mut seeds = Vec::new();
     match target {
         Target::Scene => {
             files_under(&root.join("scenes"), &["yml", "yaml"], &mut seeds);
             files_under(&corpus.join("scene"), &["yml", "yaml"], &mut seeds);
+            files_under(&shared.join("community-scenes"), &["yml"], &mut seeds);
+            file(&shared.join("models/bounding-boxes.yml"), &mut seeds);
         }
         Target::Obj => {
             files_under(&root.join("scenes"), &["obj", "mtl"], &mut seeds);
             files_under(&corpus.join("obj"), &["obj", "mtl"], &mut seeds);
+            file(&shared.join("models/suzanne-low.obj"), &mut seeds);
         }
         Target::Image => seeds.extend(generated_images()),
-        Target::Gltf => files_under(
-            &root.join("crates/rayforge-scene/tests/gltf"),
-            &["gltf", "glb"],
-            &mut seeds,
-        ),
+        Target::Gltf => files_under(&shared.join("models/gltf"), &["gltf", "glb"], &mut seeds),
         Target::Part => files_under(&corpus.join("part"), &["part"], &mut seeds),
         Target::Page => seeds.extend(page_messages()),
     }
@@ -51,6 +53,11 @@ pub fn write_seeds(target: Target, dir: &Path) -> std::io::Result<usize> {
         std::fs::write(dir.join(format!("{}-{i:03}.bin", target.name())), seed)?;
     }
     Ok(seeds.len())
+}
+
+/// The file at `path`, where there is one.
+fn file(path: &Path, out: &mut Vec<Vec<u8>>) {
+    out.extend(std::fs::read(path).ok());
 }
 
 /// The files under `dir` (recursively) with one of `extensions`, sorted by path.

@@ -31,6 +31,7 @@ pub use error::{clip, clip_to, SceneError, Span, MAX_SHOWN_CHARS};
 pub use images::{DEFAULT_MAX_IMAGE_MEMORY, MAX_IMAGE_BYTES, MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE};
 pub use obj::DEFAULT_MAX_TRIANGLES;
 pub use scene::{CameraChoice, LoadOptions, Scene};
+pub use settings::MAX_DEPTH as MAX_RAY_DEPTH;
 
 use defines::Defines;
 use document::Items;

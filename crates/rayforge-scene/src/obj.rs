@@ -4,6 +4,10 @@
 //! `1 2 3`, `1/2/3`, `1//3`, `1/2`, negative indices counting back from the end), polygons
 //! fan-triangulated, named groups (`g`), and `mtllib`/`usemtl`. Lines it does not understand are
 //! counted, as the book's parser counts them. Errors name the file, line, column and keyword.
+//!
+//! A face's front is OBJ's: the side from which its corners turn counter-clockwise in the
+//! file's right-handed axes ([`Winding::RightHanded`](rayforge::geometry::Winding)), the
+//! reverse of the book's triangles. The corners are kept in the file's order.
 
 use crate::error::{SceneError, Span};
 use crate::files::Folder;
@@ -527,9 +531,10 @@ pub fn parse_mtl(
 
 /// The file's triangles as meshes, one per group and material (faces that share a material
 /// render as one object), each with only the vertices it uses. The material is the one named
-/// by `usemtl` and found in the libraries, or `None`.
+/// by `usemtl` and found in the libraries, or `None`. Each mesh's faces have OBJ's
+/// counter-clockwise fronts.
 pub fn to_meshes(obj: &ObjFile) -> Vec<(Arc<rayforge::geometry::Mesh>, Option<Material>)> {
-    use rayforge::geometry::{Mesh, MeshFace};
+    use rayforge::geometry::{Mesh, MeshFace, Winding};
     /// Old index → new index, `UNUSED` until the entry is first used in the mesh being built:
     /// a dense table is several times faster than hashing on million-face files. The table is
     /// shared by all meshes and only the entries a mesh used are reset, so a file of many
@@ -597,6 +602,7 @@ pub fn to_meshes(obj: &ObjFile) -> Vec<(Arc<rayforge::geometry::Mesh>, Option<Ma
             let Ok(mesh) = Mesh::with_texcoords(positions, normals, texcoords, faces) else {
                 continue;
             };
+            let mesh = mesh.with_winding(Winding::RightHanded);
             let material = material
                 .and_then(|m| obj.material_names.get(m as usize))
                 .and_then(|name| obj.materials.get(name))

@@ -9,7 +9,8 @@
 //!                             # `shading`, `sphere-divisions`, `wireframe` and
 //!                             # `texture-filter`; path `sampler`, `filter`, `filter-radius`,
 //!                             # `seed`, `roulette-depth`, `roulette-scale`,
-//!                             # `sample-allocation` and `light-sampler`
+//!                             # `sample-allocation` (`by-noise` or `uniform`) and
+//!                             # `light-sampler`
 //! ```
 
 use crate::assets::Assets;
@@ -24,7 +25,9 @@ use rayforge::options::{
 };
 use rayforge::{LightingModel, World};
 
-/// The deepest recursion a scene may ask for (as `--max-depth` allows).
+/// The deepest recursion a scene for the ray tracer may ask for (as `--max-depth` allows it):
+/// every bounce can spawn two rays, so deep limits explode. A scene for the path tracer may ask
+/// for up to [`PathOptions::MAX_DEPTH`], one path a sample.
 pub const MAX_DEPTH: u64 = 64;
 
 /// What a `world:` item says besides what goes into the world.
@@ -156,11 +159,15 @@ pub fn apply(
             }
             "max-depth" => {
                 let depth = source.integer(e.value, "max-depth", 0)?;
-                if depth > MAX_DEPTH {
+                let (most, renderer) = match path {
+                    Some(_) => (u64::from(PathOptions::MAX_DEPTH), "the path tracer"),
+                    None => (MAX_DEPTH, "the ray tracer"),
+                };
+                if depth > most {
                     return Err(source.error(
                         e.value,
                         "max-depth",
-                        format!("{depth} bounces is more than the limit {MAX_DEPTH}"),
+                        format!("{depth} bounces is more than the limit {most} of {renderer}"),
                     ));
                 }
                 max_depth = Some(depth as u32);
@@ -263,11 +270,23 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
             }
             "sample-allocation" => {
                 let name = source.string(e.value, "sample-allocation")?;
+                // The old name, from before the ray tracer's adaptive anti-aliasing and this
+                // were told apart; the repository's scenes and docs use `by-noise`.
+                if name == "adaptive" {
+                    source.warn(
+                        e.value,
+                        "sample-allocation",
+                        "`adaptive` is the old name of `by-noise` (the ray tracer's adaptive \
+                         anti-aliasing is another thing); write `sample-allocation: by-noise`",
+                    );
+                    options.allocation = SampleAllocation::ByNoise;
+                    continue;
+                }
                 options.allocation = SampleAllocation::from_name(name).ok_or_else(|| {
                     source.error(
                         e.value,
                         "sample-allocation",
-                        format!("expected `uniform` or `adaptive`, found `{}`", clip(name)),
+                        format!("expected `uniform` or `by-noise`, found `{}`", clip(name)),
                     )
                 })?;
             }

@@ -394,14 +394,29 @@ fn a_gradient_with_three_colors() {
 }
 
 #[test]
-fn deeply_nested_patterns_are_refused_or_read_without_overflow() {
-    // 200 levels of perturbed patterns: must not overflow the stack.
-    let mut pattern = String::from("{type: stripes, colors: [[1, 1, 1], [0, 0, 0]]}");
-    for _ in 0..200 {
-        pattern = format!("{{type: perturbed, pattern: {pattern}}}");
-    }
-    let scene = format!("{CAMERA}- add: plane\n  material:\n    pattern: {pattern}\n");
-    let _ = load_str(&scene, Path::new("scene.yml"));
+fn deeply_nested_patterns_are_refused_with_a_location_not_an_overflow() {
+    // `levels` perturbed patterns around a stripes pattern, on the plane of line 10.
+    let nested = |levels: usize| {
+        let mut pattern = String::from("{type: stripes, colors: [[1, 1, 1], [0, 0, 0]]}");
+        for _ in 0..levels {
+            pattern = format!("{{type: perturbed, pattern: {pattern}}}");
+        }
+        format!("{CAMERA}- add: plane\n  material:\n    pattern: {pattern}\n")
+    };
+    // Within the pattern reader's limit of 64 levels: read, every level kept.
+    let scene = load_str(&nested(60), Path::new("scene.yml")).expect("60 levels are read");
+    assert_eq!(scene.world.objects.len(), 1);
+    // Past it, yet within the YAML reader's 128: the pattern reader refuses the level.
+    let e = load_str(&nested(70), Path::new("scene.yml")).expect_err("70 levels are refused");
+    assert!(
+        e.message.contains("patterns nest deeper than 64 levels"),
+        "{e}"
+    );
+    assert_eq!(e.span.map(|s| s.line), Some(10), "{e}");
+    // 200 levels: refused by the YAML reader before any recursion could overflow the stack.
+    let e = load_str(&nested(200), Path::new("scene.yml")).expect_err("200 levels are refused");
+    assert!(e.message.contains("nest deeper than 128 levels"), "{e}");
+    assert_eq!(e.span.map(|s| s.line), Some(10), "{e}");
 }
 
 #[test]

@@ -516,7 +516,7 @@ fn the_path_tracers_keys_are_read() {
             roulette_depth: 5,
             roulette: Roulette::Learned,
             seed: 42,
-            allocation: SampleAllocation::Adaptive,
+            allocation: SampleAllocation::ByNoise,
             light_sampler: LightSamplerKind::Auto,
         })
     );
@@ -560,14 +560,41 @@ fn the_path_tracers_keys_are_read() {
     assert_eq!(path("roulette-scale: 0.25").roulette, Roulette::Scale(0.25));
     assert_eq!(path("roulette-scale: 64").roulette, Roulette::Scale(64.0));
     assert_eq!(
-        path("sample-allocation: adaptive").allocation,
-        SampleAllocation::Adaptive
+        path("sample-allocation: by-noise").allocation,
+        SampleAllocation::ByNoise
     );
     assert_eq!(
         path("sample-allocation: uniform").allocation,
         SampleAllocation::Uniform
     );
-    assert_eq!(path("seed: 1").allocation, SampleAllocation::Adaptive);
+    assert_eq!(path("seed: 1").allocation, SampleAllocation::ByNoise);
+}
+
+#[test]
+fn the_old_name_of_the_allocation_by_noise_is_read_with_a_warning() {
+    let scene = world("renderer: path\nsample-allocation: adaptive").unwrap();
+    assert_eq!(scene.path.unwrap().allocation, SampleAllocation::ByNoise);
+    let [warning] = &scene.warnings[..] else {
+        panic!("one warning, not {:?}", scene.warnings);
+    };
+    let text = warning.to_string();
+    assert!(text.contains("sample-allocation"), "{text}");
+    assert!(text.contains("by-noise"), "{text}");
+    let quiet = world("renderer: path\nsample-allocation: by-noise").unwrap();
+    assert!(quiet.warnings.is_empty(), "{:?}", quiet.warnings);
+}
+
+#[test]
+fn a_path_scene_may_go_deeper_than_a_ray_traced_one() {
+    let deep = world("renderer: path\nmax-depth: 1024").unwrap();
+    assert_eq!(deep.path.unwrap().max_depth, 1024);
+    assert_error(
+        world("max-depth: 65"),
+        9,
+        16,
+        "max-depth",
+        "the limit 64 of the ray tracer",
+    );
 }
 
 #[test]
@@ -579,7 +606,7 @@ fn the_path_tracers_keys_need_renderer_path() {
         "seed: 1",
         "roulette-depth: 2",
         "roulette-scale: 2",
-        "sample-allocation: adaptive",
+        "sample-allocation: by-noise",
     ] {
         let name = key.split(':').next().unwrap();
         assert_error(world(key), 9, 5, name, "add `renderer: path`");
@@ -662,7 +689,13 @@ fn bad_path_tracer_values_are_errors_naming_the_key() {
         "roulette-depth",
         "at least 1",
     );
-    assert_error(path("max-depth: 65"), 10, 16, "max-depth", "the limit 64");
+    assert_error(
+        path("max-depth: 1025"),
+        10,
+        16,
+        "max-depth",
+        "the limit 1024 of the path tracer",
+    );
     assert_error(
         path("light-sampler: tree"),
         10,
@@ -675,7 +708,7 @@ fn bad_path_tracer_values_are_errors_naming_the_key() {
         10,
         24,
         "sample-allocation",
-        "expected `uniform` or `adaptive`, found `even`",
+        "expected `uniform` or `by-noise`, found `even`",
     );
     for bad in ["0.2", "65", "-1", "nan", "often", "[1, 2]"] {
         assert_error(

@@ -1,5 +1,5 @@
 //! The path tracer behind every scene file: each scene shipped under `scenes/` renders under
-//! it (tiny, a few samples) to finite pixels, and the reference scenes of `scenes/pbr/` give
+//! it (tiny, a few samples) with every sample finite (none left out by the renderer), and the reference scenes of `scenes/pbr/` give
 //! the answers they are built to give.
 
 mod support;
@@ -8,7 +8,7 @@ use rayforge::film::Film;
 use rayforge::options::PathOptions;
 use rayforge_scene::Scene;
 use std::path::{Path, PathBuf};
-use support::render;
+use support::{render, render_counted};
 
 /// The scenes shipped in the repository (those reading models from `../shared`, which a fresh
 /// clone lacks, are left out when it is missing).
@@ -42,8 +42,18 @@ fn every_shipped_scene_renders_under_the_path_tracer() {
             Err(e) if options.allow_outside && e.to_string().contains("shared") => continue,
             Err(e) => panic!("{}: {e}", path.display()),
         };
-        let canvas = render(&scene, 6, 4, 2).resolve();
-        for c in canvas.pixels() {
+        // The renderer leaves a non-finite sample out of its pixel and counts it: the count
+        // must be nought, and the pixels finite (a pixel left with no weight would not be).
+        let (film, stats) = render_counted(&scene, 6, 4, 2);
+        assert_eq!(
+            stats.discarded,
+            0,
+            "{}: {} of {} samples were not finite",
+            path.display(),
+            stats.discarded,
+            stats.samples
+        );
+        for c in film.resolve().pixels() {
             assert!(
                 c.red.is_finite() && c.green.is_finite() && c.blue.is_finite(),
                 "{}: {c:?}",

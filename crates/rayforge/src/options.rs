@@ -194,18 +194,19 @@ pub enum SampleAllocation {
     /// the render's first samples finds it, the render costing what the samples per pixel
     /// everywhere would (`render::path::prepare_render`). A render in one pass of at least 16
     /// samples per pixel, or in slices of one; renders in passes share samples evenly, and
-    /// so does a scene whose noise is about even.
+    /// so does a scene whose noise is about even. (Named apart from the ray tracer's adaptive
+    /// anti-aliasing, which splits pixels, not the render's budget.)
     #[default]
-    Adaptive,
+    ByNoise,
     /// Every pixel takes the same number.
     Uniform,
 }
 
 impl SampleAllocation {
-    /// The allocation a scene or the command line names: `adaptive` or `uniform`.
+    /// The allocation a scene or the command line names: `by-noise` or `uniform`.
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
-            "adaptive" => Some(Self::Adaptive),
+            "by-noise" => Some(Self::ByNoise),
             "uniform" => Some(Self::Uniform),
             _ => None,
         }
@@ -216,6 +217,10 @@ impl PathOptions {
     /// The deepest path by default: in practice unbounded (Russian roulette ends paths long
     /// before), but a limit all the same, so that no scene can trap a path forever.
     pub const DEFAULT_MAX_DEPTH: u32 = 1024;
+
+    /// The deepest path a scene or the command line may ask for: the default, as a path's
+    /// cost grows only linearly with its depth (a ray tracer's tree doubles per bounce).
+    pub const MAX_DEPTH: u32 = Self::DEFAULT_MAX_DEPTH;
 
     /// The radius of a tent or Gaussian pixel filter when the scene or the command line gives
     /// none, in pixels.
@@ -231,7 +236,7 @@ impl Default for PathOptions {
             roulette_depth: 5,
             roulette: Roulette::Learned,
             seed: 0,
-            allocation: SampleAllocation::Adaptive,
+            allocation: SampleAllocation::ByNoise,
             light_sampler: LightSamplerKind::Auto,
         }
     }

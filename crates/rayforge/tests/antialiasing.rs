@@ -5,17 +5,21 @@ use rayforge::render::{render, RenderOptions, Sampling};
 use rayforge::{default_world, point, vector, Camera, Color};
 
 #[test]
-fn sample_counts_round_up_to_a_square_grid() {
+fn a_sample_count_is_the_rays_per_pixel_a_grid_when_square() {
     assert_eq!(Sampling::with_samples(0), Sampling::Centre);
     assert_eq!(Sampling::with_samples(1), Sampling::Centre);
     assert_eq!(
         Sampling::with_samples(4),
         Sampling::Stratified { per_side: 2 }
     );
+    assert_eq!(Sampling::with_samples(5), Sampling::Rooks { samples: 5 });
     assert_eq!(
-        Sampling::with_samples(5),
+        Sampling::with_samples(9),
         Sampling::Stratified { per_side: 3 }
     );
+    for spp in 1..=100 {
+        assert_eq!(Sampling::with_samples(spp).camera_rays(), u64::from(spp));
+    }
     assert_eq!(
         Sampling::with_samples(16),
         Sampling::Stratified { per_side: 4 }
@@ -43,6 +47,34 @@ fn stratified_samples_fall_one_in_each_cell_of_the_pixel() {
     cells.sort_unstable();
     cells.dedup();
     assert_eq!(cells.len(), 9, "one sample per cell");
+}
+
+#[test]
+fn rooks_samples_take_one_column_and_one_row_each() {
+    for (samples, seed) in [(5, 99), (7, 3), (50, 12)] {
+        let mut points = Vec::new();
+        Sampling::Rooks { samples }.pixel(4, 6, seed, |s| {
+            points.push((s.x, s.y));
+            Color::BLACK
+        });
+        assert_eq!(points.len(), samples as usize);
+        let n = f64::from(samples);
+        let strata = |pick: fn(&(f64, f64)) -> f64, base: f64| {
+            let mut cells: Vec<u32> = points
+                .iter()
+                .map(|p| {
+                    let v = pick(p) - base;
+                    assert!((0.0..1.0).contains(&v), "{p:?}");
+                    (v * n) as u32
+                })
+                .collect();
+            cells.sort_unstable();
+            cells
+        };
+        let all: Vec<u32> = (0..samples).collect();
+        assert_eq!(strata(|p| p.0, 4.0), all, "one sample per column");
+        assert_eq!(strata(|p| p.1, 6.0), all, "one sample per row");
+    }
 }
 
 #[test]

@@ -22,7 +22,7 @@ fn diffuse(albedo: f64) -> Material {
 /// Adaptive options with the classic roulette (nothing to learn).
 fn adaptive() -> PathOptions {
     PathOptions {
-        allocation: SampleAllocation::Adaptive,
+        allocation: SampleAllocation::ByNoise,
         roulette: Roulette::Scale(1.0),
         ..PathOptions::default()
     }
@@ -248,7 +248,10 @@ fn few_samples_or_an_even_share_asked_for_need_no_plan() {
         ..PathOptions::default()
     };
     let (roulette, plan) = prepare_render(&camera, &world, &uniform, 64, false, None);
-    assert_eq!(roulette, learn_roulette(&camera, &world, &uniform));
+    assert_eq!(
+        Some(roulette),
+        learn_roulette(&camera, &world, &uniform, 64, None)
+    );
     assert_eq!(plan, None);
     // A fixed scale is kept as it is, with nothing predicted.
     let fixed = PathOptions {
@@ -260,7 +263,7 @@ fn few_samples_or_an_even_share_asked_for_need_no_plan() {
     assert_eq!(roulette.continuation, None);
     // Adaptive by default; the roulette learned once, for the pilot and the render.
     let learned = PathOptions::default();
-    assert_eq!(learned.allocation, SampleAllocation::Adaptive);
+    assert_eq!(learned.allocation, SampleAllocation::ByNoise);
     let (_, plan) = prepare_render(&camera, &world, &learned, 256, false, None);
     assert!(plan.is_some());
 }

@@ -52,7 +52,6 @@ fn a_ray_tree_past_the_budget_stops_the_render_and_names_its_pixel_in_every_mode
             max_rays_per_sample: budget,
             ..RenderOptions::default()
         };
-        let started = Instant::now();
         let (image, stats) = render_rows(&camera, &world, &options);
         let (x, y) = stats
             .over_budget
@@ -66,7 +65,6 @@ fn a_ray_tree_past_the_budget_stops_the_render_and_names_its_pixel_in_every_mode
             "{lighting:?}: {} rays after the stop",
             stats.rays
         );
-        assert!(started.elapsed().as_secs() < 60, "{lighting:?}");
     }
 }
 
@@ -94,12 +92,10 @@ fn a_stop_flag_is_heeded_inside_one_camera_ray() {
     state.set_stop_flags([Some(&stop), None]);
     state.begin_sample();
     let ray = camera.ray_for_pixel(1, 1);
-    let started = Instant::now();
     let _ = rayforge::render::render_one_ray(&mut state, &ray, 64);
     // The flag is looked at every few thousand rays: the 2^64-ray tree stops there.
     assert_eq!(state.stopped(), Some(Stopped::Cancelled));
     assert!(state.rays_cast() < 4096, "{} rays", state.rays_cast());
-    assert!(started.elapsed().as_secs() < 10);
 }
 
 #[test]
@@ -168,7 +164,9 @@ fn a_frame_over_the_triangle_budget_is_refused_before_its_triangles_are_made() {
             limit: RasterOptions::DEFAULT_MAX_TRIANGLES
         })
     );
-    assert!(started.elapsed().as_secs() < 5);
+    // Refused before any sphere is built: 64 meshes of 33 million triangles would take far
+    // longer than this guard on any machine.
+    assert!(started.elapsed().as_secs() < 60);
     // At the default resolution the same frame is drawn.
     assert!(raster::render(&camera, &world, &RasterOptions::default()).is_ok());
     // And a budget below one model's size refuses it too.

@@ -472,8 +472,17 @@ fn path_passes(
         .map_err(|e| Stop::Failed(e.to_string()))?;
     let film = SharedFilm::from(film);
     let mut done = vec![false; height];
-    // The roulette is learned once, not again in each pass.
-    let roulette = pool.install(|| learn_roulette(camera, &scene.world, &options));
+    // The roulette is learned once, not again in each pass, by a pilot sized for the passes'
+    // samples (a sixteenth of them at most) that heeds the page's cancel. A preview (one
+    // sample at a quarter size, sent again and again while the camera is dragged) is below
+    // the pilot's least size and learns nothing: it plays the classic rule, unbiased, and a
+    // roulette that trades noise against time over many samples has nothing to trade in one.
+    // Before, its pilot of 41,000 paths cost about ten previews.
+    let cancel = Some(&*pass.job.cancel);
+    let learned = pool.install(|| learn_roulette(camera, &scene.world, &options, spp, cancel));
+    let Some(roulette) = learned else {
+        return Err(Stop::Cancelled);
+    };
     let passes = doubling_passes(spp);
     let count = passes.len();
     for (i, samples) in passes.into_iter().enumerate() {

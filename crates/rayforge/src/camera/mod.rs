@@ -37,12 +37,15 @@ pub struct Camera {
     rays: PinholeRays,
 }
 
-/// A pinhole camera's rays in world space: the eye, and the direction towards the canvas
-/// point `(x, y)` (in pixels) as `corner + x · across + y · down`. The canvas point is
-/// `(half_width − x · pixel_size, half_height − y · pixel_size, −1)` in the camera's space,
-/// and the view transform's inverse is affine, so its linear part takes the canvas's corner
-/// and the two pixel steps to the world once for every ray. A camera ray was two point
-/// transforms: 4 % of the instructions of spheres-materials, whose paths are short.
+/// A pinhole camera's rays in world space for the path tracer: the eye, and the direction
+/// towards the canvas point `(x, y)` (in pixels) as `corner + x · across + y · down`. The
+/// canvas point is `(half_width − x · pixel_size, half_height − y · pixel_size, −1)` in the
+/// camera's space, and the view transform's inverse is affine, so its linear part takes the
+/// canvas's corner and the two pixel steps to the world once for every ray. The book's
+/// camera ray is two point transforms: 4 % of the instructions of spheres-materials, whose
+/// paths are short. The sums round differently from the book's, so the Whitted renderers,
+/// whose images are the books' to the byte, keep the book's ray ([`Camera::ray_through`]);
+/// only [`Camera::path_ray_for_sample`] reads these.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct PinholeRays {
     eye: Point3,
@@ -281,9 +284,38 @@ impl Camera {
     /// The ray for one camera sample: through its image point, from its lens point, at its
     /// instant of the shutter interval.
     pub fn ray_for_sample(&self, sample: &CameraSample) -> Ray {
+        let ray = self.ray_through_lens(sample.x, sample.y, sample.lens_u, sample.lens_v);
+        self.in_shutter(ray, sample.time)
+    }
+
+    /// The path tracer's ray for one camera sample: [`Self::ray_for_sample`]'s ray to
+    /// rounding, but a pinhole's from the eye, canvas corner and pixel steps worked out once
+    /// ([`PinholeRays`]) instead of two point transforms per ray. Its last bits may differ
+    /// from the book's, which only a Monte Carlo estimate can afford.
+    pub fn path_ray_for_sample(&self, sample: &CameraSample) -> Ray {
+        let ray = if self.aperture == 0.0 && self.viewport.is_none() && !self.orthographic {
+            self.pinhole_ray_through(sample.x, sample.y)
+        } else {
+            self.ray_through_lens(sample.x, sample.y, sample.lens_u, sample.lens_v)
+        };
+        self.in_shutter(ray, sample.time)
+    }
+
+    /// `ray` at the instant `time` (in [0, 1)) of the shutter interval.
+    fn in_shutter(&self, ray: Ray, time: f64) -> Ray {
         let (open, close) = self.shutter;
-        self.ray_through_lens(sample.x, sample.y, sample.lens_u, sample.lens_v)
-            .at_time(open + (close - open) * sample.time)
+        ray.at_time(open + (close - open) * time)
+    }
+
+    /// A pinhole's ray through the canvas point `(x, y)` from its [`PinholeRays`].
+    fn pinhole_ray_through(&self, x: f64, y: f64) -> Ray {
+        let PinholeRays {
+            eye,
+            corner,
+            across,
+            down,
+        } = self.rays;
+        Ray::new(eye, (corner + across * x + down * y).normalize())
     }
 
     /// The ray through a point of the canvas from a point of the lens: `lens_u`, `lens_v` in
@@ -306,16 +338,18 @@ impl Camera {
         Ray::new(origin, (target - origin).normalize())
     }
 
-    /// The ray through a point of the canvas in pixel units (0,0 is the top-left corner).
+    /// The ray through a point of the canvas in pixel units (0,0 is the top-left corner),
+    /// as the book computes it (its `ray_for_pixel`: the canvas point and the eye each taken
+    /// through the view transform's inverse), so the Whitted renderers' images keep its bits.
     pub fn ray_through(&self, x: f64, y: f64) -> Ray {
         if let Some(viewport) = &self.viewport {
             let (w, h) = (self.hsize as f64, self.vsize as f64);
             let (cx, cy) = Viewport::canvas_point(x, y, w, h);
             return Ray::new(viewport.position, viewport.direction(cx, cy, w, h)).from_t(1.0);
         }
+        let world_x = self.half_width - x * self.pixel_size;
+        let world_y = self.half_height - y * self.pixel_size;
         if self.orthographic {
-            let world_x = self.half_width - x * self.pixel_size;
-            let world_y = self.half_height - y * self.pixel_size;
             let origin = self
                 .transform
                 .inverse_point(Point3::new(world_x, world_y, 0.0));
@@ -324,13 +358,11 @@ impl Camera {
                 .inverse_point(Point3::new(world_x, world_y, -1.0));
             return Ray::new(origin, (ahead - origin).normalize());
         }
-        let PinholeRays {
-            eye,
-            corner,
-            across,
-            down,
-        } = self.rays;
-        Ray::new(eye, (corner + across * x + down * y).normalize())
+        let pixel = self
+            .transform
+            .inverse_point(Point3::new(world_x, world_y, -1.0));
+        let origin = self.transform.inverse_point(Point3::ZERO);
+        Ray::new(origin, (pixel - origin).normalize())
     }
 }
 
@@ -397,10 +429,57 @@ mod tests {
             moved_again,
         ] {
             for (x, y) in [(0.0, 0.0), (0.5, 0.5), (3.25, 7.75), (9.999, 4.0)] {
-                let (ours, theirs) = (camera.ray_through(x, y), ray_by_two_points(&camera, x, y));
+                let (ours, theirs) = (
+                    camera.pinhole_ray_through(x, y),
+                    ray_by_two_points(&camera, x, y),
+                );
                 assert!((ours.origin - theirs.origin).length() < 1e-12);
                 assert!((ours.direction - theirs.direction).length() < 1e-12);
             }
         }
+    }
+
+    /// The Whitted renderers' camera rays are the book's to the bit (their images are pinned
+    /// to the byte): every pixel of scenes/bench/chessboard.yml's camera at 48 × 27, whose
+    /// image changed bytes when these rays were the path tracer's precomputed ones. That
+    /// some of those differ in their last bits here shows this test can fail.
+    #[test]
+    fn the_whitted_camera_rays_are_the_books_to_the_bit() {
+        let camera = Camera::new(48, 27, 0.9).with_transform(view_transform(
+            point(0.0, 5.0, -9.0),
+            point(0.0, 0.0, 0.0),
+            vector(0.0, 1.0, 0.0),
+        ));
+        let bits = |r: &Ray| {
+            [r.origin.x, r.origin.y, r.origin.z]
+                .into_iter()
+                .chain([r.direction.x, r.direction.y, r.direction.z])
+                .map(f64::to_bits)
+                .collect::<Vec<_>>()
+        };
+        let mut precomputed_differ = 0;
+        for py in 0..27 {
+            for px in 0..48 {
+                let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
+                let book = bits(&ray_by_two_points(&camera, x, y));
+                assert_eq!(bits(&camera.ray_for_pixel(px, py)), book, "pixel {px},{py}");
+                let sample = CameraSample {
+                    x,
+                    y,
+                    lens_u: 0.5,
+                    lens_v: 0.5,
+                    time: 0.5,
+                };
+                assert_eq!(
+                    bits(&camera.ray_for_sample(&sample)),
+                    book,
+                    "pixel {px},{py}"
+                );
+                if bits(&camera.path_ray_for_sample(&sample)) != book {
+                    precomputed_differ += 1;
+                }
+            }
+        }
+        assert!(precomputed_differ > 0);
     }
 }

@@ -18,7 +18,7 @@ mod tessellate;
 pub mod torus;
 mod triangle;
 
-pub use mesh::{Mesh, MeshError, MeshFace, VertexAttributes};
+pub use mesh::{Mesh, MeshError, MeshFace, VertexAttributes, Winding};
 pub use polyhedra::{dodecahedron, icosahedron};
 pub use tessellate::sphere_mesh;
 pub use torus::toroidal_map;

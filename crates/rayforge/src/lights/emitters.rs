@@ -348,7 +348,7 @@ impl Surface {
             let (b1, b2) = triangle_weights(u[0], u[1]);
             return SurfaceSample {
                 point: a + (b - a) * b1 + (c - a) * b2,
-                normal: face_normal(b - a, c - a),
+                normal: mesh.face_normal(face as u32).normalize_or_zero(),
                 hit: LocalHit {
                     u: b1,
                     v: b2,
@@ -398,7 +398,8 @@ impl Surface {
                 // (`sample` draws meshes itself, with the face and weights.)
                 let (face, _) = faces.sample_discrete(pick);
                 let [a, b, c] = mesh.corners(&mesh.face(face));
-                triangle_point(a, b - a, c - a, u, v)
+                let (point, _) = triangle_point(a, b - a, c - a, u, v);
+                (point, mesh.face_normal(face as u32).normalize_or_zero())
             }
             Surface::Cylinder {
                 minimum,
@@ -473,18 +474,16 @@ impl Surface {
     fn normal_at(&self, shape: &Shape, point: Point3, face: u32) -> Vec3 {
         match self {
             Surface::Triangle { e1, e2, .. } => face_normal(*e1, *e2),
-            Surface::Mesh { mesh, .. } => {
-                let [a, b, c] = mesh.corners(&mesh.face(face as usize));
-                face_normal(b - a, c - a)
-            }
+            Surface::Mesh { mesh, .. } => mesh.face_normal(face).normalize_or_zero(),
             _ => shape.normal_at(point).normalize_or_zero(),
         }
     }
 }
 
-/// The unit normal of the face with edges `e1` and `e2` from its first corner, oriented as the
-/// book's triangles and the meshes orient theirs (`e2 × e1`), so that the side an emitting
-/// face lights is the one its hits see as its front.
+/// The unit normal of the book's triangle with edges `e1` and `e2` from its first corner,
+/// oriented as the triangle orients its own (`e2 × e1`), so that the side an emitting face
+/// lights is the one its hits see as its front. (A mesh's faces follow the mesh's winding:
+/// [`Mesh::face_normal`](crate::geometry::Mesh::face_normal).)
 fn face_normal(e1: Vec3, e2: Vec3) -> Vec3 {
     e2.cross(e1).normalize_or_zero()
 }

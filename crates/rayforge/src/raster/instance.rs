@@ -7,6 +7,7 @@ use super::clip::{ClipPlane, SphereSide};
 use super::tessellate::{face_count, refine, refined_face_count, tessellate, Tessellation, EXTENT};
 use super::Projection;
 use super::RasterError;
+use crate::geometry::Winding;
 use crate::math::{Point3, Transform};
 use crate::scene::Csg;
 use crate::scene::{Object, Shape, World};
@@ -34,7 +35,7 @@ pub(crate) struct Instance<'w> {
     /// Whether back faces may be skipped.
     pub cull: bool,
     /// +1 or -1: the sign of a front face's screen-space orientation (a mirroring transform
-    /// turns the winding over).
+    /// turns it over, and so does a mesh of the other [`Winding`]).
     pub front_sign: i64,
     /// For a CSG primitive: the solid and which leaf this is; its faces are kept only where
     /// the solid keeps its surface.
@@ -239,11 +240,11 @@ pub(crate) fn instances<'w>(
             if outside || model.mesh.faces.is_empty() {
                 continue;
             }
-            let front_sign = if to_view.matrix3.determinant() < 0.0 {
-                1
-            } else {
-                -1
-            };
+            // A mirroring transform turns the winding over, and so does a mesh whose faces
+            // are counter-clockwise in right-handed axes (an OBJ model's).
+            let mirrored = to_view.matrix3.determinant() < 0.0;
+            let reversed = model.mesh.winding == Winding::RightHanded;
+            let front_sign = if mirrored != reversed { 1 } else { -1 };
             triangles += model.mesh.faces.len() as u64;
             if triangles > max_triangles {
                 return Err(RasterError::TooManyTriangles {

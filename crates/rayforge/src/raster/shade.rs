@@ -121,12 +121,7 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
         let points = mesh.corners(face).map(|p| instance.transform.point(p));
         let normals = match face.normals {
             Some(n) => n.map(|i| self.normals[instance.normal_base + i as usize]),
-            None => {
-                let n = (points[2] - points[0])
-                    .cross(points[1] - points[0])
-                    .normalize_or_zero();
-                [n; 3]
-            }
+            None => [mesh.front_normal(points); 3],
         };
         let uvs = face
             .texcoords
@@ -154,9 +149,7 @@ impl<'a, 'w> ShadeContext<'a, 'w> {
         match self.shading {
             Shading::Flat => {
                 let centre = (points[0] + points[1] + points[2]) / 3.0;
-                let flat = (points[2] - points[0])
-                    .cross(points[1] - points[0])
-                    .normalize_or_zero();
+                let flat = mesh.front_normal(points);
                 let (mul, add) = self.affine_light(instance, centre, flat);
                 out.light_mul = [mul; 3];
                 out.light_add = [add; 3];

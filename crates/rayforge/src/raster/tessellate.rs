@@ -2,8 +2,9 @@
 //! analytic shape is cut into a mesh in its own object space, with the true surface normal at
 //! each vertex so that Gouraud and Phong shading hide the facets.
 //!
-//! Winding: every face is wound so that `(p3 - p1) × (p2 - p1)` points out of the shape, the
-//! convention of rayforge's triangles, which back-face culling relies on. Faces are checked
+//! Winding: every generated face is wound so that `(p3 - p1) × (p2 - p1)` points out of the
+//! shape, the convention of the book's triangles ([`Winding::Book`]), which back-face culling
+//! relies on; a mesh keeps its own faces and winding. Faces are checked
 //! against the outward direction as they are made, so no generator can get it wrong.
 //!
 //! Unbounded shapes are cut at [`EXTENT`] units from their origin: planes become large grids,
@@ -11,7 +12,7 @@
 //! geometrically further out (the farther parts cover few pixels), so a plane costs a few
 //! thousand triangles and Gouraud shading still has vertices near what the camera looks at.
 
-use crate::geometry::{Mesh, MeshFace};
+use crate::geometry::{Mesh, MeshFace, Winding};
 use crate::math::{Aabb, Point3, Vec3};
 use crate::scene::Csg;
 use crate::scene::Shape;
@@ -35,6 +36,9 @@ pub struct Tessellation<'a> {
     /// Whether the surface encloses a volume with every face wound outwards, so that faces
     /// pointing away from the eye are hidden behind others (and may be culled).
     pub closed: bool,
+    /// Which side of each face is its front: the book's for a generated shape, the mesh's
+    /// own for a mesh (an OBJ model's faces are counter-clockwise in right-handed axes).
+    pub winding: Winding,
 }
 
 /// A tessellation's triangles: a mesh's own, read face by face where they are kept (a
@@ -102,6 +106,7 @@ impl<'a> Tessellation<'a> {
             texcoords: Cow::Owned(Vec::new()),
             faces: Faces::Generated(Vec::new()),
             closed,
+            winding: Winding::Book,
         }
     }
 
@@ -113,6 +118,7 @@ impl<'a> Tessellation<'a> {
             texcoords: Cow::Borrowed(mesh.texcoords()),
             faces: Faces::Mesh(mesh),
             closed: false,
+            winding: mesh.winding(),
         }
     }
 
@@ -120,6 +126,16 @@ impl<'a> Tessellation<'a> {
     #[inline]
     pub fn corners(&self, face: &MeshFace) -> [Point3; 3] {
         face.vertices.map(|i| self.positions[i as usize])
+    }
+
+    /// The unit normal of a face with corners `p1 p2 p3` (in object space or placed in the
+    /// world) towards its front by the tessellation's winding.
+    #[inline]
+    pub fn front_normal(&self, [p1, p2, p3]: [Point3; 3]) -> Vec3 {
+        match self.winding {
+            Winding::Book => (p3 - p1).cross(p2 - p1).normalize_or_zero(),
+            Winding::RightHanded => (p2 - p1).cross(p3 - p1).normalize_or_zero(),
+        }
     }
 
     /// A sphere around every vertex: the centre of their box and the farthest distance from
@@ -452,6 +468,7 @@ const MAX_REFINE: u32 = 32;
 /// triangles by their centre follows the solid's edges closely.
 pub fn refine(t: &Tessellation<'_>, max_edge: f64) -> Tessellation<'static> {
     let mut out = Tessellation::empty(t.closed);
+    out.winding = t.winding;
     for face in t.faces.iter() {
         let p = t.corners(&face);
         let k = refinement(p, max_edge);

@@ -30,6 +30,14 @@ pub enum Sampling {
         /// Cells per side (the pixel takes `n²` samples).
         per_side: u32,
     },
+    /// `n` rays for a count that is no square: Shirley's N-rooks sampling (a Latin hypercube).
+    /// The pixel is cut into `n` columns and `n` rows; each ray takes its own column and its
+    /// own row (the rows shuffled), at a random point of that cell, so that the rays are
+    /// stratified along each axis as a grid's would be, and averaged with equal weights.
+    Rooks {
+        /// Rays per pixel.
+        samples: u32,
+    },
     /// Fundamentals of Ray Tracing's anti-aliasing: an `n × n` grid of rays from each pixel's
     /// top-left corner at steps of `1/n` (no jitter), averaged.
     Grid {
@@ -48,14 +56,19 @@ pub enum Sampling {
 }
 
 impl Sampling {
-    /// Stratified sampling with at least `spp` samples per pixel: the grid is the smallest
-    /// square with that many cells (4 → 2×2, 5 → 3×3); 1 or 0 means one ray through the centre.
+    /// Exactly `spp` samples per pixel, as `--spp` means for every renderer: a stratified
+    /// grid when `spp` is a square (4 → 2×2, 9 → 3×3), N-rooks otherwise (5 → 5 rays in 5
+    /// columns and 5 rows); 1 or 0 means one ray through the centre.
     pub fn with_samples(spp: u32) -> Self {
         if spp <= 1 {
             return Sampling::Centre;
         }
-        let per_side = (spp as f64).sqrt().ceil() as u32;
-        Sampling::Stratified { per_side }
+        let per_side = spp.isqrt();
+        if per_side * per_side == spp {
+            Sampling::Stratified { per_side }
+        } else {
+            Sampling::Rooks { samples: spp }
+        }
     }
 
     /// Camera rays per pixel: the grid's cells, or for adaptive sampling the five of an
@@ -66,6 +79,7 @@ impl Sampling {
             Sampling::Grid { per_side } | Sampling::Stratified { per_side } => {
                 u64::from(per_side) * u64::from(per_side)
             }
+            Sampling::Rooks { samples } => u64::from(samples),
             Sampling::Adaptive { .. } => 5,
         }
     }
@@ -73,8 +87,8 @@ impl Sampling {
     /// Passes that refine an image up to this sampling (a progressive render's): one ray
     /// through each pixel's centre, then grids of the same kind with 2, 4, 8, … rays a side
     /// (each pass about four times the rays of the one before, so the time to the next image
-    /// grows with the time spent), then this sampling itself; adaptive sampling after the
-    /// centre pass alone.
+    /// grows with the time spent), then this sampling itself; N-rooks after stratified grids
+    /// of fewer rays; adaptive sampling after the centre pass alone.
     pub fn refining_passes(self) -> Vec<Sampling> {
         let mut passes = vec![Sampling::Centre];
         let mut per_side = 2;
@@ -86,6 +100,12 @@ impl Sampling {
                         Sampling::Grid { .. } => Sampling::Grid { per_side },
                         _ => Sampling::Stratified { per_side },
                     });
+                    per_side *= 2;
+                }
+            }
+            Sampling::Rooks { samples } => {
+                while per_side * per_side < samples {
+                    passes.push(Sampling::Stratified { per_side });
                     per_side *= 2;
                 }
             }
@@ -127,6 +147,23 @@ impl Sampling {
                     }
                 }
                 sum / (n * n) as f64
+            }
+            Sampling::Rooks { samples } => {
+                let n = samples.max(1);
+                let cell = 1.0 / n as f64;
+                // The rows in a random order (Fisher–Yates), drawn before any ray.
+                let mut rows: Vec<u32> = (0..n).collect();
+                for i in (1..rows.len()).rev() {
+                    let j = (rng.next_offset() * (i + 1) as f64) as usize;
+                    rows.swap(i, j.min(i));
+                }
+                let mut sum = Color::BLACK;
+                for (column, &row) in rows.iter().enumerate() {
+                    let dx = (column as f64 + rng.next_offset()) * cell;
+                    let dy = (f64::from(row) + rng.next_offset()) * cell;
+                    sum += trace(drawn(x + dx, y + dy, &mut rng, &mut shutter));
+                }
+                sum / f64::from(n)
             }
             Sampling::Grid { per_side } => {
                 let n = per_side.max(1);
@@ -211,6 +248,12 @@ mod tests {
             depth: 2,
         };
         assert_eq!(adaptive.refining_passes(), [Sampling::Centre, adaptive]);
+        let rooks = Sampling::Rooks { samples: 20 };
+        assert_eq!(
+            rooks.refining_passes(),
+            [Sampling::Centre, stratified(2), stratified(4), rooks]
+        );
+        assert_eq!(rooks.camera_rays(), 20);
         assert_eq!(stratified(6).camera_rays(), 36);
         assert_eq!(adaptive.camera_rays(), 5);
     }

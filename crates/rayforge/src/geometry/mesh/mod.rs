@@ -12,6 +12,11 @@
 //! the original vertices, so the `t`, `u` and `v` a caller sees are as exact as the book's
 //! lone triangles. Hits within a rounding error of the caller's `t_min` (a shadow ray
 //! leaving the surface it starts on) are decided in `f64` as well.
+//!
+//! Which side of a face is its front is the mesh's [`Winding`], the convention of the format
+//! it was read from: the book's for its own shapes, the right-handed counter-clockwise one for
+//! OBJ models. Only the face normal follows it; the corners stay in the order given, so a
+//! ray's `t`, `u` and `v` are the same under either.
 
 mod packet;
 
@@ -69,6 +74,25 @@ pub enum MeshError {
     },
 }
 
+/// Which side of a mesh's faces is their front, told by the order of their corners: the side
+/// the face normal points to, and so the side that `emission-side: front` lights, that a
+/// one-sided material shows and that a glass mesh is entered from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Winding {
+    /// The book's triangles': the front is the side of `e2 × e1` (`e1 = p2 − p1`,
+    /// `e2 = p3 − p1`), the side from which the corners turn counter-clockwise in the book's
+    /// left-handed space. The meshes built here (the polyhedra, the tessellated sphere) are
+    /// wound so, and so are glTF's faces, which its reader stores reversed because it mirrors
+    /// glTF's right-handed space into the book's.
+    #[default]
+    Book,
+    /// OBJ's: the front is the side of `e1 × e2`, the side from which the corners turn
+    /// counter-clockwise in the file's own right-handed axes, as Blender writes them and
+    /// other renderers read them. The coordinates are read as they are, so this is the
+    /// book's winding reversed.
+    RightHanded,
+}
+
 /// An indexed triangle mesh with its own BVH.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
@@ -90,6 +114,8 @@ pub struct Mesh {
     /// Per-vertex tangents and colours (glTF's `TANGENT` and `COLOR_0`), when the model has
     /// them; boxed so that meshes without them (every OBJ model) stay small.
     attributes: Option<Box<VertexAttributes>>,
+    /// Which side of each face is its front.
+    winding: Winding,
 }
 
 /// Attributes a mesh may carry per vertex beyond position, normal and texture coordinates,
@@ -188,7 +214,18 @@ impl Mesh {
             packets,
             tolerance,
             attributes: None,
+            winding: Winding::Book,
         })
+    }
+
+    /// The same mesh with its faces' fronts told by `winding` (a new mesh has the book's).
+    pub fn with_winding(self, winding: Winding) -> Self {
+        Self { winding, ..self }
+    }
+
+    /// Which side of each face is its front.
+    pub fn winding(&self) -> Winding {
+        self.winding
     }
 
     /// The same mesh with per-vertex tangents and colours; each list must be empty or hold
@@ -501,18 +538,29 @@ impl Mesh {
         })
     }
 
-    /// Face `face`'s geometric normal (not normalised), by the book's winding: `e2 × e1`.
+    /// Face `face`'s geometric normal (not normalised), towards its front by the mesh's
+    /// [`Winding`].
     #[inline]
     pub fn face_normal(&self, face: u32) -> Vec3 {
         let Some(corners) = self.corners.get(face as usize) else {
             return Vec3::ZERO;
         };
-        let [p1, p2, p3] = corners.map(|i| self.positions[i as usize]);
-        (p3 - p1).cross(p2 - p1)
+        self.front_of(corners.map(|i| self.positions[i as usize]))
     }
 
-    /// The normal at a hit: the vertex normals blended by `u`, `v` on smooth faces, the face
-    /// normal otherwise.
+    /// The normal of the triangle `p1 p2 p3` (not normalised) towards its front by the mesh's
+    /// winding. (`a × b` is exactly `−(b × a)` in floating point, so the two windings' normals
+    /// differ only in sign.)
+    #[inline]
+    fn front_of(&self, [p1, p2, p3]: [Point3; 3]) -> Vec3 {
+        match self.winding {
+            Winding::Book => (p3 - p1).cross(p2 - p1),
+            Winding::RightHanded => (p2 - p1).cross(p3 - p1),
+        }
+    }
+
+    /// The normal at a hit: the vertex normals blended by `u`, `v` on smooth faces (as the
+    /// file gave them, whatever the winding), the face normal otherwise.
     #[inline]
     pub fn normal_at(&self, hit: &LocalHit) -> Vec3 {
         let Some(corners) = self.corners.get(hit.face as usize) else {
@@ -527,10 +575,9 @@ impl Mesh {
                 let [n1, n2, n3] = n.map(|i| self.normals[i as usize]);
                 n2 * hit.u + n3 * hit.v + n1 * (1.0 - hit.u - hit.v)
             }
-            None => {
-                let [p1, p2, p3] = corners.map(|i| self.positions[i as usize]);
-                (p3 - p1).cross(p2 - p1).normalize_or_zero()
-            }
+            None => self
+                .front_of(corners.map(|i| self.positions[i as usize]))
+                .normalize_or_zero(),
         }
     }
 }
@@ -681,4 +728,58 @@ fn index(positions: &[Point3], corners: &[[u32; 3]]) -> (Bvh, Vec<TrianglePacket
         0.0
     };
     (bvh, packets, tolerance)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Triangle;
+
+    /// The book's triangle (its chapter 15 scenario) as a one-face mesh wound `winding`.
+    fn book_triangle(winding: Winding) -> Mesh {
+        let corners = vec![
+            Point3::new(0.0, 1.0, 0.0),
+            Point3::new(-1.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+        ];
+        let face = MeshFace {
+            vertices: [0, 1, 2],
+            normals: None,
+            texcoords: None,
+        };
+        Mesh::new(corners, Vec::new(), vec![face])
+            .unwrap()
+            .with_winding(winding)
+    }
+
+    #[test]
+    fn a_book_wound_face_has_the_book_triangles_normal() {
+        let book = Triangle::new(
+            Point3::new(0.0, 1.0, 0.0),
+            Point3::new(-1.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+        );
+        // The book: "the normal of the triangle is (0, 0, -1)".
+        assert_eq!(book.normal, Vec3::new(0.0, 0.0, -1.0));
+        let mesh = book_triangle(Winding::Book);
+        assert_eq!(mesh.winding(), Winding::default());
+        assert_eq!(mesh.face_normal(0).normalize(), book.normal);
+        let hit = mesh.closest_hit(&Ray::new(Point3::new(0.0, 0.5, -2.0), Vec3::Z), 0.0, 9.0);
+        assert_eq!(mesh.normal_at(&hit.unwrap()), book.normal);
+    }
+
+    #[test]
+    fn a_right_handed_face_fronts_the_side_its_corners_turn_counter_clockwise_in_right_handed_axes()
+    {
+        // Seen from +z in right-handed axes (x right, y up, z towards the viewer), the
+        // corners (0, 1, 0), (-1, 0, 0), (1, 0, 0) turn counter-clockwise: OBJ's front is +z.
+        let mesh = book_triangle(Winding::RightHanded);
+        assert_eq!(mesh.face_normal(0).normalize(), Vec3::Z);
+        let ray = Ray::new(Point3::new(0.0, 0.5, -2.0), Vec3::Z);
+        let hit = mesh.closest_hit(&ray, 0.0, 9.0).unwrap();
+        assert_eq!(mesh.normal_at(&hit), Vec3::Z);
+        // Only the normal turns: the hit itself is the book-wound mesh's, to the bit.
+        let book = book_triangle(Winding::Book).closest_hit(&ray, 0.0, 9.0);
+        assert_eq!(Some(hit), book);
+    }
 }

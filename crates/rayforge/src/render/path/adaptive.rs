@@ -156,13 +156,14 @@ pub(super) struct PilotLog {
 /// Whether a render of `spp` samples per pixel in one pass with `options` plans its samples
 /// ([`prepare_render`] makes a pilot and, where it foresees a gain, a plan).
 pub fn plans_samples(options: &PathOptions, spp: u64) -> bool {
-    options.allocation == SampleAllocation::Adaptive && spp >= MIN_ADAPTIVE_SPP
+    options.allocation == SampleAllocation::ByNoise && spp >= MIN_ADAPTIVE_SPP
 }
 
 /// The roulette of a render of `spp` samples per pixel in one pass with `options` (learned
 /// once, for the pilot and the render), and its plan where samples are shared out
 /// adaptively ([`plan_samples`]; else none). With `aovs`, the pilot keeps their sums too.
-/// Once `cancel` is set the pilot stops, and no plan is made.
+/// Once `cancel` is set the pilots stop, and no plan is made (nor a roulette learned: the
+/// classic rule's is answered, for a render that will stop at once).
 pub fn prepare_render(
     camera: &Camera,
     world: &World,
@@ -171,7 +172,9 @@ pub fn prepare_render(
     aovs: bool,
     cancel: Option<&AtomicBool>,
 ) -> (LearnedRoulette, Option<SamplePlan>) {
-    let roulette = learn_roulette(camera, world, options);
+    let Some(roulette) = learn_roulette(camera, world, options, spp, cancel) else {
+        return (LearnedRoulette::fixed(1.0), None);
+    };
     let plan = plans_samples(options, spp)
         .then(|| plan_samples(camera, world, options, Some(&roulette), spp, aovs, cancel))
         .flatten();

@@ -27,11 +27,14 @@
 use super::continuation::ContinuationCache;
 use super::sampler::SampleStream;
 use crate::color::Color;
+use crate::geometry::LocalHit;
 use crate::lights::{mirror_spread, Emitters, MirrorBall};
 use crate::math::{Frame, Point3, Ray, Vec3};
-use crate::scene::{surface_offset, LightingModel, Object, World, WorldIndex, NO_OBJECT};
-use crate::shading::bsdf::Bsdf;
-use crate::shading::{EnvironmentMap, Layer, Scattering, SkyDraw};
+use crate::scene::{
+    surface_offset, Intersection, LightingModel, Object, World, WorldIndex, NO_OBJECT,
+};
+use crate::shading::bsdf::{Bsdf, BsdfSample};
+use crate::shading::{EnvironmentMap, Layer, Scattering, SkyDraw, SurfacePoint};
 
 /// Dimensions a camera sample uses: a group of four for the image point and the first
 /// vertex's light point, then the lens point, the instant and one spare.
@@ -210,13 +213,207 @@ struct Branch {
     share: f64,
 }
 
-/// A path vertex as next-event estimation through a mirror ball needs it.
-struct Vertex<'a> {
+/// A path as it is traced (one branch of it, where it splits at glass): its ray, what it
+/// carries and has gathered, and what its last bounce was, as the next vertex needs to know.
+struct PathState {
+    ray: Ray,
+    throughput: Color,
+    /// The radiance gathered so far, by every branch of the path.
+    radiance: Color,
+    /// The density of the direction just sampled, and whether it was a delta (the camera
+    /// ray counts as one: what it sees is taken as it is).
+    bsdf_pdf: f64,
+    specular: bool,
+    /// Where the ray left from.
+    from: Point3,
+    /// The shading normal there (none at the camera, or after a delta bounce of a split):
+    /// the light tree's choice of a light depends on it, so MIS asks it again.
+    from_normal: Option<Vec3>,
+    /// Bounces so far.
+    depth: u32,
+    /// Where the path last left a non-delta surface for a mirror ball: the density of that
+    /// direction and the ball's spread, for weighing the sky beyond the ball against
+    /// sampling it through the ball.
+    mirror_leg: Option<(f64, f64)>,
+    /// The first smooth glass on the camera's chain of mirror-like bounces splits the path
+    /// in two, reflected and transmitted (see `Bsdf::split`): a path may split while it has
+    /// bounced only off deltas and has not split yet.
+    may_split: bool,
+    /// The share of its path's light a branch of a split carries (1 unsplit): the roulette
+    /// weighs a branch by its throughput over this share, as it would the unsplit path, so
+    /// that splitting does not end paths sooner.
+    share: f64,
+    /// This vertex's light point, where the vertex before drew it with its direction (from
+    /// the same Sobol point, so that it costs nothing more).
+    light_pair: Option<[f64; 2]>,
+}
+
+impl PathState {
+    /// A path starting along the camera ray `ray`.
+    fn camera(ray: Ray) -> Self {
+        let ray = Ray {
+            direction: unit(ray.direction),
+            ..ray
+        };
+        Self {
+            from: ray.origin,
+            from_normal: None,
+            ray,
+            throughput: Color::WHITE,
+            radiance: Color::BLACK,
+            bsdf_pdf: 0.0,
+            specular: true,
+            depth: 0,
+            mirror_leg: None,
+            may_split: true,
+            share: 1.0,
+            light_pair: None,
+        }
+    }
+
+    /// Light `light` arriving where the path is, towards it, gathered at weight `weight`.
+    #[inline]
+    fn gather(&mut self, light: Color, weight: f64) {
+        self.radiance += self.throughput.hadamard(light) * weight;
+    }
+
+    /// The path goes on from `vertex` as the BSDF's `sample` (of the layer scaled by
+    /// `scale`, in `frame`) says.
+    fn bounce(&mut self, vertex: &SurfaceVertex, frame: &Frame, sample: &BsdfSample, scale: f64) {
+        self.may_split &= sample.delta;
+        self.throughput = self.throughput.hadamard(sample.weight) * scale;
+        self.bsdf_pdf = sample.pdf;
+        self.specular = sample.delta;
+        let direction = unit(frame.to_world(sample.wi));
+        self.from = vertex.point;
+        self.from_normal = Some(frame.n);
+        self.ray = vertex.leaving(direction);
+        self.depth += 1;
+    }
+
+    /// The other half of a split path takes over, from the glass: a delta bounce, as the
+    /// first was. What the first half gathered stays.
+    fn follow(&mut self, branch: Branch) {
+        self.ray = branch.ray;
+        self.throughput = branch.throughput;
+        self.from = branch.from;
+        // A delta bounce leaves the glass: no light density is asked there.
+        self.from_normal = None;
+        self.depth = branch.depth;
+        self.share = branch.share;
+        self.specular = true;
+        self.light_pair = None;
+        self.mirror_leg = None;
+    }
+}
+
+/// A surface a path has met, as the techniques at the vertex need it.
+struct SurfaceVertex<'w> {
+    hit: Intersection<'w>,
+    /// The object (the leaf of a CSG solid) whose surface it is.
+    surface: &'w Object,
+    local: LocalHit,
+    at: SurfacePoint,
     point: Point3,
+    /// The unit direction back along the path.
+    wo: Vec3,
+    /// The geometric normal (outward, whichever side the path is on).
     geometric: Vec3,
-    frame: &'a Frame,
+}
+
+impl SurfaceVertex<'_> {
+    /// The surface's shading normal: the geometric one, bumped or normal-mapped.
+    fn shading_normal(&self) -> Vec3 {
+        let material = &self.surface.material;
+        let shading = match &material.bump {
+            Some(bump) => {
+                let transform = self.surface.transform_at(self.hit.time);
+                bump.perturb(
+                    self.geometric,
+                    transform.inverse_point(self.point),
+                    &transform,
+                )
+            }
+            None => self.geometric,
+        };
+        match &material.metal_rough {
+            Some(m) => m.mapped_normal(&self.at, shading, self.surface.tangent_at(&self.local)),
+            None => shading,
+        }
+    }
+
+    /// The light the surface gives off towards the path, if it glows on that side.
+    fn emission(&self) -> Option<Color> {
+        let material = &self.surface.material;
+        let emission = match &material.metal_rough {
+            Some(m) => m.emission_at(&self.at),
+            None => material.emission,
+        };
+        (emission.max_channel() > 0.0
+            && material
+                .emission_side
+                .emits_towards(self.geometric.dot(self.wo)))
+        .then_some(emission)
+    }
+
+    /// How the surface scatters light here, by its material and the world's lighting model.
+    fn scattering(&self, world: &World) -> Scattering {
+        let (surface, point) = (self.surface, self.point);
+        let material = &surface.material;
+        let colour = surface.surface_color(point, &self.at, self.hit.time);
+        let physical = material.physical_at(|| surface.world_to_object_at(point, self.hit.time));
+        match (&material.metal_rough, physical) {
+            (Some(m), _) => {
+                Scattering::metal_rough(&m.sample_at(&self.at), m.ior, world.ambient_index)
+            }
+            (None, Some(physical)) => {
+                Scattering::single(physical.bsdf(colour, world.ambient_index))
+            }
+            (None, None) => match world.lighting {
+                LightingModel::Phong => Scattering::phong(material, colour, world.ambient_index),
+                LightingModel::Flat | LightingModel::Cgfs => {
+                    Scattering::cgfs(material, colour, world.ambient_index)
+                }
+                LightingModel::Optics => Scattering::optics(material, colour, world.ambient_index),
+            },
+        }
+    }
+
+    /// The geometric normal turned to the side the path is on.
+    fn facing(&self) -> Vec3 {
+        if self.geometric.dot(self.wo) < 0.0 {
+            -self.geometric
+        } else {
+            self.geometric
+        }
+    }
+
+    /// A ray leaving the surface along the unit `direction`.
+    fn leaving(&self, direction: Vec3) -> Ray {
+        Ray {
+            origin: offset_towards(self.point, self.geometric, direction),
+            direction,
+            time: self.hit.time,
+            t_min: 0.0,
+        }
+    }
+}
+
+/// The layer of a vertex's material that scatters, in the vertex's shading frame.
+struct Scatter {
+    layer: Layer,
+    frame: Frame,
     wo_local: Vec3,
-    time: f64,
+}
+
+/// The numbers a vertex draws from its path's stream (see [`VERTEX_DIMENSIONS`]).
+struct VertexNumbers {
+    /// Where the vertex's own dimensions begin.
+    first: u32,
+    u_lobe: f64,
+    u_light: f64,
+    u_direction: [f64; 2],
+    u_point: [f64; 2],
 }
 
 impl<'w> PathContext<'w> {
@@ -254,54 +451,6 @@ impl<'w> PathContext<'w> {
             })
     }
 
-    /// The environment map's light that the mirror ball `ball` reflects to the vertex `at`
-    /// and its layer `layer` scatters back along the path, from the direction of the map in
-    /// `draw` (the vertex's, which next-event estimation may have drawn already; the ball's
-    /// reflection point solved for it), weighed by the power heuristic against the layer's
-    /// own sampling finding the same path.
-    fn sky_in_mirror(
-        &mut self,
-        ball: &MirrorBall,
-        map: &EnvironmentMap,
-        at: &Vertex,
-        layer: &Layer,
-        draw: &mut SkyDraw,
-    ) -> Color {
-        let Some((towards, sky, sky_pdf)) = draw.of(map) else {
-            return Color::BLACK;
-        };
-        self.solves += 1;
-        let Some(path) = ball.reflection_towards(at.point, towards) else {
-            return Color::BLACK;
-        };
-        let bsdf: &Bsdf = &layer.bsdf;
-        let wi_local = at.frame.to_local(path.direction);
-        let f = bsdf.eval(at.wo_local, wi_local) * layer.scale;
-        if f.max_channel() <= 0.0 {
-            return Color::BLACK;
-        }
-        // To the ball, then from the ball to the sky.
-        let (leg, reach) = shadow_ray_to(at.point, at.geometric, path.point, at.time);
-        if reach <= 0.0 || self.occluded(&leg, reach) {
-            return Color::BLACK;
-        }
-        let beyond = Ray {
-            origin: path.point + path.normal * surface_offset(path.point),
-            direction: towards,
-            time: at.time,
-            t_min: 0.0,
-        };
-        if self.occluded(&beyond, f64::INFINITY) {
-            return Color::BLACK;
-        }
-        // The density of this direction from the vertex: the map's, narrowed by the spread.
-        let pdf = sky_pdf * mirror_spread(path.distance, path.cos_incidence, ball.radius);
-        let weight = power_heuristic(pdf, bsdf.pdf(at.wo_local, wi_local));
-        f.hadamard(ball.reflectance(path.cos_incidence))
-            .hadamard(sky)
-            * (weight / pdf)
-    }
-
     /// The radiance arriving along the camera ray `ray`, and what its first hit looks like.
     #[inline]
     pub fn radiance(&mut self, ray: Ray, stream: &mut SampleStream) -> (Color, FirstHit) {
@@ -315,364 +464,429 @@ impl<'w> PathContext<'w> {
         stream: &mut SampleStream,
         log: &mut impl PathLog,
     ) -> (Color, FirstHit) {
-        let world = self.world;
-        let mut ray = Ray {
-            direction: unit(ray.direction),
-            ..ray
-        };
-        let mut radiance = Color::BLACK;
-        let mut throughput = Color::WHITE;
+        let mut path = PathState::camera(ray);
         let mut first = FirstHit::default();
-        // The density of the direction just sampled, and whether it was a delta (the camera
-        // ray counts as one: what it sees is taken as it is).
-        let mut bsdf_pdf = 0.0;
-        let mut specular = true;
-        let mut from = ray.origin;
-        // The shading normal there (none at the camera): the light tree's pick depends on it.
-        let mut from_normal = None;
-        let mut depth = 0;
-        // Where the path last left a non-delta surface for a mirror ball: the density of that
-        // direction and the ball's spread, for weighing the sky beyond the ball against
-        // sampling it through the ball.
-        let mut mirror_leg: Option<(f64, f64)> = None;
-        // The first smooth glass on the camera's chain of mirror-like bounces splits the path
-        // in two, reflected and transmitted (see `Bsdf::split`); the second half waits here.
-        // A path may split while it has bounced only off deltas and has not split yet.
-        let mut may_split = true;
+        // The second half of a path split at glass, waiting for the first to end.
         let mut pending: Option<Branch> = None;
-        // The share of its path's light a branch of a split carries (1 unsplit): the roulette
-        // weighs a branch by its throughput over this share, as it would the unsplit path, so
-        // that splitting does not end paths sooner.
-        let mut share = 1.0;
-        // This vertex's light point, where the vertex before drew it with its direction (from
-        // the same Sobol point, so that it costs nothing more).
-        let mut light_pair: Option<[f64; 2]> = None;
         loop {
             // One branch (the whole path, unless it splits): bounce by bounce, until it
             // escapes, is absorbed, reaches the most bounces or loses the roulette.
             loop {
                 self.rays += 1;
-                let Some(hit) = self.index.closest_hit(world, &ray) else {
-                    let leg = mirror_leg.zip(self.emitters.environment());
-                    let (sky, weight) = if let Some(((leg_pdf, spread), map)) = leg {
-                        let (sky, pdf) = map.radiance_and_pdf(ray.direction);
-                        (sky, power_heuristic(leg_pdf, pdf * spread))
-                    } else if specular {
-                        (self.emitters.sky_radiance(ray.direction), 1.0)
-                    } else {
-                        let (sky, pdf) = self.emitters.sky_radiance_and_pdf(ray.direction);
-                        (sky, power_heuristic(bsdf_pdf, pdf))
-                    };
-                    radiance += throughput.hadamard(sky) * weight;
-                    if depth == 0 {
+                let Some(hit) = self.index.closest_hit(self.world, &path.ray) else {
+                    let sky = self.sky_escaped(&mut path);
+                    if path.depth == 0 {
                         first.albedo = sky;
                         first.depth = f64::INFINITY;
                     }
                     break;
                 };
                 self.vertices += 1;
-                let point = ray.position(hit.t);
-                if depth == 0 {
+                let vertex = self.surface_vertex(hit, &path.ray);
+                if path.depth == 0 {
                     // The camera ray's direction is a unit vector: `t` is the distance.
                     first.depth = hit.t;
                 }
-                let wo = -ray.direction;
-                let surface = hit.object.surface(hit.leaf);
-                let material = &surface.material;
-                let local = hit.local();
-                let at = surface.shape.surface_point(&local);
-                let geometric = self.index.normal_at_hit(world, point, &hit);
-                // Met by a direction sampled at a non-delta surface: if this is a mirror ball, what
-                // the sky beyond it gives is weighed against sampling the sky through the ball.
-                mirror_leg = if specular || self.emitters.mirror_balls().is_empty() {
-                    None
-                } else {
-                    let index = object_index(world, hit.object);
-                    self.emitters.mirror_ball_of(index).map(|ball| {
-                        let cos = geometric.dot(wo).abs();
-                        (bsdf_pdf, mirror_spread(hit.t, cos, ball.radius))
-                    })
-                };
-                let mut shading = match &material.bump {
-                    Some(bump) => {
-                        let transform = surface.transform_at(hit.time);
-                        bump.perturb(geometric, transform.inverse_point(point), &transform)
-                    }
-                    None => geometric,
-                };
-                if let Some(m) = &material.metal_rough {
-                    shading = m.mapped_normal(&at, shading, surface.tangent_at(&local));
-                }
-
+                path.mirror_leg = self.mirror_leg(&path, &vertex);
+                let shading = vertex.shading_normal();
                 // Light given off here, towards where the path came from.
-                let emission = match &material.metal_rough {
-                    Some(m) => m.emission_at(&at),
-                    None => material.emission,
-                };
-                if emission.max_channel() > 0.0
-                    && material.emission_side.emits_towards(geometric.dot(wo))
-                {
-                    let weight = if specular {
-                        1.0
-                    } else {
-                        let index = object_index(world, hit.object);
-                        let light_pdf = self.emitters.object_pdf(
-                            world,
-                            index,
-                            from,
-                            from_normal,
-                            point,
-                            ray.direction,
-                            &local,
-                        );
-                        power_heuristic(bsdf_pdf, light_pdf)
-                    };
-                    radiance += throughput.hadamard(emission) * weight;
+                if let Some(emission) = vertex.emission() {
+                    let weight = self.emission_weight(&path, &vertex);
+                    path.gather(emission, weight);
                 }
-                if depth >= self.max_depth {
+                if path.depth >= self.max_depth {
                     break;
                 }
                 // A one-sided surface seen from behind is black: it scatters nothing.
-                if !material.two_sided && geometric.dot(wo) < 0.0 {
-                    if depth == 0 {
-                        first.normal = -geometric;
+                if !vertex.surface.material.two_sided && vertex.geometric.dot(vertex.wo) < 0.0 {
+                    if path.depth == 0 {
+                        first.normal = -vertex.geometric;
                     }
                     break;
                 }
-
-                let colour = surface.surface_color(point, &at, hit.time);
-                let physical = material.physical_at(|| surface.world_to_object_at(point, hit.time));
-                let scattering = match (&material.metal_rough, physical) {
-                    (Some(m), _) => {
-                        Scattering::metal_rough(&m.sample_at(&at), m.ior, world.ambient_index)
-                    }
-                    (None, Some(physical)) => {
-                        Scattering::single(physical.bsdf(colour, world.ambient_index))
-                    }
-                    (None, None) => match world.lighting {
-                        LightingModel::Phong => {
-                            Scattering::phong(material, colour, world.ambient_index)
-                        }
-                        LightingModel::Flat | LightingModel::Cgfs => {
-                            Scattering::cgfs(material, colour, world.ambient_index)
-                        }
-                        LightingModel::Optics => {
-                            Scattering::optics(material, colour, world.ambient_index)
-                        }
-                    },
-                };
-                if depth == 0 && self.first_hit_shading {
+                let scattering = vertex.scattering(self.world);
+                if path.depth == 0 && self.first_hit_shading {
                     first.albedo = scattering.albedo();
-                    first.normal = if shading.dot(wo) < 0.0 {
+                    first.normal = if shading.dot(vertex.wo) < 0.0 {
                         -shading
                     } else {
                         shading
                     };
                 }
-
-                // This vertex's numbers, in a fixed layout: two pairs (its direction and a
-                // light's point), then its choices, each drawn only where it is used (see
-                // `VERTEX_DIMENSIONS`): a mirror or smooth glass needs neither pair.
-                let vertex = CAMERA_DIMENSIONS + depth * VERTEX_DIMENSIONS;
-                let mut choice = |k: u32, wanted: bool| {
-                    if wanted {
-                        stream.seek(vertex + 4 + k);
-                        stream.next_1d()
-                    } else {
-                        0.0
-                    }
-                };
-                let (layer, u_lobe) = scattering.pick(choice(0, scattering.chooses()));
-                let bsdf = layer.bsdf;
-                let u_light = choice(1, self.emitters.chooses() && !bsdf.is_delta());
-                let (u_direction, u_point) = if bsdf.is_delta() {
-                    light_pair = None;
-                    ([0.0; 2], [0.0; 2])
-                } else {
-                    let u_point = light_pair.take().unwrap_or_else(|| {
-                        stream.seek(match depth {
-                            0 => FIRST_LIGHT_DIMENSION,
-                            _ => vertex - VERTEX_DIMENSIONS + 2,
-                        });
-                        stream.next_2d()
-                    });
-                    stream.seek(vertex);
-                    let u_direction = stream.next_2d();
-                    light_pair = Some(stream.next_2d());
-                    (u_direction, u_point)
-                };
-
+                let (layer, numbers) = self.vertex_numbers(&mut path, &scattering, stream);
                 let frame = Frame::from_normal(shading);
-                let wo_local = frame.to_local(wo);
+                let wo_local = frame.to_local(vertex.wo);
+                let scatter = Scatter {
+                    layer,
+                    frame,
+                    wo_local,
+                };
 
-                // Next-event estimation.
-                if !bsdf.is_delta() {
-                    let mut sky_draw = SkyDraw::new(u_point);
-                    if let Some(light) = self.emitters.sample_sharing_sky(
-                        world,
-                        point,
-                        Some(shading),
-                        ray.time,
-                        u_light,
-                        &mut sky_draw,
-                    ) {
-                        let wi_local = frame.to_local(light.direction);
-                        let f = bsdf.eval(wo_local, wi_local) * layer.scale;
-                        if f.max_channel() > 0.0 {
-                            let (shadow, reach) = if light.distance.is_finite() {
-                                let target = point + light.direction * light.distance;
-                                shadow_ray_to(point, geometric, target, ray.time)
-                            } else {
-                                let shadow = Ray {
-                                    origin: offset_towards(point, geometric, light.direction),
-                                    direction: light.direction,
-                                    time: ray.time,
-                                    t_min: 0.0,
-                                };
-                                (shadow, f64::INFINITY)
-                            };
-                            if reach > 0.0 && !self.occluded(&shadow, reach) {
-                                let weight = if light.delta {
-                                    1.0
-                                } else {
-                                    power_heuristic(light.pdf, bsdf.pdf(wo_local, wi_local))
-                                };
-                                radiance += throughput.hadamard(f).hadamard(light.radiance)
-                                    * (weight / light.pdf);
-                            }
-                        }
-                    }
-                    // The sky in the mirror balls. (A path ending at the next vertex could not
-                    // reach the sky beyond a ball, so neither may this.)
-                    let emitters = self.emitters;
-                    if let (Some(map), true) = (emitters.environment(), depth + 1 < self.max_depth)
-                    {
-                        let at = Vertex {
-                            point,
-                            geometric,
-                            frame: &frame,
-                            wo_local,
-                            time: ray.time,
-                        };
-                        for ball in emitters.mirror_balls() {
-                            let light = self.sky_in_mirror(ball, map, &at, &layer, &mut sky_draw);
-                            radiance += throughput.hadamard(light);
-                        }
-                    }
+                // Light sampled from here: the lights themselves, and the sky in mirror balls.
+                if !layer.bsdf.is_delta() {
+                    let mut sky_draw = SkyDraw::new(numbers.u_point);
+                    self.next_event(&mut path, &vertex, &scatter, numbers.u_light, &mut sky_draw);
+                    self.sky_in_mirrors(&mut path, &vertex, &scatter, &mut sky_draw);
                 }
 
                 // The next direction: both, where the camera first sees smooth glass.
-                let split = may_split.then(|| bsdf.split(wo_local)).flatten();
-                let sample =
-                    if let Some([(reflected, reflected_share), (transmitted, transmitted_share)]) =
-                        split
-                    {
-                        may_split = false;
-                        share = reflected_share;
-                        let direction = unit(frame.to_world(transmitted.wi));
-                        pending = Some(Branch {
-                            ray: Ray {
-                                origin: offset_towards(point, geometric, direction),
-                                direction,
-                                time: ray.time,
-                                t_min: 0.0,
-                            },
-                            throughput: throughput.hadamard(transmitted.weight) * layer.scale,
-                            from: point,
-                            depth: depth + 1,
-                            share: transmitted_share,
-                        });
+                let sample = match self.split_at_glass(&mut path, &vertex, &scatter) {
+                    Some((reflected, transmitted)) => {
+                        pending = Some(transmitted);
                         reflected
-                    } else {
-                        let Some(sample) = bsdf.sample(wo_local, u_lobe, u_direction) else {
+                    }
+                    None => {
+                        let Some(sample) =
+                            layer
+                                .bsdf
+                                .sample(wo_local, numbers.u_lobe, numbers.u_direction)
+                        else {
                             break;
                         };
                         sample
-                    };
-                may_split &= sample.delta;
-                throughput = throughput.hadamard(sample.weight) * layer.scale;
-                bsdf_pdf = sample.pdf;
-                specular = sample.delta;
-                let direction = unit(frame.to_world(sample.wi));
-                from = point;
-                from_normal = Some(shading);
-                ray = Ray {
-                    origin: offset_towards(point, geometric, direction),
-                    direction,
-                    time: ray.time,
-                    t_min: 0.0,
+                    }
                 };
-                depth += 1;
+                path.bounce(&vertex, &scatter.frame, &sample, layer.scale);
 
-                // Russian roulette: a path carrying little light ends with a probability that
-                // grows as it dims, and one that survives carries more, so the mean is unchanged.
-                // Where what is still to come past a diffuse vertex is predicted, a path ends
-                // into the prediction, and a survivor carries what the prediction misses.
-                let diffuse = matches!(bsdf, Bsdf::Diffuse { .. }) && !scattering.chooses();
-                let facing = if geometric.dot(wo) < 0.0 {
-                    -geometric
-                } else {
-                    geometric
-                };
-                // Such a vertex plays the classic rule, from the first bounce; the pilot's log
-                // learns the scale from the others' decisions alone.
-                let predicted = match self.continuation {
-                    Some(cache) if diffuse => cache.predict(point, facing),
-                    _ => None,
-                };
-                if predicted.is_some() || depth >= self.roulette_depth {
-                    stream.seek(vertex + 6);
-                    let u_roulette = stream.next_1d();
-                    let scale = if predicted.is_some() {
-                        1.0
-                    } else {
-                        self.roulette_scale
-                    };
-                    let survive = (throughput.max_channel() / share * scale).min(0.95);
-                    let expected = predicted.map(|rest| throughput.hadamard(rest));
-                    if survive.is_nan() || survive <= 0.0 || u_roulette >= survive {
-                        match expected {
-                            Some(expected) => radiance += expected,
-                            None => log.ended(),
-                        }
-                        break;
-                    }
-                    throughput = throughput * (1.0 / survive);
-                    match expected {
-                        Some(expected) => radiance += expected * ((survive - 1.0) / survive),
-                        None => {
-                            log.survived(survive, throughput.max_channel(), radiance, self.rays)
-                        }
-                    }
+                let diffuse = matches!(layer.bsdf, Bsdf::Diffuse { .. }) && !scattering.chooses();
+                let facing = vertex.facing();
+                if !self.roulette(&mut path, diffuse, &vertex, numbers.first, stream, log) {
+                    break;
                 }
-                if throughput.max_channel() <= 0.0 {
+                if path.throughput.max_channel() <= 0.0 {
                     break;
                 }
                 if diffuse {
                     let departure = DiffuseDeparture {
-                        point,
+                        point: vertex.point,
                         facing,
-                        throughput,
-                        gathered: radiance,
+                        throughput: path.throughput,
+                        gathered: path.radiance,
                     };
-                    log.left_diffuse(depth, departure);
+                    log.left_diffuse(path.depth, departure);
                 }
             }
-            log.branch_ended(radiance);
-            // The other half of a split path, from the glass: a delta bounce, as the first was.
+            log.branch_ended(path.radiance);
             let Some(branch) = pending.take() else {
                 break;
             };
-            ray = branch.ray;
-            throughput = branch.throughput;
-            from = branch.from;
-            from_normal = None; // a delta bounce leaves it: no light density is asked there
-            depth = branch.depth;
-            share = branch.share;
-            specular = true;
-            light_pair = None;
-            mirror_leg = None;
+            path.follow(branch);
         }
-        (radiance, first)
+        (path.radiance, first)
+    }
+
+    /// The surface `hit` met by `ray`.
+    fn surface_vertex(&self, hit: Intersection<'w>, ray: &Ray) -> SurfaceVertex<'w> {
+        let point = ray.position(hit.t);
+        let surface = hit.object.surface(hit.leaf);
+        let local = hit.local();
+        SurfaceVertex {
+            at: surface.shape.surface_point(&local),
+            geometric: self.index.normal_at_hit(self.world, point, &hit),
+            hit,
+            surface,
+            local,
+            point,
+            wo: -ray.direction,
+        }
+    }
+
+    /// The sky the path escapes to, gathered, weighed against the strategies that sample it
+    /// (next-event estimation, or the sky in a mirror ball beyond which it escaped).
+    fn sky_escaped(&self, path: &mut PathState) -> Color {
+        let leg = path.mirror_leg.zip(self.emitters.environment());
+        let (sky, weight) = if let Some(((leg_pdf, spread), map)) = leg {
+            let (sky, pdf) = map.radiance_and_pdf(path.ray.direction);
+            (sky, power_heuristic(leg_pdf, pdf * spread))
+        } else if path.specular {
+            (self.emitters.sky_radiance(path.ray.direction), 1.0)
+        } else {
+            let (sky, pdf) = self.emitters.sky_radiance_and_pdf(path.ray.direction);
+            (sky, power_heuristic(path.bsdf_pdf, pdf))
+        };
+        path.gather(sky, weight);
+        sky
+    }
+
+    /// The MIS weight of the light a path found by its BSDF's sampling at `vertex`, against
+    /// next-event estimation drawing the same point.
+    fn emission_weight(&self, path: &PathState, vertex: &SurfaceVertex) -> f64 {
+        if path.specular {
+            return 1.0;
+        }
+        let index = object_index(self.world, vertex.hit.object);
+        let light_pdf = self.emitters.object_pdf(
+            self.world,
+            index,
+            path.from,
+            path.from_normal,
+            vertex.point,
+            path.ray.direction,
+            &vertex.local,
+        );
+        power_heuristic(path.bsdf_pdf, light_pdf)
+    }
+
+    /// Met by a direction sampled at a non-delta surface: if `vertex` is on a mirror ball,
+    /// the density of that direction and the ball's spread, for weighing what the sky beyond
+    /// it gives against sampling the sky through the ball.
+    fn mirror_leg(&self, path: &PathState, vertex: &SurfaceVertex) -> Option<(f64, f64)> {
+        if path.specular || self.emitters.mirror_balls().is_empty() {
+            return None;
+        }
+        let index = object_index(self.world, vertex.hit.object);
+        self.emitters.mirror_ball_of(index).map(|ball| {
+            let cos = vertex.geometric.dot(vertex.wo).abs();
+            (path.bsdf_pdf, mirror_spread(vertex.hit.t, cos, ball.radius))
+        })
+    }
+
+    /// This vertex's layer and numbers, in a fixed layout: two pairs (its direction and a
+    /// light's point), then its choices, each drawn only where it is used (see
+    /// [`VERTEX_DIMENSIONS`]): a mirror or smooth glass needs neither pair.
+    fn vertex_numbers(
+        &self,
+        path: &mut PathState,
+        scattering: &Scattering,
+        stream: &mut SampleStream,
+    ) -> (Layer, VertexNumbers) {
+        let first = CAMERA_DIMENSIONS + path.depth * VERTEX_DIMENSIONS;
+        let mut choice = |k: u32, wanted: bool| {
+            if wanted {
+                stream.seek(first + 4 + k);
+                stream.next_1d()
+            } else {
+                0.0
+            }
+        };
+        let (layer, u_lobe) = scattering.pick(choice(0, scattering.chooses()));
+        let delta = layer.bsdf.is_delta();
+        let u_light = choice(1, self.emitters.chooses() && !delta);
+        let (u_direction, u_point) = if delta {
+            path.light_pair = None;
+            ([0.0; 2], [0.0; 2])
+        } else {
+            let u_point = path.light_pair.take().unwrap_or_else(|| {
+                stream.seek(match path.depth {
+                    0 => FIRST_LIGHT_DIMENSION,
+                    _ => first - VERTEX_DIMENSIONS + 2,
+                });
+                stream.next_2d()
+            });
+            stream.seek(first);
+            let u_direction = stream.next_2d();
+            path.light_pair = Some(stream.next_2d());
+            (u_direction, u_point)
+        };
+        let numbers = VertexNumbers {
+            first,
+            u_lobe,
+            u_light,
+            u_direction,
+            u_point,
+        };
+        (layer, numbers)
+    }
+
+    /// Next-event estimation: a light (or the sky, its direction left in `sky_draw` for the
+    /// mirror balls) sampled from `vertex`, its light gathered where nothing blocks it,
+    /// weighed by the power heuristic against the BSDF sampling the same direction.
+    fn next_event(
+        &mut self,
+        path: &mut PathState,
+        vertex: &SurfaceVertex,
+        scatter: &Scatter,
+        u_light: f64,
+        sky_draw: &mut SkyDraw,
+    ) {
+        let (point, time) = (vertex.point, path.ray.time);
+        let Some(light) = self.emitters.sample_sharing_sky(
+            self.world,
+            point,
+            Some(scatter.frame.n),
+            time,
+            u_light,
+            sky_draw,
+        ) else {
+            return;
+        };
+        let bsdf = &scatter.layer.bsdf;
+        let wi_local = scatter.frame.to_local(light.direction);
+        let f = bsdf.eval(scatter.wo_local, wi_local) * scatter.layer.scale;
+        if f.max_channel() <= 0.0 {
+            return;
+        }
+        let (shadow, reach) = if light.distance.is_finite() {
+            let target = point + light.direction * light.distance;
+            shadow_ray_to(point, vertex.geometric, target, time)
+        } else {
+            let shadow = Ray {
+                origin: offset_towards(point, vertex.geometric, light.direction),
+                direction: light.direction,
+                time,
+                t_min: 0.0,
+            };
+            (shadow, f64::INFINITY)
+        };
+        if reach > 0.0 && !self.occluded(&shadow, reach) {
+            let weight = if light.delta {
+                1.0
+            } else {
+                power_heuristic(light.pdf, bsdf.pdf(scatter.wo_local, wi_local))
+            };
+            path.radiance +=
+                path.throughput.hadamard(f).hadamard(light.radiance) * (weight / light.pdf);
+        }
+    }
+
+    /// The sky in the mirror balls, seen from `vertex`: each ball's reflection of the sky's
+    /// direction in `sky_draw`, gathered. (A path ending at the next vertex could not reach
+    /// the sky beyond a ball, so neither may this.)
+    fn sky_in_mirrors(
+        &mut self,
+        path: &mut PathState,
+        vertex: &SurfaceVertex,
+        scatter: &Scatter,
+        sky_draw: &mut SkyDraw,
+    ) {
+        let emitters = self.emitters;
+        let Some(map) = emitters.environment() else {
+            return;
+        };
+        if path.depth + 1 >= self.max_depth {
+            return;
+        }
+        for ball in emitters.mirror_balls() {
+            let light = self.sky_in_mirror(ball, map, vertex, path.ray.time, scatter, sky_draw);
+            path.radiance += path.throughput.hadamard(light);
+        }
+    }
+
+    /// The environment map's light that the mirror ball `ball` reflects to `at` (at the
+    /// instant `time`) and the layer of `scatter` scatters back along the path, from the
+    /// direction of the map in `draw` (the vertex's, which next-event estimation may have
+    /// drawn already; the ball's reflection point solved for it), weighed by the power
+    /// heuristic against the layer's own sampling finding the same path.
+    fn sky_in_mirror(
+        &mut self,
+        ball: &MirrorBall,
+        map: &EnvironmentMap,
+        at: &SurfaceVertex,
+        time: f64,
+        scatter: &Scatter,
+        draw: &mut SkyDraw,
+    ) -> Color {
+        let Some((towards, sky, sky_pdf)) = draw.of(map) else {
+            return Color::BLACK;
+        };
+        self.solves += 1;
+        let Some(path) = ball.reflection_towards(at.point, towards) else {
+            return Color::BLACK;
+        };
+        let bsdf = &scatter.layer.bsdf;
+        let wi_local = scatter.frame.to_local(path.direction);
+        let f = bsdf.eval(scatter.wo_local, wi_local) * scatter.layer.scale;
+        if f.max_channel() <= 0.0 {
+            return Color::BLACK;
+        }
+        // To the ball, then from the ball to the sky.
+        let (leg, reach) = shadow_ray_to(at.point, at.geometric, path.point, time);
+        if reach <= 0.0 || self.occluded(&leg, reach) {
+            return Color::BLACK;
+        }
+        let beyond = Ray {
+            origin: path.point + path.normal * surface_offset(path.point),
+            direction: towards,
+            time,
+            t_min: 0.0,
+        };
+        if self.occluded(&beyond, f64::INFINITY) {
+            return Color::BLACK;
+        }
+        // The density of this direction from the vertex: the map's, narrowed by the spread.
+        let pdf = sky_pdf * mirror_spread(path.distance, path.cos_incidence, ball.radius);
+        let weight = power_heuristic(pdf, bsdf.pdf(scatter.wo_local, wi_local));
+        f.hadamard(ball.reflectance(path.cos_incidence))
+            .hadamard(sky)
+            * (weight / pdf)
+    }
+
+    /// The glass split: where the camera first sees smooth glass (directly or through
+    /// mirror-like bounces), both halves are followed, each weighed by its Fresnel share.
+    /// The reflected half goes on now; the transmitted half waits, as the returned branch.
+    fn split_at_glass(
+        &self,
+        path: &mut PathState,
+        vertex: &SurfaceVertex,
+        scatter: &Scatter,
+    ) -> Option<(BsdfSample, Branch)> {
+        if !path.may_split {
+            return None;
+        }
+        let [(reflected, reflected_share), (transmitted, transmitted_share)] =
+            scatter.layer.bsdf.split(scatter.wo_local)?;
+        path.may_split = false;
+        path.share = reflected_share;
+        let direction = unit(scatter.frame.to_world(transmitted.wi));
+        let branch = Branch {
+            ray: vertex.leaving(direction),
+            throughput: path.throughput.hadamard(transmitted.weight) * scatter.layer.scale,
+            from: vertex.point,
+            depth: path.depth + 1,
+            share: transmitted_share,
+        };
+        Some((reflected, branch))
+    }
+
+    /// Russian roulette, after the bounce from `vertex` (whose dimensions begin at `first`):
+    /// a path carrying little light ends with a probability that grows as it dims, and one
+    /// that survives carries more, so the mean is unchanged. Where what is still to come past
+    /// a diffuse vertex is predicted, a path ends into the prediction, from the first bounce
+    /// on, by the classic rule, and a survivor carries what the prediction misses; the
+    /// pilot's log learns the scale from the other vertices' decisions alone. Whether the
+    /// path goes on.
+    fn roulette(
+        &self,
+        path: &mut PathState,
+        diffuse: bool,
+        vertex: &SurfaceVertex,
+        first: u32,
+        stream: &mut SampleStream,
+        log: &mut impl PathLog,
+    ) -> bool {
+        let predicted = match self.continuation {
+            Some(cache) if diffuse => cache.predict(vertex.point, vertex.facing()),
+            _ => None,
+        };
+        if predicted.is_none() && path.depth < self.roulette_depth {
+            return true;
+        }
+        stream.seek(first + 6);
+        let u_roulette = stream.next_1d();
+        let scale = if predicted.is_some() {
+            1.0
+        } else {
+            self.roulette_scale
+        };
+        let survive = (path.throughput.max_channel() / path.share * scale).min(0.95);
+        let expected = predicted.map(|rest| path.throughput.hadamard(rest));
+        if survive.is_nan() || survive <= 0.0 || u_roulette >= survive {
+            match expected {
+                Some(expected) => path.radiance += expected,
+                None => log.ended(),
+            }
+            return false;
+        }
+        path.throughput = path.throughput * (1.0 / survive);
+        match expected {
+            Some(expected) => path.radiance += expected * ((survive - 1.0) / survive),
+            None => log.survived(
+                survive,
+                path.throughput.max_channel(),
+                path.radiance,
+                self.rays,
+            ),
+        }
+        true
     }
 }

@@ -69,8 +69,10 @@ pub struct PathJob<'p> {
     /// films as one sample of weight 1 per pixel resolves to the same bits.
     pub on_row: Option<&'p RowCallback<'p>>,
     /// The roulette learned beforehand ([`learn_roulette`]) where the options ask for one
-    /// learned: a render in several passes learns it once for all of them. `None`: learned
-    /// here. Ignored where the options fix the scale.
+    /// learned: a render in several passes learns it once for all of them, and a pilot sized
+    /// for the render's samples needs them told. `None`: learned here, by the largest pilot
+    /// (whatever `samples` are, so that ranges rendered apart learn the same), which heeds
+    /// `cancel` too. Ignored where the options fix the scale.
     pub roulette: Option<&'p LearnedRoulette>,
 }
 
@@ -174,7 +176,7 @@ impl<'c> CameraSampler<'c> {
             lens_v,
             time,
         };
-        (self.camera.ray_for_sample(&sample), weight)
+        (self.camera.path_ray_for_sample(&sample), weight)
     }
 }
 
@@ -269,7 +271,22 @@ fn render_path_logged(
     let roulette = match (options.roulette, job.roulette) {
         (Roulette::Learned, Some(learned)) => learned,
         (Roulette::Learned, None) => {
-            learned_here = roulette::learned(camera, world, &index, &emitters, &options);
+            // The pilot's size may not follow this job's samples: sample ranges rendered
+            // apart must learn one roulette to merge exactly. It is the largest, whatever the
+            // samples; a caller that wants its share of the render learns it beforehand.
+            let learned = roulette::learned(
+                camera,
+                world,
+                &index,
+                &emitters,
+                &options,
+                u64::MAX,
+                job.cancel,
+            );
+            let Some(learned) = learned else {
+                return Ok(PathStats::default());
+            };
+            learned_here = learned;
             &learned_here
         }
         (Roulette::Scale(scale), _) => {

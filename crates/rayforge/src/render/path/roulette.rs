@@ -15,10 +15,30 @@
 //! the scene's averages over a pilot pass, so the rule stays `q = k T` with one scale `k` for
 //! the whole scene: a pure function of the scene, its camera and the options (the pilot's
 //! pixels, samples and seed are fixed), so the image is still the same for any thread count
-//! and sample ranges rendered apart still merge exactly. The pilot traces a grid of about
-//! [`PILOT_PIXELS`] pixels at [`PILOT_SAMPLES`] samples each, twice: the first with the
-//! classic rule, the second with the scale the first found (the variance and cost it measures
-//! depend on the rule it renders with); the second's answer is used.
+//! and sample ranges rendered apart still merge exactly. The pilot traces a grid of pixels at
+//! [`PILOT_SAMPLES`] samples each, again and again: the first pass with the classic rule, each
+//! next one with the scale the last found (the variance and cost it measures depend on the
+//! rule it renders with), until the answer settles; the last answer is used.
+//!
+//! # What the pilot costs
+//!
+//! The pilot's paths are never more than [`PILOT_SHARE`], a sixteenth, of the render's own
+//! pixels × samples: its grid has at most `pixels × spp ∕ (16 × 8 × 5)` pixels (8 samples
+//! each, at most 5 passes), and at most [`PILOT_PIXELS`]. Why a sixteenth: where the pilot
+//! learns nothing (the scale stays the classic rule and nothing is predicted: envmap, the open
+//! furnace) its paths are pure cost, and a render that takes `1 + s` times its own work is
+//! `1 ∕ (1 + s)` as efficient; a sixteenth caps that loss at 6 %, while where the pilot pays
+//! (the closed furnace, 19 times the classic rule's efficiency by rays at 64 spp, see
+//! docs/performance.md) the same share is a small fraction of the gain. The reference scenes
+//! at their own sizes and 64 spp keep the full grid of [`PILOT_PIXELS`] (the closed furnace's
+//! 128 × 128 × 64 allows 1,638 pixels), so their images are unchanged there. A render too
+//! small for [`MIN_PILOT_PIXELS`] (fewer than 40,960 pixel-samples: a 1-sample preview of up to
+//! 200 × 200 pixels, as the live page's quarter-size previews are) runs no pilot and plays the
+//! classic rule, which is what the pilot itself answers where it has too little to weigh.
+//!
+//! The pilot heeds the render's stop flag before every path it traces: a path is the unit of
+//! its work (bounded by the render's `max_depth`), so a stop is heeded after at most one path
+//! per thread, however slow each path is, and a stopped pilot answers nothing.
 //!
 //! The averages are trusted only where paths often outlive the roulette depth. Where they
 //! seldom do (spheres on an open floor: a path past five bounces is mostly one caught in a
@@ -43,9 +63,17 @@ use crate::lights::Emitters;
 use crate::options::{PathOptions, Roulette};
 use crate::scene::{World, WorldIndex};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
-/// About how many pixels the pilot traces (a grid over the image).
-const PILOT_PIXELS: usize = 1024;
+/// The most pixels the pilot traces (a grid over the image).
+const PILOT_PIXELS: u64 = 1024;
+/// The fewest: a grid of fewer pixels than this is too thin to learn from (a few hundred
+/// paths a pass give the scale's average few decisions and the predictions' cells few
+/// vertices), and the render plays the classic rule instead.
+const MIN_PILOT_PIXELS: u64 = 64;
+/// The pilot's paths are at most one in this many of the render's pixels × samples (see the
+/// [module](self)).
+const PILOT_SHARE: u64 = 16;
 /// Samples the pilot takes in each of its pixels (enough for a pixel's variance).
 const PILOT_SAMPLES: u64 = 8;
 /// The most pilot passes.
@@ -94,26 +122,72 @@ impl LearnedRoulette {
 /// The roulette `options` ask for: their scale (and no predictions), or one learned for
 /// `world` seen through `camera` by a pilot pass that weighs the light paths still have to
 /// gather against the rays it costs (efficiency-aware roulette, Rath et al. 2022, with the
-/// scene's averages) and learns where that light is predictable.
-pub fn learn_roulette(camera: &Camera, world: &World, options: &PathOptions) -> LearnedRoulette {
+/// scene's averages) and learns where that light is predictable. The pilot's size follows
+/// from the render's `spp` samples per pixel (a sixteenth of its paths at most; see the
+/// [module](self)). `None` where `cancel` was set before the pilot was through.
+pub fn learn_roulette(
+    camera: &Camera,
+    world: &World,
+    options: &PathOptions,
+    spp: u64,
+    cancel: Option<&AtomicBool>,
+) -> Option<LearnedRoulette> {
     match options.roulette {
-        Roulette::Scale(scale) => LearnedRoulette::fixed(scale),
+        Roulette::Scale(scale) => Some(LearnedRoulette::fixed(scale)),
         Roulette::Learned => {
             let index = WorldIndex::build(world);
             let emitters = Emitters::with_sampler(world, options.light_sampler);
-            learned(camera, world, &index, &emitters, options)
+            learned(camera, world, &index, &emitters, options, spp, cancel)
         }
     }
 }
 
-/// The pilot's roulette for `world`, its `index` and `emitters` already built.
+/// The pilot's roulette for `world`, its `index` and `emitters` already built, for a render
+/// of `spp` samples per pixel; `None` once `cancel` is set.
 pub(super) fn learned(
     camera: &Camera,
     world: &World,
     index: &WorldIndex,
     emitters: &Emitters,
     options: &PathOptions,
-) -> LearnedRoulette {
+    spp: u64,
+    cancel: Option<&AtomicBool>,
+) -> Option<LearnedRoulette> {
+    learn(camera, world, index, emitters, options, spp, cancel).map(|(roulette, _)| roulette)
+}
+
+/// [`learned`], and how many paths its pilot traced.
+fn learn(
+    camera: &Camera,
+    world: &World,
+    index: &WorldIndex,
+    emitters: &Emitters,
+    options: &PathOptions,
+    spp: u64,
+    cancel: Option<&AtomicBool>,
+) -> Option<(LearnedRoulette, u64)> {
+    let pixels = pilot_pixels(camera.hsize(), camera.vsize(), spp);
+    if pixels.is_empty() {
+        return Some((LearnedRoulette::fixed(1.0), 0));
+    }
+    let pass = |options: &PathOptions,
+                k: f64,
+                continuation: Option<&ContinuationCache>,
+                sightings: Option<&mut Vec<Sighting>>| {
+        let stats = pilot(
+            camera,
+            world,
+            index,
+            emitters,
+            options,
+            &pixels,
+            cancel,
+            k,
+            continuation,
+            sightings,
+        );
+        (!stats.cancelled).then_some(stats)
+    };
     // First the predictions, from paths that no roulette ends (so that what they record past
     // a vertex is the light there, not the roulette's noise), cut at a depth where what
     // they would still gather is lost in that noise anyway.
@@ -123,32 +197,15 @@ pub(super) fn learned(
         roulette_depth: u32::MAX,
         ..*options
     };
-    pilot(
-        camera,
-        world,
-        index,
-        emitters,
-        &whole,
-        1.0,
-        None,
-        Some(&mut sightings),
-    );
+    let mut traced = pass(&whole, 1.0, None, Some(&mut sightings))?.traced;
     let continuation = ContinuationCache::learn(&sightings);
     drop(sightings);
     // The variance and cost a pilot measures depend on the scale it renders with: each pass
     // renders with the last one's answer, until the answer settles.
     let mut k = 1.0;
     for _ in 0..PILOT_ROUNDS {
-        let stats = pilot(
-            camera,
-            world,
-            index,
-            emitters,
-            options,
-            k,
-            continuation.as_ref(),
-            None,
-        );
+        let stats = pass(options, k, continuation.as_ref(), None)?;
+        traced += stats.traced;
         let Some(next) = stats.scale() else {
             break;
         };
@@ -158,10 +215,35 @@ pub(super) fn learned(
             break;
         }
     }
-    LearnedRoulette {
+    let roulette = LearnedRoulette {
         scale: k,
         continuation,
+    };
+    Some((roulette, traced))
+}
+
+/// The pixels the pilot traces for an image of `width` × `height` rendered at `spp` samples
+/// per pixel: a grid, its step the same across and down, of at most [`PILOT_PIXELS`] and at
+/// most what [`PILOT_SHARE`] allows for all its passes; none where that is fewer than
+/// [`MIN_PILOT_PIXELS`].
+fn pilot_pixels(width: usize, height: usize, spp: u64) -> Vec<(usize, usize)> {
+    let image = (width as u64).saturating_mul(height as u64);
+    let passes = 1 + PILOT_ROUNDS as u64;
+    let allowed = image.saturating_mul(spp) / (PILOT_SHARE * PILOT_SAMPLES * passes);
+    let target = allowed.min(PILOT_PIXELS);
+    if target < MIN_PILOT_PIXELS {
+        return Vec::new();
     }
+    let mut stride = ((image as f64 / target as f64).sqrt().ceil() as usize).max(1);
+    let along = |side: usize, stride: usize| (stride / 2..side).step_by(stride).len() as u64;
+    // The step that the image's area suggests may leave a few pixels too many at the edges.
+    while along(width, stride) * along(height, stride) > target {
+        stride += 1;
+    }
+    (stride / 2..height)
+        .step_by(stride)
+        .flat_map(|y| (stride / 2..width).step_by(stride).map(move |x| (x, y)))
+        .collect()
 }
 
 /// What a pilot pass measured (sums over its pixels, in the pixels' order).
@@ -182,6 +264,10 @@ struct PilotStats {
     variance: f64,
     /// Pixels whose variance is in `variance`.
     pixels: u64,
+    /// Paths started, finite or not.
+    traced: u64,
+    /// Whether a stop cut the pass short.
+    cancelled: bool,
 }
 
 impl PilotStats {
@@ -194,6 +280,8 @@ impl PilotStats {
         self.rays += other.rays;
         self.variance += other.variance;
         self.pixels += other.pixels;
+        self.traced += other.traced;
+        self.cancelled |= other.cancelled;
         self
     }
 
@@ -326,9 +414,10 @@ fn mean_square(c: Color) -> f64 {
     (c.red * c.red + c.green * c.green + c.blue * c.blue) / 3.0
 }
 
-/// One pilot pass with the roulette at scale `k` and the predictions `continuation`, adding
-/// what its paths saw past diffuse vertices to `sightings` when given (in the pixels'
-/// order).
+/// One pilot pass over `pixels` with the roulette at scale `k` and the predictions
+/// `continuation`, adding what its paths saw past diffuse vertices to `sightings` when given
+/// (in the pixels' order). Once `cancel` is set no more paths are started, and the pass is
+/// marked cancelled.
 #[allow(clippy::too_many_arguments)]
 fn pilot(
     camera: &Camera,
@@ -336,20 +425,14 @@ fn pilot(
     index: &WorldIndex,
     emitters: &Emitters,
     options: &PathOptions,
+    pixels: &[(usize, usize)],
+    cancel: Option<&AtomicBool>,
     k: f64,
     continuation: Option<&ContinuationCache>,
     mut sightings: Option<&mut Vec<Sighting>>,
 ) -> PilotStats {
     let records = sightings.is_some();
-    let (width, height) = (camera.hsize(), camera.vsize());
-    let stride = ((width * height) as f64 / PILOT_PIXELS as f64)
-        .sqrt()
-        .ceil()
-        .max(1.0) as usize;
-    let pixels: Vec<(usize, usize)> = (stride / 2..height)
-        .step_by(stride)
-        .flat_map(|y| (stride / 2..width).step_by(stride).map(move |x| (x, y)))
-        .collect();
+    let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let sampler = CameraSampler::new(camera, world, options.filter);
     // Its own seed: the scale it finds is independent of the render's numbers.
     let seed = options.seed ^ 0x7069_6C6F_745F_7272;
@@ -372,6 +455,11 @@ fn pilot(
                 let mut stream = SampleStream::new(options.sampler, seed, x as u32, y as u32, 0);
                 let mut moments = Moments::default();
                 for s in 0..PILOT_SAMPLES {
+                    if cancelled() {
+                        stats.cancelled = true;
+                        break;
+                    }
+                    stats.traced += 1;
                     stream.start(s);
                     let (ray, _) = sampler.ray(x, y, &mut stream);
                     let before = context.rays;
@@ -427,6 +515,7 @@ mod tests {
             rays: 80,
             variance: 2.5,
             pixels: 10,
+            ..PilotStats::default()
         };
         assert!((stats.scale().unwrap() - 4.0).abs() < 1e-12);
         // Noisier pixels leave less to gain from long paths.
@@ -449,5 +538,125 @@ mod tests {
             ..stats
         };
         assert_eq!(still.scale(), None);
+    }
+
+    /// A closed sphere of albedo 0.8 that emits 0.2 inwards, seen from its centre by a camera
+    /// of `width` × `height`: paths there live long, and the pilot predicts.
+    fn closed_room(width: usize, height: usize) -> (World, Camera) {
+        use crate::math::scaling;
+        use crate::scene::Object;
+        use crate::shading::{EmissionSide, Material, Physical};
+        let sphere = Object::sphere()
+            .with_transform(scaling(10.0, 10.0, 10.0))
+            .with_material(Material {
+                color: Color::new(0.8, 0.8, 0.8),
+                physical: Some(Physical::Diffuse),
+                emission: Color::new(0.2, 0.2, 0.2),
+                emission_side: EmissionSide::Back,
+                ..Material::DEFAULT
+            });
+        let world = World {
+            objects: vec![sphere],
+            ..World::default()
+        };
+        (world, Camera::new(width, height, 1.0))
+    }
+
+    /// How many paths the pilot traces for a render of `spp` samples per pixel of `world`
+    /// through `camera`; `None` when `cancel` stopped it.
+    fn pilot_paths(
+        world: &World,
+        camera: &Camera,
+        spp: u64,
+        cancel: Option<&AtomicBool>,
+    ) -> Option<u64> {
+        let (index, emitters) = (WorldIndex::build(world), Emitters::new(world));
+        let options = PathOptions::default();
+        learn(camera, world, &index, &emitters, &options, spp, cancel).map(|(_, paths)| paths)
+    }
+
+    #[test]
+    fn the_pilot_traces_at_most_a_sixteenth_of_the_renders_paths() {
+        for (width, height, spp) in [(40, 30, 64), (24, 24, 160), (12, 10, 2048), (64, 48, 16)] {
+            let (world, camera) = closed_room(width, height);
+            let render = (width * height) as u64 * spp;
+            let paths = pilot_paths(&world, &camera, spp, None).unwrap();
+            assert!(
+                paths > 0 && paths * PILOT_SHARE <= render,
+                "{width} × {height} at {spp} spp: {paths} pilot paths for {render}"
+            );
+        }
+        // However many samples, the pilot is at most its full grid's five passes.
+        let (world, camera) = closed_room(64, 64);
+        let paths = pilot_paths(&world, &camera, u64::MAX, None).unwrap();
+        let most = PILOT_PIXELS * PILOT_SAMPLES * (1 + PILOT_ROUNDS as u64);
+        assert!(paths > 0 && paths <= most, "{paths} pilot paths");
+        // A 1-sample preview of 64 × 48 (a quarter of 256 × 192) runs none.
+        let (world, camera) = closed_room(64, 48);
+        assert_eq!(pilot_paths(&world, &camera, 1, None), Some(0));
+    }
+
+    #[test]
+    fn the_pilots_grid_keeps_to_its_share_at_any_shape() {
+        for (width, height) in [(1000, 1), (1, 700), (33, 17), (320, 240), (256, 256)] {
+            for spp in [1, 7, 64, 1000] {
+                let allowed = (width * height) as u64 * spp
+                    / (PILOT_SHARE * PILOT_SAMPLES * (1 + PILOT_ROUNDS as u64));
+                let n = pilot_pixels(width, height, spp).len() as u64;
+                assert!(
+                    n <= allowed.min(PILOT_PIXELS),
+                    "{width} × {height}, {spp}: {n}"
+                );
+                assert!(
+                    n == 0 || n >= MIN_PILOT_PIXELS / 2,
+                    "{width} × {height}: {n}"
+                );
+            }
+        }
+        // The reference scenes' 128 × 128 and 256 × 256 at 64 spp keep the full grid.
+        assert_eq!(pilot_pixels(128, 128, 64).len(), 1024);
+        assert_eq!(pilot_pixels(256, 256, 64).len(), 1024);
+    }
+
+    #[test]
+    fn a_stop_ends_the_pilot_before_its_next_path() {
+        let (world, camera) = closed_room(40, 30);
+        let stop = AtomicBool::new(true);
+        assert_eq!(pilot_paths(&world, &camera, 64, Some(&stop)), None);
+        // A pass stopped before its first path traces none and says it was stopped.
+        let (index, emitters) = (WorldIndex::build(&world), Emitters::new(&world));
+        let options = PathOptions::default();
+        let pixels = pilot_pixels(40, 30, 64);
+        assert!(!pixels.is_empty());
+        let stats = pilot(
+            &camera,
+            &world,
+            &index,
+            &emitters,
+            &options,
+            &pixels,
+            Some(&stop),
+            1.0,
+            None,
+            None,
+        );
+        assert!(stats.cancelled);
+        assert_eq!(stats.traced, 0);
+        // Unset, the same pass traces every pixel's samples.
+        stop.store(false, Ordering::Relaxed);
+        let stats = pilot(
+            &camera,
+            &world,
+            &index,
+            &emitters,
+            &options,
+            &pixels,
+            Some(&stop),
+            1.0,
+            None,
+            None,
+        );
+        assert!(!stats.cancelled);
+        assert_eq!(stats.traced, pixels.len() as u64 * PILOT_SAMPLES);
     }
 }

@@ -480,24 +480,66 @@ fn the_lobe_number_is_used_exactly_where_a_lobe_is_chosen() {
 }
 
 #[test]
-fn delta_flags_and_albedos() {
+fn the_delta_flags_say_what_eval_pdf_and_sample_do() {
+    // Next-event estimation is skipped where `has_non_delta_lobe` is false, and MIS treats a
+    // sampled direction as unreachable by light sampling where `delta` is set: each flag
+    // must agree with what the material does. A material with a non-delta lobe gives a
+    // positive `eval` and `pdf` for some pair of random directions, one without gives
+    // neither for any; a delta material samples only delta directions, any other samples
+    // some direction a light sample could also find.
     let colour = Color::new(0.6, 0.4, 0.2);
-    assert!(conductor(0.0).is_delta() && !conductor(0.0).has_non_delta_lobe());
-    assert!(conductor(5e-5).is_delta());
-    assert!(!conductor(0.2).is_delta() && conductor(0.2).has_non_delta_lobe());
-    assert!(dielectric(0.0).is_delta() && !dielectric(0.3).is_delta());
-    assert!(Bsdf::ThinDielectric {
-        eta: 1.5,
-        tint: colour
+    let materials = [
+        ("diffuse", Bsdf::Diffuse { albedo: colour }, false),
+        ("smooth metal", conductor(0.0), true),
+        ("metal just under the smooth limit", conductor(5e-5), true),
+        ("rough metal", conductor(0.2), false),
+        ("smooth glass", dielectric(0.0), true),
+        ("rough glass", dielectric(0.3), false),
+        (
+            "thin glass",
+            Bsdf::ThinDielectric {
+                eta: 1.5,
+                tint: colour,
+            },
+            true,
+        ),
+        ("mirror", Bsdf::Mirror { tint: colour }, true),
+        (
+            "smooth plastic (a delta coat over a diffuse base)",
+            plastic(0.0, colour),
+            false,
+        ),
+        ("rough plastic", plastic(0.2, colour), false),
+    ];
+    let mut rng = SplitMix64::new(43);
+    for (name, bsdf, delta) in materials {
+        assert_eq!(bsdf.is_delta(), delta, "{name}");
+        let (mut evaluated, mut sampled_non_delta) = (0, 0);
+        for _ in 0..2000 {
+            let (wo, wi) = (random_direction(&mut rng), random_direction(&mut rng));
+            if bsdf.eval(wo, wi).max_channel() > 0.0 && bsdf.pdf(wo, wi) > 0.0 {
+                evaluated += 1;
+            }
+            let u = [rng.next_offset(), rng.next_offset()];
+            if let Some(s) = bsdf.sample(wo, rng.next_offset(), u) {
+                if !s.delta {
+                    sampled_non_delta += 1;
+                    assert!(bsdf.pdf(wo, s.wi) > 0.0, "{name}: {s:?}");
+                }
+            }
+        }
+        assert_eq!(
+            evaluated > 0,
+            bsdf.has_non_delta_lobe(),
+            "{name}: {evaluated}"
+        );
+        assert_eq!(sampled_non_delta > 0, !delta, "{name}: {sampled_non_delta}");
     }
-    .is_delta());
-    assert!(!plastic(0.0, colour).is_delta() && plastic(0.0, colour).has_non_delta_lobe());
-    assert!(!Bsdf::Diffuse { albedo: colour }.is_delta());
-    // Purely specular materials have nothing for light sampling to evaluate.
-    let (wo, wi) = (at(0.6), Vec3::new(-0.8, 0.0, 0.6));
-    assert_eq!(conductor(0.0).eval(wo, wi), Color::BLACK);
-    assert_eq!(dielectric(0.0).pdf(wo, wi), 0.0);
+}
 
+#[test]
+fn albedos() {
+    let colour = Color::new(0.6, 0.4, 0.2);
     assert_eq!(Bsdf::Diffuse { albedo: colour }.albedo(), colour);
     let (eta, k) = aluminium();
     assert_eq!(conductor(0.3).albedo(), fresnel::conductor_normal(eta, k));

@@ -1,0 +1,379 @@
+//! One meaning per flag across renderers: limits are those of the renderer that draws the
+//! scene (the scene's own `renderer:` counts), a flag for a technique the renderer lacks is
+//! refused, a guard it cannot exceed is ignored with a warning, the two adaptive features have
+//! names of their own, and `--spp N` is N samples per pixel in the ray tracer and the path
+//! tracer alike.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A camera looking at nothing: every camera ray misses, so the rays counted are the camera's.
+const EMPTY: &str = "
+- add: camera
+  width: 3
+  height: 2
+  field-of-view: 0.8
+  from: [0, 0, -5]
+  to: [0, 0, 0]
+  up: [0, 1, 0]
+";
+
+/// The scene's own choice of renderer.
+fn choosing(renderer: &str) -> String {
+    format!("{EMPTY}- world:\n    renderer: {renderer}\n")
+}
+
+struct Dir(tempfile::TempDir);
+
+impl Dir {
+    fn new() -> Self {
+        Dir(tempfile::tempdir().unwrap())
+    }
+
+    fn file(&self, name: &str, text: &str) -> PathBuf {
+        let path = self.0.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.path().join(name)
+    }
+}
+
+fn render(scene: &Path, out: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("render")
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .args(args)
+        .output()
+        .expect("runs rayforge")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Renders and expects success; returns stderr.
+#[track_caller]
+fn accepted(scene: &Path, out: &Path, args: &[&str]) -> String {
+    let o = render(scene, out, args);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    assert!(out.exists(), "{args:?} wrote no image");
+    stderr(&o)
+}
+
+/// Renders and expects a usage error (exit 2) that says each of `words`; nothing written.
+#[track_caller]
+fn refused(scene: &Path, out: &Path, args: &[&str], words: &[&str]) {
+    let o = render(scene, out, args);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+    for w in words {
+        assert!(err.contains(w), "{args:?}: `{w}` not in: {err}");
+    }
+    assert!(!out.exists(), "{args:?} wrote an image");
+}
+
+#[test]
+fn a_scene_that_selects_the_path_tracer_takes_the_path_tracers_sample_limit() {
+    let d = Dir::new();
+    let path = d.file("path.yml", &choosing("path"));
+    let err = accepted(&path, &d.path("a.pfm"), &["--spp", "8192"]);
+    assert!(err.contains("at 8192 spp"), "{err}");
+    // Past the path tracer's own limit, the refusal names the flag, value, limit, renderer.
+    refused(
+        &path,
+        &d.path("b.pfm"),
+        &["--spp", "2000000"],
+        &[
+            "--spp 2000000",
+            "more than 1048576",
+            "the path tracer (the scene's `renderer: path`)",
+        ],
+    );
+    // The same count on the ray tracer, the default or the command line's choice.
+    let ray = d.file("ray.yml", EMPTY);
+    refused(
+        &ray,
+        &d.path("c.pfm"),
+        &["--spp", "8192"],
+        &[
+            "--spp 8192",
+            "more than 4096",
+            "the ray tracer (the default renderer)",
+            "the path tracer's limit is 1048576",
+        ],
+    );
+    refused(
+        &path,
+        &d.path("d.pfm"),
+        &["--spp", "8192", "--renderer", "ray"],
+        &[
+            "--spp 8192",
+            "more than 4096",
+            "the ray tracer (--renderer ray)",
+        ],
+    );
+    refused(
+        &path,
+        &d.path("e.pfm"),
+        &["--spp", "0"],
+        &["--spp must be at least 1"],
+    );
+}
+
+#[test]
+fn the_depth_limit_is_the_renderers() {
+    let d = Dir::new();
+    let path = d.file("path.yml", &choosing("path"));
+    let ray = d.file("ray.yml", EMPTY);
+    accepted(&path, &d.path("a.pfm"), &["--max-depth", "1024", "-q"]);
+    accepted(&ray, &d.path("b.pfm"), &["--max-depth", "64", "-q"]);
+    refused(
+        &ray,
+        &d.path("c.pfm"),
+        &["--max-depth", "100"],
+        &[
+            "--max-depth 100",
+            "more than 64",
+            "the ray tracer (the default renderer)",
+            "the path tracer's limit is 1024",
+        ],
+    );
+    accepted(
+        &ray,
+        &d.path("d.pfm"),
+        &["--max-depth", "100", "--renderer", "path", "-q"],
+    );
+    refused(
+        &path,
+        &d.path("e.pfm"),
+        &["--max-depth", "2000"],
+        &[
+            "--max-depth 2000",
+            "more than 1024",
+            "the path tracer (the scene's `renderer: path`)",
+        ],
+    );
+}
+
+#[test]
+fn a_whitted_scene_refuses_the_path_tracers_flags_and_a_path_scene_the_ray_tracers() {
+    let d = Dir::new();
+    let ray = d.file("ray.yml", EMPTY);
+    for flag in [
+        &["--seed", "3"][..],
+        &["--sample-allocation", "uniform"],
+        &["--roulette-scale", "2"],
+    ] {
+        refused(
+            &ray,
+            &d.path("a.pfm"),
+            flag,
+            &[flag[0], "applies to the path tracer"],
+        );
+    }
+    let path = d.file("path.yml", &choosing("path"));
+    for (flag, value) in [
+        ("--bailout", "0.1"),
+        ("--adaptive-aa", "0.1"),
+        ("--subsample", "0.1"),
+        ("--trace-pixel", "1,1"),
+    ] {
+        refused(
+            &path,
+            &d.path("b.pfm"),
+            &[flag, value],
+            &[
+                &format!("{flag} applies to the ray tracer, not to the path tracer (the scene's `renderer: path`)"),
+            ],
+        );
+    }
+    refused(
+        &path,
+        &d.path("c.pfm"),
+        &["--bailout", "0"],
+        &["Russian roulette (--roulette-scale)"],
+    );
+    // The rasterizer traces no rays: the ray tracer's techniques are refused there too.
+    let raster = d.file("raster.yml", &choosing("raster"));
+    for (flag, value) in [
+        ("--bailout", "0.1"),
+        ("--subsample", "0.1"),
+        ("--trace-pixel", "0,0"),
+    ] {
+        refused(
+            &raster,
+            &d.path("d.png"),
+            &[flag, value],
+            &[&format!("{flag} applies to the ray tracer, not to the rasterizer (the scene's `renderer: raster`)")],
+        );
+    }
+    refused(
+        &raster,
+        &d.path("e.png"),
+        &["--spp", "4"],
+        &["the rasterizer does not anti-alias"],
+    );
+    // The ray tracer takes all of them.
+    accepted(
+        &ray,
+        &d.path("f.pfm"),
+        &["--bailout", "0.1", "--subsample", "0.1", "-q"],
+    );
+}
+
+#[test]
+fn guards_a_renderer_cannot_exceed_are_ignored_with_a_warning() {
+    let d = Dir::new();
+    let path = d.file("path.yml", &choosing("path"));
+    let err = accepted(&path, &d.path("a.pfm"), &["--max-rays-per-sample", "1000"]);
+    assert!(
+        err.contains(
+            "warning: --max-rays-per-sample is ignored: the path tracer (the scene's `renderer: \
+             path`) follows one path a sample"
+        ),
+        "{err}"
+    );
+    let err = accepted(&path, &d.path("b.pfm"), &["--max-raster-triangles", "1000"]);
+    assert!(
+        err.contains("warning: --max-raster-triangles is ignored: the path tracer"),
+        "{err}"
+    );
+    let raster = d.file("raster.yml", &choosing("raster"));
+    let err = accepted(
+        &raster,
+        &d.path("c.png"),
+        &["--max-depth", "3", "--max-rays-per-sample", "9"],
+    );
+    for expected in [
+        "warning: --max-depth is ignored: the rasterizer (the scene's `renderer: raster`) follows no reflections or refractions",
+        "warning: --max-rays-per-sample is ignored: the rasterizer (the scene's `renderer: raster`) traces no rays",
+    ] {
+        assert!(err.contains(expected), "{expected}: {err}");
+    }
+    // --quiet prints nothing but errors; the ray tracer uses the guard and says nothing.
+    let err = accepted(&raster, &d.path("d.png"), &["--max-depth", "3", "-q"]);
+    assert!(err.is_empty(), "{err}");
+    let ray = d.file("ray.yml", EMPTY);
+    let err = accepted(&ray, &d.path("e.pfm"), &["--max-rays-per-sample", "1000"]);
+    assert!(!err.contains("warning"), "{err}");
+}
+
+/// The camera rays of an image of the empty scene, from the ray tracer's summary.
+fn rays_in(summary: &str) -> &str {
+    let start = summary.find('(').expect("a ray count") + 1;
+    let end = summary[start..].find(" rays)").expect("a ray count") + start;
+    &summary[start..end]
+}
+
+#[test]
+fn spp_is_the_samples_per_pixel_for_both_renderers() {
+    let d = Dir::new();
+    let ray = d.file("ray.yml", EMPTY);
+    // 3 × 2 pixels, every camera ray a miss: the rays are the samples.
+    for (spp, rays) in [("5", "30"), ("4", "24"), ("7", "42"), ("1", "6")] {
+        let err = accepted(&ray, &d.path(&format!("r{spp}.pfm")), &["--spp", spp]);
+        assert_eq!(rays_in(&err), rays, "--spp {spp}: {err}");
+    }
+    let path = d.file("path.yml", &choosing("path"));
+    let err = accepted(&path, &d.path("p.pfm"), &["--spp", "5"]);
+    assert!(err.contains("at 5 spp"), "{err}");
+    // The camera's `samples` means the same.
+    let five = d.file(
+        "five.yml",
+        &EMPTY.replace("  up: [0, 1, 0]", "  up: [0, 1, 0]\n  samples: 5"),
+    );
+    let err = accepted(&five, &d.path("s.pfm"), &[]);
+    assert_eq!(rays_in(&err), "30", "{err}");
+}
+
+#[test]
+fn spp_and_the_scenes_samples_give_the_same_image() {
+    // A scene with edges, so that where the rays go shows in the pixels.
+    let d = Dir::new();
+    let sphere = format!(
+        "{EMPTY}- add: light\n  at: [-10, 10, -10]\n  intensity: [1, 1, 1]\n- add: sphere\n  material:\n    color: [1, 0, 0]\n"
+    );
+    for n in ["5", "9"] {
+        let by_scene = d.file(
+            &format!("s{n}.yml"),
+            &sphere.replace(
+                "  up: [0, 1, 0]",
+                &format!("  up: [0, 1, 0]\n  samples: {n}"),
+            ),
+        );
+        let plain = d.file(&format!("p{n}.yml"), &sphere);
+        let (a, b) = (d.path(&format!("a{n}.pfm")), d.path(&format!("b{n}.pfm")));
+        accepted(&by_scene, &a, &["-q"]);
+        accepted(&plain, &b, &["-q", "--spp", n]);
+        assert_eq!(
+            std::fs::read(&a).unwrap(),
+            std::fs::read(&b).unwrap(),
+            "{n}"
+        );
+    }
+}
+
+#[test]
+fn the_two_adaptive_features_have_names_of_their_own_and_the_old_ones_warn() {
+    let d = Dir::new();
+    let ray = d.file("ray.yml", EMPTY);
+    let new = d.path("new.pfm");
+    let err = accepted(&ray, &new, &["--adaptive-aa", "0.1"]);
+    assert!(!err.contains("warning"), "{err}");
+    let old = d.path("old.pfm");
+    let err = accepted(&ray, &old, &["--adaptive", "0.1"]);
+    assert!(
+        err.contains("warning: --adaptive is the old name of --adaptive-aa"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&new).unwrap(), std::fs::read(&old).unwrap());
+    refused(
+        &ray,
+        &d.path("both.pfm"),
+        &["--adaptive", "0.1", "--adaptive-aa", "0.1"],
+        &["--adaptive is its old name"],
+    );
+    let path = d.file("path.yml", &choosing("path"));
+    let err = accepted(
+        &path,
+        &d.path("p.pfm"),
+        &["--sample-allocation", "by-noise"],
+    );
+    assert!(!err.contains("warning"), "{err}");
+    let err = accepted(
+        &path,
+        &d.path("q.pfm"),
+        &["--sample-allocation", "adaptive"],
+    );
+    assert!(
+        err.contains("warning: `--sample-allocation adaptive` is the old name of `--sample-allocation by-noise`"),
+        "{err}"
+    );
+    let old_key = d.file(
+        "old-key.yml",
+        &format!("{}    sample-allocation: adaptive\n", choosing("path")),
+    );
+    let err = accepted(&old_key, &d.path("k.pfm"), &[]);
+    assert!(err.contains("old name of `by-noise`"), "{err}");
+}
+
+#[test]
+fn the_help_names_the_new_spellings_only() {
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .args(["render", "--help"])
+        .output()
+        .unwrap();
+    let help = String::from_utf8_lossy(&o.stdout);
+    assert!(help.contains("--adaptive-aa <THRESHOLD>"), "{help}");
+    assert!(
+        !help.contains("--adaptive <"),
+        "the old name is hidden: {help}"
+    );
+    assert!(help.contains("by-noise"), "{help}");
+    assert!(!help.contains("adaptive (each"), "{help}");
+}
