@@ -9,7 +9,7 @@ use crate::format::ImageFormat;
 use crate::sizing::SizeRequest;
 use crate::slice::{Cut, Slice, SliceRequest};
 use rayforge::film::PixelFilter;
-use rayforge::options::{PathOptions, Roulette, SampleAllocation, SamplerKind};
+use rayforge::options::{LightSamplerKind, PathOptions, Roulette, SampleAllocation, SamplerKind};
 use rayforge::raster::{RasterOptions, Shading, TextureFilter};
 use std::path::PathBuf;
 
@@ -114,6 +114,8 @@ pub struct PathRequest {
     pub roulette: Option<Roulette>,
     /// `--sample-allocation`.
     pub allocation: Option<SampleAllocation>,
+    /// `--light-sampler`.
+    pub light_sampler: Option<LightSamplerKind>,
     /// `--aovs`.
     pub aovs: bool,
     /// `--time`: render in passes within this budget (the ray tracer too; not the
@@ -130,6 +132,7 @@ impl PathRequest {
             ("--filter", self.filter.is_some()),
             ("--roulette-scale", self.roulette.is_some()),
             ("--sample-allocation", self.allocation.is_some()),
+            ("--light-sampler", self.light_sampler.is_some()),
             ("--aovs", self.aovs),
         ])
     }
@@ -207,6 +210,10 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
                 SampleAllocation::ByNoise
             }
         }),
+        light_sampler: args
+            .light_sampler
+            .as_deref()
+            .and_then(LightSamplerKind::from_name),
         aovs: args.aovs,
         time: args.time.as_deref().map(parse_duration).transpose()?,
     })
@@ -303,6 +310,9 @@ impl RenderSettings {
                 }
                 if let Some(allocation) = self.path.allocation {
                     options.allocation = allocation;
+                }
+                if let Some(light_sampler) = self.path.light_sampler {
+                    options.light_sampler = light_sampler;
                 }
                 Ok(Chosen::Path(options))
             }

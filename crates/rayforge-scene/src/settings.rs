@@ -8,8 +8,9 @@
 //!     renderer: raster        # ray (the default), raster or path; raster then optionally
 //!                             # `shading`, `sphere-divisions`, `wireframe` and
 //!                             # `texture-filter`; path `sampler`, `filter`, `filter-radius`,
-//!                             # `seed`, `roulette-depth`, `roulette-scale` and
-//!                             # `sample-allocation` (`by-noise` or `uniform`)
+//!                             # `seed`, `roulette-depth`, `roulette-scale`,
+//!                             # `sample-allocation` (`by-noise` or `uniform`) and
+//!                             # `light-sampler`
 //! ```
 
 use crate::assets::Assets;
@@ -19,7 +20,8 @@ use crate::material::color;
 use crate::source::{check_keys, Entry, Node, Source};
 use rayforge::film::{PixelFilter, MAX_FILTER_RADIUS};
 use rayforge::options::{
-    PathOptions, RasterOptions, Roulette, SampleAllocation, SamplerKind, Shading, TextureFilter,
+    LightSamplerKind, PathOptions, RasterOptions, Roulette, SampleAllocation, SamplerKind, Shading,
+    TextureFilter,
 };
 use rayforge::{LightingModel, World};
 
@@ -52,6 +54,7 @@ const PATH_KEYS: &[&str] = &[
     "roulette-depth",
     "roulette-scale",
     "sample-allocation",
+    "light-sampler",
 ];
 
 /// The largest `seed` (every whole number up to it is exact in a YAML float too).
@@ -117,6 +120,7 @@ pub fn apply(
             "roulette-depth",
             "roulette-scale",
             "sample-allocation",
+            "light-sampler",
             "environment",
         ],
     )?;
@@ -283,6 +287,19 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
                         e.value,
                         "sample-allocation",
                         format!("expected `uniform` or `by-noise`, found `{}`", clip(name)),
+                    )
+                })?;
+            }
+            "light-sampler" => {
+                let name = source.string(e.value, "light-sampler")?;
+                options.light_sampler = LightSamplerKind::from_name(name).ok_or_else(|| {
+                    source.error(
+                        e.value,
+                        "light-sampler",
+                        format!(
+                            "expected `uniform`, `power`, `bvh` or `auto`, found `{}`",
+                            clip(name)
+                        ),
                     )
                 })?;
             }

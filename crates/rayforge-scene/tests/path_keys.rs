@@ -1,7 +1,7 @@
 //! The path tracer's keys: `emission` and the physical material `type:` (with `metal`, `eta`,
 //! `k`, `alpha`, `roughness`, `refractive-index`), and `renderer: path` with its `world:` keys.
 use rayforge::film::PixelFilter;
-use rayforge::options::{PathOptions, Roulette, SampleAllocation, SamplerKind};
+use rayforge::options::{LightSamplerKind, PathOptions, Roulette, SampleAllocation, SamplerKind};
 use rayforge::shading::bsdf::{metal, METAL_NAMES};
 use rayforge::shading::Physical;
 use rayforge::{Color, Material};
@@ -517,8 +517,18 @@ fn the_path_tracers_keys_are_read() {
             roulette: Roulette::Learned,
             seed: 42,
             allocation: SampleAllocation::ByNoise,
+            light_sampler: LightSamplerKind::Auto,
         })
     );
+    for (name, kind) in [
+        ("uniform", LightSamplerKind::Uniform),
+        ("power", LightSamplerKind::Power),
+        ("bvh", LightSamplerKind::Bvh),
+        ("auto", LightSamplerKind::Auto),
+    ] {
+        let scene = world(&format!("renderer: path\nlight-sampler: {name}")).unwrap();
+        assert_eq!(scene.path.unwrap().light_sampler, kind);
+    }
     // `max-depth` is still given to the other renderers' setting too.
     assert_eq!(scene.max_depth, Some(10));
     let path = |lines: &str| {
@@ -685,6 +695,13 @@ fn bad_path_tracer_values_are_errors_naming_the_key() {
         16,
         "max-depth",
         "the limit 1024 of the path tracer",
+    );
+    assert_error(
+        path("light-sampler: tree"),
+        10,
+        20,
+        "light-sampler",
+        "expected `uniform`, `power`, `bvh` or `auto`, found `tree`",
     );
     assert_error(
         path("sample-allocation: even"),

@@ -149,6 +149,42 @@ pub struct PathOptions {
     pub seed: u64,
     /// How a render's samples are shared among its pixels.
     pub allocation: SampleAllocation,
+    /// How next-event estimation picks the light it samples at a vertex.
+    pub light_sampler: LightSamplerKind,
+}
+
+/// How the path tracer picks, at each vertex, the one light it samples
+/// (`crate::lights::LightSampler`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LightSamplerKind {
+    /// Every light equally likely.
+    Uniform,
+    /// In proportion to each light's power, wherever the vertex is.
+    Power,
+    /// By a light tree: lights near the vertex and facing it are likelier (hundreds of small
+    /// lamps); lights at infinity apart, by power.
+    Bvh,
+    /// By power where a scene has few lights with a place, by the tree where it has
+    /// [`LightSamplerKind::TREE_FROM`] or more.
+    #[default]
+    Auto,
+}
+
+impl LightSamplerKind {
+    /// From how many lights with a place `auto` builds the tree: below it, the walk's cost
+    /// per vertex buys too little over picking by power.
+    pub const TREE_FROM: usize = 16;
+
+    /// The sampler a scene or the command line names: `uniform`, `power`, `bvh` or `auto`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "uniform" => Some(Self::Uniform),
+            "power" => Some(Self::Power),
+            "bvh" => Some(Self::Bvh),
+            "auto" => Some(Self::Auto),
+            _ => None,
+        }
+    }
 }
 
 /// How the path tracer shares a render's samples among its pixels.
@@ -201,6 +237,7 @@ impl Default for PathOptions {
             roulette: Roulette::Learned,
             seed: 0,
             allocation: SampleAllocation::ByNoise,
+            light_sampler: LightSamplerKind::Auto,
         }
     }
 }

@@ -480,7 +480,7 @@ mod emitter_sampling {
             for _ in 0..n {
                 let pick = random.next_offset();
                 let u = [random.next_offset(), random.next_offset()];
-                let Some(s) = emitters.sample(world, from, 0.0, pick, u) else {
+                let Some(s) = emitters.sample(world, from, None, 0.0, pick, u) else {
                     continue;
                 };
                 assert!(s.pdf > 0.0 && s.pdf.is_finite(), "{s:?}");
@@ -491,7 +491,7 @@ mod emitter_sampling {
                     continue; // the sampled point lies behind another part of the emitter
                 }
                 let at = from + s.direction * hit.t;
-                let pdf = emitters.object_pdf(world, 0, from, at, s.direction, &hit);
+                let pdf = emitters.object_pdf(world, 0, from, None, at, s.direction, &hit);
                 assert!(
                     (pdf - s.pdf).abs() <= 1e-6 * s.pdf,
                     "from {from:?}: sampled with {} but told {pdf}",
@@ -541,7 +541,7 @@ mod emitter_sampling {
             let pick = random.next_offset();
             let u = [random.next_offset(), random.next_offset()];
             let value = emitters
-                .sample(world, at, 0.0, pick, u)
+                .sample(world, at, None, 0.0, pick, u)
                 .filter(|s| s.direction.dot(normal) > 0.0)
                 .filter(|s| {
                     first_hit(world, at, s.direction)
@@ -825,7 +825,7 @@ mod emitter_sampling {
         let above = point(0.0, 8.0, 0.0);
         assert!((0..64).all(|i| {
             let u = [(i % 8) as f64 / 8.0 + 0.06, (i / 8) as f64 / 8.0 + 0.06];
-            emitters.sample(&world, above, 0.0, 0.5, u).is_none()
+            emitters.sample(&world, above, None, 0.0, 0.5, u).is_none()
         }));
     }
 

@@ -42,13 +42,16 @@
 //! - The cgfs model's ambient light has no physical meaning and is left out: the path tracer's
 //!   indirect light is what it stood for.
 
+use super::light_bounds::{Cone, LightBounds};
 use super::mirror_ball::MirrorBall;
+use super::sampler::LightSampler;
 use crate::color::Color;
 use crate::geometry::{rectangle, LocalHit, Mesh};
 use crate::math::random::{Jitter, SplitMix64};
 use crate::math::{
-    cosine_hemisphere, sin_cos_turns, Distribution1D, Frame, Point3, Transform, Vec3,
+    cosine_hemisphere, sin_cos_turns, Aabb, Distribution1D, Frame, Point3, Transform, Vec3,
 };
+use crate::options::LightSamplerKind;
 use crate::scene::{Csg, Cuboid, LightingModel, Object, Shape, World};
 use crate::shading::{EmissionSide, EnvironmentMap, Light, Material, SkyDraw, SpotLight};
 use std::f64::consts::{FRAC_1_PI, PI, SQRT_2};
@@ -584,8 +587,8 @@ struct CsgPart {
 #[derive(Debug, Clone)]
 pub struct Emitters {
     list: Vec<Emitter>,
-    /// Which emitter to pick, by power; `None` when nothing emits.
-    pick: Option<Distribution1D>,
+    /// Which emitter to pick (see [`LightSampler`]); `None` when nothing emits.
+    pick: Option<LightSampler>,
     /// Per world object, its index in `list`, or [`NOT_SAMPLED`].
     by_object: Vec<u32>,
     /// The sky's index in `list`, if the sky gives light.
@@ -601,8 +604,13 @@ pub struct Emitters {
 }
 
 impl Emitters {
-    /// The emitters of `world`.
+    /// The emitters of `world`, picked as [`LightSamplerKind::Auto`] picks.
     pub fn new(world: &World) -> Self {
+        Self::with_sampler(world, LightSamplerKind::Auto)
+    }
+
+    /// The emitters of `world`, picked by a sampler of kind `kind`.
+    pub fn with_sampler(world: &World, kind: LightSamplerKind) -> Self {
         let radius = scene_radius(world);
         let falloff = world.lighting == LightingModel::Optics;
         let disc = PI * radius * radius;
@@ -619,7 +627,43 @@ impl Emitters {
         };
         let mut list = Vec::new();
         let mut power = Vec::new();
+        // Each emitter's bounds for the light tree; `None` for light from infinity, or light
+        // that does not fall off with distance.
+        let mut bounds = Vec::new();
+        let at_point = |position: Point3, cone: Cone| LightBounds {
+            bounds: Aabb::new(position, position),
+            power: 0.0,
+            cone,
+            two_sided: false,
+        };
         for light in &world.lights {
+            let placed = match *light {
+                Light::Point(l) if falloff || l.falloff => {
+                    Some(at_point(l.position, Cone::EVERYWHERE))
+                }
+                Light::Spot(l) if falloff || l.falloff => {
+                    // All its light within the outer cone, none beyond it.
+                    let cone = Cone {
+                        axis: l.direction.normalize_or_zero(),
+                        theta_o: l.cos_outer.clamp(-1.0, 1.0).acos(),
+                        theta_e: 0.0,
+                    };
+                    Some(at_point(l.position, cone))
+                }
+                Light::Area(l) if falloff => {
+                    let mut b = Aabb::new(l.corner, l.corner);
+                    b.add_point(l.corner + l.uvec * f64::from(l.usteps));
+                    b.add_point(l.corner + l.vvec * f64::from(l.vsteps));
+                    b.add_point(
+                        l.corner + l.uvec * f64::from(l.usteps) + l.vvec * f64::from(l.vsteps),
+                    );
+                    Some(LightBounds {
+                        bounds: b,
+                        ..at_point(l.corner, Cone::EVERYWHERE)
+                    })
+                }
+                _ => None,
+            };
             let (emitter, p) = match *light {
                 Light::Point(l) => (
                     Emitter::Point {
@@ -660,6 +704,7 @@ impl Emitters {
             };
             list.push(emitter);
             power.push(p);
+            bounds.push(placed.map(|b| LightBounds { power: p, ..b }));
         }
         let mut by_object = vec![NOT_SAMPLED; world.objects.len()];
         for (i, object) in world.objects.iter().enumerate() {
@@ -667,6 +712,7 @@ impl Emitters {
                 continue;
             };
             by_object[i] = list.len() as u32;
+            bounds.push(object_bounds(&emitter, object, p));
             list.push(emitter);
             power.push(p);
         }
@@ -680,11 +726,10 @@ impl Emitters {
         let sky = (sky_power > 0.0).then(|| {
             list.push(Emitter::Sky);
             power.push(sky_power);
+            bounds.push(None);
             (list.len() - 1) as u32
         });
-        let pick = Distribution1D::new(&power)
-            .ok()
-            .filter(|d| d.integral() > 0.0);
+        let pick = LightSampler::new(kind, &power, &bounds);
         let mirror_balls: Vec<MirrorBall> = if sky.is_some() {
             world
                 .objects
@@ -753,23 +798,28 @@ impl Emitters {
             return (self.background, 0.0);
         };
         let (radiance, pdf) = map.radiance_and_pdf(direction);
+        // The sky is apart from any tree: its probability is the same from every point.
         let pick = match (self.sky, &self.pick) {
-            (Some(sky), Some(pick)) => pick.probability(sky as usize),
+            (Some(sky), Some(pick)) => pick.probability(Point3::ZERO, None, sky as usize),
             _ => 0.0,
         };
         (radiance, pick * pdf)
     }
 
     /// The density (per solid angle at `from`) with which [`sample`](Self::sample) chooses the
-    /// point `point` of world object `index`, seen along unit `direction` from `from`, where
+    /// point `point` of world object `index`, seen along unit `direction` from `from` (a
+    /// vertex of shading normal `from_normal`, where it has one: the light's pick may depend
+    /// on both, as it did when that vertex sampled a light), where
     /// the object-space hit `hit` was (its face, for meshes, its primitive, for CSG solids, and
     /// its instant, for objects that move); 0 for objects not sampled, and for a point a CSG
     /// solid does not keep, which light sampling gives no light.
+    #[allow(clippy::too_many_arguments)] // the hit as the path met it, each part its own
     pub fn object_pdf(
         &self,
         world: &World,
         index: usize,
         from: Point3,
+        from_normal: Option<Vec3>,
         point: Point3,
         direction: Vec3,
         hit: &LocalHit,
@@ -827,7 +877,7 @@ impl Emitters {
             }
             _ => return 0.0,
         };
-        pick.probability(slot as usize) * density
+        pick.probability(from, from_normal, slot as usize) * density
     }
 
     /// Whether [`sample`](Self::sample) uses its number `pick`: to choose among several
@@ -844,17 +894,19 @@ impl Emitters {
     }
 
     /// Picks an emitter with `pick` and a point or direction on it with `u`, for lighting
-    /// `point` in `world` at shutter instant `time`; `None` when nothing emits or the choice
-    /// gives no light (the back of a one-sided emitter, a point outside a spotlight's cone).
+    /// `point` (of shading normal `normal`, where it has one) in `world` at shutter instant
+    /// `time`; `None` when nothing emits or the choice gives no light (the back of a one-sided
+    /// emitter, a point outside a spotlight's cone).
     pub fn sample(
         &self,
         world: &World,
         point: Point3,
+        normal: Option<Vec3>,
         time: f64,
         pick: f64,
         u: [f64; 2],
     ) -> Option<LightSample> {
-        self.sample_sharing_sky(world, point, time, pick, &mut SkyDraw::new(u))
+        self.sample_sharing_sky(world, point, normal, time, pick, &mut SkyDraw::new(u))
     }
 
     /// [`sample`](Self::sample) with the numbers of `sky`, the sky's direction taken from it
@@ -864,13 +916,13 @@ impl Emitters {
         &self,
         world: &World,
         point: Point3,
+        normal: Option<Vec3>,
         time: f64,
         pick: f64,
         sky: &mut SkyDraw,
     ) -> Option<LightSample> {
         let u = sky.numbers();
-        let distribution = self.pick.as_ref()?;
-        let (slot, probability, rest) = distribution.sample_discrete_reused(pick);
+        let (slot, probability, rest) = self.pick.as_ref()?.sample(point, normal, pick)?;
         match &self.list[slot] {
             Emitter::Point {
                 position,
@@ -1264,6 +1316,53 @@ fn object_emitter(object: &Object, index: u32, disc: f64) -> Option<(Emitter, f6
     }
 }
 
+/// The light tree's bounds of `emitter`, world object `object`'s, of power `power`: a flat
+/// lamp's parallelogram and the side it faces; for any other shape, its box and every
+/// direction (a closed shape faces every way); `None` for an infinite plane, whose light comes
+/// from infinity.
+fn object_bounds(emitter: &Emitter, object: &Object, power: f64) -> Option<LightBounds> {
+    let bounds = match emitter {
+        Emitter::Plane { .. } => return None,
+        Emitter::Parallelogram {
+            corner,
+            edge_u,
+            edge_v,
+            normal,
+            side,
+            ..
+        } => {
+            let mut b = Aabb::new(*corner, *corner);
+            for p in [*edge_u, *edge_v, *edge_u + *edge_v] {
+                b.add_point(*corner + p);
+            }
+            let axis = match side {
+                EmissionSide::Back => -*normal,
+                EmissionSide::Front | EmissionSide::Both => *normal,
+            };
+            let cone = Cone {
+                axis,
+                theta_o: 0.0,
+                theta_e: std::f64::consts::FRAC_PI_2,
+            };
+            return Some(LightBounds {
+                bounds: b,
+                power,
+                cone,
+                two_sided: *side == EmissionSide::Both,
+            });
+        }
+        Emitter::Cuboid { .. } => object.bounds(),
+        _ => object.bounds(),
+    };
+    let finite = bounds.min.is_finite() && bounds.max.is_finite() && !bounds.is_empty();
+    finite.then_some(LightBounds {
+        bounds,
+        power,
+        cone: Cone::EVERYWHERE,
+        two_sided: false,
+    })
+}
+
 /// The world-space area of a surface of object-space area `area` placed by `transform`,
 /// roughly (exact for a uniform scale): what an emitter's power is weighed by.
 fn rough_world_area(area: f64, transform: &Transform) -> f64 {
@@ -1368,6 +1467,62 @@ mod tests {
                 emission_side: side,
                 ..Material::DEFAULT
             })
+    }
+
+    #[test]
+    fn the_three_light_samplers_agree_on_a_points_direct_light() {
+        // Forty small lamps facing down over a point facing up (some two-sided, some balls),
+        // the light arriving there estimated by next-event estimation alone (no occluders):
+        // each sampler is unbiased, so their estimates agree within their standard errors.
+        let mut objects = Vec::new();
+        for i in 0..40 {
+            let (x, z) = ((i % 8) as f64 - 3.5, (i / 8) as f64 - 2.0);
+            let place = translation(x, 1.0 + 0.1 * (i % 3) as f64, z);
+            let side = [EmissionSide::Front, EmissionSide::Both][i % 2];
+            let shape = if i % 5 == 0 {
+                Shape::Sphere
+            } else {
+                Shape::Rectangle
+            };
+            let mut lamp = lamp(shape, place * rotation_x(PI) * scaling(0.2, 0.2, 0.2), side);
+            lamp.material.emission = Color::new(1.0 + (i % 4) as f64, 1.0, 0.5);
+            objects.push(lamp);
+        }
+        let world = World {
+            objects,
+            ..World::default()
+        };
+        let (point, normal) = (Point3::new(0.3, 0.0, -0.4), Vec3::Y);
+        let estimate = |kind: LightSamplerKind| {
+            let emitters = Emitters::with_sampler(&world, kind);
+            let mut random = SplitMix64::new(99);
+            let n = 40_000;
+            let (mut sum, mut sum2) = (0.0, 0.0);
+            for _ in 0..n {
+                let pick = random.next_offset();
+                let u = [random.next_offset(), random.next_offset()];
+                let value = emitters
+                    .sample(&world, point, Some(normal), 0.0, pick, u)
+                    .map_or(0.0, |s| {
+                        s.radiance.luminance() * s.direction.dot(normal).max(0.0) / s.pdf
+                    });
+                sum += value;
+                sum2 += value * value;
+            }
+            let mean = sum / n as f64;
+            (mean, ((sum2 / n as f64 - mean * mean) / n as f64).sqrt())
+        };
+        let (power, power_se) = estimate(LightSamplerKind::Power);
+        for kind in [LightSamplerKind::Uniform, LightSamplerKind::Bvh] {
+            let (mean, se) = estimate(kind);
+            let k = (mean - power).abs() / (se * se + power_se * power_se).sqrt();
+            assert!(
+                k < 4.5,
+                "{kind:?}: {mean} ± {se} vs power's {power} ± {power_se}"
+            );
+        }
+        // And the tree, which follows the lamps near the point, is the least noisy.
+        assert!(estimate(LightSamplerKind::Bvh).1 < power_se);
     }
 
     /// Every shape sampled by area, placed by a transform that stretches it.
@@ -1536,7 +1691,7 @@ mod tests {
             for _ in 0..200 {
                 let u = [rng.next(), rng.next()];
                 let s = emitters
-                    .sample(&world, from, time, rng.next(), u)
+                    .sample(&world, from, None, time, rng.next(), u)
                     .expect("a sample");
                 let at = from + s.direction * s.distance;
                 assert!(
@@ -1555,7 +1710,7 @@ mod tests {
                 if (hit.t - s.distance).abs() > 1e-6 * s.distance {
                     continue;
                 }
-                let pdf = emitters.object_pdf(&world, 0, from, at, s.direction, &hit);
+                let pdf = emitters.object_pdf(&world, 0, from, None, at, s.direction, &hit);
                 assert!(
                     (pdf - s.pdf).abs() <= 1e-6 * s.pdf,
                     "{time}: {pdf} vs {}",
@@ -1612,7 +1767,7 @@ mod tests {
             let mut checked = 0;
             for _ in 0..500 {
                 let u = [rng.next(), rng.next()];
-                let Some(s) = emitters.sample(&world, from, 0.0, rng.next(), u) else {
+                let Some(s) = emitters.sample(&world, from, None, 0.0, rng.next(), u) else {
                     continue;
                 };
                 // The first hit along the sampled direction: where a path would arrive.
@@ -1629,7 +1784,7 @@ mod tests {
                     continue; // the sampled point lies behind another part of the shape
                 }
                 let at = ray.position(hit.t);
-                let pdf = emitters.object_pdf(&world, 0, from, at, s.direction, &hit);
+                let pdf = emitters.object_pdf(&world, 0, from, None, at, s.direction, &hit);
                 assert!(
                     (pdf - s.pdf).abs() <= 1e-6 * s.pdf,
                     "{:?}: sampled with {} but told {pdf}",
@@ -1661,8 +1816,8 @@ mod tests {
             let mut differs = false;
             for _ in 0..200 {
                 let u = [rng.next(), rng.next()];
-                let low = emitters.sample(&world, from, 0.0, 0.0, u);
-                let high = emitters.sample(&world, from, 0.0, 0.999, u);
+                let low = emitters.sample(&world, from, None, 0.0, 0.0, u);
+                let high = emitters.sample(&world, from, None, 0.0, 0.999, u);
                 differs |= low != high;
             }
             assert!(
@@ -1695,7 +1850,7 @@ mod tests {
                 (0..64)
                     .filter(|i| {
                         let u = [(i % 8) as f64 / 8.0 + 0.06, (i / 8) as f64 / 8.0 + 0.06];
-                        emitters.sample(&world, at, 0.0, 0.5, u).is_some()
+                        emitters.sample(&world, at, None, 0.0, 0.5, u).is_some()
                     })
                     .count()
             };

@@ -226,6 +226,9 @@ struct PathState {
     specular: bool,
     /// Where the ray left from.
     from: Point3,
+    /// The shading normal there (none at the camera, or after a delta bounce of a split):
+    /// the light tree's choice of a light depends on it, so MIS asks it again.
+    from_normal: Option<Vec3>,
     /// Bounces so far.
     depth: u32,
     /// Where the path last left a non-delta surface for a mirror ball: the density of that
@@ -254,6 +257,7 @@ impl PathState {
         };
         Self {
             from: ray.origin,
+            from_normal: None,
             ray,
             throughput: Color::WHITE,
             radiance: Color::BLACK,
@@ -282,6 +286,7 @@ impl PathState {
         self.specular = sample.delta;
         let direction = unit(frame.to_world(sample.wi));
         self.from = vertex.point;
+        self.from_normal = Some(frame.n);
         self.ray = vertex.leaving(direction);
         self.depth += 1;
     }
@@ -292,6 +297,8 @@ impl PathState {
         self.ray = branch.ray;
         self.throughput = branch.throughput;
         self.from = branch.from;
+        // A delta bounce leaves the glass: no light density is asked there.
+        self.from_normal = None;
         self.depth = branch.depth;
         self.share = branch.share;
         self.specular = true;
@@ -612,6 +619,7 @@ impl<'w> PathContext<'w> {
             self.world,
             index,
             path.from,
+            path.from_normal,
             vertex.point,
             path.ray.direction,
             &vertex.local,
@@ -692,10 +700,14 @@ impl<'w> PathContext<'w> {
         sky_draw: &mut SkyDraw,
     ) {
         let (point, time) = (vertex.point, path.ray.time);
-        let Some(light) = self
-            .emitters
-            .sample_sharing_sky(self.world, point, time, u_light, sky_draw)
-        else {
+        let Some(light) = self.emitters.sample_sharing_sky(
+            self.world,
+            point,
+            Some(scatter.frame.n),
+            time,
+            u_light,
+            sky_draw,
+        ) else {
             return;
         };
         let bsdf = &scatter.layer.bsdf;

@@ -136,7 +136,7 @@ pub fn learn_roulette(
         Roulette::Scale(scale) => Some(LearnedRoulette::fixed(scale)),
         Roulette::Learned => {
             let index = WorldIndex::build(world);
-            let emitters = Emitters::new(world);
+            let emitters = Emitters::with_sampler(world, options.light_sampler);
             learned(camera, world, &index, &emitters, options, spp, cancel)
         }
     }
