@@ -628,34 +628,26 @@ mod tests {
         let options = PathOptions::default();
         let pixels = pilot_pixels(40, 30, 64);
         assert!(!pixels.is_empty());
-        let stats = pilot(
-            &camera,
-            &world,
-            &index,
-            &emitters,
-            &options,
-            &pixels,
-            Some(&stop),
-            1.0,
-            None,
-            None,
-        );
+        let pass = |stop: &AtomicBool| {
+            pilot(
+                &camera,
+                &world,
+                &index,
+                &emitters,
+                &options,
+                &pixels,
+                Some(stop),
+                1.0,
+                None,
+                None,
+            )
+        };
+        let stats = pass(&stop);
         assert!(stats.cancelled);
         assert_eq!(stats.traced, 0);
         // Unset, the same pass traces every pixel's samples.
         stop.store(false, Ordering::Relaxed);
-        let stats = pilot(
-            &camera,
-            &world,
-            &index,
-            &emitters,
-            &options,
-            &pixels,
-            Some(&stop),
-            1.0,
-            None,
-            None,
-        );
+        let stats = pass(&stop);
         assert!(!stats.cancelled);
         assert_eq!(stats.traced, pixels.len() as u64 * PILOT_SAMPLES);
     }
