@@ -149,7 +149,7 @@ impl ContinuationCache {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::lights::Emitters;
     use crate::math::random::{Jitter, SplitMix64};
@@ -226,10 +226,9 @@ mod tests {
         assert_eq!(ContinuationCache::learn(&[]), None);
     }
 
-    /// The mean of `n` paths along one ray from the centre of a closed sphere of albedo 0.8
-    /// that emits 0.2 inwards (every path's expected radiance is 1), the roulette ending paths
-    /// into `cache`.
-    fn closed_room_mean(cache: &ContinuationCache, n: u64) -> f64 {
+    /// A closed sphere of albedo 0.8 that emits 0.2 inwards: every path from inside has the
+    /// expected radiance 1 (the roulette's tests use it too).
+    pub(in crate::render::path) fn closed_room() -> World {
         let sphere = Object::sphere()
             .with_transform(scaling(10.0, 10.0, 10.0))
             .with_material(Material {
@@ -239,10 +238,16 @@ mod tests {
                 emission_side: EmissionSide::Back,
                 ..Material::DEFAULT
             });
-        let world = World {
+        World {
             objects: vec![sphere],
             ..World::default()
-        };
+        }
+    }
+
+    /// The mean of `n` paths along one ray from the centre of the [`closed_room`], the
+    /// roulette ending paths into `cache`.
+    fn closed_room_mean(cache: &ContinuationCache, n: u64) -> f64 {
+        let world = closed_room();
         let (index, emitters) = (WorldIndex::build(&world), Emitters::new(&world));
         let mut context = PathContext::new(&world, &index, &emitters, u32::MAX, 5);
         context.continuation = Some(cache);

@@ -543,22 +543,7 @@ mod tests {
     /// A closed sphere of albedo 0.8 that emits 0.2 inwards, seen from its centre by a camera
     /// of `width` × `height`: paths there live long, and the pilot predicts.
     fn closed_room(width: usize, height: usize) -> (World, Camera) {
-        use crate::math::scaling;
-        use crate::scene::Object;
-        use crate::shading::{EmissionSide, Material, Physical};
-        let sphere = Object::sphere()
-            .with_transform(scaling(10.0, 10.0, 10.0))
-            .with_material(Material {
-                color: Color::new(0.8, 0.8, 0.8),
-                physical: Some(Physical::Diffuse),
-                emission: Color::new(0.2, 0.2, 0.2),
-                emission_side: EmissionSide::Back,
-                ..Material::DEFAULT
-            });
-        let world = World {
-            objects: vec![sphere],
-            ..World::default()
-        };
+        let world = super::super::continuation::tests::closed_room();
         (world, Camera::new(width, height, 1.0))
     }
 
