@@ -233,7 +233,34 @@ pub struct ServeArgs {
     /// Let the scene name files outside its own folder (see `rayforge render --help`).
     #[arg(long)]
     pub allow_outside: bool,
+
+    /// Pages open at once: a page past it is told so and its socket closed.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_CONNECTIONS,
+          value_parser = clap::value_parser!(u32).range(1..=MAX_SERVE_LIMIT))]
+    pub max_connections: u32,
+
+    /// Renders at once, every page's together, each on the rendering threads (one per page at
+    /// most; a page's request past it waits for one to end).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_RENDERS,
+          value_parser = clap::value_parser!(u32).range(1..=MAX_SERVE_LIMIT))]
+    pub max_renders: u32,
+
+    /// Memory the renders in flight may hold together, in MiB (their films and images, as
+    /// `rayforge render` counts them): one that needs more alone is refused, one that does not
+    /// fit beside the others waits for them.
+    #[arg(long, value_name = "MIB", default_value_t = DEFAULT_MAX_RENDER_MEMORY_MIB,
+          value_parser = clap::value_parser!(u64).range(1..=1 << 40))]
+    pub max_render_memory: u64,
 }
+
+/// `rayforge serve --max-connections`'s default: pages open at once.
+pub const DEFAULT_MAX_CONNECTIONS: u32 = 16;
+/// `rayforge serve --max-renders`'s default: renders at once, all pages together.
+pub const DEFAULT_MAX_RENDERS: u32 = 2;
+/// `rayforge serve --max-render-memory`'s default, in MiB: 2 GiB, a 26-megapixel image.
+pub const DEFAULT_MAX_RENDER_MEMORY_MIB: u64 = 2048;
+/// The most `--max-connections` and `--max-renders` take.
+pub const MAX_SERVE_LIMIT: i64 = 4096;
 
 /// Arguments of `rayforge bench`: everything after `bench`, passed to `rayforge-bench`.
 #[derive(Debug, Args)]

@@ -99,6 +99,8 @@ pub fn render<R>(
             scope.spawn(move || log.record(finished_rows, render_over, || complete.load(SeqCst)))
         });
         let viewer = display.map(|mut display| {
+            // An interrupted render does not wait for a viewer that is slow to read.
+            display.stop_on(stop);
             scope.spawn(move || {
                 // Rows come in bursts; each burst goes out as few packets as it can.
                 while let Ok((y, row)) = shown.recv() {

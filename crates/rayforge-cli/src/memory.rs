@@ -18,6 +18,15 @@ const FILM_BYTES_PER_PIXEL: u64 = 32;
 /// PPM's text, a PFM's or OpenEXR's floats, a PNG's bytes and their compression).
 const OUTPUT_BYTES_PER_PIXEL: u64 = 2 * 24;
 
+/// The bytes a `width` × `height` render holding `films` films holds at its peak, as
+/// [`reserve_for_render`] counts them; `None` past what a `u64` counts.
+pub fn render_bytes(width: usize, height: usize, films: u64) -> Option<u64> {
+    let per_pixel = films * FILM_BYTES_PER_PIXEL + OUTPUT_BYTES_PER_PIXEL;
+    (width as u64)
+        .checked_mul(height as u64)?
+        .checked_mul(per_pixel)
+}
+
 /// Checks that a `width` × `height` render holding `films` films at once (the render's own,
 /// a resumed checkpoint's, the path tracer's AOVs) can have its memory, by reserving it.
 pub fn reserve_for_render(width: usize, height: usize, films: u64) -> Result<(), Failure> {

@@ -62,10 +62,16 @@ impl Drop for Server {
 
 /// Starts `rayforge serve SCENE --port 0` and reads the address it prints.
 fn serve(scene: &Path) -> (Server, String) {
+    serve_with(scene, &[])
+}
+
+/// [`serve`] with more flags.
+fn serve_with(scene: &Path, flags: &[&str]) -> (Server, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_rayforge"))
         .arg("serve")
         .arg(scene)
         .args(["--port", "0", "--threads", "2"])
+        .args(flags)
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
@@ -519,4 +525,151 @@ async fn a_camera_placed_otherwise_orbits_about_what_its_centre_sees() {
         differing <= 2,
         "{differing} pixels differ after a whole turn"
     );
+}
+
+/// Opens the page's WebSocket.
+async fn open_page(port: u16) -> Socket {
+    let (socket, _) = tokio_tungstenite::connect_async(format!("ws://127.0.0.1:{port}/ws"))
+        .await
+        .expect("the WebSocket opens");
+    socket
+}
+
+/// The threads of process `pid` (Linux's `/proc`).
+#[cfg(target_os = "linux")]
+fn threads_of(pid: u32) -> usize {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).expect("its status");
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("Threads:"))
+        .and_then(|n| n.trim().parse().ok())
+        .expect("a thread count")
+}
+
+/// The finding: a thread per WebSocket, without limit (3,000 connections reached 2,216 threads
+/// and aborted). Now pages past `--max-connections` are told why and closed, the threads stay
+/// a fixed few however many pages are open, and a page that leaves frees its place.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn pages_past_the_limit_are_refused_and_pages_cost_no_threads() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("scene.yml");
+    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    const PAGES: usize = 40;
+    let (server, _) = serve_with(&path, &["--max-connections", "40", "--max-renders", "2"]);
+    let mut pages = Vec::new();
+    for _ in 0..PAGES {
+        let mut page = open_page(server.port).await;
+        // Served: its render comes back.
+        raster_frame(&mut page, 24, 0).await;
+        pages.push(page);
+    }
+    #[cfg(target_os = "linux")]
+    {
+        // The network's 2, the renders' 2, the rendering pool's 2, the main thread, the
+        // watch's and its watcher's: a thread per page would be over 40.
+        let threads = threads_of(server.child.id());
+        assert!(threads <= 16, "{threads} threads for {PAGES} pages");
+    }
+    let mut refused = open_page(server.port).await;
+    let Received::Json(message) = next(&mut refused).await else {
+        panic!("a message saying why");
+    };
+    assert_eq!(message["type"], "error", "{message}");
+    let text = message["message"].as_str().unwrap_or_default();
+    assert!(
+        text.contains("40 pages open") && text.contains("--max-connections"),
+        "{text}"
+    );
+    assert!(matches!(next(&mut refused).await, Received::Closed));
+    // A page leaves: a new one is served once the server has seen it go.
+    use futures_util::SinkExt;
+    let mut leaving = pages.pop().expect("a page");
+    leaving.close(None).await.expect("closes");
+    drop(leaving);
+    let deadline = std::time::Instant::now() + PATIENCE;
+    loop {
+        let mut page = open_page(server.port).await;
+        send(
+            &mut page,
+            r#"{"type": "render", "renderer": "raster", "width": 24}"#.into(),
+        )
+        .await;
+        match next(&mut page).await {
+            Received::Json(m) if m["type"] == "started" => break,
+            Received::Json(m) if m["type"] == "error" => {}
+            other => panic!("neither served nor refused: {}", matches!(other, Received::Closed)),
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the place was not freed"
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+/// The finding: large requests at once each passed the memory check alone and together
+/// aborted. A render over `--max-render-memory` alone is refused, naming the flag; a smaller
+/// one then renders.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_render_over_the_memory_budget_is_refused_naming_the_flag() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("scene.yml");
+    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let (server, _) = serve_with(&path, &["--max-render-memory", "1"]);
+    let mut page = open_page(server.port).await;
+    // 400 × 400 pixels at 80 bytes each: 12.2 MiB.
+    let large = r#"{"type": "render", "renderer": "raster", "width": 400, "height": 400}"#;
+    send(&mut page, large.into()).await;
+    let error = loop {
+        match next(&mut page).await {
+            Received::Json(m) if m["type"] == "error" => break m,
+            Received::Json(m) => assert_ne!(m["type"], "frame", "{m}"),
+            Received::Image(_) => panic!("an image over the budget"),
+            Received::Closed => panic!("closed"),
+        }
+    };
+    let text = error["message"].as_str().unwrap_or_default();
+    assert!(
+        text.contains("a 400×400 render needs about 13 MiB")
+            && text.contains("--max-render-memory"),
+        "{text}"
+    );
+    let (image, _) = raster_frame(&mut page, 48, 0).await;
+    assert_eq!(image.dimensions(), (48, 32));
+}
+
+/// The finding: a page that accepts and never reads held its render (and so every page's,
+/// past `--max-renders`) for as long as it kept the connection. Here page A starts a long
+/// render and stops reading while it floods the server with messages whose answers fill its
+/// socket; page B's render, waiting for the only render slot, comes once the server has
+/// dropped A (its send timed out, A's render was cancelled and its slot freed).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_page_that_stops_reading_is_dropped_and_frees_its_render() {
+    use futures_util::SinkExt;
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("scene.yml");
+    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let (server, _) = serve_with(&path, &["--max-renders", "1"]);
+    let mut stalled = open_page(server.port).await;
+    // Minutes of path tracing, in passes.
+    let long = r#"{"type": "render", "renderer": "path", "samples": 1048576, "width": 200}"#;
+    send(&mut stalled, long.into()).await;
+    let Received::Json(started) = next(&mut stalled).await else {
+        panic!("a JSON message");
+    };
+    assert_eq!(started["type"], "started", "{started}");
+    // Each `{}` is answered with an error of about 80 bytes: 200,000 of them are 16 MB of
+    // answers, more than any socket holds, and A never reads one.
+    let flood = tokio::spawn(async move {
+        for _ in 0..200_000 {
+            if stalled.send(Message::Text("{}".into())).await.is_err() {
+                break;
+            }
+        }
+        stalled
+    });
+    let mut waiting = open_page(server.port).await;
+    let (image, _) = raster_frame(&mut waiting, 48, 0).await;
+    assert_eq!(image.dimensions(), (48, 32));
+    flood.abort();
 }

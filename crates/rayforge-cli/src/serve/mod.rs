@@ -9,10 +9,17 @@
 //! unless told otherwise, and answers only requests addressed to it by that name (see
 //! [`guard`]).
 //!
+//! What it holds is bounded ([`Limits`]): pages open (a page past the limit is told why and its
+//! socket closed), renders at once (a page's request waits for a slot), and the memory of the
+//! renders in flight ([`budget`]); a page is a task, and the threads are a fixed few: the
+//! network's two, the renders' (`--max-renders`, each rendering on the shared `--threads`
+//! pool), and the watch's.
+//!
 //! Modules: [`protocol`] (the messages), [`session`] (one page's connection), [`worker`] (its
-//! renders), [`orbit`] (the camera's orbit), [`watch`] (edits on disk), [`guard`] (who may
-//! connect).
+//! renders), [`budget`] (their memory), [`orbit`] (the camera's orbit), [`watch`] (edits on
+//! disk), [`guard`] (who may connect).
 
+mod budget;
 mod guard;
 mod orbit;
 mod protocol;
@@ -35,6 +42,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 use tokio::sync::watch as channel;
+use tokio::sync::Semaphore;
 
 /// The page: HTML with its style and script inline, so that one response is all it needs.
 const PAGE: &str = include_str!("page.html");
@@ -58,6 +66,19 @@ pub struct Config {
     /// The files the scene read the last time it loaded, which the watch counts as the
     /// scene's (a model's material library, which the scene's text does not name).
     pub files: Arc<watch::SceneFiles>,
+    /// What the server may hold at once.
+    pub limits: Limits,
+}
+
+/// What the server may hold at once (the flags' defaults are in `crate::args`).
+#[derive(Debug, Clone, Copy)]
+pub struct Limits {
+    /// `--max-connections`: pages open.
+    pub pages: u32,
+    /// `--max-renders`: renders at once, every page's together.
+    pub renders: u32,
+    /// `--max-render-memory`, in bytes: the memory of the renders in flight together.
+    pub render_memory: u64,
 }
 
 /// What every connection shares.
@@ -66,6 +87,12 @@ pub struct Server {
     config: Arc<Config>,
     /// The worker threads every page's renders run on (one render at a time per page).
     pool: Arc<ThreadPool>,
+    /// The places for pages (`--max-connections`).
+    pages: Arc<Semaphore>,
+    /// The render slots (`--max-renders`).
+    renders: Arc<Semaphore>,
+    /// The memory of the renders in flight (`--max-render-memory`).
+    budget: Arc<budget::MemoryBudget>,
     /// The generation of the scene's files (see [`watch`]).
     changes: channel::Receiver<u64>,
     /// The address it listens on, which requests must name (see [`guard`]).
@@ -80,6 +107,11 @@ pub fn run(args: ServeArgs) -> Result<ExitCode, Failure> {
         threads: args.threads,
         allow_outside: args.allow_outside,
         files: Arc::default(),
+        limits: Limits {
+            pages: args.max_connections,
+            renders: args.max_renders,
+            render_memory: args.max_render_memory.saturating_mul(1 << 20),
+        },
     };
     // The flags are checked as `rayforge render` checks them, before anything starts.
     let settings = worker::settings_for(&config, &protocol::Request::default())?;
@@ -93,6 +125,8 @@ pub fn run(args: ServeArgs) -> Result<ExitCode, Failure> {
     let runtime = tokio::runtime::Builder::new_multi_thread()
         // The network needs little; the cores are for rendering.
         .worker_threads(2)
+        // The renders' threads: one per render slot, so never more than the slots.
+        .max_blocking_threads(config.limits.renders as usize)
         .enable_io()
         .enable_time()
         .build()
@@ -115,9 +149,13 @@ async fn serve(config: Config, pool: ThreadPool, listen: SocketAddr) -> Result<E
         .map_err(|e| Failure::internal(format!("cannot read the address listened on: {e}")))?;
     let (generation, changes) = channel::channel(0);
     let _watch = watch::start(&config.scene, config.files.clone(), generation)?;
+    let limits = config.limits;
     let server = Arc::new(Server {
         config: Arc::new(config),
         pool: Arc::new(pool),
+        pages: Arc::new(Semaphore::new(limits.pages as usize)),
+        renders: Arc::new(Semaphore::new(limits.renders as usize)),
+        budget: Arc::new(budget::MemoryBudget::new(limits.render_memory)),
         changes,
         address,
     });
@@ -155,7 +193,8 @@ async fn page(State(server): State<Arc<Server>>, headers: HeaderMap) -> Response
         .into_response()
 }
 
-/// `GET /ws`: the page's WebSocket, its messages from the page bounded in size.
+/// `GET /ws`: the page's WebSocket, its messages from the page bounded in size; past the
+/// limit of pages, a socket that says why and closes.
 async fn socket(
     State(server): State<Arc<Server>>,
     headers: HeaderMap,
@@ -164,10 +203,16 @@ async fn socket(
     if let Err(refusal) = guard::check(&headers, server.address) {
         return (StatusCode::FORBIDDEN, refusal).into_response();
     }
-    upgrade
+    let upgrade = upgrade
         .max_message_size(protocol::MAX_MESSAGE_BYTES)
-        .max_frame_size(protocol::MAX_MESSAGE_BYTES)
-        .on_upgrade(move |socket| session::run(socket, server))
+        .max_frame_size(protocol::MAX_MESSAGE_BYTES);
+    match server.pages.clone().try_acquire_owned() {
+        Ok(page) => upgrade.on_upgrade(move |socket| session::run(socket, server, page)),
+        Err(_) => {
+            let limit = server.config.limits.pages;
+            upgrade.on_upgrade(move |socket| session::refuse(socket, limit))
+        }
+    }
 }
 
 /// What the server does with a page's message, without a network: the `Host` and `Origin`

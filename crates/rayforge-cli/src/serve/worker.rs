@@ -1,10 +1,12 @@
-//! One page's renders: a thread that takes the newest request, renders it in passes with the
-//! render command's own functions, and sends each pass's image to the page.
+//! One page's renders: the newest request, rendered in passes with the render command's own
+//! functions on one of the server's render threads (see [`super::session`]), each pass's image
+//! sent to the page.
 //!
 //! A request is translated into `rayforge render`'s arguments and checked by the same code
 //! ([`RenderSettings::from_args`]), so the page's final image is the one `rayforge render`
 //! writes with those flags, and a size over `--max-pixels` is refused in the same words.
 
+use super::budget::{MemoryBudget, Refusal};
 use super::orbit::{implied_look_at, orbit};
 use super::protocol::{self, Frame, Request, Started};
 use super::Config;
@@ -30,12 +32,12 @@ use rayforge_scene::Scene;
 use rayon::ThreadPool;
 use std::ffi::OsString;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::mpsc::Receiver;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 use tokio::sync::mpsc::Sender;
 
 /// A request to render, as the page's session hands it over.
+#[derive(Clone)]
 pub struct Job {
     /// Its number in the session, which the messages about it carry.
     pub id: u64,
@@ -57,7 +59,7 @@ pub enum Outgoing {
 }
 
 /// The page is gone: its session dropped the receiving end.
-struct Gone;
+pub struct Gone;
 
 /// Shortest time between two progress messages: the page's progress line need not move more
 /// often than the eye follows, and the messages would crowd out the images.
@@ -77,6 +79,8 @@ struct Loaded {
 pub struct Worker {
     config: Arc<Config>,
     pool: Arc<ThreadPool>,
+    /// The memory every page's renders in flight share.
+    budget: Arc<MemoryBudget>,
     out: Sender<Outgoing>,
     loaded: Option<Loaded>,
     /// The page's rasterizer, which keeps its memory from frame to frame.
@@ -84,42 +88,38 @@ pub struct Worker {
 }
 
 impl Worker {
-    /// A worker rendering on `pool` and sending to `out`.
-    pub fn new(config: Arc<Config>, pool: Arc<ThreadPool>, out: Sender<Outgoing>) -> Self {
+    /// A worker rendering on `pool` within `budget` and sending to `out`.
+    pub fn new(
+        config: Arc<Config>,
+        pool: Arc<ThreadPool>,
+        budget: Arc<MemoryBudget>,
+        out: Sender<Outgoing>,
+    ) -> Self {
         Self {
             config,
             pool,
+            budget,
             out,
             loaded: None,
             rasterizer: Rasterizer::new(),
         }
     }
 
-    /// Renders the jobs as they come, skipping those a newer one has made stale, until the
-    /// session hangs up.
-    pub fn run(mut self, jobs: Receiver<Job>) {
-        while let Ok(mut job) = jobs.recv() {
-            while let Ok(newer) = jobs.try_recv() {
-                job = newer;
+    /// Renders `job` (unless a newer one has made it stale) and says how it ended; `Gone`
+    /// when the page is.
+    pub fn run(&mut self, job: &Job) -> Result<(), Gone> {
+        if job.cancel.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        let started = Instant::now();
+        match self.render(job, started) {
+            Ok(()) => self.send_text(job, protocol::done(job.id, elapsed(started))),
+            Err(Stop::Failed(message)) => {
+                self.send_text(job, protocol::error(Some(job.id), &message))
             }
-            if job.cancel.load(Ordering::Relaxed) {
-                continue;
-            }
-            let started = Instant::now();
-            let result = match self.render(&job, started) {
-                Ok(()) => self.send_text(&job, protocol::done(job.id, elapsed(started))),
-                Err(Stop::Failed(message)) => {
-                    self.send_text(&job, protocol::error(Some(job.id), &message))
-                }
-                Err(Stop::Scene(error)) => {
-                    self.send_text(&job, protocol::scene_error(job.id, &error))
-                }
-                Err(Stop::Cancelled) => Ok(()),
-                Err(Stop::Gone) => Err(Gone),
-            };
-            if result.is_err() {
-                return;
-            }
+            Err(Stop::Scene(error)) => self.send_text(job, protocol::scene_error(job.id, &error)),
+            Err(Stop::Cancelled) => Ok(()),
+            Err(Stop::Gone) => Err(Gone),
         }
     }
 
@@ -147,6 +147,16 @@ impl Worker {
         let size = (camera.hsize(), camera.vsize());
         // As `rayforge render` does: a size the machine cannot hold is an error, not an abort.
         crate::memory::reserve_for_render(size.0, size.1, 1)?;
+        // And beside the other pages' renders: held until this one ends.
+        let bytes = crate::memory::render_bytes(size.0, size.1, 1).unwrap_or(u64::MAX);
+        let what = format!("a {}×{} render", size.0, size.1);
+        let _memory = self
+            .budget
+            .reserve(bytes, &what, &job.cancel)
+            .map_err(|refusal| match refusal {
+                Refusal::TooLarge(message) => Stop::Failed(message),
+                Refusal::Cancelled => Stop::Cancelled,
+            })?;
         let (renderer, samples) = match chosen {
             Chosen::Ray => (
                 Renderer::Ray,
@@ -326,6 +336,10 @@ impl Pass<'_> {
 
     /// Sends pass `pass` of `passes`: the `frame` message, then the image as a PNG.
     fn frame(&self, canvas: &Canvas, pass: usize, passes: usize, samples: u64) -> Result<(), Stop> {
+        // A stale image is not encoded: a large PNG takes a second.
+        if self.cancelled() {
+            return Err(Stop::Cancelled);
+        }
         let png = ImageFormat::Png.encode(canvas)?;
         let frame = Frame {
             pass,

@@ -51,7 +51,7 @@ pub struct RenderOptions<'p> {
     /// fill each pixel between two traced ones with their average when no channel of the two
     /// differs by more than this threshold (trace it otherwise). `None` traces every pixel.
     pub subsample: Option<f64>,
-    /// Checked before each row is started and every few thousand rays inside a pixel's work:
+    /// Checked before each row is started and before every ray inside a pixel's work:
     /// once it is set, no more rows are started, the rows in progress are abandoned, and the
     /// render returns at once ([`render_rows`] says which rows are done).
     pub cancel: Option<&'p AtomicBool>,
