@@ -582,7 +582,6 @@ async fn pages_past_the_limit_are_refused_and_pages_cost_no_threads() {
     );
     assert!(matches!(next(&mut refused).await, Received::Closed));
     // A page leaves: a new one is served once the server has seen it go.
-    use futures_util::SinkExt;
     let mut leaving = pages.pop().expect("a page");
     leaving.close(None).await.expect("closes");
     drop(leaving);
@@ -597,7 +596,10 @@ async fn pages_past_the_limit_are_refused_and_pages_cost_no_threads() {
         match next(&mut page).await {
             Received::Json(m) if m["type"] == "started" => break,
             Received::Json(m) if m["type"] == "error" => {}
-            other => panic!("neither served nor refused: {}", matches!(other, Received::Closed)),
+            other => panic!(
+                "neither served nor refused: {}",
+                matches!(other, Received::Closed)
+            ),
         }
         assert!(
             std::time::Instant::now() < deadline,

@@ -112,7 +112,10 @@ mod tests {
         else {
             panic!("granted");
         };
-        assert!(message.contains("a 100×100 render needs about 11 MiB"), "{message}");
+        assert!(
+            message.contains("a 100×100 render needs about 11 MiB"),
+            "{message}"
+        );
         assert!(message.contains("--max-render-memory"), "{message}");
         assert_eq!(budget.held(), 0);
     }

@@ -121,11 +121,7 @@ pub async fn run(mut socket: WebSocket, server: Arc<Server>, _page: OwnedSemapho
 
 /// Runs the page's jobs one after another, the newest each time, each on a render thread
 /// once a render slot is free, until the session is gone (or the page, for the worker).
-async fn run_jobs(
-    mut worker: Worker,
-    mut jobs: watch::Receiver<Option<Job>>,
-    server: Arc<Server>,
-) {
+async fn run_jobs(mut worker: Worker, mut jobs: watch::Receiver<Option<Job>>, server: Arc<Server>) {
     while jobs.changed().await.is_ok() {
         // Waiting for a slot, a newer job may come (it is taken below) or the page may go.
         let slot = server.renders.clone().acquire_owned();
