@@ -353,7 +353,12 @@ mod tests {
         // the lamps are many; past `BALANCED_FROM` levels the cuts halve, so 300 lamps fit.
         let n = 300;
         let lights: Vec<(u32, LightBounds)> = (0..n)
-            .map(|i| (i, lamp_at(Point3::new(i as f64, 1.0, 0.0), 1.2f64.powi(i as i32))))
+            .map(|i| {
+                (
+                    i,
+                    lamp_at(Point3::new(i as f64, 1.0, 0.0), 1.2f64.powi(i as i32)),
+                )
+            })
             .collect();
         let tree = LightBvh::new(lights, n as usize).unwrap();
         let point = Point3::new(150.0, 0.0, 0.0);
