@@ -190,7 +190,7 @@ fn cheapest_cut(lights: &mut [(u32, LightBounds)]) -> Option<usize> {
     // The best (cost, axis, first bucket of the second side).
     let mut best: Option<(f64, usize, usize)> = None;
     for axis in 0..3 {
-        if !(centre_extent[axis] > 0.0) {
+        if centre_extent[axis] <= 0.0 {
             continue;
         }
         let bucket_of = |b: &LightBounds| {
