@@ -66,7 +66,7 @@ Render options (`rayforge render --help` describes each in full):
       --sample-allocation <NAME> path only: by-noise (samples where the noise is; --spp
                             is the mean) or uniform [default: by-noise]
       --light-sampler <NAME> path only: uniform, power, bvh (a light tree) or auto (the
-                            tree from 16 lights with a place) [default: auto]
+                            tree from 4 lights with a place) [default: auto]
       --aovs                path only: also write the first hit's albedo and normal
       --time <DURATION>     ray and path: refine in passes until this time is spent (30s, 5m)
       --display-server <HOST:PORT> show the image in the tev viewer while it renders
@@ -462,7 +462,7 @@ pub struct RenderArgs {
     pub sample_allocation: Option<SampleAllocationArg>,
 
     /// Path tracer: how a vertex picks the light it samples: `uniform`, `power`, `bvh` (a
-    /// light tree, for many small lights) or `auto` (the tree from 16 lights with a place,
+    /// light tree, for many small lights) or `auto` (the tree from 4 lights with a place,
     /// else power) [default: the scene's `light-sampler`, else auto].
     #[arg(long, value_name = "NAME", value_parser = ["uniform", "power", "bvh", "auto"])]
     pub light_sampler: Option<String>,

@@ -377,3 +377,79 @@ fn the_help_names_the_new_spellings_only() {
     assert!(help.contains("by-noise"), "{help}");
     assert!(!help.contains("adaptive (each"), "{help}");
 }
+
+/// Three lamps of differing power over a floor, for the path tracer; `light` is the scene's
+/// `light-sampler` line, if any.
+fn lamps(light: &str) -> String {
+    let mut text = format!(
+        "- world:\n    renderer: path\n    background: [0, 0, 0]\n{light}\
+         - add: camera\n  width: 6\n  height: 4\n  field-of-view: 1.2\n\
+         \x20 from: [0, 3, 3]\n  to: [0, 0, 0]\n  up: [0, 1, 0]\n\
+         - add: rectangle\n  material: {{ type: diffuse, color: [0.6, 0.6, 0.6] }}\n\
+         \x20 transform: [[scale, 3, 1, 3]]\n"
+    );
+    for (x, bright) in [(-1.0, 1.0), (0.0, 8.0), (1.0, 30.0)] {
+        text += &format!(
+            "- add: sphere\n  material: {{ type: diffuse, color: [0, 0, 0], \
+             emission: [{bright}, {bright}, {bright}] }}\n  \
+             transform: [[scale, 0.1, 0.1, 0.1], [translate, {x}, 1, 0]]\n"
+        );
+    }
+    text
+}
+
+#[test]
+fn the_light_sampler_flag_picks_the_sampler_and_refuses_another_name() {
+    let d = Dir::new();
+    let plain = d.file("lamps.yml", &lamps(""));
+    let image = |scene: &Path, name: &str, args: &[&str]| {
+        let out = d.path(name);
+        accepted(scene, &out, &[&["-q", "--spp", "4"], args].concat());
+        std::fs::read(out).unwrap()
+    };
+    let mut images = Vec::new();
+    for name in ["uniform", "power", "bvh"] {
+        let flagged = image(&plain, &format!("{name}.pfm"), &["--light-sampler", name]);
+        // The flag gives the image of the scene's own key.
+        let key = d.file(
+            &format!("{name}.yml"),
+            &lamps(&format!("    light-sampler: {name}\n")),
+        );
+        assert_eq!(
+            flagged,
+            image(&key, &format!("{name}-key.pfm"), &[]),
+            "{name}"
+        );
+        images.push(flagged);
+    }
+    // Three samplers, three images (the same seed, lights picked with other odds).
+    assert_ne!(images[0], images[1]);
+    assert_ne!(images[1], images[2]);
+    assert_ne!(images[0], images[2]);
+    // Three lamps are too few for the tree: `auto` picks by power, and the flag overrides
+    // the scene's key.
+    assert_eq!(
+        image(&plain, "auto.pfm", &["--light-sampler", "auto"]),
+        images[1]
+    );
+    let keyed = d.file("keyed.yml", &lamps("    light-sampler: uniform\n"));
+    assert_eq!(
+        image(&keyed, "over.pfm", &["--light-sampler", "bvh"]),
+        images[2]
+    );
+    refused(
+        &plain,
+        &d.path("bad.pfm"),
+        &["--light-sampler", "tree"],
+        &[
+            "invalid value 'tree' for '--light-sampler <NAME>'",
+            "[possible values: uniform, power, bvh, auto]",
+        ],
+    );
+    refused(
+        &d.file("ray.yml", EMPTY),
+        &d.path("ray.pfm"),
+        &["--light-sampler", "bvh"],
+        &["--light-sampler", "applies to the path tracer"],
+    );
+}

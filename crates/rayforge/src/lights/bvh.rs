@@ -10,17 +10,29 @@
 //! taken at each level), so that [`LightBvh::probability`] retraces the walk from the root
 //! without searching (the idea of pbrt-v4's `BVHLightSampler`, ch. 12.6).
 //!
-//! The tree is built top-down, splitting each cluster at the median of its lights' centres
-//! along the axis where they spread most: it is balanced, so no trail is longer than
-//! `log2(lights) + 1` bits (a `u64` holds any real scene's).
+//! The tree is built top-down. Each cluster is cut where the two sides cost least by
+//! [`LightBounds::cost`] (power × orientation × surface area, Conty Estevez and Kulla's
+//! measure), trying [`BUCKETS`] cuts along each axis: bright lights, lights far apart and
+//! lights facing apart then fall into different subtrees, where the walk's importance can
+//! tell them apart. Where no cut costs anything (lights on one point or one line), or
+//! deeper than [`BALANCED_FROM`] levels, a cluster is cut at the median of its lights'
+//! centres along the axis where they spread most, so that no trail is longer than 64 bits.
 
-use super::light_bounds::LightBounds;
+use super::light_bounds::{LightBounds, NodeBounds};
 use crate::math::{Aabb, Point3, Vec3};
+
+/// How many cuts per axis the build tries on a cluster: evenly spaced over its lights'
+/// centres (pbrt-v4 takes 12, as its BVH over shapes does).
+const BUCKETS: usize = 12;
+
+/// The depth from which clusters are cut at their median: each such cut halves the lights,
+/// so the deepest trail is at most this plus `log2` of the (`u32`-numbered) lights, 64 bits.
+const BALANCED_FROM: u32 = 32;
 
 /// A node of the tree: a light, or two subtrees (the first right after the node).
 #[derive(Debug, Clone)]
 struct Node {
-    bounds: LightBounds,
+    bounds: NodeBounds,
     /// The light's number (as given to [`LightBvh::new`]), or where the second child is.
     kind: NodeKind,
 }
@@ -64,30 +76,20 @@ impl LightBvh {
         if let [(light, bounds)] = lights {
             self.trails[*light as usize] = Some(trail);
             self.nodes.push(Node {
-                bounds: *bounds,
+                bounds: bounds.prepared(),
                 kind: NodeKind::Leaf(*light),
             });
             return *bounds;
         }
-        let mut centres = Aabb::EMPTY;
-        for (_, b) in lights.iter() {
-            centres.add_point(b.centroid());
-        }
-        let extent = centres.extent();
-        let axis = if extent.x >= extent.y && extent.x >= extent.z {
-            0
-        } else if extent.y >= extent.z {
-            1
+        let middle = if depth < BALANCED_FROM {
+            cheapest_cut(lights)
         } else {
-            2
-        };
-        let middle = lights.len() / 2;
-        lights.select_nth_unstable_by(middle, |a, b| {
-            a.1.centroid()[axis].total_cmp(&b.1.centroid()[axis])
-        });
+            None
+        }
+        .unwrap_or_else(|| median_cut(lights));
         let at = self.nodes.len();
         self.nodes.push(Node {
-            bounds: lights[0].1,
+            bounds: LightBounds::NONE.prepared(),
             kind: NodeKind::Inner(0),
         });
         let (first, second) = lights.split_at_mut(middle);
@@ -96,7 +98,7 @@ impl LightBvh {
         let b = self.build(second, trail | 1 << depth, depth + 1);
         let bounds = a.union(&b);
         self.nodes[at] = Node {
-            bounds,
+            bounds: bounds.prepared(),
             kind: NodeKind::Inner(second_at),
         };
         bounds
@@ -104,13 +106,14 @@ impl LightBvh {
 
     /// The total power of its lights.
     pub fn power(&self) -> f64 {
-        self.nodes[0].bounds.power
+        self.nodes[0].bounds.power()
     }
 
     /// The share the first of the two children at `node` (an inner node whose second child
     /// is `second`) takes from `point` of normal `normal`. Where neither may light the point
     /// (a cluster's bounds are looser than its lights'), by their powers: every light keeps
     /// some probability, so that the picks' probabilities sum to 1 from every point.
+    #[inline]
     fn first_share(&self, node: usize, second: usize, point: Point3, normal: Option<Vec3>) -> f64 {
         let (first, second) = (&self.nodes[node + 1].bounds, &self.nodes[second].bounds);
         let a = first.importance(point, normal);
@@ -119,7 +122,7 @@ impl LightBvh {
         if total > 0.0 && total.is_finite() {
             a / total
         } else {
-            first.power / (first.power + second.power)
+            first.power() / (first.power() + second.power())
         }
     }
 
@@ -172,6 +175,90 @@ impl LightBvh {
     }
 }
 
+/// The cut of `lights` (two or more) whose sides cost least (see the [module](self)):
+/// reorders them so that the first side comes first and returns how many it holds; `None`
+/// where every cut costs nothing or their centres all coincide.
+fn cheapest_cut(lights: &mut [(u32, LightBounds)]) -> Option<usize> {
+    let mut centres = Aabb::EMPTY;
+    let mut whole = Aabb::EMPTY;
+    for (_, b) in lights.iter() {
+        centres.add_point(b.centroid());
+        whole = whole.union(&b.bounds);
+    }
+    let (centre_extent, extent) = (centres.extent(), whole.extent());
+    let longest = extent.max_element();
+    // The best (cost, axis, first bucket of the second side).
+    let mut best: Option<(f64, usize, usize)> = None;
+    for axis in 0..3 {
+        if centre_extent[axis] <= 0.0 {
+            continue;
+        }
+        let bucket_of = |b: &LightBounds| {
+            let at = (b.centroid()[axis] - centres.min[axis]) / centre_extent[axis];
+            ((at * BUCKETS as f64) as usize).min(BUCKETS - 1)
+        };
+        let mut buckets = [LightBounds::NONE; BUCKETS];
+        for (_, b) in lights.iter() {
+            let k = bucket_of(b);
+            buckets[k] = buckets[k].union(b);
+        }
+        let stretch = longest / extent[axis];
+        // The first side's bounds for each cut, then the second's from the far end.
+        let mut below = [LightBounds::NONE; BUCKETS];
+        let mut running = LightBounds::NONE;
+        for (k, bucket) in buckets.iter().enumerate() {
+            below[k] = running;
+            running = running.union(bucket);
+        }
+        let mut above = LightBounds::NONE;
+        for cut in (1..BUCKETS).rev() {
+            above = above.union(&buckets[cut]);
+            if below[cut].power <= 0.0 || above.power <= 0.0 {
+                continue;
+            }
+            let cost = below[cut].cost(stretch) + above.cost(stretch);
+            if cost > 0.0 && cost.is_finite() && best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, axis, cut));
+            }
+        }
+    }
+    let (_, axis, cut) = best?;
+    let at = |b: &LightBounds| {
+        let at = (b.centroid()[axis] - centres.min[axis]) / centre_extent[axis];
+        ((at * BUCKETS as f64) as usize).min(BUCKETS - 1)
+    };
+    let mut first = 0;
+    for i in 0..lights.len() {
+        if at(&lights[i].1) < cut {
+            lights.swap(i, first);
+            first += 1;
+        }
+    }
+    (0 < first && first < lights.len()).then_some(first)
+}
+
+/// Cuts `lights` (two or more) at the median of their centres along the axis where they
+/// spread most: reorders them so that the lower half comes first and returns its size.
+fn median_cut(lights: &mut [(u32, LightBounds)]) -> usize {
+    let mut centres = Aabb::EMPTY;
+    for (_, b) in lights.iter() {
+        centres.add_point(b.centroid());
+    }
+    let extent = centres.extent();
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    let middle = lights.len() / 2;
+    lights.select_nth_unstable_by(middle, |a, b| {
+        a.1.centroid()[axis].total_cmp(&b.1.centroid()[axis])
+    });
+    middle
+}
+
 /// The largest number below 1: a rescaled pick number stays in [0, 1).
 const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
 
@@ -221,6 +308,71 @@ mod tests {
                 assert!((sum - 1.0).abs() < 1e-12, "{sum} at {point:?}");
             }
         }
+    }
+
+    /// A lamp of power `power` facing down at `at`, 0.2 across.
+    fn lamp_at(at: Point3, power: f64) -> LightBounds {
+        LightBounds {
+            bounds: Aabb::new(at, at + Vec3::new(0.2, 0.0, 0.2)),
+            power,
+            cone: Cone {
+                axis: -Vec3::Y,
+                theta_o: 0.0,
+                theta_e: std::f64::consts::FRAC_PI_2,
+            },
+            two_sided: false,
+        }
+    }
+
+    #[test]
+    fn the_cheapest_cut_parts_two_far_groups_of_lamps() {
+        // Eight lamps near x = 0 and eight near x = 50, shuffled: the root's two subtrees
+        // are the two groups, the near group then taking nearly every pick.
+        let lights: Vec<(u32, LightBounds)> = (0..16)
+            .map(|i| {
+                let x = if i % 2 == 0 { 0.0 } else { 50.0 } + (i / 2) as f64 * 0.3;
+                (i, lamp_at(Point3::new(x, 2.0, (i % 3) as f64), 1.0))
+            })
+            .collect();
+        let tree = LightBvh::new(lights, 16).unwrap();
+        let near: f64 = (0..16)
+            .step_by(2)
+            .map(|i| tree.probability(Point3::new(1.0, 0.0, 1.0), Some(Vec3::Y), i))
+            .sum();
+        assert!(near > 0.99, "{near}");
+        let NodeKind::Inner(second) = tree.nodes[0].kind else {
+            panic!("a leaf at the root");
+        };
+        // Each subtree holds one group: eight leaves, 15 nodes.
+        assert_eq!(second, 16);
+    }
+
+    #[test]
+    fn lamps_in_a_line_of_ever_brighter_ones_keep_trails_within_64_bits() {
+        // Costs that cut the brightest lamp off one at a time would make a tree as deep as
+        // the lamps are many; past `BALANCED_FROM` levels the cuts halve, so 300 lamps fit.
+        let n = 300;
+        let lights: Vec<(u32, LightBounds)> = (0..n)
+            .map(|i| {
+                (
+                    i,
+                    lamp_at(Point3::new(i as f64, 1.0, 0.0), 1.2f64.powi(i as i32)),
+                )
+            })
+            .collect();
+        let tree = LightBvh::new(lights, n as usize).unwrap();
+        let point = Point3::new(150.0, 0.0, 0.0);
+        let sum: f64 = (0..n as usize)
+            .map(|i| tree.probability(point, Some(Vec3::Y), i))
+            .sum();
+        assert!((sum - 1.0).abs() < 1e-9, "{sum}");
+        // And lamps at one point (no cut costs anything) are halved too.
+        let same: Vec<(u32, LightBounds)> = (0..100)
+            .map(|i| (i, lamp_at(Point3::ZERO, 1.0 + i as f64)))
+            .collect();
+        let tree = LightBvh::new(same, 100).unwrap();
+        let sum: f64 = (0..100).map(|i| tree.probability(point, None, i)).sum();
+        assert!((sum - 1.0).abs() < 1e-9, "{sum}");
     }
 
     #[test]
