@@ -13,7 +13,7 @@
 mod support;
 
 use rayforge::film::Film;
-use rayforge::options::{Roulette, Techniques};
+use rayforge::options::{MirrorBallBudget, Roulette, Techniques};
 use rayforge::shading::EnvironmentMap;
 use rayforge::Color;
 use rayforge_scene::{load_str, Scene};
@@ -38,13 +38,20 @@ fn scene(body: &str, from: [f64; 3], to: [f64; 3], max_depth: u32) -> Scene {
     load_str(&text, Path::new("techniques.yml")).unwrap()
 }
 
-/// A coarse sky: dim blue, with a sun of one texel towards +x, 45° up, wide enough for
+/// A coarse sky: pale blue, with a sun of one texel towards +x, 45° up, wide enough for
 /// bouncing paths to find it in a mirror ball often enough to compare.
 fn sky() -> Arc<EnvironmentMap> {
     let (w, h) = (8, 5);
-    let mut texels = vec![Color::new(0.1, 0.12, 0.16); w * h];
-    texels[w + 1] = Color::new(40.0, 36.0, 32.0);
+    let mut texels = vec![Color::new(0.6, 0.7, 0.9); w * h];
+    texels[w + 1] = Color::new(12.0, 11.0, 10.0);
     Arc::new(EnvironmentMap::new(w, h, texels, 1.0).unwrap())
+}
+
+/// An even grey sky: sampled alike in every direction, so that every technique that samples
+/// it finds all of it often (a sun's light through a ball, found by BSDF sampling alone, is
+/// rare and bright, and hides a small bias in its noise).
+fn even_sky() -> Arc<EnvironmentMap> {
+    Arc::new(EnvironmentMap::new(4, 3, vec![Color::WHITE; 12], 1.0).unwrap())
 }
 
 /// The pixels' luminance-like mean of channels.
@@ -163,18 +170,20 @@ fn without_the_roulette_the_image_is_the_same() {
 
 #[test]
 fn without_the_glass_split_the_image_is_the_same() {
+    // A glass ball before a red one on a grey floor, under an even white sky (no caustic to
+    // speckle it).
     let body = "- add: rectangle
   material: { type: diffuse, color: [0.6, 0.6, 0.6] }
   transform: [[scale, 3, 1, 3]]
 - add: sphere
+  material: { type: diffuse, color: [0.8, 0.2, 0.1] }
+  transform: [[scale, 0.5, 0.5, 0.5], [translate, 0.3, 0.5, -1.5]]
+- add: sphere
   material: { type: dielectric, refractive-index: 1.5 }
   transform: [[scale, 0.6, 0.6, 0.6], [translate, 0, 0.6, 0]]
-- add: rectangle
-  material: { type: diffuse, color: [0, 0, 0], emission: [5, 5, 5] }
-  transform: [[scale, 0.6, 1, 0.6], [rotate-x-degrees, 180], [translate, 0.3, 2, 0.3]]
 ";
-    let mut scene = scene(body, [0.0, 1.0, 2.5], [0.0, 0.5, 0.0], 8);
-    scene.world.environment = Some(sky());
+    let mut scene = scene(body, [0.0, 1.0, 2.0], [0.0, 0.5, 0.0], 8);
+    scene.world.background = Color::WHITE;
     let on = Techniques::default();
     let off = Techniques {
         glass_split: false,
@@ -183,9 +192,9 @@ fn without_the_glass_split_the_image_is_the_same() {
     assert_agrees(&scene, 64, on, off, "glass-split off");
 }
 
-/// Mirror balls of polished aluminium on a grey floor in a sky with a sun: `balls` of them in
-/// a row along x, each `radius` in size, `gap` apart.
-fn mirror_balls(balls: usize, radius: f64, gap: f64) -> Scene {
+/// Mirror balls of polished aluminium on a grey floor under `sky`: `balls` of them in a row
+/// along x, each `radius` in size, `gap` apart.
+fn mirror_balls(balls: usize, radius: f64, gap: f64, sky: Arc<EnvironmentMap>) -> Scene {
     let mut body = String::from(
         "- add: rectangle
   material: { type: diffuse, color: [0.6, 0.6, 0.6] }
@@ -204,44 +213,48 @@ fn mirror_balls(balls: usize, radius: f64, gap: f64) -> Scene {
     }
     // Looking down at the floor on the side away from the sun, where the balls' caustics fall.
     let mut scene = scene(&body, [-0.8, 2.2, -1.6], [-0.2, 0.0, -0.4], 6);
-    scene.world.environment = Some(sky());
+    scene.world.environment = Some(sky);
     scene
 }
 
 #[test]
 fn without_the_mirror_ball_sampling_the_image_is_the_same() {
-    let scene = mirror_balls(2, 0.4, 1.0);
     let on = Techniques::default();
     let off = Techniques {
         mirror_balls: false,
         ..on
     };
-    assert_agrees(&scene, 128, on, off, "mirror-balls off");
+    let sunny = mirror_balls(2, 0.4, 1.0, sky());
+    assert_agrees(&sunny, 128, on, off, "mirror-balls off");
     // Without MIS, the sky beyond a ball counts where the ball's sampling draws it alone.
+    let even = mirror_balls(2, 0.4, 1.0, even_sky());
     let no_mis = Techniques { mis: false, ..on };
-    assert_agrees(&scene, 64, on, no_mis, "mis off with mirror balls");
+    assert_agrees(&even, 64, on, no_mis, "mis off with mirror balls");
 }
 
 #[test]
 fn the_mirror_ball_cap_and_cull_leave_the_image_the_same() {
     // Twelve balls close together: with a cap of one, a vertex solves one of them, chosen by
-    // its share, against all twelve uncapped.
-    let scene = mirror_balls(12, 0.2, 0.45);
+    // its share, against all twelve uncapped. The cull's balls are found by BSDF sampling
+    // alone: under an even sky, where their light is most of what they give.
     let uncapped = Techniques {
-        mirror_ball_budget: rayforge::options::MirrorBallBudget { cap: 64, cull: 0.0 },
+        mirror_ball_budget: MirrorBallBudget { cap: 64, cull: 0.0 },
         ..Techniques::default()
     };
-    for (cap, cull) in [(1, 0.0), (3, 0.0), (2, 0.02)] {
+    // The cull's balls add little: more samples, to see that it is not lost.
+    for (sky, cap, cull, spp) in [
+        (sky(), 1, 0.0, 64),
+        (sky(), 3, 0.0, 64),
+        (even_sky(), 2, 0.0, 64),
+        (even_sky(), 64, 0.03, 256),
+        (even_sky(), 2, 0.03, 256),
+    ] {
+        let scene = mirror_balls(12, 0.2, 0.45, sky);
         let capped = Techniques {
-            mirror_ball_budget: rayforge::options::MirrorBallBudget { cap, cull },
+            mirror_ball_budget: MirrorBallBudget { cap, cull },
             ..uncapped
         };
-        assert_agrees(
-            &scene,
-            64,
-            uncapped,
-            capped,
-            &format!("cap {cap}, cull {cull}"),
-        );
+        let what = format!("cap {cap}, cull {cull}");
+        assert_agrees(&scene, spp, uncapped, capped, &what);
     }
 }
