@@ -422,7 +422,7 @@ fn the_path_tracers_technique_switches_are_its_flags() {
         &["--mirror-ball-cap", "0"],
         &["--mirror-ball-cap takes at least 1"],
     );
-    for cull in ["1", "-0.5"] {
+    for cull in ["1", "1.5"] {
         refused(
             &path,
             &d.path("cull.pfm"),
