@@ -153,7 +153,7 @@ impl MirrorBall {
     pub fn share_from(&self, point: Point3, cull: f64) -> Option<f64> {
         let d2 = (self.centre - point).length_squared();
         let r2 = self.radius * self.radius;
-        if !(d2 > r2) || 2.0 * self.albedo * r2 < cull * d2 {
+        if d2.is_nan() || d2 <= r2 || 2.0 * self.albedo * r2 < cull * d2 {
             return None;
         }
         let x = r2 / d2;
