@@ -67,6 +67,16 @@ Render options (`rayforge render --help` describes each in full):
                             is the mean) or uniform [default: by-noise]
       --light-sampler <NAME> path only: uniform, power, bvh (a light tree) or auto (the
                             tree from 4 lights with a place) [default: auto]
+      --next-event <on|off> path only: next-event estimation (lights sampled) [default: on]
+      --mis <on|off>        path only: MIS between light and BSDF sampling [default: on]
+      --roulette <on|off>   path only: Russian roulette (off: paths go to --max-depth)
+                            [default: on]
+      --glass-split <on|off> path only: follow both halves where the camera sees glass
+                            [default: on]
+      --mirror-balls <on|off> path only: the sky sampled through mirror balls [default: on]
+      --mirror-ball-cap <K> path only: the most mirror balls solved a vertex [default: 2]
+      --mirror-ball-cull <SHARE> path only: balls adding less of the sky's light are left
+                            to BSDF sampling [default: 0.001]
       --aovs                path only: also write the first hit's albedo and normal
       --time <DURATION>     ray and path: refine in passes until this time is spent (30s, 5m)
       --display-server <HOST:PORT> show the image in the tev viewer while it renders
@@ -466,6 +476,44 @@ pub struct RenderArgs {
     /// else power) [default: the scene's `light-sampler`, else auto].
     #[arg(long, value_name = "NAME", value_parser = ["uniform", "power", "bvh", "auto"])]
     pub light_sampler: Option<String>,
+
+    /// Path tracer: next-event estimation, a light sampled at every vertex; `off` leaves
+    /// lights to be found by BSDF sampling [default: the scene's `next-event`, else on].
+    #[arg(long, value_name = "on|off", value_parser = ["on", "off"])]
+    pub next_event: Option<String>,
+
+    /// Path tracer: multiple importance sampling between light sampling and BSDF sampling;
+    /// `off` counts a light at full weight where light sampling finds it and not where BSDF
+    /// sampling does [default: the scene's `mis`, else on].
+    #[arg(long, value_name = "on|off", value_parser = ["on", "off"])]
+    pub mis: Option<String>,
+
+    /// Path tracer: Russian roulette; `off` ends no path before the most bounces
+    /// (--max-depth) [default: the scene's `roulette`, else on].
+    #[arg(long, value_name = "on|off", value_parser = ["on", "off"])]
+    pub roulette: Option<String>,
+
+    /// Path tracer: where the camera first sees smooth glass, follow both the reflected and
+    /// the transmitted half; `off` takes one by chance [default: the scene's `glass-split`,
+    /// else on].
+    #[arg(long, value_name = "on|off", value_parser = ["on", "off"])]
+    pub glass_split: Option<String>,
+
+    /// Path tracer: the sky sampled through polished metal balls onto the surfaces they
+    /// light [default: the scene's `mirror-balls`, else on].
+    #[arg(long, value_name = "on|off", value_parser = ["on", "off"])]
+    pub mirror_balls: Option<String>,
+
+    /// Path tracer: the most mirror balls solved at a vertex, chosen by their shares of the
+    /// sky's light where more qualify [default: the scene's `mirror-ball-cap`, else 2].
+    #[arg(long, value_name = "K")]
+    pub mirror_ball_cap: Option<u32>,
+
+    /// Path tracer: mirror balls adding less than this share of the sky's light at a vertex
+    /// are left to BSDF sampling, from 0 to below 1 [default: the scene's
+    /// `mirror-ball-cull`, else 0.001].
+    #[arg(long, value_name = "SHARE")]
+    pub mirror_ball_cull: Option<f64>,
 
     /// Path tracer: also write the albedo and the normal of the first surface each pixel
     /// sees, for denoisers, beside the image (`out.albedo.pfm` and `out.normal.pfm` for

@@ -9,7 +9,10 @@ use crate::format::ImageFormat;
 use crate::sizing::SizeRequest;
 use crate::slice::{Cut, Slice, SliceRequest};
 use rayforge::film::PixelFilter;
-use rayforge::options::{LightSamplerKind, PathOptions, Roulette, SampleAllocation, SamplerKind};
+use rayforge::options::{
+    LightSamplerKind, MirrorBallBudget, PathOptions, Roulette, SampleAllocation, SamplerKind,
+    Techniques,
+};
 use rayforge::raster::{RasterOptions, Shading, TextureFilter};
 use std::path::PathBuf;
 
@@ -116,6 +119,8 @@ pub struct PathRequest {
     pub allocation: Option<SampleAllocation>,
     /// `--light-sampler`.
     pub light_sampler: Option<LightSamplerKind>,
+    /// The techniques' switches and the mirror balls' budget.
+    pub techniques: TechniquesRequest,
     /// `--aovs`.
     pub aovs: bool,
     /// `--time`: render in passes within this budget (the ray tracer too; not the
@@ -133,8 +138,98 @@ impl PathRequest {
             ("--roulette-scale", self.roulette.is_some()),
             ("--sample-allocation", self.allocation.is_some()),
             ("--light-sampler", self.light_sampler.is_some()),
+            ("--next-event", self.techniques.next_event.is_some()),
+            ("--mis", self.techniques.mis.is_some()),
+            ("--roulette", self.techniques.roulette.is_some()),
+            ("--glass-split", self.techniques.glass_split.is_some()),
+            ("--mirror-balls", self.techniques.mirror_balls.is_some()),
+            (
+                "--mirror-ball-cap",
+                self.techniques.mirror_ball_cap.is_some(),
+            ),
+            (
+                "--mirror-ball-cull",
+                self.techniques.mirror_ball_cull.is_some(),
+            ),
             ("--aovs", self.aovs),
         ])
+    }
+}
+
+/// The path tracer's techniques as the command line sets them (`None`: as the scene says).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TechniquesRequest {
+    /// `--next-event`.
+    pub next_event: Option<bool>,
+    /// `--mis`.
+    pub mis: Option<bool>,
+    /// `--roulette`.
+    pub roulette: Option<bool>,
+    /// `--glass-split`.
+    pub glass_split: Option<bool>,
+    /// `--mirror-balls`.
+    pub mirror_balls: Option<bool>,
+    /// `--mirror-ball-cap`.
+    pub mirror_ball_cap: Option<u32>,
+    /// `--mirror-ball-cull`.
+    pub mirror_ball_cull: Option<f64>,
+}
+
+impl TechniquesRequest {
+    /// The flags, checked.
+    fn from_args(args: &RenderArgs) -> Result<Self, Failure> {
+        let on = |flag: &Option<String>| flag.as_deref().map(|v| v == "on");
+        if args.mirror_ball_cap == Some(0) {
+            return Err(Failure::usage(
+                "--mirror-ball-cap takes at least 1 (--mirror-balls off turns the sampling off)",
+            ));
+        }
+        let cull = args
+            .mirror_ball_cull
+            .map(|share| {
+                MirrorBallBudget::cull(share).ok_or_else(|| {
+                    Failure::usage(format!(
+                        "--mirror-ball-cull takes a share of the sky's light from 0 to below 1, \
+                         found {share}"
+                    ))
+                })
+            })
+            .transpose()?;
+        let roulette = on(&args.roulette);
+        if roulette == Some(false) && args.roulette_scale.is_some() {
+            return Err(Failure::usage(
+                "--roulette-scale scales the roulette that --roulette off turns off",
+            ));
+        }
+        Ok(Self {
+            next_event: on(&args.next_event),
+            mis: on(&args.mis),
+            roulette,
+            glass_split: on(&args.glass_split),
+            mirror_balls: on(&args.mirror_balls),
+            mirror_ball_cap: args.mirror_ball_cap,
+            mirror_ball_cull: cull,
+        })
+    }
+
+    /// `techniques` with these flags over them.
+    fn apply(&self, techniques: &mut Techniques) {
+        let set = |field: &mut bool, flag: Option<bool>| {
+            if let Some(on) = flag {
+                *field = on;
+            }
+        };
+        set(&mut techniques.next_event, self.next_event);
+        set(&mut techniques.mis, self.mis);
+        set(&mut techniques.roulette, self.roulette);
+        set(&mut techniques.glass_split, self.glass_split);
+        set(&mut techniques.mirror_balls, self.mirror_balls);
+        if let Some(cap) = self.mirror_ball_cap {
+            techniques.mirror_ball_budget.cap = cap;
+        }
+        if let Some(cull) = self.mirror_ball_cull {
+            techniques.mirror_ball_budget.cull = cull;
+        }
     }
 }
 
@@ -214,6 +309,7 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
             .light_sampler
             .as_deref()
             .and_then(LightSamplerKind::from_name),
+        techniques: TechniquesRequest::from_args(args)?,
         aovs: args.aovs,
         time: args.time.as_deref().map(parse_duration).transpose()?,
     })
@@ -313,6 +409,13 @@ impl RenderSettings {
                 }
                 if let Some(light_sampler) = self.path.light_sampler {
                     options.light_sampler = light_sampler;
+                }
+                self.path.techniques.apply(&mut options.techniques);
+                if !options.techniques.roulette && self.path.roulette.is_some() {
+                    return Err(Failure::usage(
+                        "--roulette-scale scales the roulette that the scene's `roulette: off` \
+                         turns off: add --roulette on",
+                    ));
                 }
                 Ok(Chosen::Path(options))
             }

@@ -453,3 +453,79 @@ fn the_light_sampler_flag_picks_the_sampler_and_refuses_another_name() {
         &["--light-sampler", "applies to the path tracer"],
     );
 }
+
+#[test]
+fn the_path_tracers_technique_switches_are_its_flags() {
+    let d = Dir::new();
+    let path = d.file("path.yml", &choosing("path"));
+    let ray = d.file("ray.yml", EMPTY);
+    let switches = [
+        "--next-event",
+        "--mis",
+        "--roulette",
+        "--glass-split",
+        "--mirror-balls",
+    ];
+    for (i, flag) in switches.iter().enumerate() {
+        for value in ["on", "off"] {
+            accepted(
+                &path,
+                &d.path(&format!("{i}{value}.pfm")),
+                &[flag, value, "-q"],
+            );
+        }
+        refused(
+            &path,
+            &d.path("bad.pfm"),
+            &[flag, "maybe"],
+            &["invalid value 'maybe'", flag],
+        );
+        refused(
+            &ray,
+            &d.path("ray.pfm"),
+            &[flag, "off"],
+            &[flag, "applies to the path tracer"],
+        );
+    }
+    accepted(
+        &path,
+        &d.path("budget.pfm"),
+        &["--mirror-ball-cap", "5", "--mirror-ball-cull", "0", "-q"],
+    );
+    refused(
+        &path,
+        &d.path("cap.pfm"),
+        &["--mirror-ball-cap", "0"],
+        &["--mirror-ball-cap takes at least 1"],
+    );
+    for cull in ["1", "1.5"] {
+        refused(
+            &path,
+            &d.path("cull.pfm"),
+            &["--mirror-ball-cull", cull],
+            &["--mirror-ball-cull takes a share of the sky's light from 0 to below 1"],
+        );
+    }
+    refused(
+        &path,
+        &d.path("roulette.pfm"),
+        &["--roulette", "off", "--roulette-scale", "2"],
+        &["--roulette-scale scales the roulette that --roulette off turns off"],
+    );
+    // A scene's `roulette: off` with the flag's scale: the scene's switch is named.
+    let off = d.file(
+        "off.yml",
+        &format!("{}    roulette: off\n", choosing("path")),
+    );
+    refused(
+        &off,
+        &d.path("scale.pfm"),
+        &["--roulette-scale", "2"],
+        &["the scene's `roulette: off`"],
+    );
+    accepted(
+        &off,
+        &d.path("on.pfm"),
+        &["--roulette", "on", "--roulette-scale", "2", "-q"],
+    );
+}

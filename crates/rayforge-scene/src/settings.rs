@@ -9,19 +9,22 @@
 //!                             # `shading`, `sphere-divisions`, `wireframe` and
 //!                             # `texture-filter`; path `sampler`, `filter`, `filter-radius`,
 //!                             # `seed`, `roulette-depth`, `roulette-scale`,
-//!                             # `sample-allocation` (`by-noise` or `uniform`) and
-//!                             # `light-sampler`
+//!                             # `sample-allocation` (`by-noise` or `uniform`),
+//!                             # `light-sampler` and the techniques' switches
+//!                             # (`next-event`, `mis`, `roulette`, `glass-split`,
+//!                             # `mirror-balls`: `on` or `off`) with the mirror balls'
+//!                             # `mirror-ball-cap` and `mirror-ball-cull`
 //! ```
 
 use crate::assets::Assets;
 use crate::environment::environment;
 use crate::error::{clip, SceneError};
 use crate::material::color;
-use crate::source::{check_keys, Entry, Node, Source};
+use crate::source::{check_keys, describe, Entry, Node, Source};
 use rayforge::film::{PixelFilter, MAX_FILTER_RADIUS};
 use rayforge::options::{
-    LightSamplerKind, PathOptions, RasterOptions, Roulette, SampleAllocation, SamplerKind, Shading,
-    TextureFilter,
+    LightSamplerKind, MirrorBallBudget, PathOptions, RasterOptions, Roulette, SampleAllocation,
+    SamplerKind, Shading, TextureFilter,
 };
 use rayforge::{LightingModel, World};
 
@@ -55,6 +58,13 @@ const PATH_KEYS: &[&str] = &[
     "roulette-scale",
     "sample-allocation",
     "light-sampler",
+    "next-event",
+    "mis",
+    "roulette",
+    "glass-split",
+    "mirror-balls",
+    "mirror-ball-cap",
+    "mirror-ball-cull",
 ];
 
 /// The largest `seed` (every whole number up to it is exact in a YAML float too).
@@ -121,6 +131,13 @@ pub fn apply(
             "roulette-scale",
             "sample-allocation",
             "light-sampler",
+            "next-event",
+            "mis",
+            "roulette",
+            "glass-split",
+            "mirror-balls",
+            "mirror-ball-cap",
+            "mirror-ball-cull",
             "environment",
         ],
     )?;
@@ -186,7 +203,8 @@ pub fn apply(
 }
 
 /// The path tracer's options from `sampler`, `filter`, `filter-radius`, `seed`,
-/// `roulette-depth` and `roulette-scale` (`max-depth` is read with the other renderers' keys).
+/// `roulette-depth`, `roulette-scale`, `sample-allocation`, `light-sampler` and the
+/// techniques' keys (`max-depth` is read with the other renderers' keys).
 fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOptions, SceneError> {
     let mut options = PathOptions::default();
     let radius = entries.iter().find(|e| e.name == "filter-radius");
@@ -303,10 +321,60 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
                     )
                 })?;
             }
+            "next-event" => options.techniques.next_event = switch(source, e.value, e.name)?,
+            "mis" => options.techniques.mis = switch(source, e.value, e.name)?,
+            "roulette" => options.techniques.roulette = switch(source, e.value, e.name)?,
+            "glass-split" => options.techniques.glass_split = switch(source, e.value, e.name)?,
+            "mirror-balls" => options.techniques.mirror_balls = switch(source, e.value, e.name)?,
+            "mirror-ball-cap" => {
+                let cap = source.integer(e.value, "mirror-ball-cap", 1)?;
+                options.techniques.mirror_ball_budget.cap = cap as u32;
+            }
+            "mirror-ball-cull" => {
+                let cull = source.number(e.value, "mirror-ball-cull")?;
+                options.techniques.mirror_ball_budget.cull = MirrorBallBudget::cull(cull)
+                    .ok_or_else(|| {
+                        source.error(
+                            e.value,
+                            "mirror-ball-cull",
+                            format!("a share of the sky's light from 0 to below 1, found {cull}"),
+                        )
+                    })?;
+            }
             _ => {}
         }
     }
+    if !options.techniques.roulette {
+        if let Some(e) = entries.iter().find(|e| e.name == "roulette-scale") {
+            return Err(source.error(
+                e.key,
+                "roulette-scale",
+                "`roulette-scale` scales the roulette that `roulette: off` turns off",
+            ));
+        }
+    }
     Ok(options)
+}
+
+/// A technique's switch: `on` or `off` (`true` and `false` too).
+fn switch(source: &Source<'_>, value: &Node<'_>, key: &str) -> Result<bool, SceneError> {
+    if let Ok(on) = source.boolean(value, key) {
+        return Ok(on);
+    }
+    match source.string(value, key) {
+        Ok("on") => Ok(true),
+        Ok("off") => Ok(false),
+        Ok(other) => Err(source.error(
+            value,
+            key,
+            format!("expected `on` or `off`, found `{}`", clip(other)),
+        )),
+        Err(_) => Err(source.error(
+            value,
+            key,
+            format!("expected `on` or `off`, found {}", describe(value)),
+        )),
+    }
 }
 
 /// `roulette-scale`: `auto` (learned for the scene) or a number from

@@ -1,7 +1,10 @@
 //! The path tracer's keys: `emission` and the physical material `type:` (with `metal`, `eta`,
 //! `k`, `alpha`, `roughness`, `refractive-index`), and `renderer: path` with its `world:` keys.
 use rayforge::film::PixelFilter;
-use rayforge::options::{LightSamplerKind, PathOptions, Roulette, SampleAllocation, SamplerKind};
+use rayforge::options::{
+    LightSamplerKind, MirrorBallBudget, PathOptions, Roulette, SampleAllocation, SamplerKind,
+    Techniques,
+};
 use rayforge::shading::bsdf::{metal, METAL_NAMES};
 use rayforge::shading::Physical;
 use rayforge::{Color, Material};
@@ -518,6 +521,7 @@ fn the_path_tracers_keys_are_read() {
             seed: 42,
             allocation: SampleAllocation::ByNoise,
             light_sampler: LightSamplerKind::Auto,
+            techniques: Techniques::default(),
         })
     );
     for (name, kind) in [
@@ -752,5 +756,133 @@ fn emission_side_and_two_sided_are_read() {
     assert!(
         err.contains("sides.yml:4:") && err.contains("emission side"),
         "{err}"
+    );
+}
+
+#[test]
+fn the_techniques_are_switched_on_and_off() {
+    let on = world("renderer: path").unwrap().path.unwrap().techniques;
+    assert_eq!(on, Techniques::default());
+    assert!(on.next_event && on.mis && on.roulette && on.glass_split && on.mirror_balls);
+    assert_eq!(on.mirror_ball_budget, MirrorBallBudget::default());
+    let off = world(
+        "renderer: path\nnext-event: off\nmis: off\nroulette: off\nglass-split: off\nmirror-balls: off\nmirror-ball-cap: 7\nmirror-ball-cull: 0.25",
+    )
+    .unwrap()
+    .path
+    .unwrap()
+    .techniques;
+    assert_eq!(
+        off,
+        Techniques {
+            next_event: false,
+            mis: false,
+            roulette: false,
+            glass_split: false,
+            mirror_balls: false,
+            mirror_ball_budget: MirrorBallBudget { cap: 7, cull: 0.25 },
+        }
+    );
+    // Each switch on its own, in either spelling.
+    for (key, value, get) in [
+        (
+            "next-event",
+            "false",
+            (|t: Techniques| t.next_event) as fn(Techniques) -> bool,
+        ),
+        ("mis", "off", |t| t.mis),
+        ("roulette", "off", |t| t.roulette),
+        ("glass-split", "false", |t| t.glass_split),
+        ("mirror-balls", "off", |t| t.mirror_balls),
+    ] {
+        let t = world(&format!("renderer: path\n{key}: {value}"))
+            .unwrap()
+            .path
+            .unwrap()
+            .techniques;
+        assert!(!get(t), "{key}");
+        let others = Techniques::default();
+        assert_eq!(
+            [
+                t.next_event,
+                t.mis,
+                t.roulette,
+                t.glass_split,
+                t.mirror_balls
+            ]
+            .iter()
+            .filter(|on| !**on)
+            .count(),
+            1,
+            "{key}"
+        );
+        let t = world(&format!("renderer: path\n{key}: on")).unwrap();
+        assert_eq!(t.path.unwrap().techniques, others, "{key}");
+    }
+}
+
+#[test]
+fn bad_technique_keys_are_located() {
+    let path = |line: &str| world(&format!("renderer: path\n{line}"));
+    for key in [
+        "next-event",
+        "mis",
+        "roulette",
+        "glass-split",
+        "mirror-balls",
+    ] {
+        let column = key.len() + 7;
+        assert_error(
+            path(&format!("{key}: maybe")),
+            10,
+            column,
+            key,
+            "expected `on` or `off`, found `maybe`",
+        );
+        assert_error(
+            path(&format!("{key}: 1")),
+            10,
+            column,
+            key,
+            "expected `on` or `off`, found the number 1",
+        );
+        // Another renderer's scene is told what the key belongs to.
+        assert_error(
+            world(&format!("{key}: off")),
+            9,
+            5,
+            key,
+            "applies to the path tracer",
+        );
+    }
+    assert_error(
+        path("mirror-ball-cap: 0"),
+        10,
+        22,
+        "mirror-ball-cap",
+        "at least 1",
+    );
+    for bad in ["1", "-0.1", "2"] {
+        assert_error(
+            path(&format!("mirror-ball-cull: {bad}")),
+            10,
+            23,
+            "mirror-ball-cull",
+            "from 0 to below 1",
+        );
+    }
+    assert_error(
+        path("mirror-ball-cull: many"),
+        10,
+        23,
+        "mirror-ball-cull",
+        "number",
+    );
+    assert_error(
+        path("roulette: off\nroulette-scale: 2"),
+        11,
+        5,
+        "roulette-scale",
+        "`roulette: off` turns off",
     );
 }

@@ -26,6 +26,14 @@
 //! does not glow. The path tracer weighs this strategy against the surface's BSDF sampling by
 //! the power heuristic, which needs the same spread for a path that found the mirror by itself
 //! ([`spread`]).
+//!
+//! A scene of many balls (a ball pit under a sky) would pay a solve per ball at every vertex.
+//! So each ball has a share of the sky's light at a vertex ([`MirrorBall::share_from`]): its
+//! reflectance `ρ` times the solid angle `Ω` it subtends, over π, what it adds to an even
+//! sky's light there at most. Balls below a share are left to BSDF sampling, and of the rest
+//! at most a few are solved, chosen in proportion to their shares ([`choose`]), each weighed
+//! by one over how often it is chosen on average, the same factor in the density that MIS
+//! weighs the BSDF's paths to the ball against.
 
 use crate::color::Color;
 use crate::math::{atan2_turns, sin_cos_turns, Point3, Vec3};
@@ -49,6 +57,8 @@ pub struct MirrorBall {
     k: Color,
     /// The colour that tints its reflection.
     tint: Color,
+    /// Its reflectance at normal incidence, the largest channel: the `ρ` of its share.
+    albedo: f64,
 }
 
 /// How a surface point sees a direction of the sky in a mirror ball.
@@ -109,14 +119,46 @@ impl MirrorBall {
         if !(similar && radius.is_finite() && radius > 0.0) {
             return None;
         }
-        Some(Self {
-            object: index,
-            centre: t.point(Point3::ZERO),
+        Some(Self::new(
+            index,
+            t.point(Point3::ZERO),
             radius,
             eta,
             k,
-            tint: material.color,
-        })
+            material.color,
+        ))
+    }
+
+    /// The ball of world object `object` at `centre`, of `radius`, of the metal of index
+    /// `eta` and extinction `k`, tinted by `tint`.
+    fn new(object: u32, centre: Point3, radius: f64, eta: Color, k: Color, tint: Color) -> Self {
+        let albedo = tint.hadamard(fresnel::conductor(1.0, eta, k)).max_channel();
+        Self {
+            object,
+            centre,
+            radius,
+            eta,
+            k,
+            tint,
+            albedo,
+        }
+    }
+
+    /// The ball's share of the sky's light at `point`, `ρ Ω / π`, where it is at least `cull`
+    /// (see the [module](self) documentation); `None` below it, and from inside the ball.
+    /// `Ω = 2π (1 − √(1 − x))` with `x = R² / d²`, the cone of directions towards the ball,
+    /// is taken as `2π x / (1 + √(1 − x))`, which does not cancel for a far ball. As `Ω ≤ 2π
+    /// x`, most balls of a large scene are left out by a product and a comparison.
+    #[inline]
+    pub fn share_from(&self, point: Point3, cull: f64) -> Option<f64> {
+        let d2 = (self.centre - point).length_squared();
+        let r2 = self.radius * self.radius;
+        if d2.is_nan() || d2 <= r2 || 2.0 * self.albedo * r2 < cull * d2 {
+            return None;
+        }
+        let x = r2 / d2;
+        let share = self.albedo * 2.0 * x / (1.0 + (1.0 - x).sqrt());
+        (share >= cull).then_some(share)
     }
 
     /// The share of light the ball reflects at incidence cosine `cos_incidence`: the conductor
@@ -230,6 +272,50 @@ impl MirrorBall {
     }
 }
 
+/// `cap` choices among balls of `shares` (which sum to `total`), made systematically with
+/// probability in proportion to each share from the one number `u` in [0, 1): `cap` points
+/// `(i + u) · total / cap` along the shares laid end to end, each choosing the ball it falls
+/// in. `chosen` is called, in the order of `shares`, with each chosen ball's index in
+/// `shares` and its weight: how many points it took over how many it takes on average
+/// (`cap × share / total`), so that the sum over the chosen of weight × a ball's light has
+/// the sum over all of them as its mean. Systematic choice spreads the points evenly: a
+/// ball whose mean is at least one is always chosen, and no ball's count is ever more than
+/// one away from its mean.
+pub fn choose(shares: &[f64], total: f64, cap: u32, u: f64, mut chosen: impl FnMut(usize, f64)) {
+    let step = total / f64::from(cap);
+    // The next point, and how many have been placed.
+    let (mut next, mut placed) = (u * step, 0);
+    let mut end = 0.0;
+    for (i, &share) in shares.iter().enumerate() {
+        end += share;
+        let mut taken = 0u32;
+        // The last ball takes every point left, whatever rounding did to the running sum.
+        let last = i + 1 == shares.len();
+        while placed < cap && (next < end || last) {
+            taken += 1;
+            placed += 1;
+            next = (f64::from(placed) + u) * step;
+        }
+        if taken > 0 {
+            let expected = f64::from(cap) * share / total;
+            chosen(i, f64::from(taken) / expected);
+        }
+    }
+}
+
+/// The mean number of times ball of `share` is solved at a vertex where `qualifying` balls
+/// have a share of at least the cull, together `total`, and at most `cap` are solved: 1 when
+/// all of them are, else `cap × share / total` ([`choose`]). The density of the mirror-ball
+/// sampling's directions towards the ball is the sky's, narrowed by the spread, times this.
+#[inline]
+pub fn expected_solves(share: f64, qualifying: usize, total: f64, cap: u32) -> f64 {
+    if qualifying <= cap as usize {
+        1.0
+    } else {
+        f64::from(cap) * share / total
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -240,13 +326,61 @@ mod tests {
     use std::f64::consts::PI;
 
     fn ball(centre: Point3, radius: f64) -> MirrorBall {
-        MirrorBall {
-            object: 0,
-            centre,
-            radius,
-            eta: Color::new(1.6, 0.9, 0.5),
-            k: Color::new(9.2, 6.3, 4.8),
-            tint: Color::WHITE,
+        let (eta, k) = (Color::new(1.6, 0.9, 0.5), Color::new(9.2, 6.3, 4.8));
+        MirrorBall::new(0, centre, radius, eta, k, Color::WHITE)
+    }
+
+    #[test]
+    fn a_balls_share_is_its_reflectance_times_its_solid_angle_over_pi() {
+        let mirror = ball(Point3::ZERO, 0.5);
+        let albedo = mirror.reflectance(1.0).max_channel();
+        for d in [0.6, 1.0, 3.0, 40.0, 1e4] {
+            let x: f64 = 0.25 / (d * d);
+            let cone = 2.0 * PI * (1.0 - (1.0 - x).sqrt());
+            let share = mirror.share_from(Point3::new(0.0, d, 0.0), 0.0).unwrap();
+            let expected = albedo * cone / PI;
+            // The cone's form cancels far away: compare loosely there.
+            let tolerance = if d > 100.0 { 1e-6 } else { 1e-12 };
+            assert!(
+                (share - expected).abs() <= tolerance * expected,
+                "{d}: {share}"
+            );
+        }
+        // Far balls are left out below the cull, near ones kept; none from inside.
+        let far = Point3::new(0.0, 40.0, 0.0);
+        let share = mirror.share_from(far, 0.0).unwrap();
+        assert!(mirror.share_from(far, share * 1.001).is_none());
+        assert_eq!(mirror.share_from(far, share), Some(share));
+        assert!(mirror.share_from(Point3::new(0.0, 0.3, 0.0), 0.0).is_none());
+    }
+
+    #[test]
+    fn systematic_choice_takes_each_ball_as_often_as_its_share_says() {
+        let shares = [0.5, 0.05, 0.2, 0.01, 0.9, 0.3, 0.04];
+        let total: f64 = shares.iter().sum();
+        for cap in [1, 2, 3, 5] {
+            let n = 10_000;
+            let mut counts = [0.0; 7];
+            let mut weights = [0.0; 7];
+            for j in 0..n {
+                let u = (j as f64 + 0.5) / n as f64;
+                let mut placed = 0;
+                choose(&shares, total, cap, u, |i, w| {
+                    let expected = expected_solves(shares[i], shares.len(), total, cap);
+                    let taken = w * expected;
+                    assert!((taken - taken.round()).abs() < 1e-9);
+                    placed += taken.round() as u32;
+                    counts[i] += taken;
+                    weights[i] += w;
+                });
+                assert_eq!(placed, cap);
+            }
+            for i in 0..7 {
+                let expected = cap as f64 * shares[i] / total;
+                assert!((counts[i] / n as f64 - expected).abs() < 1e-3, "{cap} {i}");
+                // The weight's mean is 1: every ball's light counts at its full size.
+                assert!((weights[i] / n as f64 - 1.0).abs() < 2e-3, "{cap} {i}");
+            }
         }
     }
 

@@ -15,4 +15,6 @@ mod mirror_ball;
 mod sampler;
 
 pub use emitters::{Emitters, LightSample};
-pub use mirror_ball::{spread as mirror_spread, MirrorBall, MirrorPath};
+pub use mirror_ball::{
+    choose as choose_mirrors, expected_solves, spread as mirror_spread, MirrorBall, MirrorPath,
+};

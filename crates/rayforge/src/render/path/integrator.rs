@@ -28,8 +28,9 @@ use super::continuation::ContinuationCache;
 use super::sampler::SampleStream;
 use crate::color::Color;
 use crate::geometry::LocalHit;
-use crate::lights::{mirror_spread, Emitters, MirrorBall};
+use crate::lights::{choose_mirrors, expected_solves, mirror_spread, Emitters, MirrorBall};
 use crate::math::{Frame, Point3, Ray, Vec3};
+use crate::options::Techniques;
 use crate::scene::{
     surface_offset, Intersection, LightingModel, Object, World, WorldIndex, NO_OBJECT,
 };
@@ -74,6 +75,8 @@ pub struct PathContext<'w> {
     /// roulette ends a path into that prediction, from the first bounce on, by the classic
     /// rule (see [`ContinuationCache`]).
     pub continuation: Option<&'w ContinuationCache>,
+    /// Which techniques run (all, by default).
+    pub techniques: Techniques,
     /// Whether [`FirstHit`]'s albedo and normal are wanted (an image of each is being made):
     /// a metal's albedo costs a Fresnel term per sample, for nothing when there is no image.
     pub first_hit_shading: bool,
@@ -85,6 +88,10 @@ pub struct PathContext<'w> {
     pub vertices: u64,
     /// Reflections through a mirror ball solved so far (each a root found by iteration).
     pub solves: u64,
+    /// The shares of the mirror balls a vertex may solve, and which balls they are (scratch
+    /// space, kept between vertices so that a vertex allocates nothing).
+    mirror_shares: Vec<f64>,
+    mirror_candidates: Vec<u32>,
 }
 
 /// What the first surface a camera ray meets looks like, for a denoiser. The albedo and normal
@@ -232,9 +239,13 @@ struct PathState {
     /// Bounces so far.
     depth: u32,
     /// Where the path last left a non-delta surface for a mirror ball: the density of that
-    /// direction and the ball's spread, for weighing the sky beyond the ball against
-    /// sampling it through the ball.
+    /// direction and the density of the mirror-ball sampling's over it (the ball's spread,
+    /// times how often the ball is solved there), for weighing the sky beyond the ball
+    /// against sampling it through the ball.
     mirror_leg: Option<(f64, f64)>,
+    /// Where the ray left from, what the mirror-ball sampling weighed: how many balls had a
+    /// share of at least the cull, and their shares' sum (none where it did not run).
+    mirror_pool: Option<(usize, f64)>,
     /// The first smooth glass on the camera's chain of mirror-like bounces splits the path
     /// in two, reflected and transmitted (see `Bsdf::split`): a path may split while it has
     /// bounced only off deltas and has not split yet.
@@ -265,6 +276,7 @@ impl PathState {
             specular: true,
             depth: 0,
             mirror_leg: None,
+            mirror_pool: None,
             may_split: true,
             share: 1.0,
             light_pair: None,
@@ -433,11 +445,14 @@ impl<'w> PathContext<'w> {
             roulette_depth,
             roulette_scale: 1.0,
             continuation: None,
+            techniques: Techniques::default(),
             first_hit_shading: true,
             hint: NO_OBJECT,
             rays: 0,
             vertices: 0,
             solves: 0,
+            mirror_shares: Vec::new(),
+            mirror_candidates: Vec::new(),
         }
     }
 
@@ -523,10 +538,24 @@ impl<'w> PathContext<'w> {
                 };
 
                 // Light sampled from here: the lights themselves, and the sky in mirror balls.
+                path.mirror_pool = None;
                 if !layer.bsdf.is_delta() {
                     let mut sky_draw = SkyDraw::new(numbers.u_point);
-                    self.next_event(&mut path, &vertex, &scatter, numbers.u_light, &mut sky_draw);
-                    self.sky_in_mirrors(&mut path, &vertex, &scatter, &mut sky_draw);
+                    if self.techniques.next_event {
+                        let u_light = numbers.u_light;
+                        self.next_event(&mut path, &vertex, &scatter, u_light, &mut sky_draw);
+                    }
+                    if self.techniques.mirror_balls {
+                        let first = numbers.first;
+                        self.sky_in_mirrors(
+                            &mut path,
+                            &vertex,
+                            &scatter,
+                            &mut sky_draw,
+                            first,
+                            stream,
+                        );
+                    }
                 }
 
                 // The next direction: both, where the camera first sees smooth glass.
@@ -595,14 +624,14 @@ impl<'w> PathContext<'w> {
     /// (next-event estimation, or the sky in a mirror ball beyond which it escaped).
     fn sky_escaped(&self, path: &mut PathState) -> Color {
         let leg = path.mirror_leg.zip(self.emitters.environment());
-        let (sky, weight) = if let Some(((leg_pdf, spread), map)) = leg {
+        let (sky, weight) = if let Some(((leg_pdf, mirror_pdf), map)) = leg {
             let (sky, pdf) = map.radiance_and_pdf(path.ray.direction);
-            (sky, power_heuristic(leg_pdf, pdf * spread))
-        } else if path.specular {
+            (sky, self.bsdf_weight(leg_pdf, pdf * mirror_pdf))
+        } else if path.specular || !self.techniques.next_event {
             (self.emitters.sky_radiance(path.ray.direction), 1.0)
         } else {
             let (sky, pdf) = self.emitters.sky_radiance_and_pdf(path.ray.direction);
-            (sky, power_heuristic(path.bsdf_pdf, pdf))
+            (sky, self.bsdf_weight(path.bsdf_pdf, pdf))
         };
         path.gather(sky, weight);
         sky
@@ -611,7 +640,7 @@ impl<'w> PathContext<'w> {
     /// The MIS weight of the light a path found by its BSDF's sampling at `vertex`, against
     /// next-event estimation drawing the same point.
     fn emission_weight(&self, path: &PathState, vertex: &SurfaceVertex) -> f64 {
-        if path.specular {
+        if path.specular || !self.techniques.next_event {
             return 1.0;
         }
         let index = object_index(self.world, vertex.hit.object);
@@ -624,7 +653,34 @@ impl<'w> PathContext<'w> {
             path.ray.direction,
             &vertex.local,
         );
-        power_heuristic(path.bsdf_pdf, light_pdf)
+        self.bsdf_weight(path.bsdf_pdf, light_pdf)
+    }
+
+    /// The weight of light a path found by BSDF sampling with density `bsdf_pdf`, where
+    /// another strategy (a light's sampling, or the sky's through a mirror ball) draws the
+    /// same path with density `other_pdf`: the power heuristic, or without MIS all of it to
+    /// the other strategy where it can draw the path at all.
+    #[inline]
+    fn bsdf_weight(&self, bsdf_pdf: f64, other_pdf: f64) -> f64 {
+        if self.techniques.mis {
+            power_heuristic(bsdf_pdf, other_pdf)
+        } else if other_pdf > 0.0 {
+            0.0
+        } else {
+            1.0
+        }
+    }
+
+    /// The weight of light another strategy drew with density `pdf`, where BSDF sampling
+    /// would draw the same path with density `bsdf_pdf` (the complement of
+    /// [`bsdf_weight`](Self::bsdf_weight)).
+    #[inline]
+    fn sampled_weight(&self, pdf: f64, bsdf_pdf: impl FnOnce() -> f64) -> f64 {
+        if self.techniques.mis {
+            power_heuristic(pdf, bsdf_pdf())
+        } else {
+            1.0
+        }
     }
 
     /// Met by a direction sampled at a non-delta surface: if `vertex` is on a mirror ball,
@@ -634,11 +690,16 @@ impl<'w> PathContext<'w> {
         if path.specular || self.emitters.mirror_balls().is_empty() {
             return None;
         }
+        let (qualifying, total) = path.mirror_pool?;
         let index = object_index(self.world, vertex.hit.object);
-        self.emitters.mirror_ball_of(index).map(|ball| {
-            let cos = vertex.geometric.dot(vertex.wo).abs();
-            (path.bsdf_pdf, mirror_spread(vertex.hit.t, cos, ball.radius))
-        })
+        let ball = self.emitters.mirror_ball_of(index)?;
+        let budget = self.techniques.mirror_ball_budget;
+        // A ball left out where the path came from is found by BSDF sampling alone.
+        let share = ball.share_from(path.from, budget.cull)?;
+        let solves = expected_solves(share, qualifying, total, budget.cap);
+        let cos = vertex.geometric.dot(vertex.wo).abs();
+        let spread = mirror_spread(vertex.hit.t, cos, ball.radius);
+        Some((path.bsdf_pdf, spread * solves))
     }
 
     /// This vertex's layer and numbers, in a fixed layout: two pairs (its direction and a
@@ -732,22 +793,28 @@ impl<'w> PathContext<'w> {
             let weight = if light.delta {
                 1.0
             } else {
-                power_heuristic(light.pdf, bsdf.pdf(scatter.wo_local, wi_local))
+                self.sampled_weight(light.pdf, || bsdf.pdf(scatter.wo_local, wi_local))
             };
             path.radiance +=
                 path.throughput.hadamard(f).hadamard(light.radiance) * (weight / light.pdf);
         }
     }
 
-    /// The sky in the mirror balls, seen from `vertex`: each ball's reflection of the sky's
-    /// direction in `sky_draw`, gathered. (A path ending at the next vertex could not reach
-    /// the sky beyond a ball, so neither may this.)
+    /// The sky in the mirror balls, seen from `vertex` (whose dimensions begin at `first`):
+    /// each ball's reflection of the sky's direction in `sky_draw`, gathered, for the balls
+    /// whose share of the sky's light is at least the cull, at most the cap of them, chosen
+    /// by their shares where there are more (see [`MirrorBallBudget`]). (A path ending at
+    /// the next vertex could not reach the sky beyond a ball, so neither may this.)
+    ///
+    /// [`MirrorBallBudget`]: crate::options::MirrorBallBudget
     fn sky_in_mirrors(
         &mut self,
         path: &mut PathState,
         vertex: &SurfaceVertex,
         scatter: &Scatter,
         sky_draw: &mut SkyDraw,
+        first: u32,
+        stream: &mut SampleStream,
     ) {
         let emitters = self.emitters;
         let Some(map) = emitters.environment() else {
@@ -756,17 +823,51 @@ impl<'w> PathContext<'w> {
         if path.depth + 1 >= self.max_depth {
             return;
         }
-        for ball in emitters.mirror_balls() {
-            let light = self.sky_in_mirror(ball, map, vertex, path.ray.time, scatter, sky_draw);
-            path.radiance += path.throughput.hadamard(light);
+        let balls = emitters.mirror_balls();
+        let budget = self.techniques.mirror_ball_budget;
+        let (mut shares, mut candidates) = (
+            std::mem::take(&mut self.mirror_shares),
+            std::mem::take(&mut self.mirror_candidates),
+        );
+        shares.clear();
+        candidates.clear();
+        let mut total = 0.0;
+        for (i, ball) in balls.iter().enumerate() {
+            if let Some(share) = ball.share_from(vertex.point, budget.cull) {
+                shares.push(share);
+                candidates.push(i as u32);
+                total += share;
+            }
         }
+        path.mirror_pool = Some((shares.len(), total));
+        let time = path.ray.time;
+        if shares.len() <= budget.cap as usize {
+            for &i in &candidates {
+                let ball = &balls[i as usize];
+                let light = self.sky_in_mirror(ball, map, vertex, time, scatter, sky_draw, 1.0);
+                path.radiance += path.throughput.hadamard(light);
+            }
+        } else {
+            stream.seek(first + 7);
+            let u = stream.next_1d();
+            choose_mirrors(&shares, total, budget.cap, u, |k, weight| {
+                let ball = &balls[candidates[k] as usize];
+                let solves = expected_solves(shares[k], shares.len(), total, budget.cap);
+                let light = self.sky_in_mirror(ball, map, vertex, time, scatter, sky_draw, solves);
+                path.radiance += path.throughput.hadamard(light) * weight;
+            });
+        }
+        self.mirror_shares = shares;
+        self.mirror_candidates = candidates;
     }
 
     /// The environment map's light that the mirror ball `ball` reflects to `at` (at the
     /// instant `time`) and the layer of `scatter` scatters back along the path, from the
     /// direction of the map in `draw` (the vertex's, which next-event estimation may have
     /// drawn already; the ball's reflection point solved for it), weighed by the power
-    /// heuristic against the layer's own sampling finding the same path.
+    /// heuristic against the layer's own sampling finding the same path, the ball being
+    /// solved `solves` times at the vertex on average.
+    #[allow(clippy::too_many_arguments)] // the vertex's parts, and the ball's, each its own
     fn sky_in_mirror(
         &mut self,
         ball: &MirrorBall,
@@ -775,6 +876,7 @@ impl<'w> PathContext<'w> {
         time: f64,
         scatter: &Scatter,
         draw: &mut SkyDraw,
+        solves: f64,
     ) -> Color {
         let Some((towards, sky, sky_pdf)) = draw.of(map) else {
             return Color::BLACK;
@@ -805,7 +907,7 @@ impl<'w> PathContext<'w> {
         }
         // The density of this direction from the vertex: the map's, narrowed by the spread.
         let pdf = sky_pdf * mirror_spread(path.distance, path.cos_incidence, ball.radius);
-        let weight = power_heuristic(pdf, bsdf.pdf(scatter.wo_local, wi_local));
+        let weight = self.sampled_weight(pdf * solves, || bsdf.pdf(scatter.wo_local, wi_local));
         f.hadamard(ball.reflectance(path.cos_incidence))
             .hadamard(sky)
             * (weight / pdf)
@@ -820,7 +922,7 @@ impl<'w> PathContext<'w> {
         vertex: &SurfaceVertex,
         scatter: &Scatter,
     ) -> Option<(BsdfSample, Branch)> {
-        if !path.may_split {
+        if !path.may_split || !self.techniques.glass_split {
             return None;
         }
         let [(reflected, reflected_share), (transmitted, transmitted_share)] =
@@ -854,6 +956,9 @@ impl<'w> PathContext<'w> {
         stream: &mut SampleStream,
         log: &mut impl PathLog,
     ) -> bool {
+        if !self.techniques.roulette {
+            return true;
+        }
         let predicted = match self.continuation {
             Some(cache) if diffuse => cache.predict(vertex.point, vertex.facing()),
             _ => None,

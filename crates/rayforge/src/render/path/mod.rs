@@ -196,6 +196,7 @@ fn path_context<'w>(
     );
     context.roulette_scale = roulette_scale;
     context.continuation = continuation;
+    context.techniques = options.techniques;
     context
 }
 
@@ -266,6 +267,11 @@ fn render_path_logged(
     let sampler = CameraSampler::new(camera, world, filter);
     let learned_here;
     let roulette = match (options.roulette, job.roulette) {
+        // Without the roulette there is nothing to learn.
+        _ if !options.techniques.roulette => {
+            learned_here = LearnedRoulette::fixed(1.0);
+            &learned_here
+        }
         (Roulette::Learned, Some(learned)) => learned,
         (Roulette::Learned, None) => {
             // The pilot's size may not follow this job's samples: sample ranges rendered

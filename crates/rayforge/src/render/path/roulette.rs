@@ -133,6 +133,8 @@ pub fn learn_roulette(
     cancel: Option<&AtomicBool>,
 ) -> Option<LearnedRoulette> {
     match options.roulette {
+        // Without the roulette (`Techniques::roulette`) there is nothing to learn.
+        _ if !options.techniques.roulette => Some(LearnedRoulette::fixed(1.0)),
         Roulette::Scale(scale) => Some(LearnedRoulette::fixed(scale)),
         Roulette::Learned => {
             let index = WorldIndex::build(world);
