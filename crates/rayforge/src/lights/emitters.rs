@@ -17,16 +17,17 @@
 //! - An emitting object gives off radiance `emission` from the side its normal faces (or the
 //!   other side, or both: [`EmissionSide`](crate::shading::EmissionSide)); a glTF material's
 //!   emissive texture scales it at the surface's own texture coordinates. What is sampled:
-//!   - By area, where they are at the path's instant of the shutter when they move: spheres,
-//!     cubes, rectangles, rings and discs, triangles, meshes, finite cylinders and cones, ring
-//!     tori and spindle tori (tube wider than the ring: the whole surface the quartic
-//!     describes, the inner lemon included, uniformly by the area element `|R + r cos φ|·r`).
-//!   - Emissive textures, on any of those: sampled by area as the plain shape, the radiance
+//!   - Through their shape's [`ShapeSampler`] (the shapes' sampling lives with them, in
+//!     `geometry`), where they are at the path's instant of the shutter when they move:
+//!     spheres seen from outside in the cone of directions they subtend (when their transform
+//!     keeps them spheres), and by area spheres from inside, cubes, rectangles, rings and
+//!     discs, triangles, meshes, finite cylinders and cones, ring tori and spindle tori.
+//!   - Emissive textures, on any of those: sampled as the plain shape, the radiance
 //!     read at the sampled point by the same code a path that hits it uses; the emitter's
 //!     power (which picks it) uses the texture's mean over 32 × 32 points.
 //!   - CSG solids that stand still, of at most [`MAX_SAMPLED_CSG_LEAVES`] primitives: one of
-//!     their emitting primitives of the kinds above is picked by area, a point on it by area,
-//!     and the sample gives no light where the solid does not keep that surface
+//!     their emitting primitives of the kinds above is picked by area, a point on it by area
+//!     (a sphere too: the solid may cut away its side facing the point), and the sample gives no light where the solid does not keep that surface
 //!     ([`Csg::keeps_surface_point`]). A kept point's density is the primitive's probability
 //!     over its area, which [`Emitters::object_pdf`] returns for a hit there.
 //!   - Infinite planes: a direction cosine-weighted about the normal, over the hemisphere
