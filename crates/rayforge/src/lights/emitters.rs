@@ -694,7 +694,7 @@ fn surface_light(
         return None;
     }
     let radiance = emitted(object, &drawn.hit);
-    (radiance.max_channel() > 0.0).then(|| LightSample {
+    (radiance.max_channel() > 0.0).then_some(LightSample {
         direction: drawn.direction,
         distance: drawn.distance,
         radiance,
