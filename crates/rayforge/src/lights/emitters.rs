@@ -27,9 +27,10 @@
 //!     power (which picks it) uses the texture's mean over 32 × 32 points.
 //!   - CSG solids that stand still, of at most [`MAX_SAMPLED_CSG_LEAVES`] primitives: one of
 //!     their emitting primitives of the kinds above is picked by area, a point on it by area
-//!     (a sphere too: the solid may cut away its side facing the point), and the sample gives no light where the solid does not keep that surface
-//!     ([`Csg::keeps_surface_point`]). A kept point's density is the primitive's probability
-//!     over its area, which [`Emitters::object_pdf`] returns for a hit there.
+//!     (a sphere too: the solid may cut away its side facing the point), and the sample gives
+//!     no light where the solid does not keep that surface ([`Csg::keeps_surface_point`]). A
+//!     kept point's density is the primitive's probability over its area, which
+//!     [`Emitters::object_pdf`] returns for a hit there.
 //!   - Infinite planes: a direction cosine-weighted about the normal, over the hemisphere
 //!     towards the plane's glowing side (every such direction meets it); picked by the power
 //!     it sends through the scene's cross-section.
