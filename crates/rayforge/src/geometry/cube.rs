@@ -41,6 +41,22 @@ fn slab(origin: f64, direction: f64) -> Option<(f64, f64)> {
     Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
 }
 
+/// The cube's area: six faces of 2 × 2.
+pub const AREA: f64 = 24.0;
+
+/// A point of the cube uniformly by area and its face's unit normal: the face from `pick` in
+/// [0, 1) (the six are equal), the point on it from `u`.
+pub fn sample_area(pick: f64, [u, v]: [f64; 2]) -> (Point3, Vec3) {
+    let face = ((pick * 6.0) as usize).min(5);
+    let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+    let sign = if face % 2 == 0 { 1.0 } else { -1.0 };
+    match face / 2 {
+        0 => (Point3::new(sign, a, b), Vec3::X * sign),
+        1 => (Point3::new(a, sign, b), Vec3::Y * sign),
+        _ => (Point3::new(a, b, sign), Vec3::Z * sign),
+    }
+}
+
 /// The normal is the axis of the largest absolute coordinate (the face the point lies on).
 pub fn normal_at(point: Point3) -> Vec3 {
     let abs = point.abs();

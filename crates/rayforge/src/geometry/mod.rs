@@ -1,9 +1,13 @@
 //! Primitive shapes in object space: each file holds one shape's intersection and normal (and
-//! meshes their own BVH), with the hit record they all produce, [`LocalHit`].
+//! meshes their own BVH), with the hit record they all produce, [`LocalHit`], and each finite
+//! shape's sampling by area, which `sampling.rs` gathers into [`ShapeSampler`]: points drawn by
+//! area and, on a shape placed by a transform, by solid angle from a point (the path tracer's
+//! light sampling asks it; what a point gives off is the lights' business).
 //!
 //! The closed enum over them, `Shape` (which also names CSG solids, built of scene objects),
 //! lives one layer up, in the `scene` module. Rays arrive already in object space; transforms are
-//! the business of the scene's objects.
+//! the business of the scene's objects, but for sampling by solid angle, which takes the
+//! transform an object places its shape by (what a shape looks like from a point depends on it).
 
 pub mod cone;
 pub mod cube;
@@ -13,6 +17,7 @@ pub mod plane;
 mod polyhedra;
 pub mod rectangle;
 pub mod ring;
+mod sampling;
 pub mod sphere;
 mod tessellate;
 pub mod torus;
@@ -20,6 +25,7 @@ mod triangle;
 
 pub use mesh::{Mesh, MeshError, MeshFace, VertexAttributes, Winding};
 pub use polyhedra::{dodecahedron, icosahedron};
+pub use sampling::{AreaSample, ShapeSampler, SolidAngleSample};
 pub use tessellate::sphere_mesh;
 pub use torus::toroidal_map;
 pub use triangle::Triangle;

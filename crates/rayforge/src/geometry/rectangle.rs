@@ -23,6 +23,9 @@ pub fn normal_at(_point: Point3) -> Vec3 {
     Vec3::Y
 }
 
+/// The square's area.
+pub const AREA: f64 = 4.0;
+
 /// The point of the square at `u`, `v` in [0, 1)²: uniform by area (the square's area is 4).
 pub fn point_at(u: f64, v: f64) -> Point3 {
     Point3::new(2.0 * u - 1.0, 0.0, 2.0 * v - 1.0)

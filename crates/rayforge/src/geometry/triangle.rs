@@ -66,6 +66,15 @@ impl Triangle {
     }
 }
 
+/// Barycentric weights of the second and third corners of a triangle, uniformly by area from
+/// `u`, `v` in [0, 1): the square folded onto the triangle by `√u` (the area up to a line
+/// parallel to the far edge grows with its distance squared).
+#[inline]
+pub fn uniform_weights(u: f64, v: f64) -> (f64, f64) {
+    let su = u.sqrt();
+    ((1.0 - v) * su, v * su)
+}
+
 /// The Möller–Trumbore test against the triangle `p1`, `p1 + e1`, `p1 + e2`: the hit's `t` and
 /// barycentric `u`, `v`, or `None`. Shared by standalone triangles and mesh faces.
 #[inline]

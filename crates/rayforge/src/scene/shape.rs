@@ -8,7 +8,7 @@
 
 use super::csg::Csg;
 use crate::geometry::{cone, cube, cylinder, plane, rectangle, ring, sphere, torus};
-use crate::geometry::{LocalHit, Mesh, Triangle};
+use crate::geometry::{LocalHit, Mesh, ShapeSampler, Triangle};
 use crate::math::{Aabb, Point3, Ray, Vec3};
 use crate::shading::SurfacePoint;
 use std::sync::Arc;
@@ -236,6 +236,52 @@ impl Shape {
             Shape::Torus { major, minor } => Some(torus::contains(p, *major, *minor)),
             _ => None,
         }
+    }
+
+    /// The sampler of the shape's surface (see [`ShapeSampler`]), for the shapes with a
+    /// finite one: not infinite planes, cylinders or cones, degenerate tori, meshes of no area,
+    /// nor CSG solids (whose primitives are sampled instead).
+    pub fn sampler(&self) -> Option<ShapeSampler> {
+        Some(match self {
+            Shape::Sphere => ShapeSampler::Sphere,
+            Shape::Cube => ShapeSampler::Cube,
+            Shape::Rectangle => ShapeSampler::Rectangle,
+            Shape::Ring { inner, outer } => ShapeSampler::Ring {
+                inner: *inner,
+                outer: *outer,
+            },
+            Shape::Triangle(t) => ShapeSampler::Triangle(t.clone()),
+            Shape::Mesh(mesh) => return ShapeSampler::mesh(mesh),
+            Shape::Cylinder {
+                minimum,
+                maximum,
+                closed,
+            } if minimum.is_finite() && maximum.is_finite() && maximum > minimum => {
+                ShapeSampler::Cylinder {
+                    minimum: *minimum,
+                    maximum: *maximum,
+                    closed: *closed,
+                }
+            }
+            Shape::Cone {
+                minimum,
+                maximum,
+                closed,
+            } if minimum.is_finite() && maximum.is_finite() && maximum > minimum => {
+                ShapeSampler::Cone {
+                    minimum: *minimum,
+                    maximum: *maximum,
+                    closed: *closed,
+                }
+            }
+            Shape::Torus { major, minor } if torus::is_sampled(*major, *minor) => {
+                ShapeSampler::Torus {
+                    major: *major,
+                    minor: *minor,
+                }
+            }
+            _ => return None,
+        })
     }
 
     /// Whether the shape encloses a volume (surfaces with no thickness, a ring or a lone
