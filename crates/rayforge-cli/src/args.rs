@@ -67,6 +67,8 @@ Render options (`rayforge render --help` describes each in full):
                             is the mean) or uniform [default: by-noise]
       --light-sampler <NAME> path only: uniform, power, bvh (a light tree) or auto (the
                             tree from 16 lights with a place) [default: auto]
+      --roulette-predictions <on|off> path only: whether the learned roulette ends paths
+                            into learned predictions of the light to come [default: on]
       --aovs                path only: also write the first hit's albedo and normal
       --time <DURATION>     ray and path: refine in passes until this time is spent (30s, 5m)
       --display-server <HOST:PORT> show the image in the tev viewer while it renders
@@ -439,6 +441,13 @@ pub struct RenderArgs {
     /// else power) [default: the scene's `light-sampler`, else auto].
     #[arg(long, value_name = "NAME", value_parser = ["uniform", "power", "bvh", "auto"])]
     pub light_sampler: Option<String>,
+
+    /// Path tracer: whether the learned roulette (`--roulette-scale auto`) also learns where
+    /// the light a path still gathers past a diffuse surface is predictable, and ends paths
+    /// there into the prediction (unbiased); `off` learns the scale alone [default: the
+    /// scene's `roulette-predictions`, else on].
+    #[arg(long, value_name = "on|off", value_parser = ["on", "off"])]
+    pub roulette_predictions: Option<String>,
 
     /// Path tracer: also write the albedo and the normal of the first surface each pixel
     /// sees, for denoisers, beside the image (`out.albedo.pfm` and `out.normal.pfm` for

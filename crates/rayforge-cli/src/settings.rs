@@ -116,6 +116,8 @@ pub struct PathRequest {
     pub allocation: Option<SampleAllocation>,
     /// `--light-sampler`.
     pub light_sampler: Option<LightSamplerKind>,
+    /// `--roulette-predictions`.
+    pub roulette_predictions: Option<bool>,
     /// `--aovs`.
     pub aovs: bool,
     /// `--time`: render in passes within this budget (the ray tracer too; not the
@@ -133,6 +135,10 @@ impl PathRequest {
             ("--roulette-scale", self.roulette.is_some()),
             ("--sample-allocation", self.allocation.is_some()),
             ("--light-sampler", self.light_sampler.is_some()),
+            (
+                "--roulette-predictions",
+                self.roulette_predictions.is_some(),
+            ),
             ("--aovs", self.aovs),
         ])
     }
@@ -214,6 +220,7 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
             .light_sampler
             .as_deref()
             .and_then(LightSamplerKind::from_name),
+        roulette_predictions: args.roulette_predictions.as_deref().map(|v| v == "on"),
         aovs: args.aovs,
         time: args.time.as_deref().map(parse_duration).transpose()?,
     })
@@ -313,6 +320,9 @@ impl RenderSettings {
                 }
                 if let Some(light_sampler) = self.path.light_sampler {
                     options.light_sampler = light_sampler;
+                }
+                if let Some(predictions) = self.path.roulette_predictions {
+                    options.roulette_predictions = predictions;
                 }
                 Ok(Chosen::Path(options))
             }

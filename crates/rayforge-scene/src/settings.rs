@@ -9,8 +9,8 @@
 //!                             # `shading`, `sphere-divisions`, `wireframe` and
 //!                             # `texture-filter`; path `sampler`, `filter`, `filter-radius`,
 //!                             # `seed`, `roulette-depth`, `roulette-scale`,
-//!                             # `sample-allocation` (`by-noise` or `uniform`) and
-//!                             # `light-sampler`
+//!                             # `sample-allocation` (`by-noise` or `uniform`),
+//!                             # `light-sampler` and `roulette-predictions`
 //! ```
 
 use crate::assets::Assets;
@@ -55,6 +55,7 @@ const PATH_KEYS: &[&str] = &[
     "roulette-scale",
     "sample-allocation",
     "light-sampler",
+    "roulette-predictions",
 ];
 
 /// The largest `seed` (every whole number up to it is exact in a YAML float too).
@@ -121,6 +122,7 @@ pub fn apply(
             "roulette-scale",
             "sample-allocation",
             "light-sampler",
+            "roulette-predictions",
             "environment",
         ],
     )?;
@@ -302,6 +304,9 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
                         ),
                     )
                 })?;
+            }
+            "roulette-predictions" => {
+                options.roulette_predictions = source.boolean(e.value, "roulette-predictions")?;
             }
             _ => {}
         }

@@ -151,6 +151,10 @@ pub struct PathOptions {
     pub allocation: SampleAllocation,
     /// How next-event estimation picks the light it samples at a vertex.
     pub light_sampler: LightSamplerKind,
+    /// Whether a learned roulette ([`Roulette::Learned`]) also learns where the light a path
+    /// still gathers past a diffuse surface is predictable, and ends paths there into the
+    /// prediction (`render::path::ContinuationCache`); without, it learns the scale alone.
+    pub roulette_predictions: bool,
 }
 
 /// How the path tracer picks, at each vertex, the one light it samples
@@ -238,6 +242,7 @@ impl Default for PathOptions {
             seed: 0,
             allocation: SampleAllocation::ByNoise,
             light_sampler: LightSamplerKind::Auto,
+            roulette_predictions: true,
         }
     }
 }
