@@ -77,6 +77,8 @@ Render options (`rayforge render --help` describes each in full):
       --mirror-ball-cap <K> path only: the most mirror balls solved a vertex [default: 2]
       --mirror-ball-cull <SHARE> path only: balls adding less of the sky's light are left
                             to BSDF sampling [default: 0.001]
+      --roulette-predictions <on|off> path only: whether the learned roulette ends paths
+                            into learned predictions of the light to come [default: on]
       --aovs                path only: also write the first hit's albedo and normal
       --time <DURATION>     ray and path: refine in passes until this time is spent (30s, 5m)
       --display-server <HOST:PORT> show the image in the tev viewer while it renders
@@ -514,6 +516,12 @@ pub struct RenderArgs {
     /// `mirror-ball-cull`, else 0.001].
     #[arg(long, value_name = "SHARE")]
     pub mirror_ball_cull: Option<f64>,
+    /// Path tracer: whether the learned roulette (`--roulette-scale auto`) also learns where
+    /// the light a path still gathers past a diffuse surface is predictable, and ends paths
+    /// there into the prediction (unbiased); `off` learns the scale alone [default: the
+    /// scene's `roulette-predictions`, else on].
+    #[arg(long, value_name = "on|off", value_parser = ["on", "off"])]
+    pub roulette_predictions: Option<String>,
 
     /// Path tracer: also write the albedo and the normal of the first surface each pixel
     /// sees, for denoisers, beside the image (`out.albedo.pfm` and `out.normal.pfm` for

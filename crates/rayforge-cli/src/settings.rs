@@ -121,6 +121,8 @@ pub struct PathRequest {
     pub light_sampler: Option<LightSamplerKind>,
     /// The techniques' switches and the mirror balls' budget.
     pub techniques: TechniquesRequest,
+    /// `--roulette-predictions`.
+    pub roulette_predictions: Option<bool>,
     /// `--aovs`.
     pub aovs: bool,
     /// `--time`: render in passes within this budget (the ray tracer too; not the
@@ -150,6 +152,10 @@ impl PathRequest {
             (
                 "--mirror-ball-cull",
                 self.techniques.mirror_ball_cull.is_some(),
+            ),
+            (
+                "--roulette-predictions",
+                self.roulette_predictions.is_some(),
             ),
             ("--aovs", self.aovs),
         ])
@@ -310,6 +316,7 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
             .as_deref()
             .and_then(LightSamplerKind::from_name),
         techniques: TechniquesRequest::from_args(args)?,
+        roulette_predictions: args.roulette_predictions.as_deref().map(|v| v == "on"),
         aovs: args.aovs,
         time: args.time.as_deref().map(parse_duration).transpose()?,
     })
@@ -416,6 +423,9 @@ impl RenderSettings {
                         "--roulette-scale scales the roulette that the scene's `roulette: off` \
                          turns off: add --roulette on",
                     ));
+                }
+                if let Some(predictions) = self.path.roulette_predictions {
+                    options.roulette_predictions = predictions;
                 }
                 Ok(Chosen::Path(options))
             }

@@ -187,6 +187,7 @@ fn a_book_scene_path_traces_to_png_with_every_sampler_and_filter() {
         &["--renderer", "path", "--roulette-scale", "1"][..],
         &["--renderer", "path", "--roulette-scale", "auto"][..],
         &["--renderer", "path", "--sample-allocation", "by-noise"][..],
+        &["--renderer", "path", "--roulette-predictions", "off"][..],
     ]
     .iter()
     .enumerate()
@@ -241,6 +242,14 @@ fn path_flags_are_refused_with_the_other_renderers_and_with_each_other() {
         (
             &["--renderer", "path", "--sample-allocation", "even"][..],
             "invalid value 'even' for '--sample-allocation <NAME>'",
+        ),
+        (
+            &["--roulette-predictions", "off"][..],
+            "--roulette-predictions applies to the path tracer",
+        ),
+        (
+            &["--renderer", "path", "--roulette-predictions", "no"][..],
+            "invalid value 'no' for '--roulette-predictions <on|off>'",
         ),
         (
             &["--renderer", "path", "--adaptive-aa", "0.1"][..],

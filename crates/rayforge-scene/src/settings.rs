@@ -13,7 +13,8 @@
 //!                             # `light-sampler` and the techniques' switches
 //!                             # (`next-event`, `mis`, `roulette`, `glass-split`,
 //!                             # `mirror-balls`: `on` or `off`) with the mirror balls'
-//!                             # `mirror-ball-cap` and `mirror-ball-cull`
+//!                             # `mirror-ball-cap` and `mirror-ball-cull`, and
+//!                             # `roulette-predictions`
 //! ```
 
 use crate::assets::Assets;
@@ -65,6 +66,7 @@ const PATH_KEYS: &[&str] = &[
     "mirror-balls",
     "mirror-ball-cap",
     "mirror-ball-cull",
+    "roulette-predictions",
 ];
 
 /// The largest `seed` (every whole number up to it is exact in a YAML float too).
@@ -138,6 +140,7 @@ pub fn apply(
             "mirror-balls",
             "mirror-ball-cap",
             "mirror-ball-cull",
+            "roulette-predictions",
             "environment",
         ],
     )?;
@@ -340,6 +343,9 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
                             format!("a share of the sky's light from 0 to below 1, found {cull}"),
                         )
                     })?;
+            }
+            "roulette-predictions" => {
+                options.roulette_predictions = source.boolean(e.value, "roulette-predictions")?;
             }
             _ => {}
         }

@@ -522,6 +522,7 @@ fn the_path_tracers_keys_are_read() {
             allocation: SampleAllocation::ByNoise,
             light_sampler: LightSamplerKind::Auto,
             techniques: Techniques::default(),
+            roulette_predictions: true,
         })
     );
     for (name, kind) in [
@@ -572,6 +573,9 @@ fn the_path_tracers_keys_are_read() {
         SampleAllocation::Uniform
     );
     assert_eq!(path("seed: 1").allocation, SampleAllocation::ByNoise);
+    assert!(!path("roulette-predictions: false").roulette_predictions);
+    assert!(path("roulette-predictions: true").roulette_predictions);
+    assert!(path("seed: 1").roulette_predictions);
 }
 
 #[test]
@@ -611,6 +615,7 @@ fn the_path_tracers_keys_need_renderer_path() {
         "roulette-depth: 2",
         "roulette-scale: 2",
         "sample-allocation: by-noise",
+        "roulette-predictions: false",
     ] {
         let name = key.split(':').next().unwrap();
         assert_error(world(key), 9, 5, name, "add `renderer: path`");
@@ -706,6 +711,13 @@ fn bad_path_tracer_values_are_errors_naming_the_key() {
         20,
         "light-sampler",
         "expected `uniform`, `power`, `bvh` or `auto`, found `tree`",
+    );
+    assert_error(
+        path("roulette-predictions: off"),
+        10,
+        27,
+        "roulette-predictions",
+        "expected true or false",
     );
     assert_error(
         path("sample-allocation: even"),

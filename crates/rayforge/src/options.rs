@@ -153,6 +153,10 @@ pub struct PathOptions {
     pub light_sampler: LightSamplerKind,
     /// Which of the integrator's techniques run.
     pub techniques: Techniques,
+    /// Whether a learned roulette ([`Roulette::Learned`]) also learns where the light a path
+    /// still gathers past a diffuse surface is predictable, and ends paths there into the
+    /// prediction (`render::path::ContinuationCache`); without, it learns the scale alone.
+    pub roulette_predictions: bool,
 }
 
 /// The path tracer's techniques, each of which can be turned off: to see what one buys, or
@@ -335,6 +339,7 @@ impl Default for PathOptions {
             allocation: SampleAllocation::ByNoise,
             light_sampler: LightSamplerKind::Auto,
             techniques: Techniques::default(),
+            roulette_predictions: true,
         }
     }
 }

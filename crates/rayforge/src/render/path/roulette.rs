@@ -51,7 +51,9 @@
 //! leave the light they went on to gather: a [`ContinuationCache`] learns from it
 //! where that light is predictable, and there the passes after it and the render end paths
 //! into the prediction (see [`continuation`](super::continuation)). The scale is then learned
-//! from the other vertices' decisions alone.
+//! from the other vertices' decisions alone. Options without
+//! [`roulette_predictions`](PathOptions::roulette_predictions) skip that pass: the scale is
+//! learned alone, and no path ends into a prediction.
 
 use super::continuation::{ContinuationCache, Sighting};
 use super::integrator::{DiffuseDeparture, PathLog};
@@ -124,7 +126,9 @@ impl LearnedRoulette {
 /// gather against the rays it costs (efficiency-aware roulette, Rath et al. 2022, with the
 /// scene's averages) and learns where that light is predictable. The pilot's size follows
 /// from the render's `spp` samples per pixel (a sixteenth of its paths at most; see the
-/// [module](self)). `None` where `cancel` was set before the pilot was through.
+/// [module](self)); the predictions are learned only where the options'
+/// [`roulette_predictions`](PathOptions::roulette_predictions) ask for them. `None` where
+/// `cancel` was set before the pilot was through.
 pub fn learn_roulette(
     camera: &Camera,
     world: &World,
@@ -190,18 +194,20 @@ fn learn(
         );
         (!stats.cancelled).then_some(stats)
     };
-    // First the predictions, from paths that no roulette ends (so that what they record past
-    // a vertex is the light there, not the roulette's noise), cut at a depth where what
-    // they would still gather is lost in that noise anyway.
-    let mut sightings = Vec::new();
-    let whole = PathOptions {
-        max_depth: options.max_depth.min(SIGHTING_DEPTH),
-        roulette_depth: u32::MAX,
-        ..*options
-    };
-    let mut traced = pass(&whole, 1.0, None, Some(&mut sightings))?.traced;
-    let continuation = ContinuationCache::learn(&sightings);
-    drop(sightings);
+    // First the predictions (unless the options turn them off), from paths that no roulette
+    // ends (so that what they record past a vertex is the light there, not the roulette's
+    // noise), cut at a depth where what they would still gather is lost in that noise anyway.
+    let (mut traced, mut continuation) = (0, None);
+    if options.roulette_predictions {
+        let mut sightings = Vec::new();
+        let whole = PathOptions {
+            max_depth: options.max_depth.min(SIGHTING_DEPTH),
+            roulette_depth: u32::MAX,
+            ..*options
+        };
+        traced += pass(&whole, 1.0, None, Some(&mut sightings))?.traced;
+        continuation = ContinuationCache::learn(&sightings);
+    }
     // The variance and cost a pilot measures depend on the scale it renders with: each pass
     // renders with the last one's answer, until the answer settles.
     let mut k = 1.0;
@@ -603,6 +609,27 @@ mod tests {
         // The reference scenes' 128 × 128 and 256 × 256 at 64 spp keep the full grid.
         assert_eq!(pilot_pixels(128, 128, 64).len(), 1024);
         assert_eq!(pilot_pixels(256, 256, 64).len(), 1024);
+    }
+
+    #[test]
+    fn without_predictions_the_pilot_learns_the_scale_alone() {
+        let (world, camera) = closed_room(40, 30);
+        let (index, emitters) = (WorldIndex::build(&world), Emitters::new(&world));
+        let on = PathOptions::default();
+        let off = PathOptions {
+            roulette_predictions: false,
+            ..on
+        };
+        let learn_with = |options: &PathOptions| {
+            learn(&camera, &world, &index, &emitters, options, 64, None).expect("not stopped")
+        };
+        let ((predicting, _), (alone, _)) = (learn_with(&on), learn_with(&off));
+        // Every wall of the closed room predicts, unless the predictions are off.
+        assert!(predicting.continuation.is_some());
+        assert_eq!(alone.continuation, None);
+        // The scale is still learned: paths in a bright closed room live longer than the
+        // classic rule lets them.
+        assert!(alone.scale > 1.0, "scale {}", alone.scale);
     }
 
     #[test]
