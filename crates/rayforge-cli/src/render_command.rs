@@ -59,7 +59,7 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
     let (scene, camera) = load_scene(settings, frame)?;
     let pool = thread_pool(settings)?;
     let (width, height) = (camera.hsize(), camera.vsize());
-    match settings.choose(scene.raster, scene.path)? {
+    match settings.choose(&scene)? {
         Chosen::Raster(options) => {
             reserve_for_render(width, height, 1)?;
             return raster_render(settings, &scene, &camera, &pool, &options, output);
@@ -97,7 +97,12 @@ pub(crate) fn load_scene(
     let scene = rayforge_scene::load_file_with(&settings.scene, &load_options(settings, frame))
         .map_err(scene_failure)?;
     if !settings.quiet {
-        scene.warnings.iter().for_each(print_warning);
+        // Once each: the frames of `--frames` read the same file.
+        for warning in &scene.warnings {
+            if settings.said.first(&warning.to_string()) {
+                print_warning(warning);
+            }
+        }
     }
     let camera = sized_camera(settings, &scene)?;
     Ok((scene, camera))

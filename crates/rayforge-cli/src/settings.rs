@@ -14,14 +14,16 @@ use rayforge::options::{
     Techniques,
 };
 use rayforge::raster::{RasterOptions, Shading, TextureFilter};
+use rayforge_scene::Scene;
 use std::path::PathBuf;
 
-/// Most samples per pixel the ray tracer accepts on the command line, as many as its grid of
-/// 64 × 64 (each a tree of rays); the path tracer's references go further.
-const MAX_RAY_SPP: u32 = 4096;
+/// Most samples per pixel the ray tracer accepts, from `--spp` as from the camera's
+/// `samples`, as many as its grid of 64 × 64 (each a tree of rays); the path tracer's
+/// references go further.
+const MAX_RAY_SPP: u32 = rayforge_scene::MAX_RAY_SAMPLES;
 
-/// Most samples per pixel the path tracer accepts on the command line (2²⁰).
-pub const MAX_PATH_SPP: u32 = 1 << 20;
+/// Most samples per pixel the path tracer accepts, from `--spp` as from `samples` (2²⁰).
+pub const MAX_PATH_SPP: u32 = rayforge_scene::MAX_PATH_SAMPLES;
 
 /// The ray tracer's deepest recursion: every bounce can spawn two rays, so deep limits
 /// explode (the scene's `max-depth` has the same limit). The path tracer's is
@@ -90,6 +92,32 @@ pub struct RenderSettings {
     pub path: PathRequest,
     /// The slice to render to a part file (`--slice`), when asked for.
     pub slice: Option<Slice>,
+    /// The warnings printed so far, each said once however many frames repeat it.
+    pub said: Said,
+}
+
+/// The warnings a command has printed: one about the flags (a guard the renderer ignores) or
+/// about the scene (a key it reads as something else) holds for every frame of `--frames`
+/// alike, so it is said at the first and not again. Shared by the settings' clones.
+#[derive(Debug, Clone, Default)]
+pub struct Said(std::sync::Arc<std::sync::Mutex<std::collections::HashSet<String>>>);
+
+impl Said {
+    /// Whether `text` is new, remembering it: a warning is printed only when it is.
+    pub fn first(&self, text: &str) -> bool {
+        let mut said = self
+            .0
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        said.insert(text.to_owned())
+    }
+
+    /// Prints `warning: TEXT` on stderr unless it was said before.
+    pub fn warn(&self, text: &str) {
+        if self.first(text) {
+            eprintln!("warning: {text}");
+        }
+    }
 }
 
 /// The renderer that draws a scene, with its options: the command line's choice, else the
@@ -351,15 +379,12 @@ fn parse_duration(text: &str) -> Result<std::time::Duration, Failure> {
 }
 
 impl RenderSettings {
-    /// The renderer that draws a scene whose `world:` item asks for the rasterizer with
-    /// `scene_raster` or the path tracer with `scene_path` (the command line's `--renderer`
-    /// wins), with the command line's options over the scene's. Each renderer's flags are
-    /// refused with another renderer.
-    pub fn choose(
-        &self,
-        scene_raster: Option<RasterOptions>,
-        scene_path: Option<PathOptions>,
-    ) -> Result<Chosen, Failure> {
+    /// The renderer that draws `scene` (the command line's `--renderer`, else the scene's
+    /// `world:` item's `renderer:`), with the command line's options over the scene's. Each
+    /// renderer's flags are refused with another renderer, and the sample counts of the
+    /// command line and of the scene's camera are held to its limits.
+    pub fn choose(&self, scene: &Scene) -> Result<Chosen, Failure> {
+        let (scene_raster, scene_path) = (scene.raster, scene.path);
         let (renderer, by) = match self.raster.renderer {
             Some(renderer) => (renderer, ChosenBy::Flag),
             None if scene_raster.is_some() => (Renderer::Raster, ChosenBy::Scene),
@@ -368,10 +393,11 @@ impl RenderSettings {
         };
         let drawn_by = Drawn { renderer, by };
         self.check_limits(drawn_by)?;
+        self.check_scene_samples(drawn_by, scene)?;
         self.refuse_unused(drawn_by)?;
         if !self.quiet {
             for warning in self.ignored(drawn_by) {
-                eprintln!("warning: {warning}");
+                self.said.warn(&warning);
             }
         }
         if renderer != Renderer::Path {
@@ -460,6 +486,32 @@ impl RenderSettings {
             )));
         }
         Ok(())
+    }
+
+    /// The camera's `samples` within the limit of the renderer that draws the scene, where it
+    /// counts (`--spp` replaces it, `--adaptive-aa` samples otherwise, the rasterizer draws one
+    /// sample): the scene's reader could hold it only to the most any renderer takes, not
+    /// knowing the command line's `--renderer`. The error points at the key, as the reader's.
+    fn check_scene_samples(&self, drawn: Drawn, scene: &Scene) -> Result<(), Failure> {
+        if drawn.renderer != Renderer::Ray || self.spp.is_some() || self.adaptive_aa.is_some() {
+            return Ok(());
+        }
+        let (samples, Some(at)) = (scene.samples, scene.samples_at) else {
+            return Ok(());
+        };
+        if samples <= MAX_RAY_SPP {
+            return Ok(());
+        }
+        let error = rayforge_scene::SceneError::new(
+            &self.scene,
+            format!(
+                "{samples} samples per pixel is more than {MAX_RAY_SPP}, the most {drawn} takes \
+                 (the path tracer's limit is {MAX_PATH_SPP})"
+            ),
+        )
+        .at(at)
+        .with_key("samples");
+        Err(crate::diagnostics::scene_failure(error))
     }
 
     /// Refuses the ray tracer's flags for a technique the renderer that draws the scene does
@@ -697,6 +749,7 @@ impl RenderSettings {
             raster,
             path,
             slice,
+            said: Said::default(),
         })
     }
 }

@@ -106,7 +106,7 @@ fn prepare(
     slice: &Slice,
 ) -> Result<(Scene, Camera, Chosen, PartHeader), Failure> {
     let (scene, camera) = load_scene(settings, 0)?;
-    let chosen = match settings.choose(scene.raster, scene.path)? {
+    let chosen = match settings.choose(&scene)? {
         // A slice shares samples evenly: an adaptive plan would cost every slice a pilot of
         // the whole image, an eighth of the render, however small its own share.
         Chosen::Path(options) => Chosen::Path(PathOptions {

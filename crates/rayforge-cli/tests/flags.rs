@@ -1,8 +1,8 @@
 //! One meaning per flag across renderers: limits are those of the renderer that draws the
 //! scene (the scene's own `renderer:` counts), a flag for a technique the renderer lacks is
 //! refused, a guard it cannot exceed is ignored with a warning, the two adaptive features have
-//! names of their own, and `--spp N` is N samples per pixel in the ray tracer and the path
-//! tracer alike.
+//! names of their own, `--spp N` is N samples per pixel in the ray tracer and the path
+//! tracer alike, and a warning that holds for every frame of `--frames` is said once.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -122,6 +122,69 @@ fn a_scene_that_selects_the_path_tracer_takes_the_path_tracers_sample_limit() {
         &d.path("e.pfm"),
         &["--spp", "0"],
         &["--spp must be at least 1"],
+    );
+}
+
+/// `EMPTY` with the camera's `samples: N`, and the scene's own renderer when given.
+fn sampled(samples: u32, renderer: Option<&str>) -> String {
+    let camera = EMPTY.replace(
+        "  up: [0, 1, 0]",
+        &format!("  up: [0, 1, 0]\n  samples: {samples}"),
+    );
+    match renderer {
+        Some(r) => format!("{camera}- world:\n    renderer: {r}\n"),
+        None => camera,
+    }
+}
+
+#[test]
+fn the_cameras_samples_take_the_limit_of_the_renderer_that_draws_the_scene() {
+    let d = Dir::new();
+    // Past the ray tracer's 4096, the path tracer's scene takes them...
+    let path = d.file("path.yml", &sampled(8192, Some("path")));
+    let err = accepted(&path, &d.path("a.pfm"), &["-q"]);
+    assert!(err.is_empty(), "{err}");
+    let err = accepted(&path, &d.path("b.pfm"), &[]);
+    assert!(err.contains("at 8192 spp"), "{err}");
+    // ...and the ray tracer refuses them, the command line's choice or the scene's, at the
+    // key (file, line 9, column 12), naming the renderer and the limits.
+    refused(
+        &path,
+        &d.path("c.pfm"),
+        &["--renderer", "ray"],
+        &[
+            "path.yml:9:12: `samples`: 8192 samples per pixel is more than 4096",
+            "the ray tracer (--renderer ray)",
+            "the path tracer's limit is 1048576",
+        ],
+    );
+    let ray = d.file("ray.yml", &sampled(8192, None));
+    refused(
+        &ray,
+        &d.path("d.pfm"),
+        &[],
+        &[
+            "ray.yml:9:12: `samples`",
+            "more than 4096, the most the ray tracer (the default renderer) takes",
+        ],
+    );
+    // The command line's path tracer takes the ray-traced scene's count; `--spp` replaces it.
+    let err = accepted(&ray, &d.path("e.pfm"), &["--renderer", "path"]);
+    assert!(err.contains("at 8192 spp"), "{err}");
+    accepted(&ray, &d.path("f.pfm"), &["--spp", "2", "-q"]);
+    // At the limit, the ray tracer takes it; past the path tracer's, the reader refuses.
+    let most = d.file("most.yml", &sampled(4096, None));
+    let err = accepted(&most, &d.path("g.pfm"), &["--width", "1", "--height", "1"]);
+    assert!(!err.contains("error"), "{err}");
+    let past = d.file("past.yml", &sampled((1 << 20) + 1, Some("path")));
+    refused(
+        &past,
+        &d.path("h.pfm"),
+        &[],
+        &[
+            "past.yml:9:12: `samples`: 1048577 samples per pixel is more than 1048576, the most \
+             the path tracer takes",
+        ],
     );
 }
 
@@ -261,6 +324,43 @@ fn guards_a_renderer_cannot_exceed_are_ignored_with_a_warning() {
     let ray = d.file("ray.yml", EMPTY);
     let err = accepted(&ray, &d.path("e.pfm"), &["--max-rays-per-sample", "1000"]);
     assert!(!err.contains("warning"), "{err}");
+}
+
+#[test]
+fn a_warning_that_holds_for_every_frame_is_said_once() {
+    let d = Dir::new();
+    // A guard the path tracer ignores, and a key the scene reads by its old name.
+    let scene = d.file(
+        "frames.yml",
+        &format!("{}    sample-allocation: adaptive\n", choosing("path")),
+    );
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(d.path("f-%02d.pfm"))
+        .args([
+            "--frames",
+            "0..2",
+            "--spp",
+            "1",
+            "--max-rays-per-sample",
+            "9",
+        ])
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    for frame in ["f-00.pfm", "f-01.pfm", "f-02.pfm"] {
+        assert!(d.path(frame).exists(), "{frame}: {err}");
+    }
+    assert_eq!(err.matches("path traced").count(), 3, "{err}");
+    for warning in [
+        "warning: --max-rays-per-sample is ignored",
+        "old name of `by-noise`",
+    ] {
+        assert_eq!(err.matches(warning).count(), 1, "{warning}: {err}");
+    }
 }
 
 /// The camera rays of an image of the empty scene, from the ray tracer's summary.

@@ -3,8 +3,45 @@
 
 use rayforge_fuzz::corpus::palette_png_with;
 use rayforge_fuzz::{run_one, Target};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
 use std::path::Path;
-use std::time::{Duration, Instant};
+
+/// The system allocator, counting the bytes each thread asks for: a deterministic measure of
+/// the work a reader does, whatever the machine's speed (a timing bound would be one).
+struct Counting;
+
+thread_local! {
+    /// Bytes allocated by this thread so far.
+    static ALLOCATED: Cell<u64> = const { Cell::new(0) };
+}
+
+// SAFETY: every call is passed to `System` unchanged; only a thread-local count is added.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATED.with(|a| a.set(a.get() + layout.size() as u64));
+        System.alloc(layout)
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATED.with(|a| a.set(a.get() + new_size as u64));
+        System.realloc(ptr, layout, new_size)
+    }
+}
+
+#[global_allocator]
+static COUNTING: Counting = Counting;
+
+/// The bytes `work` allocates on this thread.
+fn bytes_allocated<T>(work: impl FnOnce() -> T) -> (T, u64) {
+    let before = ALLOCATED.with(Cell::get);
+    let out = work();
+    (out, ALLOCATED.with(Cell::get) - before)
+}
 
 /// Found by `rayforge-fuzz --target image --seed 1` in its first second: a palette whose
 /// length is not a multiple of three panics inside the png crate (0.18.1, palette.rs:74,
@@ -40,21 +77,34 @@ fn a_png_with_a_damaged_palette_in_a_scene_is_a_located_error() {
 
 /// Found while writing the OBJ target: a model naming many groups and materials took
 /// quadratic time (a linear search per name, and a vertex table as long as the whole file's
-/// per group and material: here 50,000 × 150,000 entries). It now takes time in proportion
-/// to the file.
+/// per group and material: 50,000 groups were 50,000 × 150,000 entries). It now takes work
+/// in proportion to the file: twice the groups allocate at most about twice the bytes
+/// (a table per mesh would make it four times). The count is the reader's own and the
+/// meshes' (one triangle each, built on this thread), so it does not depend on the machine,
+/// the build or the other tests.
 #[test]
 fn many_groups_and_materials_take_linear_time() {
-    let mut obj = String::new();
-    for i in 0..50_000 {
-        obj += &format!("v {i} 0 0\nv {i} 1 0\nv {i} 0 1\ng g{i}\nusemtl m{i}\nf -3 -2 -1\n");
-    }
-    let started = Instant::now();
-    let parsed = rayforge_scene::obj::parse_obj(&obj, Path::new("many.obj")).unwrap();
-    let meshes = rayforge_scene::obj::to_meshes(&parsed);
-    assert_eq!((parsed.groups.len(), meshes.len()), (50_001, 50_000));
+    let model = |groups: usize| {
+        let mut obj = String::new();
+        for i in 0..groups {
+            obj += &format!("v {i} 0 0\nv {i} 1 0\nv {i} 0 1\ng g{i}\nusemtl m{i}\nf -3 -2 -1\n");
+        }
+        obj
+    };
+    let read = |groups: usize| {
+        let obj = model(groups);
+        let ((parsed, meshes), bytes) = bytes_allocated(|| {
+            let parsed = rayforge_scene::obj::parse_obj(&obj, Path::new("many.obj")).unwrap();
+            let meshes = rayforge_scene::obj::to_meshes(&parsed);
+            (parsed, meshes)
+        });
+        assert_eq!((parsed.groups.len(), meshes.len()), (groups + 1, groups));
+        bytes
+    };
+    let (small, large) = (read(10_000), read(20_000));
+    let growth = large as f64 / small as f64;
     assert!(
-        started.elapsed() < Duration::from_secs(10),
-        "took {:?}",
-        started.elapsed()
+        growth < 2.5,
+        "twice the groups allocated {growth:.2} times the bytes ({small} → {large})"
     );
 }

@@ -36,7 +36,7 @@ pub use settings::MAX_DEPTH as MAX_RAY_DEPTH;
 use defines::Defines;
 use document::Items;
 use items::camera::CameraItem;
-pub use items::camera::LookAt;
+pub use items::camera::{LookAt, MAX_PATH_SAMPLES, MAX_RAY_SAMPLES};
 use items::Contents;
 use source::{Node, Source};
 use std::path::Path;
@@ -159,6 +159,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
     let CameraItem {
         camera,
         samples,
+        samples_at,
         anti_alias,
         look_at,
     } = camera.ok_or_else(|| {
@@ -171,6 +172,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         world,
         camera,
         samples,
+        samples_at,
         anti_alias,
         max_depth: settings.as_ref().and_then(|s| s.max_depth),
         raster: settings.as_ref().and_then(|s| s.raster),

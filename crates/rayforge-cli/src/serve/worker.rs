@@ -143,7 +143,7 @@ impl Worker {
             camera = orbit(&camera, &look_at, job.request.yaw, job.request.pitch)
                 .ok_or_else(|| Stop::Failed("the camera cannot be turned so".into()))?;
         }
-        let chosen = settings.choose(scene.raster, scene.path)?;
+        let chosen = settings.choose(scene)?;
         let size = (camera.hsize(), camera.vsize());
         // As `rayforge render` does: a size the machine cannot hold is an error, not an abort.
         crate::memory::reserve_for_render(size.0, size.1, 1)?;

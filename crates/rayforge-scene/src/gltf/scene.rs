@@ -263,6 +263,7 @@ pub fn model_scene(path: &Path, options: &LoadOptions) -> Result<Scene, SceneErr
         world,
         camera,
         samples: 1,
+        samples_at: None,
         anti_alias: None,
         max_depth: None,
         raster: None,

@@ -9,7 +9,7 @@ mod pinhole;
 mod viewport;
 mod zoom;
 
-use crate::error::SceneError;
+use crate::error::{SceneError, Span};
 use crate::source::{Entry, Node, Source};
 pub use pinhole::LookAt;
 use rayforge::Camera;
@@ -20,14 +20,21 @@ pub struct CameraItem {
     pub camera: Camera,
     /// Samples per pixel (`samples`, default 1).
     pub samples: u32,
+    /// Where `samples` is written, when it is.
+    pub samples_at: Option<Span>,
     /// A zoom camera's `anti-alias` grid size.
     pub anti_alias: Option<u32>,
     /// The book's camera's `from`, `to` and `up`.
     pub look_at: Option<LookAt>,
 }
 
-/// The most camera rays per pixel a scene may ask for.
-const MAX_SAMPLES_PER_PIXEL: u64 = 4096;
+/// The most samples per pixel the ray tracer takes, from the camera's `samples` as from
+/// `--spp`: as many as its grid of 64 × 64, each sample a tree of rays.
+pub const MAX_RAY_SAMPLES: u32 = 4096;
+
+/// The most samples per pixel the path tracer takes (2²⁰), from `samples` as from `--spp`:
+/// one path a sample, and its references go far beyond the ray tracer's.
+pub const MAX_PATH_SAMPLES: u32 = 1 << 20;
 
 /// The camera from `add: camera`: the book's (`field-of-view`, `from`, `to`, `up`), Computer
 /// Graphics from Scratch's (`viewport`) or Fundamentals of Ray Tracing's (`zoom`).
@@ -43,6 +50,7 @@ pub fn camera(
         return Ok(CameraItem {
             camera,
             samples: grid * grid,
+            samples_at: None,
             anti_alias: Some(grid),
             look_at: None,
         });
@@ -53,30 +61,40 @@ pub fn camera(
         let (camera, look_at) = pinhole::camera(source, entries, item)?;
         (camera, Some(look_at))
     };
-    let samples = samples(source, entries)?;
+    let (samples, samples_at) = samples(source, entries)?;
     let camera = shutter(source, entries, camera)?;
     Ok(CameraItem {
         camera,
         samples,
+        samples_at,
         anti_alias: None,
         look_at,
     })
 }
 
-/// Camera rays per pixel: `samples` (default 1), at most [`MAX_SAMPLES_PER_PIXEL`].
-fn samples(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<u32, SceneError> {
+/// Samples per pixel: `samples` (default 1) and where it is written. Here it is held to
+/// the most any renderer takes, [`MAX_PATH_SAMPLES`]; which renderer draws the scene is known
+/// only once the command line is read too (`--renderer` wins over the scene's `renderer:`),
+/// so the ray tracer's lower [`MAX_RAY_SAMPLES`] is checked there, at the same place.
+fn samples(
+    source: &Source<'_>,
+    entries: &[Entry<'_, '_>],
+) -> Result<(u32, Option<Span>), SceneError> {
     let Some(e) = entries.iter().find(|e| e.name == "samples") else {
-        return Ok(1);
+        return Ok((1, None));
     };
     let n = source.integer(e.value, "samples", 1)?;
-    if n > MAX_SAMPLES_PER_PIXEL {
+    if n > u64::from(MAX_PATH_SAMPLES) {
         return Err(source.error(
             e.value,
             "samples",
-            format!("{n} samples per pixel is more than the limit {MAX_SAMPLES_PER_PIXEL}"),
+            format!(
+                "{n} samples per pixel is more than {MAX_PATH_SAMPLES}, the most the path \
+                 tracer takes (the ray tracer takes up to {MAX_RAY_SAMPLES})"
+            ),
         ));
     }
-    Ok(n as u32)
+    Ok((n as u32, Some(source.span(e.value))))
 }
 
 /// The camera with the `shutter: [open, close]` interval, when it has one.
