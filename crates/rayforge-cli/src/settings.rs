@@ -87,6 +87,8 @@ pub struct RenderSettings {
     pub path: PathRequest,
     /// The slice to render to a part file (`--slice`), when asked for.
     pub slice: Option<Slice>,
+    /// `--force`: a slice may replace an output file that is not a part file.
+    pub force: bool,
 }
 
 /// The renderer that draws a scene, with its options: the command line's choice, else the
@@ -584,6 +586,7 @@ impl RenderSettings {
             raster,
             path,
             slice,
+            force: args.force,
         })
     }
 }
