@@ -240,8 +240,8 @@ impl Log {
                 path.display()
             ))
         };
-        let mut file = open_regular_to_update(path)
-            .map_err(|why| fail(std::io::Error::other(why)))?;
+        let mut file =
+            open_regular_to_update(path).map_err(|why| fail(std::io::Error::other(why)))?;
         file.set_len(valid_end).map_err(fail)?;
         file.seek(SeekFrom::Start(valid_end)).map_err(fail)?;
         Ok(Self {

@@ -38,11 +38,9 @@ impl ErrorLine {
     pub(crate) fn read(error: &SceneError) -> Option<Self> {
         let span = error.span?;
         // Read as the file was (a regular file, within the largest size a scene reads).
-        let bytes = rayforge_scene::files::read_bounded(
-            &error.path,
-            rayforge_scene::obj::MAX_MODEL_BYTES,
-        )
-        .ok()?;
+        let bytes =
+            rayforge_scene::files::read_bounded(&error.path, rayforge_scene::obj::MAX_MODEL_BYTES)
+                .ok()?;
         let text = String::from_utf8(bytes).ok()?;
         if span.offset > text.len() || !text.is_char_boundary(span.offset) {
             return None;
@@ -123,8 +121,10 @@ impl Breaks {
         let before = &text[..at];
         match self {
             Breaks::Lf => before.matches('\n').count(),
-            Breaks::Any => before.matches('\n').count() + before.matches('\r').count()
-                - before.matches("\r\n").count(),
+            Breaks::Any => {
+                before.matches('\n').count() + before.matches('\r').count()
+                    - before.matches("\r\n").count()
+            }
         }
     }
 }

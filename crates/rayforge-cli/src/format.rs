@@ -149,7 +149,7 @@ fn to_exr(canvas: &Canvas, layers: &[Layer<'_>], half: bool) -> Result<Vec<u8>, 
         )));
     }
     let channel = |name: String, image: &Canvas, pick: fn(&rayforge::Color) -> f64| {
-        let values = image.pixels().iter().map(|c| pick(c));
+        let values = image.pixels().iter().map(pick);
         let samples = if half {
             FlatSamples::F16(values.map(to_f16).collect())
         } else {

@@ -129,7 +129,10 @@ fn part_paths(args: &MergeArgs) -> Result<Vec<PathBuf>, Failure> {
 /// most [`MAX_LIST_BYTES`]); a line that is not UTF-8 is refused, naming it.
 fn read_list(list: &Path) -> Result<Vec<PathBuf>, Failure> {
     let bytes = read_bounded(list, MAX_LIST_BYTES).map_err(|e| {
-        Failure::usage(format!("cannot read the list of parts `{}`: {e}", list.display()))
+        Failure::usage(format!(
+            "cannot read the list of parts `{}`: {e}",
+            list.display()
+        ))
     })?;
     let folder = list.parent().unwrap_or(Path::new(""));
     let mut parts = Vec::new();
@@ -346,6 +349,9 @@ mod tests {
         let Err(Failure::Input(m)) = read_list(&list) else {
             panic!("a line that is not UTF-8 was read");
         };
-        assert!(m.ends_with("parts.list:2: the name of a part is not UTF-8 text"), "{m}");
+        assert!(
+            m.ends_with("parts.list:2: the name of a part is not UTF-8 text"),
+            "{m}"
+        );
     }
 }

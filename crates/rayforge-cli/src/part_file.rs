@@ -435,9 +435,8 @@ impl Part {
     /// magic bytes), whatever follows: a part, perhaps damaged, and not another kind of file.
     pub fn looks_like_one(path: &Path) -> bool {
         let mut magic = [0u8; 8];
-        open_regular(path).is_ok_and(|(mut file, _)| {
-            file.read_exact(&mut magic).is_ok() && &magic == PART_MAGIC
-        })
+        open_regular(path)
+            .is_ok_and(|(mut file, _)| file.read_exact(&mut magic).is_ok() && &magic == PART_MAGIC)
     }
 
     /// Reads and checks only the part file's header: enough to see which slice of which render

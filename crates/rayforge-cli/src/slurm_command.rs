@@ -233,7 +233,10 @@ fn merge_flags(settings: &RenderSettings) -> Vec<String> {
         flags.push("--allow-outside".to_string());
     }
     if settings.max_triangles != rayforge_scene::DEFAULT_MAX_TRIANGLES {
-        flags.extend(["--max-triangles".to_string(), settings.max_triangles.to_string()]);
+        flags.extend([
+            "--max-triangles".to_string(),
+            settings.max_triangles.to_string(),
+        ]);
     }
     flags
 }

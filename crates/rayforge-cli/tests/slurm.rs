@@ -150,14 +150,26 @@ fn the_merge_job_of_100000_tasks_reads_its_parts_from_a_list() {
     ok(&run(rayforge()
         .args(["slurm".as_ref(), scene.as_os_str(), "-o".as_ref()])
         .arg(&out)
-        .args(["--tasks", tasks, "--dry-run", "--height", tasks, "--width", "1"])
+        .args([
+            "--tasks",
+            tasks,
+            "--dry-run",
+            "--height",
+            tasks,
+            "--width",
+            "1",
+        ])
         .env("PATH", dir.path())));
     let jobs = dir.path().join("cover.png.slurm");
     let merge = fs::read_to_string(jobs.join("merge.sh")).unwrap();
     assert!(merge.len() < 2_000, "{} bytes of merge.sh", merge.len());
     let list = fs::read_to_string(jobs.join("parts.list")).unwrap();
     assert_eq!(list.lines().count(), 100_000);
-    assert!(list.lines().last().unwrap().ends_with("/parts/part-99999.part"));
+    assert!(list
+        .lines()
+        .last()
+        .unwrap()
+        .ends_with("/parts/part-99999.part"));
     let o = Command::new("sh")
         .arg("merge.sh")
         .current_dir(&jobs)

@@ -89,7 +89,11 @@ fn ok(o: &Output) {
 /// Renders slice `i` of `n` of `scene` to `dir/part-i.part`.
 fn part(d: &Dir, scene: &Path, i: u64, n: u64) -> PathBuf {
     let part = d.path(&format!("part-{i}.part"));
-    ok(&render(scene, &part, &["--slice", &format!("{i}/{n}"), "-q"]));
+    ok(&render(
+        scene,
+        &part,
+        &["--slice", &format!("{i}/{n}"), "-q"],
+    ));
     part
 }
 
@@ -101,7 +105,12 @@ fn a_named_pipe_as_a_part_is_refused_at_once() {
     let pipe = d.path("part-1.part");
     fifo(&pipe);
     let out = d.path("out.png");
-    let err = refused(&within_a_minute(&mut merge(&[&good, &pipe, "-o".as_ref(), &out])));
+    let err = refused(&within_a_minute(&mut merge(&[
+        &good,
+        &pipe,
+        "-o".as_ref(),
+        &out,
+    ])));
     assert!(
         err.contains("cannot read the part") && err.contains("it is a named pipe"),
         "{err}"
@@ -124,7 +133,10 @@ fn a_named_pipe_as_the_checkpoint_to_resume_is_refused_and_the_lock_released() {
         "{err}"
     );
     assert!(!out.exists());
-    assert!(!d.path("out.png.rayforge-lock").exists(), "the lock is left");
+    assert!(
+        !d.path("out.png.rayforge-lock").exists(),
+        "the lock is left"
+    );
 }
 
 #[test]
@@ -143,7 +155,11 @@ fn a_slice_to_a_named_pipe_or_a_file_that_is_not_a_part_is_refused_without_force
     let err = refused(&render(&scene, &image, &["--slice", "0/2"]));
     assert!(err.contains("is there and is not a part file"), "{err}");
     assert_eq!(std::fs::read(&image).unwrap(), b"not a part: a photograph");
-    ok(&render(&scene, &image, &["--slice", "0/2", "--force", "-q"]));
+    ok(&render(
+        &scene,
+        &image,
+        &["--slice", "0/2", "--force", "-q"],
+    ));
     assert!(std::fs::read(&image).unwrap().starts_with(b"RAYPART\n"));
 
     // The scene itself is never replaced, --force or not.
@@ -156,7 +172,9 @@ fn a_slice_to_a_named_pipe_or_a_file_that_is_not_a_part_is_refused_without_force
             "{err}"
         );
     }
-    assert!(std::fs::read_to_string(&scene).unwrap().contains("add: sphere"));
+    assert!(std::fs::read_to_string(&scene)
+        .unwrap()
+        .contains("add: sphere"));
 }
 
 #[test]
@@ -188,9 +206,14 @@ fn merge_never_writes_over_its_own_inputs() {
     let named = d.path("part-1.pfm");
     std::fs::rename(&parts[1], &named).unwrap();
     let before = std::fs::read(&named).unwrap();
-    let o = merge(&[&parts[0], &named, "-o".as_ref(), &named]).output().unwrap();
+    let o = merge(&[&parts[0], &named, "-o".as_ref(), &named])
+        .output()
+        .unwrap();
     let err = refused(&o);
-    assert!(err.contains("it is the part") && err.contains("part-1.pfm"), "{err}");
+    assert!(
+        err.contains("it is the part") && err.contains("part-1.pfm"),
+        "{err}"
+    );
     assert_eq!(std::fs::read(&named).unwrap(), before);
     // Through a link, the same file.
     let link = d.path("link.pfm");
@@ -223,9 +246,13 @@ fn merge_reads_parts_from_a_list_as_from_its_arguments() {
     // The list is an input like the parts (named here as an image might be), and a pipe is
     // no list.
     let odd = d.file("list.pfm", "part-2.part\npart-0.part\npart-1.part\n");
-    let o = merge(&["--list".as_ref(), &odd, "-o".as_ref(), &odd]).output().unwrap();
+    let o = merge(&["--list".as_ref(), &odd, "-o".as_ref(), &odd])
+        .output()
+        .unwrap();
     assert!(refused(&o).contains("it is the list of parts"));
-    assert!(std::fs::read_to_string(&odd).unwrap().starts_with("part-2.part"));
+    assert!(std::fs::read_to_string(&odd)
+        .unwrap()
+        .starts_with("part-2.part"));
     let pipe = d.path("pipe.list");
     fifo(&pipe);
     let err = refused(&within_a_minute(&mut merge(&[
@@ -270,7 +297,11 @@ fn merge_opens_no_path_a_part_names_and_reads_the_scene_the_user_names() {
     let out = d.path("out.png");
     for named in [&secret, &pipe] {
         let forged = d.path("forged.part");
-        std::fs::write(&forged, forge_scene_path(&parts[1], named.to_str().unwrap())).unwrap();
+        std::fs::write(
+            &forged,
+            forge_scene_path(&parts[1], named.to_str().unwrap()),
+        )
+        .unwrap();
         let o = within_a_minute(&mut merge(&[&parts[0], &forged, "-o".as_ref(), &out]));
         let err = refused(&o);
         assert!(err.contains("name it with --scene"), "{err}");
@@ -298,11 +329,28 @@ fn merge_opens_no_path_a_part_names_and_reads_the_scene_the_user_names() {
         &out,
     ])));
     assert!(err.contains("it is a named pipe"), "{err}");
-    let other = d.file("other.yml", &std::fs::read_to_string(&scene).unwrap().replace("[0, 1, 0]", "[1, 0, 0]"));
-    let err = refused(&merge(&[&parts[0], &parts[1], "--scene".as_ref(), &other, "-o".as_ref(), &out])
+    let other = d.file(
+        "other.yml",
+        &std::fs::read_to_string(&scene)
+            .unwrap()
+            .replace("[0, 1, 0]", "[1, 0, 0]"),
+    );
+    let err = refused(
+        &merge(&[
+            &parts[0],
+            &parts[1],
+            "--scene".as_ref(),
+            &other,
+            "-o".as_ref(),
+            &out,
+        ])
         .output()
-        .unwrap());
-    assert!(err.contains("is not the one the slices were rendered from"), "{err}");
+        .unwrap(),
+    );
+    assert!(
+        err.contains("is not the one the slices were rendered from"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -325,7 +373,9 @@ fn half_floats_past_65504_are_written_as_65504_not_infinity() {
         let FlatSamples::F16(values) = &channel.sample_data else {
             panic!("not half floats");
         };
-        assert!(values.iter().all(|v| v.is_finite() && v.to_f32() <= 65504.0));
+        assert!(values
+            .iter()
+            .all(|v| v.is_finite() && v.to_f32() <= 65504.0));
         saturated += values.iter().filter(|v| v.to_f32() == 65504.0).count();
     }
     assert!(saturated > 100, "only {saturated} values saturated");

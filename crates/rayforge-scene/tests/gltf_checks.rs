@@ -20,7 +20,14 @@ const TRIANGLE: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
 
 /// A model of one triangle (accessor 0, 36 bytes of view 0) with `more` JSON members, its
 /// node given `node` members too.
-fn model(buffers: &str, views: &str, accessors: &str, attributes: &str, node: &str, more: &str) -> String {
+fn model(
+    buffers: &str,
+    views: &str,
+    accessors: &str,
+    attributes: &str,
+    node: &str,
+    more: &str,
+) -> String {
     format!(
         r#"{{"asset":{{"version":"2.0"}},"buffers":[{buffers}],"bufferViews":[{views}],
         "accessors":[{accessors}],
@@ -57,7 +64,7 @@ fn with_camera(camera: &str, node: &str) -> String {
     );
     json.replace(
         r#""scenes":[{"nodes":[0]}]"#,
-        &format!(r#""scenes":[{{"nodes":[0,1]}}]"#),
+        r#""scenes":[{"nodes":[0,1]}]"#,
     )
     .replace(
         r#""nodes":[{"mesh":0}]"#,
@@ -67,15 +74,21 @@ fn with_camera(camera: &str, node: &str) -> String {
 
 #[test]
 fn cameras_gltf_does_not_allow_are_refused_at_their_key() {
-    let perspective = |inner: &str| format!(r#"{{"type":"perspective","perspective":{{{inner},"znear":0.1}}}}"#);
+    let perspective =
+        |inner: &str| format!(r#"{{"type":"perspective","perspective":{{{inner},"znear":0.1}}}}"#);
     let orthographic = |x: f32, y: f32| {
-        format!(r#"{{"type":"orthographic","orthographic":{{"xmag":{x:?},"ymag":{y:?},"znear":0.1,"zfar":10}}}}"#)
+        format!(
+            r#"{{"type":"orthographic","orthographic":{{"xmag":{x:?},"ymag":{y:?},"znear":0.1,"zfar":10}}}}"#
+        )
     };
     for (camera, at) in [
         (perspective(r#""yfov":0"#), "cameras[0].perspective.yfov"),
         (perspective(r#""yfov":-1"#), "cameras[0].perspective.yfov"),
         (perspective(r#""yfov":4"#), "cameras[0].perspective.yfov"),
-        (perspective(r#""yfov":0.8,"aspectRatio":0"#), "cameras[0].perspective.aspectRatio"),
+        (
+            perspective(r#""yfov":0.8,"aspectRatio":0"#),
+            "cameras[0].perspective.aspectRatio",
+        ),
         (orthographic(1.0, 0.0), "cameras[0].orthographic.ymag"),
         (orthographic(1.0, -1.0), "cameras[0].orthographic.ymag"),
         (orthographic(0.0, 1.0), "cameras[0].orthographic.xmag"),
@@ -85,7 +98,10 @@ fn cameras_gltf_does_not_allow_are_refused_at_their_key() {
     }
     // A zero rotation quaternion: the camera (or whatever the node holds) has no orientation.
     let good = perspective(r#""yfov":0.8"#);
-    let e = refused("camera.gltf", &with_camera(&good, r#","rotation":[0,0,0,0]"#));
+    let e = refused(
+        "camera.gltf",
+        &with_camera(&good, r#","rotation":[0,0,0,0]"#),
+    );
     assert_eq!(key(&e), "nodes[1].rotation", "{e}");
     assert!(e.message.contains("not a unit quaternion"), "{e}");
     // And the same camera, placed properly, loads.
@@ -130,12 +146,20 @@ fn sparse_indices_past_the_accessor_or_out_of_order_are_refused() {
     let at = "meshes[0].primitives[0].attributes.POSITION.sparse";
     let e = refused("sparse.gltf", &sparse_triangle(&[5]));
     assert_eq!(key(&e), at, "{e}");
-    assert!(e.message.contains("its index 0 is 5, past the accessor's 3 elements"), "{e}");
+    assert!(
+        e.message
+            .contains("its index 0 is 5, past the accessor's 3 elements"),
+        "{e}"
+    );
     let e = refused("sparse.gltf", &sparse_triangle(&[2, 1]));
     assert_eq!(key(&e), at, "{e}");
     assert!(e.message.contains("not strictly increasing"), "{e}");
     let e = refused("sparse.gltf", &sparse_triangle(&[0, 1, 2, 2]));
-    assert!(e.message.contains("replaces 4 of its elements, but it has 3"), "{e}");
+    assert!(
+        e.message
+            .contains("replaces 4 of its elements, but it has 3"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -151,8 +175,16 @@ fn a_sparse_accessor_with_no_data_and_a_huge_count_is_refused_by_its_count() {
         "",
     );
     let e = refused("bomb.gltf", &json);
-    assert_eq!(key(&e), "meshes[0].primitives[0].attributes.POSITION", "{e}");
-    assert!(e.message.contains("has 1099511627776 elements, more than the 30000000"), "{e}");
+    assert_eq!(
+        key(&e),
+        "meshes[0].primitives[0].attributes.POSITION",
+        "{e}"
+    );
+    assert!(
+        e.message
+            .contains("has 1099511627776 elements, more than the 30000000"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -184,10 +216,14 @@ fn a_gltf_error_through_add_gltf_is_placed_at_the_file_key_and_names_the_folder(
     assert_eq!(e.key.as_deref(), Some("file"), "{e}");
     assert_eq!(e.span.map(|s| (s.line, s.column)), Some((9, 9)), "{e}");
     assert!(
-        e.message.contains("bad.gltf`, at `meshes[0].primitives[0].attributes.POSITION.sparse`"),
+        e.message
+            .contains("bad.gltf`, at `meshes[0].primitives[0].attributes.POSITION.sparse`"),
         "{e}"
     );
     // A scene named without a folder: the folder is `.`, not an empty name.
     let e = load_str("- add: gltf\n  file: ../x.gltf\n", Path::new("scene.yml")).unwrap_err();
-    assert!(e.message.contains("outside the scene's folder (`.`)"), "{e}");
+    assert!(
+        e.message.contains("outside the scene's folder (`.`)"),
+        "{e}"
+    );
 }

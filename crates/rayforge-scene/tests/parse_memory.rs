@@ -66,10 +66,21 @@ fn files_built_to_exhaust_memory_are_refused_in_bounded_memory() {
     text.push_str(&entry.repeat(60 * MB / entry.len()));
     text.push_str("]\n");
     let (e, peak) = peak_of(|| load_str(&text, Path::new("line.yml")).unwrap_err());
-    assert!(e.message.contains("an item holds more than 1000000 YAML values"), "{e}");
+    assert!(
+        e.message
+            .contains("an item holds more than 1000000 YAML values"),
+        "{e}"
+    );
     assert_eq!(e.span.map(|s| s.line), Some(2), "{e}");
-    eprintln!("60 MB of transforms: refused holding at most {} MB", peak / MB);
-    assert!(peak < 400 * MB, "the line of transforms held {} MB", peak / MB);
+    eprintln!(
+        "60 MB of transforms: refused holding at most {} MB",
+        peak / MB
+    );
+    assert!(
+        peak < 400 * MB,
+        "the line of transforms held {} MB",
+        peak / MB
+    );
     drop(text);
 
     // Exponential aliases (each list ten of the one before): a file read whole.
@@ -81,7 +92,14 @@ fn files_built_to_exhaust_memory_are_refused_in_bounded_memory() {
         ));
     }
     let (e, peak) = peak_of(|| load_str(&text, Path::new("laughs.yml")).unwrap_err());
-    assert!(e.message.contains("the file holds more than 4000000 YAML values"), "{e}");
-    eprintln!("exponential aliases: refused holding at most {} MB", peak / MB);
+    assert!(
+        e.message
+            .contains("the file holds more than 4000000 YAML values"),
+        "{e}"
+    );
+    eprintln!(
+        "exponential aliases: refused holding at most {} MB",
+        peak / MB
+    );
     assert!(peak < 16 * MB, "the aliases held {} MB", peak / MB);
 }

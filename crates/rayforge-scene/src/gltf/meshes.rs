@@ -136,12 +136,24 @@ impl<'a> Meshes<'a> {
         same_count(colors.as_ref().map(Vec::len), "COLOR_0")?;
         // A NaN normal would shade its faces black, a NaN position or coordinate worse.
         all_finite(path, attribute("POSITION"), &positions)?;
-        all_finite(path, attribute("NORMAL"), normals.as_deref().unwrap_or_default())?;
+        all_finite(
+            path,
+            attribute("NORMAL"),
+            normals.as_deref().unwrap_or_default(),
+        )?;
         let uv_name = attribute(&format!("TEXCOORD_{uv_set}"));
         all_finite(path, uv_name, uvs.as_deref().unwrap_or_default())?;
         let tangent_name = attribute("TANGENT");
-        all_finite(path, tangent_name, given_tangents.as_deref().unwrap_or_default())?;
-        all_finite(path, attribute("COLOR_0"), colors.as_deref().unwrap_or_default())?;
+        all_finite(
+            path,
+            tangent_name,
+            given_tangents.as_deref().unwrap_or_default(),
+        )?;
+        all_finite(
+            path,
+            attribute("COLOR_0"),
+            colors.as_deref().unwrap_or_default(),
+        )?;
         if primitive.get(&::gltf::Semantic::Positions).is_some()
             && indices.is_none()
             && primitive.indices().is_some()

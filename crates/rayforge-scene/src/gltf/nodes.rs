@@ -126,7 +126,11 @@ pub(crate) fn walk(
             return Err(error(path, at, format!("the node hierarchy nests deeper than {MAX_NODE_DEPTH} levels (does a node contain itself?)")));
         }
         if let ::gltf::scene::Transform::Decomposed { rotation, .. } = node.transform() {
-            let length = rotation.iter().map(|&q| f64::from(q).powi(2)).sum::<f64>().sqrt();
+            let length = rotation
+                .iter()
+                .map(|&q| f64::from(q).powi(2))
+                .sum::<f64>()
+                .sqrt();
             // glTF asks for a unit quaternion; a zero one (or far from unit) scales what the
             // node holds to nothing or skews its camera, which would render without a word.
             let unit = (length - 1.0).abs() < ROTATION_TOLERANCE;
