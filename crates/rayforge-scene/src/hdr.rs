@@ -121,10 +121,10 @@ fn check_size(width: u64, height: u64) -> Result<(), String> {
     if width == 0 || height == 0 {
         return Err(format!("the image is empty ({width}×{height} pixels)"));
     }
-    if width.max(height) > u64::from(crate::MAX_TEXTURE_SIDE) {
+    if width.max(height) > u64::from(crate::images::MAX_TEXTURE_SIDE) {
         return Err(format!(
             "it is {width}×{height} pixels, more than {} pixels on a side, the limit",
-            crate::MAX_TEXTURE_SIDE
+            crate::images::MAX_TEXTURE_SIDE
         ));
     }
     match width.checked_mul(height) {
