@@ -54,6 +54,7 @@ Render options (`rayforge render --help` describes each in full):
       --slice <I/N>         render slice I (from 0) of N to a part file for `rayforge merge`;
                             auto/N takes I from SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX
       --slice-by <CUT>      rows (interleaved; any renderer) or samples (path only) [default: rows]
+      --force               with --slice, replace an output file that is not a part file
   -q, --quiet               no progress bar and no summary
       --renderer <NAME>     ray (the ray tracer), raster (triangles; no shadows, mirrors
                             or glass) or path (the path tracer) [default: ray]
@@ -193,12 +194,35 @@ pub struct SlurmArgs {
 #[derive(Debug, Args)]
 pub struct MergeArgs {
     /// The part files, one per slice, in any order (`rayforge render --slice I/N` wrote them).
-    #[arg(required = true, value_name = "PARTS")]
+    #[arg(value_name = "PARTS", required_unless_present = "list")]
     pub parts: Vec<PathBuf>,
 
-    /// The image to write; the extension picks the format, as for `rayforge render`.
+    /// A file naming more part files, one per line (relative names from the list's folder):
+    /// however many slices there are, without an argument list's limit. `rayforge slurm`'s
+    /// merge job reads its parts so.
+    #[arg(long, value_name = "FILE")]
+    pub list: Option<PathBuf>,
+
+    /// The image to write; the extension picks the format, as for `rayforge render`. It may
+    /// not be one of the merge's inputs.
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
+
+    /// The scene file the slices were rendered from, read only when the image has canvas
+    /// items, which the merge draws over it (it must be the very file, and the files it names
+    /// the same, as the parts' fingerprint says). A part names its scene only for messages:
+    /// the merge opens no path a part holds.
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+
+    /// Let that scene name files outside its folder, as `rayforge render --allow-outside`
+    /// (the merge's own choice: never taken from a part).
+    #[arg(long)]
+    pub allow_outside: bool,
+
+    /// The most triangles that scene's models may hold, as `rayforge render --max-triangles`.
+    #[arg(long, value_name = "N", default_value_t = rayforge_scene::DEFAULT_MAX_TRIANGLES)]
+    pub max_triangles: usize,
 
     /// Print nothing but errors.
     #[arg(short, long)]
@@ -419,6 +443,12 @@ pub struct RenderArgs {
     /// again.
     #[arg(long, value_name = "I/N")]
     pub slice: Option<String>,
+
+    /// With --slice, replace an --output file that is not a part file (a part of another
+    /// render or a damaged one is replaced without it). The scene and the files it names are
+    /// never replaced.
+    #[arg(long, requires = "slice")]
+    pub force: bool,
 
     /// How --slice cuts the render: `rows`, every Nth row from row I (any renderer; the
     /// interleaving balances the slices' costs), or `samples`, a range of each pixel's sample

@@ -36,6 +36,46 @@ pub fn check_writable(path: &Path) -> Result<(), Failure> {
         .map_err(|e| cannot_write(path, &reason(&e, path)))
 }
 
+/// Refuses to write `output` when it is the file one of `inputs` is read from (each given with
+/// what it is, for the message): renaming the new file over it would destroy an input (a part
+/// merged into itself, an environment map rendered over). Compared as files, not names: the
+/// output path's own entry (a link there would be replaced, not followed) against the file
+/// each input's path leads to.
+pub fn not_an_input<'a>(
+    output: &Path,
+    inputs: impl IntoIterator<Item = (&'a Path, &'a str)>,
+) -> Result<(), Failure> {
+    let Ok(target) = std::fs::symlink_metadata(output) else {
+        return Ok(());
+    };
+    for (input, what) in inputs {
+        let Ok(read) = std::fs::metadata(input) else {
+            continue;
+        };
+        if same_file(&target, &read, output, input) {
+            return Err(Failure::usage(format!(
+                "cannot write `{}`: it is {what} `{}`, an input of this command, which \
+                 writing would destroy; write it elsewhere",
+                output.display(),
+                input.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Whether two files' metadata are of one file.
+#[cfg(unix)]
+fn same_file(a: &std::fs::Metadata, b: &std::fs::Metadata, _: &Path, _: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    (a.dev(), a.ino()) == (b.dev(), b.ino())
+}
+
+#[cfg(not(unix))]
+fn same_file(_: &std::fs::Metadata, _: &std::fs::Metadata, a: &Path, b: &Path) -> bool {
+    std::fs::canonicalize(a).ok() == std::fs::canonicalize(b).ok()
+}
+
 /// Writes `bytes` to a temporary file in `path`'s directory, flushes it to disk, then renames
 /// it over `path`. On any failure the temporary file is removed and `path` is untouched.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Failure> {

@@ -18,7 +18,8 @@
 use crate::failure::Failure;
 use rayforge::render::PartialImage;
 use rayforge::Color;
-use std::fs::{File, OpenOptions};
+use rayforge_scene::files::open_regular_to_update;
+use std::fs::File;
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
@@ -90,13 +91,15 @@ pub fn read(path: &Path, key: &RenderKey) -> Result<(PartialImage, u64), Failure
             path.display()
         ))
     };
-    let mut file = match File::open(path) {
-        Ok(f) => f,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err(refuse("there is no checkpoint (nothing was interrupted?)"))
-        }
-        Err(e) => return Err(refuse(&e.to_string())),
-    };
+    if path
+        .symlink_metadata()
+        .is_err_and(|e| e.kind() == std::io::ErrorKind::NotFound)
+    {
+        return Err(refuse("there is no checkpoint (nothing was interrupted?)"));
+    }
+    // Opened as the file that will be continued: a named pipe or a link there is refused
+    // before anything waits on it or is written through it.
+    let mut file = open_regular_to_update(path).map_err(|why| refuse(&why))?;
     let mut header = vec![0u8; HEADER_LEN as usize];
     file.read_exact(&mut header)
         .map_err(|_| refuse("it is not a rayforge checkpoint (too short)"))?;
@@ -237,7 +240,8 @@ impl Log {
                 path.display()
             ))
         };
-        let mut file = OpenOptions::new().write(true).open(path).map_err(fail)?;
+        let mut file =
+            open_regular_to_update(path).map_err(|why| fail(std::io::Error::other(why)))?;
         file.set_len(valid_end).map_err(fail)?;
         file.seek(SeekFrom::Start(valid_end)).map_err(fail)?;
         Ok(Self {
@@ -408,6 +412,7 @@ pub(crate) fn fnv(bytes: &[u8]) -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::fs::OpenOptions;
 
     fn key() -> RenderKey {
         RenderKey::new(b"- add: camera", 3, 4, "centre depth 5")

@@ -39,8 +39,7 @@ pub fn open(
     height: usize,
     described: &str,
 ) -> Result<(Option<PartialImage>, Log), Failure> {
-    // The scene was just read and checked (a regular file within the size limit).
-    let scene_bytes = std::fs::read(&settings.scene)
+    let scene_bytes = rayforge_scene::read_scene_file(&settings.scene)
         .map_err(|e| Failure::usage(format!("cannot read `{}`: {e}", settings.scene.display())))?;
     let key = RenderKey::new(&scene_bytes, width, height, described);
     let path = checkpoint::path_for(output);

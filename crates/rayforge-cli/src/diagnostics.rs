@@ -37,20 +37,95 @@ impl ErrorLine {
     /// holds the place (it was saved again since).
     pub(crate) fn read(error: &SceneError) -> Option<Self> {
         let span = error.span?;
-        let text = std::fs::read_to_string(&error.path).ok()?;
+        // Read as the file was (a regular file, within the largest size a scene reads).
+        let bytes =
+            rayforge_scene::files::read_bounded(&error.path, rayforge_scene::obj::MAX_MODEL_BYTES)
+                .ok()?;
+        let text = String::from_utf8(bytes).ok()?;
         if span.offset > text.len() || !text.is_char_boundary(span.offset) {
             return None;
         }
-        let line_start = text[..span.offset].rfind('\n').map_or(0, |i| i + 1);
-        let line_end = text[span.offset..]
-            .find('\n')
-            .map_or(text.len(), |i| span.offset + i);
+        let breaks = Breaks::of(&text, &span);
+        let line_start = breaks.line_start(&text, span.offset);
+        let line_end = breaks.line_end(&text, span.offset);
         Some(Self {
             text,
             line_start,
             line_end,
             span,
         })
+    }
+}
+
+/// How the error's file breaks its lines, as the reader that placed the error counted them:
+/// YAML takes a carriage return alone (old Mac files) as a line break, JSON and OBJ only a
+/// line feed. Told apart by the error's line: the excerpt must show the line the message
+/// names, under the same number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Breaks {
+    /// `\n` ends a line (a `\r` before it stays in the line).
+    Lf,
+    /// `\r\n`, `\r` and `\n` each end a line.
+    Any,
+}
+
+impl Breaks {
+    fn of(text: &str, span: &rayforge_scene::Span) -> Self {
+        if text[..span.offset].matches('\n').count() + 1 == span.line {
+            Breaks::Lf
+        } else {
+            Breaks::Any
+        }
+    }
+
+    fn is_break(self, b: u8) -> bool {
+        b == b'\n' || (self == Breaks::Any && b == b'\r')
+    }
+
+    /// Where the line holding byte `at` starts.
+    fn line_start(self, text: &str, at: usize) -> usize {
+        text.as_bytes()[..at]
+            .iter()
+            .rposition(|&b| self.is_break(b))
+            .map_or(0, |i| i + 1)
+    }
+
+    /// Where the line holding byte `at` ends, before its break.
+    fn line_end(self, text: &str, at: usize) -> usize {
+        text.as_bytes()[at..]
+            .iter()
+            .position(|&b| self.is_break(b))
+            .map_or(text.len(), |i| at + i)
+    }
+
+    /// The start of the line after the one that ends at `end` (a `\r\n` is one break).
+    fn next_start(self, text: &str, end: usize) -> usize {
+        if self == Breaks::Any && text[end..].starts_with("\r\n") {
+            end + 2
+        } else {
+            end + 1
+        }
+    }
+
+    /// The end of the line before the one that starts at `start`.
+    fn previous_end(self, text: &str, start: usize) -> usize {
+        if self == Breaks::Any && text[..start].ends_with("\r\n") {
+            start - 2
+        } else {
+            start - 1
+        }
+    }
+
+    /// How many lines come before byte `at` (the start of a line).
+    fn lines_before(self, text: &str, at: usize) -> usize {
+        let before = &text[..at];
+        match self {
+            Breaks::Lf => before.matches('\n').count(),
+            Breaks::Any => {
+                before.matches('\n').count() + before.matches('\r').count()
+                    - before.matches("\r\n").count()
+            }
+        }
     }
 }
 
@@ -150,15 +225,14 @@ fn locate(error: &SceneError) -> Option<(Excerpt, SourceSpan)> {
         line_end,
         span,
     } = ErrorLine::read(error)?;
+    let breaks = Breaks::of(&text, &span);
     let previous = (line_start > 0).then(|| {
-        let end = line_start - 1;
-        let start = text[..end].rfind('\n').map_or(0, |i| i + 1);
-        &text[start..end]
+        let end = breaks.previous_end(&text, line_start);
+        &text[breaks.line_start(&text, end)..end]
     });
     let next = (line_end < text.len()).then(|| {
-        let start = line_end + 1;
-        let end = text[start..].find('\n').map_or(text.len(), |i| start + i);
-        &text[start..end]
+        let start = breaks.next_start(&text, line_end);
+        &text[start..breaks.line_end(&text, start)]
     });
     let line = &text[line_start..line_end];
     // The window, in characters of the error's line: from a little before the column, so
@@ -189,7 +263,7 @@ fn locate(error: &SceneError) -> Option<(Excerpt, SourceSpan)> {
         excerpt.push('\n');
         excerpt.push_str(&window(next, skip));
     }
-    let error_line = text[..line_start].matches('\n').count();
+    let error_line = breaks.lines_before(&text, line_start);
     Some((
         Excerpt {
             name: rayforge_scene::clip(&error.path.display().to_string()).into_owned(),

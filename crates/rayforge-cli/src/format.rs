@@ -135,7 +135,7 @@ impl<'a> Layer<'a> {
 /// file atomically).
 fn to_exr(canvas: &Canvas, layers: &[Layer<'_>], half: bool) -> Result<Vec<u8>, Failure> {
     use exr::prelude::{
-        f16, AnyChannel, AnyChannels, Encoding, FlatSamples, Image, LayerAttributes, SmallVec,
+        AnyChannel, AnyChannels, Encoding, FlatSamples, Image, LayerAttributes, SmallVec,
         WritableImage,
     };
     let (width, height) = (canvas.width(), canvas.height());
@@ -149,11 +149,11 @@ fn to_exr(canvas: &Canvas, layers: &[Layer<'_>], half: bool) -> Result<Vec<u8>, 
         )));
     }
     let channel = |name: String, image: &Canvas, pick: fn(&rayforge::Color) -> f64| {
-        let values = image.pixels().iter().map(|c| to_f32(pick(c)));
+        let values = image.pixels().iter().map(pick);
         let samples = if half {
-            FlatSamples::F16(values.map(f16::from_f32).collect())
+            FlatSamples::F16(values.map(to_f16).collect())
         } else {
-            FlatSamples::F32(values.collect())
+            FlatSamples::F32(values.map(to_f32).collect())
         };
         AnyChannel {
             // Colours and albedo are perceived logarithmically; normals are directions.
@@ -226,6 +226,13 @@ fn to_f32(v: f64) -> f32 {
     v.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32
 }
 
+/// A channel as a 16-bit half float, saturating as [`to_f32`] does: past ±65504, the largest
+/// half, a finite value would otherwise round to an infinity.
+fn to_f16(v: f64) -> exr::prelude::f16 {
+    use exr::prelude::f16;
+    f16::from_f64(v.clamp(-f16::MAX.to_f64(), f16::MAX.to_f64()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -274,6 +281,25 @@ mod tests {
         assert!(bytes[bytes.len() - 12..]
             .chunks(4)
             .all(|b| f32::from_le_bytes(b.try_into().unwrap()).is_finite()));
+    }
+
+    #[test]
+    fn half_floats_saturate_at_65504_instead_of_becoming_infinite() {
+        use exr::prelude::f16;
+        for (v, half) in [
+            (65504.0, 65504.0),
+            (65520.0, 65504.0),
+            (1e6, 65504.0),
+            (1e300, 65504.0),
+            (-1e9, -65504.0),
+            (0.5, 0.5),
+            (-0.0, -0.0),
+        ] {
+            let got = to_f16(v);
+            assert!(got.is_finite(), "{v} became {got}");
+            assert_eq!(got.to_f64(), half, "{v}");
+        }
+        assert_eq!(to_f16(1e300), f16::MAX);
     }
 
     #[test]

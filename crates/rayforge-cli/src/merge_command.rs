@@ -8,7 +8,7 @@
 //! the optics model's exposure and the scene's canvas items included.
 
 use crate::args::MergeArgs;
-use crate::atomic_write::check_writable;
+use crate::atomic_write::{check_writable, not_an_input};
 use crate::diagnostics::scene_failure;
 use crate::failure::Failure;
 use crate::format::ImageFormat;
@@ -17,17 +17,21 @@ use crate::output_lock::OutputLock;
 use crate::part_file::{scene_fingerprint, Development, Part, PartHeader};
 use crate::path_command::develop_path_image;
 use crate::render_command::{camera_at, develop_book_image, write_image_as};
-use crate::slice::Slice;
+use crate::slice::{Slice, MAX_SLICES};
 use crate::summary::non_finite_warning;
 use rayforge::camera::Camera;
 use rayforge::draw2d::Overlay;
-use rayforge_scene::LoadOptions;
+use rayforge_scene::files::read_bounded;
+use rayforge_scene::{clip, LoadOptions};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// How many missing slices an error lists before it says how many more there are.
 const LISTED_MISSING: usize = 20;
+
+/// The longest `--list` file read: a name a line for the most slices a render is cut into.
+const MAX_LIST_BYTES: u64 = 1 << 28;
 
 /// Runs the merge command.
 pub fn run(args: &MergeArgs) -> Result<(), Failure> {
@@ -36,16 +40,14 @@ pub fn run(args: &MergeArgs) -> Result<(), Failure> {
     check_writable(output)?;
     let _lock = OutputLock::acquire(output)?;
     let started = Instant::now();
-    let headers = args
-        .parts
-        .iter()
-        .map(|path| Ok((path.clone(), Part::read_header(path)?)))
-        .collect::<Result<Vec<_>, Failure>>()?;
-    let slices = in_slice_order(&headers)?;
-    // Not empty: clap requires one part at least.
-    let (_, first) = &headers[0];
+    let parts = part_paths(args)?;
+    let inputs = parts.iter().map(|p| (p.as_path(), "the part"));
+    let listed = args.list.iter().map(|p| (p.as_path(), "the list of parts"));
+    let scene = args.scene.iter().map(|p| (p.as_path(), "the scene file"));
+    not_an_input(output, inputs.chain(listed).chain(scene))?;
+    let (first, slices) = in_slice_order(&parts)?;
     let overlay = if first.overlay {
-        Some(scene_overlay(first)?)
+        Some(scene_overlay(args, &first)?)
     } else {
         None
     };
@@ -56,9 +58,9 @@ pub fn run(args: &MergeArgs) -> Result<(), Failure> {
     };
     reserve_for_merge(first.width, first.height, largest.row_count(first.height))?;
     let mut film = None;
-    for (path, header) in slices {
+    for (index, path) in slices {
         let part = Part::read(path)?;
-        if part.header != *header {
+        if part.header.slice.index != index || first.differs_from(&part.header).is_some() {
             return Err(Failure::usage(format!(
                 "`{}` changed while it was being merged",
                 path.display()
@@ -100,23 +102,105 @@ pub fn run(args: &MergeArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The parts in slice order, once each has been checked to be of the same render as the first,
-/// no slice given twice and none missing (the missing ones named).
-fn in_slice_order(
-    headers: &[(PathBuf, PartHeader)],
-) -> Result<Vec<&(PathBuf, PartHeader)>, Failure> {
-    let (first_path, first) = &headers[0];
-    let mut by_index: BTreeMap<u64, &(PathBuf, PartHeader)> = BTreeMap::new();
-    for entry in headers {
-        let (path, header) = entry;
-        if let Some(why) = first.differs_from(header) {
+/// The parts to merge: those named on the command line, then those `--list` names, at most
+/// as many as a render has slices.
+fn part_paths(args: &MergeArgs) -> Result<Vec<PathBuf>, Failure> {
+    let mut parts = args.parts.clone();
+    if let Some(list) = &args.list {
+        parts.extend(read_list(list)?);
+    }
+    if parts.is_empty() {
+        return Err(Failure::usage(format!(
+            "`{}` names no part file",
+            args.list.as_deref().unwrap_or(Path::new("")).display()
+        )));
+    }
+    if parts.len() as u64 > MAX_SLICES {
+        return Err(Failure::usage(format!(
+            "{} part files are more than the {MAX_SLICES} slices a render may be cut into",
+            parts.len()
+        )));
+    }
+    Ok(parts)
+}
+
+/// The part files a `--list` file names: one a line, blank lines skipped, relative names
+/// taken from the list's folder. The file is read as input from outside (a regular file of at
+/// most [`MAX_LIST_BYTES`]); a line that is not UTF-8 is refused, naming it.
+fn read_list(list: &Path) -> Result<Vec<PathBuf>, Failure> {
+    let bytes = read_bounded(list, MAX_LIST_BYTES).map_err(|e| {
+        Failure::usage(format!(
+            "cannot read the list of parts `{}`: {e}",
+            list.display()
+        ))
+    })?;
+    let folder = list.parent().unwrap_or(Path::new(""));
+    let mut parts = Vec::new();
+    for (number, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        let line = line.strip_suffix(b"\r").unwrap_or(line);
+        if line.iter().all(u8::is_ascii_whitespace) {
+            continue;
+        }
+        let name = std::str::from_utf8(line).map_err(|_| {
+            Failure::usage(format!(
+                "{}:{}: the name of a part is not UTF-8 text",
+                list.display(),
+                number + 1
+            ))
+        })?;
+        if parts.len() as u64 == MAX_SLICES {
+            return Err(Failure::usage(format!(
+                "{}:{}: the list names more than the {MAX_SLICES} slices a render may be cut \
+                 into",
+                list.display(),
+                number + 1
+            )));
+        }
+        parts.push(folder.join(name));
+    }
+    Ok(parts)
+}
+
+/// The first part's header and every part's path by slice index, once each part's header
+/// has been checked to be of the same render as the first, no slice given twice and none
+/// missing (the missing ones named). Only the first header is kept: a merge of a million
+/// slices holds a million paths, not a million headers.
+fn in_slice_order(parts: &[PathBuf]) -> Result<(PartHeader, BTreeMap<u64, &Path>), Failure> {
+    // Not empty: `part_paths` refuses none.
+    let mut slices = Slices::new(&parts[0], Part::read_header(&parts[0])?);
+    for path in &parts[1..] {
+        slices.add(path, Part::read_header(path)?)?;
+    }
+    slices.complete()
+}
+
+/// The slices met so far, by index, each checked against the first.
+struct Slices<'a> {
+    first_path: &'a Path,
+    first: PartHeader,
+    by_index: BTreeMap<u64, &'a Path>,
+}
+
+impl<'a> Slices<'a> {
+    fn new(path: &'a Path, first: PartHeader) -> Self {
+        let by_index = BTreeMap::from([(first.slice.index, path)]);
+        Self {
+            first_path: path,
+            first,
+            by_index,
+        }
+    }
+
+    /// Adds the part at `path`, refused when it is of another render or a slice given twice.
+    fn add(&mut self, path: &'a Path, header: PartHeader) -> Result<(), Failure> {
+        if let Some(why) = self.first.differs_from(&header) {
             return Err(Failure::usage(format!(
                 "`{}` and `{}` are not slices of the same render: {why}",
-                first_path.display(),
+                self.first_path.display(),
                 path.display()
             )));
         }
-        if let Some((earlier, _)) = by_index.insert(header.slice.index, entry) {
+        if let Some(earlier) = self.by_index.insert(header.slice.index, path) {
             return Err(Failure::usage(format!(
                 "slice {} is given twice: `{}` and `{}`",
                 header.slice,
@@ -124,11 +208,18 @@ fn in_slice_order(
                 path.display()
             )));
         }
+        Ok(())
     }
-    let count = first.slice.count;
-    // As many as are given, at most: the first few gaps are named, the rest counted.
-    let missing: Vec<u64> = (0..count).filter(|i| !by_index.contains_key(i)).collect();
-    if !missing.is_empty() {
+
+    /// The first header and the paths in slice order, refused with slices missing (the first
+    /// few named, the rest counted).
+    fn complete(self) -> Result<(PartHeader, BTreeMap<u64, &'a Path>), Failure> {
+        let count = self.first.slice.count;
+        let by_index = &self.by_index;
+        let missing: Vec<u64> = (0..count).filter(|i| !by_index.contains_key(i)).collect();
+        if missing.is_empty() {
+            return Ok((self.first, self.by_index));
+        }
         let mut listed: Vec<String> = missing
             .iter()
             .take(LISTED_MISSING)
@@ -137,42 +228,47 @@ fn in_slice_order(
         if missing.len() > LISTED_MISSING {
             listed.push(format!("and {} more", missing.len() - LISTED_MISSING));
         }
-        return Err(Failure::usage(format!(
+        Err(Failure::usage(format!(
             "{} of the {count} slices {} missing: {} (render each with --slice I/{count})",
             missing.len(),
             if missing.len() == 1 { "is" } else { "are" },
             listed.join(", ")
-        )));
+        )))
     }
-    Ok(by_index.into_values().collect())
 }
 
-/// The scene's canvas items and the camera they are drawn for, read again from the scene file
-/// the parts name, which must still be the file they were rendered from.
-fn scene_overlay(header: &PartHeader) -> Result<(Overlay, Camera), Failure> {
-    let path = Path::new(&header.scene);
+/// The scene's canvas items and the camera they are drawn for, read from the scene file the
+/// user names with `--scene` (under the merge's own `--allow-outside` and `--max-triangles`),
+/// which must be the file the parts were rendered from. The path a part holds is never
+/// opened: a part is untrusted input, and its checksums do not prove who wrote it.
+fn scene_overlay(args: &MergeArgs, header: &PartHeader) -> Result<(Overlay, Camera), Failure> {
     let needed = "the image has canvas items, drawn over it from its scene file";
-    let bytes = std::fs::read(path).map_err(|e| {
+    let Some(path) = args.scene.as_deref() else {
+        return Err(Failure::usage(format!(
+            "{needed}: name it with --scene (the slices were rendered from `{}`)",
+            clip(&header.scene)
+        )));
+    };
+    let bytes = rayforge_scene::read_scene_file(path).map_err(|e| {
         Failure::usage(format!(
             "{needed}, `{}`, which cannot be read: {e}",
             path.display()
         ))
     })?;
-    let changed = || {
-        Failure::usage(format!(
-            "{needed}, `{}`, which (or a file it names) has changed since the slices were rendered",
-            path.display()
-        ))
-    };
     let load = LoadOptions {
-        max_triangles: usize::try_from(header.max_triangles).unwrap_or(usize::MAX),
-        allow_outside: header.allow_outside,
+        max_triangles: args.max_triangles,
+        allow_outside: args.allow_outside,
         ..LoadOptions::default()
     };
     // Read first, as the slices read it, so that the files it names are known.
     let scene = rayforge_scene::load_file_with(path, &load).map_err(scene_failure)?;
     if scene_fingerprint(&bytes, &scene.files).map_err(Failure::usage)? != header.fingerprint {
-        return Err(changed());
+        return Err(Failure::usage(format!(
+            "{needed}, `{}`, which (or a file it names) is not the one the slices were \
+             rendered from (`{}`), or has changed since",
+            path.display(),
+            clip(&header.scene)
+        )));
     }
     let camera = camera_at(&scene, header.width, header.height);
     Ok((scene.overlay, camera))
@@ -184,8 +280,8 @@ mod tests {
     use crate::part_file::Development;
     use crate::slice::{Cut, Slice};
 
-    fn header(index: u64, count: u64) -> (PathBuf, PartHeader) {
-        let header = PartHeader {
+    fn header(index: u64, count: u64) -> PartHeader {
+        PartHeader {
             fingerprint: 1,
             width: 2,
             height: 2,
@@ -197,39 +293,65 @@ mod tests {
             spp: 0,
             development: Development::Path,
             overlay: false,
-            allow_outside: false,
-            max_triangles: 1,
             scene: "s.yml".into(),
             settings: "ray".into(),
-        };
-        (PathBuf::from(format!("p{index}")), header)
+        }
     }
 
-    fn message(headers: &[(PathBuf, PartHeader)]) -> String {
-        match in_slice_order(headers) {
-            Err(Failure::Input(m)) => m,
-            other => panic!("not refused: {other:?}"),
+    /// The slices of `indices` (of `count`) in order, as their paths, or the refusal.
+    fn ordered(count: u64, indices: &[u64]) -> Result<Vec<PathBuf>, String> {
+        let paths: Vec<PathBuf> = indices.iter().map(|i| format!("p{i}").into()).collect();
+        let mut slices = Slices::new(&paths[0], header(indices[0], count));
+        let message = |failure| match failure {
+            Failure::Input(m) => m,
+            other => panic!("not a usage error: {other:?}"),
+        };
+        for (path, &index) in paths.iter().zip(indices).skip(1) {
+            slices.add(path, header(index, count)).map_err(message)?;
         }
+        let (_, by_index) = slices.complete().map_err(message)?;
+        Ok(by_index.into_values().map(Path::to_path_buf).collect())
     }
 
     #[test]
     fn parts_come_back_in_slice_order_whatever_order_they_are_given_in() {
-        let headers = [header(2, 3), header(0, 3), header(1, 3)];
-        let order: Vec<u64> = in_slice_order(&headers)
-            .unwrap()
-            .iter()
-            .map(|(_, h)| h.slice.index)
-            .collect();
-        assert_eq!(order, [0, 1, 2]);
+        let order = ordered(3, &[2, 0, 1]).unwrap();
+        assert_eq!(order, [Path::new("p0"), Path::new("p1"), Path::new("p2")]);
+        let m = ordered(3, &[2, 0, 2]).unwrap_err();
+        assert!(m.contains("slice 2/3 is given twice: `p2` and `p2`"), "{m}");
     }
 
     #[test]
     fn many_missing_slices_are_listed_then_counted() {
-        let m = message(&[header(0, 26)]);
+        let m = ordered(26, &[0]).unwrap_err();
         assert!(
             m.starts_with("25 of the 26 slices are missing: 1, 2, 3"),
             "{m}"
         );
         assert!(m.contains("20, and 5 more"), "{m}");
+    }
+
+    #[test]
+    fn a_list_names_parts_a_line_from_its_folder_and_a_bad_line_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let list = dir.path().join("parts.list");
+        std::fs::write(&list, "a.part\r\n\n  \n/abs/b.part\nc d.part").unwrap();
+        let parts = read_list(&list).unwrap();
+        assert_eq!(
+            parts,
+            [
+                dir.path().join("a.part"),
+                PathBuf::from("/abs/b.part"),
+                dir.path().join("c d.part")
+            ]
+        );
+        std::fs::write(&list, b"a.part\nb\xff.part\n").unwrap();
+        let Err(Failure::Input(m)) = read_list(&list) else {
+            panic!("a line that is not UTF-8 was read");
+        };
+        assert!(
+            m.ends_with("parts.list:2: the name of a part is not UTF-8 text"),
+            "{m}"
+        );
     }
 }

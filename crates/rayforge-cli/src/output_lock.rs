@@ -76,19 +76,35 @@ fn cannot_lock(lock: &Path, e: &std::io::Error) -> Failure {
     ))
 }
 
+/// The refusal of a lock path that holds something rayforge did not make there.
+#[cfg(unix)]
+fn not_a_lock(lock: &Path, what: &str) -> Failure {
+    Failure::usage(format!(
+        "cannot take the lock `{}`: {what}, not a lock file rayforge made; nothing was written \
+         to it (remove it if it is not needed)",
+        lock.display()
+    ))
+}
+
 #[cfg(unix)]
 mod platform {
-    use super::{cannot_lock, held_by_another};
+    use super::{cannot_lock, held_by_another, not_a_lock};
     use crate::failure::Failure;
     use std::fs::{File, OpenOptions};
     use std::io::Read;
-    use std::os::unix::fs::MetadataExt;
+    use std::os::unix::fs::{MetadataExt, OpenOptionsExt};
     use std::os::unix::io::AsRawFd;
     use std::path::Path;
 
     /// Opens (or creates) the lock file and takes an exclusive `flock` on it without waiting.
     /// The holder removes the file before it lets go, so a lock taken on a file that is no
     /// longer the one at `lock` is worthless: then it tries again with the new one.
+    ///
+    /// The lock is truncated and written, so what is opened must be a file of rayforge's own:
+    /// a symbolic link there is not followed (`O_NOFOLLOW`: in a shared scratch folder another
+    /// user could plant one pointing at a file of the user's, which writing the lock would
+    /// destroy), and a file that is not a regular one, or that has other names (a hard link
+    /// to another file), is refused; nothing waits on a named pipe (`O_NONBLOCK`).
     pub fn lock(lock: &Path, output: &Path) -> Result<File, Failure> {
         loop {
             let mut file = OpenOptions::new()
@@ -96,8 +112,22 @@ mod platform {
                 .write(true)
                 .create(true)
                 .truncate(false)
+                .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK)
                 .open(lock)
-                .map_err(|e| cannot_lock(lock, &e))?;
+                .map_err(|e| match e.raw_os_error() {
+                    Some(libc::ELOOP) => not_a_lock(lock, "it is a symbolic link"),
+                    _ => cannot_lock(lock, &e),
+                })?;
+            let opened = file.metadata().map_err(|e| cannot_lock(lock, &e))?;
+            if !opened.is_file() {
+                return Err(not_a_lock(lock, "it is not a regular file"));
+            }
+            if opened.nlink() != 1 {
+                return Err(not_a_lock(
+                    lock,
+                    "it has other names (a hard link to another file)",
+                ));
+            }
             // SAFETY: flock on a descriptor this function owns; no memory is involved.
             if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } != 0 {
                 let e = std::io::Error::last_os_error();
@@ -108,8 +138,8 @@ mod platform {
                 }
                 return Err(cannot_lock(lock, &e));
             }
-            let ours = file.metadata().map_err(|e| cannot_lock(lock, &e))?;
-            match std::fs::metadata(lock) {
+            let ours = opened;
+            match std::fs::symlink_metadata(lock) {
                 Ok(now) if (now.dev(), now.ino()) == (ours.dev(), ours.ino()) => return Ok(file),
                 _ => continue,
             }
@@ -181,5 +211,35 @@ mod tests {
             std::process::id().to_string()
         );
         drop(lock);
+    }
+
+    /// A link, a named pipe or a hard link planted where the lock goes is refused at once:
+    /// nothing is written through it, and nothing waits on the pipe.
+    #[cfg(unix)]
+    #[test]
+    fn a_link_or_a_pipe_planted_at_the_lock_is_refused_and_its_target_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let output = dir.path().join("o.png");
+        let victim = dir.path().join("thesis.tex");
+        std::fs::write(&victim, "years of work").unwrap();
+        let refused = |what: &str| {
+            let Err(Failure::Input(m)) = OutputLock::acquire(&output) else {
+                panic!("a lock was taken through {what}");
+            };
+            assert!(m.contains("not a lock file rayforge made"), "{m}");
+            assert!(m.contains("o.png.rayforge-lock"), "{m}");
+            m
+        };
+        std::os::unix::fs::symlink(&victim, path_for(&output)).unwrap();
+        assert!(refused("a symbolic link").contains("symbolic link"));
+        std::fs::remove_file(path_for(&output)).unwrap();
+        std::fs::hard_link(&victim, path_for(&output)).unwrap();
+        assert!(refused("a hard link").contains("other names"));
+        std::fs::remove_file(path_for(&output)).unwrap();
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "years of work");
+        let fifo = std::ffi::CString::new(path_for(&output).to_str().unwrap()).unwrap();
+        // SAFETY: a NUL-terminated path that outlives the call.
+        assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o600) }, 0);
+        assert!(refused("a named pipe").contains("not a regular file"));
     }
 }

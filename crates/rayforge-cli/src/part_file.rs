@@ -6,7 +6,7 @@
 //! ```text
 //! offset  size  field
 //!      0     8  magic "RAYPART\n"
-//!      8     4  format version, u32 (1)
+//!      8     4  format version, u32 (2)
 //!     12     4  header length H, u32, at most 65 536: the bytes of the fields below
 //!     16     H  8  scene fingerprint, u64: FNV-1a 64 of the scene file's bytes, then of each
 //!                  file the scene read (models, images, …; `Scene::files`), each as its
@@ -23,9 +23,8 @@
 //!               1  development: 0 the colours as they are, 1 automatic exposure (the optics
 //!                  model's), 2 the path tracer's (linear; sRGB-encoded for PNG and PPM)
 //!               1  overlay: 1 when the scene has canvas items to draw over the image
-//!               1  allow outside: 1 when the scene was read with --allow-outside
-//!               8  the most triangles the scene was read with (--max-triangles), u64
-//!             4+n  the scene file's path (absolute where it could be made so): u32 n, UTF-8
+//!             4+n  the scene file's path (absolute where it could be made so), for messages
+//!                  only: u32 n, UTF-8
 //!             4+n  the settings: every setting that changes a pixel, as text (renderer,
 //!                  lighting model, sampling, depth, seed, sampler, filter, rayforge's
 //!                  version…): u32 n, UTF-8
@@ -45,11 +44,21 @@
 //!
 //! The merge needs only the parts (and, for the canvas items, the scene file): the header holds
 //! how to develop the film, so the merge does not load the scene otherwise.
+//!
+//! **A part is untrusted input.** Parts come from shared cluster file systems, and their
+//! checksums (FNV-1a, CRC-32) find damage, not forgery: anyone who can write a part can make
+//! them right. So a part holds nothing the merge must trust. The scene's path is shown in
+//! messages and never opened (the merge reads the scene the user names with `--scene`, under
+//! the merge's own `--allow-outside` and `--max-triangles`: version 1 carried those two and
+//! the merge obeyed them), every field is checked before it is used, and a forged part can at
+//! worst make a wrong image of the parts it is merged with, in bounded time and memory.
 
 use crate::checkpoint::fnv;
 use crate::failure::Failure;
 use crate::slice::{Cut, Slice, MAX_SLICES};
 use rayforge::film::{Exposure, Film, FilmError, MAX_FILM_PIXELS};
+use rayforge_scene::clip;
+use rayforge_scene::files::open_regular;
 use std::io::{BufReader, Read, Write};
 use std::ops::Range;
 use std::path::Path;
@@ -57,7 +66,7 @@ use std::path::Path;
 /// The first bytes of every part file.
 pub const PART_MAGIC: &[u8; 8] = b"RAYPART\n";
 /// The format version this build writes and reads.
-pub const PART_VERSION: u32 = 1;
+pub const PART_VERSION: u32 = 2;
 /// The longest header accepted: its two texts are a path and a line of settings.
 const MAX_HEADER_LEN: u32 = 1 << 16;
 
@@ -108,11 +117,7 @@ pub struct PartHeader {
     pub development: Development,
     /// Whether the scene has canvas items, drawn over the merged image.
     pub overlay: bool,
-    /// Whether the scene was read with `--allow-outside` (to read it again for the overlay).
-    pub allow_outside: bool,
-    /// `--max-triangles` when the scene was read (likewise).
-    pub max_triangles: u64,
-    /// The scene file.
+    /// The scene file, as the slice named it: for messages only, never opened.
     pub scene: String,
     /// Every setting that changes a pixel, as text.
     pub settings: String,
@@ -134,7 +139,10 @@ impl PartHeader {
         if self.fingerprint != other.fingerprint {
             return Some(format!(
                 "the scene files differ (fingerprints {:016x} and {:016x}; `{}` and `{}`)",
-                self.fingerprint, other.fingerprint, self.scene, other.scene
+                self.fingerprint,
+                other.fingerprint,
+                clip(&self.scene),
+                clip(&other.scene)
             ));
         }
         if (self.width, self.height) != (other.width, other.height) {
@@ -189,8 +197,6 @@ impl PartHeader {
         }
         fields.push(self.development.code());
         fields.push(u8::from(self.overlay));
-        fields.push(u8::from(self.allow_outside));
-        fields.extend_from_slice(&self.max_triangles.to_le_bytes());
         for text in [&self.scene, &self.settings] {
             fields.extend_from_slice(&(text.len() as u32).to_le_bytes());
             fields.extend_from_slice(text.as_bytes());
@@ -278,8 +284,6 @@ impl PartHeader {
         let development = Development::from_code(development)
             .ok_or_else(|| format!("unknown development code {development}"))?;
         let overlay = at.flag()?;
-        let allow_outside = at.flag()?;
-        let max_triangles = at.u64()?;
         let scene = at.text()?;
         let settings = at.text()?;
         if !at.bytes.is_empty() {
@@ -296,8 +300,6 @@ impl PartHeader {
             spp,
             development,
             overlay,
-            allow_outside,
-            max_triangles,
             scene,
             settings,
         })
@@ -429,6 +431,14 @@ impl Part {
         }
     }
 
+    /// Whether the file at `path` is a regular file that begins as a part file does (its
+    /// magic bytes), whatever follows: a part, perhaps damaged, and not another kind of file.
+    pub fn looks_like_one(path: &Path) -> bool {
+        let mut magic = [0u8; 8];
+        open_regular(path)
+            .is_ok_and(|(mut file, _)| file.read_exact(&mut magic).is_ok() && &magic == PART_MAGIC)
+    }
+
     /// Reads and checks only the part file's header: enough to see which slice of which render
     /// it is without reading its film.
     pub fn read_header(path: &Path) -> Result<PartHeader, Failure> {
@@ -436,13 +446,11 @@ impl Part {
     }
 }
 
-/// The file at `path`, buffered.
+/// The file at `path`, buffered: a regular file (a directory, a device or a named pipe is
+/// refused before anything waits on it, see [`open_regular`]).
 fn open(path: &Path) -> Result<BufReader<std::fs::File>, Failure> {
-    if path.is_dir() {
-        return Err(unusable(path, "it is a directory"));
-    }
-    std::fs::File::open(path)
-        .map(BufReader::new)
+    open_regular(path)
+        .map(|(file, _)| BufReader::new(file))
         .map_err(|e| Failure::usage(format!("cannot read the part `{}`: {e}", path.display())))
 }
 
@@ -489,12 +497,11 @@ pub fn scene_fingerprint(scene: &[u8], files: &[std::path::PathBuf]) -> Result<u
     hash.write(scene);
     let mut block = vec![0u8; 1 << 16];
     for path in files {
-        let cannot = |e: std::io::Error| format!("cannot read `{}` again: {e}", path.display());
-        let mut file = std::fs::File::open(path).map_err(cannot)?;
-        let length = file.metadata().map_err(cannot)?.len();
+        let cannot = |e: String| format!("cannot read `{}` again: {e}", path.display());
+        let (mut file, length) = open_regular(path).map_err(cannot)?;
         hash.write(&length.to_le_bytes());
         loop {
-            let n = file.read(&mut block).map_err(cannot)?;
+            let n = file.read(&mut block).map_err(|e| cannot(e.to_string()))?;
             if n == 0 {
                 break;
             }
@@ -519,8 +526,6 @@ mod tests {
             spp: 10,
             development: Development::Path,
             overlay: false,
-            allow_outside: false,
-            max_triangles: 100,
             scene: "/s.yml".into(),
             settings: "path; spp 10".into(),
         }

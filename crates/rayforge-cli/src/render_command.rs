@@ -2,7 +2,7 @@
 //! saving finished rows to a checkpoint and stopping cleanly on Ctrl-C), develop the film into
 //! the image, draw the scene's canvas items over it, write it, summarise.
 
-use crate::atomic_write::{check_writable, write_atomically};
+use crate::atomic_write::{check_writable, not_an_input, write_atomically};
 use crate::checkpoint::{self, Log, Logged};
 use crate::checkpointed;
 use crate::diagnostics::{print_warning, scene_failure};
@@ -57,6 +57,7 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
     check_writable(output)?;
     let _lock = OutputLock::acquire(output)?;
     let (scene, camera) = load_scene(settings, frame)?;
+    output_not_an_input(settings, &scene, output)?;
     let pool = thread_pool(settings)?;
     let (width, height) = (camera.hsize(), camera.vsize());
     match settings.choose(&scene)? {
@@ -106,6 +107,21 @@ pub(crate) fn load_scene(
     }
     let camera = sized_camera(settings, &scene)?;
     Ok((scene, camera))
+}
+
+/// Refuses to write `output` over the scene file or a file the scene read (a model, an image,
+/// an environment map): see [`not_an_input`].
+pub(crate) fn output_not_an_input(
+    settings: &RenderSettings,
+    scene: &Scene,
+    output: &Path,
+) -> Result<(), Failure> {
+    let scene_file = std::iter::once((settings.scene.as_path(), "the scene file"));
+    let read = scene
+        .files
+        .iter()
+        .map(|file| (file.as_path(), "a file the scene reads"));
+    not_an_input(output, scene_file.chain(read))
 }
 
 /// The limits of reading the scene, and the frame to build (shared with `rayforge serve`,

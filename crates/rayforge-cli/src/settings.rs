@@ -94,6 +94,8 @@ pub struct RenderSettings {
     pub slice: Option<Slice>,
     /// The warnings printed so far, each said once however many frames repeat it.
     pub said: Said,
+    /// `--force`: a slice may replace an output file that is not a part file.
+    pub force: bool,
 }
 
 /// The warnings a command has printed: one about the flags (a guard the renderer ignores) or
@@ -750,6 +752,7 @@ impl RenderSettings {
             path,
             slice,
             said: Said::default(),
+            force: args.force,
         })
     }
 }

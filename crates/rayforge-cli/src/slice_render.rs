@@ -23,7 +23,7 @@ use crate::output_lock::OutputLock;
 use crate::part_file::{scene_fingerprint, Development, Part, PartHeader};
 use crate::path_command::samples_per_pixel;
 use crate::progress::row_bar;
-use crate::render_command::{load_scene, ray_options, thread_pool};
+use crate::render_command::{load_scene, output_not_an_input, ray_options, thread_pool};
 use crate::settings::{Chosen, RenderSettings};
 use crate::slice::{Cut, Slice};
 use rayforge::camera::Camera;
@@ -44,7 +44,8 @@ pub fn run(settings: &RenderSettings, slice: &Slice) -> Result<(), Failure> {
     check_writable(output)?;
     let _lock = OutputLock::acquire(output)?;
     let (scene, camera, chosen, header) = prepare(settings, slice)?;
-    if is_complete(output, &header, settings.quiet) {
+    output_not_an_input(settings, &scene, output)?;
+    if is_complete(output, &header, settings)? {
         if !settings.quiet {
             eprintln!(
                 "slice {slice}: `{}` is already complete; nothing to render",
@@ -177,8 +178,7 @@ fn header(
             )));
         }
     }
-    // The scene was just read and checked (a regular file within the size limit).
-    let bytes = std::fs::read(&settings.scene)
+    let bytes = rayforge_scene::read_scene_file(&settings.scene)
         .map_err(|e| Failure::usage(format!("cannot read `{}`: {e}", settings.scene.display())))?;
     let scene_path = std::fs::canonicalize(&settings.scene).unwrap_or(settings.scene.clone());
     let fingerprint = scene_fingerprint(&bytes, &scene.files).map_err(Failure::usage)?;
@@ -190,30 +190,42 @@ fn header(
         spp,
         development,
         overlay: !scene.overlay.is_empty(),
-        allow_outside: settings.allow_outside,
-        max_triangles: settings.max_triangles as u64,
         scene: scene_path.to_string_lossy().into_owned(),
         settings: described,
     })
 }
 
-/// Whether `output` holds a whole, undamaged part with `header`; a file that is not (an
+/// Whether `output` holds a whole, undamaged part with `header`. A part that is not (an
 /// interrupted write cannot leave one, but a part of other settings or a damaged one can) is
-/// noted and will be replaced.
-fn is_complete(output: &Path, header: &PartHeader, quiet: bool) -> bool {
-    if !output.exists() {
-        return false;
+/// noted and will be replaced; a file that is not a part at all (it does not begin as one, or
+/// is not a regular file) is refused unless `--force`, so that a mistyped `-o` does not
+/// destroy an image or a scene.
+fn is_complete(
+    output: &Path,
+    header: &PartHeader,
+    settings: &RenderSettings,
+) -> Result<bool, Failure> {
+    if output.symlink_metadata().is_err() {
+        return Ok(false);
     }
     let why = match Part::read(output) {
-        Ok(part) if part.header == *header => return true,
+        Ok(part) if part.header == *header => return Ok(true),
         Ok(_) => "it is a part of another render or slice".to_string(),
+        Err(Failure::Input(why)) if Part::looks_like_one(output) => why,
+        Err(_) if !settings.force => {
+            return Err(Failure::usage(format!(
+                "`{}` is there and is not a part file; --slice replaces only part files: give \
+                 another --output, or --force to replace it",
+                output.display()
+            )))
+        }
         Err(Failure::Input(why)) => why,
         Err(_) => "it cannot be read".to_string(),
     };
-    if !quiet {
+    if !settings.quiet {
         eprintln!("note: replacing `{}`: {why}", output.display());
     }
-    false
+    Ok(false)
 }
 
 /// What rendering a slice needs, for the renderers that render only their rows.

@@ -21,7 +21,7 @@ use crate::format::ImageFormat;
 use crate::settings::RenderSettings;
 use crate::slice::{Cut, Slice, MAX_SLICES};
 use crate::slice_render;
-use crate::slurm_script::{quote, Plan, LOG_DIR, MERGE_SCRIPT, SLICES_SCRIPT};
+use crate::slurm_script::{quote, Plan, LOG_DIR, MERGE_SCRIPT, PARTS_LIST, SLICES_SCRIPT};
 use clap::Parser;
 use rayforge_scene::clip_to;
 use std::ffi::OsString;
@@ -82,9 +82,11 @@ pub fn run(args: &SlurmArgs) -> Result<(), Failure> {
         scene: utf8(&scene)?,
         output: utf8(&output)?,
         parts: utf8(&parts)?,
+        parts_list: utf8(&dir.join(PARTS_LIST))?,
         tasks: args.tasks,
         cut: slice.cut,
         render_flags: render_flags.to_vec(),
+        merge_flags: merge_flags(&settings),
         threads_given: settings.threads.is_some(),
         frames: false,
     };
@@ -93,12 +95,14 @@ pub fn run(args: &SlurmArgs) -> Result<(), Failure> {
             .map_err(|e| Failure::usage(format!("cannot create `{}`: {e}", needed.display())))?;
     }
     write_atomically(&dir.join(SLICES_SCRIPT), plan.slices_script().as_bytes())?;
+    write_atomically(&dir.join(PARTS_LIST), plan.parts_list().as_bytes())?;
     write_atomically(&dir.join(MERGE_SCRIPT), plan.merge_script().as_bytes())?;
     let last = args.tasks - 1;
     if args.dry_run {
         let options: String = sbatch.iter().map(|o| format!("{} ", quote(o))).collect();
         println!(
-            "wrote `{}` and `{MERGE_SCRIPT}` beside it; nothing submitted. To submit them:",
+            "wrote `{}`, `{MERGE_SCRIPT}` and `{PARTS_LIST}` beside it; nothing submitted. To \
+             submit them:",
             dir.join(SLICES_SCRIPT).display()
         );
         println!("  cd {} &&", quote(&utf8(&dir)?));
@@ -163,9 +167,11 @@ fn submit_frames(
         scene: utf8(scene)?,
         output: utf8(output)?,
         parts: String::new(),
+        parts_list: String::new(),
         tasks: args.tasks,
         cut: Cut::Rows,
         render_flags: render_flags.to_vec(),
+        merge_flags: Vec::new(),
         threads_given: settings.threads.is_some(),
         frames: true,
     };
@@ -218,6 +224,21 @@ fn submit_both(dir: &Path, sbatch: &[String]) -> Result<(String, String), Failur
             }
         })?;
     Ok((array, merge))
+}
+
+/// The flags the merge job reads the scene with, as the tasks read it.
+fn merge_flags(settings: &RenderSettings) -> Vec<String> {
+    let mut flags = Vec::new();
+    if settings.allow_outside {
+        flags.push("--allow-outside".to_string());
+    }
+    if settings.max_triangles != rayforge_scene::DEFAULT_MAX_TRIANGLES {
+        flags.extend([
+            "--max-triangles".to_string(),
+            settings.max_triangles.to_string(),
+        ]);
+    }
+    flags
 }
 
 /// The render flags and the sbatch options. Once the render flags have begun, clap hands every

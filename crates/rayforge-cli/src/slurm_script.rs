@@ -20,6 +20,9 @@ pub const SLICES_SCRIPT: &str = "slices.sh";
 /// The file name of the merge job's script.
 pub const MERGE_SCRIPT: &str = "merge.sh";
 
+/// The file name of the list of part files the merge job reads (`rayforge merge --list`).
+pub const PARTS_LIST: &str = "parts.list";
+
 /// What the scripts need to know, every path absolute and valid UTF-8.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Plan {
@@ -31,12 +34,17 @@ pub struct Plan {
     pub output: String,
     /// The directory of the part files.
     pub parts: String,
+    /// The list of part files (`PARTS_LIST` in the scripts' directory).
+    pub parts_list: String,
     /// How many slices (array tasks).
     pub tasks: u64,
     /// How the render is cut.
     pub cut: Cut,
     /// The render flags, given to every task as they are.
     pub render_flags: Vec<String>,
+    /// The flags the merge reads the scene with (for its canvas items), as the tasks read it:
+    /// `--allow-outside` and `--max-triangles` when the render flags give them.
+    pub merge_flags: Vec<String>,
     /// Whether the render flags set the thread count; if not, a task takes Slurm's
     /// `--cpus-per-task` when it is given.
     pub threads_given: bool,
@@ -103,35 +111,41 @@ exec {command}
         )
     }
 
-    /// The merge job's script: the parts of every slice, named one by one (so that a part
-    /// missing is named by the merge, and a part left from a render cut otherwise is not
-    /// taken), joined into the image.
+    /// The merge job's script: the parts of every slice, named one a line in the list file
+    /// the merge reads (so that a part missing is named by the merge, a part left from a
+    /// render cut otherwise is not taken, and no argument list grows with the task count),
+    /// joined into the image; the scene is named for its canvas items.
     pub fn merge_script(&self) -> String {
+        let mut command = vec![
+            quote(&self.rayforge),
+            "merge".to_string(),
+            "--list".to_string(),
+            quote(&self.parts_list),
+            "--scene".to_string(),
+            quote(&self.scene),
+        ];
+        command.extend(self.merge_flags.iter().map(|f| quote(f)));
+        command.extend(["-o".to_string(), quote(&self.output)]);
         format!(
             "#!/bin/sh
-# Written by `rayforge slurm`: joins the {tasks} parts into the image once every slice has
-# succeeded (it is submitted with --dependency=afterok:<the slices' job array>; if a slice
-# fails, Slurm cancels it: submit the same `rayforge slurm` command again).
+# Written by `rayforge slurm`: joins the {tasks} parts that {PARTS_LIST} names into the image
+# once every slice has succeeded (it is submitted with --dependency=afterok:<the slices' job
+# array>; if a slice fails, Slurm cancels it: submit the same `rayforge slurm` command again).
 #SBATCH --job-name=rayforge-merge
 #SBATCH --kill-on-invalid-dep=yes
 #SBATCH --open-mode=append
 #SBATCH --output={LOG_DIR}/merge.log
 set -eu
-parts={parts}
-set --
-i=0
-while [ \"$i\" -lt {tasks} ]; do
-  set -- \"$@\" \"$parts\"/{part}
-  i=$((i + 1))
-done
-exec {rayforge} merge \"$@\" -o {output}
+exec {command}
 ",
             tasks = self.tasks,
-            parts = quote(&self.parts),
-            part = part_name("\"$i\""),
-            rayforge = quote(&self.rayforge),
-            output = quote(&self.output),
+            command = command.join(" "),
         )
+    }
+
+    /// The list of part files the merge reads: every slice's, one a line, in slice order.
+    pub fn parts_list(&self) -> String {
+        (0..self.tasks).map(|i| self.part(i) + "\n").collect()
     }
 }
 
@@ -161,9 +175,11 @@ mod tests {
             scene: "/data/scene.yml".into(),
             output: "/data/out/frame.exr".into(),
             parts: "/data/out/frame.exr.slurm/parts".into(),
+            parts_list: "/data/out/frame.exr.slurm/parts.list".into(),
             tasks: 4,
             cut: Cut::Samples,
             render_flags: vec!["--spp".into(), "64".into(), "--seed".into(), "it's".into()],
+            merge_flags: vec!["--allow-outside".into()],
             threads_given: false,
             frames: false,
         }
@@ -220,17 +236,23 @@ mod tests {
     }
 
     #[test]
-    fn the_merge_script_names_every_part() {
+    fn the_merge_script_reads_every_part_from_the_list() {
         let script = plan().merge_script();
-        assert!(script.contains("while [ \"$i\" -lt 4 ]"), "{script}");
-        assert!(script.contains("\"$parts\"/part-\"$i\".part"), "{script}");
         assert!(
-            script.contains("exec '/opt/ray forge/rayforge' merge \"$@\" -o /data/out/frame.exr"),
+            script.ends_with(
+                "\nexec '/opt/ray forge/rayforge' merge --list \
+                 /data/out/frame.exr.slurm/parts.list --scene /data/scene.yml --allow-outside \
+                 -o /data/out/frame.exr\n"
+            ),
             "{script}"
         );
         assert_eq!(
             plan().part(2),
             "/data/out/frame.exr.slurm/parts/part-2.part"
         );
+        let list = plan().parts_list();
+        let names: Vec<&str> = list.lines().collect();
+        assert_eq!(names.len(), 4);
+        assert_eq!(names[3], "/data/out/frame.exr.slurm/parts/part-3.part");
     }
 }

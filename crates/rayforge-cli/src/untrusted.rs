@@ -12,11 +12,16 @@ use crate::failure::Failure;
 use std::path::{Path, PathBuf};
 
 /// `rayforge merge PARTS -o OUTPUT -q`: reads and checks the part files, merges them and
-/// writes the image (its format from `output`'s extension).
+/// writes the image (its format from `output`'s extension). No scene is named, so a part
+/// that says its image has canvas items is refused, as the command refuses it.
 pub fn merge_parts(parts: &[PathBuf], output: &Path) -> Result<(), Failure> {
     crate::merge_command::run(&MergeArgs {
         parts: parts.to_vec(),
+        list: None,
         output: output.to_path_buf(),
+        scene: None,
+        allow_outside: false,
+        max_triangles: rayforge_scene::DEFAULT_MAX_TRIANGLES,
         quiet: true,
     })
 }

@@ -255,3 +255,19 @@ fn an_output_in_a_directory_that_takes_no_files_is_not_called_missing() {
     let o = render(&scene, &d.path("missing/out.png"), &[]);
     assert!(stderr(&o).contains("does not exist"), "{}", stderr(&o));
 }
+
+/// A scene with old Mac line endings (a carriage return alone ends each line, as YAML reads
+/// it): the excerpt shows the line the message names, under the same number (it counted only
+/// line feeds, and showed 3:15 under a message that said 9:15).
+#[test]
+fn an_error_in_a_file_of_carriage_returns_shows_the_line_it_names() {
+    let d = Dir::new();
+    let text = format!("{CAMERA}- add: sphere\n  material: {{ colr: 1 }}\n").replace('\n', "\r");
+    let scene = d.file("mac.yml", &text);
+    let o = render(&scene, &d.path("out.png"), &[]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("mac.yml:13:15: `colr`"), "{err}");
+    assert!(err.contains("13 │   material: { colr: 1 }"), "{err}");
+    assert!(err.contains("12 │ - add: sphere"), "{err}");
+}

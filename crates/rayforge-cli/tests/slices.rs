@@ -47,6 +47,21 @@ fn merge(parts: &[PathBuf], out: &Path) -> Output {
         .unwrap()
 }
 
+/// `rayforge merge <parts…> --scene <scene> -o <out> -q`: the scene named for its canvas
+/// items, which the merge draws from it.
+fn merge_scene(parts: &[PathBuf], scene: &Path, out: &Path) -> Output {
+    rayforge()
+        .arg("merge")
+        .args(parts)
+        .arg("--scene")
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .arg("-q")
+        .output()
+        .unwrap()
+}
+
 fn ok(output: &Output) {
     assert!(
         output.status.success(),
@@ -90,7 +105,7 @@ fn region_slices_match(scene: &str, args: &[&str], ext: &str) {
         for n in [1, 2, 3, 7] {
             let parts = slices(&scene, dir.path(), n, "rows", &args);
             let merged = dir.path().join(format!("merged-{threads}-{n}.{ext}"));
-            ok(&merge(&parts, &merged));
+            ok(&merge_scene(&parts, &scene, &merged));
             assert!(
                 std::fs::read(&merged).unwrap() == expected,
                 "{}: {n} slices with {threads} threads differ from one render",

@@ -102,10 +102,17 @@ fn a_dry_run_writes_scripts_that_render_the_one_process_image() {
     }
     let merge = fs::read_to_string(jobs.join("merge.sh")).unwrap();
     let image = fs::canonicalize(dir.path()).unwrap().join("cover.png");
+    let list = fs::canonicalize(&jobs).unwrap().join("parts.list");
     assert!(
-        merge.contains(&format!("merge \"$@\" -o {}", image.display())),
+        merge.contains(&format!(
+            "merge --list {} --scene {} -o {}",
+            list.display(),
+            scene.display(),
+            image.display()
+        )),
         "{merge}"
     );
+    assert_eq!(fs::read_to_string(&list).unwrap().lines().count(), 4);
     assert!(jobs.join("parts").is_dir() && jobs.join("logs").is_dir());
     assert!(!out.exists());
 
@@ -127,6 +134,54 @@ fn a_dry_run_writes_scripts_that_render_the_one_process_image() {
         .output()
         .unwrap());
     assert!(fs::read(&out).unwrap() == fs::read(&whole).unwrap());
+}
+
+/// The merge job of the most tasks tested (issue 44, finding 8: the script built its argument
+/// list in a loop, quadratic in the shell, and past about 40,000 names it could not start
+/// rayforge at all): the script names the list file, whatever the task count, and the merge
+/// reads all 100,000 names from it and refuses at the first part missing, as it would with
+/// every part there (`merge`'s own tests merge parts through a list).
+#[test]
+fn the_merge_job_of_100000_tasks_reads_its_parts_from_a_list() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cover.png");
+    let tasks = "100000";
+    let scene = scene();
+    ok(&run(rayforge()
+        .args(["slurm".as_ref(), scene.as_os_str(), "-o".as_ref()])
+        .arg(&out)
+        .args([
+            "--tasks",
+            tasks,
+            "--dry-run",
+            "--height",
+            tasks,
+            "--width",
+            "1",
+        ])
+        .env("PATH", dir.path())));
+    let jobs = dir.path().join("cover.png.slurm");
+    let merge = fs::read_to_string(jobs.join("merge.sh")).unwrap();
+    assert!(merge.len() < 2_000, "{} bytes of merge.sh", merge.len());
+    let list = fs::read_to_string(jobs.join("parts.list")).unwrap();
+    assert_eq!(list.lines().count(), 100_000);
+    assert!(list
+        .lines()
+        .last()
+        .unwrap()
+        .ends_with("/parts/part-99999.part"));
+    let o = Command::new("sh")
+        .arg("merge.sh")
+        .current_dir(&jobs)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("cannot read the part `") && stderr.contains("part-0.part`"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("Argument list too long"), "{stderr}");
 }
 
 #[test]

@@ -16,7 +16,7 @@
 //! reader reaches it, after the items before it have been read.
 
 use crate::error::SceneError;
-use crate::source::{Node, Source, MAX_NESTING};
+use crate::source::{Node, Source, MAX_ITEM_VALUES, MAX_NESTING};
 use saphyr::{LoadableYamlNode, MarkedYaml, ScanError, YamlData, YamlLoader};
 use saphyr_parser::{Event, Parser, Span, SpannedEventReceiver, StrInput};
 
@@ -154,7 +154,8 @@ fn check_rest<'s>(source: &Source<'s>, parser: &mut Events<'s>) -> Result<(), Sc
 
 /// Gives `loader` the events of one node, starting with `first`, and returns the last one's
 /// span; a node that takes the document deeper than [`MAX_NESTING`], counting the `outer`
-/// levels around it, is refused before it is built.
+/// levels around it, or that holds more than [`MAX_ITEM_VALUES`] values, is refused before
+/// it is built.
 fn feed_node<'s>(
     source: &Source<'s>,
     parser: &mut Events<'s>,
@@ -163,17 +164,23 @@ fn feed_node<'s>(
     outer: usize,
 ) -> Result<Span, SceneError> {
     let mut depth = 0usize;
+    let mut values = 0usize;
     let (mut event, mut span) = first;
     loop {
         match event {
             Event::SequenceStart(..) | Event::MappingStart(..) => {
                 depth += 1;
+                values += 1;
                 if outer + depth > MAX_NESTING {
                     return Err(source.too_deep(span.start));
                 }
             }
             Event::SequenceEnd | Event::MappingEnd => depth = depth.saturating_sub(1),
+            Event::Scalar(..) | Event::Alias(_) => values += 1,
             _ => {}
+        }
+        if values > MAX_ITEM_VALUES {
+            return Err(source.too_many_values(span.start, MAX_ITEM_VALUES, "an item"));
         }
         loader.on_event(event, span);
         if depth == 0 {

@@ -1,30 +1,107 @@
 //! Reading a file a scene names, within a limit and inside the scene's folder: below both the
 //! scene file's reader and the asset readers (models, images), so that neither has to import
 //! the other for it.
+//!
+//! [`open_regular`] and [`read_bounded`] are also how the command opens every other file it
+//! reads from outside (part files, checkpoints, the scene read again for a part's
+//! fingerprint or a merge's canvas items), so that each file from outside is opened one way:
+//! a regular file only, refused before a byte is read (and before anything blocks) when it is
+//! a directory, a device or a named pipe, and its size checked before it is read.
 
 use std::cell::RefCell;
+use std::fs::File;
 use std::io::Read;
 use std::path::{Component, Path, PathBuf};
 
-/// Reads a whole file of at most `limit` bytes; the error is the reason, for the caller to
-/// put in context. Refuses what is not a regular file (a directory, `/dev/zero`, a pipe that
-/// would never end) and stops reading past the limit, so neither a huge file nor an endless
-/// device can take all memory.
-pub(crate) fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
-    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
-    if !meta.is_file() {
-        return Err("it is not a regular file".into());
+/// Opens the existing file at `path` for reading, as input from outside, and returns it with
+/// its length; the error is the reason, for the caller to put in context.
+///
+/// Refuses what is not a regular file: a directory, a device (`/dev/zero` never ends) or a
+/// named pipe (whose opening waits for a writer that may never come). The file is asked about
+/// by name first, so that such a file is not even opened, then opened without waiting
+/// (`O_NONBLOCK`, which changes nothing for a regular file's reads) and asked again through
+/// the open descriptor, so that a file swapped for a pipe between the two is refused too.
+pub fn open_regular(path: &Path) -> Result<(File, u64), String> {
+    let named = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    not_special(&named)?;
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut options, libc::O_NONBLOCK);
+    let file = options.open(path).map_err(|e| e.to_string())?;
+    let opened = file.metadata().map_err(|e| e.to_string())?;
+    not_special(&opened)?;
+    Ok((file, opened.len()))
+}
+
+/// Opens the existing regular file at `path` to read and write it in place (a checkpoint
+/// continued), as [`open_regular`] does, except that a symbolic link is not followed: a link
+/// planted where the program keeps its own file must not make it write wherever it points.
+pub fn open_regular_to_update(path: &Path) -> Result<File, String> {
+    let named = std::fs::symlink_metadata(path).map_err(|e| e.to_string())?;
+    if named.file_type().is_symlink() {
+        return Err("it is a symbolic link, not the file rayforge wrote".into());
     }
-    if meta.len() > limit {
-        return Err(format!("it is {} bytes; the limit is {limit}", meta.len()));
+    not_special(&named)?;
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true).write(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(
+        &mut options,
+        libc::O_NONBLOCK | libc::O_NOFOLLOW,
+    );
+    let file = options.open(path).map_err(|e| e.to_string())?;
+    not_special(&file.metadata().map_err(|e| e.to_string())?)?;
+    Ok(file)
+}
+
+/// Refuses a file that is not a regular one, naming what it is.
+fn not_special(meta: &std::fs::Metadata) -> Result<(), String> {
+    if meta.is_file() {
+        return Ok(());
     }
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let kind = meta.file_type();
+    let what = if kind.is_dir() {
+        "a directory"
+    } else {
+        special_kind(&kind)
+    };
+    Err(format!("it is not a regular file (it is {what})"))
+}
+
+#[cfg(unix)]
+fn special_kind(kind: &std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if kind.is_fifo() {
+        "a named pipe"
+    } else if kind.is_char_device() || kind.is_block_device() {
+        "a device"
+    } else if kind.is_socket() {
+        "a socket"
+    } else {
+        "not a file"
+    }
+}
+
+#[cfg(not(unix))]
+fn special_kind(_: &std::fs::FileType) -> &'static str {
+    "not a file"
+}
+
+/// Reads a whole file of at most `limit` bytes, opened by [`open_regular`]; the error is the
+/// reason, for the caller to put in context. The size is checked before reading, and reading
+/// stops past the limit (a file that grows meanwhile), so a huge file cannot take all memory.
+pub fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
+    let (file, len) = open_regular(path)?;
+    if len > limit {
+        return Err(format!("it is {len} bytes; the limit is {limit}"));
+    }
     // Taken fallibly: a file near the limit on a machine short of memory is an error, not
     // an abort.
     let mut bytes = Vec::new();
     bytes
-        .try_reserve_exact(meta.len() as usize)
-        .map_err(|_| format!("cannot allocate {} bytes to read it", meta.len()))?;
+        .try_reserve_exact(len as usize)
+        .map_err(|_| format!("cannot allocate {len} bytes to read it"))?;
     file.take(limit + 1)
         .read_to_end(&mut bytes)
         .map_err(|e| e.to_string())?;
@@ -86,6 +163,16 @@ impl Folder {
         &self.named
     }
 
+    /// The folder as messages name it: `.` for a scene named without a folder (whose folder
+    /// the path names as nothing at all).
+    fn shown(&self) -> std::path::Display<'_> {
+        if self.named.as_os_str().is_empty() {
+            Path::new(".").display()
+        } else {
+            self.named.display()
+        }
+    }
+
     /// Whether the file at `path` (a name joined to this folder, or to the folder of a file
     /// inside it) may be read; the error is the reason, naming the way to allow it.
     ///
@@ -104,7 +191,7 @@ impl Folder {
                  the folder it is in, unless `--allow-outside` (on the command line) or \
                  `LoadOptions::allow_outside` (in the library) allows the rest",
                 path.display(),
-                self.named.display()
+                self.shown()
             )
         };
         let rest = path.strip_prefix(&self.named).map_err(|_| outside())?;
@@ -124,7 +211,7 @@ impl Folder {
             format!(
                 "cannot tell whether `{}` is inside the scene's folder (`{}`): {e}",
                 path.display(),
-                self.named.display()
+                self.shown()
             )
         })?;
         if real.starts_with(folder) {

@@ -115,10 +115,17 @@ type Cost<'a> = &'a dyn Fn(u64, u64, u64) -> Result<(), String>;
 /// The four bytes every OpenEXR file starts with.
 const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 
-/// Refuses a declared size that is empty or over the limit, before anything is allocated for it.
+/// Refuses a declared size that is empty or over the limits (of pixels, and of a side, as for
+/// every image a scene reads), before anything is allocated for it.
 fn check_size(width: u64, height: u64) -> Result<(), String> {
     if width == 0 || height == 0 {
         return Err(format!("the image is empty ({width}×{height} pixels)"));
+    }
+    if width.max(height) > u64::from(crate::images::MAX_TEXTURE_SIDE) {
+        return Err(format!(
+            "it is {width}×{height} pixels, more than {} pixels on a side, the limit",
+            crate::images::MAX_TEXTURE_SIDE
+        ));
     }
     match width.checked_mul(height) {
         Some(pixels) if pixels <= MAX_TEXTURE_PIXELS => Ok(()),
@@ -404,6 +411,12 @@ mod tests {
                 "limit",
             ),
             ("empty", b"PF\n0 5\n-1\n".to_vec(), "empty"),
+            // 100,000 pixels in all, within the pixel limit, but past the side's.
+            (
+                "one row",
+                b"PF\n100000 1\n-1\n".to_vec(),
+                "more than 16384 pixels on a side",
+            ),
             ("no break", b"PF\n1 1\n-1".to_vec(), "line break"),
             (
                 "long token",

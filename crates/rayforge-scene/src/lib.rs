@@ -14,7 +14,7 @@ mod defines;
 mod document;
 mod environment;
 mod error;
-mod files;
+pub mod files;
 pub mod gltf;
 mod hdr;
 mod images;
@@ -56,11 +56,24 @@ pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, Scene
     if gltf::is_model_file(path) {
         return gltf::model_scene(path, options);
     }
-    let bytes = files::read_bounded(path, MAX_SCENE_BYTES)
+    let bytes = read_scene_file(path)
         .map_err(|e| SceneError::new(path, format!("cannot read the scene file: {e}")))?;
     let text = String::from_utf8(bytes)
         .map_err(|_| SceneError::new(path, "the scene file is not UTF-8 text"))?;
     load_str_with(&text, path, options)
+}
+
+/// The bytes of the scene file at `path` as [`load_file_with`] reads them: a regular file
+/// (see [`files::open_regular`]) of at most [`MAX_SCENE_BYTES`], or [`obj::MAX_MODEL_BYTES`]
+/// for a glTF model. The command reads a scene again through it for the fingerprint of its
+/// checkpoints and parts; the error is the reason, for the caller to name the file.
+pub fn read_scene_file(path: &Path) -> Result<Vec<u8>, String> {
+    let limit = if gltf::is_model_file(path) {
+        obj::MAX_MODEL_BYTES
+    } else {
+        MAX_SCENE_BYTES
+    };
+    files::read_bounded(path, limit)
 }
 
 /// The stack the reader runs on. Reading recurses once per level of nesting (YAML lists and

@@ -13,6 +13,19 @@ use std::path::Path;
 /// nested in a pattern in a material in a group in a group is 12).
 pub const MAX_NESTING: usize = 128;
 
+/// The most YAML values (scalars, lists and mappings, each counted once) one item of the
+/// top-level list may hold, counted as its parser events arrive, before its tree is built:
+/// a tree costs about 110 bytes a value, so an item is read within about 200 MB. The parts
+/// budget (every transform entry and object) would refuse such an item, but only once its
+/// whole tree was built: a 60 MB line of transforms held 2.3 GB first. No scene comes near
+/// (the book's cover holds about 2,000 values in all).
+pub const MAX_ITEM_VALUES: usize = 1_000_000;
+
+/// The most values a file read whole (one with aliases, see the `document` module) may hold,
+/// an alias counting as the values of what it repeats: YAML's exponential aliases (a list of
+/// ten aliases of a list of ten aliases …) are refused before saphyr copies them out.
+pub const MAX_FILE_VALUES: usize = 4 * MAX_ITEM_VALUES;
+
 /// A scene file being read: its text (for byte offsets) and its path (for messages).
 pub struct Source<'s> {
     /// The file's name, as errors show it.
@@ -64,6 +77,23 @@ impl<'s> Source<'s> {
         SceneError::new(self.path, format!("not valid YAML: {}", e.info())).at(span)
     }
 
+    /// The error for an item or a file past `limit` values, at the value past it.
+    pub fn too_many_values(&self, start: Marker, limit: usize, what: &str) -> SceneError {
+        SceneError::new(
+            self.path,
+            format!(
+                "{what} holds more than {limit} YAML values (scalars, lists and mappings{}); a \
+                 scene is not that large",
+                if limit == MAX_FILE_VALUES {
+                    ", an alias counting as what it repeats"
+                } else {
+                    ""
+                }
+            ),
+        )
+        .at(self.span_at(start.index(), start.line(), start.col(), 0))
+    }
+
     /// The error for a list or mapping, starting at `start`, nested deeper than
     /// [`MAX_NESTING`].
     pub fn too_deep(&self, start: Marker) -> SceneError {
@@ -74,14 +104,17 @@ impl<'s> Source<'s> {
         .at(self.span_at(start.index(), start.line(), start.col(), 0))
     }
 
-    /// Refuses a document that nests deeper than [`MAX_NESTING`], before saphyr builds its
-    /// tree. Reads the parser's events (a loop, no recursion); an alias counts as deep as the
-    /// node its anchor names. Syntax errors are left for the loader to report.
+    /// Refuses a document that nests deeper than [`MAX_NESTING`] or holds more than
+    /// [`MAX_FILE_VALUES`] values, before saphyr builds its tree. Reads the parser's events (a
+    /// loop, no recursion); an alias counts as deep as the node its anchor names, and as many
+    /// values. Syntax errors are left for the loader to report.
     pub fn check_nesting(&self) -> Result<(), SceneError> {
-        // Per open collection: its anchor (0: none) and the deepest level reached inside it.
-        let mut open: Vec<(usize, usize)> = Vec::new();
-        // Per anchor: how many levels its node spans (0 for a scalar).
-        let mut heights: HashMap<usize, usize> = HashMap::new();
+        // Per open collection: its anchor (0: none), the deepest level reached inside it, and
+        // the values counted before it began.
+        let mut open: Vec<(usize, usize, usize)> = Vec::new();
+        // Per anchor: how many levels its node spans (0 for a scalar), and how many values.
+        let mut anchored: HashMap<usize, (usize, usize)> = HashMap::new();
+        let mut values = 0usize;
         for event in Parser::new_from_str(self.text) {
             let Ok((event, span)) = event else {
                 return Ok(());
@@ -89,14 +122,15 @@ impl<'s> Source<'s> {
             let depth = open.len();
             let reached = match event {
                 Event::SequenceStart(anchor, _) | Event::MappingStart(anchor, _) => {
-                    open.push((anchor, depth + 1));
+                    open.push((anchor, depth + 1, values));
+                    values += 1;
                     depth + 1
                 }
                 Event::SequenceEnd | Event::MappingEnd => {
-                    if let Some((anchor, deepest)) = open.pop() {
+                    if let Some((anchor, deepest, before)) = open.pop() {
                         // This collection was at level `depth`.
                         if anchor != 0 {
-                            heights.insert(anchor, deepest + 1 - depth);
+                            anchored.insert(anchor, (deepest + 1 - depth, values - before));
                         }
                         if let Some(parent) = open.last_mut() {
                             parent.1 = parent.1.max(deepest);
@@ -104,9 +138,23 @@ impl<'s> Source<'s> {
                     }
                     continue;
                 }
-                Event::Alias(anchor) => depth + heights.get(&anchor).copied().unwrap_or(0),
+                Event::Alias(anchor) => {
+                    let (height, count) = anchored.get(&anchor).copied().unwrap_or((0, 1));
+                    values = values.saturating_add(count);
+                    depth + height
+                }
+                Event::Scalar(_, _, anchor, _) => {
+                    values += 1;
+                    if anchor != 0 {
+                        anchored.insert(anchor, (0, 1));
+                    }
+                    depth
+                }
                 _ => continue,
             };
+            if values > MAX_FILE_VALUES {
+                return Err(self.too_many_values(span.start, MAX_FILE_VALUES, "the file"));
+            }
             if let Some(parent) = open.last_mut() {
                 parent.1 = parent.1.max(reached);
             }

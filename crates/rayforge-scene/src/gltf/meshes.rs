@@ -77,8 +77,8 @@ impl<'a> Meshes<'a> {
             ));
             return Ok(None);
         }
-        check_types(path, at, primitive)?;
         let buffers = self.buffers;
+        check_accessors(path, at, primitive, self.max_triangles, buffers)?;
         let reader = primitive.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
         let attribute = |name: &str| format!("{at}.attributes.{name}");
         // The accessor readers index into the buffers as the file says; every view was checked
@@ -134,6 +134,26 @@ impl<'a> Meshes<'a> {
         same_count(uvs.as_ref().map(Vec::len), &format!("TEXCOORD_{uv_set}"))?;
         same_count(given_tangents.as_ref().map(Vec::len), "TANGENT")?;
         same_count(colors.as_ref().map(Vec::len), "COLOR_0")?;
+        // A NaN normal would shade its faces black, a NaN position or coordinate worse.
+        all_finite(path, attribute("POSITION"), &positions)?;
+        all_finite(
+            path,
+            attribute("NORMAL"),
+            normals.as_deref().unwrap_or_default(),
+        )?;
+        let uv_name = attribute(&format!("TEXCOORD_{uv_set}"));
+        all_finite(path, uv_name, uvs.as_deref().unwrap_or_default())?;
+        let tangent_name = attribute("TANGENT");
+        all_finite(
+            path,
+            tangent_name,
+            given_tangents.as_deref().unwrap_or_default(),
+        )?;
+        all_finite(
+            path,
+            attribute("COLOR_0"),
+            colors.as_deref().unwrap_or_default(),
+        )?;
         if primitive.get(&::gltf::Semantic::Positions).is_some()
             && indices.is_none()
             && primitive.indices().is_some()
@@ -215,12 +235,43 @@ impl<'a> Meshes<'a> {
     }
 }
 
-/// Checks that each accessor the primitive's readers use has a type the specification allows
-/// for its attribute (the `gltf` crate's readers assume it).
-fn check_types(path: &Path, at: &str, primitive: &::gltf::Primitive<'_>) -> Result<(), SceneError> {
+/// Checks, before anything is read, that each accessor the primitive's readers use has a type
+/// the specification allows for its attribute (the `gltf` crate's readers assume it), no more
+/// elements than the mesh size limit allows (`max_triangles`: three vertices a triangle; a
+/// sparse accessor with no `bufferView` has no data to bound its `count`, and its reader
+/// would allocate them all at once), and, if sparse, indices that name its elements.
+fn check_accessors(
+    path: &Path,
+    at: &str,
+    primitive: &::gltf::Primitive<'_>,
+    max_triangles: usize,
+    buffers: &Buffers,
+) -> Result<(), SceneError> {
     use ::gltf::accessor::{DataType as T, Dimensions as D};
     use ::gltf::Semantic;
+    let most = max_triangles.saturating_mul(3);
     let check = |accessor: ::gltf::Accessor<'_>, name: &str, ok: bool| {
+        // Strips and fans have two indices more than three a triangle.
+        let most = if name == "indices" {
+            most.saturating_add(2)
+        } else {
+            most
+        };
+        if accessor.count() > most {
+            return Err(error(
+                path,
+                format!("{at}.{name}"),
+                format!(
+                    "accessor {} has {} elements, more than the {most} that the mesh size limit \
+                     of {max_triangles} triangles allows (`--max-triangles` on the command line)",
+                    accessor.index(),
+                    accessor.count()
+                ),
+            ));
+        }
+        if let Some(sparse) = accessor.sparse() {
+            check_sparse(path, &format!("{at}.{name}"), &accessor, &sparse, buffers)?;
+        }
         // The readers also assume each element fits its stride, and at least one element.
         let element = accessor.size();
         let strides = [
@@ -300,6 +351,79 @@ fn check_types(path: &Path, at: &str, primitive: &::gltf::Primitive<'_>) -> Resu
         check(a, &format!("attributes.{name}"), ok)?;
     }
     Ok(())
+}
+
+/// Checks a sparse accessor's indices: at most as many as the accessor has elements, inside
+/// their view, strictly increasing and each naming an element (the `gltf` crate's reader
+/// silently drops an index past the end or out of order, and with it the value it replaces).
+fn check_sparse(
+    path: &Path,
+    at: &str,
+    accessor: &::gltf::Accessor<'_>,
+    sparse: &::gltf::accessor::sparse::Sparse<'_>,
+    buffers: &Buffers,
+) -> Result<(), SceneError> {
+    let fail = |why: String| error(path, format!("{at}.sparse"), why);
+    let (count, elements) = (sparse.count(), accessor.count());
+    if count > elements {
+        return Err(fail(format!(
+            "accessor {} replaces {count} of its elements, but it has {elements}",
+            accessor.index()
+        )));
+    }
+    let indices = sparse.indices();
+    let view = indices.view();
+    let size = indices.index_type().size();
+    let stride = view.stride().unwrap_or(size);
+    // Every view was checked against its buffer when the buffers were read.
+    let data = buffers
+        .get(view.buffer().index())
+        .and_then(|b| b.get(view.offset()..view.offset() + view.length()))
+        .unwrap_or_default();
+    let mut previous = None;
+    for k in 0..count {
+        let start = indices.offset().saturating_add(k.saturating_mul(stride));
+        let Some(bytes) = data.get(start..start.saturating_add(size)) else {
+            return Err(fail(format!(
+                "its indices run past the end of their view (bufferViews[{}], {} bytes): index \
+                 {k} of {count} is not in it",
+                view.index(),
+                view.length()
+            )));
+        };
+        let index = bytes
+            .iter()
+            .rev()
+            .fold(0u64, |n, &b| (n << 8) | u64::from(b));
+        if index >= elements as u64 {
+            return Err(fail(format!(
+                "its index {k} is {index}, past the accessor's {elements} elements"
+            )));
+        }
+        if let Some(before) = previous.filter(|&before| index <= before) {
+            return Err(fail(format!(
+                "its indices are not strictly increasing: index {k} is {index}, after {before}"
+            )));
+        }
+        previous = Some(index);
+    }
+    Ok(())
+}
+
+/// Refuses an attribute with a value that is not a finite number, naming the element.
+fn all_finite<const N: usize>(
+    path: &Path,
+    at: String,
+    values: &[[f32; N]],
+) -> Result<(), SceneError> {
+    match values.iter().position(|v| !v.iter().all(|x| x.is_finite())) {
+        None => Ok(()),
+        Some(i) => Err(error(
+            path,
+            at,
+            format!("its element {i} is {:?}, not finite numbers", values[i]),
+        )),
+    }
 }
 
 fn vec3(p: [f32; 3]) -> DVec3 {

@@ -14,6 +14,9 @@ use std::path::Path;
 /// parents, against the specification, could otherwise multiply its instances exponentially).
 pub const MAX_NODE_VISITS: usize = 1_000_000;
 
+/// How far a node's rotation quaternion may be from unit length (exporters round them).
+const ROTATION_TOLERANCE: f64 = 1e-2;
+
 /// The deepest a model's node hierarchy may nest.
 pub const MAX_NODE_DEPTH: usize = 256;
 
@@ -122,6 +125,23 @@ pub(crate) fn walk(
         if depth >= MAX_NODE_DEPTH {
             return Err(error(path, at, format!("the node hierarchy nests deeper than {MAX_NODE_DEPTH} levels (does a node contain itself?)")));
         }
+        if let ::gltf::scene::Transform::Decomposed { rotation, .. } = node.transform() {
+            let length = rotation
+                .iter()
+                .map(|&q| f64::from(q).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            // glTF asks for a unit quaternion; a zero one (or far from unit) scales what the
+            // node holds to nothing or skews its camera, which would render without a word.
+            let unit = (length - 1.0).abs() < ROTATION_TOLERANCE;
+            if !unit {
+                return Err(error(
+                    path,
+                    format!("{at}.rotation"),
+                    format!("the rotation {rotation:?} is not a unit quaternion (its length is {length})"),
+                ));
+            }
+        }
         let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
         let world = parent * local;
         if !world.is_finite() {
@@ -131,7 +151,7 @@ pub(crate) fn walk(
             add_mesh(&mesh, world, meshes, materials, &mut out.objects)?;
         }
         if let Some(camera) = node.camera() {
-            out.cameras.push(camera_of(&camera, world));
+            out.cameras.push(camera_of(path, &camera, world)?);
         }
         if let Some(light) = node.light() {
             out.lights.push(light_of(&light, world));
@@ -177,26 +197,64 @@ fn add_mesh(
     Ok(())
 }
 
-/// A node's camera: the projection and the node's placement without scale.
-fn camera_of(camera: &::gltf::Camera<'_>, world: DMat4) -> GltfCamera {
+/// A node's camera: the projection and the node's placement without scale. A projection the
+/// specification does not allow (a field of view outside (0, π), a magnification or aspect
+/// ratio that is not above 0) or a placement that has no orientation (a node scaled to
+/// nothing) is refused, naming the key: it would render a wrong image without a word.
+fn camera_of(
+    path: &Path,
+    camera: &::gltf::Camera<'_>,
+    world: DMat4,
+) -> Result<GltfCamera, SceneError> {
+    let at = format!("cameras[{}]", camera.index());
+    let positive = |key: &str, value: f32| {
+        if value > 0.0 && value.is_finite() {
+            Ok(f64::from(value))
+        } else {
+            Err(error(
+                path,
+                format!("{at}.{key}"),
+                format!("it is {value}; it must be above 0"),
+            ))
+        }
+    };
     let projection = match camera.projection() {
-        ::gltf::camera::Projection::Perspective(p) => Projection::Perspective {
-            yfov: p.yfov().into(),
-            aspect: p.aspect_ratio().map(f64::from),
-        },
+        ::gltf::camera::Projection::Perspective(p) => {
+            let yfov = positive("perspective.yfov", p.yfov())?;
+            if yfov >= std::f64::consts::PI {
+                return Err(error(
+                    path,
+                    format!("{at}.perspective.yfov"),
+                    format!("it is {yfov} radians; a field of view must be below π"),
+                ));
+            }
+            let aspect = match p.aspect_ratio() {
+                Some(a) => Some(positive("perspective.aspectRatio", a)?),
+                None => None,
+            };
+            Projection::Perspective { yfov, aspect }
+        }
         ::gltf::camera::Projection::Orthographic(o) => Projection::Orthographic {
-            xmag: f64::from(o.xmag()).abs(),
-            ymag: f64::from(o.ymag()).abs(),
+            xmag: positive("orthographic.xmag", o.xmag())?,
+            ymag: positive("orthographic.ymag", o.ymag())?,
         },
     };
     let (_, rotation, translation) = world.to_scale_rotation_translation();
-    GltfCamera {
+    let rotation = rotation.normalize();
+    if !rotation.is_finite() || world.determinant().abs() < f64::MIN_POSITIVE {
+        return Err(error(
+            path,
+            at,
+            "the camera's node places it with no orientation (its transform is singular)",
+        ));
+    }
+    Ok(GltfCamera {
         name: camera
             .name()
             .map_or_else(|| format!("camera {}", camera.index()), str::to_string),
         projection,
-        world: DMat4::from_rotation_translation(rotation.normalize(), translation),
-    }
+        world: DMat4::from_rotation_translation(rotation, translation),
+    })
 }
 
 /// A node's light.

@@ -80,13 +80,27 @@ fn model_file<'n, 's>(
     Ok((file, assets.resolve(source.string(file, "file")?)))
 }
 
-/// A model's error placed at the `file:` that names it when it is about the file as a whole
-/// (it could not be read); otherwise as it is.
+/// A model's error placed at the `file:` that names it when it has no line in the model to
+/// show: about the file as a whole (it could not be read), or about a part of it named by its
+/// key alone (a glTF file's JSON path, `meshes[0].primitives[0].indices`), which the message
+/// then names with the model. An error with a place in the model (an OBJ line, a glTF file's
+/// JSON syntax) is left there, where its line is shown.
 fn at_file(source: &Source<'_>, file: &Node<'_>, path: &Path, e: SceneError) -> SceneError {
-    if e.path == path && e.span.is_none() && e.key.is_none() {
-        source.error(file, "file", e.message)
-    } else {
-        e
+    if e.path != path || e.span.is_some() {
+        return e;
+    }
+    match &e.key {
+        None => source.error(file, "file", e.message),
+        Some(key) => source.error(
+            file,
+            "file",
+            format!(
+                "in `{}`, at `{}`: {}",
+                path.display(),
+                crate::error::clip(key),
+                e.message
+            ),
+        ),
     }
 }
 
