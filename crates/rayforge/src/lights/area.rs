@@ -136,11 +136,12 @@ impl AreaEmitter {
     /// distance when `model_falloff` (`disc`: the scene's cross-section, which a light without
     /// fall-off is weighed by).
     pub(super) fn of_book(light: &AreaLight, model_falloff: bool, disc: f64) -> Self {
+        let (side_u, side_v) = light.sides();
         Self {
             kind: Area::Book {
                 corner: light.corner,
-                side_u: light.uvec * f64::from(light.usteps),
-                side_v: light.vvec * f64::from(light.vsteps),
+                side_u,
+                side_v,
                 intensity: light.intensity * PI,
                 falloff: model_falloff,
             },

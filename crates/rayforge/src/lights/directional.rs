@@ -23,7 +23,7 @@ impl DirectionalEmitter {
     /// The scene's `light`, weighed by what it sends through the scene's cross-section `disc`.
     pub(super) fn new(light: &DirectionalLight, disc: f64) -> Self {
         Self {
-            towards: light.towards.normalize_or_zero(),
+            towards: light.direction(),
             irradiance: light.intensity * PI,
             power: light.intensity.luminance() * PI * disc,
         }

@@ -633,6 +633,7 @@ impl Emitters {
             return 0.0;
         };
         let density = area.pdf_li(world, from, point, direction, hit);
+        // A point light sampling never gives: no pick to ask the (tree's costlier) sampler.
         if density == 0.0 {
             return 0.0;
         }

@@ -10,7 +10,13 @@
 //! `light_bounds.rs`) that weighs where the vertex is.
 //!
 //! It sits above `scene` (a light of an emitting object samples that object's shape where the
-//! object stands) and below `render` (the integrators ask it for light).
+//! object stands, and the light tree needs every light of the world at once) and below
+//! `render` (the integrators ask it for light). The book's lights are not a second model here:
+//! the kinds are built from the scene's own light values (`shading::Light`, below `scene` so
+//! that the world holds them and the Whitted renderers and the rasterizer read them with the
+//! books' meaning) and ask those values what the Whitted renderers ask (a spotlight's
+//! fall-off, a directional light's direction, an area light's sides), reading them
+//! physically.
 
 mod area;
 mod bvh;
