@@ -109,7 +109,7 @@ pub fn unshadowed_intensity(
             Light::Directional(l) => lit.add_light(l.towards, l.intensity.to_array()),
             Light::Point(l) => lit.add_light(l.position - point, l.intensity.to_array()),
             Light::Spot(l) => {
-                let falloff = l.falloff((point - l.position).normalize_or_zero());
+                let falloff = l.cone_at(point);
                 lit.add_light(l.position - point, (l.intensity * falloff).to_array());
             }
             Light::Area(l) => lit.add_light(l.position() - point, l.intensity.to_array()),

@@ -1,6 +1,17 @@
 //! Light sources: point lights (chapter 6), rectangular area lights that cast soft shadows
 //! (the bonus chapter "Rendering soft shadows"), spotlights (chapter 17), and the ambient and
 //! directional lights of Computer Graphics from Scratch.
+//!
+//! These are the scene's lights, one value per light, and every renderer reads the same
+//! values: the Whitted integrators and the rasterizer with the books' meaning, through the
+//! methods here (a spotlight's cone at a point, a directional light's unit direction, an area
+//! light's sample points cell by cell, a light's reach with distance), and the path tracer
+//! physically, one kind per file of the `lights` module, each built from these values and
+//! asking them the same questions (a spotlight's fall-off, a directional light's direction, an
+//! area light's sides). The values live here, below `scene`, so that a `World` can hold them
+//! and the books' local lighting terms (`phong.rs`, `cgfs.rs`, `optics.rs`), which the
+//! rasterizer shares, can read them; the path tracer's kinds live above `scene`, because an
+//! emitting object is a light too and a scene object.
 
 use crate::color::Color;
 use crate::math::random::Jitter;
@@ -82,6 +93,15 @@ impl AreaLight {
     /// How many samples the light takes.
     pub fn samples(&self) -> u32 {
         self.usteps * self.vsteps
+    }
+
+    /// The rectangle's two full sides from its corner (a cell's edge times the cells along
+    /// it): what the path tracer samples the light over, uniformly.
+    pub fn sides(&self) -> (Vec3, Vec3) {
+        (
+            self.uvec * f64::from(self.usteps),
+            self.vvec * f64::from(self.vsteps),
+        )
     }
 
     /// The centre of the rectangle.
@@ -178,6 +198,14 @@ impl SpotLight {
         let t = (cos - self.cos_outer) / (self.cos_inner - self.cos_outer);
         t * t * (3.0 - 2.0 * t)
     }
+
+    /// How strongly the spot lights `point`: its [`falloff`](Self::falloff) along the unit
+    /// vector from the light to the point (0 at the light itself), as every Whitted model and
+    /// the rasterizer scale its light.
+    #[inline]
+    pub fn cone_at(&self, point: Point3) -> f64 {
+        self.falloff((point - self.position).normalize_or_zero())
+    }
 }
 
 /// Parallel light from infinitely far away (the sun), Computer Graphics from Scratch's
@@ -189,6 +217,16 @@ pub struct DirectionalLight {
     pub towards: Vec3,
     /// Its colour and brightness.
     pub intensity: Color,
+}
+
+impl DirectionalLight {
+    /// The unit direction towards the light (zero for a zero `towards`): what the Phong model,
+    /// the Whitted shadow rays and the path tracer read (Computer Graphics from Scratch's
+    /// model takes `towards` as given).
+    #[inline]
+    pub fn direction(&self) -> Vec3 {
+        self.towards.normalize_or_zero()
+    }
 }
 
 /// A light source of any kind.
@@ -259,7 +297,7 @@ impl Light {
             Light::Area(l) => l.position(),
             Light::Spot(l) => l.position,
             Light::Ambient(_) => Point3::ZERO,
-            Light::Directional(l) => l.towards.normalize_or_zero() * FAR_AWAY,
+            Light::Directional(l) => l.direction() * FAR_AWAY,
         }
     }
 }

@@ -21,11 +21,10 @@ pub fn can_light(light: &Light, point: Point3, normalv: Vec3) -> bool {
     };
     match light {
         Light::Ambient(_) => false,
-        Light::Directional(l) => faces(l.towards.normalize_or_zero()),
+        Light::Directional(l) => faces(l.direction()),
         Light::Point(l) => faces((l.position - point).normalize()),
         Light::Spot(spot) => {
-            spot.falloff((point - spot.position).normalize_or_zero()) > 0.0
-                && faces((spot.position - point).normalize())
+            spot.cone_at(point) > 0.0 && faces((spot.position - point).normalize())
         }
         Light::Area(_) => true,
     }
@@ -93,10 +92,10 @@ pub fn lighting_with(
     let reach = light.reach(point);
     let lit = match light {
         Light::Ambient(_) => Color::BLACK,
-        Light::Directional(l) => shade(l.towards.normalize_or_zero()),
+        Light::Directional(l) => shade(l.direction()),
         Light::Point(l) => sample(l.position),
         Light::Spot(spot) => {
-            let falloff = spot.falloff((point - spot.position).normalize_or_zero());
+            let falloff = spot.cone_at(point);
             if falloff > 0.0 {
                 sample(spot.position) * falloff
             } else {

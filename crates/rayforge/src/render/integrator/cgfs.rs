@@ -288,7 +288,7 @@ impl<'w, O: TraceObserver, const LIT: bool> Pass<'_, 'w, O, LIT> {
                     time,
                 ),
                 Light::Spot(l) => {
-                    let falloff = l.falloff((point - l.position).normalize_or_zero());
+                    let falloff = l.cone_at(point);
                     let intensity = (l.intensity * falloff).to_array();
                     self.light_from(&mut lit, l.position - point, 1.0, intensity, time);
                 }

@@ -254,7 +254,7 @@ fn intensity_at(state: &mut TraceState<'_>, light: &Light, point: Point3, time: 
         }
         Light::Ambient(_) => 1.0,
         Light::Directional(l) => {
-            let ray = Ray::new(point, l.towards.normalize_or_zero()).at_time(time);
+            let ray = Ray::new(point, l.direction()).at_time(time);
             if state.shadow_test(&ray, 0.0, f64::INFINITY, None, blocks(&ray, f64::INFINITY)) {
                 0.0
             } else {
