@@ -18,10 +18,10 @@ pub struct Scene {
     /// Camera rays per pixel asked for by the camera's `samples` (1: one through the centre).
     pub samples: u32,
     /// Where the camera's `samples` is written, when it is: the renderer that draws the scene
-    /// holds it to its own limit (at most [`crate::MAX_RAY_SAMPLES`] for the ray tracer,
-    /// [`crate::MAX_PATH_SAMPLES`] for the path tracer, which the reader checks), and the
-    /// error points here.
-    pub samples_at: Option<crate::Span>,
+    /// holds it to its own limit (at most [`crate::items::camera::MAX_RAY_SAMPLES`] for the ray
+    /// tracer, [`crate::items::camera::MAX_PATH_SAMPLES`] for the path tracer, which the reader
+    /// checks), and the error points here.
+    pub samples_at: Option<crate::error::Span>,
     /// Fundamentals of Ray Tracing's anti-aliasing, when the camera gives `anti-alias: N`: an
     /// N × N grid of rays from each pixel's corner, unjittered (`samples` is then N²).
     pub anti_alias: Option<u32>,
