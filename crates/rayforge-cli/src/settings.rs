@@ -396,6 +396,7 @@ impl RenderSettings {
         let drawn_by = Drawn { renderer, by };
         self.check_limits(drawn_by)?;
         self.check_scene_samples(drawn_by, scene)?;
+        self.check_scene_depth(drawn_by, scene)?;
         self.refuse_unused(drawn_by)?;
         if !self.quiet {
             for warning in self.ignored(drawn_by) {
@@ -513,6 +514,32 @@ impl RenderSettings {
         )
         .at(at)
         .with_key("samples");
+        Err(crate::diagnostics::scene_failure(error))
+    }
+
+    /// The scene's `max-depth` within the limit of the ray tracer when the command line picks
+    /// it for a scene of the path tracer, whose reader held the key to the path tracer's
+    /// larger limit (`--max-depth` replaces the key, checked by [`Self::check_limits`]).
+    fn check_scene_depth(&self, drawn: Drawn, scene: &Scene) -> Result<(), Failure> {
+        if drawn.renderer != Renderer::Ray || self.max_depth.is_some() {
+            return Ok(());
+        }
+        let (Some(depth), Some(at)) = (scene.max_depth, scene.max_depth_at) else {
+            return Ok(());
+        };
+        if depth <= MAX_RAY_DEPTH {
+            return Ok(());
+        }
+        let error = rayforge_scene::SceneError::new(
+            &self.scene,
+            format!(
+                "{depth} bounces is more than {MAX_RAY_DEPTH}, the most {drawn} follows (the \
+                 path tracer's limit is {})",
+                PathOptions::MAX_DEPTH
+            ),
+        )
+        .at(at)
+        .with_key("max-depth");
         Err(crate::diagnostics::scene_failure(error))
     }
 

@@ -629,3 +629,31 @@ fn the_path_tracers_technique_switches_are_its_flags() {
         &["--roulette", "on", "--roulette-scale", "2", "-q"],
     );
 }
+
+#[test]
+fn a_path_scenes_max_depth_takes_the_limit_of_the_renderer_that_draws_it() {
+    let d = Dir::new();
+    let path = d.file(
+        "deep.yml",
+        &format!("{}    max-depth: 500\n", choosing("path")),
+    );
+    // The path tracer follows 500 bounces...
+    accepted(&path, &d.path("a.pfm"), &["-q", "--spp", "1"]);
+    // ...the ray tracer at most 64: refused at the key (line 11, column 16), naming both.
+    refused(
+        &path,
+        &d.path("b.pfm"),
+        &["--renderer", "ray"],
+        &[
+            "deep.yml:11:16: `max-depth`: 500 bounces is more than 64",
+            "the ray tracer (--renderer ray)",
+            "the path tracer's limit is 1024",
+        ],
+    );
+    // `--max-depth` replaces the key.
+    accepted(
+        &path,
+        &d.path("c.pfm"),
+        &["--renderer", "ray", "--max-depth", "5", "-q"],
+    );
+}

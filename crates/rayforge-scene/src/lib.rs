@@ -188,6 +188,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         samples_at,
         anti_alias,
         max_depth: settings.as_ref().and_then(|s| s.max_depth),
+        max_depth_at: settings.as_ref().and_then(|s| s.max_depth_at),
         raster: settings.as_ref().and_then(|s| s.raster),
         path: settings.and_then(|s| s.path),
         warnings: source.take_warnings(),

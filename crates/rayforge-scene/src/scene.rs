@@ -27,6 +27,10 @@ pub struct Scene {
     pub anti_alias: Option<u32>,
     /// Reflection and refraction bounces, when the scene's `world:` item sets `max-depth`.
     pub max_depth: Option<u32>,
+    /// Where `max-depth` is written, when it is: the reader holds it to the limit of the
+    /// scene's own renderer, and the renderer the command line picks holds it to its own, the
+    /// error pointing here.
+    pub max_depth_at: Option<crate::error::Span>,
     /// The rasterizer's options, when the scene's `world:` item says `renderer: raster`.
     pub raster: Option<rayforge::options::RasterOptions>,
     /// The path tracer's options, when the scene's `world:` item says `renderer: path`

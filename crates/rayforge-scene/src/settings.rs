@@ -19,7 +19,7 @@
 
 use crate::assets::Assets;
 use crate::environment::environment;
-use crate::error::{clip, SceneError};
+use crate::error::{clip, SceneError, Span};
 use crate::material::color;
 use crate::source::{check_keys, describe, Entry, Node, Source};
 use rayforge::film::{PixelFilter, MAX_FILTER_RADIUS};
@@ -39,6 +39,10 @@ pub const MAX_DEPTH: u64 = 64;
 pub struct Settings {
     /// `max-depth`, if given.
     pub max_depth: Option<u32>,
+    /// Where `max-depth` is written, when it is: a scene for the path tracer may ask more
+    /// bounces than the ray tracer follows, which the command line's `--renderer ray` refuses
+    /// there.
+    pub max_depth_at: Option<Span>,
     /// The rasterizer's options, when `renderer: raster`.
     pub raster: Option<RasterOptions>,
     /// The path tracer's options, when `renderer: path` (its `max_depth` is `max-depth`, or
@@ -144,7 +148,7 @@ pub fn apply(
             "environment",
         ],
     )?;
-    let mut max_depth = None;
+    let (mut max_depth, mut max_depth_at) = (None, None);
     for e in &entries {
         match e.name {
             "lighting" => {
@@ -191,6 +195,7 @@ pub fn apply(
                     ));
                 }
                 max_depth = Some(depth as u32);
+                max_depth_at = Some(source.span(e.value));
             }
             _ => {} // the renderer's keys, read above
         }
@@ -200,6 +205,7 @@ pub fn apply(
     }
     Ok(Settings {
         max_depth,
+        max_depth_at,
         raster,
         path,
     })

@@ -266,6 +266,7 @@ pub fn model_scene(path: &Path, options: &LoadOptions) -> Result<Scene, SceneErr
         samples_at: None,
         anti_alias: None,
         max_depth: None,
+        max_depth_at: None,
         raster: None,
         path: None,
         warnings,
