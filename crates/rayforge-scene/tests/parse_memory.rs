@@ -3,39 +3,10 @@
 //! held meanwhile is measured by counting the bytes the allocator hands out. A test binary of
 //! its own, and one test in it, so that no other test's allocations count.
 use rayforge_scene::{load_file, load_str};
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// The system allocator, counting the bytes held and the most held at once.
-struct Counting;
-
-static HELD: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let held = HELD.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
-        PEAK.fetch_max(held, Ordering::Relaxed);
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        HELD.fetch_sub(layout.size(), Ordering::Relaxed);
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static ALLOCATOR: Counting = Counting;
-
-/// Runs `f`, returning its result and the most memory it held beyond what was held before.
-fn peak_of<T>(f: impl FnOnce() -> T) -> (T, usize) {
-    let before = HELD.load(Ordering::Relaxed);
-    PEAK.store(before, Ordering::Relaxed);
-    let out = f();
-    (out, PEAK.load(Ordering::Relaxed).saturating_sub(before))
-}
+mod counting;
+use counting::peak_of;
 
 const MB: usize = 1 << 20;
 
@@ -55,7 +26,7 @@ fn files_built_to_exhaust_memory_are_refused_in_bounded_memory() {
         "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}]}"#,
     )
     .unwrap();
-    let (e, peak) = peak_of(|| load_file(&bomb).unwrap_err());
+    let (e, peak, _) = peak_of(|| load_file(&bomb).unwrap_err());
     assert!(e.message.contains("more than the 30000000"), "{e}");
     eprintln!("sparse bomb: refused holding at most {} MB", peak / MB);
     assert!(peak < 16 * MB, "the sparse bomb held {} MB", peak / MB);
@@ -65,7 +36,7 @@ fn files_built_to_exhaust_memory_are_refused_in_bounded_memory() {
     let mut text = String::from("- add: sphere\n  transform: [");
     text.push_str(&entry.repeat(60 * MB / entry.len()));
     text.push_str("]\n");
-    let (e, peak) = peak_of(|| load_str(&text, Path::new("line.yml")).unwrap_err());
+    let (e, peak, _) = peak_of(|| load_str(&text, Path::new("line.yml")).unwrap_err());
     assert!(
         e.message
             .contains("an item holds more than 1000000 YAML values"),
@@ -91,7 +62,7 @@ fn files_built_to_exhaust_memory_are_refused_in_bounded_memory() {
             "- define: a{i}\n  value: &a{i} [*a{j}, *a{j}, *a{j}, *a{j}, *a{j}, *a{j}, *a{j}, *a{j}, *a{j}, *a{j}]\n"
         ));
     }
-    let (e, peak) = peak_of(|| load_str(&text, Path::new("laughs.yml")).unwrap_err());
+    let (e, peak, _) = peak_of(|| load_str(&text, Path::new("laughs.yml")).unwrap_err());
     assert!(
         e.message
             .contains("the file holds more than 4000000 YAML values"),

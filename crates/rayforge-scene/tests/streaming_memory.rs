@@ -2,31 +2,10 @@
 //! items is read without holding a tree of them all. Measured by counting the bytes the
 //! allocator hands out: a test binary of its own, so no other test's allocations count.
 use rayforge_scene::load_str;
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// The system allocator, counting the bytes held and the most held at once.
-struct Counting;
-
-static HELD: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let held = HELD.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
-        PEAK.fetch_max(held, Ordering::Relaxed);
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        HELD.fetch_sub(layout.size(), Ordering::Relaxed);
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static ALLOCATOR: Counting = Counting;
+mod counting;
+use counting::peak_of;
 
 mod common;
 use common::many_items;
@@ -35,11 +14,8 @@ use common::many_items;
 fn a_scene_of_many_items_is_read_without_holding_a_tree_of_them_all() {
     let n = 20_000;
     let text = many_items(n);
-    let before = HELD.load(Ordering::Relaxed);
-    PEAK.store(before, Ordering::Relaxed);
-    let scene = load_str(&text, Path::new("many.yml")).expect("the scene loads");
-    let peak = PEAK.load(Ordering::Relaxed) - before;
-    let kept = HELD.load(Ordering::Relaxed) - before;
+    let (scene, peak, kept) =
+        peak_of(|| load_str(&text, Path::new("many.yml")).expect("the scene loads"));
     assert_eq!(scene.world.objects.len(), n);
     // What the scene keeps is about 0.7-0.8 KB an object; saphyr's tree of the whole file would
     // add about 5 KB an item on top while the world is built (over 100 MB here). Allowed: the
