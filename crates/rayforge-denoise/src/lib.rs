@@ -47,8 +47,13 @@ pub const LIBRARY_FILE: &str = "OpenImageDenoise.dll";
 #[cfg(not(any(target_os = "macos", windows)))]
 pub const LIBRARY_FILE: &str = "libOpenImageDenoise.so.2";
 
-/// The `.oidn` folder of the checkout this crate was built from, the install script's default.
-const CHECKOUT_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../.oidn");
+/// The `.oidn` folder of the checkout this crate was built from (two folders above it), the
+/// install script's default.
+fn checkout_dir() -> PathBuf {
+    let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = crate_dir.ancestors().nth(2).unwrap_or(crate_dir);
+    root.join(".oidn")
+}
 
 /// How to get the library, as every message about its absence says.
 pub const HOW_TO_INSTALL: &str = "install it with `tools/oidn/install.sh` in the rayforge \
@@ -59,11 +64,21 @@ pub const HOW_TO_INSTALL: &str = "install it with `tools/oidn/install.sh` in the
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error(
     "Intel Open Image Denoise 2 ({LIBRARY_FILE}) could not be loaded: {}; {HOW_TO_INSTALL}",
-    tried.iter().map(|(p, why)| format!("{}: {why}", p.display())).collect::<Vec<_>>().join("; ")
+    tried.iter().map(|(p, why)| place(p, why)).collect::<Vec<_>>().join("; ")
 )]
 pub struct LoadError {
     /// Each path tried (a bare file name for the system's search) and why it failed.
     pub tried: Vec<(PathBuf, String)>,
+}
+
+/// A place tried and why it failed, the path named once (the system's loader names it too).
+fn place(path: &Path, why: &str) -> String {
+    let path = path.display().to_string();
+    if why.contains(&path) {
+        why.to_string()
+    } else {
+        format!("{path}: {why}")
+    }
 }
 
 /// Why an image could not be denoised.
@@ -142,7 +157,7 @@ impl Denoiser {
         let candidates = match std::env::var_os(DIR_VARIABLE) {
             Some(dir) => vec![Path::new(&dir).join("lib").join(LIBRARY_FILE)],
             None => vec![
-                Path::new(CHECKOUT_DIR).join("lib").join(LIBRARY_FILE),
+                checkout_dir().join("lib").join(LIBRARY_FILE),
                 PathBuf::from(LIBRARY_FILE),
             ],
         };
