@@ -81,6 +81,8 @@ Render options (`rayforge render --help` describes each in full):
       --roulette-predictions <on|off> path only: whether the learned roulette ends paths
                             into learned predictions of the light to come [default: on]
       --aovs                path only: also write the first hit's albedo and normal
+      --denoise             path only: denoise with Intel Open Image Denoise, guided by the
+                            albedo and normals (tools/oidn/install.sh installs it)
       --time <DURATION>     ray and path: refine in passes until this time is spent (30s, 5m)
       --display-server <HOST:PORT> show the image in the tev viewer while it renders
       --exr-half            write the .exr output in 16-bit half floats
@@ -139,6 +141,51 @@ pub enum Command {
     /// renderer, lighting, samples and size and orbit the camera with the mouse.
     #[command(after_help = SERVE_EXAMPLES)]
     Serve(ServeArgs),
+    /// Denoise a linear image (.exr or .pfm, as `rayforge render` writes them) with Intel Open
+    /// Image Denoise, guided by its albedo and normals, into an image (.png, .ppm, .pfm or
+    /// .exr). `tools/oidn/install.sh` installs the library.
+    #[command(after_help = DENOISE_EXAMPLES)]
+    Denoise(DenoiseArgs),
+}
+
+/// The examples under `rayforge denoise --help`.
+const DENOISE_EXAMPLES: &str = "\
+Examples:
+  rayforge render scenes/pbr/cornell.yml -o noisy.exr --renderer path --spp 16 --aovs
+  rayforge denoise noisy.exr -o clean.png          # guided by noisy.exr's albedo and normal layers
+  rayforge denoise noisy.pfm --albedo noisy.albedo.pfm --normal noisy.normal.pfm -o clean.pfm
+
+Exit status: 0 on success, 2 for bad input (the images, the output path, or no Intel Open
+Image Denoise), 1 for an internal error.";
+
+/// Arguments of `rayforge denoise`.
+#[derive(Debug, Args)]
+pub struct DenoiseArgs {
+    /// The noisy image: linear OpenEXR or PFM. An OpenEXR file's own `albedo` and `normal`
+    /// layers (`rayforge render --aovs`) guide the denoiser unless --albedo or --normal names
+    /// another file.
+    pub input: PathBuf,
+
+    /// The first surfaces' albedo, an OpenEXR (its R, G, B) or PFM image of the same size.
+    #[arg(long, value_name = "FILE")]
+    pub albedo: Option<PathBuf>,
+
+    /// Their normals in [-1, 1], an OpenEXR or PFM image of the same size; needs an albedo.
+    #[arg(long, value_name = "FILE")]
+    pub normal: Option<PathBuf>,
+
+    /// The denoised image; the extension picks the format, as for `rayforge render`. It may
+    /// not be one of the inputs.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+
+    /// The denoiser's threads [default: all cores]; the image is the same for any number.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// The examples under `rayforge slurm --help`.
@@ -559,6 +606,15 @@ pub struct RenderArgs {
     /// its layers `albedo.R/G/B` and `normal.R/G/B`.
     #[arg(long)]
     pub aovs: bool,
+
+    /// Path tracer: denoise the image with Intel Open Image Denoise (its `RT` filter on the
+    /// linear radiance, guided by the first surfaces' albedo and normals, themselves denoised
+    /// first); with --aovs the raw image is kept beside it, as `out.noisy.png` for `out.png`
+    /// or the layer `noisy.R/G/B` of an OpenEXR output. The library is loaded when rayforge
+    /// runs: `tools/oidn/install.sh` installs it, and without it the render is refused before
+    /// it starts.
+    #[arg(long)]
+    pub denoise: bool,
 
     /// Render in passes that refine the whole image, and stop before the pass that would go
     /// past this time, e.g. `30s`, `5m`, `1h` or `500ms`. The path tracer adds 1, 1, 2, 4, …

@@ -9,6 +9,8 @@ pub mod atomic_write;
 mod bench_command;
 mod checkpoint;
 mod checkpointed;
+mod denoise;
+mod denoise_command;
 mod diagnostics;
 pub mod failure;
 mod finite;
@@ -50,5 +52,8 @@ pub fn run() -> Result<ExitCode, Failure> {
         args::Command::Merge(merge) => merge_command::run(&merge).map(|()| ExitCode::SUCCESS),
         args::Command::Slurm(slurm) => slurm_command::run(&slurm).map(|()| ExitCode::SUCCESS),
         args::Command::Serve(serve) => serve::run(serve),
+        args::Command::Denoise(denoise) => {
+            denoise_command::run(&denoise).map(|()| ExitCode::SUCCESS)
+        }
     }
 }

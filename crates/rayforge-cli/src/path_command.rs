@@ -1,7 +1,9 @@
 //! `rayforge render --renderer path`: the path tracer's render, from the film to the files: the
 //! image (linear in PFM and OpenEXR, sRGB-encoded in PNG and PPM, which are for looking at), and
-//! with `--aovs` the albedo and normal images beside it for denoisers. Pixels that are not
-//! finite are written black in every file and counted in a warning (see [`crate::finite`]).
+//! with `--aovs` the albedo and normal images beside it for denoisers; with `--denoise` the
+//! image denoised by Intel Open Image Denoise, guided by those two (see [`crate::denoise`]),
+//! and with both the raw image beside it. Pixels that are not finite are written black in
+//! every file and counted in a warning (see [`crate::finite`]).
 
 use crate::atomic_write::write_atomically;
 use crate::checkpoint;
@@ -108,10 +110,14 @@ fn restore_rows(
 }
 
 /// How many films' worth of memory a path traced render holds at its peak: the image's and,
-/// with --aovs, the four AOVs' (`AOV_NAMES`); with an adaptive plan, as many again for the
-/// pilot's sums the plan keeps, and one for the pilot's record of each pixel.
+/// with --aovs or --denoise, the four AOVs' (`AOV_NAMES`); with an adaptive plan, as many
+/// again for the pilot's sums the plan keeps, and one for the pilot's record of each pixel.
 pub fn films_held(settings: &RenderSettings, scene: &Scene, options: &PathOptions) -> u64 {
-    let films = if settings.path.aovs { 5 } else { 1 };
+    let films = if settings.path.aovs || settings.path.denoise {
+        5
+    } else {
+        1
+    };
     let spp = samples_per_pixel(settings, scene);
     let planned = plans_samples(options, spp) && passes(settings, spp).len() == 1;
     if planned {
@@ -132,14 +138,24 @@ pub fn path_render(
     output: &Path,
 ) -> Result<(), Failure> {
     let (width, height) = (camera.hsize(), camera.vsize());
+    // Loaded first: without the library, the render is refused before it is spent.
+    let denoiser = settings
+        .path
+        .denoise
+        .then(|| crate::denoise::load("--denoise"))
+        .transpose()?;
     let spp = samples_per_pixel(settings, scene);
     let film = Film::with_filter(width, height, options.filter)
         .map_err(|e| Failure::usage(format!("{e}")))?;
     let film = SharedFilm::from(film);
-    let aovs = settings.path.aovs.then(|| Aovs::new(width, height));
-    // Beside the image, except in OpenEXR, which holds them as layers.
-    let aov_paths = (settings.path.aovs && !settings.format.is_exr()).then(|| aov_paths(output));
-    for path in aov_paths.iter().flatten() {
+    // The denoiser's guides are the albedo and normal AOVs, written only with --aovs.
+    let aovs = (settings.path.aovs || denoiser.is_some()).then(|| Aovs::new(width, height));
+    // Beside the image, except in OpenEXR, which holds them as layers; with --denoise the raw
+    // image too.
+    let beside = settings.path.aovs && !settings.format.is_exr();
+    let aov_paths = beside.then(|| aov_paths(output));
+    let noisy_path = (beside && denoiser.is_some()).then(|| noisy_path(output));
+    for path in aov_paths.iter().flatten().chain(&noisy_path) {
         crate::atomic_write::check_writable(path)?;
     }
     // A saved row holds the image's row, then each AOV's with --aovs.
@@ -260,16 +276,38 @@ pub fn path_render(
     let mut non_finite = Vec::new();
     let mut canvas = film.into_film().resolve();
     non_finite.push((blacken_non_finite(&mut canvas), output.to_path_buf()));
+    let aovs = aovs.map(|aovs| {
+        let mut resolved =
+            [aovs.albedo, aovs.normal, aovs.depth, aovs.samples].map(|f| f.into_film().resolve());
+        let counts = resolved.each_mut().map(blacken_non_finite);
+        (resolved, counts)
+    });
+    let overlay = Some((&scene.overlay, camera));
+    // Denoised in linear radiance, before the image is encoded for its format; the raw image
+    // kept, finished as it would be without --denoise, when --aovs writes it.
+    let mut noisy = None;
+    if let (Some(denoiser), Some(([albedo, normal, ..], _))) = (&denoiser, &aovs) {
+        let guides = crate::denoise::Guides {
+            albedo,
+            normal: Some(normal),
+        };
+        let threads = pool.current_num_threads();
+        let denoised =
+            crate::denoise::denoise(denoiser, &canvas, Some(guides), threads, "the render")?;
+        let mut raw = std::mem::replace(&mut canvas, denoised);
+        if settings.path.aovs {
+            finish_path_image(&mut raw, settings.format, overlay);
+            noisy = Some(raw);
+        }
+    }
     if let Some(mut display) = display {
         display.image(&canvas);
     }
-    finish_path_image(&mut canvas, settings.format, Some((&scene.overlay, camera)));
+    finish_path_image(&mut canvas, settings.format, overlay);
     // The AOVs, resolved; the albedo encoded as the image is, the normal in a display format
     // as normal maps store it; depth and sample count as they are (linear files only).
-    let aov_images = aovs.map(|aovs| {
-        let [mut albedo, mut normal, mut depth, mut samples] =
-            [aovs.albedo, aovs.normal, aovs.depth, aovs.samples].map(|f| f.into_film().resolve());
-        let counts = [&mut albedo, &mut normal, &mut depth, &mut samples].map(blacken_non_finite);
+    let aov_images = aovs.filter(|_| settings.path.aovs).map(|aovs| {
+        let ([mut albedo, mut normal, depth, samples], counts) = aovs;
         encode_for(settings.format, &mut albedo);
         if !settings.format.is_linear() {
             // [-1, 1] into [0, 1].
@@ -285,12 +323,13 @@ pub fn path_render(
         // sample count as one channel `samples`.
         (Some(([albedo, normal, depth, samples], counts)), None) => {
             non_finite.push((counts.iter().sum(), output.to_path_buf()));
-            let layers = [
+            let mut layers = vec![
                 Layer::rgb("albedo", albedo),
                 Layer::rgb("normal", normal),
                 Layer::single("Z", depth),
                 Layer::single("samples", samples),
             ];
+            layers.extend(noisy.as_ref().map(|noisy| Layer::rgb("noisy", noisy)));
             write_atomically(
                 output,
                 &settings.format.encode_with_layers(&canvas, &layers)?,
@@ -307,6 +346,9 @@ pub fn path_render(
                     ImageFormat::Pfm
                 };
                 write_atomically(path, &format.encode(image)?)?;
+            }
+            if let (Some(noisy), Some(path)) = (&noisy, &noisy_path) {
+                write_atomically(path, &settings.format.encode(noisy)?)?;
             }
         }
         _ => write_atomically(output, &settings.format.encode(&canvas)?)?,
@@ -392,6 +434,20 @@ pub fn aov_paths(output: &Path) -> [PathBuf; 4] {
     ]
 }
 
+/// Where `--denoise --aovs` writes the raw image when the image is not OpenEXR: beside it,
+/// `out.noisy.png` for `out.png`, in the image's format.
+pub fn noisy_path(output: &Path) -> PathBuf {
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = output
+        .extension()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    output.with_file_name(format!("{stem}.noisy.{ext}"))
+}
+
 /// Radiance as the format wants it: linear for PFM and OpenEXR; for the 8-bit formats,
 /// encoded with the sRGB transfer curve (a display shows code values, not radiance).
 pub(crate) fn encode_for(format: ImageFormat, canvas: &mut Canvas) {
@@ -428,6 +484,10 @@ mod tests {
         assert_eq!(s, Path::new("out/cornell.samples.pfm"));
         assert_eq!(a, Path::new("out/cornell.albedo.png"));
         assert_eq!(n, Path::new("out/cornell.normal.png"));
+        assert_eq!(
+            noisy_path(Path::new("out/cornell.png")),
+            Path::new("out/cornell.noisy.png")
+        );
     }
 
     #[test]

@@ -155,6 +155,8 @@ pub struct PathRequest {
     pub roulette_predictions: Option<bool>,
     /// `--aovs`.
     pub aovs: bool,
+    /// `--denoise`.
+    pub denoise: bool,
     /// `--time`: render in passes within this budget (the ray tracer too; not the
     /// rasterizer, which draws in one).
     pub time: Option<std::time::Duration>,
@@ -188,6 +190,7 @@ impl PathRequest {
                 self.roulette_predictions.is_some(),
             ),
             ("--aovs", self.aovs),
+            ("--denoise", self.denoise),
         ])
     }
 }
@@ -348,6 +351,7 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
         techniques: TechniquesRequest::from_args(args)?,
         roulette_predictions: args.roulette_predictions.as_deref().map(|v| v == "on"),
         aovs: args.aovs,
+        denoise: args.denoise,
         time: args.time.as_deref().map(parse_duration).transpose()?,
     })
 }
@@ -818,6 +822,7 @@ fn slice(args: &RenderArgs) -> Result<Option<Slice>, Failure> {
         ("--resume", part && args.resume),
         ("--trace-pixel", part && args.trace_pixel.is_some()),
         ("--aovs", part && args.aovs),
+        ("--denoise", part && args.denoise),
         (
             "--pause-after-rows",
             part && args.pause_after_rows.is_some(),
