@@ -78,6 +78,8 @@ Render options (`rayforge render --help` describes each in full):
       --mirror-ball-cap <K> path only: the most mirror balls solved a vertex [default: 2]
       --mirror-ball-cull <SHARE> path only: balls adding less of the sky's light are left
                             to BSDF sampling [default: 0.001]
+      --sphere-cones <on|off> path only: glowing balls sampled in the cone they subtend
+                            (off: by area) [default: on]
       --roulette-predictions <on|off> path only: whether the learned roulette ends paths
                             into learned predictions of the light to come [default: on]
       --aovs                path only: also write the first hit's albedo and normal
@@ -593,6 +595,13 @@ pub struct RenderArgs {
     /// `mirror-ball-cull`, else 0.001].
     #[arg(long, value_name = "SHARE")]
     pub mirror_ball_cull: Option<f64>,
+
+    /// Path tracer: a glowing ball seen from outside sampled uniformly in the cone of
+    /// directions it subtends; `off` samples it by area, as every other shape [default: the
+    /// scene's `sphere-cones`, else on].
+    #[arg(long, value_name = "on|off", value_parser = ["on", "off"])]
+    pub sphere_cones: Option<String>,
+
     /// Path tracer: whether the learned roulette (`--roulette-scale auto`) also learns where
     /// the light a path still gathers past a diffuse surface is predictable, and ends paths
     /// there into the prediction (unbiased); `off` learns the scale alone [default: the

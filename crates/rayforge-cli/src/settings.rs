@@ -185,6 +185,7 @@ impl PathRequest {
                 "--mirror-ball-cull",
                 self.techniques.mirror_ball_cull.is_some(),
             ),
+            ("--sphere-cones", self.techniques.sphere_cones.is_some()),
             (
                 "--roulette-predictions",
                 self.roulette_predictions.is_some(),
@@ -212,6 +213,8 @@ pub struct TechniquesRequest {
     pub mirror_ball_cap: Option<u32>,
     /// `--mirror-ball-cull`.
     pub mirror_ball_cull: Option<f64>,
+    /// `--sphere-cones`.
+    pub sphere_cones: Option<bool>,
 }
 
 impl TechniquesRequest {
@@ -248,6 +251,7 @@ impl TechniquesRequest {
             mirror_balls: on(&args.mirror_balls),
             mirror_ball_cap: args.mirror_ball_cap,
             mirror_ball_cull: cull,
+            sphere_cones: on(&args.sphere_cones),
         })
     }
 
@@ -263,6 +267,7 @@ impl TechniquesRequest {
         set(&mut techniques.roulette, self.roulette);
         set(&mut techniques.glass_split, self.glass_split);
         set(&mut techniques.mirror_balls, self.mirror_balls);
+        set(&mut techniques.sphere_cones, self.sphere_cones);
         if let Some(cap) = self.mirror_ball_cap {
             techniques.mirror_ball_budget.cap = cap;
         }

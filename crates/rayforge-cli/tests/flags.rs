@@ -555,6 +555,25 @@ fn the_light_sampler_flag_picks_the_sampler_and_refuses_another_name() {
 }
 
 #[test]
+fn the_sphere_cones_flag_samples_the_balls_as_the_scenes_key_does() {
+    let d = Dir::new();
+    let image = |scene: &Path, name: &str, args: &[&str]| {
+        let out = d.path(name);
+        accepted(scene, &out, &[&["-q", "--spp", "4"], args].concat());
+        std::fs::read(out).unwrap()
+    };
+    let plain = d.file("balls.yml", &lamps(""));
+    let keyed = d.file("by-area.yml", &lamps("    sphere-cones: off\n"));
+    let cones = image(&plain, "cones.pfm", &[]);
+    let by_area = image(&plain, "area.pfm", &["--sphere-cones", "off"]);
+    // The ball lamps sampled another way: another image from the same seed.
+    assert_ne!(cones, by_area);
+    // The flag gives the image of the scene's key, and overrides it.
+    assert_eq!(by_area, image(&keyed, "key.pfm", &[]));
+    assert_eq!(cones, image(&keyed, "over.pfm", &["--sphere-cones", "on"]));
+}
+
+#[test]
 fn the_path_tracers_technique_switches_are_its_flags() {
     let d = Dir::new();
     let path = d.file("path.yml", &choosing("path"));
@@ -565,6 +584,7 @@ fn the_path_tracers_technique_switches_are_its_flags() {
         "--roulette",
         "--glass-split",
         "--mirror-balls",
+        "--sphere-cones",
     ];
     for (i, flag) in switches.iter().enumerate() {
         for value in ["on", "off"] {

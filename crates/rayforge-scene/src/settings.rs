@@ -12,8 +12,8 @@
 //!                             # `sample-allocation` (`by-noise` or `uniform`),
 //!                             # `light-sampler` and the techniques' switches
 //!                             # (`next-event`, `mis`, `roulette`, `glass-split`,
-//!                             # `mirror-balls`: `on` or `off`) with the mirror balls'
-//!                             # `mirror-ball-cap` and `mirror-ball-cull`, and
+//!                             # `mirror-balls`, `sphere-cones`: `on` or `off`) with the
+//!                             # mirror balls' `mirror-ball-cap` and `mirror-ball-cull`, and
 //!                             # `roulette-predictions`
 //! ```
 
@@ -50,6 +50,16 @@ pub struct Settings {
     pub path: Option<PathOptions>,
 }
 
+/// The keys every renderer reads.
+const WORLD_KEYS: &[&str] = &[
+    "lighting",
+    "background",
+    "max-depth",
+    "ambient-index",
+    "renderer",
+    "environment",
+];
+
 /// The keys that only the rasterizer reads.
 const RASTER_KEYS: &[&str] = &["shading", "sphere-divisions", "wireframe", "texture-filter"];
 
@@ -70,6 +80,7 @@ const PATH_KEYS: &[&str] = &[
     "mirror-balls",
     "mirror-ball-cap",
     "mirror-ball-cull",
+    "sphere-cones",
     "roulette-predictions",
 ];
 
@@ -115,39 +126,10 @@ pub fn apply(
             ));
         }
     }
-    check_keys(
-        source,
-        &entries,
-        "`world`",
-        &[
-            "lighting",
-            "background",
-            "max-depth",
-            "ambient-index",
-            "renderer",
-            "shading",
-            "sphere-divisions",
-            "wireframe",
-            "texture-filter",
-            "sampler",
-            "filter",
-            "filter-radius",
-            "seed",
-            "roulette-depth",
-            "roulette-scale",
-            "sample-allocation",
-            "light-sampler",
-            "next-event",
-            "mis",
-            "roulette",
-            "glass-split",
-            "mirror-balls",
-            "mirror-ball-cap",
-            "mirror-ball-cull",
-            "roulette-predictions",
-            "environment",
-        ],
-    )?;
+    let known: Vec<&str> = (WORLD_KEYS.iter().chain(RASTER_KEYS).chain(PATH_KEYS))
+        .copied()
+        .collect();
+    check_keys(source, &entries, "`world`", &known)?;
     let (mut max_depth, mut max_depth_at) = (None, None);
     for e in &entries {
         match e.name {
@@ -335,6 +317,7 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
             "roulette" => options.techniques.roulette = switch(source, e.value, e.name)?,
             "glass-split" => options.techniques.glass_split = switch(source, e.value, e.name)?,
             "mirror-balls" => options.techniques.mirror_balls = switch(source, e.value, e.name)?,
+            "sphere-cones" => options.techniques.sphere_cones = switch(source, e.value, e.name)?,
             "mirror-ball-cap" => {
                 let cap = source.integer(e.value, "mirror-ball-cap", 1)?;
                 options.techniques.mirror_ball_budget.cap = cap as u32;

@@ -776,9 +776,10 @@ fn the_techniques_are_switched_on_and_off() {
     let on = world("renderer: path").unwrap().path.unwrap().techniques;
     assert_eq!(on, Techniques::default());
     assert!(on.next_event && on.mis && on.roulette && on.glass_split && on.mirror_balls);
+    assert!(on.sphere_cones);
     assert_eq!(on.mirror_ball_budget, MirrorBallBudget::default());
     let off = world(
-        "renderer: path\nnext-event: off\nmis: off\nroulette: off\nglass-split: off\nmirror-balls: off\nmirror-ball-cap: 7\nmirror-ball-cull: 0.25",
+        "renderer: path\nnext-event: off\nmis: off\nroulette: off\nglass-split: off\nmirror-balls: off\nmirror-ball-cap: 7\nmirror-ball-cull: 0.25\nsphere-cones: off",
     )
     .unwrap()
     .path
@@ -793,6 +794,7 @@ fn the_techniques_are_switched_on_and_off() {
             glass_split: false,
             mirror_balls: false,
             mirror_ball_budget: MirrorBallBudget { cap: 7, cull: 0.25 },
+            sphere_cones: false,
         }
     );
     // Each switch on its own, in either spelling.
@@ -806,6 +808,7 @@ fn the_techniques_are_switched_on_and_off() {
         ("roulette", "off", |t| t.roulette),
         ("glass-split", "false", |t| t.glass_split),
         ("mirror-balls", "off", |t| t.mirror_balls),
+        ("sphere-cones", "false", |t| t.sphere_cones),
     ] {
         let t = world(&format!("renderer: path\n{key}: {value}"))
             .unwrap()
@@ -820,7 +823,8 @@ fn the_techniques_are_switched_on_and_off() {
                 t.mis,
                 t.roulette,
                 t.glass_split,
-                t.mirror_balls
+                t.mirror_balls,
+                t.sphere_cones
             ]
             .iter()
             .filter(|on| !**on)
@@ -842,6 +846,7 @@ fn bad_technique_keys_are_located() {
         "roulette",
         "glass-split",
         "mirror-balls",
+        "sphere-cones",
     ] {
         let column = key.len() + 7;
         assert_error(

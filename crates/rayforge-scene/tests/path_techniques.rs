@@ -1,5 +1,5 @@
 //! The path tracer's techniques, each switched off in turn (`next-event`, `mis`, `roulette`,
-//! `glass-split`, `mirror-balls`, and the mirror balls' cap): every combination is an
+//! `glass-split`, `mirror-balls`, `sphere-cones`, and the mirror balls' cap): every combination is an
 //! unbiased estimate of the same image, so the image with a technique off has the mean of the
 //! image with it on, within noise.
 //!
@@ -166,6 +166,18 @@ fn without_the_roulette_the_image_is_the_same() {
         ..on
     };
     assert_agrees(&scene, 64, on, off, "roulette off");
+}
+
+#[test]
+fn without_the_sphere_cones_the_image_is_the_same() {
+    // The floor's glowing ball drawn by area, not in the cone it subtends.
+    let scene = lit_floor();
+    let on = Techniques::default();
+    let off = Techniques {
+        sphere_cones: false,
+        ..on
+    };
+    assert_agrees(&scene, 64, on, off, "sphere-cones off");
 }
 
 #[test]

@@ -173,7 +173,9 @@ pub struct PathOptions {
 /// - without the glass split, a path that meets smooth glass takes one of its two lobes by
 ///   chance, as at any other vertex;
 /// - without the mirror-ball sampling, the sky in a polished metal ball reaches a surface
-///   only by the surface's own BSDF sampling meeting the ball.
+///   only by the surface's own BSDF sampling meeting the ball;
+/// - without the sphere cones, a glowing ball is sampled by area, as every other shape
+///   (about half its points on the side facing away, which give no light).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Techniques {
     /// Next-event estimation: a light (or the sky) sampled at every vertex that is not a
@@ -193,6 +195,10 @@ pub struct Techniques {
     pub mirror_balls: bool,
     /// How many balls the mirror-ball sampling solves at a vertex, and which it leaves out.
     pub mirror_ball_budget: MirrorBallBudget,
+    /// A glowing ball seen from outside (a sphere that its transform keeps round) is sampled
+    /// uniformly in the cone of directions it subtends (`crate::geometry::sphere::SubtendedCone`),
+    /// every sample on the cap that faces the vertex, rather than by area.
+    pub sphere_cones: bool,
 }
 
 /// What the mirror-ball sampling may spend at a vertex. Each ball has a share of the sky's
@@ -246,6 +252,7 @@ impl Default for Techniques {
             glass_split: true,
             mirror_balls: true,
             mirror_ball_budget: MirrorBallBudget::default(),
+            sphere_cones: true,
         }
     }
 }

@@ -25,7 +25,7 @@ mod triangle;
 
 pub use mesh::{Mesh, MeshError, MeshFace, VertexAttributes, Winding};
 pub use polyhedra::{dodecahedron, icosahedron};
-pub use sampling::{AreaSample, ShapeSampler, SolidAngleSample};
+pub use sampling::{AreaSample, Heights, ShapeSampler, SolidAngleSample};
 pub use tessellate::sphere_mesh;
 pub use torus::toroidal_map;
 pub use triangle::Triangle;

@@ -11,7 +11,8 @@
 //!   - Through their shape's [`ShapeSampler`] (the shapes' sampling lives with them, in
 //!     `geometry`), where they are at the path's instant of the shutter when they move:
 //!     spheres seen from outside in the cone of directions they subtend (when their transform
-//!     keeps them spheres), and by area spheres from inside, cubes, rectangles, rings and
+//!     keeps them spheres, and unless the world's `sphere-cones` switch is off), and by area
+//!     spheres from inside, cubes, rectangles, rings and
 //!     discs, triangles, meshes, finite cylinders and cones, ring tori and spindle tori; a
 //!     still rectangle as a parallelogram and a still box face by face in world space.
 //!   - Emissive textures, on any of those: sampled as the plain shape, the radiance
@@ -40,7 +41,7 @@ use crate::geometry::{rectangle, LocalHit, ShapeSampler, SolidAngleSample};
 use crate::math::random::{Jitter, SplitMix64};
 use crate::math::{cosine_hemisphere, Aabb, Distribution1D, Frame, Point3, Transform, Vec3};
 use crate::scene::{Csg, Cuboid, Object, Shape, World};
-use crate::shading::{AreaLight, EmissionSide, Material};
+use crate::shading::{AreaLight, EmissionSide, Material, SurfacePoint};
 use std::f64::consts::{FRAC_1_PI, PI};
 use std::sync::Arc;
 
@@ -103,8 +104,14 @@ enum Area {
         side: EmissionSide,
     },
     /// The world's object `object`, whose material emits (sampled where the object is at the
-    /// path's instant, when it moves).
-    Surface { object: u32, surface: ShapeSampler },
+    /// path's instant, when it moves): as seen from the point lit, the best way the shape has
+    /// where `best` (a ball in the cone it subtends), else by area (the sphere cones switched
+    /// off, [`Techniques::sphere_cones`](crate::options::Techniques::sphere_cones)).
+    Surface {
+        object: u32,
+        surface: ShapeSampler,
+        best: bool,
+    },
     /// The world's object `object`, a CSG solid that stands still, through its primitives
     /// that emit and can be sampled by area (`parts`, picked by `pick` in proportion to their
     /// areas; `by_leaf` gives each primitive's part, or [`NOT_SAMPLED`]).
@@ -146,9 +153,15 @@ impl AreaEmitter {
     }
 
     /// The emitter of world object number `index`, if its material emits and its shape can be
-    /// sampled (`disc`: the scene's cross-section).
-    pub(super) fn of_object(object: &Object, index: u32, disc: f64) -> Option<Self> {
-        let (kind, power) = object_emitter(object, index, disc)?;
+    /// sampled (`disc`: the scene's cross-section; `sphere_cones`: whether a ball is sampled in
+    /// the cone it subtends, [`Techniques::sphere_cones`](crate::options::Techniques::sphere_cones)).
+    pub(super) fn of_object(
+        object: &Object,
+        index: u32,
+        disc: f64,
+        sphere_cones: bool,
+    ) -> Option<Self> {
+        let (kind, power) = object_emitter(object, index, disc, sphere_cones)?;
         Some(Self { kind, power })
     }
 
@@ -227,10 +240,18 @@ impl AreaEmitter {
                 let density = probability * density;
                 flat_light(point, on_light, normal, *side, *radiance, density)
             }
-            Area::Surface { object, surface } => {
+            Area::Surface {
+                object,
+                surface,
+                best,
+            } => {
                 let object = &world.objects[*object as usize];
                 let placed = object.transform_at(time);
-                let drawn = surface.sample_solid_angle(&placed, point, rest, u)?;
+                let drawn = if *best {
+                    surface.sample_solid_angle(&placed, point, rest, u)
+                } else {
+                    surface.sample_area_seen_from(&placed, point, rest, u)
+                }?;
                 let light = surface_light(object, drawn, |_| true)?;
                 Some(LightSample {
                     pdf: probability * light.pdf,
@@ -306,9 +327,17 @@ impl AreaEmitter {
             Area::Cuboid {
                 cuboid, density, ..
             } => flat_density(cuboid.normal_at(point), *density, from, point, direction),
-            Area::Surface { surface, object } => {
+            Area::Surface {
+                surface,
+                object,
+                best,
+            } => {
                 let placed = world.objects[*object as usize].transform_at(hit.time);
-                surface.pdf_solid_angle(&placed, from, point, direction, hit.face)
+                if *best {
+                    surface.pdf_solid_angle(&placed, from, point, direction, hit.face)
+                } else {
+                    surface.pdf_area_seen_from(&placed, from, point, direction, hit.face)
+                }
             }
             Area::Csg {
                 csg,
@@ -342,21 +371,19 @@ impl AreaEmitter {
         }
     }
 
-    /// The radiance the surface gives off at the object-space hit `hit` of it (on the side it
-    /// glows on): what a path that meets it sees, the same reading of its material as the
-    /// path integrator's; black for the book's light, which is invisible.
-    pub fn radiance(&self, world: &World, hit: &LocalHit) -> Color {
-        match &self.kind {
-            Area::Book { .. } => Color::BLACK,
-            Area::Parallelogram { radiance, .. } | Area::Cuboid { radiance, .. } => *radiance,
-            Area::Surface { object, .. } | Area::Plane { object } => {
-                emitted(&world.objects[*object as usize], hit)
-            }
-            Area::Csg { csg, .. } => csg
-                .leaves()
-                .get(hit.leaf as usize)
-                .map_or(Color::BLACK, |leaf| emitted(leaf, hit)),
-        }
+    /// What a path that meets an emitting surface sees: the radiance `surface` (the object
+    /// met, or the primitive of a CSG solid) gives off at `at`, towards a direction back along
+    /// the path that makes the cosine `cos_out` with its geometric normal (the sign says which
+    /// side the path is on); `None` where it gives nothing that way. The same for every
+    /// emitting surface, sampled or not (an infinite cylinder, a CSG solid of many primitives
+    /// are found by scattering alone), and the same reading of the material as the light
+    /// samples' ([`emitted`]); the book's area light, invisible, is never met.
+    #[inline]
+    pub fn radiance(surface: &Object, at: &SurfacePoint, cos_out: f64) -> Option<Color> {
+        let material = &surface.material;
+        let emission = emission_of(material, || *at);
+        (emission.max_channel() > 0.0 && material.emission_side.emits_towards(cos_out))
+            .then_some(emission)
     }
 
     /// What the light samplers pick it by: its mean radiance times π over its (rough) world
@@ -458,10 +485,16 @@ fn surface_light(
 /// material as the path integrator makes where a path meets it (a glTF material's emissive
 /// factor times its emissive texture at the surface's texture coordinates).
 #[inline]
-pub(super) fn emitted(object: &Object, hit: &LocalHit) -> Color {
-    let material = &object.material;
+fn emitted(object: &Object, hit: &LocalHit) -> Color {
+    emission_of(&object.material, || object.shape.surface_point(hit))
+}
+
+/// The radiance `material` gives off at the surface point `at` (asked only of a glTF
+/// material, whose emissive texture reads it: a light sample has no surface point until then).
+#[inline]
+fn emission_of(material: &Material, at: impl FnOnce() -> SurfacePoint) -> Color {
     match &material.metal_rough {
-        Some(m) => m.emission_at(&object.shape.surface_point(hit)),
+        Some(m) => m.emission_at(&at()),
         None => material.emission,
     }
 }
@@ -510,8 +543,13 @@ fn plane_frame(object: &Object, time: f64) -> (Point3, Vec3) {
 }
 
 /// The emitter of world object number `index`, and the power it is picked by, if its material
-/// emits and its shape can be sampled (`disc`: the scene's cross-section).
-fn object_emitter(object: &Object, index: u32, disc: f64) -> Option<(Area, f64)> {
+/// emits and its shape can be sampled (see [`AreaEmitter::of_object`]).
+fn object_emitter(
+    object: &Object,
+    index: u32,
+    disc: f64,
+    sphere_cones: bool,
+) -> Option<(Area, f64)> {
     let power = || mean_emission(&object.material).luminance() * PI;
     match &object.shape {
         // Its primitives' materials shine, not its own.
@@ -563,6 +601,7 @@ fn object_emitter(object: &Object, index: u32, disc: f64) -> Option<(Area, f64)>
             let emitter = Area::Surface {
                 object: index,
                 surface,
+                best: sphere_cones,
             };
             Some((emitter, power() * world_area))
         }

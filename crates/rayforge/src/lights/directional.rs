@@ -1,7 +1,7 @@
 //! Computer Graphics from Scratch's directional light as the path tracer reads it: parallel
 //! light from infinitely far away, giving a surface facing it the irradiance
 //! `π · intensity · cos θ` (the book lights' meaning). A delta light: only light sampling
-//! finds it.
+//! finds it, so it answers `sample_li` and `power` alone (see the [module](super)).
 
 use super::sample::LightSample;
 use crate::color::Color;
@@ -40,16 +40,6 @@ impl DirectionalEmitter {
             pdf: probability,
             delta: true,
         }
-    }
-
-    /// The density of a direction scattering found: 0, one direction is never met.
-    pub fn pdf_li(&self) -> f64 {
-        0.0
-    }
-
-    /// What a ray sees that escapes towards it: nothing (an escaping ray sees the sky).
-    pub fn radiance(&self) -> Color {
-        Color::BLACK
     }
 
     /// What the light samplers pick it by: its irradiance over the scene's cross-section.

@@ -7,9 +7,11 @@
 //! Next-event estimation picks one emitter per path vertex through the scene's
 //! [`LightSampler`] (uniformly, by power, or by a light tree that weighs the vertex's place)
 //! ([`Emitters::sample`]), and a point or direction on it. A path that finds an emitter by
-//! scattering asks how likely light sampling would have been to choose that point
-//! ([`Emitters::object_pdf`], [`Emitters::sky_radiance_and_pdf`]), so that multiple importance
-//! sampling can weigh the two ways of finding it.
+//! scattering asks what it gives off there ([`Emitters::object_radiance`],
+//! [`Emitters::sky_radiance`]) and how likely light sampling would have been to choose that
+//! point ([`Emitters::object_pdf`], [`Emitters::sky_radiance_and_pdf`]), so that multiple
+//! importance sampling can weigh the two ways of finding it: the kinds' own `radiance` and
+//! `pdf_li`, through the list.
 //!
 //! The cgfs model's ambient light has no physical meaning and is left out: the path tracer's
 //! indirect light is what it stood for.
@@ -25,9 +27,9 @@ use super::spot::SpotEmitter;
 use crate::color::Color;
 use crate::geometry::LocalHit;
 use crate::math::{Point3, Vec3};
-use crate::options::LightSamplerKind;
-use crate::scene::{LightingModel, World};
-use crate::shading::{EnvironmentMap, Light, SkyDraw};
+use crate::options::{LightSamplerKind, PathOptions, Techniques};
+use crate::scene::{LightingModel, Object, World};
+use crate::shading::{EnvironmentMap, Light, SkyDraw, SurfacePoint};
 use std::f64::consts::PI;
 
 /// Marks an object that is not a sampled emitter.
@@ -69,8 +71,25 @@ impl Emitters {
         Self::with_sampler(world, LightSamplerKind::Auto)
     }
 
-    /// The emitters of `world`, picked by a sampler of kind `kind`.
+    /// The emitters of `world`, picked by a sampler of kind `kind`, sampled by every
+    /// technique.
     pub fn with_sampler(world: &World, kind: LightSamplerKind) -> Self {
+        Self::build(world, kind, Techniques::default().sphere_cones)
+    }
+
+    /// The emitters of `world` as a render with `options` samples them: by its light
+    /// sampler, a ball in the cone it subtends only where its techniques say so.
+    pub fn for_options(world: &World, options: &PathOptions) -> Self {
+        Self::build(
+            world,
+            options.light_sampler,
+            options.techniques.sphere_cones,
+        )
+    }
+
+    /// The emitters of `world`, picked by a sampler of kind `kind`, a ball sampled in the cone
+    /// it subtends where `sphere_cones`.
+    fn build(world: &World, kind: LightSamplerKind, sphere_cones: bool) -> Self {
         let radius = scene_radius(world);
         let falloff = world.lighting == LightingModel::Optics;
         let disc = PI * radius * radius;
@@ -100,7 +119,7 @@ impl Emitters {
         }
         let mut by_object = vec![NOT_SAMPLED; world.objects.len()];
         for (i, object) in world.objects.iter().enumerate() {
-            let Some(emitter) = AreaEmitter::of_object(object, i as u32, disc) else {
+            let Some(emitter) = AreaEmitter::of_object(object, i as u32, disc, sphere_cones) else {
                 continue;
             };
             by_object[i] = list.len() as u32;
@@ -177,13 +196,36 @@ impl Emitters {
     /// [`sample`](Self::sample) chooses that direction towards the sky (0 where the sky is not
     /// sampled): what a path that escapes weighs its light by.
     pub fn sky_radiance_and_pdf(&self, direction: Vec3) -> (Color, f64) {
-        let (radiance, pdf) = self.sky_light.radiance_and_pdf(direction);
+        let (radiance, pdf) = self.sky_light.radiance_and_pdf_li(direction);
         // The sky is apart from any tree: its probability is the same from every point.
         let pick = match (self.sky, &self.pick) {
             (Some(sky), Some(pick)) => pick.probability(Point3::ZERO, None, sky as usize),
             _ => 0.0,
         };
         (radiance, pick * pdf)
+    }
+
+    /// The radiance of the sky along `direction` and the density with which a draw of the
+    /// sky ([`SkyDraw`]) gives that direction, before next-event estimation's pick of the sky:
+    /// what a path that escapes beyond a mirror ball weighs its light by, against the sky's
+    /// draw reflected in the ball ([`MirrorBall`]); the background and 0 for a constant sky.
+    #[inline]
+    pub fn sky_radiance_and_draw_pdf(&self, direction: Vec3) -> (Color, f64) {
+        self.sky_light.radiance_and_pdf_li(direction)
+    }
+
+    /// What a path that meets the surface `surface` (a world object, or the primitive of a
+    /// CSG solid) at `at` sees it give off, towards a direction back along the path at the
+    /// cosine `cos_out` with its geometric normal; `None` where it gives nothing that way (see
+    /// [`AreaEmitter::radiance`]: every emitting surface, whether it is sampled or not).
+    #[inline]
+    pub fn object_radiance(
+        &self,
+        surface: &Object,
+        at: &SurfacePoint,
+        cos_out: f64,
+    ) -> Option<Color> {
+        AreaEmitter::radiance(surface, at, cos_out)
     }
 
     /// The density (per solid angle at `from`) with which [`sample`](Self::sample) chooses the
@@ -292,7 +334,7 @@ mod tests {
     use crate::geometry::icosahedron;
     use crate::math::random::{Jitter, SplitMix64};
     use crate::math::{point, rotation_x, rotation_y, scaling, translation, Frame, Ray, Transform};
-    use crate::scene::{Object, Shape};
+    use crate::scene::Shape;
     use crate::shading::{EmissionSide, Material};
     use std::f64::consts::FRAC_1_PI;
     use std::sync::Arc;
@@ -507,45 +549,105 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_ball_lamp_lights_a_point_as_its_analytic_irradiance_says() {
-        // A ball of radiance L and radius r seen at distance d, wholly above the point's
-        // horizon, gives it the irradiance π L (r/d)² cos β, β the angle between the point's
-        // normal and the ball's centre: next-event estimation (the ball drawn in its cone)
-        // agrees within its standard error, near and far.
+    /// The emitters of a world of one ball lamp, radius 0.8 at (0.5, −0.2, 0.3), glowing
+    /// outwards, sampled in the cone it subtends where `cones`, else by area.
+    fn ball_lamp(cones: bool) -> (World, Emitters) {
         let world = World {
             objects: vec![lamp(Shape::Sphere, ball_placement(), EmissionSide::Front)],
             ..World::default()
         };
-        let emitters = Emitters::new(&world);
+        let emitters = Emitters::build(&world, LightSamplerKind::Auto, cones);
+        (world, emitters)
+    }
+
+    #[test]
+    fn a_ball_lamp_lights_a_point_as_its_analytic_irradiance_says() {
+        // A ball of radiance L and radius r seen at distance d, wholly above the point's
+        // horizon, gives it the irradiance π L (r/d)² cos β, β the angle between the point's
+        // normal and the ball's centre: next-event estimation agrees within its standard
+        // error, near and far, with the ball drawn in its cone and by area alike.
         let centre = point(0.5, -0.2, 0.3);
-        for (distance, tilt) in [(1.1, 0.3_f64), (3.0, 0.9), (60.0, 1.2)] {
-            let axis = Vec3::new(-0.4, 1.0, 0.3).normalize();
-            let from = centre - axis * distance;
-            let frame = Frame::from_normal(axis);
-            let normal = frame.to_world(Vec3::new(tilt.sin(), 0.0, tilt.cos()));
-            let sin_max = 0.8 / distance;
-            assert!(tilt + sin_max.asin() < PI / 2.0);
-            let exact = PI * sin_max * sin_max * tilt.cos();
-            let mut random = SplitMix64::new(41);
-            let n = 20_000;
-            let (mut sum, mut sum2) = (0.0, 0.0);
+        for cones in [true, false] {
+            let (world, emitters) = ball_lamp(cones);
+            for (distance, tilt) in [(1.1, 0.3_f64), (3.0, 0.9), (60.0, 1.2)] {
+                let axis = Vec3::new(-0.4, 1.0, 0.3).normalize();
+                let from = centre - axis * distance;
+                let frame = Frame::from_normal(axis);
+                let normal = frame.to_world(Vec3::new(tilt.sin(), 0.0, tilt.cos()));
+                let sin_max = 0.8 / distance;
+                assert!(tilt + sin_max.asin() < PI / 2.0);
+                let exact = PI * sin_max * sin_max * tilt.cos();
+                let mut random = SplitMix64::new(41);
+                let n = 20_000;
+                let (mut sum, mut sum2) = (0.0, 0.0);
+                for _ in 0..n {
+                    let u = [random.next_offset(), random.next_offset()];
+                    let value = emitters
+                        .sample(&world, from, Some(normal), 0.0, 0.5, u)
+                        .map_or(0.0, |s| {
+                            s.radiance.luminance() * s.direction.dot(normal).max(0.0) / s.pdf
+                        });
+                    sum += value;
+                    sum2 += value * value;
+                }
+                let mean = sum / n as f64;
+                let se = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
+                assert!(
+                    (mean - exact).abs() < 4.0 * se + 1e-9 * exact,
+                    "cones {cones}, {distance}: {mean} ± {se} vs {exact}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_sphere_cones_switch_chooses_how_a_ball_is_sampled() {
+        // Seen from outside, a ball drawn in its cone gives every sample on the cap that
+        // faces the point, all of the cone's one density; drawn by area, the far half of its
+        // points give no light and the densities vary. Either way, a path that reaches the
+        // sampled point is told the density the sample had.
+        let from = point(4.0, 3.0, -5.0);
+        let d2 = (from - point(0.5, -0.2, 0.3)).length_squared();
+        let cone_pdf = 1.0 / (2.0 * PI * (1.0 - (1.0 - 0.64 / d2).sqrt()));
+        for cones in [true, false] {
+            let (world, emitters) = ball_lamp(cones);
+            let mut random = SplitMix64::new(7);
+            let (n, mut lit, mut off_cone) = (2_000, 0, 0);
             for _ in 0..n {
                 let u = [random.next_offset(), random.next_offset()];
-                let value = emitters
-                    .sample(&world, from, Some(normal), 0.0, 0.5, u)
-                    .map_or(0.0, |s| {
-                        s.radiance.luminance() * s.direction.dot(normal).max(0.0) / s.pdf
-                    });
-                sum += value;
-                sum2 += value * value;
+                let Some(s) = emitters.sample(&world, from, None, 0.0, 0.5, u) else {
+                    continue;
+                };
+                lit += 1;
+                off_cone += usize::from((s.pdf - cone_pdf).abs() > 1e-9 * cone_pdf);
+                let object = &world.objects[0];
+                let ray = Ray::new(from, s.direction);
+                let hit = (object.shape)
+                    .closest_hit(&object.ray_to_object(&ray), 1e-9, f64::INFINITY)
+                    .expect("a sampled direction meets the ball");
+                assert!((hit.t - s.distance).abs() <= 1e-6 * s.distance, "{cones}");
+                let pdf = emitters.object_pdf(
+                    &world,
+                    0,
+                    from,
+                    None,
+                    ray.position(hit.t),
+                    s.direction,
+                    &hit,
+                );
+                assert!(
+                    (pdf - s.pdf).abs() <= 1e-6 * s.pdf,
+                    "{cones}: {pdf} vs {}",
+                    s.pdf
+                );
             }
-            let mean = sum / n as f64;
-            let se = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
-            assert!(
-                (mean - exact).abs() < 4.0 * se + 1e-9 * exact,
-                "{distance}: {mean} ± {se} vs {exact}"
-            );
+            if cones {
+                assert_eq!((lit, off_cone), (n, 0));
+            } else {
+                // About half the ball faces the point, a little less from a finite distance.
+                assert!((n * 2 / 5..n / 2).contains(&lit), "{lit}");
+                assert_eq!(off_cone, lit);
+            }
         }
     }
 

@@ -48,14 +48,6 @@ impl SkyEmitter {
         })
     }
 
-    /// The solid-angle density with which [`sample_li`](Self::sample_li) draws `direction`:
-    /// the map's, 0 for a constant sky.
-    pub fn pdf_li(&self, direction: Vec3) -> f64 {
-        self.environment
-            .as_ref()
-            .map_or(0.0, |map| map.pdf(direction))
-    }
-
     /// The radiance of the sky along `direction` (what a path that escapes sees).
     #[inline]
     pub fn radiance(&self, direction: Vec3) -> Color {
@@ -65,10 +57,12 @@ impl SkyEmitter {
         }
     }
 
-    /// The radiance along `direction` and the map's density there, in one look-up (0 and the
-    /// background for a constant sky).
+    /// The radiance along `direction` (as [`radiance`](Self::radiance)) and the solid-angle
+    /// density with which [`sample_li`](Self::sample_li) draws it, before the sky's pick: the
+    /// map's, in the one look-up both take (the background and 0 for a constant sky, which is
+    /// not sampled).
     #[inline]
-    pub fn radiance_and_pdf(&self, direction: Vec3) -> (Color, f64) {
+    pub fn radiance_and_pdf_li(&self, direction: Vec3) -> (Color, f64) {
         match &self.environment {
             Some(map) => map.radiance_and_pdf(direction),
             None => (self.background, 0.0),

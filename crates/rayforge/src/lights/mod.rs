@@ -1,10 +1,15 @@
 //! Everything that gives off light, as the path tracer samples it: one file per kind of light
 //! (`point.rs`, `spot.rs`, `directional.rs`, `area.rs` for any surface that emits, the book's
 //! area light among them, and `environment.rs` for the sky), each answering `sample_li` (a
-//! direction towards it from a shading point, the light along it and its density), `pdf_li`,
-//! `radiance` (what a ray that meets it sees) and `power` (what it is picked by); the light
-//! list of a world over them ([`Emitters`], with the densities multiple importance sampling
-//! needs); and the polished metal balls through which the sky's light is sampled onto the
+//! direction towards it from a shading point, the light along it and its density) and `power`
+//! (what it is picked by), and the kinds a path can meet (a surface, the sky) `pdf_li` (the
+//! density with which `sample_li` draws what the path met) and `radiance` (what the path sees)
+//! too, the sky both in one look-up of its map. A point or a direction (a delta light) is
+//! found by light sampling alone: its sample says so ([`LightSample::delta`]) and takes all
+//! the weight, so such a kind has no `pdf_li` (pbrt's is 0) or `radiance` (black) that nothing
+//! would ask. The light list of a world over the kinds ([`Emitters`]) is what the path
+//! integrator asks, for light samples and for the densities and radiance of what its paths
+//! meet; and the polished metal balls through which the sky's light is sampled onto the
 //! surfaces they mirror ([`MirrorBall`]). Which light a vertex samples is the `LightSampler`'s
 //! choice (`sampler.rs`): uniform, by power, or by a light tree (`bvh.rs`, over each light's
 //! `light_bounds.rs`) that weighs where the vertex is.

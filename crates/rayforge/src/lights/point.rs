@@ -1,12 +1,13 @@
 //! The book's point light (chapter 6) as the path tracer reads it: a point that gives a surface
 //! facing it the irradiance `π · intensity · cos θ` at every distance, as the book's diffuse
 //! term does, or `π · intensity · cos θ / d²` where it falls off with distance (a physical light
-//! of its own, or any light under the optics model). A delta light: only light sampling finds it.
+//! of its own, or any light under the optics model). A delta light: only light sampling finds it,
+//! so it answers `sample_li` and `power` alone (see the [module](super)).
 
 use super::light_bounds::{Cone, LightBounds};
 use super::sample::LightSample;
 use crate::color::Color;
-use crate::math::{Aabb, Point3};
+use crate::math::{Aabb, Point3, Vec3};
 use crate::shading::PointLight;
 use std::f64::consts::PI;
 
@@ -40,10 +41,23 @@ impl PointEmitter {
     /// itself, or where it gives nothing.
     #[inline]
     pub fn sample_li(&self, point: Point3, probability: f64) -> Option<LightSample> {
+        self.shaped_sample(point, probability, |irradiance, _| irradiance)
+    }
+
+    /// [`sample_li`](Self::sample_li) with the irradiance at unit distance shaped by `shape`
+    /// from itself and the unit direction towards the light (a spotlight's cone), before the
+    /// fall-off with distance.
+    #[inline]
+    pub(super) fn shaped_sample(
+        &self,
+        point: Point3,
+        probability: f64,
+        shape: impl FnOnce(Color, Vec3) -> Color,
+    ) -> Option<LightSample> {
         let to_light = self.light.position - point;
         let distance = to_light.length();
         let direction = to_light / distance;
-        let mut radiance = self.irradiance;
+        let mut radiance = shape(self.irradiance, direction);
         if self.falloff {
             radiance = radiance * (1.0 / (distance * distance));
         }
@@ -56,16 +70,6 @@ impl PointEmitter {
         })
     }
 
-    /// The density of a direction scattering found: 0, a point is never met.
-    pub fn pdf_li(&self) -> f64 {
-        0.0
-    }
-
-    /// What a ray sees that passes through it: nothing, a point has no area.
-    pub fn radiance(&self) -> Color {
-        Color::BLACK
-    }
-
     /// What the light samplers pick it by: its irradiance over a sphere about it where it falls
     /// off, else over the scene's cross-section.
     pub fn power(&self) -> f64 {
@@ -75,8 +79,14 @@ impl PointEmitter {
     /// Its bounds for the light tree: its point, shining every way; `None` without fall-off,
     /// whose light reaches every distance alike (the tree keeps such lights apart).
     pub(super) fn bounds(&self) -> Option<LightBounds> {
+        self.bounds_in(Cone::EVERYWHERE)
+    }
+
+    /// Its bounds for the light tree if all its light goes into `cone`; `None` without
+    /// fall-off.
+    pub(super) fn bounds_in(&self, cone: Cone) -> Option<LightBounds> {
         self.falloff
-            .then(|| at_point(self.light.position, Cone::EVERYWHERE, self.power))
+            .then(|| at_point(self.light.position, cone, self.power))
     }
 }
 

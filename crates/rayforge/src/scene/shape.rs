@@ -8,7 +8,7 @@
 
 use super::csg::Csg;
 use crate::geometry::{cone, cube, cylinder, plane, rectangle, ring, sphere, torus};
-use crate::geometry::{LocalHit, Mesh, ShapeSampler, Triangle};
+use crate::geometry::{Heights, LocalHit, Mesh, ShapeSampler, Triangle};
 use crate::math::{Aabb, Point3, Ray, Vec3};
 use crate::shading::SurfacePoint;
 use std::sync::Arc;
@@ -256,24 +256,12 @@ impl Shape {
                 minimum,
                 maximum,
                 closed,
-            } if minimum.is_finite() && maximum.is_finite() && maximum > minimum => {
-                ShapeSampler::Cylinder {
-                    minimum: *minimum,
-                    maximum: *maximum,
-                    closed: *closed,
-                }
-            }
+            } => ShapeSampler::Cylinder(Heights::finite(*minimum, *maximum, *closed)?),
             Shape::Cone {
                 minimum,
                 maximum,
                 closed,
-            } if minimum.is_finite() && maximum.is_finite() && maximum > minimum => {
-                ShapeSampler::Cone {
-                    minimum: *minimum,
-                    maximum: *maximum,
-                    closed: *closed,
-                }
-            }
+            } => ShapeSampler::Cone(Heights::finite(*minimum, *maximum, *closed)?),
             Shape::Torus { major, minor } if torus::is_sampled(*major, *minor) => {
                 ShapeSampler::Torus {
                     major: *major,

@@ -354,18 +354,10 @@ impl SurfaceVertex<'_> {
         }
     }
 
-    /// The light the surface gives off towards the path, if it glows on that side.
-    fn emission(&self) -> Option<Color> {
-        let material = &self.surface.material;
-        let emission = match &material.metal_rough {
-            Some(m) => m.emission_at(&self.at),
-            None => material.emission,
-        };
-        (emission.max_channel() > 0.0
-            && material
-                .emission_side
-                .emits_towards(self.geometric.dot(self.wo)))
-        .then_some(emission)
+    /// The cosine between the geometric normal and the direction back along the path: its
+    /// sign says which side of the surface the path is on.
+    fn cos_out(&self) -> f64 {
+        self.geometric.dot(self.wo)
     }
 
     /// How the surface scatters light here, by its material and the world's lighting model.
@@ -505,7 +497,10 @@ impl<'w> PathContext<'w> {
                 path.mirror_leg = self.mirror_leg(&path, &vertex);
                 let shading = vertex.shading_normal();
                 // Light given off here, towards where the path came from.
-                if let Some(emission) = vertex.emission() {
+                let emitted =
+                    self.emitters
+                        .object_radiance(vertex.surface, &vertex.at, vertex.cos_out());
+                if let Some(emission) = emitted {
                     let weight = self.emission_weight(&path, &vertex);
                     path.gather(emission, weight);
                 }
@@ -513,7 +508,7 @@ impl<'w> PathContext<'w> {
                     break;
                 }
                 // A one-sided surface seen from behind is black: it scatters nothing.
-                if !vertex.surface.material.two_sided && vertex.geometric.dot(vertex.wo) < 0.0 {
+                if !vertex.surface.material.two_sided && vertex.cos_out() < 0.0 {
                     if path.depth == 0 {
                         first.normal = -vertex.geometric;
                     }
@@ -623,9 +618,8 @@ impl<'w> PathContext<'w> {
     /// The sky the path escapes to, gathered, weighed against the strategies that sample it
     /// (next-event estimation, or the sky in a mirror ball beyond which it escaped).
     fn sky_escaped(&self, path: &mut PathState) -> Color {
-        let leg = path.mirror_leg.zip(self.emitters.environment());
-        let (sky, weight) = if let Some(((leg_pdf, mirror_pdf), map)) = leg {
-            let (sky, pdf) = map.radiance_and_pdf(path.ray.direction);
+        let (sky, weight) = if let Some((leg_pdf, mirror_pdf)) = path.mirror_leg {
+            let (sky, pdf) = self.emitters.sky_radiance_and_draw_pdf(path.ray.direction);
             (sky, self.bsdf_weight(leg_pdf, pdf * mirror_pdf))
         } else if path.specular || !self.techniques.next_event {
             (self.emitters.sky_radiance(path.ray.direction), 1.0)

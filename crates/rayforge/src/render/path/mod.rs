@@ -258,7 +258,7 @@ fn render_path_logged(
         return Err(FilmError::FilterMismatch(filter, film.filter()));
     }
     let index = WorldIndex::build(world);
-    let emitters = Emitters::with_sampler(world, job.options.light_sampler);
+    let emitters = Emitters::for_options(world, &job.options);
     let rays = AtomicU64::new(0);
     let discarded = AtomicU64::new(0);
     let samples = AtomicU64::new(0);

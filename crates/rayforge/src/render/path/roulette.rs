@@ -142,7 +142,7 @@ pub fn learn_roulette(
         Roulette::Scale(scale) => Some(LearnedRoulette::fixed(scale)),
         Roulette::Learned => {
             let index = WorldIndex::build(world);
-            let emitters = Emitters::with_sampler(world, options.light_sampler);
+            let emitters = Emitters::for_options(world, options);
             learned(camera, world, &index, &emitters, options, spp, cancel)
         }
     }
