@@ -111,9 +111,21 @@ fn transforms_compose_as_pbrt_composes_them() {
     let scale = scene.world.objects[0].transform.matrix().x_axis.x;
     assert!((scale - 2.0).abs() < 1e-12);
     // Rotate then translate: the translation is turned (x to y).
-    assert!(near(centre(1), glam::DVec3::new(0.0, 1.0, 0.0)), "{}", centre(1));
-    assert!(near(centre(2), glam::DVec3::new(1.0, 0.0, 7.0)), "{}", centre(2));
-    assert!(near(centre(3), glam::DVec3::new(0.0, 3.0, 0.0)), "{}", centre(3));
+    assert!(
+        near(centre(1), glam::DVec3::new(0.0, 1.0, 0.0)),
+        "{}",
+        centre(1)
+    );
+    assert!(
+        near(centre(2), glam::DVec3::new(1.0, 0.0, 7.0)),
+        "{}",
+        centre(2)
+    );
+    assert!(
+        near(centre(3), glam::DVec3::new(0.0, 3.0, 0.0)),
+        "{}",
+        centre(3)
+    );
     assert!(near(centre(4), glam::DVec3::ZERO));
     // TransformBegin is deprecated in pbrt-v4: one warning.
     assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
@@ -292,7 +304,8 @@ fn include_import_and_gzip_resolve_in_the_top_files_folder() {
     )
     .unwrap();
     let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
-    gz.write_all(b"Shape \"sphere\" \"float radius\" 2\n").unwrap();
+    gz.write_all(b"Shape \"sphere\" \"float radius\" 2\n")
+        .unwrap();
     std::fs::write(dir.path().join("parts/more.pbrt.gz"), gz.finish().unwrap()).unwrap();
     std::fs::write(
         dir.path().join("parts/imported.pbrt"),
@@ -461,7 +474,11 @@ fn a_small_room_renders_as_its_yaml_twin_and_is_not_mirrored() {
 fn the_film_names_the_default_output() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("s.pbrt");
-    std::fs::write(&path, "Film \"rgb\" \"string filename\" \"room.exr\"\nWorldBegin\n").unwrap();
+    std::fs::write(
+        &path,
+        "Film \"rgb\" \"string filename\" \"room.exr\"\nWorldBegin\n",
+    )
+    .unwrap();
     assert_eq!(
         rayforge_scene::pbrt::film_output(&path).unwrap(),
         PathBuf::from("room.exr")
@@ -502,7 +519,12 @@ fn bitterlis_scenes_load_or_are_refused_at_what_is_not_read() {
             }
             Err(e) => {
                 assert!(e.span.is_some(), "{e}");
-                let known = ["plymesh", "coateddiffuse", "coatedconductor", "not read yet"];
+                let known = [
+                    "plymesh",
+                    "coateddiffuse",
+                    "coatedconductor",
+                    "not read yet",
+                ];
                 assert!(known.iter().any(|k| e.message.contains(k)), "{e}");
                 println!("{}: refused: {e}", path.display());
             }
@@ -513,10 +535,21 @@ fn bitterlis_scenes_load_or_are_refused_at_what_is_not_read() {
         .unwrap_or_else(|e| panic!("{e}"));
     let img = support::render(&scene, 24, 24, 16).resolve();
     let (left, right) = (img.pixel_at(1, 12), img.pixel_at(22, 12));
-    assert!(left.red > left.green && right.green > right.red, "{left:?} {right:?}");
+    assert!(
+        left.red > left.green && right.green > right.red,
+        "{left:?} {right:?}"
+    );
     let scene = rayforge_scene::load_file(&root.join("veach-mis/pbrt/scene-v4.pbrt"))
         .unwrap_or_else(|e| panic!("{e}"));
     let img = support::render(&scene, 32, 18, 8).resolve();
     let total: f64 = img.pixels().iter().map(|c| c.red + c.green + c.blue).sum();
     assert!(total > 0.0);
+}
+
+#[test]
+fn a_pbrt_file_is_held_to_a_yaml_scenes_size() {
+    assert_eq!(
+        rayforge_scene::pbrt::MAX_SCENE_BYTES,
+        rayforge_scene::MAX_SCENE_BYTES
+    );
 }

@@ -90,7 +90,16 @@ pub fn scene(
     };
     let mut noted = Notes::default();
     for shape in &desc.shapes {
-        let placed = place(shape, &DMat4::IDENTITY, true, &mut cache, &mut triangles, options, &mut warnings, &mut noted)?;
+        let placed = place(
+            shape,
+            &DMat4::IDENTITY,
+            true,
+            &mut cache,
+            &mut triangles,
+            options,
+            &mut warnings,
+            &mut noted,
+        )?;
         for object in placed {
             budget.spend().map_err(|e| shape.entity.error(e))?;
             world.objects.push(object);
@@ -111,19 +120,34 @@ pub fn scene(
         if !defined.contains_key(used.name.as_str()) {
             let mut objects = Vec::new();
             for shape in shapes {
-                objects.extend(place(shape, &DMat4::IDENTITY, false, &mut cache, &mut triangles, options, &mut warnings, &mut noted)?);
+                objects.extend(place(
+                    shape,
+                    &DMat4::IDENTITY,
+                    false,
+                    &mut cache,
+                    &mut triangles,
+                    options,
+                    &mut warnings,
+                    &mut noted,
+                )?);
             }
             defined.insert(used.name.as_str(), objects);
         }
         let parent = Transform::try_new(used.world_from_instance).map_err(|_| {
-            used.loc
-                .error(Some("ObjectInstance"), "the object is placed by a singular transform")
+            used.loc.error(
+                Some("ObjectInstance"),
+                "the object is placed by a singular transform",
+            )
         })?;
         for object in &defined[used.name.as_str()] {
-            budget.spend().map_err(|e| used.loc.error(Some("ObjectInstance"), e))?;
+            budget
+                .spend()
+                .map_err(|e| used.loc.error(Some("ObjectInstance"), e))?;
             let placed = object.placed_by(&parent).map_err(|_| {
-                used.loc
-                    .error(Some("ObjectInstance"), "the object is placed by a singular transform")
+                used.loc.error(
+                    Some("ObjectInstance"),
+                    "the object is placed by a singular transform",
+                )
             })?;
             world.objects.push(placed);
         }
@@ -131,7 +155,7 @@ pub fn scene(
     for light in &desc.lights {
         match lights::light(light)? {
             Lit::Light(l) => world.lights.push(l),
-            Lit::Sky(c) => world.background = world.background + c,
+            Lit::Sky(c) => world.background += c,
         }
     }
     // Every parameter nothing read, once each (an area light is shared by its shapes).
@@ -140,14 +164,23 @@ pub fn scene(
         warnings.extend(entity.params.unused(&entity.what()));
     };
     let options = &desc.options;
-    for entity in [&options.film, &options.sampler, &options.integrator, &options.filter]
-        .into_iter()
-        .flatten()
-        .chain(options.camera.as_ref().map(|(e, _)| e))
+    for entity in [
+        &options.film,
+        &options.sampler,
+        &options.integrator,
+        &options.filter,
+    ]
+    .into_iter()
+    .flatten()
+    .chain(options.camera.as_ref().map(|(e, _)| e))
     {
         unused(entity, &mut warnings);
     }
-    for shape in desc.shapes.iter().chain(desc.objects.values().flat_map(|(s, _)| s)) {
+    for shape in desc
+        .shapes
+        .iter()
+        .chain(desc.objects.values().flat_map(|(s, _)| s))
+    {
         unused(&shape.entity, &mut warnings);
         if let Some(a) = &shape.area_light {
             if !area_lights.iter().any(|b| Rc::ptr_eq(a, b)) {
@@ -161,7 +194,12 @@ pub fn scene(
     for light in &desc.lights {
         unused(&light.entity, &mut warnings);
     }
-    for entity in desc.materials.iter().flatten().chain(desc.named_materials.values()) {
+    for entity in desc
+        .materials
+        .iter()
+        .flatten()
+        .chain(desc.named_materials.values())
+    {
         if entity.params.was_read() {
             unused(entity, &mut warnings);
         }
@@ -249,8 +287,7 @@ fn place(
         if lit {
             // The area in the world: the transform's mean stretch squared.
             let stretch = world_from_object.determinant().abs().cbrt();
-            let (radiance, two_sided) =
-                lights::emission(area_light, area * stretch * stretch)?;
+            let (radiance, two_sided) = lights::emission(area_light, area * stretch * stretch)?;
             material.emission = radiance;
             material.emission_side = match (two_sided, shape.reverse, entity.name.as_str()) {
                 (true, _, _) => EmissionSide::Both,
@@ -260,9 +297,9 @@ fn place(
             };
         } else if !noted.instanced_light {
             noted.instanced_light = true;
-            warnings.push(entity.error(
-                "area lights in object instances give no light (as in pbrt-v4)",
-            ));
+            warnings.push(
+                entity.error("area lights in object instances give no light (as in pbrt-v4)"),
+            );
         }
     }
     let transform = Transform::try_new(world_from_object)
@@ -284,7 +321,10 @@ pub fn film_output(desc: &Description, scene: &Path) -> Result<std::path::PathBu
     let (name, film) = camera::film_filename(&desc.options)?;
     let plain = Path::new(&name);
     let ok = plain.components().count() == 1
-        && matches!(plain.components().next(), Some(std::path::Component::Normal(_)));
+        && matches!(
+            plain.components().next(),
+            Some(std::path::Component::Normal(_))
+        );
     if !ok {
         let message = format!(
             "the film's filename \"{}\" is not a plain file name: rayforge writes a scene's \

@@ -72,10 +72,8 @@ pub fn setup(options: &Options, warnings: &mut Vec<SceneError>) -> Result<Setup,
     if let Some(film) = film {
         match film.name.as_str() {
             "rgb" => {}
-            "gbuffer" | "spectral" => warnings.push(film.error(format!(
-                "a \"{}\" film is written as an rgb one",
-                film.name
-            ))),
+            "gbuffer" | "spectral" => warnings
+                .push(film.error(format!("a \"{}\" film is written as an rgb one", film.name))),
             other => {
                 return Err(film.error(format!(
                     "the film \"{}\" is not one pbrt-v4 has (rgb, gbuffer, spectral)",
@@ -158,10 +156,10 @@ fn camera(
             let half_longer = (fov.to_radians() / 2.0).tan() * longer / shorter;
             let lens = params.float_or("lensradius", 0.0)?;
             let focus = params.float_or("focaldistance", 1e6)?;
-            if lens < 0.0 || !(focus > 0.0) {
-                return Err(entity.error(
-                    "a lens radius is not negative and a focal distance above 0",
-                ));
+            if lens < 0.0 || focus <= 0.0 {
+                return Err(
+                    entity.error("a lens radius is not negative and a focal distance above 0")
+                );
             }
             Camera::new(width, height, 2.0 * half_longer.atan()).with_lens(2.0 * lens, focus)
         }
@@ -203,7 +201,10 @@ fn sampler(sampler: Option<&Entity>) -> Result<(u32, PathOptions), SceneError> {
 }
 
 /// The pixel filter: box, triangle (a tent), gaussian; others as a Gaussian, with a warning.
-fn filter(filter: Option<&Entity>, warnings: &mut Vec<SceneError>) -> Result<PixelFilter, SceneError> {
+fn filter(
+    filter: Option<&Entity>,
+    warnings: &mut Vec<SceneError>,
+) -> Result<PixelFilter, SceneError> {
     let Some(filter) = filter else {
         return Ok(PixelFilter::Gaussian { radius: 1.5 });
     };
@@ -246,9 +247,7 @@ fn filter(filter: Option<&Entity>, warnings: &mut Vec<SceneError>) -> Result<Pix
             PixelFilter::Gaussian { radius }
         }
     };
-    built
-        .checked()
-        .map_err(|e| filter.error(format!("{e}")))
+    built.checked().map_err(|e| filter.error(format!("{e}")))
 }
 
 /// `maxdepth` (pbrt's default 5), the light sampler, and the integrator's kind.

@@ -4,10 +4,14 @@
 
 use crate::error::{SceneError, Span};
 use crate::files::{read_bounded, Folder};
-use crate::MAX_SCENE_BYTES;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
+
+/// The most bytes one of a scene's files may hold (after inflating, for a `.gz`): a YAML
+/// scene's limit (`crate::MAX_SCENE_BYTES`, named here by value so that this module does not
+/// import the crate root that imports it).
+pub const MAX_SCENE_BYTES: u64 = 64 * 1024 * 1024;
 
 /// How deep `Include` and `Import` may nest (a file that includes itself stops here).
 pub const MAX_INCLUDE_DEPTH: usize = 32;
@@ -94,12 +98,7 @@ impl Files {
 
     /// Reads the file at `path` named at `loc` (by `Include`, `Import`), checked against the
     /// folder, and gives its text.
-    pub fn read_named(
-        &mut self,
-        path: &Path,
-        loc: &Loc,
-        key: &str,
-    ) -> Result<String, SceneError> {
+    pub fn read_named(&mut self, path: &Path, loc: &Loc, key: &str) -> Result<String, SceneError> {
         self.check(path, loc, key)?;
         self.read_text(path)
             .map_err(|e| loc.error(Some(key), format!("cannot read `{}`: {e}", path.display())))

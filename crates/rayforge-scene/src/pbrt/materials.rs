@@ -60,7 +60,8 @@ pub fn material(
         ),
         "conductor" => {
             let alpha = alpha(entity, warnings)?;
-            let (eta, k) = match params.find("reflectance", &[ParamType::Rgb, ParamType::Spectrum]) {
+            let (eta, k) = match params.find("reflectance", &[ParamType::Rgb, ParamType::Spectrum])
+            {
                 Some(r) => {
                     let r = spectra::color(r, SpectrumUse::Albedo)?;
                     let k = |r: f64| {
@@ -70,15 +71,14 @@ pub fn material(
                     (Color::WHITE, Color::new(k(r.red), k(r.green), k(r.blue)))
                 }
                 None => {
-                    let (cu_eta, cu_k) = rayforge::shading::bsdf::metal("copper")
-                        .expect("rayforge names copper");
+                    let (cu_eta, cu_k) =
+                        rayforge::shading::bsdf::metal("copper").expect("rayforge names copper");
                     let eta = index(entity, "eta")?.unwrap_or(cu_eta);
                     let k = index(entity, "k")?.unwrap_or(cu_k);
                     (eta, k)
                 }
             };
-            if eta.red.min(eta.green).min(eta.blue) <= 0.0 || k.red.min(k.green).min(k.blue) < 0.0
-            {
+            if eta.red.min(eta.green).min(eta.blue) <= 0.0 || k.red.min(k.green).min(k.blue) < 0.0 {
                 return Err(entity.error("a conductor's eta is above 0 and its k not negative"));
             }
             physical(Physical::Conductor { eta, k, alpha }, Color::WHITE)
@@ -135,7 +135,7 @@ fn dielectric_index(entity: &Entity) -> Result<f64, SceneError> {
             None => 1.5,
         },
     };
-    if !(eta > 0.0) {
+    if eta <= 0.0 {
         return Err(entity.error(format!("a dielectric's eta is above 0, found {eta}")));
     }
     Ok(eta)

@@ -11,7 +11,7 @@
 //! is approximated and what is refused is listed in `docs/scene-format.md` ("pbrt-v4 scenes").
 //!
 //! The files are untrusted input as a YAML scene is: regular files only, each at most
-//! [`MAX_SCENE_BYTES`](crate::MAX_SCENE_BYTES) (gzip's output too, bounded as it inflates),
+//! [`MAX_SCENE_BYTES`] (gzip's output too, bounded as it inflates),
 //! names resolved in the top-level file's folder and kept inside it unless
 //! [`LoadOptions::allow_outside`], `Include` nested at most [`MAX_INCLUDE_DEPTH`] deep, the
 //! meshes' triangles within [`LoadOptions::max_triangles`].
@@ -28,7 +28,7 @@ mod shapes;
 mod spectra;
 mod stream;
 
-pub use input::{MAX_INCLUDE_DEPTH, MAX_TOTAL_BYTES};
+pub use input::{MAX_INCLUDE_DEPTH, MAX_SCENE_BYTES, MAX_TOTAL_BYTES};
 
 use crate::error::SceneError;
 use crate::scene::{LoadOptions, Scene};

@@ -219,9 +219,7 @@ fn values(
             }
         }
     } else if first.kind == Kind::Close {
-        return Err(stream
-            .loc(&first)
-            .error(Some(key), "a `]` without its `[`"));
+        return Err(stream.loc(&first).error(Some(key), "a `]` without its `[`"));
     } else {
         tokens.push(first);
     }
@@ -296,11 +294,7 @@ fn integer(token: &super::lexer::Token<'_>) -> Option<f64> {
     if token.kind != Kind::Word {
         return None;
     }
-    token
-        .text
-        .parse::<i32>()
-        .ok()
-        .map(f64::from)
+    token.text.parse::<i32>().ok().map(f64::from)
 }
 
 /// A directive's parameters, with those `Attribute` set for its kind after them (a
@@ -405,7 +399,11 @@ impl Params {
     }
 
     /// The numbers of a parameter of type `ty` (any count, in groups of its arity).
-    pub fn numbers(&self, name: &str, ty: ParamType) -> Result<Option<(&[f64], &Param)>, SceneError> {
+    pub fn numbers(
+        &self,
+        name: &str,
+        ty: ParamType,
+    ) -> Result<Option<(&[f64], &Param)>, SceneError> {
         let Some(p) = self.find(name, &[ty]) else {
             return Ok(None);
         };
@@ -413,7 +411,11 @@ impl Params {
     }
 
     /// A `point3` (or `vector3`, `normal`) parameter's points.
-    pub fn points3(&self, name: &str, ty: ParamType) -> Result<Option<(Vec<DVec3>, &Param)>, SceneError> {
+    pub fn points3(
+        &self,
+        name: &str,
+        ty: ParamType,
+    ) -> Result<Option<(Vec<DVec3>, &Param)>, SceneError> {
         Ok(self.numbers(name, ty)?.map(|(v, p)| {
             (
                 v.chunks_exact(3)
@@ -464,11 +466,18 @@ impl Params {
                 let hint = if other.is_empty() {
                     String::new()
                 } else {
-                    format!(" (it is read as {}, not {})", other.join(" or "), p.ty.name())
+                    format!(
+                        " (it is read as {}, not {})",
+                        other.join(" or "),
+                        p.ty.name()
+                    )
                 };
                 p.loc.error(
                     Some(&p.declaration()),
-                    format!("{what}: parameter \"{}\" is not used{hint}", p.declaration()),
+                    format!(
+                        "{what}: parameter \"{}\" is not used{hint}",
+                        p.declaration()
+                    ),
                 )
             })
             .collect()
@@ -502,7 +511,10 @@ mod tests {
         assert_eq!(p.string("name").unwrap().map(|x| x.0), Some("x"));
         let (points, _) = p.points3("P", ParamType::Point3).unwrap().unwrap();
         assert_eq!(points, vec![DVec3::ZERO, DVec3::ONE]);
-        assert_eq!(p.points2("uv").unwrap().unwrap().0, vec![DVec2::new(0.0, 1.0)]);
+        assert_eq!(
+            p.points2("uv").unwrap().unwrap().0,
+            vec![DVec2::new(0.0, 1.0)]
+        );
         let (rgb, _) = p.numbers("L", ParamType::Rgb).unwrap().unwrap();
         assert_eq!(rgb, &[1.0, 2.0, 3.0]);
         assert!(p.find("eta", &[ParamType::Spectrum]).is_some());
@@ -520,8 +532,16 @@ mod tests {
         let warnings = p.unused("Shape \"sphere\"");
         assert_eq!(warnings.len(), 2);
         assert_eq!(warnings[0].span.map(|s| s.line), Some(2));
-        assert!(warnings[0].message.contains("read as float"), "{}", warnings[0]);
-        assert!(warnings[1].to_string().contains("t.pbrt:3:1"), "{}", warnings[1]);
+        assert!(
+            warnings[0].message.contains("read as float"),
+            "{}",
+            warnings[0]
+        );
+        assert!(
+            warnings[1].to_string().contains("t.pbrt:3:1"),
+            "{}",
+            warnings[1]
+        );
         assert!(warnings[1].message.contains("\"float colour\" is not used"));
     }
 
@@ -529,7 +549,10 @@ mod tests {
     fn bad_parameters_are_located_errors() {
         let err = params("\"floaat fov\" 45").unwrap_err();
         assert!(err.to_string().contains("t.pbrt:1:1"), "{err}");
-        assert!(err.message.contains("unknown parameter type `floaat`"), "{err}");
+        assert!(
+            err.message.contains("unknown parameter type `floaat`"),
+            "{err}"
+        );
         let err = params("\"float fov\" [ 45 x ]").unwrap_err();
         assert!(err.to_string().contains("1:18"), "{err}");
         let err = params("\"integer n\" 2.5").unwrap_err();
@@ -556,6 +579,9 @@ mod tests {
         assert_eq!(p.float("radius").unwrap(), Some(3.0));
         let mut stream = Stream::new("\"float radius\" 1", Rc::from(Path::new("a.pbrt")));
         let own = parse(&mut stream, "Shape").unwrap();
-        assert_eq!(Params::new(own, &inherited).float("radius").unwrap(), Some(1.0));
+        assert_eq!(
+            Params::new(own, &inherited).float("radius").unwrap(),
+            Some(1.0)
+        );
     }
 }

@@ -280,7 +280,10 @@ impl Reader<'_> {
             if token.kind != Kind::Word {
                 return Err(loc.error(
                     None,
-                    format!("expected a directive (such as `Shape`), found {}", token.shown()),
+                    format!(
+                        "expected a directive (such as `Shape`), found {}",
+                        token.shown()
+                    ),
                 ));
             }
             if self.options_only && token.text == "WorldBegin" {
@@ -493,8 +496,10 @@ impl Reader<'_> {
                     Some(ctm) => self.state.ctm = *ctm,
                     None => self.warn(at.error(
                         Some(name),
-                        format!("no coordinate system is named \"{system}\"; the transform is \
-                                 left as it is"),
+                        format!(
+                            "no coordinate system is named \"{system}\"; the transform is \
+                                 left as it is"
+                        ),
                     )),
                 }
             }
@@ -526,8 +531,7 @@ impl Reader<'_> {
                 self.options_block(name, &loc)?;
                 let entity = Self::entity(stream, "Camera", loc, &[])?;
                 let camera_from_world = self.state.ctm[0];
-                if camera_from_world.determinant().abs() < 1e-300
-                    || !camera_from_world.is_finite()
+                if camera_from_world.determinant().abs() < 1e-300 || !camera_from_world.is_finite()
                 {
                     return Err(entity.error("the transform before `Camera` is singular"));
                 }
@@ -611,14 +615,11 @@ impl Reader<'_> {
                 let attributes = self.state.attributes[2].clone();
                 let entity = Self::entity(stream, "MakeNamedMaterial", loc, &attributes)?;
                 if self.out.named_materials.contains_key(&entity.name) {
-                    return Err(entity.error(format!(
-                        "the material \"{}\" is made twice",
-                        entity.name
-                    )));
+                    return Err(
+                        entity.error(format!("the material \"{}\" is made twice", entity.name))
+                    );
                 }
-                self.out
-                    .named_materials
-                    .insert(entity.name.clone(), entity);
+                self.out.named_materials.insert(entity.name.clone(), entity);
             }
             "NamedMaterial" => {
                 self.world_block(name, &loc)?;
@@ -628,8 +629,10 @@ impl Reader<'_> {
             "Texture" => {
                 self.world_block(name, &loc)?;
                 let (texture, _) = stream.string(name, "the texture's name in quotes")?;
-                let (kind, kind_at) =
-                    stream.string(name, "the texture's type in quotes (\"float\" or \"spectrum\")")?;
+                let (kind, kind_at) = stream.string(
+                    name,
+                    "the texture's type in quotes (\"float\" or \"spectrum\")",
+                )?;
                 if kind != "float" && kind != "spectrum" {
                     return Err(kind_at.error(
                         Some(name),
@@ -649,7 +652,9 @@ impl Reader<'_> {
                 let attributes = self.state.attributes[3].clone();
                 let entity = Self::entity(stream, "MakeNamedMedium", loc, &attributes)?;
                 if self.out.media.contains_key(&entity.name) {
-                    return Err(entity.error(format!("the medium \"{}\" is made twice", entity.name)));
+                    return Err(
+                        entity.error(format!("the medium \"{}\" is made twice", entity.name))
+                    );
                 }
                 self.out.media.insert(entity.name.clone(), entity);
             }
@@ -722,10 +727,9 @@ impl Reader<'_> {
                 self.world_block(name, &loc)?;
                 let (object, _) = stream.string(name, "the object's name in quotes")?;
                 if self.object.is_some() {
-                    return Err(loc.error(
-                        Some(name),
-                        "`ObjectInstance` inside an object's definition",
-                    ));
+                    return Err(
+                        loc.error(Some(name), "`ObjectInstance` inside an object's definition")
+                    );
                 }
                 self.out.instances.push(InstanceUse {
                     name: object,

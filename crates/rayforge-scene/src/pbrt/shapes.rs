@@ -42,7 +42,10 @@ pub fn build(
     let params = &entity.params;
     if let Some(alpha) = params.find(
         "alpha",
-        &[super::params::ParamType::Float, super::params::ParamType::Texture],
+        &[
+            super::params::ParamType::Float,
+            super::params::ParamType::Texture,
+        ],
     ) {
         if alpha.values != super::params::Values::Numbers(vec![1.0]) {
             return Err(alpha.error(format!(
@@ -126,16 +129,16 @@ pub fn build(
             Built::Objects(vec![object], area)
         }
         "curves" => {
-            warnings.push(entity.error(
-                "curves (hair, fur) are not rendered: rayforge leaves them out",
-            ));
+            warnings.push(
+                entity.error("curves (hair, fur) are not rendered: rayforge leaves them out"),
+            );
             Built::Skipped
         }
         "plymesh" => {
             let file = params.string("filename")?.map(|(f, _)| f.to_string());
             return Err(entity.error(format!(
-                "Shape \"plymesh\"{}: PLY meshes are not read yet",
-                file.map(|f| format!(" (\"{}\")", crate::error::clip_to(&f, 80)))
+                "\"plymesh\" shapes (PLY meshes{}) are not read yet",
+                file.map(|f| format!(", here \"{}\"", crate::error::clip_to(&f, 80)))
                     .unwrap_or_default()
             )));
         }
@@ -152,10 +155,11 @@ pub fn build(
 /// A float parameter that must be above 0.
 fn positive(shape: &ShapeEntity, name: &str, default: f64) -> Result<f64, SceneError> {
     let v = shape.entity.params.float_or(name, default)?;
-    if !(v > 0.0) {
-        return Err(shape
-            .entity
-            .error(format!("a {}'s {name} is above 0, found {v}", shape.entity.name)));
+    if v <= 0.0 {
+        return Err(shape.entity.error(format!(
+            "a {}'s {name} is above 0, found {v}",
+            shape.entity.name
+        )));
     }
     Ok(v)
 }
@@ -194,9 +198,9 @@ fn triangle_mesh(
         }
         None if positions.len() == 3 => vec![0, 1, 2],
         None => {
-            return Err(entity.error(
-                "a trianglemesh of more than three points needs \"integer indices\"",
-            ))
+            return Err(
+                entity.error("a trianglemesh of more than three points needs \"integer indices\"")
+            )
         }
     };
     let faces = indices.len() / 3;

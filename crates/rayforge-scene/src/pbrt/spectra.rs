@@ -73,7 +73,7 @@ pub fn color(p: &Param, usage: SpectrumUse) -> Result<Color, SceneError> {
         }
         (ParamType::Rgb, _) => Err(p.error("takes one colour: three numbers")),
         (ParamType::Blackbody, Values::Numbers(v)) if v.len() == 1 => {
-            if !(v[0] > 0.0) {
+            if v[0] <= 0.0 {
                 return Err(p.error("a blackbody's temperature is above 0 kelvin"));
             }
             let xyz = xyz_of(|l| planck(l, v[0]));
@@ -154,7 +154,7 @@ fn pairs(p: &Param, v: &[f64], usage: SpectrumUse) -> Result<Color, SceneError> 
         SpectrumUse::Index => Ok(Color::new(at(650.0), at(550.0), at(450.0))),
         SpectrumUse::Illuminant => {
             let xyz = xyz_of(at);
-            if !(xyz[1] > 0.0) {
+            if xyz[1] <= 0.0 || xyz[1].is_nan() {
                 return Err(p.error("this light's spectrum gives no visible light"));
             }
             Ok(rgb_of_unit_luminance(xyz))
@@ -162,12 +162,12 @@ fn pairs(p: &Param, v: &[f64], usage: SpectrumUse) -> Result<Color, SceneError> 
         SpectrumUse::Albedo => {
             let lit = xyz_to_rgb(xyz_of(|l| at(l) * planck(l, 6504.0)));
             let white = xyz_to_rgb(xyz_of(|l| planck(l, 6504.0)));
-            let c = Color::new(
-                lit[0] / white[0],
-                lit[1] / white[1],
-                lit[2] / white[2],
-            );
-            Ok(Color::new(c.red.max(0.0), c.green.max(0.0), c.blue.max(0.0)))
+            let c = Color::new(lit[0] / white[0], lit[1] / white[1], lit[2] / white[2]);
+            Ok(Color::new(
+                c.red.max(0.0),
+                c.green.max(0.0),
+                c.blue.max(0.0),
+            ))
         }
     }
 }
