@@ -367,9 +367,10 @@ pub struct RenderArgs {
 
     /// Where to write the image. The extension picks the format: .png (8-bit), .ppm (the
     /// book's plain P3), .pfm (linear 32-bit float RGB, for exact comparisons) or .exr
-    /// (OpenEXR, linear 32-bit float RGB, for compositors, viewers and denoisers).
+    /// (OpenEXR, linear 32-bit float RGB, for compositors, viewers and denoisers). Needed
+    /// except for a pbrt scene, whose `Film` filename is then written in the current folder.
     #[arg(short, long, value_name = "FILE")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
 
     /// Image width in pixels, overriding the scene's camera (its field of view is kept; give
     /// only one of --width/--height and the other follows the camera's aspect ratio).

@@ -654,6 +654,20 @@ impl std::fmt::Display for Drawn {
 /// The highest `--max-triangles` accepted: meshes index their vertices with 32-bit numbers.
 const MAX_TRIANGLE_LIMIT: usize = u32::MAX as usize - 1;
 
+/// The image to write: `-o`, else a pbrt scene's `Film` filename (in the current folder).
+fn output(args: &RenderArgs) -> Result<PathBuf, Failure> {
+    if let Some(output) = &args.output {
+        return Ok(output.clone());
+    }
+    if rayforge_scene::pbrt::is_scene_file(&args.scene) {
+        return rayforge_scene::pbrt::film_output(&args.scene)
+            .map_err(crate::diagnostics::scene_failure);
+    }
+    Err(Failure::usage(
+        "-o/--output names the image to write (only a pbrt scene's film names a default)",
+    ))
+}
+
 /// `X,Y`, as `--trace-pixel` takes it.
 fn parse_pixel(text: &str) -> Result<(usize, usize), Failure> {
     let bad = || {
@@ -671,17 +685,18 @@ fn parse_pixel(text: &str) -> Result<(usize, usize), Failure> {
 impl RenderSettings {
     /// Checks the raw arguments; each refusal names the flag.
     pub fn from_args(args: RenderArgs) -> Result<Self, Failure> {
+        let output = output(&args)?;
         let slice = slice(&args)?;
         let format = match (slice, args.exr_half) {
             // A slice writes a part file whatever the extension; this format is never used
             // (with --frames, a slice is a share of the frames, each a whole image).
             (Some(_), _) if args.frames.is_none() => ImageFormat::Pfm,
-            (_, half) => match (ImageFormat::from_path(&args.output)?, half) {
+            (_, half) => match (ImageFormat::from_path(&output)?, half) {
                 (ImageFormat::Exr, true) => ImageFormat::ExrHalf,
                 (_, true) => {
                     return Err(Failure::usage(format!(
                         "--exr-half needs an .exr output, not `{}`",
-                        args.output.display()
+                        output.display()
                     )))
                 }
                 (format, false) => format,
@@ -690,11 +705,11 @@ impl RenderSettings {
         let frames = match &args.frames {
             None => None,
             Some(text) => {
-                if !crate::frames::has_frame_pattern(&args.output) {
+                if !crate::frames::has_frame_pattern(&output) {
                     return Err(Failure::usage(format!(
                         "--frames needs a frame number in the output name, such as \
                          `out/frame-%04d.png`; found `{}`",
-                        args.output.display()
+                        output.display()
                     )));
                 }
                 if args.resume {
@@ -758,7 +773,7 @@ impl RenderSettings {
         let path = path_request(&args)?;
         Ok(Self {
             scene: args.scene,
-            output: args.output,
+            output,
             format,
             size,
             threads: args.threads,

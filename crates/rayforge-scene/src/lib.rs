@@ -21,6 +21,7 @@ mod images;
 mod items;
 mod material;
 pub mod obj;
+pub mod pbrt;
 mod scene;
 mod settings;
 mod source;
@@ -51,10 +52,13 @@ pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
 }
 
 /// [`load_file`] within `options`' limits. A glTF model (`.gltf`, `.glb`) is read as a whole
-/// scene of its own: see [`gltf`].
+/// scene of its own: see [`gltf`]; a pbrt-v4 scene (`.pbrt`, `.pbrt.gz`) too: see [`pbrt`].
 pub fn load_file_with(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
     if gltf::is_model_file(path) {
         return gltf::model_scene(path, options);
+    }
+    if pbrt::is_scene_file(path) {
+        return pbrt::load(path, options);
     }
     let bytes = read_scene_file(path)
         .map_err(|e| SceneError::new(path, format!("cannot read the scene file: {e}")))?;

@@ -1,0 +1,340 @@
+//! A read [`Description`] built into rayforge's [`Scene`]: the world's objects (each shape
+//! with its material, its area light's emission, and its transform; named objects placed at
+//! each `ObjectInstance`, sharing their meshes), its lights and sky, the camera and the path
+//! tracer's options.
+
+use super::camera;
+use super::input::Files;
+use super::lights::{self, Lit};
+use super::materials;
+use super::reader::{Description, Entity, MaterialRef, ShapeEntity};
+use super::shapes::{self, Built};
+use crate::budget::Budget;
+use crate::error::SceneError;
+use crate::scene::{LoadOptions, Scene};
+use glam::DMat4;
+use rayforge::draw2d::Overlay;
+use rayforge::shading::EmissionSide;
+use rayforge::{Color, Material, Object, Transform, World};
+use std::collections::HashMap;
+use std::path::Path;
+use std::rc::Rc;
+
+/// The materials built so far, each once.
+struct MaterialCache<'d> {
+    desc: &'d Description,
+    by_index: HashMap<usize, Material>,
+    by_name: HashMap<String, Material>,
+}
+
+impl MaterialCache<'_> {
+    fn get(
+        &mut self,
+        reference: &MaterialRef,
+        warnings: &mut Vec<SceneError>,
+    ) -> Result<Material, SceneError> {
+        let desc = self.desc;
+        match reference {
+            MaterialRef::Index(i) => {
+                if let Some(m) = self.by_index.get(i) {
+                    return Ok(m.clone());
+                }
+                let built = match &desc.materials[*i] {
+                    // pbrt's default material: diffuse, reflectance 0.5.
+                    None => Material {
+                        color: Color::WHITE * 0.5,
+                        physical: Some(rayforge::shading::Physical::Diffuse),
+                        ..Material::DEFAULT
+                    },
+                    Some(entity) => materials::material(entity, &desc.textures, warnings)?,
+                };
+                self.by_index.insert(*i, built.clone());
+                Ok(built)
+            }
+            MaterialRef::Named(name, loc) => {
+                if let Some(m) = self.by_name.get(name) {
+                    return Ok(m.clone());
+                }
+                let entity = desc.named_materials.get(name).ok_or_else(|| {
+                    loc.error(
+                        Some("NamedMaterial"),
+                        format!(
+                            "no material is named \"{}\" (`MakeNamedMaterial` makes one)",
+                            crate::error::clip_to(name, 60)
+                        ),
+                    )
+                })?;
+                let built = materials::material(entity, &desc.textures, warnings)?;
+                self.by_name.insert(name.clone(), built.clone());
+                Ok(built)
+            }
+        }
+    }
+}
+
+/// Builds the scene of `desc`, read from `files`, within `options`' limits.
+pub fn scene(
+    mut desc: Description,
+    files: &Files,
+    options: &LoadOptions,
+) -> Result<Scene, SceneError> {
+    let mut warnings = std::mem::take(&mut desc.warnings);
+    let setup = camera::setup(&desc.options, &mut warnings)?;
+    let mut world = World::new();
+    let budget = Budget::default();
+    let mut triangles = 0usize;
+    let mut cache = MaterialCache {
+        desc: &desc,
+        by_index: HashMap::new(),
+        by_name: HashMap::new(),
+    };
+    let mut noted = Notes::default();
+    for shape in &desc.shapes {
+        let placed = place(
+            shape,
+            &DMat4::IDENTITY,
+            true,
+            &mut cache,
+            &mut triangles,
+            options,
+            &mut warnings,
+            &mut noted,
+        )?;
+        for object in placed {
+            budget.spend().map_err(|e| shape.entity.error(e))?;
+            world.objects.push(object);
+        }
+    }
+    // Named objects: each built once, its meshes shared by every use.
+    let mut defined: HashMap<&str, Vec<Object>> = HashMap::new();
+    for used in &desc.instances {
+        let Some((shapes, _)) = desc.objects.get(&used.name) else {
+            return Err(used.loc.error(
+                Some("ObjectInstance"),
+                format!(
+                    "no object is named \"{}\" (`ObjectBegin` defines one)",
+                    crate::error::clip_to(&used.name, 60)
+                ),
+            ));
+        };
+        if !defined.contains_key(used.name.as_str()) {
+            let mut objects = Vec::new();
+            for shape in shapes {
+                objects.extend(place(
+                    shape,
+                    &DMat4::IDENTITY,
+                    false,
+                    &mut cache,
+                    &mut triangles,
+                    options,
+                    &mut warnings,
+                    &mut noted,
+                )?);
+            }
+            defined.insert(used.name.as_str(), objects);
+        }
+        let parent = Transform::try_new(used.world_from_instance).map_err(|_| {
+            used.loc.error(
+                Some("ObjectInstance"),
+                "the object is placed by a singular transform",
+            )
+        })?;
+        for object in &defined[used.name.as_str()] {
+            budget
+                .spend()
+                .map_err(|e| used.loc.error(Some("ObjectInstance"), e))?;
+            let placed = object.placed_by(&parent).map_err(|_| {
+                used.loc.error(
+                    Some("ObjectInstance"),
+                    "the object is placed by a singular transform",
+                )
+            })?;
+            world.objects.push(placed);
+        }
+    }
+    for light in &desc.lights {
+        match lights::light(light)? {
+            Lit::Light(l) => world.lights.push(l),
+            Lit::Sky(c) => world.background += c,
+        }
+    }
+    // Every parameter nothing read, once each (an area light is shared by its shapes).
+    let mut area_lights: Vec<&Rc<Entity>> = Vec::new();
+    let unused = |entity: &Entity, warnings: &mut Vec<SceneError>| {
+        warnings.extend(entity.params.unused(&entity.what()));
+    };
+    let options = &desc.options;
+    for entity in [
+        &options.film,
+        &options.sampler,
+        &options.integrator,
+        &options.filter,
+    ]
+    .into_iter()
+    .flatten()
+    .chain(options.camera.as_ref().map(|(e, _)| e))
+    {
+        unused(entity, &mut warnings);
+    }
+    for shape in desc
+        .shapes
+        .iter()
+        .chain(desc.objects.values().flat_map(|(s, _)| s))
+    {
+        unused(&shape.entity, &mut warnings);
+        if let Some(a) = &shape.area_light {
+            if !area_lights.iter().any(|b| Rc::ptr_eq(a, b)) {
+                area_lights.push(a);
+            }
+        }
+    }
+    for a in area_lights {
+        unused(a, &mut warnings);
+    }
+    for light in &desc.lights {
+        unused(&light.entity, &mut warnings);
+    }
+    for entity in desc
+        .materials
+        .iter()
+        .flatten()
+        .chain(desc.named_materials.values())
+    {
+        if entity.params.was_read() {
+            unused(entity, &mut warnings);
+        }
+    }
+    let max = crate::source::MAX_WARNINGS;
+    if warnings.len() > max {
+        warnings.truncate(max);
+        warnings.push(SceneError::new(
+            files.main_path(),
+            format!("more than {max} warnings; the rest are not shown"),
+        ));
+    }
+    let Setup {
+        camera,
+        samples,
+        path,
+        max_depth,
+    } = setup;
+    Ok(Scene {
+        overlay: Overlay::new(Vec::new(), camera.hsize(), camera.vsize()),
+        world,
+        camera,
+        samples,
+        samples_at: None,
+        anti_alias: None,
+        max_depth: Some(max_depth),
+        max_depth_at: None,
+        raster: None,
+        path: Some(path),
+        warnings,
+        look_at: None,
+        files: files.read_besides_main(),
+    })
+}
+
+use camera::Setup;
+
+/// Which once-per-scene warnings were given.
+#[derive(Default)]
+struct Notes {
+    motion: bool,
+    media: Vec<super::input::Loc>,
+    instanced_light: bool,
+}
+
+/// The objects of `shape` placed by `parent` after its own transform, with its material and,
+/// where `lit` (not in an object's definition) and it has one, its area light's emission.
+#[allow(clippy::too_many_arguments)]
+fn place(
+    shape: &ShapeEntity,
+    parent: &DMat4,
+    lit: bool,
+    cache: &mut MaterialCache<'_>,
+    triangles: &mut usize,
+    options: &LoadOptions,
+    warnings: &mut Vec<SceneError>,
+    noted: &mut Notes,
+) -> Result<Vec<Object>, SceneError> {
+    let entity = &shape.entity;
+    let Built::Objects(objects, area) =
+        shapes::build(shape, triangles, options.max_triangles, warnings)?
+    else {
+        return Ok(Vec::new());
+    };
+    if shape.moving && !noted.motion {
+        noted.motion = true;
+        warnings.push(entity.error(
+            "motion blur (`ActiveTransform`) is not rendered: moving shapes stand where they \
+             are when the shutter opens",
+        ));
+    }
+    if let Some(loc) = &shape.media {
+        if !noted.media.contains(loc) {
+            noted.media.push(loc.clone());
+            warnings.push(loc.error(
+                Some("MediumInterface"),
+                "participating media are not rendered yet: the shapes inside this interface \
+                 are drawn as surfaces in empty space",
+            ));
+        }
+    }
+    let mut material = cache.get(&shape.material, warnings)?;
+    let world_from_object = *parent * shape.world_from_object;
+    if let Some(area_light) = &shape.area_light {
+        if lit {
+            // The area in the world: the transform's mean stretch squared.
+            let stretch = world_from_object.determinant().abs().cbrt();
+            let (radiance, two_sided) = lights::emission(area_light, area * stretch * stretch)?;
+            material.emission = radiance;
+            material.emission_side = match (two_sided, shape.reverse, entity.name.as_str()) {
+                (true, _, _) => EmissionSide::Both,
+                // A mesh's faces were turned over already.
+                (false, true, name) if name != "trianglemesh" => EmissionSide::Back,
+                _ => EmissionSide::Front,
+            };
+        } else if !noted.instanced_light {
+            noted.instanced_light = true;
+            warnings.push(
+                entity.error("area lights in object instances give no light (as in pbrt-v4)"),
+            );
+        }
+    }
+    let transform = Transform::try_new(world_from_object)
+        .map_err(|_| entity.error("the shape is placed by a singular transform"))?;
+    objects
+        .into_iter()
+        .map(|o| {
+            o.with_material(material.clone())
+                .placed_by(&transform)
+                .map_err(|_| entity.error("the shape is placed by a singular transform"))
+        })
+        .collect()
+}
+
+/// The path pbrt's `Film` names as the image, checked to be a plain file name (it comes from
+/// a file that may not be the user's own; rayforge writes it in the current folder, as pbrt
+/// does, and never elsewhere).
+pub fn film_output(desc: &Description, scene: &Path) -> Result<std::path::PathBuf, SceneError> {
+    let (name, film) = camera::film_filename(&desc.options)?;
+    let plain = Path::new(&name);
+    let ok = plain.components().count() == 1
+        && matches!(
+            plain.components().next(),
+            Some(std::path::Component::Normal(_))
+        );
+    if !ok {
+        let message = format!(
+            "the film's filename \"{}\" is not a plain file name: rayforge writes a scene's \
+             default output only into the current folder; give -o",
+            crate::error::clip_to(&name, 80)
+        );
+        return Err(match film {
+            Some(f) => f.error(message),
+            None => SceneError::new(scene, message),
+        });
+    }
+    Ok(plain.to_path_buf())
+}

@@ -1,0 +1,297 @@
+//! The options block as rayforge's camera and path-tracer options: `Camera`, `Film`,
+//! `Sampler`, `Integrator`, `PixelFilter` and `Option`.
+//!
+//! **The camera's axes.** pbrt's camera looks down its +z with +y up and +x to the image's
+//! right, in a left-handed space; rayforge's (the book's) looks down its −z with +y up and +x
+//! to the image's left, in a left-handed space too. Both worlds are the same space, so a
+//! file's coordinates are used as they are, and the camera's transform is pbrt's
+//! camera-from-world followed by a half turn about y (x and z negated): a rotation, so
+//! nothing is mirrored. `fov` spans the image's shorter side, as pbrt-v4 says; rayforge's
+//! field of view spans the longer, and is worked out from it.
+
+use super::reader::{Entity, Options};
+use crate::error::SceneError;
+use glam::{DMat4, DVec4};
+use rayforge::film::PixelFilter;
+use rayforge::options::{LightSamplerKind, PathOptions, SamplerKind};
+use rayforge::{Camera, Transform};
+
+/// The largest image side a pbrt film may ask for.
+pub const MAX_RESOLUTION: u64 = 1 << 16;
+
+/// What the options block sets up.
+pub struct Setup {
+    /// The camera, at the film's resolution.
+    pub camera: Camera,
+    /// Samples per pixel (`pixelsamples`).
+    pub samples: u32,
+    /// The path tracer's options (`maxdepth`, sampler, filter, seed, light sampler).
+    pub path: PathOptions,
+    /// The most bounces (`maxdepth`).
+    pub max_depth: u32,
+}
+
+/// From pbrt's camera space to the book's: x and z negated.
+const PBRT_TO_BOOK_CAMERA: DMat4 = DMat4::from_cols(
+    DVec4::new(-1.0, 0.0, 0.0, 0.0),
+    DVec4::new(0.0, 1.0, 0.0, 0.0),
+    DVec4::new(0.0, 0.0, -1.0, 0.0),
+    DVec4::new(0.0, 0.0, 0.0, 1.0),
+);
+
+/// The film's resolution.
+pub fn resolution(film: Option<&Entity>) -> Result<(usize, usize), SceneError> {
+    let Some(film) = film else {
+        return Ok((1280, 720));
+    };
+    let side = |name: &str, default: i64| -> Result<usize, SceneError> {
+        match film.params.integer(name)? {
+            None => Ok(default as usize),
+            Some((v, p)) if v < 1 || v as u64 > MAX_RESOLUTION => Err(p.error(format!(
+                "an image side is from 1 to {MAX_RESOLUTION} pixels, found {v}"
+            ))),
+            Some((v, _)) => Ok(v as usize),
+        }
+    };
+    Ok((side("xresolution", 1280)?, side("yresolution", 720)?))
+}
+
+/// The film's `filename` (pbrt-v4's default `pbrt.exr`), and where it is written.
+pub fn film_filename(options: &Options) -> Result<(String, Option<&Entity>), SceneError> {
+    let film = options.film.as_ref();
+    let name = match film {
+        Some(f) => f.params.string("filename")?.map(|(n, _)| n.to_string()),
+        None => None,
+    };
+    Ok((name.unwrap_or_else(|| "pbrt.exr".into()), film))
+}
+
+/// The camera and path-tracer options of `options`, warnings added to `warnings`.
+pub fn setup(options: &Options, warnings: &mut Vec<SceneError>) -> Result<Setup, SceneError> {
+    let film = options.film.as_ref();
+    if let Some(film) = film {
+        match film.name.as_str() {
+            "rgb" => {}
+            "gbuffer" | "spectral" => warnings
+                .push(film.error(format!("a \"{}\" film is written as an rgb one", film.name))),
+            other => {
+                return Err(film.error(format!(
+                    "the film \"{}\" is not one pbrt-v4 has (rgb, gbuffer, spectral)",
+                    crate::error::clip_to(other, 60)
+                )))
+            }
+        }
+        // The output's name is the command's business (its default output).
+        film.params.string("filename")?;
+    }
+    let (width, height) = resolution(film)?;
+    let camera = camera(options.camera.as_ref(), width, height)?;
+    let (samples, mut path) = sampler(options.sampler.as_ref())?;
+    path.filter = filter(options.filter.as_ref(), warnings)?;
+    let max_depth = integrator(options.integrator.as_ref(), &mut path, warnings)?;
+    for (name, value, loc) in &options.options {
+        match name.as_str() {
+            "seed" => {
+                path.seed = value.parse().map_err(|_| {
+                    loc.error(
+                        Some("Option"),
+                        format!("the option \"seed\" takes a whole number, found `{value}`"),
+                    )
+                })?;
+            }
+            _ => warnings.push(loc.error(
+                Some("Option"),
+                format!(
+                    "the option \"{}\" is not used",
+                    crate::error::clip_to(name, 60)
+                ),
+            )),
+        }
+    }
+    Ok(Setup {
+        camera,
+        samples,
+        path,
+        max_depth,
+    })
+}
+
+/// The camera of `camera` (pbrt's default, a perspective camera of 90° at the origin, when
+/// absent) at `width × height`.
+fn camera(
+    camera: Option<&(Entity, DMat4)>,
+    width: usize,
+    height: usize,
+) -> Result<Camera, SceneError> {
+    let (entity, camera_from_world) = match camera {
+        Some((e, m)) => (Some(e), *m),
+        None => (None, DMat4::IDENTITY),
+    };
+    let view = Transform::try_new(PBRT_TO_BOOK_CAMERA * camera_from_world).map_err(|_| {
+        let message = "the camera's transform is singular";
+        match entity {
+            Some(e) => e.error(message),
+            None => SceneError::new(std::path::Path::new(""), message),
+        }
+    })?;
+    let (longer, shorter) = (width.max(height) as f64, width.min(height) as f64);
+    let Some(entity) = entity else {
+        let fov = 2.0 * ((45.0f64).to_radians().tan() * longer / shorter).atan();
+        return Ok(Camera::new(width, height, fov).with_transform_of(view));
+    };
+    let params = &entity.params;
+    if let Some(p) = params.find("screenwindow", &[super::params::ParamType::Float]) {
+        return Err(p.error(
+            "a screen window is not read: rayforge's image is centred on the camera's axis",
+        ));
+    }
+    let built = match entity.name.as_str() {
+        "perspective" => {
+            let fov = params.float_or("fov", 90.0)?;
+            if !(fov > 0.0 && fov < 180.0) {
+                return Err(entity.error(format!(
+                    "a perspective camera's fov is between 0 and 180 degrees, found {fov}"
+                )));
+            }
+            let half_longer = (fov.to_radians() / 2.0).tan() * longer / shorter;
+            let lens = params.float_or("lensradius", 0.0)?;
+            let focus = params.float_or("focaldistance", 1e6)?;
+            if lens < 0.0 || focus <= 0.0 {
+                return Err(
+                    entity.error("a lens radius is not negative and a focal distance above 0")
+                );
+            }
+            Camera::new(width, height, 2.0 * half_longer.atan()).with_lens(2.0 * lens, focus)
+        }
+        "orthographic" => {
+            // pbrt's screen window spans −1 to 1 across the shorter side.
+            Camera::orthographic(width, height, longer / shorter)
+        }
+        other => {
+            return Err(entity.error(format!(
+                "the camera \"{}\" is not one rayforge reads; it reads perspective and \
+                 orthographic",
+                crate::error::clip_to(other, 60)
+            )))
+        }
+    };
+    Ok(built.with_transform_of(view))
+}
+
+/// `pixelsamples` (pbrt's default 16) and the sampler's kind.
+fn sampler(sampler: Option<&Entity>) -> Result<(u32, PathOptions), SceneError> {
+    let mut path = PathOptions::default();
+    let Some(sampler) = sampler else {
+        return Ok((16, path));
+    };
+    if sampler.name == "independent" {
+        path.sampler = SamplerKind::Independent;
+    }
+    let samples = match sampler.params.integer("pixelsamples")? {
+        None => 16,
+        Some((n, p)) => {
+            let max = crate::items::camera::MAX_PATH_SAMPLES;
+            if n < 1 || n > i64::from(max) {
+                return Err(p.error(format!("pixelsamples is from 1 to {max}, found {n}")));
+            }
+            n as u32
+        }
+    };
+    Ok((samples, path))
+}
+
+/// The pixel filter: box, triangle (a tent), gaussian; others as a Gaussian, with a warning.
+fn filter(
+    filter: Option<&Entity>,
+    warnings: &mut Vec<SceneError>,
+) -> Result<PixelFilter, SceneError> {
+    let Some(filter) = filter else {
+        return Ok(PixelFilter::Gaussian { radius: 1.5 });
+    };
+    let default = match filter.name.as_str() {
+        "box" => 0.5,
+        "gaussian" => 1.5,
+        "mitchell" | "triangle" => 2.0,
+        "sinc" => 4.0,
+        other => {
+            return Err(filter.error(format!(
+                "the filter \"{}\" is not one pbrt-v4 has (box, gaussian, mitchell, sinc, \
+                 triangle)",
+                crate::error::clip_to(other, 60)
+            )))
+        }
+    };
+    let x = filter.params.float_or("xradius", default)?;
+    let y = filter.params.float_or("yradius", default)?;
+    if x != y {
+        warnings.push(filter.error(format!(
+            "a filter of radii {x} and {y} is rendered with the larger in both directions"
+        )));
+    }
+    let radius = x.max(y);
+    let built = match filter.name.as_str() {
+        "box" => {
+            if radius != 0.5 {
+                warnings.push(filter.error(format!(
+                    "a box of radius {radius} is rendered as the pixel's own box (0.5)"
+                )));
+            }
+            PixelFilter::Box
+        }
+        "triangle" => PixelFilter::Tent { radius },
+        "gaussian" => PixelFilter::Gaussian { radius },
+        other => {
+            warnings.push(filter.error(format!(
+                "the \"{other}\" filter is rendered as a Gaussian of the same radius"
+            )));
+            PixelFilter::Gaussian { radius }
+        }
+    };
+    built.checked().map_err(|e| filter.error(format!("{e}")))
+}
+
+/// `maxdepth` (pbrt's default 5), the light sampler, and the integrator's kind.
+fn integrator(
+    integrator: Option<&Entity>,
+    path: &mut PathOptions,
+    warnings: &mut Vec<SceneError>,
+) -> Result<u32, SceneError> {
+    path.light_sampler = LightSamplerKind::Bvh;
+    let Some(integrator) = integrator else {
+        path.max_depth = 5;
+        return Ok(5);
+    };
+    let params = &integrator.params;
+    match integrator.name.as_str() {
+        "path" | "volpath" => {}
+        other => warnings.push(integrator.error(format!(
+            "the \"{}\" integrator is rendered with rayforge's path tracer",
+            crate::error::clip_to(other, 60)
+        ))),
+    }
+    let depth = match params.integer("maxdepth")? {
+        None => 5,
+        Some((d, p)) => {
+            let max = i64::from(PathOptions::MAX_DEPTH);
+            if d < 0 || d > max {
+                return Err(p.error(format!("maxdepth is from 0 to {max}, found {d}")));
+            }
+            d as u32
+        }
+    };
+    if let Some((sampler, p)) = params.string("lightsampler")? {
+        path.light_sampler = match sampler {
+            "bvh" => LightSamplerKind::Bvh,
+            "uniform" => LightSamplerKind::Uniform,
+            "power" => LightSamplerKind::Power,
+            other => {
+                return Err(p.error(format!(
+                    "the light sampler \"{}\" is not one pbrt-v4 has (bvh, power, uniform)",
+                    crate::error::clip_to(other, 60)
+                )))
+            }
+        };
+    }
+    path.max_depth = depth;
+    Ok(depth)
+}

@@ -1,0 +1,175 @@
+//! The files of a pbrt scene: the top-level file and those it includes or imports, each read
+//! as untrusted input (a regular file, its size checked before it is read, gzip's output
+//! bounded as it is inflated), and where in them something is, for messages.
+
+use crate::error::{SceneError, Span};
+use crate::files::{read_bounded, Folder};
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+
+/// The most bytes one of a scene's files may hold (after inflating, for a `.gz`): a YAML
+/// scene's limit (`crate::MAX_SCENE_BYTES`, named here by value so that this module does not
+/// import the crate root that imports it).
+pub const MAX_SCENE_BYTES: u64 = 64 * 1024 * 1024;
+
+/// How deep `Include` and `Import` may nest (a file that includes itself stops here).
+pub const MAX_INCLUDE_DEPTH: usize = 32;
+
+/// The most bytes all of a scene's files may hold together, after inflating: a file included
+/// many times is read each time.
+pub const MAX_TOTAL_BYTES: u64 = 1 << 30;
+
+/// Where something is: which file, and where in it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Loc {
+    /// The file.
+    pub file: Rc<Path>,
+    /// The place in it.
+    pub span: Span,
+}
+
+impl Loc {
+    /// An error here, about `key` when given (a directive's or a parameter's name).
+    pub fn error(&self, key: Option<&str>, message: impl Into<String>) -> SceneError {
+        let error = SceneError::new(&self.file, message).at(self.span);
+        match key {
+            Some(k) => error.with_key(k),
+            None => error,
+        }
+    }
+}
+
+/// The files read so far, and the folder the names in them are found in.
+pub struct Files {
+    main: PathBuf,
+    folder: Folder,
+    /// Bytes read so far, all files together.
+    total: u64,
+}
+
+impl Files {
+    /// The files of the scene whose top-level file is `main` (the folder the names in every
+    /// file resolve in is `main`'s, as pbrt-v4 resolves them); names must stay inside it
+    /// unless `allow_outside`.
+    pub fn new(main: &Path, allow_outside: bool) -> Self {
+        Self {
+            main: main.to_path_buf(),
+            folder: Folder::of_file(main, allow_outside),
+            total: 0,
+        }
+    }
+
+    /// The top-level file.
+    pub fn main_path(&self) -> &Path {
+        &self.main
+    }
+
+    /// Where the file named `name` in the scene is.
+    pub fn resolve(&self, name: &str) -> PathBuf {
+        let named = Path::new(name);
+        if named.is_absolute() {
+            named.to_path_buf()
+        } else {
+            self.folder.named().join(named)
+        }
+    }
+
+    /// Whether the file at `path` (named at `loc` by `key`) may be read: inside the scene's
+    /// folder unless the options allow the rest.
+    pub fn check(&self, path: &Path, loc: &Loc, key: &str) -> Result<(), SceneError> {
+        self.folder.check(path).map_err(|e| loc.error(Some(key), e))
+    }
+
+    /// Every file the scene read besides the top-level one, each once, in the order first
+    /// asked for.
+    pub fn read_besides_main(&self) -> Vec<PathBuf> {
+        let mut files = self.folder.asked();
+        files.retain(|f| f != &self.main);
+        files
+    }
+
+    /// Reads the top-level file's text.
+    pub fn read_main(&mut self) -> Result<String, SceneError> {
+        let path = self.main.clone();
+        self.read_text(&path)
+            .map_err(|e| SceneError::new(&path, format!("cannot read the scene file: {e}")))
+    }
+
+    /// Reads the file at `path` named at `loc` (by `Include`, `Import`), checked against the
+    /// folder, and gives its text.
+    pub fn read_named(&mut self, path: &Path, loc: &Loc, key: &str) -> Result<String, SceneError> {
+        self.check(path, loc, key)?;
+        self.read_text(path)
+            .map_err(|e| loc.error(Some(key), format!("cannot read `{}`: {e}", path.display())))
+    }
+
+    /// A file's text: a regular file of at most [`MAX_SCENE_BYTES`], inflated when its name
+    /// ends in `.gz` (to at most as many bytes), UTF-8 without NUL bytes; the error is the
+    /// reason.
+    fn read_text(&mut self, path: &Path) -> Result<String, String> {
+        let raw = read_bounded(path, MAX_SCENE_BYTES)?;
+        let bytes = if is_gzip_name(path) {
+            inflate(&raw, MAX_SCENE_BYTES)?
+        } else {
+            raw
+        };
+        self.total = self.total.saturating_add(bytes.len() as u64);
+        if self.total > MAX_TOTAL_BYTES {
+            return Err(format!(
+                "the scene's files hold more than {MAX_TOTAL_BYTES} bytes together (a file \
+                 included again is counted again)"
+            ));
+        }
+        if bytes.contains(&0) {
+            return Err("it is binary, not pbrt's text format".into());
+        }
+        String::from_utf8(bytes).map_err(|_| "it is not UTF-8 text".into())
+    }
+}
+
+/// Whether `path`'s name ends in `.gz` (any case).
+pub fn is_gzip_name(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"))
+}
+
+/// `raw` inflated from gzip, refused once it grows past `limit` bytes (a small file can
+/// inflate a thousandfold).
+fn inflate(raw: &[u8], limit: u64) -> Result<Vec<u8>, String> {
+    let mut out = Vec::new();
+    flate2::read::MultiGzDecoder::new(raw)
+        .take(limit + 1)
+        .read_to_end(&mut out)
+        .map_err(|e| format!("it is not a valid gzip file: {e}"))?;
+    if out.len() as u64 > limit {
+        return Err(format!(
+            "it inflates to more than {limit} bytes, the limit of a scene file"
+        ));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    fn gzip(bytes: &[u8]) -> Vec<u8> {
+        let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+        encoder.write_all(bytes).expect("compress");
+        encoder.finish().expect("compress")
+    }
+
+    #[test]
+    fn gzip_is_inflated_within_its_limit() {
+        let packed = gzip(b"WorldBegin\n");
+        assert_eq!(inflate(&packed, 100).expect("inflate"), b"WorldBegin\n");
+        let bomb = gzip(&vec![b' '; 10_000]);
+        assert!(bomb.len() < 200);
+        let err = inflate(&bomb, 1000).expect_err("too large");
+        assert!(err.contains("more than 1000 bytes"), "{err}");
+        assert!(inflate(b"not gzip", 100).is_err());
+    }
+}

@@ -1,0 +1,268 @@
+//! pbrt-v4's shapes as rayforge's objects.
+//!
+//! - `trianglemesh` (`P`, `indices`, optional `N` and `uv`): a mesh whose faces' fronts are
+//!   pbrt's. pbrt's geometric normal is `(p1 − p0) × (p2 − p0)` in its left-handed space, the
+//!   normal matrix taking it to the world ([`Winding::RightHanded`] in rayforge, whose space
+//!   is pbrt's); where the mesh has normals `N`, pbrt turns each face's geometric normal to
+//!   the side of its shading normal, so each face is wound here to face the mean of its
+//!   corners' `N`. `ReverseOrientation` turns every face (and the normals) over.
+//! - `sphere` (`radius`): a sphere; `disk` (`radius`, `innerradius`, `height`): a ring in the
+//!   plane z = height facing +z; `cylinder` (`radius`, `zmin`, `zmax`): an open cylinder about
+//!   z. Their fronts face out (+z for the disk); `ReverseOrientation` makes an emitting one
+//!   shine from its back. Cut shapes (`zmin`/`zmax` on a sphere, `phimax` below 360) are
+//!   refused: rayforge's shapes are whole.
+//! - `curves` are left out with a warning (they are hair and fur, not surfaces), and every
+//!   other shape is refused at its directive.
+
+use super::reader::ShapeEntity;
+use crate::error::SceneError;
+use glam::{DMat4, DVec3};
+use rayforge::geometry::{Mesh, MeshFace, Winding};
+use rayforge::{Object, Shape};
+use std::sync::Arc;
+
+/// What a shape became.
+pub enum Built {
+    /// Objects in the shape's own space (the caller places them), and the shape's area there
+    /// (for an area light's `power`).
+    Objects(Vec<Object>, f64),
+    /// Nothing to draw (`curves`).
+    Skipped,
+}
+
+/// The object(s) of `shape` in its own space, and the triangles it adds to `triangles` (held
+/// to `max_triangles`).
+pub fn build(
+    shape: &ShapeEntity,
+    triangles: &mut usize,
+    max_triangles: usize,
+    warnings: &mut Vec<SceneError>,
+) -> Result<Built, SceneError> {
+    let entity = &shape.entity;
+    let params = &entity.params;
+    if let Some(alpha) = params.find(
+        "alpha",
+        &[
+            super::params::ParamType::Float,
+            super::params::ParamType::Texture,
+        ],
+    ) {
+        if alpha.values != super::params::Values::Numbers(vec![1.0]) {
+            return Err(alpha.error(format!(
+                "{}: cut-outs (`alpha`) are not read; rayforge draws the whole shape",
+                entity.what()
+            )));
+        }
+    }
+    let whole_turn = |name: &str| -> Result<(), SceneError> {
+        match params.float(name)? {
+            Some(phi) if phi < 360.0 => Err(entity.error(format!(
+                "a {} cut to {phi}° (`phimax`) is not read; rayforge's are whole",
+                entity.name
+            ))),
+            _ => Ok(()),
+        }
+    };
+    Ok(match entity.name.as_str() {
+        "trianglemesh" => {
+            let (mesh, area) = triangle_mesh(shape, triangles, max_triangles)?;
+            Built::Objects(vec![Object::mesh(Arc::new(mesh))], area)
+        }
+        "sphere" => {
+            let radius = positive(shape, "radius", 1.0)?;
+            for (name, end) in [("zmin", -radius), ("zmax", radius)] {
+                if let Some(z) = params.float(name)? {
+                    if (z.clamp(-radius, radius) - end).abs() > 0.0 {
+                        return Err(entity.error(format!(
+                            "a sphere cut at {name} {z} is not read; rayforge's spheres are \
+                             whole"
+                        )));
+                    }
+                }
+            }
+            whole_turn("phimax")?;
+            let object = Object::sphere().with_transform(DMat4::from_scale(DVec3::splat(radius)));
+            Built::Objects(vec![object], 4.0 * std::f64::consts::PI * radius * radius)
+        }
+        "disk" => {
+            let radius = positive(shape, "radius", 1.0)?;
+            let inner = params.float_or("innerradius", 0.0)?;
+            if !(0.0..radius).contains(&inner) {
+                return Err(entity.error(format!(
+                    "a disk's innerradius is from 0 to below its radius {radius}, found {inner}"
+                )));
+            }
+            let height = params.float_or("height", 0.0)?;
+            whole_turn("phimax")?;
+            // rayforge's ring lies in the xz plane facing +y; pbrt's disk in the xy plane
+            // facing +z: a quarter turn about x takes +y to +z.
+            let placed = DMat4::from_translation(DVec3::new(0.0, 0.0, height))
+                * DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2);
+            let object = Object::new(Shape::Ring {
+                inner,
+                outer: radius,
+            })
+            .with_transform(placed);
+            let area = std::f64::consts::PI * (radius * radius - inner * inner);
+            Built::Objects(vec![object], area)
+        }
+        "cylinder" => {
+            let radius = positive(shape, "radius", 1.0)?;
+            let zmin = params.float_or("zmin", -1.0)?;
+            let zmax = params.float_or("zmax", 1.0)?;
+            if zmin >= zmax {
+                return Err(entity.error(format!(
+                    "a cylinder's zmin ({zmin}) is below its zmax ({zmax})"
+                )));
+            }
+            whole_turn("phimax")?;
+            // rayforge's cylinder stands along y; a quarter turn about x lays it along z.
+            let placed = DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2)
+                * DMat4::from_scale(DVec3::new(radius, 1.0, radius));
+            let object = Object::new(Shape::Cylinder {
+                minimum: zmin,
+                maximum: zmax,
+                closed: false,
+            })
+            .with_transform(placed);
+            let area = 2.0 * std::f64::consts::PI * radius * (zmax - zmin);
+            Built::Objects(vec![object], area)
+        }
+        "curves" => {
+            warnings.push(
+                entity.error("curves (hair, fur) are not rendered: rayforge leaves them out"),
+            );
+            Built::Skipped
+        }
+        "plymesh" => {
+            let file = params.string("filename")?.map(|(f, _)| f.to_string());
+            return Err(entity.error(format!(
+                "\"plymesh\" shapes (PLY meshes{}) are not read yet",
+                file.map(|f| format!(", here \"{}\"", crate::error::clip_to(&f, 80)))
+                    .unwrap_or_default()
+            )));
+        }
+        other => {
+            return Err(entity.error(format!(
+                "the shape \"{}\" is not one rayforge reads; it reads trianglemesh, sphere, \
+                 disk and cylinder",
+                crate::error::clip_to(other, 60)
+            )))
+        }
+    })
+}
+
+/// A float parameter that must be above 0.
+fn positive(shape: &ShapeEntity, name: &str, default: f64) -> Result<f64, SceneError> {
+    let v = shape.entity.params.float_or(name, default)?;
+    if v <= 0.0 {
+        return Err(shape.entity.error(format!(
+            "a {}'s {name} is above 0, found {v}",
+            shape.entity.name
+        )));
+    }
+    Ok(v)
+}
+
+/// A `trianglemesh` (see the [module](self)) and its area in its own space.
+fn triangle_mesh(
+    shape: &ShapeEntity,
+    triangles: &mut usize,
+    max_triangles: usize,
+) -> Result<(Mesh, f64), SceneError> {
+    use super::params::ParamType;
+    let entity = &shape.entity;
+    let params = &entity.params;
+    let Some((positions, _)) = params.points3("P", ParamType::Point3)? else {
+        return Err(entity.error("a trianglemesh needs its points, \"point3 P\""));
+    };
+    let indices: Vec<u32> = match params.numbers("indices", ParamType::Integer)? {
+        Some((v, p)) => {
+            if v.len() % 3 != 0 {
+                return Err(p.error(format!(
+                    "takes three indices a triangle; {} is not a multiple of 3",
+                    v.len()
+                )));
+            }
+            let mut out = Vec::with_capacity(v.len());
+            for &i in v {
+                if i < 0.0 || i >= positions.len() as f64 {
+                    return Err(p.error(format!(
+                        "index {i} is not one of the {} points of \"point3 P\"",
+                        positions.len()
+                    )));
+                }
+                out.push(i as u32);
+            }
+            out
+        }
+        None if positions.len() == 3 => vec![0, 1, 2],
+        None => {
+            return Err(
+                entity.error("a trianglemesh of more than three points needs \"integer indices\"")
+            )
+        }
+    };
+    let faces = indices.len() / 3;
+    *triangles = triangles.saturating_add(faces);
+    if *triangles > max_triangles {
+        return Err(entity.error(format!(
+            "the scene's meshes hold more than {max_triangles} triangles (`--max-triangles` \
+             on the command line)"
+        )));
+    }
+    let mut normals = match params.points3("N", ParamType::Normal)? {
+        Some((n, p)) if n.len() != positions.len() => {
+            return Err(p.error(format!(
+                "has {} normals for {} points; it takes one a point",
+                n.len(),
+                positions.len()
+            )))
+        }
+        Some((n, _)) => n,
+        None => Vec::new(),
+    };
+    let texcoords: Vec<[f64; 2]> = match params.points2("uv")? {
+        Some((uv, p)) if uv.len() != positions.len() => {
+            return Err(p.error(format!(
+                "has {} texture coordinates for {} points; it takes one a point",
+                uv.len(),
+                positions.len()
+            )))
+        }
+        Some((uv, _)) => uv.into_iter().map(|t| [t.x, t.y]).collect(),
+        None => Vec::new(),
+    };
+    if shape.reverse {
+        for n in &mut normals {
+            *n = -*n;
+        }
+    }
+    let mut area = 0.0;
+    let faces: Vec<MeshFace> = indices
+        .chunks_exact(3)
+        .map(|c| {
+            let [a, b, d] = [c[0], c[1], c[2]];
+            let [pa, pb, pd] = [a, b, d].map(|i| positions[i as usize]);
+            let geometric = (pb - pa).cross(pd - pa);
+            area += geometric.length() / 2.0;
+            let front = if normals.is_empty() {
+                !shape.reverse
+            } else {
+                let shading: DVec3 = [a, b, d].iter().map(|&i| normals[i as usize]).sum();
+                geometric.dot(shading) >= 0.0
+            };
+            // The front is (p1 − p0) × (p2 − p0) as given; swapping two corners turns it over.
+            let vertices = if front { [a, b, d] } else { [a, d, b] };
+            MeshFace {
+                vertices,
+                normals: (!normals.is_empty()).then_some(vertices),
+                texcoords: (!texcoords.is_empty()).then_some(vertices),
+            }
+        })
+        .collect();
+    let mesh = Mesh::with_texcoords(positions, normals, texcoords, faces)
+        .map_err(|e| entity.error(e.to_string()))?
+        .with_winding(Winding::RightHanded);
+    Ok((mesh, area))
+}
