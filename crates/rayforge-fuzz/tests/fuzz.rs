@@ -7,7 +7,7 @@
 //! - stable Rust, bolero's random engine:
 //!   `BOLERO_RANDOM_TEST_TIME_MS=3600000 cargo test --release -p rayforge-fuzz --test fuzz scene`
 //! - coverage-guided, libFuzzer (nightly; `cargo install cargo-bolero`):
-//!   `cargo +nightly bolero test -p rayforge-fuzz --test fuzz scene --time 3600s`
+//!   `cargo bolero test -p rayforge-fuzz scene --toolchain nightly --sanitizer NONE -T 3600s`
 //!
 //! See `docs/reliability.md`. A new target is one line below (and its seeds in `corpus/NAME/`).
 
