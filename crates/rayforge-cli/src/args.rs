@@ -319,10 +319,18 @@ pub struct ServeArgs {
     #[arg(long)]
     pub allow_outside: bool,
 
-    /// Pages open at once: a page past it is told so and its socket closed.
+    /// Pages open at once: a page past it is told so and its socket closed. As many HTTP
+    /// requests (the page, a socket's opening) are answered at once: one past them is answered
+    /// 503 and closed.
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_CONNECTIONS,
           value_parser = clap::value_parser!(u32).range(1..=MAX_SERVE_LIMIT))]
     pub max_connections: u32,
+
+    /// Seconds a connection has to send its HTTP request and take the answer (a page's open
+    /// socket is not limited by it): one that sends nothing is dropped after it.
+    #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_REQUEST_TIMEOUT_SECONDS,
+          value_parser = clap::value_parser!(u64).range(1..=3600))]
+    pub request_timeout: u64,
 
     /// Renders at once, every page's together, each on the rendering threads (one per page at
     /// most; a page's request past it waits for one to end).
@@ -340,6 +348,8 @@ pub struct ServeArgs {
 
 /// `rayforge serve --max-connections`'s default: pages open at once.
 pub const DEFAULT_MAX_CONNECTIONS: u32 = 16;
+/// `rayforge serve --request-timeout`'s default, in seconds.
+pub const DEFAULT_REQUEST_TIMEOUT_SECONDS: u64 = 10;
 /// `rayforge serve --max-renders`'s default: renders at once, all pages together.
 pub const DEFAULT_MAX_RENDERS: u32 = 2;
 /// `rayforge serve --max-render-memory`'s default, in MiB: 2 GiB, a 26-megapixel image.

@@ -450,6 +450,18 @@ fn a_missing_scene_or_a_bad_flag_stops_before_listening() {
         .expect("runs rayforge serve");
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--threads must be between 1"));
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("serve")
+        .arg(&path)
+        .args(["--port", "0", "--request-timeout", "0"])
+        .output()
+        .expect("runs rayforge serve");
+    assert_eq!(o.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("'--request-timeout <SECONDS>'") && stderr.contains("1..=3600"),
+        "{stderr}"
+    );
 }
 
 /// A camera placed without `from`, `to` and `up` (Computer Graphics from Scratch's viewport
@@ -674,4 +686,44 @@ async fn a_page_that_stops_reading_is_dropped_and_frees_its_render() {
     let (image, _) = raster_frame(&mut waiting, 48, 0).await;
     assert_eq!(image.dimensions(), (48, 32));
     flood.abort();
+}
+
+/// Plain HTTP is bounded too: connections that open and never send hold a place only for
+/// `--request-timeout`, and one past `--max-connections` is refused at once with a 503 that
+/// says why. (Before, `axum::serve` took every connection and waited on each for ever.)
+#[test]
+fn idle_connections_are_dropped_and_one_past_the_limit_is_refused() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("scene.yml");
+    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let timeout = Duration::from_secs(2);
+    let (server, _) = serve_with(&path, &["--max-connections", "2", "--request-timeout", "2"]);
+    let started = std::time::Instant::now();
+    // Two clients that connect and never send a byte: they take both places.
+    let idle: Vec<TcpStream> = (0..2)
+        .map(|_| TcpStream::connect(("127.0.0.1", server.port)).expect("connects"))
+        .collect();
+    let host = format!("127.0.0.1:{}", server.port);
+    let (status, response) = get(server.port, "/", &host);
+    assert_eq!(status, 503, "{response}");
+    assert!(
+        response.contains("more than 2 connections at once (--max-connections)"),
+        "{response}"
+    );
+    for mut client in idle {
+        client
+            .set_read_timeout(Some(PATIENCE))
+            .expect("sets a timeout");
+        let mut byte = [0u8; 1];
+        // Dropped: the server closes it (end of stream, or a reset), sending nothing.
+        match client.read(&mut byte) {
+            Ok(n) => assert_eq!(n, 0, "the server sent something to a silent client"),
+            Err(e) => assert_eq!(e.kind(), std::io::ErrorKind::ConnectionReset, "{e}"),
+        }
+        // Not before its time (the server's timer starts after the client's connect).
+        assert!(started.elapsed() >= timeout, "{:?}", started.elapsed());
+    }
+    // Their places are free again: the page is served.
+    let (status, response) = get(server.port, "/", &host);
+    assert_eq!(status, 200, "{response}");
 }

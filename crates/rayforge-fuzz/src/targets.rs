@@ -3,8 +3,13 @@
 //! so that values the readers let through are also fed to the renderer; and the command's own
 //! readers of outside bytes (`rayforge_cli::untrusted`): part files through the whole merge,
 //! and what a browser sends the live page's server.
+//!
+//! Each target is a function of the input's bytes that says whether the reader accepted them
+//! (the seeds' test checks that seeds reach past the first checks; the engine ignores it).
+//! Errors are the expected answer to bad input; a panic is a bug, and so is an error whose
+//! position lies outside the text, which would break its display. A new target is a function
+//! here, one line in `tests/fuzz.rs`, and its seeds in `corpus/NAME/`.
 
-use crate::mutate::Flavour;
 use rayforge::render::{render, RenderOptions, Sampling};
 use rayforge::{point, vector, Camera, Color, Light, Object, World};
 use rayforge_cli::failure::Failure;
@@ -13,95 +18,8 @@ use rayforge_scene::{load_file_with, load_str_with, texture_from_bytes, LoadOpti
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// A fuzz target.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Target {
-    /// `rayforge_scene::load_str` on YAML text (with OBJ models and images it names).
-    Scene,
-    /// The OBJ and MTL parsers and the meshes built from them.
-    Obj,
-    /// The image decoding that `image` patterns and `map_Kd` use.
-    Image,
-    /// The glTF 2.0 reader (`.gltf` JSON with `data:` buffers, or `.glb`), rendered directly.
-    Gltf,
-    /// `rayforge merge` of a part file (as it is, alone and twice, and with its checksums
-    /// repaired), to a PNG.
-    Part,
-    /// The live page's server given a WebSocket request's `Host` (the input's first line) and
-    /// `Origin` (its second; `-` for none) and a message (the rest).
-    Page,
-}
-
 /// The mesh size limit while fuzzing: low, so that inputs that multiply faces stay quick.
 const FUZZ_MAX_TRIANGLES: usize = 200_000;
-
-impl Target {
-    /// Every target.
-    pub const ALL: [Target; 6] = [
-        Target::Scene,
-        Target::Obj,
-        Target::Image,
-        Target::Gltf,
-        Target::Part,
-        Target::Page,
-    ];
-
-    /// The target's name on the command line and in crash file names.
-    pub fn name(self) -> &'static str {
-        match self {
-            Target::Scene => "scene",
-            Target::Obj => "obj",
-            Target::Image => "image",
-            Target::Gltf => "gltf",
-            Target::Part => "part",
-            Target::Page => "page",
-        }
-    }
-
-    /// The target called `name`.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|t| t.name() == name)
-    }
-
-    /// How its inputs are mutated.
-    pub fn flavour(self) -> Flavour {
-        match self {
-            Target::Scene => Flavour::Yaml,
-            Target::Obj => Flavour::Obj,
-            Target::Image => Flavour::Image,
-            Target::Gltf => Flavour::Json,
-            Target::Part => Flavour::Image,
-            Target::Page => Flavour::Json,
-        }
-    }
-
-    /// The longest input tried.
-    pub fn max_len(self) -> usize {
-        match self {
-            Target::Scene => 32 << 10,
-            Target::Obj => 64 << 10,
-            Target::Image => 128 << 10,
-            Target::Gltf => 64 << 10,
-            Target::Part => 64 << 10,
-            // Past the server's limit on a message (64 KiB), so that the limit is met.
-            Target::Page => 72 << 10,
-        }
-    }
-
-    /// Runs one input; whether the reader accepted it. Errors are the expected answer to bad
-    /// input; a panic is a bug (and so is an error whose position lies outside the text, which
-    /// would break its display).
-    pub fn run(self, input: &[u8]) -> bool {
-        match self {
-            Target::Scene => scene(input),
-            Target::Obj => obj(input),
-            Target::Image => image(input),
-            Target::Gltf => gltf(input),
-            Target::Part => part(input),
-            Target::Page => page(input),
-        }
-    }
-}
 
 /// The repository's root (scene inputs are read as if they were in `scenes/trtc/`, so the
 /// models and images they name resolve to real files).
@@ -109,7 +27,9 @@ pub fn repo_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-fn scene(input: &[u8]) -> bool {
+/// `rayforge_scene::load_str_with` on YAML text, as if it were in `scenes/trtc/` (so the
+/// models and images it names exist), from frame 3 (so that `per-frame` steps run too).
+pub fn scene(input: &[u8]) -> bool {
     let text = String::from_utf8_lossy(input);
     let path = repo_root().join("scenes/trtc/fuzz-input.yml");
     let options = LoadOptions {
@@ -121,7 +41,9 @@ fn scene(input: &[u8]) -> bool {
     rendered(load_str_with(&text, &path, &options), &path, &text)
 }
 
-fn obj(input: &[u8]) -> bool {
+/// The OBJ parser, the meshes built from it and a tiny render of them; the same text as an
+/// MTL library.
+pub fn obj(input: &[u8]) -> bool {
     let text = String::from_utf8_lossy(input);
     let path = Path::new("fuzz-input.obj");
     let accepted = match parse_obj_with_limit(&text, path, FUZZ_MAX_TRIANGLES) {
@@ -158,7 +80,9 @@ fn obj(input: &[u8]) -> bool {
     accepted
 }
 
-fn image(input: &[u8]) -> bool {
+/// The image decoding that `image` patterns, `map_Kd` and environment maps use, then samples
+/// of the texture at ordinary and non-finite coordinates.
+pub fn image(input: &[u8]) -> bool {
     let Ok(texture) = texture_from_bytes(input, Path::new("fuzz-input.img")) else {
         return false;
     };
@@ -179,7 +103,7 @@ fn image(input: &[u8]) -> bool {
 /// Reads `input` as a glTF model (a `.glb` when it starts with GLB's magic, else a `.gltf`),
 /// from a file of this process's own (the reader takes files, as its buffers and images may
 /// be beside them), and renders it.
-fn gltf(input: &[u8]) -> bool {
+pub fn gltf(input: &[u8]) -> bool {
     thread_local! {
         static DIR: tempfile::TempDir = tempfile::tempdir().expect("a scratch folder");
     }
@@ -203,7 +127,7 @@ fn gltf(input: &[u8]) -> bool {
 /// Merges `input` as a part file: alone (a part of one slice merges into an image), named
 /// twice (a duplicate, refused), and with its checksums repaired, so that changes reach the
 /// fields behind them. Whether the first merge was accepted. A refusal must say something.
-fn part(input: &[u8]) -> bool {
+pub fn part(input: &[u8]) -> bool {
     thread_local! {
         static DIR: tempfile::TempDir = tempfile::tempdir().expect("a scratch folder");
     }
@@ -236,8 +160,9 @@ fn part(input: &[u8]) -> bool {
 }
 
 /// Hands `input` to the live page's server as a WebSocket request's headers and a message
-/// (see [`Target::Page`]); whether it was taken. A refusal must say something.
-fn page(input: &[u8]) -> bool {
+/// (the input's first line is the `Host`, its second the `Origin`, `-` for none, the rest the
+/// message); whether it was taken. A refusal must say something.
+pub fn page(input: &[u8]) -> bool {
     let text = String::from_utf8_lossy(input);
     let mut lines = text.splitn(3, '\n');
     let host = lines.next().unwrap_or_default();

@@ -1,79 +1,94 @@
-//! A short, fixed-seed fuzzing run of each reader as part of `cargo test` (a few thousand
-//! inputs each; the `rayforge-fuzz` binary runs longer). A crash fails the test with the
-//! minimised input, written under `target/fuzz-crashes`.
+//! Every fuzz target as a test on the bolero engine.
+//!
+//! `cargo test -p rayforge-fuzz --test fuzz` replays each target's seeds (`corpus::seeds`:
+//! deterministic, a few seconds) and then what bolero keeps in `tests/__fuzz__/NAME/`
+//! (inputs a fuzzing run saved, its crashes). Fuzzing proper, for a time budget:
+//!
+//! - stable Rust, bolero's random engine:
+//!   `BOLERO_RANDOM_TEST_TIME_MS=3600000 cargo test --release -p rayforge-fuzz --test fuzz scene`
+//! - coverage-guided, libFuzzer (nightly; `cargo install cargo-bolero`):
+//!   `cargo bolero test -p rayforge-fuzz scene --toolchain nightly --sanitizer NONE -T 3600s`
+//!
+//! See `docs/reliability.md`. A new target is one line below (and its seeds in `corpus/NAME/`).
 
-use rayforge_fuzz::{fuzz, Options, Target};
+use rayforge_fuzz::corpus;
 
-/// Inputs per target: `RAYFORGE_FUZZ_ITERATIONS` or the default.
-fn iterations(default: u64) -> u64 {
-    std::env::var("RAYFORGE_FUZZ_ITERATIONS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
+/// `fuzz_target!(NAME)`: the test `NAME` of the target `rayforge_fuzz::targets::NAME` (any
+/// function of `&[u8]`; what it returns is ignored). The bolero macro is expanded here, in the
+/// test, as bolero finds its targets by their test's path.
+macro_rules! fuzz_target {
+    ($name:ident) => {
+        #[test]
+        fn $name() {
+            let name = stringify!($name);
+            let target = |input: &[u8]| {
+                rayforge_fuzz::targets::$name(input);
+            };
+            prepare(name, &target);
+            bolero::check!(name = name)
+                .with_max_len(corpus::MAX_LEN)
+                .with_iterations(random_inputs())
+                .for_each(target);
+        }
+    };
 }
 
-fn check(target: Target, seed: u64, default: u64) {
-    match fuzz(target, &Options::quick(seed, iterations(default))) {
-        Ok(report) => eprintln!(
-            "{}: {} inputs ({} accepted, {} caught panics) in {:.1} s, slowest {:.3} s",
-            target.name(),
-            report.executed,
-            report.accepted,
-            report.caught_panics,
-            report.elapsed.as_secs_f64(),
-            report.slowest.as_secs_f64()
-        ),
-        Err(crash) => panic!("{crash}"),
+fuzz_target!(scene);
+fuzz_target!(obj);
+fuzz_target!(gltf);
+fuzz_target!(image);
+fuzz_target!(part);
+fuzz_target!(page);
+
+/// Before the engine runs: under `cargo test`, every seed of the target, each a failure of
+/// its own if it panics; under `cargo bolero test` (`--cfg fuzzing`), the seeds written into
+/// the engine's corpus, where it starts from them.
+fn prepare(name: &str, target: &dyn Fn(&[u8])) {
+    if cfg!(fuzzing) {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/__fuzz__")
+            .join(name)
+            .join("corpus");
+        let n = corpus::write_seeds(name, &dir).expect("the engine's corpus folder");
+        eprintln!("{name}: {n} seeds in {}", dir.display());
+        return;
+    }
+    let seeds = corpus::seeds(name);
+    for (i, seed) in seeds.iter().enumerate() {
+        let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| target(seed)));
+        assert!(
+            run.is_ok(),
+            "{name}: seed {i} of {} ({} bytes) panicked (the message is above)",
+            seeds.len(),
+            seed.len()
+        );
     }
 }
 
-#[test]
-fn the_scene_reader_survives_mutated_scenes() {
-    check(Target::Scene, 0x5CE4E, 2500);
-}
-
-#[test]
-fn the_obj_reader_survives_mutated_models() {
-    check(Target::Obj, 0x0B1, 3000);
-}
-
-#[test]
-fn the_gltf_reader_survives_mutated_models() {
-    check(Target::Gltf, 0x617F, 1500);
-}
-
-#[test]
-fn the_image_reader_survives_mutated_images() {
-    check(Target::Image, 0x1A6E, 5000);
-}
-
-#[test]
-fn the_merge_survives_mutated_part_files() {
-    check(Target::Part, 0x9A27, 1500);
-}
-
-#[test]
-fn the_live_page_server_survives_mutated_requests() {
-    check(Target::Page, 0x9A6E, 5000);
+/// Random inputs after the replay: none (a test is deterministic), unless a time budget is
+/// given in `BOLERO_RANDOM_TEST_TIME_MS`; `BOLERO_RANDOM_ITERATIONS` sets a count instead
+/// (bolero reads both, and either takes precedence over this).
+fn random_inputs() -> usize {
+    if std::env::var_os("BOLERO_RANDOM_TEST_TIME_MS").is_some() {
+        usize::MAX
+    } else {
+        0
+    }
 }
 
 /// The seeds reach past the first checks: every part merges, and the page's requests from
 /// this machine's browser are taken while the one from another site is refused. (A seed that
 /// is refused at once would leave the fuzzer mutating only the refusal.)
 #[test]
-fn the_new_targets_seeds_are_accepted_where_they_should_be() {
-    let parts = rayforge_fuzz::corpus::seeds(Target::Part);
+fn the_seeds_are_accepted_where_they_should_be() {
+    let parts = corpus::seeds("part");
     assert!(parts.len() >= 5, "{} part seeds", parts.len());
     for part in &parts {
-        assert_eq!(rayforge_fuzz::run_one(Target::Part, part), Ok(true));
+        assert!(rayforge_fuzz::targets::part(part));
     }
-    for request in rayforge_fuzz::corpus::seeds(Target::Page) {
+    for request in corpus::seeds("page") {
         let text = String::from_utf8(request.clone()).unwrap();
         let taken = !text.starts_with("evil") && !text.contains("stop") && !text.contains("[1");
-        assert_eq!(
-            rayforge_fuzz::run_one(Target::Page, &request),
-            Ok(taken),
-            "{text}"
-        );
+        assert_eq!(rayforge_fuzz::targets::page(&request), taken, "{text}");
     }
 }

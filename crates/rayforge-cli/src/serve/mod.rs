@@ -9,8 +9,9 @@
 //! unless told otherwise, and answers only requests addressed to it by that name (see
 //! [`guard`]).
 //!
-//! What it holds is bounded ([`Limits`]): pages open (a page past the limit is told why and its
-//! socket closed), renders at once (a page's request waits for a slot), and the memory of the
+//! What it holds is bounded ([`Limits`]): HTTP requests being answered, each within a time
+//! ([`connections`]; one past the limit is answered 503), pages open (a page past the limit is
+//! told why and its socket closed), renders at once (a page's request waits for a slot), and the memory of the
 //! renders in flight ([`budget`]); a page is a task, and the threads are a fixed few: the
 //! network's two, the renders' (`--max-renders`, each rendering on the shared `--threads`
 //! pool), and the watch's.
@@ -20,6 +21,7 @@
 //! disk), [`guard`] (who may connect).
 
 mod budget;
+mod connections;
 mod guard;
 mod orbit;
 mod protocol;
@@ -73,8 +75,10 @@ pub struct Config {
 /// What the server may hold at once (the flags' defaults are in `crate::args`).
 #[derive(Debug, Clone, Copy)]
 pub struct Limits {
-    /// `--max-connections`: pages open.
+    /// `--max-connections`: pages open, and HTTP requests being answered.
     pub pages: u32,
+    /// `--request-timeout`: how long a connection has for its HTTP request and answer.
+    pub request_timeout: std::time::Duration,
     /// `--max-renders`: renders at once, every page's together.
     pub renders: u32,
     /// `--max-render-memory`, in bytes: the memory of the renders in flight together.
@@ -109,6 +113,7 @@ pub fn run(args: ServeArgs) -> Result<ExitCode, Failure> {
         files: Arc::default(),
         limits: Limits {
             pages: args.max_connections,
+            request_timeout: std::time::Duration::from_secs(args.request_timeout),
             renders: args.max_renders,
             render_memory: args.max_render_memory.saturating_mul(1 << 20),
         },
@@ -170,7 +175,7 @@ async fn serve(config: Config, pool: ThreadPool, listen: SocketAddr) -> Result<E
         "rayforge serve: showing `{}`; open the address above in a browser, Ctrl-C stops",
         server.config.scene.display()
     );
-    axum::serve(listener, app)
+    connections::serve(listener, app, limits.pages, limits.request_timeout)
         .await
         .map_err(|e| Failure::internal(format!("the server stopped: {e}")))?;
     Ok(ExitCode::SUCCESS)

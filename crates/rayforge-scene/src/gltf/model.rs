@@ -68,6 +68,7 @@ pub(crate) struct Limits<'a> {
 pub(crate) fn read_gltf(path: &Path, limits: Limits<'_>) -> Result<GltfModel, SceneError> {
     let bytes = read_bounded(path, MAX_MODEL_BYTES)
         .map_err(|e| SceneError::new(path, format!("cannot read the glTF file: {e}")))?;
+    nodes::check_node_count(path, &bytes)?;
     let mut gltf = parse(path, &bytes)?;
     let buffers = buffers::load(path, &mut gltf, limits.folder)?;
     let mut materials = materials::Materials::new(path, &buffers, limits.folder, limits.memory);

@@ -105,26 +105,22 @@ pub(crate) fn walk(
             gltf.nodes().filter(|n| !is_child[n.index()]).collect()
         }
     };
+    // The hierarchy's size is checked before anything is built: a million nodes of one
+    // triangle each are a million objects (about 1.7 GB), which a refusal at the
+    // millionth-and-first would have built first.
+    check_hierarchy(path, &roots)?;
     let mut out = Walk {
         objects: Vec::new(),
         cameras: Vec::new(),
         lights: Vec::new(),
     };
-    let mut stack: Vec<(::gltf::Node<'_>, DMat4, usize)> = roots
+    let mut stack: Vec<(::gltf::Node<'_>, DMat4)> = roots
         .into_iter()
         .rev()
-        .map(|n| (n, DMat4::IDENTITY, 0))
+        .map(|n| (n, DMat4::IDENTITY))
         .collect();
-    let mut visits = 0;
-    while let Some((node, parent, depth)) = stack.pop() {
+    while let Some((node, parent)) = stack.pop() {
         let at = format!("nodes[{}]", node.index());
-        visits += 1;
-        if visits > MAX_NODE_VISITS {
-            return Err(error(path, at, format!("the node hierarchy visits more than {MAX_NODE_VISITS} nodes (are nodes shared between parents?)")));
-        }
-        if depth >= MAX_NODE_DEPTH {
-            return Err(error(path, at, format!("the node hierarchy nests deeper than {MAX_NODE_DEPTH} levels (does a node contain itself?)")));
-        }
         if let ::gltf::scene::Transform::Decomposed { rotation, .. } = node.transform() {
             let length = rotation
                 .iter()
@@ -157,10 +153,113 @@ pub(crate) fn walk(
             out.lights.push(light_of(&light, world));
         }
         for child in node.children().collect::<Vec<_>>().into_iter().rev() {
-            stack.push((child, world, depth + 1));
+            stack.push((child, world));
         }
     }
     Ok(out)
+}
+
+/// Walks the hierarchy from `roots` in the order [`walk`] does, building nothing: refuses it
+/// at the node where the walk would pass [`MAX_NODE_VISITS`] or [`MAX_NODE_DEPTH`].
+fn check_hierarchy(path: &Path, roots: &[::gltf::Node<'_>]) -> Result<(), SceneError> {
+    let mut stack: Vec<(::gltf::Node<'_>, usize)> =
+        roots.iter().rev().map(|n| (n.clone(), 0)).collect();
+    let mut visits = 0;
+    while let Some((node, depth)) = stack.pop() {
+        visits += 1;
+        let at = || format!("nodes[{}]", node.index());
+        if visits > MAX_NODE_VISITS {
+            return Err(error(path, at(), format!("the node hierarchy visits more than {MAX_NODE_VISITS} nodes (are nodes shared between parents?)")));
+        }
+        if depth >= MAX_NODE_DEPTH {
+            return Err(error(path, at(), format!("the node hierarchy nests deeper than {MAX_NODE_DEPTH} levels (does a node contain itself?)")));
+        }
+        let children = stack.len();
+        stack.extend(node.children().map(|child| (child, depth + 1)));
+        stack[children..].reverse();
+    }
+    Ok(())
+}
+
+/// Refuses a file with more nodes than [`MAX_NODE_VISITS`] before its JSON is parsed: the
+/// `gltf` crate's document holds some 300 bytes a node, so a million-node file of 11 MB
+/// would take 300 MB to be refused. Counts the elements of the top-level `nodes` array of the
+/// JSON (a `.gltf` file, or a `.glb`'s JSON chunk) in one pass over its bytes, holding
+/// nothing; JSON that does not scan is left to the parser, which says where it goes wrong.
+pub(crate) fn check_node_count(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
+    let json = match bytes.get(..20) {
+        Some(header) if header.starts_with(b"glTF") && &header[16..20] == b"JSON" => {
+            let length = u32::from_le_bytes([header[12], header[13], header[14], header[15]]);
+            let end = 20usize.saturating_add(length as usize).min(bytes.len());
+            &bytes[20..end]
+        }
+        _ => bytes,
+    };
+    if json_array_longer_than(json, b"nodes", MAX_NODE_VISITS) {
+        return Err(error(
+            path,
+            "nodes",
+            format!(
+                "the file has more than {MAX_NODE_VISITS} nodes, the most a model's hierarchy \
+                 may visit"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Whether the array under `key` in the top-level object of `json` has more than `most`
+/// elements (the scan stops there).
+fn json_array_longer_than(json: &[u8], key: &[u8], most: usize) -> bool {
+    let (mut depth, mut in_string, mut escaped) = (0usize, false, false);
+    // Where the last string at the top level began (a key), and whether the array being
+    // walked is the one under `key`, with its elements so far and whether one has begun.
+    let mut string_start = 0;
+    let mut last_top_string: &[u8] = &[];
+    let (mut counting, mut elements, mut in_element) = (false, 0usize, false);
+    for (i, &b) in json.iter().enumerate() {
+        if in_string {
+            if escaped {
+                escaped = false;
+            } else if b == b'\\' {
+                escaped = true;
+            } else if b == b'"' {
+                in_string = false;
+                if depth == 1 {
+                    last_top_string = &json[string_start..i];
+                }
+            }
+            continue;
+        }
+        if counting && depth == 2 && !in_element && !b.is_ascii_whitespace() && b != b']' {
+            in_element = true;
+            elements += 1;
+            if elements > most {
+                return true;
+            }
+        }
+        match b {
+            b'"' => {
+                in_string = true;
+                string_start = i + 1;
+            }
+            b'{' | b'[' => {
+                if b == b'[' && depth == 1 && last_top_string == key {
+                    counting = true;
+                }
+                depth += 1;
+            }
+            b'}' | b']' => {
+                depth = depth.saturating_sub(1);
+                if depth == 1 && counting {
+                    return false;
+                }
+            }
+            b',' if counting && depth == 2 => in_element = false,
+            _ => {}
+        }
+    }
+    false
 }
 
 /// The primitives of a node's mesh as objects placed by `world` (left out when `world` is
@@ -277,5 +376,21 @@ fn light_of(light: &::gltf::khr_lights_punctual::Light<'_>, world: DMat4) -> Glt
         position: world.transform_point3(DVec3::ZERO),
         direction: world.transform_vector3(-DVec3::Z).normalize_or_zero(),
         kind,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::json_array_longer_than;
+
+    #[test]
+    fn the_top_level_array_is_counted_and_nothing_else() {
+        let json = br#"{"scenes": [{"nodes": [0, 1, 2, 3]}], "nodes": [{"name": "a,]\"b"}, {"children": [2, 3]}, {}], "x": [1, 2, 3, 4, 5]}"#;
+        assert!(json_array_longer_than(json, b"nodes", 2));
+        assert!(!json_array_longer_than(json, b"nodes", 3));
+        assert!(!json_array_longer_than(br#"{"nodes": []}"#, b"nodes", 0));
+        assert!(json_array_longer_than(br#"{"nodes": [ {} ]}"#, b"nodes", 0));
+        // Damaged JSON is left to the parser.
+        assert!(!json_array_longer_than(b"{\"nodes\": [1, 2", b"nodes", 5));
     }
 }
