@@ -21,6 +21,7 @@ mod images;
 mod items;
 mod material;
 pub mod obj;
+pub mod ply;
 mod scene;
 mod settings;
 mod source;
