@@ -735,6 +735,9 @@ fn a_file_that_is_not_a_mesh_is_an_error() {
     let float_list = TRIANGLE_HEADER.replace("uchar int", "uchar float");
     let e = parse(format!("{float_list}0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").as_bytes()).unwrap_err();
     assert!(e.message.contains("must be a list of whole numbers"), "{e}");
+    let no_vertices = "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n3 0 1 2\n";
+    let e = parse(no_vertices.as_bytes()).unwrap_err();
+    assert!(e.message.contains("no `vertex` element"), "{e}");
     let e = parse(b"").unwrap_err();
     assert!(e.message.contains("not a PLY model"), "{e}");
 }

@@ -262,15 +262,19 @@ fn parse_plain(bytes: &[u8], path: &Path, max_triangles: usize) -> Result<Mesh, 
     let header = header::parse(bytes, path)?;
     check_counts(&header, path, max_triangles)?;
     check_room(&header, bytes.len() - header.body_start, path)?;
-    let vertex = header.element("vertex");
-    let face = header.element("face");
-    let (Some(vertex), Some(face)) = (vertex, face.filter(|f| f.count > 0)) else {
+    let Some(face) = header.element("face").filter(|f| f.count > 0) else {
         return Err(SceneError::new(
             path,
             format!(
                 "`{}` has no faces (no `face` element, or none of it): a point cloud is not a mesh",
                 path.display()
             ),
+        ));
+    };
+    let Some(vertex) = header.element("vertex") else {
+        return Err(SceneError::new(
+            path,
+            format!("`{}` has faces but no `vertex` element", path.display()),
         ));
     };
     let (roles, has_normals, has_texcoords) = vertex_roles(vertex, path)?;
