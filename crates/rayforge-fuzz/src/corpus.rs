@@ -26,6 +26,7 @@ pub fn seeds(target: Target) -> Vec<Vec<u8>> {
             file(&shared.join("models/suzanne-low.obj"), &mut seeds);
         }
         Target::Image => seeds.extend(generated_images()),
+        Target::Ply => seeds.extend(crate::targets::ply::seeds()),
         Target::Gltf => files_under(&shared.join("models/gltf"), &["gltf", "glb"], &mut seeds),
         Target::Part => files_under(&corpus.join("part"), &["part"], &mut seeds),
         Target::Page => seeds.extend(page_messages()),

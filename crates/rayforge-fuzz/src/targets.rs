@@ -1,5 +1,5 @@
-//! What is fuzzed: the scene reader, the OBJ/MTL reader, the glTF reader and the
-//! image-texture decoder (8-bit and HDR), each followed by a tiny render of what it produced,
+//! What is fuzzed: the scene reader, the OBJ/MTL reader, the glTF reader, the PLY reader
+//! ([`ply`]) and the image-texture decoder (8-bit and HDR), each followed by a tiny render of what it produced,
 //! so that values the readers let through are also fed to the renderer; and the command's own
 //! readers of outside bytes (`rayforge_cli::untrusted`): part files through the whole merge,
 //! and what a browser sends the live page's server.
@@ -13,6 +13,8 @@ use rayforge_scene::{load_file_with, load_str_with, texture_from_bytes, LoadOpti
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+pub mod ply;
+
 /// A fuzz target.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Target {
@@ -24,6 +26,8 @@ pub enum Target {
     Image,
     /// The glTF 2.0 reader (`.gltf` JSON with `data:` buffers, or `.glb`), rendered directly.
     Gltf,
+    /// The PLY reader (text, binary, gzip) and the mesh it builds, rendered.
+    Ply,
     /// `rayforge merge` of a part file (as it is, alone and twice, and with its checksums
     /// repaired), to a PNG.
     Part,
@@ -37,11 +41,12 @@ const FUZZ_MAX_TRIANGLES: usize = 200_000;
 
 impl Target {
     /// Every target.
-    pub const ALL: [Target; 6] = [
+    pub const ALL: [Target; 7] = [
         Target::Scene,
         Target::Obj,
         Target::Image,
         Target::Gltf,
+        Target::Ply,
         Target::Part,
         Target::Page,
     ];
@@ -53,6 +58,7 @@ impl Target {
             Target::Obj => "obj",
             Target::Image => "image",
             Target::Gltf => "gltf",
+            Target::Ply => "ply",
             Target::Part => "part",
             Target::Page => "page",
         }
@@ -70,6 +76,8 @@ impl Target {
             Target::Obj => Flavour::Obj,
             Target::Image => Flavour::Image,
             Target::Gltf => Flavour::Json,
+            // Text mutations (numbers, lines) besides the byte-level ones binary bodies need.
+            Target::Ply => Flavour::Obj,
             Target::Part => Flavour::Image,
             Target::Page => Flavour::Json,
         }
@@ -82,6 +90,7 @@ impl Target {
             Target::Obj => 64 << 10,
             Target::Image => 128 << 10,
             Target::Gltf => 64 << 10,
+            Target::Ply => 64 << 10,
             Target::Part => 64 << 10,
             // Past the server's limit on a message (64 KiB), so that the limit is met.
             Target::Page => 72 << 10,
@@ -97,6 +106,7 @@ impl Target {
             Target::Obj => obj(input),
             Target::Image => image(input),
             Target::Gltf => gltf(input),
+            Target::Ply => ply::run(input),
             Target::Part => part(input),
             Target::Page => page(input),
         }

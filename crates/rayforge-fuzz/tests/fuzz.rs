@@ -43,6 +43,11 @@ fn the_gltf_reader_survives_mutated_models() {
 }
 
 #[test]
+fn the_ply_reader_survives_mutated_models() {
+    check(Target::Ply, 0x91A, 3000);
+}
+
+#[test]
 fn the_image_reader_survives_mutated_images() {
     check(Target::Image, 0x1A6E, 5000);
 }
@@ -62,6 +67,11 @@ fn the_live_page_server_survives_mutated_requests() {
 /// is refused at once would leave the fuzzer mutating only the refusal.)
 #[test]
 fn the_new_targets_seeds_are_accepted_where_they_should_be() {
+    let models = rayforge_fuzz::corpus::seeds(Target::Ply);
+    assert_eq!(models.len(), 8);
+    for model in &models {
+        assert_eq!(rayforge_fuzz::run_one(Target::Ply, model), Ok(true));
+    }
     let parts = rayforge_fuzz::corpus::seeds(Target::Part);
     assert!(parts.len() >= 5, "{} part seeds", parts.len());
     for part in &parts {
