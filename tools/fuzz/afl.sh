@@ -2,7 +2,7 @@
 # Coverage-guided fuzzing of one rayforge-fuzz target with AFL++ (through cargo-afl, on the
 # stable toolchain), from the same seed corpus as the stable fuzzer.
 #
-#   tools/fuzz/afl.sh TARGET SECONDS        TARGET: scene, obj, image, gltf, part or page
+#   tools/fuzz/afl.sh TARGET SECONDS        TARGET: scene, obj, image, gltf, ply, part or page
 #
 # Needs cargo-afl (`cargo install cargo-afl`; it builds AFL++ on first use, or run
 # `cargo afl config --build`). It builds the harness in fuzz-afl/ with `cargo afl build
@@ -26,7 +26,7 @@ usage() {
 [[ $# -eq 2 ]] || usage
 target=$1
 seconds=$2
-case $target in scene | obj | image | gltf | part | page) ;; *) usage ;; esac
+case $target in scene | obj | image | gltf | ply | part | page) ;; *) usage ;; esac
 [[ $seconds =~ ^[1-9][0-9]*$ ]] || usage
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)

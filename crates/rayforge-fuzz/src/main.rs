@@ -15,7 +15,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 const USAGE: &str = "\
-usage: rayforge-fuzz [--target scene|obj|image|gltf|all] [--seconds N | --iterations N] [--seed N]
+usage: rayforge-fuzz [--target scene|obj|image|gltf|ply|part|page|all] [--seconds N | --iterations N] [--seed N]
                      [--timeout SECONDS] [--crash-dir DIR] [--replay FILE] [--write-seeds DIR]
 
 Fuzzes each target for --seconds (default 60) or --iterations mutated inputs, from --seed
