@@ -35,6 +35,7 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
             file(&shared.join("models/suzanne-low.obj"), &mut seeds);
         }
         "image" => seeds.extend(generated_images()),
+        "ply" => seeds.extend(crate::targets::ply::seeds()),
         "gltf" => files_under(&shared.join("models/gltf"), &["gltf", "glb"], &mut seeds),
         "page" => seeds.extend(page_messages()),
         _ => {}

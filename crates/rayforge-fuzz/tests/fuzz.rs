@@ -36,6 +36,7 @@ macro_rules! fuzz_target {
 fuzz_target!(scene);
 fuzz_target!(obj);
 fuzz_target!(gltf);
+fuzz_target!(ply);
 fuzz_target!(image);
 fuzz_target!(part);
 fuzz_target!(page);
@@ -82,6 +83,11 @@ fn random_inputs() -> usize {
 #[test]
 fn the_seeds_are_accepted_where_they_should_be() {
     let parts = corpus::seeds("part");
+    let models = corpus::seeds("ply");
+    assert_eq!(models.len(), 8);
+    for model in &models {
+        assert!(rayforge_fuzz::targets::ply(model));
+    }
     assert!(parts.len() >= 5, "{} part seeds", parts.len());
     for part in &parts {
         assert!(rayforge_fuzz::targets::part(part));

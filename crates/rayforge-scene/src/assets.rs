@@ -1,4 +1,4 @@
-//! Files a scene refers to (OBJ meshes, images, environment maps), found inside the scene
+//! Files a scene refers to (OBJ, glTF and PLY models, images, environment maps), found inside the scene
 //! file's folder and read once each, within the scene's limits on triangles and on the memory
 //! its images take.
 
@@ -11,6 +11,7 @@ use crate::images::{
     MAX_IMAGE_BYTES,
 };
 use crate::obj::{read_obj_in, to_meshes};
+use crate::ply::read_ply_file;
 use rayforge::geometry::Mesh;
 use rayforge::shading::{Filter, Texture};
 use rayforge::Material;
@@ -27,6 +28,7 @@ pub struct Assets {
     folder: Folder,
     meshes: HashMap<PathBuf, ObjMeshes>,
     models: HashMap<PathBuf, Arc<GltfModel>>,
+    ply_meshes: HashMap<PathBuf, Arc<Mesh>>,
     textures: Textures,
     /// The most triangles the scene's models may hold together.
     max_triangles: usize,
@@ -49,6 +51,7 @@ impl Assets {
             folder: Folder::of_file(scene_path, allow_outside),
             meshes: HashMap::new(),
             models: HashMap::new(),
+            ply_meshes: HashMap::new(),
             textures: Textures {
                 by_path: HashMap::new(),
                 memory: ImageMemory::new(max_image_memory),
@@ -133,6 +136,31 @@ impl Assets {
         let model = Arc::new(model);
         self.models.insert(path.to_path_buf(), model.clone());
         Ok(model)
+    }
+
+    /// The mesh of a PLY model, read on first use, within what is left of the scene's
+    /// triangles.
+    pub fn ply(&mut self, path: &Path) -> Result<Arc<Mesh>, SceneError> {
+        if let Some(m) = self.ply_meshes.get(path) {
+            return Ok(m.clone());
+        }
+        self.folder
+            .check(path)
+            .map_err(|e| SceneError::new(path, e))?;
+        let left = self.max_triangles.saturating_sub(self.triangles);
+        let mesh = read_ply_file(path, left).map_err(|mut e| {
+            if left < self.max_triangles {
+                e.message = format!(
+                    "{} (what the scene's models before it leave of the limit of {})",
+                    e.message, self.max_triangles
+                );
+            }
+            e
+        })?;
+        self.triangles = self.triangles.saturating_add(mesh.face_count());
+        let mesh = Arc::new(mesh);
+        self.ply_meshes.insert(path.to_path_buf(), mesh.clone());
+        Ok(mesh)
     }
 
     /// An image texture, read on first use: PNG, JPEG, PPM/PGM/PBM, whose bytes become colours

@@ -22,6 +22,7 @@ mod items;
 mod material;
 pub mod obj;
 pub mod pbrt;
+pub mod ply;
 mod scene;
 mod settings;
 mod source;

@@ -31,6 +31,19 @@ fn files_built_to_exhaust_memory_are_refused_in_bounded_memory() {
     eprintln!("sparse bomb: refused holding at most {} MB", peak / MB);
     assert!(peak < 16 * MB, "the sparse bomb held {} MB", peak / MB);
 
+    // A PLY header claiming 2^40 vertices, with no limit on triangles: refused from the file's
+    // size, before anything is allocated for them.
+    let header = "ply\nformat binary_little_endian 1.0\nelement vertex 1099511627776\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    let (e, peak, _) = peak_of(|| {
+        rayforge_scene::ply::parse_ply(header.as_bytes(), Path::new("bomb.ply"), usize::MAX)
+            .unwrap_err()
+    });
+    assert!(
+        e.message.contains("need at least 13194139533312 bytes"),
+        "{e}"
+    );
+    assert!(peak < MB, "the PLY header held {} MB", peak / MB);
+
     // A 60 MB line of transforms in one item: its tree held 2.3 GB before the parts budget.
     let entry = "[translate, 1, 2, 3], ";
     let mut text = String::from("- add: sphere\n  transform: [");

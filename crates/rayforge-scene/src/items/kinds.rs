@@ -23,6 +23,7 @@ pub const SHAPE_KINDS: &[&str] = &[
     "group",
     "obj",
     "gltf",
+    "ply",
     "csg",
     "array",
 ];
@@ -47,7 +48,7 @@ fn own_keys(kind: &str) -> &'static [&'static str] {
     match kind {
         "group" => &["children"],
         "csg" => &["operation", "left", "right"],
-        "obj" | "gltf" => &["file"],
+        "obj" | "gltf" | "ply" => &["file"],
         "array" => &["of", "count", "step", "colors"],
         "cylinder" | "cone" => &["min", "max", "closed"],
         "torus" => &["major-radius", "minor-radius"],

@@ -1,5 +1,6 @@
-//! `add: obj` and `add: gltf`: a Wavefront OBJ or glTF 2.0 model (`file:`), its meshes added
-//! as objects with the file's own materials unless the item gives one.
+//! `add: obj`, `add: gltf` and `add: ply`: a Wavefront OBJ, glTF 2.0 or PLY model (`file:`),
+//! its meshes added as objects with the file's own materials unless the item gives one (a PLY
+//! file has none: its mesh takes the item's material, or the enclosing group's).
 //!
 //! Separate because a model is read from another file (through the scene's assets, once each)
 //! and adds as many objects as the file has groups or mesh primitives.
@@ -132,4 +133,28 @@ pub fn add_gltf(
         add_part(source, kind_node, placed, true, &placement, out)?;
     }
     Ok(())
+}
+
+/// Adds the mesh of the PLY model that `file:` names, placed, to `out`, with the item's
+/// material (or the enclosing group's): a PLY file has no materials of its own.
+pub fn add_ply(
+    source: &Source<'_>,
+    assets: &mut Assets,
+    entries: &[Entry<'_, '_>],
+    kind_node: &Node<'_>,
+    placement: Placement<'_, '_>,
+    out: &mut Vec<Object>,
+) -> Result<(), SceneError> {
+    let (file, path) = model_file(source, assets, entries, kind_node, "a ply")?;
+    let mesh = assets
+        .ply(&path)
+        .map_err(|e| at_file(source, file, &path, e))?;
+    add_part(
+        source,
+        kind_node,
+        Object::mesh(mesh),
+        false,
+        &placement,
+        out,
+    )
 }

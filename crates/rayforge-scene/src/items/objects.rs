@@ -1,4 +1,4 @@
-//! Objects: an `add:` item that names a shape, group, CSG, OBJ model or defined object,
+//! Objects: an `add:` item that names a shape, group, CSG, model (OBJ, glTF, PLY) or defined object,
 //! expanded, checked for its kind's keys and placed, then built by its kind's reader.
 //!
 //! Separate from the readers of each kind because it is the part they share; it is also the
@@ -8,7 +8,7 @@ use super::arrays::add_array;
 use super::csg::add_csg;
 use super::groups::add_group;
 use super::kinds::keys;
-use super::models::{add_gltf, add_model};
+use super::models::{add_gltf, add_model, add_ply};
 use super::nesting::{Builder, Inherited};
 use super::placement::place;
 use super::shapes::{add_shape, shape};
@@ -64,7 +64,7 @@ fn build_objects<'n, 's>(
         .value;
     let kind = source.string(kind_node, "add")?;
     let shape = match kind {
-        "group" | "obj" | "gltf" | "csg" | "array" => None,
+        "group" | "obj" | "gltf" | "ply" | "csg" | "array" => None,
         _ => Some(shape(source, entries, kind_node, kind)?),
     };
     check_keys(source, entries, &format!("a {kind}"), &keys(kind))?;
@@ -74,6 +74,7 @@ fn build_objects<'n, 's>(
         (None, "csg") => add_csg(builder, entries, kind_node, placement, inherited, out),
         (None, "obj") => add_model(source, builder.assets, entries, kind_node, placement, out),
         (None, "gltf") => add_gltf(source, builder.assets, entries, kind_node, placement, out),
+        (None, "ply") => add_ply(source, builder.assets, entries, kind_node, placement, out),
         (None, "array") => add_array(builder, entries, kind_node, placement, inherited, out),
         (None, _) => add_group(builder, entries, kind_node, placement, inherited, out),
     }
