@@ -92,6 +92,7 @@ pub fn scene(
     for shape in &desc.shapes {
         let placed = place(
             shape,
+            files,
             &DMat4::IDENTITY,
             true,
             &mut cache,
@@ -122,6 +123,7 @@ pub fn scene(
             for shape in shapes {
                 objects.extend(place(
                     shape,
+                    files,
                     &DMat4::IDENTITY,
                     false,
                     &mut cache,
@@ -250,6 +252,7 @@ struct Notes {
 #[allow(clippy::too_many_arguments)]
 fn place(
     shape: &ShapeEntity,
+    files: &Files,
     parent: &DMat4,
     lit: bool,
     cache: &mut MaterialCache<'_>,
@@ -260,7 +263,7 @@ fn place(
 ) -> Result<Vec<Object>, SceneError> {
     let entity = &shape.entity;
     let Built::Objects(objects, area) =
-        shapes::build(shape, triangles, options.max_triangles, warnings)?
+        shapes::build(shape, files, triangles, options.max_triangles, warnings)?
     else {
         return Ok(Vec::new());
     };

@@ -14,6 +14,7 @@
 //! - `curves` are left out with a warning (they are hair and fur, not surfaces), and every
 //!   other shape is refused at its directive.
 
+use super::input::Files;
 use super::reader::ShapeEntity;
 use crate::error::SceneError;
 use glam::{DMat4, DVec3};
@@ -34,6 +35,7 @@ pub enum Built {
 /// to `max_triangles`).
 pub fn build(
     shape: &ShapeEntity,
+    files: &Files,
     triangles: &mut usize,
     max_triangles: usize,
     warnings: &mut Vec<SceneError>,
@@ -135,17 +137,13 @@ pub fn build(
             Built::Skipped
         }
         "plymesh" => {
-            let file = params.string("filename")?.map(|(f, _)| f.to_string());
-            return Err(entity.error(format!(
-                "\"plymesh\" shapes (PLY meshes{}) are not read yet",
-                file.map(|f| format!(", here \"{}\"", crate::error::clip_to(&f, 80)))
-                    .unwrap_or_default()
-            )));
+            let (mesh, area) = ply_mesh(shape, files, triangles, max_triangles)?;
+            Built::Objects(vec![Object::mesh(Arc::new(mesh))], area)
         }
         other => {
             return Err(entity.error(format!(
-                "the shape \"{}\" is not one rayforge reads; it reads trianglemesh, sphere, \
-                 disk and cylinder",
+                "the shape \"{}\" is not one rayforge reads; it reads trianglemesh, plymesh, \
+                 sphere, disk and cylinder",
                 crate::error::clip_to(other, 60)
             )))
         }
@@ -203,15 +201,7 @@ fn triangle_mesh(
             )
         }
     };
-    let faces = indices.len() / 3;
-    *triangles = triangles.saturating_add(faces);
-    if *triangles > max_triangles {
-        return Err(entity.error(format!(
-            "the scene's meshes hold more than {max_triangles} triangles (`--max-triangles` \
-             on the command line)"
-        )));
-    }
-    let mut normals = match params.points3("N", ParamType::Normal)? {
+    let normals = match params.points3("N", ParamType::Normal)? {
         Some((n, p)) if n.len() != positions.len() => {
             return Err(p.error(format!(
                 "has {} normals for {} points; it takes one a point",
@@ -233,6 +223,89 @@ fn triangle_mesh(
         Some((uv, _)) => uv.into_iter().map(|t| [t.x, t.y]).collect(),
         None => Vec::new(),
     };
+    counted(shape, indices.len() / 3, triangles, max_triangles)?;
+    oriented(shape, positions, normals, texcoords, &indices)
+}
+
+/// Adds a mesh's `faces` to the scene's `triangles`, held to `max_triangles`.
+fn counted(
+    shape: &ShapeEntity,
+    faces: usize,
+    triangles: &mut usize,
+    max_triangles: usize,
+) -> Result<(), SceneError> {
+    *triangles = triangles.saturating_add(faces);
+    if *triangles > max_triangles {
+        return Err(shape.entity.error(format!(
+            "the scene's meshes hold more than {max_triangles} triangles (`--max-triangles` \
+             on the command line)"
+        )));
+    }
+    Ok(())
+}
+
+/// A `plymesh` (`filename`, found as every name of the scene is: see [`Files::resolve`]): the
+/// PLY file's triangles (its quads split as pbrt-v4 splits them), fronting as a
+/// `trianglemesh`'s do (the PLY reader's counter-clockwise faces are pbrt's
+/// `(p1 − p0) × (p2 − p0)`), and its area in its own space.
+fn ply_mesh(
+    shape: &ShapeEntity,
+    files: &Files,
+    triangles: &mut usize,
+    max_triangles: usize,
+) -> Result<(Mesh, f64), SceneError> {
+    let entity = &shape.entity;
+    let Some((name, param)) = entity.params.string("filename")? else {
+        return Err(entity.error("a plymesh needs its file, \"string filename\""));
+    };
+    let path = files.resolve(name);
+    files.check(&path, &param.loc, "filename")?;
+    let left = max_triangles.saturating_sub(*triangles);
+    let read = crate::ply::read_ply_file(&path, left).map_err(|mut e| {
+        // The error's place is in the PLY file; say which directive named it.
+        e.message = format!(
+            "{} (the PLY file of the plymesh at {}:{}:{})",
+            e.message,
+            param.loc.file.display(),
+            param.loc.span.line,
+            param.loc.span.column
+        );
+        e
+    })?;
+    counted(shape, read.face_count(), triangles, max_triangles)?;
+    let indices: Vec<u32> = read.faces().flat_map(|face| face.vertices).collect();
+    let normals = read.normals().to_vec();
+    let normals = if normals.len() == read.positions().len() {
+        normals
+    } else {
+        Vec::new()
+    };
+    let texcoords = read.texcoords().to_vec();
+    let texcoords = if texcoords.len() == read.positions().len() {
+        texcoords
+    } else {
+        Vec::new()
+    };
+    oriented(
+        shape,
+        read.positions().to_vec(),
+        normals,
+        texcoords,
+        &indices,
+    )
+}
+
+/// A mesh of the triangles `indices` over `positions` (with per-point `normals` and
+/// `texcoords` where not empty), each face fronting as pbrt-v4's do (see the
+/// [module](self)), and its area.
+fn oriented(
+    shape: &ShapeEntity,
+    positions: Vec<DVec3>,
+    mut normals: Vec<DVec3>,
+    texcoords: Vec<[f64; 2]>,
+    indices: &[u32],
+) -> Result<(Mesh, f64), SceneError> {
+    let entity = &shape.entity;
     if shape.reverse {
         for n in &mut normals {
             *n = -*n;
