@@ -221,7 +221,7 @@ impl MirrorBallBudget {
     /// The default cap: a solve casts up to two shadow rays, against a vertex's own two (its
     /// bounce and its light's shadow ray), so two solves bound the technique's rays at about
     /// what the vertex casts without it (measured on 200 mirror balls against 200 diffuse
-    /// ones: twice the time, see docs/performance.md).
+    /// ones: about 1.5 times the time, see docs/performance.md).
     pub const DEFAULT_CAP: u32 = 2;
     /// The default cull: a ball that adds under a thousandth of an even sky's light at a
     /// vertex (a ball of radius `R` farther than about `30 R` away) is left to BSDF sampling.

@@ -19,7 +19,7 @@
 use super::area::AreaEmitter;
 use super::directional::DirectionalEmitter;
 use super::environment::SkyEmitter;
-use super::mirror_ball::MirrorBall;
+use super::mirror_ball::MirrorBalls;
 use super::point::PointEmitter;
 use super::sample::LightSample;
 use super::sampler::LightSampler;
@@ -59,10 +59,8 @@ pub struct Emitters {
     /// The sky, sampled or not: what paths that escape see.
     sky_light: SkyEmitter,
     /// The polished metal balls through which the environment map's light is sampled
-    /// (empty without a map that gives light).
-    mirror_balls: Vec<MirrorBall>,
-    /// Per world object, its index in `mirror_balls`, or [`NOT_SAMPLED`].
-    mirror_of_object: Vec<u32>,
+    /// (none without a map that gives light), and the hierarchy that chooses among them.
+    mirror_balls: MirrorBalls,
 }
 
 impl Emitters {
@@ -136,20 +134,11 @@ impl Emitters {
             (list.len() - 1) as u32
         });
         let pick = LightSampler::new(kind, &power, &bounds);
-        let mirror_balls: Vec<MirrorBall> = if sky.is_some() {
-            world
-                .objects
-                .iter()
-                .enumerate()
-                .filter_map(|(i, object)| MirrorBall::of(object, i as u32))
-                .collect()
+        let mirror_balls = if sky.is_some() {
+            MirrorBalls::of_objects(&world.objects)
         } else {
-            Vec::new()
+            MirrorBalls::default()
         };
-        let mut mirror_of_object = vec![NOT_SAMPLED; world.objects.len()];
-        for (i, ball) in mirror_balls.iter().enumerate() {
-            mirror_of_object[ball.object as usize] = i as u32;
-        }
         Self {
             list,
             pick,
@@ -157,7 +146,6 @@ impl Emitters {
             sky,
             sky_light,
             mirror_balls,
-            mirror_of_object,
         }
     }
 
@@ -168,16 +156,9 @@ impl Emitters {
     }
 
     /// The polished metal balls through which the path tracer samples the environment map's
-    /// light (see [`MirrorBall`]); empty when no map gives light.
-    pub fn mirror_balls(&self) -> &[MirrorBall] {
+    /// light (see [`MirrorBalls`]); none when no map gives light.
+    pub fn mirror_balls(&self) -> &MirrorBalls {
         &self.mirror_balls
-    }
-
-    /// The mirror ball that world object `index` is, if it is one.
-    #[inline]
-    pub fn mirror_ball_of(&self, index: usize) -> Option<&MirrorBall> {
-        let at = *self.mirror_of_object.get(index)?;
-        self.mirror_balls.get(at as usize)
     }
 
     /// Whether anything can be sampled.

@@ -39,9 +39,7 @@ pub use area::AreaEmitter;
 pub use directional::DirectionalEmitter;
 pub use emitters::Emitters;
 pub use environment::SkyEmitter;
-pub use mirror_ball::{
-    choose as choose_mirrors, expected_solves, spread as mirror_spread, MirrorBall, MirrorPath,
-};
+pub use mirror_ball::{spread as mirror_spread, MirrorBall, MirrorBalls, MirrorPath};
 pub use point::PointEmitter;
 pub use sample::LightSample;
 pub use spot::SpotEmitter;

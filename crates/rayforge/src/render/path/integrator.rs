@@ -28,7 +28,7 @@ use super::continuation::ContinuationCache;
 use super::sampler::SampleStream;
 use crate::color::Color;
 use crate::geometry::LocalHit;
-use crate::lights::{choose_mirrors, expected_solves, mirror_spread, Emitters, MirrorBall};
+use crate::lights::{mirror_spread, Emitters, MirrorBall};
 use crate::math::{Frame, Point3, Ray, Vec3};
 use crate::options::Techniques;
 use crate::scene::{
@@ -88,10 +88,6 @@ pub struct PathContext<'w> {
     pub vertices: u64,
     /// Reflections through a mirror ball solved so far (each a root found by iteration).
     pub solves: u64,
-    /// The shares of the mirror balls a vertex may solve, and which balls they are (scratch
-    /// space, kept between vertices so that a vertex allocates nothing).
-    mirror_shares: Vec<f64>,
-    mirror_candidates: Vec<u32>,
 }
 
 /// What the first surface a camera ray meets looks like, for a denoiser. The albedo and normal
@@ -243,9 +239,8 @@ struct PathState {
     /// times how often the ball is solved there), for weighing the sky beyond the ball
     /// against sampling it through the ball.
     mirror_leg: Option<(f64, f64)>,
-    /// Where the ray left from, what the mirror-ball sampling weighed: how many balls had a
-    /// share of at least the cull, and their shares' sum (none where it did not run).
-    mirror_pool: Option<(usize, f64)>,
+    /// Whether the mirror-ball sampling ran where the ray left from.
+    mirror_sampled: bool,
     /// The first smooth glass on the camera's chain of mirror-like bounces splits the path
     /// in two, reflected and transmitted (see `Bsdf::split`): a path may split while it has
     /// bounced only off deltas and has not split yet.
@@ -276,7 +271,7 @@ impl PathState {
             specular: true,
             depth: 0,
             mirror_leg: None,
-            mirror_pool: None,
+            mirror_sampled: false,
             may_split: true,
             share: 1.0,
             light_pair: None,
@@ -443,8 +438,6 @@ impl<'w> PathContext<'w> {
             rays: 0,
             vertices: 0,
             solves: 0,
-            mirror_shares: Vec::new(),
-            mirror_candidates: Vec::new(),
         }
     }
 
@@ -533,7 +526,7 @@ impl<'w> PathContext<'w> {
                 };
 
                 // Light sampled from here: the lights themselves, and the sky in mirror balls.
-                path.mirror_pool = None;
+                path.mirror_sampled = false;
                 if !layer.bsdf.is_delta() {
                     let mut sky_draw = SkyDraw::new(numbers.u_point);
                     if self.techniques.next_event {
@@ -684,13 +677,14 @@ impl<'w> PathContext<'w> {
         if path.specular || self.emitters.mirror_balls().is_empty() {
             return None;
         }
-        let (qualifying, total) = path.mirror_pool?;
-        let index = object_index(self.world, vertex.hit.object);
-        let ball = self.emitters.mirror_ball_of(index)?;
-        let budget = self.techniques.mirror_ball_budget;
+        if !path.mirror_sampled {
+            return None;
+        }
+        let balls = self.emitters.mirror_balls();
+        let at = balls.of_object(object_index(self.world, vertex.hit.object))?;
         // A ball left out where the path came from is found by BSDF sampling alone.
-        let share = ball.share_from(path.from, budget.cull)?;
-        let solves = expected_solves(share, qualifying, total, budget.cap);
+        let solves = balls.expected_solves(at, path.from, self.techniques.mirror_ball_budget)?;
+        let ball = &balls.balls()[at];
         let cos = vertex.geometric.dot(vertex.wo).abs();
         let spread = mirror_spread(vertex.hit.t, cos, ball.radius);
         Some((path.bsdf_pdf, spread * solves))
@@ -817,42 +811,19 @@ impl<'w> PathContext<'w> {
         if path.depth + 1 >= self.max_depth {
             return;
         }
-        let balls = emitters.mirror_balls();
+        path.mirror_sampled = true;
+        let (point, time) = (vertex.point, path.ray.time);
         let budget = self.techniques.mirror_ball_budget;
-        let (mut shares, mut candidates) = (
-            std::mem::take(&mut self.mirror_shares),
-            std::mem::take(&mut self.mirror_candidates),
-        );
-        shares.clear();
-        candidates.clear();
-        let mut total = 0.0;
-        for (i, ball) in balls.iter().enumerate() {
-            if let Some(share) = ball.share_from(vertex.point, budget.cull) {
-                shares.push(share);
-                candidates.push(i as u32);
-                total += share;
-            }
-        }
-        path.mirror_pool = Some((shares.len(), total));
-        let time = path.ray.time;
-        if shares.len() <= budget.cap as usize {
-            for &i in &candidates {
-                let ball = &balls[i as usize];
-                let light = self.sky_in_mirror(ball, map, vertex, time, scatter, sky_draw, 1.0);
-                path.radiance += path.throughput.hadamard(light);
-            }
-        } else {
+        let u = || {
             stream.seek(first + 7);
-            let u = stream.next_1d();
-            choose_mirrors(&shares, total, budget.cap, u, |k, weight| {
-                let ball = &balls[candidates[k] as usize];
-                let solves = expected_solves(shares[k], shares.len(), total, budget.cap);
+            stream.next_1d()
+        };
+        emitters
+            .mirror_balls()
+            .choose(point, budget, u, |ball, solves, weight| {
                 let light = self.sky_in_mirror(ball, map, vertex, time, scatter, sky_draw, solves);
                 path.radiance += path.throughput.hadamard(light) * weight;
             });
-        }
-        self.mirror_shares = shares;
-        self.mirror_candidates = candidates;
     }
 
     /// The environment map's light that the mirror ball `ball` reflects to `at` (at the
