@@ -129,7 +129,12 @@ fn a_conductor_is_polished_aluminium_by_default() {
     let (eta, k) = metal("aluminium").unwrap();
     assert_eq!(
         physical("type: conductor"),
-        Some(Physical::Conductor { eta, k, alpha: 0.0 })
+        Some(Physical::Conductor {
+            eta,
+            k,
+            alpha_u: 0.0,
+            alpha_v: 0.0
+        })
     );
 }
 
@@ -138,13 +143,23 @@ fn a_conductor_names_its_metal_or_gives_eta_and_k() {
     let (eta, k) = metal("gold").unwrap();
     assert_eq!(
         physical("type: conductor\nmetal: gold\nalpha: 0.2"),
-        Some(Physical::Conductor { eta, k, alpha: 0.2 })
+        Some(Physical::Conductor {
+            eta,
+            k,
+            alpha_u: 0.2,
+            alpha_v: 0.2
+        })
     );
     for name in METAL_NAMES {
         let (eta, k) = metal(name).unwrap();
         assert_eq!(
             physical(&format!("type: conductor\nmetal: {name}")),
-            Some(Physical::Conductor { eta, k, alpha: 0.0 })
+            Some(Physical::Conductor {
+                eta,
+                k,
+                alpha_u: 0.0,
+                alpha_v: 0.0
+            })
         );
     }
     assert_eq!(
@@ -152,7 +167,8 @@ fn a_conductor_names_its_metal_or_gives_eta_and_k() {
         Some(Physical::Conductor {
             eta: Color::new(0.2, 0.4, 1.5),
             k: Color::new(3.0, 2.5, 2.0),
-            alpha: 0.25
+            alpha_u: 0.25,
+            alpha_v: 0.25
         })
     );
 }
@@ -163,7 +179,8 @@ fn dielectrics_and_plastic_default_to_index_one_and_a_half_and_smooth() {
         physical("type: dielectric"),
         Some(Physical::Dielectric {
             eta: 1.5,
-            alpha: 0.0
+            alpha_u: 0.0,
+            alpha_v: 0.0
         })
     );
     assert_eq!(
@@ -185,7 +202,8 @@ fn dielectrics_and_plastic_take_the_refractive_index_and_a_width() {
         physical("type: dielectric\nrefractive-index: 1.33\nalpha: 0.1"),
         Some(Physical::Dielectric {
             eta: 1.33,
-            alpha: 0.1
+            alpha_u: 0.1,
+            alpha_v: 0.1
         })
     );
     assert_eq!(
@@ -332,7 +350,8 @@ fn alpha_and_roughness_lie_between_zero_and_one() {
         Some(Physical::Conductor {
             eta: metal("aluminium").unwrap().0,
             k: metal("aluminium").unwrap().1,
-            alpha: 1.0
+            alpha_u: 1.0,
+            alpha_v: 1.0
         })
     );
 }
@@ -448,7 +467,12 @@ fn defined_materials_carry_the_new_keys_and_extend_them() {
     let gold = defined("gold");
     assert_eq!(
         gold.physical,
-        Some(Physical::Conductor { eta, k, alpha: 0.0 })
+        Some(Physical::Conductor {
+            eta,
+            k,
+            alpha_u: 0.0,
+            alpha_v: 0.0
+        })
     );
     assert_eq!(gold.emission, Color::new(2.0, 2.0, 2.0));
     let brushed = defined("brushed-gold");
@@ -457,7 +481,8 @@ fn defined_materials_carry_the_new_keys_and_extend_them() {
         Some(Physical::Conductor {
             eta,
             k,
-            alpha: 0.25
+            alpha_u: 0.25,
+            alpha_v: 0.25
         })
     );
     assert_eq!(brushed.emission, Color::new(2.0, 2.0, 2.0));
@@ -465,7 +490,8 @@ fn defined_materials_carry_the_new_keys_and_extend_them() {
         defined("frosted").physical,
         Some(Physical::Dielectric {
             eta: 1.4,
-            alpha: 0.3
+            alpha_u: 0.3,
+            alpha_v: 0.3
         })
     );
     // Overriding the type keeps the book's refractive index, which a diffuse surface ignores.
