@@ -5,7 +5,7 @@ use rayforge::options::{
     LightSamplerKind, MirrorBallBudget, PathOptions, Roulette, SampleAllocation, SamplerKind,
     Techniques,
 };
-use rayforge::shading::bsdf::{metal, METAL_NAMES};
+use rayforge::shading::bsdf::{metal, Coat, ConductorBase, Layers, METAL_NAMES};
 use rayforge::shading::Physical;
 use rayforge::{Color, Material};
 use rayforge_scene::{load_str, Scene, SceneError};
@@ -922,5 +922,164 @@ fn bad_technique_keys_are_located() {
         5,
         "roulette-scale",
         "`roulette: off` turns off",
+    );
+}
+
+#[test]
+fn anisotropic_widths_are_read_per_tangent() {
+    let (eta, k) = metal("gold").unwrap();
+    assert_eq!(
+        physical("type: conductor\nmetal: gold\nalpha-u: 0.1\nalpha-v: 0.4"),
+        Some(Physical::Conductor {
+            eta,
+            k,
+            alpha_u: 0.1,
+            alpha_v: 0.4
+        })
+    );
+    assert_eq!(
+        physical("type: dielectric\nroughness-u: 0.5\nroughness-v: 0.2"),
+        Some(Physical::Dielectric {
+            eta: 1.5,
+            alpha_u: 0.25,
+            alpha_v: 0.2 * 0.2
+        })
+    );
+    assert_error(
+        material("type: conductor\nalpha-u: 0.1"),
+        11,
+        5,
+        "alpha-u",
+        "needs `alpha-u` and `alpha-v`",
+    );
+    assert_error(
+        material("type: conductor\nalpha: 0.1\nalpha-v: 0.2"),
+        12,
+        5,
+        "alpha-v",
+        "not both",
+    );
+    assert_error(
+        material("type: conductor\nalpha-u: 0.1\nroughness-v: 0.2"),
+        12,
+        5,
+        "roughness-v",
+        "one of each kind",
+    );
+    assert_error(
+        material("type: plastic\nalpha-u: 0.1\nalpha-v: 0.1"),
+        11,
+        5,
+        "alpha-u",
+        "does not apply",
+    );
+}
+
+#[test]
+fn coated_materials_take_the_layers_with_pbrt_defaults() {
+    assert_eq!(
+        physical("type: coated-diffuse"),
+        Some(Physical::CoatedDiffuse {
+            coat: Coat::smooth(1.5),
+            layers: Layers::PBRT_DEFAULT
+        })
+    );
+    assert_eq!(
+        physical(
+            "type: coated-diffuse\nrefractive-index: 1.3\nroughness: 0.5\nthickness: 0.2\n\
+             medium-albedo: [0.5, 0.4, 0.3]\nmedium-g: -0.3\nwalk-depth: 20\nwalk-samples: 4"
+        ),
+        Some(Physical::CoatedDiffuse {
+            coat: Coat {
+                eta: 1.3,
+                alpha_u: 0.25,
+                alpha_v: 0.25
+            },
+            layers: Layers {
+                thickness: 0.2,
+                albedo: Color::new(0.5, 0.4, 0.3),
+                g: -0.3,
+                max_depth: 20,
+                samples: 4
+            }
+        })
+    );
+    let (eta, k) = metal("copper").unwrap();
+    assert_eq!(
+        physical("type: coated-conductor\nmetal: copper\nalpha: 0.1\nbase-alpha-u: 0.2\nbase-alpha-v: 0.3"),
+        Some(Physical::CoatedConductor {
+            coat: Coat {
+                eta: 1.5,
+                alpha_u: 0.1,
+                alpha_v: 0.1
+            },
+            base: ConductorBase {
+                eta,
+                k,
+                alpha_u: 0.2,
+                alpha_v: 0.3
+            },
+            layers: Layers::PBRT_DEFAULT
+        })
+    );
+    assert_error(
+        material("type: coated-diffuse\nthickness: 0"),
+        11,
+        16,
+        "thickness",
+        "above 0",
+    );
+    assert_error(
+        material("type: coated-diffuse\nmedium-g: 1"),
+        11,
+        15,
+        "medium-g",
+        "between -1 and 1",
+    );
+    assert_error(
+        material("type: coated-diffuse\nwalk-depth: 1000"),
+        11,
+        17,
+        "walk-depth",
+        "at most",
+    );
+    assert_error(
+        material("type: coated-diffuse\nbase-alpha: 0.1"),
+        11,
+        5,
+        "base-alpha",
+        "coated-conductor",
+    );
+}
+
+#[test]
+fn diffuse_transmission_takes_two_shares() {
+    assert_eq!(
+        physical("type: diffuse-transmission"),
+        Some(Physical::DiffuseTransmission {
+            reflectance: Color::new(0.25, 0.25, 0.25),
+            transmittance: Color::new(0.25, 0.25, 0.25)
+        })
+    );
+    assert_eq!(
+        physical("type: diffuse-transmission\nreflectance: 0.5\ntransmittance: [0.1, 0.2, 0.3]"),
+        Some(Physical::DiffuseTransmission {
+            reflectance: Color::new(0.5, 0.5, 0.5),
+            transmittance: Color::new(0.1, 0.2, 0.3)
+        })
+    );
+    assert_error(
+        material("type: diffuse-transmission\ntransmittance: 1.5"),
+        11,
+        20,
+        "transmittance",
+        "from 0 to 1",
+    );
+    assert_error(
+        material("type: conductor\nreflectance: 0.5"),
+        11,
+        5,
+        "reflectance",
+        "diffuse-transmission",
     );
 }
