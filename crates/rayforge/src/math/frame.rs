@@ -45,7 +45,9 @@ impl Frame {
     /// `tangent` is (nearly) parallel to `n` or not finite.
     pub fn from_normal_and_tangent(n: Vec3, tangent: Vec3) -> Self {
         let across = tangent - n * n.dot(tangent);
-        if !(across.length_squared() > 1e-12 * tangent.length_squared()) {
+        if across.length_squared().is_nan()
+            || across.length_squared() <= 1e-12 * tangent.length_squared()
+        {
             return Self::from_normal(n);
         }
         match across.try_normalize() {

@@ -88,7 +88,7 @@ pub fn spectrum_to_xyz(s: impl Fn(f64) -> f64) -> [f64; 3] {
 /// Planck's law: the spectral radiance of a blackbody at `t` kelvin, at `lambda` nanometres
 /// (W sr⁻¹ m⁻³); 0 for a temperature that is not positive.
 pub fn planck(lambda: f64, t: f64) -> f64 {
-    if !(t > 0.0) {
+    if t.is_nan() || t <= 0.0 {
         return 0.0;
     }
     const C: f64 = 299_792_458.0;
@@ -107,7 +107,7 @@ pub fn planck(lambda: f64, t: f64) -> f64 {
 /// at the peak wavelength `2.897 771 955 × 10⁻³ m K / t` (so the spectrum's maximum is 1).
 pub fn blackbody_xyz(t: f64) -> [f64; 3] {
     let peak = planck(2.897_771_955e-3 / t * 1e9, t);
-    if !(peak > 0.0) {
+    if peak.is_nan() || peak <= 0.0 {
         return [0.0; 3];
     }
     spectrum_to_xyz(|lambda| planck(lambda, t) / peak)

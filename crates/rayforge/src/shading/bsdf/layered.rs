@@ -530,7 +530,7 @@ fn generator(salt: u64, parts: &[f64]) -> SplitMix64 {
 }
 
 const EVAL_SALT: u64 = 0x6576_616c;
-const PDF_SALT: u64 = 0x7064_66;
+const PDF_SALT: u64 = 0x0070_6466;
 const SAMPLE_SALT: u64 = 0x7361_6d70;
 
 /// Numbers in `[0, 1)` from `rng`.
