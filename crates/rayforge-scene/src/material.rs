@@ -7,7 +7,7 @@ use crate::source::{
     as_str, check_keys, describe, is_mapping, is_number, is_sequence, required, Entry, Node, Source,
 };
 use crate::transform::transform_list;
-use rayforge::shading::bsdf::{metal, METAL_NAMES};
+use rayforge::shading::bsdf::{metal, Coat, ConductorBase, Layers, METAL_NAMES};
 use rayforge::shading::{
     Alpha, Bump, BumpKind, EmissionSide, Filter, Physical, PhysicalPatterns, UvMapping, UvPattern,
 };
@@ -37,6 +37,23 @@ const MATERIAL_KEYS: &[&str] = &[
     "k",
     "alpha",
     "roughness",
+    "alpha-u",
+    "alpha-v",
+    "roughness-u",
+    "roughness-v",
+    "base-alpha",
+    "base-roughness",
+    "base-alpha-u",
+    "base-alpha-v",
+    "base-roughness-u",
+    "base-roughness-v",
+    "thickness",
+    "medium-albedo",
+    "medium-g",
+    "walk-depth",
+    "walk-samples",
+    "reflectance",
+    "transmittance",
 ];
 
 /// The path tracer's material types (`type:`), as scene files name them.
@@ -47,10 +64,72 @@ const PHYSICAL_TYPES: &[&str] = &[
     "thin-dielectric",
     "plastic",
     "mirror",
+    "coated-diffuse",
+    "coated-conductor",
+    "diffuse-transmission",
 ];
 
 /// The keys that only a physical material (`type:`) reads; which apply depends on the type.
-const PHYSICAL_KEYS: &[&str] = &["metal", "eta", "k", "alpha", "roughness"];
+const PHYSICAL_KEYS: &[&str] = &[
+    "metal",
+    "eta",
+    "k",
+    "alpha",
+    "roughness",
+    "alpha-u",
+    "alpha-v",
+    "roughness-u",
+    "roughness-v",
+    "base-alpha",
+    "base-roughness",
+    "base-alpha-u",
+    "base-alpha-v",
+    "base-roughness-u",
+    "base-roughness-v",
+    "thickness",
+    "medium-albedo",
+    "medium-g",
+    "walk-depth",
+    "walk-samples",
+    "reflectance",
+    "transmittance",
+];
+
+/// A metal's index keys.
+const METAL_KEYS: &[&str] = &["metal", "eta", "k"];
+/// The keys of a GGX width, isotropic or per tangent.
+const WIDTH_KEYS: &[&str] = &[
+    "alpha",
+    "roughness",
+    "alpha-u",
+    "alpha-v",
+    "roughness-u",
+    "roughness-v",
+];
+/// The keys of a coated conductor's metal's GGX width.
+const BASE_WIDTH_KEYS: &[&str] = &[
+    "base-alpha",
+    "base-roughness",
+    "base-alpha-u",
+    "base-alpha-v",
+    "base-roughness-u",
+    "base-roughness-v",
+];
+/// The keys of the medium between a coat and its base, and of the walk through it.
+const LAYER_KEYS: &[&str] = &[
+    "thickness",
+    "medium-albedo",
+    "medium-g",
+    "walk-depth",
+    "walk-samples",
+];
+
+/// The most events of one walk through a coated material's layers (`walk-depth`), and walks
+/// per estimate (`walk-samples`): each costs time at every shading of the material.
+const MAX_WALK_DEPTH: u64 = 100;
+const MAX_WALK_SAMPLES: u64 = 64;
+/// The thickest layer accepted (optical thickness; at 100 not a ray in 10⁴³ crosses it).
+const MAX_THICKNESS: f64 = 100.0;
 
 /// The metal a conductor is when it names neither `metal` nor `eta` and `k`.
 const DEFAULT_METAL: &str = "aluminium";
@@ -139,7 +218,7 @@ pub fn material<'n, 's>(
                 }
             }
             // The path tracer's material, read below from all its keys together.
-            "type" | "metal" | "eta" | "k" | "alpha" | "roughness" => {}
+            _ if name == "type" || PHYSICAL_KEYS.contains(&name) => {}
             _ => m.pattern = Some(Box::new(pattern(source, defines, assets, value)?)),
         }
     }
@@ -212,9 +291,10 @@ fn emission(source: &Source<'_>, node: &Node<'_>) -> Result<Color, SceneError> {
     Ok(c)
 }
 
-/// The path tracer's material from `type` and the keys it takes (`metal`, `eta`, `k`,
-/// `alpha`, `roughness`, `refractive-index`); `None` without `type`, when no key only a
-/// physical material reads may be given.
+/// The path tracer's material from `type` and the keys it takes (`metal`, `eta`, `k`, the
+/// GGX widths, the coated types' layer keys, diffuse transmission's shares,
+/// `refractive-index`); `None` without `type`, when no key only a physical material reads may
+/// be given.
 fn physical(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
@@ -236,10 +316,14 @@ fn physical(
         return Ok(None);
     };
     let kind = source.string(type_entry.value, "type")?;
-    let allowed: &[&str] = match kind {
-        "conductor" => PHYSICAL_KEYS,
-        "dielectric" | "plastic" => &["alpha", "roughness"],
-        "diffuse" | "thin-dielectric" | "mirror" => &[],
+    let allowed: Vec<&str> = match kind {
+        "conductor" => [METAL_KEYS, WIDTH_KEYS].concat(),
+        "dielectric" => WIDTH_KEYS.to_vec(),
+        "coated-diffuse" => [WIDTH_KEYS, LAYER_KEYS].concat(),
+        "coated-conductor" => [METAL_KEYS, WIDTH_KEYS, BASE_WIDTH_KEYS, LAYER_KEYS].concat(),
+        "plastic" => vec!["alpha", "roughness"],
+        "diffuse-transmission" => vec!["reflectance", "transmittance"],
+        "diffuse" | "thin-dielectric" | "mirror" => Vec::new(),
         other => {
             return Err(source.error(
                 type_entry.value,
@@ -283,24 +367,66 @@ fn physical(
             None => Ok(DEFAULT_PHYSICAL_INDEX),
         }
     };
+    let coat = || -> Result<Coat, SceneError> {
+        let (alpha_u, alpha_v) = widths(source, entries, "")?;
+        Ok(Coat {
+            eta: index()?,
+            alpha_u,
+            alpha_v,
+        })
+    };
     let physical = match kind {
         "diffuse" => Physical::Diffuse,
         "mirror" => Physical::Mirror,
         "thin-dielectric" => Physical::ThinDielectric { eta: index()? },
-        "dielectric" => Physical::Dielectric {
-            eta: index()?,
-            alpha: alpha(source, entries)?,
-        },
+        "dielectric" => {
+            let (alpha_u, alpha_v) = widths(source, entries, "")?;
+            Physical::Dielectric {
+                eta: index()?,
+                alpha_u,
+                alpha_v,
+            }
+        }
         "plastic" => Physical::Plastic {
             eta: index()?,
-            alpha: alpha(source, entries)?,
+            alpha: widths(source, entries, "")?.0,
         },
+        "coated-diffuse" => Physical::CoatedDiffuse {
+            coat: coat()?,
+            layers: layers(source, entries)?,
+        },
+        "coated-conductor" => {
+            let (eta, k) = conductor_index(source, entries)?;
+            let (alpha_u, alpha_v) = widths(source, entries, "base-")?;
+            Physical::CoatedConductor {
+                coat: coat()?,
+                base: ConductorBase {
+                    eta,
+                    k,
+                    alpha_u,
+                    alpha_v,
+                },
+                layers: layers(source, entries)?,
+            }
+        }
+        "diffuse-transmission" => {
+            let share = |key: &str| match find(key) {
+                Some(e) => shares(source, e.value, key),
+                None => Ok(Color::new(0.25, 0.25, 0.25)),
+            };
+            Physical::DiffuseTransmission {
+                reflectance: share("reflectance")?,
+                transmittance: share("transmittance")?,
+            }
+        }
         _ => {
             let (eta, k) = conductor_index(source, entries)?;
+            let (alpha_u, alpha_v) = widths(source, entries, "")?;
             Physical::Conductor {
                 eta,
                 k,
-                alpha: alpha(source, entries)?,
+                alpha_u,
+                alpha_v,
             }
         }
     };
@@ -310,35 +436,112 @@ fn physical(
 /// The types that take the physical key `key`, for messages.
 fn types_taking(key: &str) -> &'static str {
     match key {
-        "alpha" | "roughness" => "`type: conductor`, `dielectric` and `plastic`",
-        _ => "`type: conductor`",
+        "alpha" | "roughness" => {
+            "`type: conductor`, `dielectric`, `plastic`, `coated-diffuse` and `coated-conductor`"
+        }
+        "alpha-u" | "alpha-v" | "roughness-u" | "roughness-v" => {
+            "`type: conductor`, `dielectric`, `coated-diffuse` and `coated-conductor`"
+        }
+        "thickness" | "medium-albedo" | "medium-g" | "walk-depth" | "walk-samples" => {
+            "`type: coated-diffuse` and `coated-conductor`"
+        }
+        "reflectance" | "transmittance" => "`type: diffuse-transmission`",
+        _ if key.starts_with("base-") => "`type: coated-conductor`",
+        _ => "`type: conductor` and `coated-conductor`",
     }
 }
 
-/// The GGX width from `alpha` (0 to 1) or `roughness` (0 to 1, alpha = roughness²); 0 (smooth)
-/// without either.
-fn alpha(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<f64, SceneError> {
-    let find = |k: &str| entries.iter().find(|e| e.name == k);
-    let (a, r) = (find("alpha"), find("roughness"));
+/// The GGX widths `(alpha_u, alpha_v)` from the keys `{prefix}alpha` or `{prefix}roughness`
+/// (one width, 0 to 1, alpha = roughness²), or the pairs `{prefix}alpha-u` and
+/// `{prefix}alpha-v` (or `roughness-u` and `roughness-v`) for an anisotropic surface, `u`
+/// along the surface's tangent; (0, 0) (smooth) without any.
+fn widths(
+    source: &Source<'_>,
+    entries: &[Entry<'_, '_>],
+    prefix: &str,
+) -> Result<(f64, f64), SceneError> {
+    let named = |suffix: &str| {
+        let key = format!("{prefix}{suffix}");
+        entries.iter().find(move |e| e.name == key)
+    };
+    let given: Vec<&Entry<'_, '_>> = [
+        "alpha",
+        "roughness",
+        "alpha-u",
+        "alpha-v",
+        "roughness-u",
+        "roughness-v",
+    ]
+    .iter()
+    .filter_map(|suffix| named(suffix))
+    .collect();
+    let Some(first) = given.iter().min_by_key(|e| e.key.span.start.index()) else {
+        return Ok((0.0, 0.0));
+    };
+    let (a, r) = (named("alpha"), named("roughness"));
     if let (Some(a), Some(r)) = (a, r) {
-        let second = if a.key.span.start.index() > r.key.span.start.index() {
-            a
-        } else {
-            r
-        };
+        let second = later(a, r);
         return Err(source.error(
             second.key,
             second.name,
-            "give `alpha` or `roughness` (alpha = roughness²), not both",
+            format!("give `{prefix}alpha` or `{prefix}roughness` (alpha = roughness²), not both"),
         ));
     }
-    let Some(e) = a.or(r) else {
-        return Ok(0.0);
-    };
-    if is_mapping(e.value) {
-        // A pattern: its value at each hit replaces this (see `physical_patterns`).
-        return Ok(0.0);
+    if let Some(iso) = a.or(r) {
+        if let Some(other) = given.iter().find(|e| e.name != iso.name) {
+            let second = later(iso, other);
+            return Err(source.error(
+                second.key,
+                second.name,
+                format!(
+                    "give one width (`{}`) or one per tangent (`{}-u` and `{}-v`), not both",
+                    iso.name, iso.name, iso.name
+                ),
+            ));
+        }
+        if is_mapping(iso.value) {
+            // A pattern: its value at each hit replaces this (see `physical_patterns`).
+            return Ok((0.0, 0.0));
+        }
+        let v = width(source, iso)?;
+        return Ok((v, v));
     }
+    // Per tangent: a pair of one kind.
+    let root = first.name.trim_end_matches("-u").trim_end_matches("-v");
+    if let Some(other) = given.iter().find(|e| !e.name.starts_with(root)) {
+        return Err(source.error(
+            other.key,
+            other.name,
+            format!("give both widths as `{root}-u` and `{root}-v`, not one of each kind"),
+        ));
+    }
+    let kind = &root[prefix.len()..];
+    let (u, v) = (named(&format!("{kind}-u")), named(&format!("{kind}-v")));
+    match (u, v) {
+        (Some(u), Some(v)) => Ok((width(source, u)?, width(source, v)?)),
+        _ => Err(source.error(
+            first.key,
+            first.name,
+            format!(
+                "`{}` needs `{root}-u` and `{root}-v` both: one width per tangent",
+                first.name
+            ),
+        )),
+    }
+}
+
+/// Of two entries, the one written later (the one an error names).
+fn later<'e, 'n, 's>(a: &'e Entry<'n, 's>, b: &'e Entry<'n, 's>) -> &'e Entry<'n, 's> {
+    if a.key.span.start.index() > b.key.span.start.index() {
+        a
+    } else {
+        b
+    }
+}
+
+/// One GGX width from an `alpha…` or `roughness…` key: 0 (polished) to 1, squared for
+/// `roughness…`.
+fn width(source: &Source<'_>, e: &Entry<'_, '_>) -> Result<f64, SceneError> {
     let v = source.number(e.value, e.name)?;
     if !(0.0..=1.0).contains(&v) {
         return Err(source.error(
@@ -347,7 +550,67 @@ fn alpha(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<f64, SceneErr
             format!("`{}` lies between 0 (polished) and 1", e.name),
         ));
     }
-    Ok(if e.name == "roughness" { v * v } else { v })
+    let roughness = e.name.trim_start_matches("base-").starts_with("roughness");
+    Ok(if roughness { v * v } else { v })
+}
+
+/// A coated material's layers: `thickness` (optical, default 0.01), `medium-albedo` (0),
+/// `medium-g` (0), `walk-depth` (10) and `walk-samples` (1), pbrt-v4's defaults.
+fn layers(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<Layers, SceneError> {
+    let find = |k: &str| entries.iter().find(|e| e.name == k);
+    let mut layers = Layers::PBRT_DEFAULT;
+    if let Some(e) = find("thickness") {
+        let t = source.number(e.value, e.name)?;
+        if !(t > 0.0 && t <= MAX_THICKNESS) {
+            return Err(source.error(
+                e.value,
+                e.name,
+                format!("a layer's thickness lies above 0 and at most {MAX_THICKNESS}"),
+            ));
+        }
+        layers.thickness = t;
+    }
+    if let Some(e) = find("medium-albedo") {
+        layers.albedo = shares(source, e.value, e.name)?;
+    }
+    if let Some(e) = find("medium-g") {
+        let g = source.number(e.value, e.name)?;
+        if !(g > -1.0 && g < 1.0) {
+            return Err(source.error(
+                e.value,
+                e.name,
+                "the medium's asymmetry `medium-g` lies strictly between -1 and 1",
+            ));
+        }
+        layers.g = g;
+    }
+    let count = |key: &str, max: u64| -> Result<Option<u32>, SceneError> {
+        let Some(e) = find(key) else {
+            return Ok(None);
+        };
+        let n = source.integer(e.value, e.name, 1)?;
+        if n > max {
+            return Err(source.error(e.value, e.name, format!("`{key}` is at most {max}")));
+        }
+        Ok(Some(n as u32))
+    };
+    if let Some(n) = count("walk-depth", MAX_WALK_DEPTH)? {
+        layers.max_depth = n;
+    }
+    if let Some(n) = count("walk-samples", MAX_WALK_SAMPLES)? {
+        layers.samples = n;
+    }
+    Ok(layers)
+}
+
+/// Shares of light from 0 to 1: a colour `[r, g, b]` or one number meaning grey.
+fn shares(source: &Source<'_>, node: &Node<'_>, key: &str) -> Result<Color, SceneError> {
+    if is_number(node) {
+        let v = fraction(source, node, key)?;
+        Ok(Color::new(v, v, v))
+    } else {
+        fractions(source, node, key)
+    }
 }
 
 /// A conductor's complex index: `metal: NAME`, or `eta` and `k` given together; aluminium

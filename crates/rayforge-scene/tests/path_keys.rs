@@ -5,7 +5,7 @@ use rayforge::options::{
     LightSamplerKind, MirrorBallBudget, PathOptions, Roulette, SampleAllocation, SamplerKind,
     Techniques,
 };
-use rayforge::shading::bsdf::{metal, METAL_NAMES};
+use rayforge::shading::bsdf::{metal, Coat, ConductorBase, Layers, METAL_NAMES};
 use rayforge::shading::Physical;
 use rayforge::{Color, Material};
 use rayforge_scene::{load_str, Scene, SceneError};
@@ -129,7 +129,12 @@ fn a_conductor_is_polished_aluminium_by_default() {
     let (eta, k) = metal("aluminium").unwrap();
     assert_eq!(
         physical("type: conductor"),
-        Some(Physical::Conductor { eta, k, alpha: 0.0 })
+        Some(Physical::Conductor {
+            eta,
+            k,
+            alpha_u: 0.0,
+            alpha_v: 0.0
+        })
     );
 }
 
@@ -138,13 +143,23 @@ fn a_conductor_names_its_metal_or_gives_eta_and_k() {
     let (eta, k) = metal("gold").unwrap();
     assert_eq!(
         physical("type: conductor\nmetal: gold\nalpha: 0.2"),
-        Some(Physical::Conductor { eta, k, alpha: 0.2 })
+        Some(Physical::Conductor {
+            eta,
+            k,
+            alpha_u: 0.2,
+            alpha_v: 0.2
+        })
     );
     for name in METAL_NAMES {
         let (eta, k) = metal(name).unwrap();
         assert_eq!(
             physical(&format!("type: conductor\nmetal: {name}")),
-            Some(Physical::Conductor { eta, k, alpha: 0.0 })
+            Some(Physical::Conductor {
+                eta,
+                k,
+                alpha_u: 0.0,
+                alpha_v: 0.0
+            })
         );
     }
     assert_eq!(
@@ -152,7 +167,8 @@ fn a_conductor_names_its_metal_or_gives_eta_and_k() {
         Some(Physical::Conductor {
             eta: Color::new(0.2, 0.4, 1.5),
             k: Color::new(3.0, 2.5, 2.0),
-            alpha: 0.25
+            alpha_u: 0.25,
+            alpha_v: 0.25
         })
     );
 }
@@ -163,7 +179,8 @@ fn dielectrics_and_plastic_default_to_index_one_and_a_half_and_smooth() {
         physical("type: dielectric"),
         Some(Physical::Dielectric {
             eta: 1.5,
-            alpha: 0.0
+            alpha_u: 0.0,
+            alpha_v: 0.0
         })
     );
     assert_eq!(
@@ -185,7 +202,8 @@ fn dielectrics_and_plastic_take_the_refractive_index_and_a_width() {
         physical("type: dielectric\nrefractive-index: 1.33\nalpha: 0.1"),
         Some(Physical::Dielectric {
             eta: 1.33,
-            alpha: 0.1
+            alpha_u: 0.1,
+            alpha_v: 0.1
         })
     );
     assert_eq!(
@@ -332,7 +350,8 @@ fn alpha_and_roughness_lie_between_zero_and_one() {
         Some(Physical::Conductor {
             eta: metal("aluminium").unwrap().0,
             k: metal("aluminium").unwrap().1,
-            alpha: 1.0
+            alpha_u: 1.0,
+            alpha_v: 1.0
         })
     );
 }
@@ -448,7 +467,12 @@ fn defined_materials_carry_the_new_keys_and_extend_them() {
     let gold = defined("gold");
     assert_eq!(
         gold.physical,
-        Some(Physical::Conductor { eta, k, alpha: 0.0 })
+        Some(Physical::Conductor {
+            eta,
+            k,
+            alpha_u: 0.0,
+            alpha_v: 0.0
+        })
     );
     assert_eq!(gold.emission, Color::new(2.0, 2.0, 2.0));
     let brushed = defined("brushed-gold");
@@ -457,7 +481,8 @@ fn defined_materials_carry_the_new_keys_and_extend_them() {
         Some(Physical::Conductor {
             eta,
             k,
-            alpha: 0.25
+            alpha_u: 0.25,
+            alpha_v: 0.25
         })
     );
     assert_eq!(brushed.emission, Color::new(2.0, 2.0, 2.0));
@@ -465,7 +490,8 @@ fn defined_materials_carry_the_new_keys_and_extend_them() {
         defined("frosted").physical,
         Some(Physical::Dielectric {
             eta: 1.4,
-            alpha: 0.3
+            alpha_u: 0.3,
+            alpha_v: 0.3
         })
     );
     // Overriding the type keeps the book's refractive index, which a diffuse surface ignores.
@@ -901,5 +927,164 @@ fn bad_technique_keys_are_located() {
         5,
         "roulette-scale",
         "`roulette: off` turns off",
+    );
+}
+
+#[test]
+fn anisotropic_widths_are_read_per_tangent() {
+    let (eta, k) = metal("gold").unwrap();
+    assert_eq!(
+        physical("type: conductor\nmetal: gold\nalpha-u: 0.1\nalpha-v: 0.4"),
+        Some(Physical::Conductor {
+            eta,
+            k,
+            alpha_u: 0.1,
+            alpha_v: 0.4
+        })
+    );
+    assert_eq!(
+        physical("type: dielectric\nroughness-u: 0.5\nroughness-v: 0.2"),
+        Some(Physical::Dielectric {
+            eta: 1.5,
+            alpha_u: 0.25,
+            alpha_v: 0.2 * 0.2
+        })
+    );
+    assert_error(
+        material("type: conductor\nalpha-u: 0.1"),
+        11,
+        5,
+        "alpha-u",
+        "needs `alpha-u` and `alpha-v`",
+    );
+    assert_error(
+        material("type: conductor\nalpha: 0.1\nalpha-v: 0.2"),
+        12,
+        5,
+        "alpha-v",
+        "not both",
+    );
+    assert_error(
+        material("type: conductor\nalpha-u: 0.1\nroughness-v: 0.2"),
+        12,
+        5,
+        "roughness-v",
+        "one of each kind",
+    );
+    assert_error(
+        material("type: plastic\nalpha-u: 0.1\nalpha-v: 0.1"),
+        11,
+        5,
+        "alpha-u",
+        "does not apply",
+    );
+}
+
+#[test]
+fn coated_materials_take_the_layers_with_pbrt_defaults() {
+    assert_eq!(
+        physical("type: coated-diffuse"),
+        Some(Physical::CoatedDiffuse {
+            coat: Coat::smooth(1.5),
+            layers: Layers::PBRT_DEFAULT
+        })
+    );
+    assert_eq!(
+        physical(
+            "type: coated-diffuse\nrefractive-index: 1.3\nroughness: 0.5\nthickness: 0.2\n\
+             medium-albedo: [0.5, 0.4, 0.3]\nmedium-g: -0.3\nwalk-depth: 20\nwalk-samples: 4"
+        ),
+        Some(Physical::CoatedDiffuse {
+            coat: Coat {
+                eta: 1.3,
+                alpha_u: 0.25,
+                alpha_v: 0.25
+            },
+            layers: Layers {
+                thickness: 0.2,
+                albedo: Color::new(0.5, 0.4, 0.3),
+                g: -0.3,
+                max_depth: 20,
+                samples: 4
+            }
+        })
+    );
+    let (eta, k) = metal("copper").unwrap();
+    assert_eq!(
+        physical("type: coated-conductor\nmetal: copper\nalpha: 0.1\nbase-alpha-u: 0.2\nbase-alpha-v: 0.3"),
+        Some(Physical::CoatedConductor {
+            coat: Coat {
+                eta: 1.5,
+                alpha_u: 0.1,
+                alpha_v: 0.1
+            },
+            base: ConductorBase {
+                eta,
+                k,
+                alpha_u: 0.2,
+                alpha_v: 0.3
+            },
+            layers: Layers::PBRT_DEFAULT
+        })
+    );
+    assert_error(
+        material("type: coated-diffuse\nthickness: 0"),
+        11,
+        16,
+        "thickness",
+        "above 0",
+    );
+    assert_error(
+        material("type: coated-diffuse\nmedium-g: 1"),
+        11,
+        15,
+        "medium-g",
+        "between -1 and 1",
+    );
+    assert_error(
+        material("type: coated-diffuse\nwalk-depth: 1000"),
+        11,
+        17,
+        "walk-depth",
+        "at most",
+    );
+    assert_error(
+        material("type: coated-diffuse\nbase-alpha: 0.1"),
+        11,
+        5,
+        "base-alpha",
+        "coated-conductor",
+    );
+}
+
+#[test]
+fn diffuse_transmission_takes_two_shares() {
+    assert_eq!(
+        physical("type: diffuse-transmission"),
+        Some(Physical::DiffuseTransmission {
+            reflectance: Color::new(0.25, 0.25, 0.25),
+            transmittance: Color::new(0.25, 0.25, 0.25)
+        })
+    );
+    assert_eq!(
+        physical("type: diffuse-transmission\nreflectance: 0.5\ntransmittance: [0.1, 0.2, 0.3]"),
+        Some(Physical::DiffuseTransmission {
+            reflectance: Color::new(0.5, 0.5, 0.5),
+            transmittance: Color::new(0.1, 0.2, 0.3)
+        })
+    );
+    assert_error(
+        material("type: diffuse-transmission\ntransmittance: 1.5"),
+        11,
+        20,
+        "transmittance",
+        "from 0 to 1",
+    );
+    assert_error(
+        material("type: conductor\nreflectance: 0.5"),
+        11,
+        5,
+        "reflectance",
+        "diffuse-transmission",
     );
 }

@@ -172,7 +172,7 @@ fn patterns_drive_roughness_and_index_as_numbers_would() {
         .physical_at(|| rayforge::point(x, 0.0, 0.0))
         .unwrap()
     {
-        rayforge::shading::Physical::Conductor { alpha, .. } => alpha,
+        rayforge::shading::Physical::Conductor { alpha_u, .. } => alpha_u,
         other => panic!("{other:?}"),
     };
     assert_eq!((at(0.5), at(1.5)), (0.0, 1.0));

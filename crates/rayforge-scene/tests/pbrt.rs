@@ -159,13 +159,19 @@ fn materials_named_and_anonymous() {
         Some(Physical::Conductor {
             eta: au_eta,
             k: au_k,
-            alpha: 0.5
+            alpha_u: 0.5,
+            alpha_v: 0.5
         })
     );
     match m(2).physical {
-        Some(Physical::Conductor { eta, alpha, .. }) => {
+        Some(Physical::Conductor {
+            eta,
+            alpha_u,
+            alpha_v,
+            ..
+        }) => {
             assert_eq!(eta, Color::new(0.2, 0.9, 1.1));
-            assert!((alpha - 0.01).abs() < 1e-15);
+            assert!((alpha_u - 0.01).abs() < 1e-15 && alpha_u == alpha_v);
         }
         other => panic!("{other:?}"),
     }
@@ -173,14 +179,16 @@ fn materials_named_and_anonymous() {
         m(3).physical,
         Some(Physical::Dielectric {
             eta: 1.33,
-            alpha: 0.0
+            alpha_u: 0.0,
+            alpha_v: 0.0
         })
     );
     assert_eq!(
         m(4).physical,
         Some(Physical::Dielectric {
             eta: 1.5168,
-            alpha: 0.2
+            alpha_u: 0.2,
+            alpha_v: 0.2
         })
     );
     assert_eq!(m(5).physical, Some(Physical::ThinDielectric { eta: 1.5 }));
@@ -198,10 +206,100 @@ fn materials_named_and_anonymous() {
         m(8).physical,
         Some(Physical::Dielectric {
             eta: 1.0,
-            alpha: 0.0
+            alpha_u: 0.0,
+            alpha_v: 0.0
         })
     );
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+}
+
+/// pbrt-v4's layered materials, diffuse transmission and anisotropic roughness, each with its
+/// parameters (and pbrt's defaults where absent).
+#[test]
+fn layered_and_anisotropic_materials() {
+    use rayforge::shading::bsdf::{Coat, ConductorBase, Layers};
+    let scene = load(&format!(
+        "{HEAD}Material \"coateddiffuse\" \"rgb reflectance\" [ 0.8 0.4 0.2 ] \
+         \"float roughness\" 0.01\nShape \"sphere\"\n\
+         Material \"coateddiffuse\" \"float eta\" 1.3 \"float thickness\" 0.2 \
+         \"rgb albedo\" [ 0.5 0.5 0.5 ] \"float g\" 0.3 \"integer maxdepth\" 4 \
+         \"integer nsamples\" 2 \"float uroughness\" 0.04 \"float vroughness\" 0.16\n\
+         Shape \"sphere\"\n\
+         Material \"coatedconductor\" \"float interface.roughness\" 0.09 \
+         \"spectrum conductor.eta\" \"metal-Au-eta\" \"spectrum conductor.k\" \"metal-Au-k\" \
+         \"float conductor.uroughness\" 0.25 \"float conductor.vroughness\" 0.01\nShape \"sphere\"\n\
+         Material \"diffusetransmission\" \"rgb transmittance\" [ 0.5 0.5 0.5 ] \"float scale\" 2\n\
+         Shape \"sphere\"\n\
+         Material \"conductor\" \"float uroughness\" 0.01 \"float vroughness\" 0.64\nShape \"sphere\"\n"
+    ));
+    let m = |i: usize| &scene.world.objects[i].material;
+    assert_eq!(
+        m(0).physical,
+        Some(Physical::CoatedDiffuse {
+            coat: Coat {
+                eta: 1.5,
+                alpha_u: 0.1,
+                alpha_v: 0.1
+            },
+            layers: Layers::PBRT_DEFAULT
+        })
+    );
+    assert_eq!(m(0).color, Color::new(0.8, 0.4, 0.2));
+    assert_eq!(m(1).color, Color::WHITE * 0.5, "pbrt's default reflectance");
+    assert_eq!(
+        m(1).physical,
+        Some(Physical::CoatedDiffuse {
+            coat: Coat {
+                eta: 1.3,
+                alpha_u: 0.2,
+                alpha_v: 0.4
+            },
+            layers: Layers {
+                thickness: 0.2,
+                albedo: Color::WHITE * 0.5,
+                g: 0.3,
+                max_depth: 4,
+                samples: 2
+            }
+        })
+    );
+    let (au_eta, au_k) = rayforge::shading::bsdf::metal("gold").unwrap();
+    assert_eq!(
+        m(2).physical,
+        Some(Physical::CoatedConductor {
+            coat: Coat {
+                eta: 1.5,
+                alpha_u: 0.3,
+                alpha_v: 0.3
+            },
+            base: ConductorBase {
+                eta: au_eta,
+                k: au_k,
+                alpha_u: 0.5,
+                alpha_v: 0.1
+            },
+            layers: Layers::PBRT_DEFAULT
+        })
+    );
+    assert_eq!(
+        m(3).physical,
+        Some(Physical::DiffuseTransmission {
+            reflectance: Color::WHITE * 0.5,
+            transmittance: Color::WHITE
+        })
+    );
+    match m(4).physical {
+        Some(Physical::Conductor {
+            alpha_u, alpha_v, ..
+        }) => assert_eq!((alpha_u, alpha_v), (0.1, 0.8)),
+        other => panic!("{other:?}"),
+    }
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let e =
+        error("WorldBegin\nMaterial \"coateddiffuse\" \"integer maxdepth\" 0\nShape \"sphere\"\n");
+    assert_at(&e, 2, 1, "Material", "maxdepth is from 1");
+    let e = error("WorldBegin\nMaterial \"coateddiffuse\" \"float g\" 1\nShape \"sphere\"\n");
+    assert_at(&e, 2, 1, "Material", "g is between");
 }
 
 #[test]
@@ -366,8 +464,8 @@ fn errors_name_file_line_column_directive_and_parameter() {
     assert_at(&e, 2, 1, "Shape", "above 0");
     let e = error("WorldBegin\nShape \"sphere\" \"float zmax\" 0.5\n");
     assert_at(&e, 2, 1, "Shape", "cut");
-    let e = error("WorldBegin\nMaterial \"coateddiffuse\"\nShape \"sphere\"\n");
-    assert_at(&e, 2, 1, "Material", "coateddiffuse");
+    let e = error("WorldBegin\nMaterial \"measured\"\nShape \"sphere\"\n");
+    assert_at(&e, 2, 1, "Material", "measured");
     let e = error("WorldBegin\nNamedMaterial \"nowhere\"\nShape \"sphere\"\n");
     assert_at(&e, 2, 15, "NamedMaterial", "nowhere");
     let e = error("WorldBegin\nLightSource \"infinite\" \"string filename\" \"sky.exr\"\n");

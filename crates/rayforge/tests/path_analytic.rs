@@ -184,7 +184,8 @@ fn a_glass_ball_in_the_white_furnace_vanishes() {
         color: Color::WHITE,
         physical: Some(Physical::Dielectric {
             eta: 1.5,
-            alpha: 0.0,
+            alpha_u: 0.0,
+            alpha_v: 0.0,
         }),
         ..Material::DEFAULT
     };
@@ -1016,7 +1017,8 @@ fn a_mirror_balls_caustic_is_the_same_sampled_through_the_ball_or_found_by_bounc
             physical: Some(Physical::Conductor {
                 eta: Color::new(1.6575, 0.880405, 0.521244),
                 k: Color::new(9.22381, 6.2695, 4.837),
-                alpha: 0.0,
+                alpha_u: 0.0,
+                alpha_v: 0.0,
             }),
             ..Material::DEFAULT
         });

@@ -8,12 +8,18 @@
 //!   `thindielectric`.
 //! - `interface` and `none`: no surface, light passes straight through (a dielectric of index 1,
 //!   which bends and reflects nothing).
+//! - `coateddiffuse` (`reflectance` 0.5, the coat's `eta` 1.5 and roughness, `thickness` 0.01,
+//!   the medium's `albedo` 0 and `g` 0, `maxdepth` 10, `nsamples` 1) and `coatedconductor`
+//!   (the coat's `interface.eta`, `interface.roughness`; the metal's `conductor.eta`,
+//!   `conductor.k` or `reflectance`, `conductor.roughness`; the same medium parameters):
+//!   pbrt-v4's stochastic layered materials ([`Physical::CoatedDiffuse`],
+//!   [`Physical::CoatedConductor`]).
+//! - `diffusetransmission` (`reflectance` and `transmittance`, 0.25 each, times `scale`).
 //!
 //! Roughness (`roughness`, or `uroughness` and `vroughness`, which take its place where given)
-//! becomes the GGX width as pbrt-v4's `TrowbridgeReitzDistribution::RoughnessToAlpha` makes
-//! it, `α = √roughness`, unless `remaproughness` is false (then the roughness is the width).
-//! rayforge's microfacets are isotropic: different `uroughness` and `vroughness` are rendered
-//! with the geometric mean of their widths, and a warning says so.
+//! becomes the GGX widths along the surface's two tangents as pbrt-v4's
+//! `TrowbridgeReitzDistribution::RoughnessToAlpha` makes them, `α = √roughness`, unless
+//! `remaproughness` is false (then the roughness is the width).
 //!
 //! A `reflectance` may name a `Texture` of class `constant`; other texture classes, textured
 //! roughness, and the materials rayforge does not read are refused at the parameter or the
@@ -23,6 +29,7 @@ use super::params::{Param, ParamType};
 use super::reader::{Entity, TextureEntity};
 use super::spectra::{self, SpectrumUse};
 use crate::error::SceneError;
+use rayforge::shading::bsdf::{Coat, ConductorBase, Layers};
 use rayforge::shading::Physical;
 use rayforge::{Color, Material};
 use std::collections::HashMap;
@@ -59,35 +66,30 @@ pub fn material(
             reflectance(entity, "reflectance", Color::WHITE * 0.5, textures)?,
         ),
         "conductor" => {
-            let alpha = alpha(entity, warnings)?;
-            let (eta, k) = match params.find("reflectance", &[ParamType::Rgb, ParamType::Spectrum])
-            {
-                Some(r) => {
-                    let r = spectra::color(r, SpectrumUse::Albedo)?;
-                    let k = |r: f64| {
-                        let r = r.clamp(0.0, 0.9999);
-                        2.0 * r.sqrt() / (1.0 - r).sqrt()
-                    };
-                    (Color::WHITE, Color::new(k(r.red), k(r.green), k(r.blue)))
-                }
-                None => {
-                    let (cu_eta, cu_k) =
-                        rayforge::shading::bsdf::metal("copper").expect("rayforge names copper");
-                    let eta = index(entity, "eta")?.unwrap_or(cu_eta);
-                    let k = index(entity, "k")?.unwrap_or(cu_k);
-                    (eta, k)
-                }
-            };
-            if eta.red.min(eta.green).min(eta.blue) <= 0.0 || k.red.min(k.green).min(k.blue) < 0.0 {
-                return Err(entity.error("a conductor's eta is above 0 and its k not negative"));
-            }
-            physical(Physical::Conductor { eta, k, alpha }, Color::WHITE)
+            let (alpha_u, alpha_v) = widths(entity, "", warnings)?;
+            let (eta, k) = metal(entity, "", "reflectance")?;
+            physical(
+                Physical::Conductor {
+                    eta,
+                    k,
+                    alpha_u,
+                    alpha_v,
+                },
+                Color::WHITE,
+            )
         }
         "dielectric" | "thindielectric" => {
             let eta = dielectric_index(entity)?;
             if kind == "dielectric" {
-                let alpha = alpha(entity, warnings)?;
-                physical(Physical::Dielectric { eta, alpha }, Color::WHITE)
+                let (alpha_u, alpha_v) = widths(entity, "", warnings)?;
+                physical(
+                    Physical::Dielectric {
+                        eta,
+                        alpha_u,
+                        alpha_v,
+                    },
+                    Color::WHITE,
+                )
             } else {
                 physical(Physical::ThinDielectric { eta }, Color::WHITE)
             }
@@ -95,19 +97,71 @@ pub fn material(
         "interface" | "none" | "" => physical(
             Physical::Dielectric {
                 eta: 1.0,
-                alpha: 0.0,
+                alpha_u: 0.0,
+                alpha_v: 0.0,
             },
             Color::WHITE,
         ),
-        "coateddiffuse" | "coatedconductor" => {
-            return Err(entity.error(format!(
-                "the material type \"{kind}\" (pbrt-v4's layered BSDF) is not read yet"
-            )))
+        "coateddiffuse" => {
+            let (alpha_u, alpha_v) = widths(entity, "", warnings)?;
+            let coat = Coat {
+                eta: coat_index(entity, "eta")?,
+                alpha_u,
+                alpha_v,
+            };
+            physical(
+                Physical::CoatedDiffuse {
+                    coat,
+                    layers: layers(entity)?,
+                },
+                reflectance(entity, "reflectance", Color::WHITE * 0.5, textures)?,
+            )
+        }
+        "coatedconductor" => {
+            let (alpha_u, alpha_v) = widths(entity, "interface.", warnings)?;
+            let coat = Coat {
+                eta: coat_index(entity, "interface.eta")?,
+                alpha_u,
+                alpha_v,
+            };
+            let (eta, k) = metal(entity, "conductor.", "reflectance")?;
+            let (alpha_u, alpha_v) = widths(entity, "conductor.", warnings)?;
+            let base = ConductorBase {
+                eta,
+                k,
+                alpha_u,
+                alpha_v,
+            };
+            physical(
+                Physical::CoatedConductor {
+                    coat,
+                    base,
+                    layers: layers(entity)?,
+                },
+                Color::WHITE,
+            )
+        }
+        "diffusetransmission" => {
+            let scale = params.float_or("scale", 1.0)?;
+            if !(scale >= 0.0) {
+                return Err(entity.error(format!("a scale is not negative, found {scale}")));
+            }
+            let share = |name| -> Result<Color, SceneError> {
+                Ok(reflectance(entity, name, Color::WHITE * 0.25, textures)? * scale)
+            };
+            physical(
+                Physical::DiffuseTransmission {
+                    reflectance: share("reflectance")?,
+                    transmittance: share("transmittance")?,
+                },
+                Color::WHITE,
+            )
         }
         other => {
             return Err(entity.error(format!(
                 "the material type \"{}\" is not one rayforge reads; it reads diffuse, \
-                 conductor, dielectric, thindielectric and interface",
+                 conductor, dielectric, thindielectric, coateddiffuse, coatedconductor, \
+                 diffusetransmission and interface",
                 crate::error::clip_to(other, 60)
             )))
         }
@@ -141,33 +195,129 @@ fn dielectric_index(entity: &Entity) -> Result<f64, SceneError> {
     Ok(eta)
 }
 
-/// The GGX width of `entity`'s roughness parameters (see the [module](self)).
-fn alpha(entity: &Entity, warnings: &mut Vec<SceneError>) -> Result<f64, SceneError> {
+/// A metal's index: `{prefix}eta` and `{prefix}k` (rgb or pbrt's named spectra; copper by
+/// default), or `reflectance` in their place, read as pbrt-v4 reads it: index 1 and
+/// `k = 2√r / √(1 − r)`, whose reflectance at normal incidence is `r`.
+fn metal(entity: &Entity, prefix: &str, reflectance: &str) -> Result<(Color, Color), SceneError> {
+    let (eta, k) = match entity
+        .params
+        .find(reflectance, &[ParamType::Rgb, ParamType::Spectrum])
+    {
+        Some(r) => {
+            let r = spectra::color(r, SpectrumUse::Albedo)?;
+            let k = |r: f64| {
+                let r = r.clamp(0.0, 0.9999);
+                2.0 * r.sqrt() / (1.0 - r).sqrt()
+            };
+            (Color::WHITE, Color::new(k(r.red), k(r.green), k(r.blue)))
+        }
+        None => {
+            let (cu_eta, cu_k) =
+                rayforge::shading::bsdf::metal("copper").expect("rayforge names copper");
+            let eta = index(entity, &format!("{prefix}eta"))?.unwrap_or(cu_eta);
+            let k = index(entity, &format!("{prefix}k"))?.unwrap_or(cu_k);
+            (eta, k)
+        }
+    };
+    if eta.red.min(eta.green).min(eta.blue) <= 0.0 || k.red.min(k.green).min(k.blue) < 0.0 {
+        return Err(entity.error("a conductor's eta is above 0 and its k not negative"));
+    }
+    Ok((eta, k))
+}
+
+/// A coat's index, the float or spectrum parameter `name` (1.5 by default).
+fn coat_index(entity: &Entity, name: &str) -> Result<f64, SceneError> {
+    refuse_texture(entity, name)?;
     let params = &entity.params;
-    for name in ["roughness", "uroughness", "vroughness"] {
+    let eta = match params.float(name)? {
+        Some(eta) => eta,
+        None => match params.find(name, &[ParamType::Spectrum, ParamType::Rgb]) {
+            Some(p) => spectra::color(p, SpectrumUse::Index)?.green,
+            None => 1.5,
+        },
+    };
+    if eta <= 0.0 {
+        return Err(entity.error(format!("a coat's {name} is above 0, found {eta}")));
+    }
+    Ok(eta)
+}
+
+/// The medium between a layered material's coat and base, and its walks' limits.
+fn layers(entity: &Entity) -> Result<Layers, SceneError> {
+    let params = &entity.params;
+    let default = Layers::PBRT_DEFAULT;
+    let thickness = params.float_or("thickness", default.thickness)?;
+    if !(thickness > 0.0 && thickness.is_finite()) {
+        return Err(entity.error(format!("a thickness is above 0, found {thickness}")));
+    }
+    let albedo = match params.find("albedo", &[ParamType::Rgb, ParamType::Spectrum]) {
+        Some(p) => spectra::color(p, SpectrumUse::Albedo)?,
+        None => match params.float("albedo")? {
+            Some(a) => Color::WHITE * a,
+            None => default.albedo,
+        },
+    };
+    if albedo.red.min(albedo.green).min(albedo.blue) < 0.0
+        || albedo.red.max(albedo.green).max(albedo.blue) > 1.0
+    {
+        return Err(entity.error("a layer's albedo is from 0 to 1 in each channel"));
+    }
+    let g = params.float_or("g", default.g)?;
+    if !(g > -1.0 && g < 1.0) {
+        return Err(entity.error(format!("g is between -1 and 1, found {g}")));
+    }
+    let count = |name: &str, default: u32, most: u32| -> Result<u32, SceneError> {
+        let n = params.integer(name)?.map_or(i64::from(default), |(n, _)| n);
+        if !(1..=i64::from(most)).contains(&n) {
+            return Err(entity.error(format!("{name} is from 1 to {most}, found {n}")));
+        }
+        Ok(n as u32)
+    };
+    Ok(Layers {
+        thickness,
+        albedo,
+        g,
+        max_depth: count("maxdepth", default.max_depth, MAX_WALK_DEPTH)?,
+        samples: count("nsamples", default.samples, MAX_WALK_SAMPLES)?,
+    })
+}
+
+/// The most scattering events of a layered material's walk, and the most walks per estimate:
+/// each costs time per shading point, so a file cannot ask for unbounded work there.
+const MAX_WALK_DEPTH: u32 = 1000;
+/// See [`MAX_WALK_DEPTH`].
+const MAX_WALK_SAMPLES: u32 = 256;
+
+/// The GGX widths along the two tangents of `entity`'s roughness parameters named with
+/// `prefix` (see the [module](self)).
+fn widths(
+    entity: &Entity,
+    prefix: &str,
+    warnings: &mut Vec<SceneError>,
+) -> Result<(f64, f64), SceneError> {
+    let params = &entity.params;
+    let [rough, u_name, v_name] =
+        ["roughness", "uroughness", "vroughness"].map(|n| format!("{prefix}{n}"));
+    for name in [&rough, &u_name, &v_name] {
         refuse_texture(entity, name)?;
     }
-    let roughness = params.float("roughness")?;
-    let u = params.float("uroughness")?.or(roughness).unwrap_or(0.0);
-    let v = params.float("vroughness")?.or(roughness).unwrap_or(0.0);
-    if u < 0.0 || v < 0.0 {
+    let roughness = params.float(&rough)?;
+    let u = params.float(&u_name)?.or(roughness).unwrap_or(0.0);
+    let v = params.float(&v_name)?.or(roughness).unwrap_or(0.0);
+    if !(u >= 0.0 && v >= 0.0) {
         return Err(entity.error("roughness is not negative"));
     }
     let remap = params.bool_or("remaproughness", true)?;
-    let width = |r: f64| if remap { r.sqrt() } else { r };
-    let (au, av) = (width(u), width(v));
-    let alpha = (au * av).sqrt();
-    if au != av {
-        warnings.push(entity.error(format!(
-            "anisotropic roughness (widths {au} and {av}): rendered isotropic, of width {alpha}"
-        )));
-    }
-    if alpha > 1.0 {
-        warnings.push(entity.error(format!(
-            "a GGX width of {alpha} is rendered as 1, rayforge's widest"
-        )));
-    }
-    Ok(alpha.min(1.0))
+    let mut width = |r: f64| {
+        let alpha = if remap { r.sqrt() } else { r };
+        if alpha > 1.0 {
+            warnings.push(entity.error(format!(
+                "a GGX width of {alpha} is rendered as 1, rayforge's widest"
+            )));
+        }
+        alpha.min(1.0)
+    };
+    Ok((width(u), width(v)))
 }
 
 /// Refuses a float parameter given as a texture (rayforge's widths and indices are fixed per

@@ -104,7 +104,13 @@ impl MirrorBall {
     /// [module](self) documentation for what qualifies).
     pub fn of(object: &Object, index: u32) -> Option<Self> {
         let material = &object.material;
-        let Some(Physical::Conductor { eta, k, alpha }) = material.physical else {
+        let Some(Physical::Conductor {
+            eta,
+            k,
+            alpha_u,
+            alpha_v,
+        }) = material.physical
+        else {
             return None;
         };
         let plain = material.pattern.is_none()
@@ -115,7 +121,8 @@ impl MirrorBall {
             && material.emission.max_channel() <= 0.0;
         if !matches!(object.shape, Shape::Sphere)
             || object.motion.is_some()
-            || alpha >= MIN_ALPHA
+            || alpha_u >= MIN_ALPHA
+            || alpha_v >= MIN_ALPHA
             || !plain
         {
             return None;
@@ -882,7 +889,8 @@ mod tests {
             physical: Some(Physical::Conductor {
                 eta: Color::new(1.6, 0.9, 0.5),
                 k: Color::new(9.2, 6.3, 4.8),
-                alpha: 0.0,
+                alpha_u: 0.0,
+                alpha_v: 0.0,
             }),
             ..Material::DEFAULT
         };
@@ -906,7 +914,8 @@ mod tests {
         rough.material.physical = Some(Physical::Conductor {
             eta: Color::WHITE,
             k: Color::WHITE,
-            alpha: 0.2,
+            alpha_u: 0.2,
+            alpha_v: 0.2,
         });
         assert!(MirrorBall::of(&rough, 0).is_none());
         let mut diffuse = sphere.clone();

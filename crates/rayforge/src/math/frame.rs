@@ -39,6 +39,27 @@ impl Frame {
         Self { s, t, n }
     }
 
+    /// The frame around unit normal `n` whose first tangent `s` is `tangent` made
+    /// perpendicular to `n` (Gram–Schmidt), for materials whose scattering depends on the
+    /// direction along the surface (anisotropic roughness); the frame around `n` alone where
+    /// `tangent` is (nearly) parallel to `n` or not finite.
+    pub fn from_normal_and_tangent(n: Vec3, tangent: Vec3) -> Self {
+        let across = tangent - n * n.dot(tangent);
+        if across.length_squared().is_nan()
+            || across.length_squared() <= 1e-12 * tangent.length_squared()
+        {
+            return Self::from_normal(n);
+        }
+        match across.try_normalize() {
+            Some(s) if s.is_finite() => Self {
+                s,
+                t: n.cross(s),
+                n,
+            },
+            _ => Self::from_normal(n),
+        }
+    }
+
     /// World direction `v` in this frame's coordinates (its components along `s`, `t`, `n`).
     #[inline]
     pub fn to_local(&self, v: Vec3) -> Vec3 {
@@ -56,6 +77,19 @@ impl Frame {
 mod tests {
     use super::*;
     use crate::math::random::{Jitter, SplitMix64};
+
+    #[test]
+    fn a_frame_along_a_tangent_keeps_its_direction_and_is_orthonormal() {
+        let n = Vec3::new(0.2, -0.3, 0.9).normalize();
+        let f = Frame::from_normal_and_tangent(n, Vec3::new(1.0, 0.5, 0.0));
+        assert!((f.s.cross(f.t) - n).length() < 1e-12);
+        assert!(f.s.dot(n).abs() < 1e-12 && (f.s.length() - 1.0).abs() < 1e-12);
+        assert!(f.s.dot(Vec3::new(1.0, 0.5, 0.0)) > 0.9);
+        assert_eq!(
+            Frame::from_normal_and_tangent(n, n * 2.0),
+            Frame::from_normal(n)
+        );
+    }
 
     fn check(n: Vec3) {
         let f = Frame::from_normal(n);

@@ -17,6 +17,7 @@ pub mod optics;
 mod pattern;
 mod phong;
 mod physical;
+pub mod spectrum;
 mod texture;
 
 pub use crate::math::random::{Jitter, SplitMix64};

@@ -22,7 +22,7 @@
 //! estimates the shares' weighted sum of the layers without bias (and keeps next-event
 //! estimation and multiple importance sampling within the one layer chosen).
 
-use super::bsdf::Bsdf;
+use super::bsdf::{Bsdf, Coat, ConductorBase, Layers};
 use super::material::Material;
 use super::metal_rough::MetalRoughSample;
 use crate::color::Color;
@@ -33,23 +33,29 @@ use crate::color::Color;
 pub enum Physical {
     /// Lambertian: the colour is the albedo.
     Diffuse,
-    /// A metal of complex index `eta + i k` per channel, GGX width `alpha` (0: polished); the
+    /// A metal of complex index `eta + i k` per channel, GGX widths `alpha_u` along the
+    /// surface's tangent and `alpha_v` across it (both 0: polished; equal: isotropic); the
     /// colour tints its reflection (white for the metal itself).
     Conductor {
         /// Real part of the index, per channel.
         eta: Color,
         /// Extinction coefficient, per channel.
         k: Color,
-        /// GGX width.
-        alpha: f64,
+        /// GGX width along the tangent (pbrt-v4's `uroughness` once remapped).
+        alpha_u: f64,
+        /// GGX width across it (`vroughness`).
+        alpha_v: f64,
     },
     /// Glass and other dielectrics: index `eta` inside (relative to the world's ambient index),
-    /// GGX width `alpha` (0: smooth); the colour tints what passes and reflects.
+    /// GGX widths `alpha_u`, `alpha_v` (both 0: smooth); the colour tints what passes and
+    /// reflects.
     Dielectric {
         /// Refractive index inside.
         eta: f64,
-        /// GGX width.
-        alpha: f64,
+        /// GGX width along the tangent.
+        alpha_u: f64,
+        /// GGX width across it.
+        alpha_v: f64,
     },
     /// A thin sheet of dielectric (a window pane, a soap film) that does not bend light.
     ThinDielectric {
@@ -66,23 +72,84 @@ pub enum Physical {
     },
     /// A perfect mirror reflecting the colour's share of the light at every angle.
     Mirror,
+    /// pbrt-v4's `coateddiffuse`: a dielectric `coat` over a Lambertian base whose albedo is
+    /// the colour, with the medium `layers` between (pbrt-v4's defaults:
+    /// `Coat::smooth(1.5)` and [`Layers::PBRT_DEFAULT`]). The coat's index is relative to
+    /// the world's ambient index.
+    CoatedDiffuse {
+        /// The interface on top (pbrt-v4's `eta`, `uroughness`, `vroughness`).
+        coat: Coat,
+        /// `thickness`, `albedo`, `g`, `maxdepth`, `nsamples`.
+        layers: Layers,
+    },
+    /// pbrt-v4's `coatedconductor`: a dielectric `coat` over a metal `base`, with the medium
+    /// `layers` between; the colour tints the metal's reflection (white for the metal itself).
+    /// The base's index is given relative to vacuum, as pbrt-v4's `conductor.eta`/`conductor.k`
+    /// are, and divided by the coat's index here, as pbrt-v4 divides it.
+    CoatedConductor {
+        /// The interface on top (pbrt-v4's `interface.eta`, `interface.uroughness`, …).
+        coat: Coat,
+        /// The metal (`conductor.eta`, `conductor.k`, `conductor.uroughness`, …).
+        base: ConductorBase,
+        /// `thickness`, `albedo`, `g`, `maxdepth`, `nsamples`.
+        layers: Layers,
+    },
+    /// pbrt-v4's `diffusetransmission`: Lambertian reflection of `reflectance` and Lambertian
+    /// transmission of `transmittance` (pbrt-v4's defaults: 0.25 each), both multiplied by the
+    /// colour at the hit and each channel held in `[0, 1]`.
+    DiffuseTransmission {
+        /// The share reflected, per channel.
+        reflectance: Color,
+        /// The share transmitted, per channel.
+        transmittance: Color,
+    },
 }
 
 impl Physical {
-    /// The same material with its GGX width and refractive index replaced where given and
-    /// where it has them (a pattern's value at a hit).
+    /// The same material with its GGX width (both widths, the coat's for the coated ones) and
+    /// refractive index (the coat's) replaced where given and where it has them (a pattern's
+    /// value at a hit).
     pub fn with_parameters(self, alpha: Option<f64>, index: Option<f64>) -> Self {
         let a = |old: f64| alpha.unwrap_or(old);
         let e = |old: f64| index.unwrap_or(old);
+        let coat = |c: Coat| Coat {
+            eta: e(c.eta),
+            alpha_u: a(c.alpha_u),
+            alpha_v: a(c.alpha_v),
+        };
         match self {
-            Physical::Conductor { eta, k, alpha: old } => Physical::Conductor {
+            Physical::Conductor {
                 eta,
                 k,
-                alpha: a(old),
+                alpha_u,
+                alpha_v,
+            } => Physical::Conductor {
+                eta,
+                k,
+                alpha_u: a(alpha_u),
+                alpha_v: a(alpha_v),
             },
-            Physical::Dielectric { eta, alpha: old } => Physical::Dielectric {
+            Physical::Dielectric {
+                eta,
+                alpha_u,
+                alpha_v,
+            } => Physical::Dielectric {
                 eta: e(eta),
-                alpha: a(old),
+                alpha_u: a(alpha_u),
+                alpha_v: a(alpha_v),
+            },
+            Physical::CoatedDiffuse { coat: c, layers } => Physical::CoatedDiffuse {
+                coat: coat(c),
+                layers,
+            },
+            Physical::CoatedConductor {
+                coat: c,
+                base,
+                layers,
+            } => Physical::CoatedConductor {
+                coat: coat(c),
+                base,
+                layers,
             },
             Physical::ThinDielectric { eta } => Physical::ThinDielectric { eta: e(eta) },
             Physical::Plastic { eta, alpha: old } => Physical::Plastic {
@@ -101,15 +168,26 @@ impl Physical {
             Physical::Diffuse => Bsdf::Diffuse {
                 albedo: clamp_unit(colour),
             },
-            Physical::Conductor { eta, k, alpha } => Bsdf::Conductor {
+            Physical::Conductor {
                 eta,
                 k,
-                alpha,
+                alpha_u,
+                alpha_v,
+            } => Bsdf::Conductor {
+                eta,
+                k,
+                alpha_u,
+                alpha_v,
                 tint: colour,
             },
-            Physical::Dielectric { eta, alpha } => Bsdf::Dielectric {
+            Physical::Dielectric {
+                eta,
+                alpha_u,
+                alpha_v,
+            } => Bsdf::Dielectric {
                 eta: relative(eta),
-                alpha,
+                alpha_u,
+                alpha_v,
                 tint: colour,
             },
             Physical::ThinDielectric { eta } => Bsdf::ThinDielectric {
@@ -123,6 +201,37 @@ impl Physical {
                 specular: Color::WHITE,
             },
             Physical::Mirror => Bsdf::Mirror { tint: colour },
+            Physical::CoatedDiffuse { coat, layers } => Bsdf::CoatedDiffuse {
+                reflectance: clamp_unit(colour),
+                coat: Coat {
+                    eta: relative(coat.eta),
+                    ..coat
+                },
+                layers,
+            },
+            Physical::CoatedConductor { coat, base, layers } => {
+                let inside = coat.eta.max(1e-6);
+                Bsdf::CoatedConductor {
+                    coat: Coat {
+                        eta: relative(coat.eta),
+                        ..coat
+                    },
+                    base: ConductorBase {
+                        eta: base.eta / inside,
+                        k: base.k / inside,
+                        ..base
+                    },
+                    tint: colour,
+                    layers,
+                }
+            }
+            Physical::DiffuseTransmission {
+                reflectance,
+                transmittance,
+            } => Bsdf::DiffuseTransmission {
+                reflectance: clamp_unit(colour.hadamard(reflectance)),
+                transmittance: clamp_unit(colour.hadamard(transmittance)),
+            },
         }
     }
 }
@@ -221,7 +330,8 @@ impl Scattering {
         let opacity = material.opacity.clamp(0.0, 1.0);
         let glass = Physical::Dielectric {
             eta: material.refractive_index.max(1e-3),
-            alpha: 0.0,
+            alpha_u: 0.0,
+            alpha_v: 0.0,
         }
         .bsdf(Color::WHITE, ambient_index);
         let gloss = material.gloss;
@@ -252,12 +362,14 @@ impl Scattering {
         let metal = Bsdf::Conductor {
             eta: Color::BLACK,
             k: Color::WHITE,
-            alpha,
+            alpha_u: alpha,
+            alpha_v: alpha,
             tint: point.base,
         };
         let glass = Bsdf::Dielectric {
             eta,
-            alpha,
+            alpha_u: alpha,
+            alpha_v: alpha,
             tint: point.base,
         };
         let base = Bsdf::Plastic {
@@ -290,7 +402,8 @@ impl Scattering {
         };
         let glass = Physical::Dielectric {
             eta: material.refractive_index.max(1e-3),
-            alpha: 0.0,
+            alpha_u: 0.0,
+            alpha_v: 0.0,
         }
         .bsdf(Color::WHITE, ambient_index);
         Self::layered(&[
@@ -430,7 +543,7 @@ mod tests {
         // A quarter metal, then 0.375 glass, then 0.375 plastic; all of GGX width 0.25.
         let (metal, _) = s.pick(0.2);
         assert!(
-            matches!(metal.bsdf, Bsdf::Conductor { alpha, tint, .. } if alpha == 0.25 && tint == point.base)
+            matches!(metal.bsdf, Bsdf::Conductor { alpha_u, alpha_v, tint, .. } if alpha_u == 0.25 && alpha_v == 0.25 && tint == point.base)
         );
         assert!(matches!(s.pick(0.5).0.bsdf, Bsdf::Dielectric { eta, .. } if eta == 1.5));
         assert!(
@@ -453,13 +566,20 @@ mod tests {
     #[test]
     fn a_named_metal_keeps_its_index_and_is_tinted_by_the_colour() {
         let (eta, k) = super::super::bsdf::metal("aluminium").unwrap();
-        let b = Physical::Conductor { eta, k, alpha: 0.2 }.bsdf(Color::WHITE, 1.0);
+        let b = Physical::Conductor {
+            eta,
+            k,
+            alpha_u: 0.2,
+            alpha_v: 0.2,
+        }
+        .bsdf(Color::WHITE, 1.0);
         assert_eq!(
             b,
             Bsdf::Conductor {
                 eta,
                 k,
-                alpha: 0.2,
+                alpha_u: 0.2,
+                alpha_v: 0.2,
                 tint: Color::WHITE
             }
         );

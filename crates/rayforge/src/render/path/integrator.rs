@@ -355,6 +355,35 @@ impl SurfaceVertex<'_> {
         self.geometric.dot(self.wo)
     }
 
+    /// The shading frame around `shading`. Only an anisotropic material needs its first
+    /// tangent along the surface: the mesh's own tangent where it has one, else the direction
+    /// around the object's z axis (`z × n`, or `z × (p − origin)` where the normal is along
+    /// the axis), which is the `∂p/∂u` of pbrt-v4's quadrics (sphere, cylinder, disk); every
+    /// other material keeps the frame of the normal alone.
+    fn frame(&self, shading: Vec3, bsdf: &Bsdf) -> Frame {
+        if !bsdf.is_anisotropic() {
+            return Frame::from_normal(shading);
+        }
+        let tangent = match self.surface.tangent_at(&self.local) {
+            Some((tangent, _)) => tangent,
+            None => {
+                let transform = self.surface.transform_at(self.hit.time);
+                let axis = transform.vector(Vec3::Z);
+                let around = axis.cross(shading);
+                if around.length_squared() > 1e-12 * axis.length_squared() {
+                    around
+                } else {
+                    let origin = transform.point(Point3::ZERO);
+                    match axis.cross(self.point - origin).try_normalize() {
+                        Some(t) => t,
+                        None => transform.vector(Vec3::X),
+                    }
+                }
+            }
+        };
+        Frame::from_normal_and_tangent(shading, tangent)
+    }
+
     /// How the surface scatters light here, by its material and the world's lighting model.
     fn scattering(&self, world: &World) -> Scattering {
         let (surface, point) = (self.surface, self.point);
@@ -517,7 +546,7 @@ impl<'w> PathContext<'w> {
                     };
                 }
                 let (layer, numbers) = self.vertex_numbers(&mut path, &scattering, stream);
-                let frame = Frame::from_normal(shading);
+                let frame = vertex.frame(shading, &layer.bsdf);
                 let wo_local = frame.to_local(vertex.wo);
                 let scatter = Scatter {
                     layer,

@@ -162,7 +162,8 @@ mod tests {
         let rough = |alpha| Bsdf::Conductor {
             eta: Color::new(0.2, 0.9, 1.1),
             k: Color::new(3.9, 2.5, 2.1),
-            alpha,
+            alpha_u: alpha,
+            alpha_v: alpha,
             tint: Color::WHITE,
         };
         let wo = Vec3::new(0.6, 0.0, 0.8);

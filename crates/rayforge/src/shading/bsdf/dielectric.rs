@@ -12,7 +12,7 @@
 //! the indices on the sides of `wo` and `wi`.
 
 use super::microfacet::{reflect, Ggx};
-use super::{fresnel, is_smooth, mirror, BsdfSample};
+use super::{fresnel, mirror, rough, BsdfSample};
 use crate::color::Color;
 use crate::math::Vec3;
 
@@ -81,7 +81,8 @@ fn half_vector(wo: Vec3, wi: Vec3, eta: f64) -> Option<(Vec3, bool)> {
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Dielectric {
     pub eta: f64,
-    pub alpha: f64,
+    pub alpha_u: f64,
+    pub alpha_v: f64,
     pub tint: Color,
 }
 
@@ -115,14 +116,15 @@ impl Dielectric {
     /// pair turned to the outside, the microfacet normal joining them, and its Fresnel
     /// reflectance; `None` for a smooth boundary or no such normal.
     fn facet(&self, wo: Vec3, wi: Vec3) -> Option<Facet> {
-        if is_smooth(self.alpha) || wo.z == 0.0 {
+        let ggx = rough(self.alpha_u, self.alpha_v)?;
+        if wo.z == 0.0 {
             return None;
         }
         let o = orient(wo, wi, self.eta);
         let (h, is_reflection) = half_vector(o.wo, o.wi, o.eta)?;
         let (cos_oh, cos_ih) = (o.wo.dot(h), o.wi.dot(h));
         Some(Facet {
-            ggx: Ggx { alpha: self.alpha },
+            ggx,
             h,
             is_reflection,
             cos_oh,
@@ -171,7 +173,7 @@ impl Dielectric {
                 v
             }
         };
-        if is_smooth(self.alpha) {
+        let Some(ggx) = rough(self.alpha_u, self.alpha_v) else {
             let fr = fresnel::dielectric(o.wo.z, o.eta);
             let f = fr.reflectance;
             if u_lobe < f {
@@ -189,8 +191,7 @@ impl Dielectric {
                 pdf: 1.0 - f,
                 delta: true,
             });
-        }
-        let ggx = Ggx { alpha: self.alpha };
+        };
         let m = ggx.sample_visible(o.wo, u)?;
         let cos_om = o.wo.dot(m);
         let fr = fresnel::dielectric(cos_om, o.eta);

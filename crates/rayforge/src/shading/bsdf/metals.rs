@@ -101,6 +101,30 @@ pub fn metal(name: &str) -> Option<(Color, Color)> {
         })
 }
 
+/// The complex index `(η, κ)` of a conductor that reflects `reflectance` head-on: pbrt-v4's
+/// `reflectance` parameter of its `conductor` and `coatedconductor`, turned into an index as
+/// pbrt-v4 does (`η = 1`, `κ = 2 √r / √(1 − r)`, which makes the normal-incidence Fresnel
+/// reflectance `((η − 1)² + κ²) / ((η + 1)² + κ²)` exactly `r`). Each channel is held in
+/// `[0, 0.9999]` first, as pbrt-v4 holds it.
+pub fn conductor_for_reflectance(reflectance: Color) -> (Color, Color) {
+    let k = |r: f64| {
+        let r = if r.is_nan() {
+            0.0
+        } else {
+            r.clamp(0.0, 0.9999)
+        };
+        2.0 * r.sqrt() / (1.0 - r).sqrt()
+    };
+    (
+        Color::WHITE,
+        Color::new(
+            k(reflectance.red),
+            k(reflectance.green),
+            k(reflectance.blue),
+        ),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -120,6 +144,17 @@ mod tests {
         assert_eq!(k, Color::new(9.22381, 6.2695, 4.837));
         assert_eq!(metal("Au"), metal("gold"));
         assert!(metal("unobtainium").is_none());
+    }
+
+    #[test]
+    fn a_reflectance_becomes_an_index_that_reflects_it_head_on() {
+        let r = Color::new(0.9, 0.5, 0.02);
+        let (eta, k) = conductor_for_reflectance(r);
+        let f0 = fresnel::conductor_normal(eta, k);
+        assert!((f0 - r).max_channel().abs() < 1e-12, "{f0:?}");
+        assert!((fresnel::conductor(1.0, eta, k) - r).max_channel().abs() < 1e-9);
+        let (_, k) = conductor_for_reflectance(Color::new(2.0, -1.0, f64::NAN));
+        assert!(k.to_array().iter().all(|x| x.is_finite()), "{k:?}");
     }
 
     #[test]

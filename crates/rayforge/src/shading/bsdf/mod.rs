@@ -13,25 +13,33 @@
 //! Every function works in the local shading frame ([`Frame`](crate::math::Frame)): the normal
 //! is +Z, all directions are unit vectors pointing away from the surface, `wo` towards the
 //! viewer (the previous path vertex) and `wi` towards the light (the next vertex).
-//! Opaque materials ([`Bsdf::Diffuse`], [`Bsdf::Conductor`], [`Bsdf::Plastic`]) are two-sided:
-//! with `wo` below the surface both directions are mirrored above first, and directions on
-//! opposite sides scatter nothing. No function returns NaN or infinity.
+//! The frame's first tangent (+X) is the direction of an anisotropic material's `alpha_u`.
+//! Opaque materials ([`Bsdf::Diffuse`], [`Bsdf::Conductor`], [`Bsdf::Plastic`] and the coated
+//! ones) are two-sided: with `wo` below the surface both directions are mirrored above first,
+//! and directions on opposite sides scatter nothing. No function returns NaN or infinity.
+//!
+//! The coated materials ([`Bsdf::CoatedDiffuse`], [`Bsdf::CoatedConductor`]) are pbrt-v4's
+//! stochastic layered model: their `eval` and `pdf` are themselves Monte Carlo estimates (see
+//! the `layered` module for what that means and where their random numbers come from).
 
 mod conductor;
 mod dielectric;
 mod diffuse;
 pub mod fresnel;
+mod layered;
 mod metals;
 mod microfacet;
 mod plastic;
 mod thin;
+mod transmission;
 
 #[cfg(test)]
 mod chi2;
 #[cfg(test)]
 mod tests;
 
-pub use metals::{metal, METAL_NAMES};
+pub use layered::{Coat, ConductorBase, Layers};
+pub use metals::{conductor_for_reflectance, metal, METAL_NAMES};
 
 use crate::color::Color;
 use crate::math::Vec3;
@@ -50,14 +58,17 @@ pub enum Bsdf {
         albedo: Color,
     },
     /// A metal: complex index `eta + i k` per channel, reflection by the exact conductor
-    /// Fresnel equations; `alpha` is the GGX width (below [`MIN_ALPHA`]: a perfect mirror).
+    /// Fresnel equations; `alpha_u`, `alpha_v` are the GGX widths along the frame's two
+    /// tangents (both below [`MIN_ALPHA`]: a perfect mirror; equal: isotropic).
     Conductor {
         /// Real part of the complex index of refraction, per channel.
         eta: Color,
         /// Imaginary part (extinction coefficient), per channel.
         k: Color,
-        /// GGX width (not squared from a roughness).
-        alpha: f64,
+        /// GGX width along the first tangent (not squared from a roughness).
+        alpha_u: f64,
+        /// GGX width along the second tangent.
+        alpha_v: f64,
         /// A specular tint multiplying the Fresnel reflectance (white for a physical metal).
         tint: Color,
     },
@@ -65,8 +76,10 @@ pub enum Bsdf {
     Dielectric {
         /// Interior index over exterior index (the interior is below the surface, −Z).
         eta: f64,
-        /// GGX width (below [`MIN_ALPHA`]: a smooth boundary).
-        alpha: f64,
+        /// GGX width along the first tangent (both below [`MIN_ALPHA`]: a smooth boundary).
+        alpha_u: f64,
+        /// GGX width along the second tangent.
+        alpha_v: f64,
         /// Multiplies both reflection and transmission (white for clear glass).
         tint: Color,
     },
@@ -96,6 +109,38 @@ pub enum Bsdf {
         /// Multiplies the coat's reflection (white for a physical coat).
         specular: Color,
     },
+    /// pbrt-v4's `coateddiffuse`: a dielectric coat over a Lambertian base, with a
+    /// scattering medium of the layers' thickness between them, its light transport
+    /// estimated by a random walk (see the `layered` module). Not the same as
+    /// [`Bsdf::Plastic`], whose inter-reflections are summed in closed form.
+    CoatedDiffuse {
+        /// The base's albedo.
+        reflectance: Color,
+        /// The dielectric interface on top.
+        coat: Coat,
+        /// The medium between coat and base, and the walk's limits.
+        layers: Layers,
+    },
+    /// pbrt-v4's `coatedconductor`: a dielectric coat over a metal, with a medium between.
+    CoatedConductor {
+        /// The dielectric interface on top.
+        coat: Coat,
+        /// The metal under it (its index relative to the coat's inside).
+        base: ConductorBase,
+        /// Multiplies the metal's Fresnel reflectance (white for a physical metal).
+        tint: Color,
+        /// The medium between coat and metal, and the walk's limits.
+        layers: Layers,
+    },
+    /// pbrt-v4's `diffusetransmission`: Lambertian reflection of `reflectance` on the side
+    /// the light arrives from and Lambertian transmission of `transmittance` to the other
+    /// (a lampshade, paper, leaves). Two-sided by nature.
+    DiffuseTransmission {
+        /// The share reflected, per channel.
+        reflectance: Color,
+        /// The share transmitted, per channel.
+        transmittance: Color,
+    },
 }
 
 /// One direction drawn by [`Bsdf::sample`], with what the path tracer needs to continue.
@@ -117,6 +162,20 @@ pub struct BsdfSample {
 #[inline]
 pub(crate) fn is_smooth(alpha: f64) -> bool {
     alpha.is_nan() || alpha < MIN_ALPHA
+}
+
+/// The GGX distribution of widths `alpha_u`, `alpha_v`, or `None` where both mean smooth. A
+/// width below [`MIN_ALPHA`] beside a rough one is raised to it, as pbrt-v4 does, so that a
+/// surface rough along one tangent only has a distribution that can be evaluated.
+#[inline]
+pub(crate) fn rough(alpha_u: f64, alpha_v: f64) -> Option<microfacet::Ggx> {
+    if is_smooth(alpha_u) && is_smooth(alpha_v) {
+        return None;
+    }
+    Some(microfacet::Ggx {
+        alpha_x: alpha_u.max(MIN_ALPHA),
+        alpha_y: alpha_v.max(MIN_ALPHA),
+    })
 }
 
 /// The mirror direction of `w` about the normal +Z.
@@ -193,21 +252,42 @@ impl Bsdf {
             Self::Conductor {
                 eta,
                 k,
-                alpha,
+                alpha_u,
+                alpha_v,
                 tint,
             } => match upper_pair(wo, wi) {
                 Some((wo, wi)) => conductor::Conductor {
                     eta,
                     k,
-                    alpha,
+                    alpha_u,
+                    alpha_v,
                     tint,
                 }
                 .eval(wo, wi),
                 None => Color::BLACK,
             },
-            Self::Dielectric { eta, alpha, tint } => {
-                dielectric::Dielectric { eta, alpha, tint }.eval(wo, wi)
+            Self::Dielectric {
+                eta,
+                alpha_u,
+                alpha_v,
+                tint,
+            } => dielectric::Dielectric {
+                eta,
+                alpha_u,
+                alpha_v,
+                tint,
             }
+            .eval(wo, wi),
+            Self::CoatedDiffuse { .. } | Self::CoatedConductor { .. } => {
+                match (upper_pair(wo, wi), layered::Layered::of(self)) {
+                    (Some((wo, wi)), Some(l)) => l.eval(wo, wi),
+                    _ => Color::BLACK,
+                }
+            }
+            Self::DiffuseTransmission {
+                reflectance,
+                transmittance,
+            } => transmission::eval(reflectance, transmittance, wo, wi),
             Self::ThinDielectric { .. } | Self::Mirror { .. } => Color::BLACK,
             Self::Plastic {
                 diffuse,
@@ -242,20 +322,41 @@ impl Bsdf {
             Self::Conductor {
                 eta,
                 k,
-                alpha,
+                alpha_u,
+                alpha_v,
                 tint,
             } => upper_pair(wo, wi).map_or(0.0, |(wo, wi)| {
                 conductor::Conductor {
                     eta,
                     k,
-                    alpha,
+                    alpha_u,
+                    alpha_v,
                     tint,
                 }
                 .pdf(wo, wi)
             }),
-            Self::Dielectric { eta, alpha, tint } => {
-                dielectric::Dielectric { eta, alpha, tint }.pdf(wo, wi)
+            Self::Dielectric {
+                eta,
+                alpha_u,
+                alpha_v,
+                tint,
+            } => dielectric::Dielectric {
+                eta,
+                alpha_u,
+                alpha_v,
+                tint,
             }
+            .pdf(wo, wi),
+            Self::CoatedDiffuse { .. } | Self::CoatedConductor { .. } => {
+                match (upper_pair(wo, wi), layered::Layered::of(self)) {
+                    (Some((wo, wi)), Some(l)) => l.pdf(wo, wi),
+                    _ => 0.0,
+                }
+            }
+            Self::DiffuseTransmission {
+                reflectance,
+                transmittance,
+            } => transmission::pdf(reflectance, transmittance, wo, wi),
             Self::ThinDielectric { .. } | Self::Mirror { .. } => 0.0,
             Self::Plastic {
                 diffuse,
@@ -306,20 +407,38 @@ impl Bsdf {
             Self::Conductor {
                 eta,
                 k,
-                alpha,
+                alpha_u,
+                alpha_v,
                 tint,
             } => opaque(
                 conductor::Conductor {
                     eta,
                     k,
-                    alpha,
+                    alpha_u,
+                    alpha_v,
                     tint,
                 }
                 .sample(up, u),
             ),
-            Self::Dielectric { eta, alpha, tint } => {
-                dielectric::Dielectric { eta, alpha, tint }.sample(wo, u_lobe, u)
+            Self::Dielectric {
+                eta,
+                alpha_u,
+                alpha_v,
+                tint,
+            } => dielectric::Dielectric {
+                eta,
+                alpha_u,
+                alpha_v,
+                tint,
             }
+            .sample(wo, u_lobe, u),
+            Self::CoatedDiffuse { .. } | Self::CoatedConductor { .. } => {
+                opaque(layered::Layered::of(self).and_then(|l| l.sample(up, u_lobe, u)))
+            }
+            Self::DiffuseTransmission {
+                reflectance,
+                transmittance,
+            } => transmission::sample(reflectance, transmittance, wo, u_lobe, u),
             Self::ThinDielectric { eta, tint } => thin::sample(eta, tint, wo, u_lobe),
             Self::Mirror { tint } => opaque(Some(BsdfSample {
                 wi: mirror(up),
@@ -352,22 +471,65 @@ impl Bsdf {
     }
 
     /// Whether [`sample`](Self::sample) uses its number `u_lobe`: to choose between reflection
-    /// and transmission (glass, a thin sheet) or between a coat and what lies under it
-    /// (plastic). Where it does not, a path tracer need not draw the number at all.
+    /// and transmission (glass, a thin sheet, diffuse transmission) or between a coat and what
+    /// lies under it (plastic, the coated materials). Where it does not, a path tracer need not
+    /// draw the number at all.
     pub fn chooses_lobe(&self) -> bool {
         match *self {
-            Self::Dielectric { .. } | Self::ThinDielectric { .. } | Self::Plastic { .. } => true,
+            Self::Dielectric { .. }
+            | Self::ThinDielectric { .. }
+            | Self::Plastic { .. }
+            | Self::CoatedDiffuse { .. }
+            | Self::CoatedConductor { .. }
+            | Self::DiffuseTransmission { .. } => true,
             Self::Diffuse { .. } | Self::Conductor { .. } | Self::Mirror { .. } => false,
         }
     }
 
     /// Whether every lobe is a delta: the integrator then skips light sampling, which could
-    /// never hit a direction the material scatters into.
+    /// never hit a direction the material scatters into. A coated metal is one where coat
+    /// and metal are smooth and the medium between them scatters nothing (every walk then
+    /// leaves in the mirror direction).
     pub fn is_delta(&self) -> bool {
         match *self {
-            Self::Diffuse { .. } | Self::Plastic { .. } => false,
-            Self::Conductor { alpha, .. } | Self::Dielectric { alpha, .. } => is_smooth(alpha),
+            Self::Diffuse { .. }
+            | Self::Plastic { .. }
+            | Self::CoatedDiffuse { .. }
+            | Self::DiffuseTransmission { .. } => false,
+            Self::Conductor {
+                alpha_u, alpha_v, ..
+            }
+            | Self::Dielectric {
+                alpha_u, alpha_v, ..
+            } => rough(alpha_u, alpha_v).is_none(),
+            Self::CoatedConductor {
+                coat, base, layers, ..
+            } => {
+                rough(coat.alpha_u, coat.alpha_v).is_none()
+                    && rough(base.alpha_u, base.alpha_v).is_none()
+                    && !layers.scatters()
+            }
             Self::ThinDielectric { .. } | Self::Mirror { .. } => true,
+        }
+    }
+
+    /// Whether the material's scattering depends on the direction of the frame's tangents
+    /// (an anisotropic GGX width anywhere in it): only then must the integrator align the
+    /// frame's first tangent with the surface's.
+    pub fn is_anisotropic(&self) -> bool {
+        let aniso = |u: f64, v: f64| rough(u, v).is_some_and(|g| g.alpha_x != g.alpha_y);
+        match *self {
+            Self::Conductor {
+                alpha_u, alpha_v, ..
+            }
+            | Self::Dielectric {
+                alpha_u, alpha_v, ..
+            } => aniso(alpha_u, alpha_v),
+            Self::CoatedDiffuse { coat, .. } => aniso(coat.alpha_u, coat.alpha_v),
+            Self::CoatedConductor { coat, base, .. } => {
+                aniso(coat.alpha_u, coat.alpha_v) || aniso(base.alpha_u, base.alpha_v)
+            }
+            _ => false,
         }
     }
 
@@ -380,7 +542,9 @@ impl Bsdf {
     /// and where one lobe takes all the light (total internal reflection).
     pub fn split(&self, wo: Vec3) -> Option<[(BsdfSample, f64); 2]> {
         let splits = match *self {
-            Self::Dielectric { alpha, .. } => is_smooth(alpha),
+            Self::Dielectric {
+                alpha_u, alpha_v, ..
+            } => rough(alpha_u, alpha_v).is_none(),
             Self::ThinDielectric { .. } => true,
             _ => false,
         };
@@ -413,7 +577,8 @@ impl Bsdf {
 
     /// The colour a denoiser's albedo image shows: the diffuse albedo, a metal's reflectance at
     /// normal incidence times its tint, a dielectric's tint, plastic's reflectance head-on
-    /// (`F₀ s + (1 − F₀) ρ`).
+    /// (`F₀ s + (1 − F₀) ρ`), and as much for the coated materials (their base's head-on
+    /// reflectance in place of `ρ`, the medium left out), diffuse transmission's two shares.
     pub fn albedo(&self) -> Color {
         match *self {
             Self::Diffuse { albedo } => albedo,
@@ -432,6 +597,23 @@ impl Bsdf {
                 let f0 = fresnel::dielectric(1.0, eta).reflectance;
                 specular * f0 + diffuse * (1.0 - f0)
             }
+            Self::CoatedDiffuse {
+                reflectance, coat, ..
+            } => {
+                let f0 = fresnel::dielectric(1.0, coat.eta).reflectance;
+                Color::WHITE * f0 + reflectance * (1.0 - f0)
+            }
+            Self::CoatedConductor {
+                coat, base, tint, ..
+            } => {
+                let f0 = fresnel::dielectric(1.0, coat.eta).reflectance;
+                let metal = tint.hadamard(fresnel::conductor_normal(base.eta, base.k));
+                Color::WHITE * f0 + metal * (1.0 - f0)
+            }
+            Self::DiffuseTransmission {
+                reflectance,
+                transmittance,
+            } => reflectance + transmittance,
         }
     }
 }

@@ -92,7 +92,7 @@ impl Plastic {
         if is_smooth(self.alpha) {
             base
         } else {
-            base + self.coat(Ggx { alpha: self.alpha }, wo, wi)
+            base + self.coat(Ggx::isotropic(self.alpha), wo, wi)
         }
     }
 
@@ -106,7 +106,7 @@ impl Plastic {
         if is_smooth(self.alpha) {
             diffuse
         } else {
-            diffuse + p * Self::coat_pdf(Ggx { alpha: self.alpha }, wo, wi)
+            diffuse + p * Self::coat_pdf(Ggx::isotropic(self.alpha), wo, wi)
         }
     }
 
@@ -126,7 +126,7 @@ impl Plastic {
                     delta: true,
                 });
             }
-            let m = Ggx { alpha: self.alpha }.sample_visible(wo, u)?;
+            let m = Ggx::isotropic(self.alpha).sample_visible(wo, u)?;
             reflect(wo, m)
         } else {
             cosine_hemisphere(u)
