@@ -183,6 +183,14 @@ fn red_scene() -> (tempfile::TempDir, std::path::PathBuf) {
     (dir, path)
 }
 
+/// [`red_scene`] served with `flags`, and a page open on it.
+async fn red_page(flags: &[&str]) -> (tempfile::TempDir, Server, Socket) {
+    let (dir, path) = red_scene();
+    let (server, _) = serve_with(&path, flags);
+    let page = open_page(server.port).await;
+    (dir, server, page)
+}
+
 /// Asks for a rasterized frame at the scene's size (48×32) and checks that it comes whole:
 /// the page is served again after whatever a test did to the server.
 async fn a_whole_frame_comes(socket: &mut Socket) {
@@ -613,9 +621,7 @@ async fn pages_past_the_limit_are_refused_and_pages_cost_no_threads() {
 /// one then renders.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_render_over_the_memory_budget_is_refused_naming_the_flag() {
-    let (_dir, path) = red_scene();
-    let (server, _) = serve_with(&path, &["--max-render-memory", "1"]);
-    let mut page = open_page(server.port).await;
+    let (_dir, _server, mut page) = red_page(&["--max-render-memory", "1"]).await;
     // 400 × 400 pixels at 80 bytes each: 12.2 MiB.
     let large = r#"{"type": "render", "renderer": "raster", "width": 400, "height": 400}"#;
     send(&mut page, large.into()).await;
@@ -644,9 +650,7 @@ async fn a_render_over_the_memory_budget_is_refused_naming_the_flag() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_page_that_stops_reading_is_dropped_and_frees_its_render() {
     use futures_util::SinkExt;
-    let (_dir, path) = red_scene();
-    let (server, _) = serve_with(&path, &["--max-renders", "1"]);
-    let mut stalled = open_page(server.port).await;
+    let (_dir, server, mut stalled) = red_page(&["--max-renders", "1"]).await;
     // Minutes of path tracing, in passes.
     let long = r#"{"type": "render", "renderer": "path", "samples": 1048576, "width": 200}"#;
     send(&mut stalled, long.into()).await;
