@@ -174,6 +174,30 @@ async fn raster_frame(socket: &mut Socket, width: u32, after_job: u64) -> (image
     final_image(socket, after_job).await
 }
 
+/// A temporary folder holding `scene.yml`, the [`scene`] of a red sphere, and the file's path
+/// (the folder goes when the first is dropped).
+fn red_scene() -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("scene.yml");
+    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    (dir, path)
+}
+
+/// [`red_scene`] served with `flags`, and a page open on it.
+async fn red_page(flags: &[&str]) -> (tempfile::TempDir, Server, Socket) {
+    let (dir, path) = red_scene();
+    let (server, _) = serve_with(&path, flags);
+    let page = open_page(server.port).await;
+    (dir, server, page)
+}
+
+/// Asks for a rasterized frame at the scene's size (48×32) and checks that it comes whole:
+/// the page is served again after whatever a test did to the server.
+async fn a_whole_frame_comes(socket: &mut Socket) {
+    let (image, _) = raster_frame(socket, 48, 0).await;
+    assert_eq!(image.dimensions(), (48, 32));
+}
+
 /// `rayforge render`'s image of `scene`, as a PNG's pixels.
 fn rendered(scene: &Path, out: &Path) -> image::RgbImage {
     let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
@@ -190,9 +214,7 @@ fn rendered(scene: &Path, out: &Path) -> image::RgbImage {
 
 #[test]
 fn only_the_page_and_its_socket_are_served_on_127_0_0_1() {
-    let dir = tempfile::tempdir().expect("a temporary folder");
-    let path = dir.path().join("scene.yml");
-    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let (_dir, path) = red_scene();
     let (server, address) = serve(&path);
     let port = server.port;
     assert_eq!(address, format!("http://127.0.0.1:{port}/"));
@@ -223,14 +245,9 @@ fn only_the_page_and_its_socket_are_served_on_127_0_0_1() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_page_follows_the_scene_file() {
-    let dir = tempfile::tempdir().expect("a temporary folder");
-    let path = dir.path().join("scene.yml");
-    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let (dir, path) = red_scene();
     let (server, _) = serve(&path);
-    let (mut socket, _) =
-        tokio_tungstenite::connect_async(format!("ws://127.0.0.1:{}/ws", server.port))
-            .await
-            .expect("the WebSocket opens");
+    let mut socket = open_page(server.port).await;
 
     send(&mut socket, r#"{"type": "render"}"#.to_string()).await;
     let (first, job) = final_image(&mut socket, 0).await;
@@ -369,14 +386,9 @@ fn rendered_with(scene: &Path, out: &Path, flags: &[&str]) -> image::RgbImage {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_path_tracer_refines_in_passes_and_the_camera_orbits() {
-    let dir = tempfile::tempdir().expect("a temporary folder");
-    let path = dir.path().join("scene.yml");
-    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let (dir, path) = red_scene();
     let (server, _) = serve(&path);
-    let (mut socket, _) =
-        tokio_tungstenite::connect_async(format!("ws://127.0.0.1:{}/ws", server.port))
-            .await
-            .expect("the WebSocket opens");
+    let mut socket = open_page(server.port).await;
 
     // Passes of 1, 1, 2, 4 samples into one film: the last is the one-pass render of 8.
     send(
@@ -493,10 +505,7 @@ async fn a_camera_placed_otherwise_orbits_about_what_its_centre_sees() {
     )
     .expect("writes the scene");
     let (server, _) = serve(&path);
-    let (mut socket, _) =
-        tokio_tungstenite::connect_async(format!("ws://127.0.0.1:{}/ws", server.port))
-            .await
-            .expect("the WebSocket opens");
+    let mut socket = open_page(server.port).await;
     let view = |yaw: u32| format!(r#"{{"type": "render", "renderer": "ray", "yaw": {yaw}}}"#);
     send(&mut socket, view(0)).await;
     let Received::Json(started) = next(&mut socket).await else {
@@ -563,9 +572,7 @@ fn threads_of(pid: u32) -> usize {
 /// a fixed few however many pages are open, and a page that leaves frees its place.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn pages_past_the_limit_are_refused_and_pages_cost_no_threads() {
-    let dir = tempfile::tempdir().expect("a temporary folder");
-    let path = dir.path().join("scene.yml");
-    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    let (_dir, path) = red_scene();
     const PAGES: usize = 40;
     let (server, _) = serve_with(&path, &["--max-connections", "40", "--max-renders", "2"]);
     let mut pages = Vec::new();
@@ -626,11 +633,7 @@ async fn pages_past_the_limit_are_refused_and_pages_cost_no_threads() {
 /// one then renders.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_render_over_the_memory_budget_is_refused_naming_the_flag() {
-    let dir = tempfile::tempdir().expect("a temporary folder");
-    let path = dir.path().join("scene.yml");
-    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
-    let (server, _) = serve_with(&path, &["--max-render-memory", "1"]);
-    let mut page = open_page(server.port).await;
+    let (_dir, _server, mut page) = red_page(&["--max-render-memory", "1"]).await;
     // 400 × 400 pixels at 80 bytes each: 12.2 MiB.
     let large = r#"{"type": "render", "renderer": "raster", "width": 400, "height": 400}"#;
     send(&mut page, large.into()).await;
@@ -648,8 +651,7 @@ async fn a_render_over_the_memory_budget_is_refused_naming_the_flag() {
             && text.contains("--max-render-memory"),
         "{text}"
     );
-    let (image, _) = raster_frame(&mut page, 48, 0).await;
-    assert_eq!(image.dimensions(), (48, 32));
+    a_whole_frame_comes(&mut page).await;
 }
 
 /// The finding: a page that accepts and never reads held its render (and so every page's,
@@ -660,11 +662,7 @@ async fn a_render_over_the_memory_budget_is_refused_naming_the_flag() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_page_that_stops_reading_is_dropped_and_frees_its_render() {
     use futures_util::SinkExt;
-    let dir = tempfile::tempdir().expect("a temporary folder");
-    let path = dir.path().join("scene.yml");
-    std::fs::write(&path, scene("[1, 0.2, 0.2]")).expect("writes the scene");
-    let (server, _) = serve_with(&path, &["--max-renders", "1"]);
-    let mut stalled = open_page(server.port).await;
+    let (_dir, server, mut stalled) = red_page(&["--max-renders", "1"]).await;
     // Minutes of path tracing, in passes.
     let long = r#"{"type": "render", "renderer": "path", "samples": 1048576, "width": 200}"#;
     send(&mut stalled, long.into()).await;
@@ -683,8 +681,7 @@ async fn a_page_that_stops_reading_is_dropped_and_frees_its_render() {
         stalled
     });
     let mut waiting = open_page(server.port).await;
-    let (image, _) = raster_frame(&mut waiting, 48, 0).await;
-    assert_eq!(image.dimensions(), (48, 32));
+    a_whole_frame_comes(&mut waiting).await;
     flood.abort();
 }
 

@@ -2,31 +2,20 @@
 //! corners turn counter-clockwise, seen from the front, in the file's right-handed axes), and
 //! the path tracer's glass, one-sided faces and `emission-side` read it so.
 
-use rayforge::film::{Film, SharedFilm};
+use rayforge::film::Film;
 use rayforge::geometry::Winding;
-use rayforge::render::path::{render_path, PathJob};
 use rayforge::{point, vector, Ray, Shape};
 use rayforge_scene::obj::{parse_obj, to_meshes};
 use rayforge_scene::Scene;
 use std::ops::Range;
 use std::path::Path;
+use support::{path_scene_head, render_samples};
+
+mod support;
 
 /// The film of `scene` path traced at its camera's size, with samples `samples` of each pixel.
 fn render(scene: &Scene, samples: Range<u64>) -> Film {
-    let (width, height) = (scene.camera.hsize(), scene.camera.vsize());
-    let job = PathJob {
-        options: scene.path.unwrap_or_default(),
-        samples,
-        plan: None,
-        progress: None,
-        cancel: None,
-        on_row: None,
-        roulette: None,
-    };
-    let film = SharedFilm::from(Film::with_filter(width, height, job.options.filter).unwrap());
-    let mut done = vec![false; height];
-    render_path(&scene.camera, &scene.world, &job, &film, None, &mut done).unwrap();
-    film.into_film()
+    render_samples(scene, &scene.camera, samples).0
 }
 
 /// A cube from −1 to 1 as Blender writes one: six quads, each quad's corners counter-clockwise
@@ -147,17 +136,9 @@ fn a_gltf_faces_front_is_the_side_its_corners_turn_counter_clockwise() {
 /// camera sees is oblique, over a checkered floor under a bright sky, path traced with
 /// independent random numbers and the classic roulette (no pilot pass), its seed `seed`.
 fn glass_scene(folder: &Path, cube: &str, seed: u64) -> Scene {
+    let head = path_scene_head(24, 24, 0.9, [0.0, 2.5, -5.0], [0.0, 0.6, 0.0]);
     let text = format!(
-        "- add: camera
-  width: 24
-  height: 24
-  field-of-view: 0.9
-  from: [0, 2.5, -5]
-  to: [0, 0.6, 0]
-  up: [0, 1, 0]
-- world:
-    renderer: path
-    sampler: independent
+        "{head}    sampler: independent
     roulette-scale: 1
     sample-allocation: uniform
     seed: {seed}

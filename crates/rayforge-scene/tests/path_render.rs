@@ -8,7 +8,7 @@ use rayforge::film::Film;
 use rayforge::options::PathOptions;
 use rayforge_scene::Scene;
 use std::path::{Path, PathBuf};
-use support::{render, render_counted};
+use support::{path_scene_head, render, render_counted};
 
 /// The scenes shipped in the repository (those reading models from `../shared`, which a fresh
 /// clone lacks, are left out when it is missing).
@@ -116,17 +116,9 @@ fn the_furnace_sphere_shows_its_albedo_and_the_sky_is_one() {
 /// A metal sphere and a glass one on a floor under a sky, their `roughness` and
 /// `refractive-index` written as `rough` and `index` (numbers or pattern mappings).
 fn textured_scene(rough: &str, index: &str) -> Scene {
+    let head = path_scene_head(12, 8, 1.0, [0.0, 1.5, -5.0], [0.0, 0.5, 0.0]);
     let text = format!(
-        "- add: camera
-  width: 12
-  height: 8
-  field-of-view: 1
-  from: [0, 1.5, -5]
-  to: [0, 0.5, 0]
-  up: [0, 1, 0]
-- world:
-    renderer: path
-    background: [0.8, 0.9, 1.0]
+        "{head}    background: [0.8, 0.9, 1.0]
 - add: plane
   material: {{ type: diffuse, color: [0.5, 0.5, 0.5] }}
 - add: sphere
