@@ -143,7 +143,7 @@ pub fn material(
         }
         "diffusetransmission" => {
             let scale = params.float_or("scale", 1.0)?;
-            if !(scale >= 0.0) {
+            if scale.is_nan() || scale < 0.0 {
                 return Err(entity.error(format!("a scale is not negative, found {scale}")));
             }
             let share = |name| -> Result<Color, SceneError> {
