@@ -186,7 +186,7 @@ fn materials_named_and_anonymous() {
     assert_eq!(
         m(4).physical,
         Some(Physical::Dielectric {
-            eta: 1.5168,
+            eta: rayforge::shading::spectrum::glass_index("glass-BK7").unwrap(),
             alpha_u: 0.2,
             alpha_v: 0.2
         })

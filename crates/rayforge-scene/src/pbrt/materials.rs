@@ -4,7 +4,7 @@
 //! - `conductor`: `eta` and `k` (rgb or pbrt's named metal spectra; copper by default), or
 //!   `reflectance` instead, read as pbrt-v4 reads it: index 1 and `k = 2√r / √(1 − r)`, whose
 //!   reflectance at normal incidence is `r`.
-//! - `dielectric` (`eta`, default 1.5; a named glass is its index at 587.6 nm) and
+//! - `dielectric` (`eta`, default 1.5; a named glass is its index at 550 nm) and
 //!   `thindielectric`.
 //! - `interface` and `none`: no surface, light passes straight through (a dielectric of index 1,
 //!   which bends and reflects nothing).

@@ -8,14 +8,14 @@
 //! - **A `blackbody` temperature or wavelength–value pairs on a light**: pbrt-v4 divides the
 //!   light's scale by the spectrum's luminance, so the light has luminance 1 (times `scale`)
 //!   whatever the spectrum's size; its colour is the spectrum's chromaticity in sRGB. The
-//!   spectrum is integrated here against Wyman, Sloan and Shirley's analytic fit of the CIE
-//!   1931 colour matching functions (2013), every nanometre from 360 to 830 nm.
+//!   spectrum is integrated against the CIE 1931 colour matching functions as the renderer's
+//!   `shading::spectrum` does (Wyman, Sloan and Shirley's analytic fit, 360 to 830 nm).
 //! - **Named spectra**: `stdillum-D65` is sRGB's white; the metals pbrt-v4 names
 //!   (`metal-Ag-`, `-Al-`, `-Au-`, `-Cu-eta` and `-k`) are rayforge's own named metals
-//!   (`shading::bsdf::metals`); the glasses (`glass-BK7`, `-BAF10`, `-FK51A`, `-LASF9`, `-F5`,
-//!   `-F10`, `-F11`, the Schott glasses BK7, BAF10, FK51A, LASF9, SF5, SF10, SF11) are one
-//!   index, the catalogue's at the helium d line (587.6 nm): rayforge's glass does not
-//!   disperse. Other names are refused at the parameter.
+//!   (`shading::spectrum::pbrt_metal`); the glasses (`glass-BK7`, `-BAF10`, `-FK51A`,
+//!   `-LASF9`, `-F5`, `-F10`, `-F11`) are one index each, their Sellmeier index at 550 nm
+//!   (`shading::spectrum::glass_index`): rayforge's glass does not disperse. Other names are
+//!   refused at the parameter.
 //! - **Wavelength–value pairs for an index** (`eta`, `k`): the values at 650, 550 and 450 nm,
 //!   the red, green and blue of the metals table.
 //! - **A reflectance as wavelength–value pairs**: the spectrum under a 6504 K blackbody (the
@@ -24,6 +24,9 @@
 
 use super::params::{Param, ParamType, Values};
 use crate::error::SceneError;
+use rayforge::shading::spectrum::{
+    glass_index, pbrt_metal, planck, spectrum_to_xyz, xyz_to_linear_srgb, GLASS_NAMES,
+};
 use rayforge::Color;
 
 /// What a spectrum stands for, which decides how it becomes a colour.
@@ -37,29 +40,8 @@ pub enum SpectrumUse {
     Index,
 }
 
-/// The named glasses and their indices at 587.6 nm (Schott's catalogue values).
-const GLASSES: &[(&str, f64)] = &[
-    ("glass-BK7", 1.5168),
-    ("glass-BAF10", 1.6700),
-    ("glass-FK51A", 1.4866),
-    ("glass-LASF9", 1.8503),
-    ("glass-F5", 1.6727),
-    ("glass-F10", 1.7283),
-    ("glass-F11", 1.7847),
-];
-
-/// pbrt-v4's metal names and rayforge's for the same metal.
-const METALS: &[(&str, &str)] = &[
-    ("Ag", "silver"),
-    ("Al", "aluminium"),
-    ("Au", "gold"),
-    ("Cu", "copper"),
-];
-
-/// The index a named glass has, for a dielectric's `"spectrum eta"`.
-pub fn glass_index(name: &str) -> Option<f64> {
-    GLASSES.iter().find(|(n, _)| *n == name).map(|(_, v)| *v)
-}
+/// The metals pbrt-v4 names that rayforge's table has (`metal-NAME-eta`, `metal-NAME-k`).
+const METALS: &[&str] = &["Ag", "Al", "Au", "Cu"];
 
 /// The colour of parameter `p` (of type `rgb`, `spectrum` or `blackbody`) used as `usage`.
 pub fn color(p: &Param, usage: SpectrumUse) -> Result<Color, SceneError> {
@@ -76,7 +58,7 @@ pub fn color(p: &Param, usage: SpectrumUse) -> Result<Color, SceneError> {
             if v[0] <= 0.0 {
                 return Err(p.error("a blackbody's temperature is above 0 kelvin"));
             }
-            let xyz = xyz_of(|l| planck(l, v[0]));
+            let xyz = spectrum_to_xyz(|l| planck(l, v[0]));
             match usage {
                 SpectrumUse::Illuminant => Ok(rgb_of_unit_luminance(xyz)),
                 _ => Err(p.error("a blackbody is a light's colour, not a surface's")),
@@ -103,18 +85,15 @@ fn named(p: &Param, name: &str, usage: SpectrumUse) -> Result<Color, SceneError>
         if let Some(eta) = glass_index(name) {
             return Ok(Color::new(eta, eta, eta));
         }
-        let metal = name
-            .strip_prefix("metal-")
-            .and_then(|rest| rest.rsplit_once('-'))
-            .and_then(|(metal, part)| {
-                let ours = METALS.iter().find(|(m, _)| *m == metal)?.1;
-                let (eta, k) = rayforge::shading::bsdf::metal(ours)?;
-                match part {
-                    "eta" => Some(eta),
-                    "k" => Some(k),
-                    _ => None,
-                }
-            });
+        let metal = pbrt_metal(name).and_then(|(eta, k)| {
+            if name.ends_with("-eta") {
+                Some(eta)
+            } else if name.ends_with("-k") {
+                Some(k)
+            } else {
+                None
+            }
+        });
         if let Some(c) = metal {
             return Ok(c);
         }
@@ -128,8 +107,8 @@ fn named(p: &Param, name: &str, usage: SpectrumUse) -> Result<Color, SceneError>
     let known = match usage {
         SpectrumUse::Illuminant => "stdillum-D65".to_string(),
         SpectrumUse::Index => {
-            let mut names: Vec<String> = GLASSES.iter().map(|(n, _)| n.to_string()).collect();
-            for (m, _) in METALS {
+            let mut names: Vec<String> = GLASS_NAMES.iter().map(|n| n.to_string()).collect();
+            for m in METALS {
                 names.push(format!("metal-{m}-eta"));
                 names.push(format!("metal-{m}-k"));
             }
@@ -153,16 +132,20 @@ fn pairs(p: &Param, v: &[f64], usage: SpectrumUse) -> Result<Color, SceneError> 
     match usage {
         SpectrumUse::Index => Ok(Color::new(at(650.0), at(550.0), at(450.0))),
         SpectrumUse::Illuminant => {
-            let xyz = xyz_of(at);
+            let xyz = spectrum_to_xyz(at);
             if xyz[1] <= 0.0 || xyz[1].is_nan() {
                 return Err(p.error("this light's spectrum gives no visible light"));
             }
             Ok(rgb_of_unit_luminance(xyz))
         }
         SpectrumUse::Albedo => {
-            let lit = xyz_to_rgb(xyz_of(|l| at(l) * planck(l, 6504.0)));
-            let white = xyz_to_rgb(xyz_of(|l| planck(l, 6504.0)));
-            let c = Color::new(lit[0] / white[0], lit[1] / white[1], lit[2] / white[2]);
+            let lit = xyz_to_linear_srgb(spectrum_to_xyz(|l| at(l) * planck(l, 6504.0)));
+            let white = xyz_to_linear_srgb(spectrum_to_xyz(|l| planck(l, 6504.0)));
+            let c = Color::new(
+                lit.red / white.red,
+                lit.green / white.green,
+                lit.blue / white.blue,
+            );
             Ok(Color::new(
                 c.red.max(0.0),
                 c.green.max(0.0),
@@ -187,62 +170,12 @@ fn piecewise(points: &[(f64, f64)], l: f64) -> f64 {
     a.1 + (b.1 - a.1) * (l - a.0) / (b.0 - a.0)
 }
 
-/// Planck's law: the spectral radiance of a blackbody at `kelvin`, at `nm` nanometres (in
-/// arbitrary units: only its shape matters here).
-fn planck(nm: f64, kelvin: f64) -> f64 {
-    const C: f64 = 299_792_458.0;
-    const H: f64 = 6.626_070_15e-34;
-    const KB: f64 = 1.380_649e-23;
-    let l = nm * 1e-9;
-    2.0 * H * C * C / (l.powi(5) * ((H * C / (l * KB * kelvin)).exp_m1())) * 1e-12
-}
-
-/// One lobe of the fit: a Gaussian of different widths on its two sides.
-fn lobe(l: f64, mean: f64, below: f64, above: f64) -> f64 {
-    let s = if l < mean { below } else { above };
-    let t = (l - mean) / s;
-    (-0.5 * t * t).exp()
-}
-
-/// The CIE 1931 colour matching functions at `l` nm, by the multi-lobe fit of Wyman, Sloan
-/// and Shirley (2013).
-fn matching(l: f64) -> [f64; 3] {
-    let x = 1.056 * lobe(l, 599.8, 37.9, 31.0) + 0.362 * lobe(l, 442.0, 16.0, 26.7)
-        - 0.065 * lobe(l, 501.1, 20.4, 26.2);
-    let y = 0.821 * lobe(l, 568.8, 46.9, 40.5) + 0.286 * lobe(l, 530.9, 16.3, 31.1);
-    let z = 1.217 * lobe(l, 437.0, 11.8, 36.0) + 0.681 * lobe(l, 459.0, 26.0, 13.8);
-    [x, y, z]
-}
-
-/// The XYZ of the spectrum `s` (unnormalised sums over every nanometre).
-fn xyz_of(s: impl Fn(f64) -> f64) -> [f64; 3] {
-    let mut xyz = [0.0; 3];
-    for nm in 360..=830 {
-        let l = f64::from(nm);
-        let v = s(l);
-        let m = matching(l);
-        for c in 0..3 {
-            xyz[c] += v * m[c];
-        }
-    }
-    xyz
-}
-
-/// Linear sRGB from XYZ (D65 white).
-fn xyz_to_rgb([x, y, z]: [f64; 3]) -> [f64; 3] {
-    [
-        3.240_454_2 * x - 1.537_138_5 * y - 0.498_531_4 * z,
-        -0.969_266_0 * x + 1.876_010_8 * y + 0.041_556_0 * z,
-        0.055_643_4 * x - 0.204_025_9 * y + 1.057_225_2 * z,
-    ]
-}
-
 /// The linear sRGB colour of luminance 1 with the chromaticity of `xyz`.
 fn rgb_of_unit_luminance(xyz: [f64; 3]) -> Color {
     let y = xyz[1].max(1e-300);
-    let [r, g, b] = xyz_to_rgb([xyz[0] / y, 1.0, xyz[2] / y]);
+    let c = xyz_to_linear_srgb([xyz[0] / y, 1.0, xyz[2] / y]);
     // Chromaticities outside sRGB's gamut (a deep red blackbody) lose what sRGB cannot show.
-    Color::new(r.max(0.0), g.max(0.0), b.max(0.0))
+    Color::new(c.red.max(0.0), c.green.max(0.0), c.blue.max(0.0))
 }
 
 #[cfg(test)]
@@ -291,7 +224,7 @@ mod tests {
         let (eta, _) = rayforge::shading::bsdf::metal("copper").unwrap();
         assert_eq!(cu, eta);
         let bk7 = colour("\"spectrum v\" \"glass-BK7\"", SpectrumUse::Index).unwrap();
-        assert_eq!(bk7.red, 1.5168);
+        assert_eq!(Some(bk7.red), glass_index("glass-BK7"));
         let white = colour("\"spectrum v\" \"stdillum-D65\"", SpectrumUse::Illuminant).unwrap();
         assert_eq!(white, Color::WHITE);
         let err = colour("\"spectrum v\" \"metal-CuZn-eta\"", SpectrumUse::Index).unwrap_err();
