@@ -417,35 +417,35 @@ pub const AOV_NAMES: [&str; 4] = ["albedo", "normal", "depth", "samples"];
 /// `out.albedo.png` and `out.normal.png` for `out.png` (in the image's format), and
 /// `out.depth.pfm` and `out.samples.pfm` (always linear PFM).
 pub fn aov_paths(output: &Path) -> [PathBuf; 4] {
-    let stem = output
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
     let ext = output
         .extension()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let named = |aov: &str, ext: &str| output.with_file_name(format!("{stem}.{aov}.{ext}"));
     [
-        named("albedo", &ext),
-        named("normal", &ext),
-        named("depth", "pfm"),
-        named("samples", "pfm"),
+        beside(output, "albedo", &ext),
+        beside(output, "normal", &ext),
+        beside(output, "depth", "pfm"),
+        beside(output, "samples", "pfm"),
     ]
+}
+
+/// `out.NAME.EXT` beside `out.png`.
+fn beside(output: &Path, name: &str, ext: &str) -> PathBuf {
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    output.with_file_name(format!("{stem}.{name}.{ext}"))
 }
 
 /// Where `--denoise --aovs` writes the raw image when the image is not OpenEXR: beside it,
 /// `out.noisy.png` for `out.png`, in the image's format.
 pub fn noisy_path(output: &Path) -> PathBuf {
-    let stem = output
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
     let ext = output
         .extension()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    output.with_file_name(format!("{stem}.noisy.{ext}"))
+    beside(output, "noisy", &ext)
 }
 
 /// Radiance as the format wants it: linear for PFM and OpenEXR; for the 8-bit formats,

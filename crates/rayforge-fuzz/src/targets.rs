@@ -61,15 +61,7 @@ pub fn obj(input: &[u8]) -> bool {
                 object.material = material.unwrap_or_default();
                 world.objects.push(object);
             }
-            world
-                .lights
-                .push(Light::point(point(-10.0, 10.0, -10.0), Color::WHITE));
-            let camera = Camera::new(3, 2, 1.0).with_transform(rayforge::math::view_transform(
-                point(0.5, 1.0, -5.0),
-                point(0.0, 0.0, 0.0),
-                vector(0.0, 1.0, 0.0),
-            ));
-            tiny_render(&camera, &world);
+            lit_model_render(world);
             true
         }
         Err(e) => {
@@ -204,6 +196,19 @@ fn rendered(read: Result<rayforge_scene::Scene, SceneError>, path: &Path, text: 
             false
         }
     }
+}
+
+/// A model's `world` under a point light, seen from in front, rendered by [`tiny_render`].
+fn lit_model_render(mut world: World) {
+    world
+        .lights
+        .push(Light::point(point(-10.0, 10.0, -10.0), Color::WHITE));
+    let camera = Camera::new(3, 2, 1.0).with_transform(rayforge::math::view_transform(
+        point(0.5, 1.0, -5.0),
+        point(0.0, 0.0, 0.0),
+        vector(0.0, 1.0, 0.0),
+    ));
+    tiny_render(&camera, &world);
 }
 
 /// A 3×2 render with every kind of sampling touched lightly.

@@ -13,8 +13,9 @@ use rayforge::shading::{
 };
 use rayforge::{Color, Material, Pattern, PatternKind, Transform};
 
-/// The keys a material may have.
-const MATERIAL_KEYS: &[&str] = &[
+/// The keys every material may have (the books' and the ones all renderers share); a physical
+/// material (`type:`) may also have [`PHYSICAL_KEYS`].
+const COMMON_KEYS: &[&str] = &[
     "color",
     "ambient",
     "diffuse",
@@ -31,29 +32,6 @@ const MATERIAL_KEYS: &[&str] = &[
     "emission",
     "emission-side",
     "two-sided",
-    "type",
-    "metal",
-    "eta",
-    "k",
-    "alpha",
-    "roughness",
-    "alpha-u",
-    "alpha-v",
-    "roughness-u",
-    "roughness-v",
-    "base-alpha",
-    "base-roughness",
-    "base-alpha-u",
-    "base-alpha-v",
-    "base-roughness-u",
-    "base-roughness-v",
-    "thickness",
-    "medium-albedo",
-    "medium-g",
-    "walk-depth",
-    "walk-samples",
-    "reflectance",
-    "transmittance",
 ];
 
 /// The path tracer's material types (`type:`), as scene files name them.
@@ -175,7 +153,12 @@ pub fn material<'n, 's>(
     base: &Material,
 ) -> Result<Material, SceneError> {
     let entries = material_entries(source, defines, node)?;
-    check_keys(source, &entries, "a material", MATERIAL_KEYS)?;
+    check_keys(
+        source,
+        &entries,
+        "a material",
+        &[COMMON_KEYS, &["type"], PHYSICAL_KEYS].concat(),
+    )?;
     let mut m = base.clone();
     for &Entry { name, value, .. } in &entries {
         let number = || source.number(value, name);

@@ -2,7 +2,7 @@
 //! and renders what the reader made of it, and [`seeds`] writes the small files it starts from.
 //! Kept a plain function of the input's bytes, so that any engine can call it.
 
-use rayforge::{point, vector, Camera, Color, Light, Object, World};
+use rayforge::{Object, World};
 use rayforge_scene::ply::parse_ply;
 use rayforge_scene::SceneError;
 use std::io::Write;
@@ -18,15 +18,7 @@ pub fn run(input: &[u8]) -> bool {
             assert!(mesh.face_count() > 0, "an accepted model has no faces");
             let mut world = World::new();
             world.objects.push(Object::mesh(std::sync::Arc::new(mesh)));
-            world
-                .lights
-                .push(Light::point(point(-10.0, 10.0, -10.0), Color::WHITE));
-            let camera = Camera::new(3, 2, 1.0).with_transform(rayforge::math::view_transform(
-                point(0.5, 1.0, -5.0),
-                point(0.0, 0.0, 0.0),
-                vector(0.0, 1.0, 0.0),
-            ));
-            super::tiny_render(&camera, &world);
+            super::lit_model_render(world);
             true
         }
         Err(e) => {
