@@ -26,6 +26,7 @@ pub mod ply;
 mod scene;
 mod settings;
 mod source;
+mod text_line;
 mod transform;
 
 pub use assets::texture_from_bytes;

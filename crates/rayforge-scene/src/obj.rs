@@ -11,6 +11,7 @@
 
 use crate::error::{SceneError, Span};
 use crate::files::Folder;
+use crate::text_line::TextLine;
 use rayforge::{Color, Material, Point3, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
@@ -156,32 +157,8 @@ fn read_text(path: &Path) -> Result<String, SceneError> {
     })
 }
 
-/// A line being read: its words with their columns, for located errors.
-struct Line<'t> {
-    path: &'t Path,
-    number: usize,
-    offset: usize,
-    text: &'t str,
-}
-
-impl<'t> Line<'t> {
-    fn words(&self) -> impl Iterator<Item = (usize, &'t str)> + 't {
-        let text = self.text;
-        text.split_ascii_whitespace()
-            .map(move |w| (w.as_ptr() as usize - text.as_ptr() as usize, w))
-    }
-
-    fn error(&self, column: usize, len: usize, key: &str, message: String) -> SceneError {
-        SceneError::new(self.path, message)
-            .at(Span {
-                line: self.number,
-                column: column + 1,
-                offset: self.offset + column,
-                len,
-            })
-            .with_key(key)
-    }
-
+/// What an OBJ or MTL statement adds to a line's errors: its numbers.
+impl TextLine<'_> {
     /// The numbers after the keyword: at least `min`, at most `max`, all finite.
     fn numbers<const N: usize>(&self, key: &str, min: usize) -> Result<[f64; N], SceneError> {
         let mut out = [0.0; N];
@@ -223,12 +200,12 @@ impl<'t> Line<'t> {
 
 /// The non-blank lines of a file with their first word (the statement's keyword), numbered and
 /// positioned for errors. OBJ and MTL share this shape.
-fn statements<'t>(text: &'t str, path: &'t Path) -> impl Iterator<Item = (Line<'t>, &'t str)> {
+fn statements<'t>(text: &'t str, path: &'t Path) -> impl Iterator<Item = (TextLine<'t>, &'t str)> {
     let mut offset = 0;
     text.split_inclusive('\n')
         .enumerate()
         .filter_map(move |(index, raw)| {
-            let line = Line {
+            let line = TextLine {
                 path,
                 number: index + 1,
                 offset,
@@ -255,7 +232,7 @@ pub fn parse_obj_with_limit(
     max_triangles: usize,
 ) -> Result<ObjFile, SceneError> {
     let mut triangles = 0usize;
-    let too_many = |line: &Line<'_>| {
+    let too_many = |line: &TextLine<'_>| {
         line.error(
             0,
             1,
@@ -269,7 +246,7 @@ pub fn parse_obj_with_limit(
     // Vertices, normals and texture coordinates are bounded too: three per triangle, as a
     // model whose faces share no corners has.
     let max_vertices = max_triangles.saturating_mul(3);
-    let room = |line: &Line<'_>, key: &str, count: usize| {
+    let room = |line: &TextLine<'_>, key: &str, count: usize| {
         if count >= max_vertices {
             Err(line.error(
                 0,
@@ -398,7 +375,7 @@ struct Corner {
 /// false): then they name nothing and are ignored, as the book's parser ignores texture
 /// indices altogether (its "faces with normals" file uses 0 and 102).
 fn corner(
-    line: &Line<'_>,
+    line: &TextLine<'_>,
     obj: &ObjFile,
     texcoords_named: bool,
     col: usize,

@@ -3,6 +3,7 @@
 //! still point at the declaration that set them up.
 
 use crate::error::{SceneError, Span};
+use crate::text_line::TextLine;
 use std::path::Path;
 
 /// The longest header read (a header is a few hundred bytes; comments may add some). Bounded
@@ -181,7 +182,7 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<Header, SceneError> {
         number += 1;
         let raw = &rest[..end];
         let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
-        let line = Line {
+        let line = TextLine {
             path,
             number,
             offset,
@@ -288,36 +289,8 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<Header, SceneError> {
     }
 }
 
-/// A header line, for located errors.
-struct Line<'t> {
-    path: &'t Path,
-    number: usize,
-    offset: usize,
-    text: &'t str,
-}
-
-impl<'t> Line<'t> {
-    fn words(&self) -> impl Iterator<Item = (usize, &'t str)> + 't {
-        let text = self.text;
-        text.split_ascii_whitespace()
-            .map(move |w| (w.as_ptr() as usize - text.as_ptr() as usize, w))
-    }
-
-    fn error(&self, column: usize, len: usize, key: &str, message: String) -> SceneError {
-        SceneError::new(self.path, message)
-            .at(self.span(column, len))
-            .with_key(key)
-    }
-
-    fn span(&self, column: usize, len: usize) -> Span {
-        Span {
-            line: self.number,
-            column: column + 1,
-            offset: self.offset + column,
-            len,
-        }
-    }
-
+/// What a PLY header adds to a line's errors.
+impl TextLine<'_> {
     /// The error for a line that lacks its `what`, pointing past its last word.
     fn missing(&self, key: &str, what: &str, usage: &str) -> SceneError {
         self.error(
@@ -329,7 +302,7 @@ impl<'t> Line<'t> {
     }
 }
 
-fn parse_format(line: &Line<'_>, words: &[(usize, &str)]) -> Result<Format, SceneError> {
+fn parse_format(line: &TextLine<'_>, words: &[(usize, &str)]) -> Result<Format, SceneError> {
     const USAGE: &str = "format ascii|binary_little_endian|binary_big_endian 1.0";
     let &(col, name) = words
         .get(1)
@@ -369,7 +342,7 @@ fn parse_format(line: &Line<'_>, words: &[(usize, &str)]) -> Result<Format, Scen
     Ok(format)
 }
 
-fn parse_element(line: &Line<'_>, words: &[(usize, &str)]) -> Result<Element, SceneError> {
+fn parse_element(line: &TextLine<'_>, words: &[(usize, &str)]) -> Result<Element, SceneError> {
     const USAGE: &str = "element NAME COUNT";
     let &(_, name) = words
         .get(1)
@@ -401,7 +374,7 @@ fn parse_element(line: &Line<'_>, words: &[(usize, &str)]) -> Result<Element, Sc
     })
 }
 
-fn parse_property(line: &Line<'_>, words: &[(usize, &str)]) -> Result<Property, SceneError> {
+fn parse_property(line: &TextLine<'_>, words: &[(usize, &str)]) -> Result<Property, SceneError> {
     const USAGE: &str = "property TYPE NAME` or `property list COUNT_TYPE TYPE NAME";
     let scalar = |i: usize| -> Result<Scalar, SceneError> {
         let &(col, name) = words
