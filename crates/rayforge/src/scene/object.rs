@@ -7,6 +7,7 @@ use crate::geometry::Triangle;
 use crate::math::random::SplitMix64;
 use crate::math::{Aabb, Motion, Point3, Ray, SingularTransform, Transform, Vec3};
 use crate::scene::{Intersection, Shape};
+use crate::shading::texture_graph::TextureContext;
 use crate::shading::{Material, MetalRough, SurfacePoint};
 use std::borrow::Cow;
 
@@ -194,6 +195,9 @@ impl Object {
             (Shape::Mesh(mesh), Some(m)) if m.has_holes() || m.culls_back() => {
                 mesh.closest_hit_where(local, t_min, t_max, |h| surface_is_there(mesh, m, local, h))
             }
+            (Shape::Mesh(mesh), None) if self.has_alpha() => {
+                mesh.closest_hit_where(local, t_min, t_max, |h| self.alpha_keeps(mesh, local, h))
+            }
             _ => self.shape.closest_hit(local, t_min, t_max),
         }
     }
@@ -206,8 +210,57 @@ impl Object {
             (Shape::Mesh(mesh), Some(m)) if m.has_holes() || m.culls_back() => {
                 mesh.any_hit_where(local, t_min, t_max, |h| surface_is_there(mesh, m, local, h))
             }
+            (Shape::Mesh(mesh), None) if self.has_alpha() => {
+                mesh.any_hit_where(local, t_min, t_max, |h| self.alpha_keeps(mesh, local, h))
+            }
             _ => self.shape.any_hit(local, t_min, t_max),
         }
+    }
+
+    /// Whether the material cuts the surface by an alpha texture (pbrt-v4's `alpha`).
+    #[inline]
+    fn has_alpha(&self) -> bool {
+        self.material
+            .textures
+            .as_ref()
+            .is_some_and(|t| t.alpha.is_some())
+    }
+
+    /// Where the material's textures are read at a hit on this object: the world-space
+    /// `point`, the surface's `at` coordinates, or where a mesh has none pbrt-v4's defaults
+    /// for a triangle ((0, 0), (1, 0), (1, 1) at its corners; (0, 0) on other shapes), and the
+    /// world-space geometric `normal`.
+    #[inline]
+    pub fn texture_context(
+        &self,
+        point: Point3,
+        at: &SurfacePoint,
+        hit: &LocalHit,
+        normal: Vec3,
+    ) -> TextureContext {
+        let uv = at.uv.unwrap_or(match self.shape {
+            Shape::Mesh(_) => (hit.u + hit.v, hit.v),
+            _ => (0.0, 0.0),
+        });
+        TextureContext { uv, point, normal }
+    }
+
+    /// Whether a hit on this mesh survives its alpha texture: pbrt-v4's stochastic test, the
+    /// coin a hash of the ray and the hit (as for glTF's blended surfaces), so the same ray
+    /// always gets the same answer and shadow rays see the same holes as camera rays.
+    fn alpha_keeps(&self, mesh: &Mesh, local: &Ray, hit: &LocalHit) -> bool {
+        let Some(textures) = self.material.textures.as_deref() else {
+            return true;
+        };
+        let transform = self.transform_at(local.time);
+        let at = SurfacePoint {
+            uv: mesh.texcoord_at(hit),
+            vertex_color: None,
+        };
+        let point = transform.point(local.position(hit.t));
+        let normal = transform.normal(mesh.face_normal(hit.face));
+        let ctx = self.texture_context(point, &at, hit, normal);
+        textures.is_there(&ctx, hit_coin(local, hit))
     }
 
     /// The world-space tangent at a hit on a mesh with tangents, with the sign that turns
@@ -322,11 +375,17 @@ fn surface_is_there(mesh: &Mesh, material: &MetalRough, local: &Ray, hit: &Local
         uv: mesh.texcoord_at(hit),
         vertex_color: mesh.color_at(hit),
     };
+    material.is_there(&at, hit_coin(local, hit))
+}
+
+/// A number in `[0, 1)` that is a hash of the object-space ray and its hit: the coin of a
+/// stochastic alpha test, the same for the same ray however often it is traced.
+#[inline]
+fn hit_coin(local: &Ray, hit: &LocalHit) -> f64 {
     let seed = u64::from(hit.face)
         ^ hit.t.to_bits().rotate_left(17)
         ^ local.direction.x.to_bits().rotate_left(31)
         ^ local.direction.y.to_bits().rotate_left(47)
         ^ local.origin.z.to_bits();
-    let coin = (SplitMix64::new(seed).next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
-    material.is_there(&at, coin)
+    (SplitMix64::new(seed).next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }

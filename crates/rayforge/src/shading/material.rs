@@ -5,6 +5,7 @@ use super::metal_rough::{MetalRough, SurfacePoint};
 use super::pattern::Pattern;
 use super::physical::Physical;
 use super::texture::UvPattern;
+use super::texture_graph::SurfaceTextures;
 use crate::color::Color;
 use crate::math::Point3;
 use std::sync::Arc;
@@ -62,6 +63,10 @@ pub struct Material {
     /// gives the surface colour (base colour × texture × vertex colour) to every renderer,
     /// and the path tracer its scattering, normal map, emission and alpha.
     pub metal_rough: Option<Arc<MetalRough>>,
+    /// Textures for the physical material's parameters and the surface's alpha, as pbrt-v4
+    /// scenes give them (see [`SurfaceTextures`]): read by the path tracer at each hit, where
+    /// they replace the fixed colour, widths and shares. Boxed like the pattern.
+    pub textures: Option<Box<SurfaceTextures>>,
 }
 
 /// Patterns for a physical material's parameters. Each pattern's value at a point is the mean
@@ -130,6 +135,7 @@ impl Material {
         physical: None,
         physical_patterns: None,
         metal_rough: None,
+        textures: None,
     };
 
     /// The book's `glass_sphere()` material: fully transparent, index 1.5.

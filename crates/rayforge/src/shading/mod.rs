@@ -19,6 +19,7 @@ mod phong;
 mod physical;
 pub mod spectrum;
 mod texture;
+pub mod texture_graph;
 
 pub use crate::math::random::{Jitter, SplitMix64};
 pub use bump::{Bump, BumpKind};

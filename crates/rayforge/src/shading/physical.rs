@@ -160,6 +160,83 @@ impl Physical {
         }
     }
 
+    /// The same material with the GGX widths of its outer interface (a conductor's, a
+    /// dielectric's, a coat's) and of a coated conductor's metal, and a diffuse transmitter's
+    /// shares, replaced where given: its textures' values at a hit (pbrt-v4's textured
+    /// `uroughness`, `vroughness`, `conductor.roughness`, `reflectance`, `transmittance`).
+    /// Materials without the parameter keep their own.
+    pub fn with_textured(
+        self,
+        widths: Option<(f64, f64)>,
+        base_widths: Option<(f64, f64)>,
+        shares: (Option<Color>, Option<Color>),
+    ) -> Self {
+        let coat = |c: Coat| match widths {
+            Some((alpha_u, alpha_v)) => Coat {
+                alpha_u,
+                alpha_v,
+                ..c
+            },
+            None => c,
+        };
+        match self {
+            Physical::Conductor {
+                eta,
+                k,
+                alpha_u,
+                alpha_v,
+            } => {
+                let (alpha_u, alpha_v) = widths.unwrap_or((alpha_u, alpha_v));
+                Physical::Conductor {
+                    eta,
+                    k,
+                    alpha_u,
+                    alpha_v,
+                }
+            }
+            Physical::Dielectric {
+                eta,
+                alpha_u,
+                alpha_v,
+            } => {
+                let (alpha_u, alpha_v) = widths.unwrap_or((alpha_u, alpha_v));
+                Physical::Dielectric {
+                    eta,
+                    alpha_u,
+                    alpha_v,
+                }
+            }
+            Physical::CoatedDiffuse { coat: c, layers } => Physical::CoatedDiffuse {
+                coat: coat(c),
+                layers,
+            },
+            Physical::CoatedConductor {
+                coat: c,
+                base,
+                layers,
+            } => Physical::CoatedConductor {
+                coat: coat(c),
+                base: match base_widths {
+                    Some((alpha_u, alpha_v)) => ConductorBase {
+                        alpha_u,
+                        alpha_v,
+                        ..base
+                    },
+                    None => base,
+                },
+                layers,
+            },
+            Physical::DiffuseTransmission {
+                reflectance,
+                transmittance,
+            } => Physical::DiffuseTransmission {
+                reflectance: shares.0.unwrap_or(reflectance),
+                transmittance: shares.1.unwrap_or(transmittance),
+            },
+            other => other,
+        }
+    }
+
     /// The scattering of this material with `colour` at the hit, where the world's ambient
     /// index is `ambient_index`.
     pub fn bsdf(self, colour: Color, ambient_index: f64) -> Bsdf {

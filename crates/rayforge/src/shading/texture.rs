@@ -167,6 +167,12 @@ impl Texture {
         &self.pixels
     }
 
+    /// The pixels, row-major from the top-left, given up (a reader that keeps them in
+    /// another form need not copy them).
+    pub fn into_pixels(self) -> Vec<Color> {
+        self.pixels
+    }
+
     /// The pixels as an image to sample.
     fn image(&self) -> TexelGrid<'_> {
         TexelGrid {

@@ -388,8 +388,16 @@ impl SurfaceVertex<'_> {
     fn scattering(&self, world: &World) -> Scattering {
         let (surface, point) = (self.surface, self.point);
         let material = &surface.material;
-        let colour = surface.surface_color(point, &self.at, self.hit.time);
-        let physical = material.physical_at(|| surface.world_to_object_at(point, self.hit.time));
+        let mut colour = surface.surface_color(point, &self.at, self.hit.time);
+        let mut physical =
+            material.physical_at(|| surface.world_to_object_at(point, self.hit.time));
+        if let Some(textures) = material.textures.as_deref() {
+            let ctx = surface.texture_context(point, &self.at, &self.local, self.geometric);
+            if let Some(c) = textures.color_at(&ctx) {
+                colour = c;
+            }
+            physical = physical.map(|p| textures.physical_at(p, &ctx));
+        }
         match (&material.metal_rough, physical) {
             (Some(m), _) => {
                 Scattering::metal_rough(&m.sample_at(&self.at), m.ior, world.ambient_index)
