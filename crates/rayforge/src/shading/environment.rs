@@ -25,6 +25,13 @@
 //! reference scene lit by a sky with a small sun, the two changes together leave the diffuse
 //! sphere a fifth to two fifths of its squared error (away from the caustic the mirror sphere
 //! throws on it, which only paths bounced off the mirror find).
+//!
+//! A map may also be in pbrt-v4's layout ([`EnvironmentMap::equal_area`]): a square image in
+//! Clarberg's equal-area octahedral mapping of the sphere (`equal_area_square_to_sphere`),
+//! +z the pole of its own frame, each pixel the same solid angle `4π / N`. As pbrt-v4 does, it
+//! is read by the nearest pixel and sampled by a table over its pixels (constant over each),
+//! the weights compensated as above; a direction's density is the table's over the square
+//! divided by `4π`.
 
 use crate::color::Color;
 use crate::math::distribution::Distribution2D;
@@ -59,6 +66,17 @@ pub enum EnvironmentError {
         /// Texels given.
         got: usize,
     },
+    /// An equal-area map that is not square.
+    #[error(
+        "an equal-area (octahedral) environment map is square, as pbrt-v4 requires; this one \
+         is {width}×{height} (an equirectangular map is twice as wide as high: give it as one)"
+    )]
+    NotSquare {
+        /// Columns.
+        width: usize,
+        /// Rows.
+        height: usize,
+    },
     /// The scale is negative, infinite or NaN.
     #[error("the environment map's scale is {0}: it must be a finite number, not negative")]
     BadScale(f64),
@@ -88,6 +106,7 @@ pub enum EnvironmentError {
 /// simulated sky; with importance sampling by luminance, so that its bright parts are found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EnvironmentMap {
+    layout: Layout,
     width: usize,
     height: usize,
     /// Scaled radiance, row by row from the top.
@@ -110,6 +129,16 @@ pub struct EnvironmentMap {
     cells: Distribution2D,
     /// The mean radiance over the sphere.
     average: Color,
+}
+
+/// How a map's texels cover the sphere.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Layout {
+    /// Latitude and longitude, +Y up, interpolated bilinearly (the module's convention).
+    Equirectangular,
+    /// pbrt-v4's equal-area octahedral square, +z up, read by the nearest texel: `weights` is
+    /// then one weight per texel and `cells` a table over the texels.
+    EqualArea,
 }
 
 impl EnvironmentMap {
@@ -136,35 +165,12 @@ impl EnvironmentMap {
                 got: texels.len(),
             });
         }
-        if !(scale.is_finite() && scale >= 0.0) {
-            return Err(EnvironmentError::BadScale(scale));
-        }
-        let mut texels = texels;
-        for (index, texel) in texels.iter_mut().enumerate() {
-            *texel = *texel * scale;
-            let channels = texel.to_array();
-            let reason = if channels.iter().any(|c| c.is_nan()) {
-                Some("a channel is not a number")
-            } else if channels.iter().any(|c| c.is_infinite()) {
-                Some("a channel is infinite")
-            } else if channels.iter().any(|&c| c < 0.0) {
-                Some("a channel is negative")
-            } else {
-                None
-            };
-            if let Some(reason) = reason {
-                return Err(EnvironmentError::BadTexel {
-                    column: index % width,
-                    row: index / width,
-                    radiance: *texel,
-                    reason,
-                });
-            }
-        }
+        let texels = scaled_texels(width, texels, scale)?;
         let weights = sampling_weights(width, height, &texels);
         let cells = cell_distribution(width, height, &weights);
         let average = average_radiance(width, height, &texels);
         Ok(Self {
+            layout: Layout::Equirectangular,
             width,
             height,
             texels,
@@ -176,11 +182,81 @@ impl EnvironmentMap {
         })
     }
 
+    /// A map in pbrt-v4's equal-area octahedral layout: a square `side × side` image, texels
+    /// row by row from the top, each multiplied by `scale`; texel `(x, y)` holds the radiance
+    /// from `equal_area_square_to_sphere((x + ½) / side, (y + ½) / side)` in the map's frame
+    /// (+z its pole). Refuses what [`new`](Self::new) refuses, and maps that are not square
+    /// (pbrt-v4 refuses them too: they are unlikely to be equal-area maps).
+    pub fn equal_area(
+        width: usize,
+        height: usize,
+        texels: Vec<Color>,
+        scale: f64,
+    ) -> Result<Self, EnvironmentError> {
+        if width != height || width == 0 {
+            return Err(EnvironmentError::NotSquare { width, height });
+        }
+        let expected = width as u128 * height as u128;
+        if expected != texels.len() as u128 {
+            return Err(EnvironmentError::WrongTexelCount {
+                width,
+                height,
+                expected,
+                got: texels.len(),
+            });
+        }
+        let texels = scaled_texels(width, texels, scale)?;
+        let lum: Vec<f64> = texels.iter().map(|c| c.luminance().max(0.0)).collect();
+        let brightest = lum.iter().fold(0.0f64, |m, &l| m.max(l));
+        let norm = if brightest > 0.0 {
+            1.0 / brightest
+        } else {
+            0.0
+        };
+        let mean = lum.iter().sum::<f64>() * norm / lum.len() as f64;
+        let floor = if mean > 0.0 { 1e-3 * mean } else { 1.0 };
+        let weights: Vec<f64> = lum
+            .iter()
+            .map(|l| (l * norm - mean).max(0.0) + floor)
+            .collect();
+        let cells = Distribution2D::new(width, height, &weights)
+            .expect("texel weights are finite and positive, one per texel");
+        let count = texels.len() as f64;
+        let average = texels.iter().fold(Color::BLACK, |acc, &c| acc + c) * (1.0 / count);
+        Ok(Self {
+            layout: Layout::EqualArea,
+            width,
+            height,
+            texels,
+            to_local: DMat3::IDENTITY,
+            to_world: DMat3::IDENTITY,
+            weights,
+            cells,
+            average,
+        })
+    }
+
+    /// The map placed in the world by any orthogonal `world_to_local` (a rotation, or a
+    /// rotation and a mirror: pbrt-v4's light transforms may mirror the sky, and a mirror keeps
+    /// solid angles, so the densities still integrate to one).
+    pub fn with_frame(self, world_to_local: DMat3) -> Result<Self, EnvironmentError> {
+        self.transformed(world_to_local, true)
+    }
+
     /// The map turned in the world, so that a scene can put the sun where it wants:
     /// `world_to_local` takes a world direction into the map's own frame (the one of the module
     /// documentation). It must be a rotation (within 1e-6); anything else would stretch solid
     /// angles and break the sampling densities.
-    pub fn with_transform(mut self, world_to_local: DMat3) -> Result<Self, EnvironmentError> {
+    pub fn with_transform(self, world_to_local: DMat3) -> Result<Self, EnvironmentError> {
+        self.transformed(world_to_local, false)
+    }
+
+    /// [`with_transform`](Self::with_transform), mirrors allowed where `mirror`.
+    fn transformed(
+        mut self,
+        world_to_local: DMat3,
+        mirror: bool,
+    ) -> Result<Self, EnvironmentError> {
         let m = world_to_local;
         if !m.is_finite() {
             return Err(EnvironmentError::NotRotation(
@@ -196,7 +272,7 @@ impl EnvironmentMap {
                 "its columns are not orthonormal (off by {error:e})"
             )));
         }
-        if m.determinant() < 0.0 {
+        if m.determinant() < 0.0 && !mirror {
             return Err(EnvironmentError::NotRotation(
                 "it is a reflection (determinant −1)".into(),
             ));
@@ -228,6 +304,11 @@ impl EnvironmentMap {
     /// escape to the sky; it need not be normalised), interpolated bilinearly between texel
     /// centres. A zero or non-finite direction sees black.
     pub fn radiance(&self, direction: Vec3) -> Color {
+        if self.layout == Layout::EqualArea {
+            return self
+                .texel_towards(direction)
+                .map_or(Color::BLACK, |(i, _)| self.texels[i]);
+        }
         match self.locate(direction) {
             Some((at, _)) => self.radiance_at(at),
             None => Color::BLACK,
@@ -238,10 +319,46 @@ impl EnvironmentMap {
     /// density with which [`sample`](Self::sample) draws it, as [`pdf`](Self::pdf): what a
     /// path that escapes needs, for the price of one conversion to angles.
     pub fn radiance_and_pdf(&self, direction: Vec3) -> (Color, f64) {
+        if self.layout == Layout::EqualArea {
+            return self
+                .texel_towards(direction)
+                .map_or((Color::BLACK, 0.0), |(i, pdf)| (self.texels[i], pdf));
+        }
         match self.locate(direction) {
             Some((at, sin_theta)) => (self.radiance_at(at), self.pdf_at(at, sin_theta)),
             None => (Color::BLACK, 0.0),
         }
+    }
+
+    /// The texel of an equal-area map that a world direction falls in, and the density per
+    /// solid angle with which [`sample`](Self::sample) draws it; `None` for a zero or
+    /// non-finite direction.
+    fn texel_towards(&self, direction: Vec3) -> Option<(usize, f64)> {
+        let d = (self.to_local * direction).try_normalize()?;
+        let (u, v) = equal_area_sphere_to_square(d);
+        let side = self.width;
+        let column = ((u * side as f64) as usize).min(side - 1);
+        let row = ((v * side as f64) as usize).min(side - 1);
+        let index = row * side + column;
+        Some((index, self.texel_pdf(index)))
+    }
+
+    /// The density per solid angle of directions in texel `index` of an equal-area map: the
+    /// table's density over the unit square (its weight over the mean weight) over `4π`.
+    fn texel_pdf(&self, index: usize) -> f64 {
+        self.weights[index] / (self.cells.integral() * 4.0 * PI)
+    }
+
+    /// [`sample`](Self::sample) of an equal-area map: a texel by its weight, a point in it
+    /// uniformly (the mapping keeps areas, so uniformly in solid angle too).
+    fn sample_equal_area(&self, u: [f64; 2]) -> Option<(Vec3, Color, f64)> {
+        let ((column, row), _, [x, y]) = self.cells.sample_cell(u);
+        let side = self.width as f64;
+        let local =
+            equal_area_square_to_sphere((column as f64 + x) / side, (row as f64 + y) / side);
+        let index = row * self.width + column;
+        let direction = (self.to_world * local).try_normalize()?;
+        Some((direction, self.texels[index], self.texel_pdf(index)))
     }
 
     /// Where a world direction falls among the texel centres, and the sine of its θ in the
@@ -328,6 +445,9 @@ impl EnvironmentMap {
     /// that direction. `None` only if the draw lands exactly on a pole, where the density per
     /// solid angle is undefined (it never does for random numbers inside `(0, 1)`).
     pub fn sample(&self, u: [f64; 2]) -> Option<(Vec3, Color, f64)> {
+        if self.layout == Layout::EqualArea {
+            return self.sample_equal_area(u);
+        }
         let ((column, row), _, [u_across, u_down]) = self.cells.sample_cell(u);
         let at = CellPoint {
             column,
@@ -361,6 +481,9 @@ impl EnvironmentMap {
     /// direction `direction`, for weighing its samples against another strategy's (multiple
     /// importance sampling). 0 for a zero or non-finite direction and at the poles.
     pub fn pdf(&self, direction: Vec3) -> f64 {
+        if self.layout == Layout::EqualArea {
+            return self.texel_towards(direction).map_or(0.0, |(_, pdf)| pdf);
+        }
         match self.locate(direction) {
             Some((at, sin_theta)) => self.pdf_at(at, sin_theta),
             None => 0.0,
@@ -412,6 +535,80 @@ impl SkyDraw {
         let u = self.u;
         *self.drawn.get_or_insert_with(|| map.sample(u))
     }
+}
+
+/// `texels`, each times `scale`, refused (naming the first bad texel of a map `width` across)
+/// where the scale or a scaled texel is negative, infinite or NaN.
+fn scaled_texels(
+    width: usize,
+    mut texels: Vec<Color>,
+    scale: f64,
+) -> Result<Vec<Color>, EnvironmentError> {
+    if !(scale.is_finite() && scale >= 0.0) {
+        return Err(EnvironmentError::BadScale(scale));
+    }
+    for (index, texel) in texels.iter_mut().enumerate() {
+        *texel = *texel * scale;
+        let channels = texel.to_array();
+        let reason = if channels.iter().any(|c| c.is_nan()) {
+            Some("a channel is not a number")
+        } else if channels.iter().any(|c| c.is_infinite()) {
+            Some("a channel is infinite")
+        } else if channels.iter().any(|&c| c < 0.0) {
+            Some("a channel is negative")
+        } else {
+            None
+        };
+        if let Some(reason) = reason {
+            return Err(EnvironmentError::BadTexel {
+                column: index % width,
+                row: index / width,
+                radiance: *texel,
+                reason,
+            });
+        }
+    }
+    Ok(texels)
+}
+
+/// The direction (unit, +z the pole) of the point `(u, v)` of the unit square in Clarberg's
+/// equal-area octahedral mapping, as pbrt-v4's `EqualAreaSquareToSphere`: the square's
+/// centre is +z, its corners −z, and equal areas of the square are equal solid angles.
+pub fn equal_area_square_to_sphere(u: f64, v: f64) -> Vec3 {
+    let (u, v) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+    let (up, vp) = (u.abs(), v.abs());
+    // The signed distance from the diagonal |u| + |v| = 1, and the radius from the centre.
+    let signed = 1.0 - (up + vp);
+    let r = 1.0 - signed.abs();
+    let phi = if r == 0.0 { 1.0 } else { (vp - up) / r + 1.0 } * PI / 4.0;
+    let z = (1.0 - r * r).copysign(signed);
+    let cos_phi = phi.cos().copysign(u);
+    let sin_phi = phi.sin().copysign(v);
+    let k = r * (2.0 - r * r).max(0.0).sqrt();
+    Vec3::new(cos_phi * k, sin_phi * k, z)
+}
+
+/// The point of the unit square of the unit direction `d` (+z the pole): the inverse of
+/// [`equal_area_square_to_sphere`], as pbrt-v4's `EqualAreaSphereToSquare`.
+pub fn equal_area_sphere_to_square(d: Vec3) -> (f64, f64) {
+    let (x, y, z) = (d.x.abs(), d.y.abs(), d.z.abs());
+    let r = (1.0 - z).max(0.0).sqrt();
+    let (a, b) = (x.max(y), x.min(y));
+    let b = if a == 0.0 { 0.0 } else { b / a };
+    let mut phi = b.atan() * 2.0 / PI;
+    if x < y {
+        phi = 1.0 - phi;
+    }
+    let mut v = phi * r;
+    let mut u = r - v;
+    if d.z < 0.0 {
+        std::mem::swap(&mut u, &mut v);
+        u = 1.0 - u;
+        v = 1.0 - v;
+    }
+    let u = u.copysign(d.x);
+    let v = v.copysign(d.y);
+    (0.5 * (u + 1.0), 0.5 * (v + 1.0))
 }
 
 /// A point of the map among its texel centres: the cell whose top-left texel is in `column`
@@ -1042,5 +1239,129 @@ mod tests {
             let pdf = even.pdf(local_direction(2.0, theta * PI));
             assert!((pdf - 0.25 / PI).abs() < 0.02 / PI, "{pdf} at {theta}");
         }
+    }
+
+    /// A square map of smooth variation and one bright texel (a sun), in pbrt-v4's layout.
+    fn equal_area_map(side: usize, seed: u64) -> EnvironmentMap {
+        let mut rng = SplitMix64::new(seed);
+        let mut texels: Vec<Color> = (0..side * side)
+            .map(|_| Color::new(rng.next_offset(), rng.next_offset(), rng.next_offset()))
+            .collect();
+        texels[side * side / 3 + 2] = Color::new(4.0, 3.0, 2.0);
+        EnvironmentMap::equal_area(side, side, texels, 1.5).unwrap()
+    }
+
+    #[test]
+    fn the_equal_area_mapping_round_trips_and_keeps_areas() {
+        let mut rng = SplitMix64::new(3);
+        for _ in 0..20_000 {
+            let (u, v) = (rng.next_offset(), rng.next_offset());
+            let d = equal_area_square_to_sphere(u, v);
+            assert!((d.length() - 1.0).abs() < 1e-12, "{d}");
+            let (u2, v2) = equal_area_sphere_to_square(d);
+            assert!(
+                (u - u2).abs() < 1e-9 && (v - v2).abs() < 1e-9,
+                "{u} {v} -> {u2} {v2}"
+            );
+        }
+        // The centre is the pole; the corners the other pole.
+        assert!((equal_area_square_to_sphere(0.5, 0.5) - Vec3::Z).length() < 1e-12);
+        assert!((equal_area_square_to_sphere(0.0, 1.0) + Vec3::Z).length() < 1e-12);
+        // Equal areas are equal solid angles: a uniform point of the square is a uniform
+        // direction, so z is uniform in [-1, 1] (its mean 0, its mean square 1/3).
+        let n = 200_000;
+        let (mut sum, mut sum_sq) = (0.0, 0.0);
+        for _ in 0..n {
+            let z = equal_area_square_to_sphere(rng.next_offset(), rng.next_offset()).z;
+            sum += z;
+            sum_sq += z * z;
+        }
+        let (mean, mean_sq) = (sum / n as f64, sum_sq / n as f64);
+        // Standard errors: 1/sqrt(3n) and sqrt(4/45 / n).
+        assert!(mean.abs() < 4.0 / (3.0 * n as f64).sqrt(), "{mean}");
+        assert!(
+            (mean_sq - 1.0 / 3.0).abs() < 4.0 * (4.0 / 45.0 / n as f64).sqrt(),
+            "{mean_sq}"
+        );
+    }
+
+    #[test]
+    fn an_equal_area_map_reads_its_texels_and_its_pdf_integrates_to_one() {
+        let side = 16;
+        let mirror = DMat3::from_diagonal(Vec3::new(1.0, -1.0, 1.0)) * DMat3::from_rotation_z(0.3);
+        for frame in [DMat3::IDENTITY, mirror] {
+            let map = equal_area_map(side, 5).with_frame(frame).unwrap();
+            // Each texel's centre, in the world, sees that texel.
+            for (row, column) in [(0, 0), (3, 7), (15, 15), (8, 1)] {
+                let local = equal_area_square_to_sphere(
+                    (column as f64 + 0.5) / side as f64,
+                    (row as f64 + 0.5) / side as f64,
+                );
+                let world = frame.transpose() * local;
+                assert_eq!(map.radiance(world), map.texel(column, row).unwrap());
+            }
+            // Every texel is 4π/N of solid angle: the sum of pdf × 4π/N over the texel centres.
+            let total: f64 = (0..side * side)
+                .map(|i| {
+                    let (c, r) = (i % side, i / side);
+                    let local = equal_area_square_to_sphere(
+                        (c as f64 + 0.5) / side as f64,
+                        (r as f64 + 0.5) / side as f64,
+                    );
+                    map.pdf(frame.transpose() * local) * 4.0 * PI / (side * side) as f64
+                })
+                .sum();
+            assert!((total - 1.0).abs() < 1e-9, "{total}");
+            // And by brute force over the sphere.
+            let brute = integrate(400, |d| map.pdf(d));
+            assert!((brute - 1.0).abs() < 2e-2, "{brute}");
+            // The average is the texels' mean: each texel is the same solid angle.
+            let mean = (0..side * side)
+                .map(|i| map.texel(i % side, i / side).unwrap())
+                .fold(Color::BLACK, |a, c| a + c)
+                * (1.0 / (side * side) as f64);
+            assert!(close(map.average_radiance(), mean, 1e-12));
+        }
+        assert!(matches!(
+            EnvironmentMap::equal_area(8, 4, vec![Color::WHITE; 32], 1.0),
+            Err(EnvironmentError::NotSquare { .. })
+        ));
+    }
+
+    #[test]
+    fn equal_area_samples_follow_their_pdf() {
+        let side = 8;
+        let frame = DMat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0));
+        let map = equal_area_map(side, 7).with_frame(frame).unwrap();
+        let n = 200_000;
+        let mut counts = vec![0u64; side * side];
+        let mut rng = SplitMix64::new(11);
+        for _ in 0..n {
+            let u = [rng.next_offset(), rng.next_offset()];
+            let (d, radiance, pdf) = map.sample(u).unwrap();
+            assert!((map.pdf(d) - pdf).abs() <= 1e-9 * pdf);
+            assert_eq!(map.radiance(d), radiance);
+            let (s, t) = equal_area_sphere_to_square(frame * d);
+            let (c, r) = (
+                ((s * side as f64) as usize).min(side - 1),
+                ((t * side as f64) as usize).min(side - 1),
+            );
+            counts[r * side + c] += 1;
+        }
+        // Each texel's chance: its pdf times its solid angle.
+        let expected: Vec<f64> = (0..side * side)
+            .map(|i| {
+                let local = equal_area_square_to_sphere(
+                    ((i % side) as f64 + 0.5) / side as f64,
+                    ((i / side) as f64 + 0.5) / side as f64,
+                );
+                map.pdf(frame.transpose() * local) * 4.0 * PI / (side * side) as f64
+            })
+            .collect();
+        let p = chi_square_p_value(&counts, &expected);
+        assert!(p > 1e-3, "chi-square p-value {p}");
+        // The sun is found in proportion to its excess over the average.
+        let sun = side * side / 3 + 2;
+        assert!(expected[sun] > 0.1, "{}", expected[sun]);
     }
 }
