@@ -1,5 +1,5 @@
 //! Image files decoded within a budget on memory: the budget a scene's images share, the
-//! texture decoder (PNG, JPEG, PNM) and the pieces the HDR readers use too. Every image is
+//! texture decoder (PNG, JPEG, PNM, TGA) and the pieces the HDR readers use too. Every image is
 //! costed from its header before anything is allocated for its pixels, and the buffers that
 //! can be large are taken fallibly, so an image bomb or a machine short of memory is an error
 //! naming the file, never an exhausted memory or an abort.
@@ -109,10 +109,33 @@ pub(crate) fn decode_with_alpha(
     room: Room,
     keep_alpha: bool,
 ) -> Result<(Texture, Option<Texture>), String> {
+    decode_image(bytes, room, keep_alpha, None)
+}
+
+/// [`decode`] for a file whose format its first bytes may not tell: `fallback` is the format
+/// to read it in then (a TGA file, which has no signature, told by its name).
+pub(crate) fn decode_as(
+    bytes: &[u8],
+    room: Room,
+    fallback: Option<image::ImageFormat>,
+) -> Result<Texture, String> {
+    decode_image(bytes, room, false, fallback).map(|(texture, _)| texture)
+}
+
+/// [`decode_with_alpha`], reading in `fallback`'s format what the first bytes do not tell.
+fn decode_image(
+    bytes: &[u8],
+    room: Room,
+    keep_alpha: bool,
+    fallback: Option<image::ImageFormat>,
+) -> Result<(Texture, Option<Texture>), String> {
     use image::ImageDecoder;
     let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| e.to_string())?;
+    if let (None, Some(format)) = (reader.format(), fallback) {
+        reader.set_format(format);
+    }
     let is_jpeg = reader.format() == Some(image::ImageFormat::Jpeg);
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(MAX_TEXTURE_SIDE);

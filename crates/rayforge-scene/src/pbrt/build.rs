@@ -9,12 +9,15 @@ use super::lights::{self, Lit};
 use super::materials;
 use super::reader::{Description, Entity, MaterialRef, ShapeEntity};
 use super::shapes::{self, Built};
+use super::textures::{self, SceneTextures};
 use crate::budget::Budget;
 use crate::error::SceneError;
 use crate::scene::{LoadOptions, Scene};
 use glam::DMat4;
 use rayforge::draw2d::Overlay;
+use rayforge::shading::texture_graph::{FloatInput, SurfaceTextures};
 use rayforge::shading::EmissionSide;
+use rayforge::Shape;
 use rayforge::{Color, Material, Object, Transform, World};
 use std::collections::HashMap;
 use std::path::Path;
@@ -23,6 +26,7 @@ use std::rc::Rc;
 /// The materials built so far, each once.
 struct MaterialCache<'d> {
     desc: &'d Description,
+    textures: &'d SceneTextures,
     by_index: HashMap<usize, Material>,
     by_name: HashMap<String, Material>,
 }
@@ -46,7 +50,7 @@ impl MaterialCache<'_> {
                         physical: Some(rayforge::shading::Physical::Diffuse),
                         ..Material::DEFAULT
                     },
-                    Some(entity) => materials::material(entity, &desc.textures, warnings)?,
+                    Some(entity) => materials::material(entity, self.textures, desc, warnings)?,
                 };
                 self.by_index.insert(*i, built.clone());
                 Ok(built)
@@ -64,7 +68,7 @@ impl MaterialCache<'_> {
                         ),
                     )
                 })?;
-                let built = materials::material(entity, &desc.textures, warnings)?;
+                let built = materials::material(entity, self.textures, desc, warnings)?;
                 self.by_name.insert(name.clone(), built.clone());
                 Ok(built)
             }
@@ -83,8 +87,10 @@ pub fn scene(
     let mut world = World::new();
     let budget = Budget::default();
     let mut triangles = 0usize;
+    let scene_textures = textures::build(&desc, files, options.max_image_memory)?;
     let mut cache = MaterialCache {
         desc: &desc,
+        textures: &scene_textures,
         by_index: HashMap::new(),
         by_name: HashMap::new(),
     };
@@ -154,11 +160,27 @@ pub fn scene(
             world.objects.push(placed);
         }
     }
+    let mut memory = scene_textures.memory;
+    let mut sky_image: Option<lights::SkyImage> = None;
     for light in &desc.lights {
-        match lights::light(light)? {
+        match lights::light(light, files, &mut memory)? {
             Lit::Light(l) => world.lights.push(l),
             Lit::Sky(c) => world.background += c,
+            Lit::Map(image) => {
+                if sky_image.is_some() {
+                    return Err(light.entity.error(
+                        "a second infinite light from an image is not read: rayforge's sky is \
+                         one map",
+                    ));
+                }
+                sky_image = Some(image);
+            }
         }
+    }
+    if let Some(image) = sky_image {
+        // Uniform skies beside the image are added to it; the background is then the map.
+        let uniform = std::mem::replace(&mut world.background, Color::BLACK);
+        world.environment = Some(std::sync::Arc::new(image.into_map(uniform)?));
     }
     // Every parameter nothing read, once each (an area light is shared by its shapes).
     let mut area_lights: Vec<&Rc<Entity>> = Vec::new();
@@ -195,6 +217,9 @@ pub fn scene(
     }
     for light in &desc.lights {
         unused(&light.entity, &mut warnings);
+    }
+    for texture in &desc.textures {
+        unused(&texture.entity, &mut warnings);
     }
     for entity in desc
         .materials
@@ -285,6 +310,30 @@ fn place(
         }
     }
     let mut material = cache.get(&shape.material, warnings)?;
+    if let Some(alpha) = cache.textures.float(entity, "alpha", cache.desc)? {
+        if !matches!(alpha, FloatInput::Fixed(a) if a >= 1.0) {
+            if shape.area_light.is_some() {
+                return Err(entity.error(
+                    "an area light on a shape with \"alpha\" is not read: rayforge's area \
+                     lights have no holes",
+                ));
+            }
+            if objects.iter().any(|o| !matches!(o.shape, Shape::Mesh(_))) {
+                return Err(entity.error(format!(
+                    "\"alpha\" is read on meshes (trianglemesh, plymesh, and the shapes made \
+                     of triangles); a {} is not one",
+                    entity.name
+                )));
+            }
+            let mut surface = material
+                .textures
+                .take()
+                .map(|t| *t)
+                .unwrap_or_else(|| SurfaceTextures::new(cache.textures.graph.clone()));
+            surface.alpha = Some(alpha);
+            material.textures = Some(Box::new(surface));
+        }
+    }
     let world_from_object = *parent * shape.world_from_object;
     if let Some(area_light) = &shape.area_light {
         if lit {

@@ -6,13 +6,22 @@
 //! intensity is pbrt's value times `scale` over π. pbrt-v4's `power` and `illuminance` set the
 //! scale as pbrt-v4 does (its normalisation counts the light's spectrum, not an rgb's
 //! brightness). A uniform `infinite` light is the world's background, which the path tracer
-//! takes as light from every direction. Area lights ([`emission`]) are emitting surfaces.
+//! takes as light from every direction; an `infinite` light with a `filename` is an
+//! environment map in pbrt-v4's equal-area octahedral layout ([`EnvironmentMap::equal_area`],
+//! read from EXR, PFM or Radiance HDR; square, as pbrt-v4 requires), placed by the light's
+//! transform (which may mirror it), times `scale`, or scaled so that the upper hemisphere
+//! (+z of the light's space) gives `illuminance` as pbrt-v4 computes it. Area lights
+//! ([`emission`]) are emitting surfaces.
 
+use super::input::{Files, Loc};
 use super::params::ParamType;
 use super::reader::{Entity, LightEntity};
 use super::spectra::{self, SpectrumUse};
 use crate::error::SceneError;
+use crate::images::ImageMemory;
+use glam::DMat3;
 use glam::DVec3;
+use rayforge::shading::{equal_area_square_to_sphere, EnvironmentMap};
 use rayforge::shading::{DirectionalLight, Light, PointLight, SpotLight};
 use rayforge::Color;
 use std::f64::consts::PI;
@@ -23,6 +32,31 @@ pub enum Lit {
     Light(Light),
     /// Radiance from every direction, added to the background.
     Sky(Color),
+    /// An image of the sky, in pbrt-v4's equal-area layout.
+    Map(SkyImage),
+}
+
+/// An `infinite` light's image, scaled, to become the world's environment map once the
+/// uniform skies beside it are known.
+pub struct SkyImage {
+    /// Pixels on a side.
+    pub side: usize,
+    /// Radiance, row by row from the top, scaled, not negative.
+    pub texels: Vec<Color>,
+    /// From the world into the light's space (orthogonal).
+    pub world_to_light: DMat3,
+    /// Where the light is, for errors.
+    pub at: Loc,
+}
+
+impl SkyImage {
+    /// The environment map, with `uniform` radiance added from every direction.
+    pub fn into_map(self, uniform: Color) -> Result<EnvironmentMap, SceneError> {
+        let texels = self.texels.into_iter().map(|c| c + uniform).collect();
+        EnvironmentMap::equal_area(self.side, self.side, texels, 1.0)
+            .and_then(|m| m.with_frame(self.world_to_light))
+            .map_err(|e| self.at.error(Some("LightSource"), e.to_string()))
+    }
 }
 
 /// The colour of a light's spectrum parameter `name` (white when absent), times `scale`.
@@ -43,8 +77,12 @@ fn target(entity: &Entity, name: &str) -> Result<Option<f64>, SceneError> {
     Ok(entity.params.float(name)?.filter(|v| *v > 0.0))
 }
 
-/// The light of a `LightSource`.
-pub fn light(light: &LightEntity) -> Result<Lit, SceneError> {
+/// The light of a `LightSource` (images found through `files`, within `memory`).
+pub fn light(
+    light: &LightEntity,
+    files: &Files,
+    memory: &mut ImageMemory,
+) -> Result<Lit, SceneError> {
     let entity = &light.entity;
     let params = &entity.params;
     let m = light.world_from_light;
@@ -100,15 +138,20 @@ pub fn light(light: &LightEntity) -> Result<Lit, SceneError> {
             })))
         }
         "infinite" => {
-            if let Some((file, p)) = params.string("filename")? {
-                return Err(p.error(format!(
-                    "an infinite light from an image (\"{}\") is not read yet; a uniform one \
-                     (\"rgb L\") is",
-                    crate::error::clip_to(file, 80)
-                )));
-            }
             if let Some(p) = params.find("portal", &[ParamType::Point3]) {
                 return Err(p.error("portals are not read"));
+            }
+            if let Some((file, p)) = params.string("filename")? {
+                let given_l = params.find(
+                    "L",
+                    &[ParamType::Rgb, ParamType::Spectrum, ParamType::Blackbody],
+                );
+                if let Some(l) = given_l {
+                    return Err(l.error(
+                        "an infinite light has \"L\" or \"filename\", not both (as in pbrt-v4)",
+                    ));
+                }
+                return sky_image(light, file, p, files, memory).map(Lit::Map);
             }
             let mut l = spectrum(entity, "L")?;
             if let Some(e) = target(entity, "illuminance")? {
@@ -122,6 +165,86 @@ pub fn light(light: &LightEntity) -> Result<Lit, SceneError> {
             crate::error::clip_to(other, 60)
         ))),
     }
+}
+
+/// The image of the `infinite` light `light` whose `filename` parameter `p` names `file`.
+fn sky_image(
+    light: &LightEntity,
+    file: &str,
+    p: &super::params::Param,
+    files: &Files,
+    memory: &mut ImageMemory,
+) -> Result<SkyImage, SceneError> {
+    let entity = &light.entity;
+    let path = files.resolve(file);
+    files.check(&path, &p.loc, "filename")?;
+    let image =
+        crate::hdr::read_hdr_image(&path, memory.room()).map_err(|e| p.error(e.to_string()))?;
+    memory.hold(image.texels.len() as u64 * crate::images::ENVIRONMENT_BYTES_PER_TEXEL);
+    if image.width != image.height {
+        return Err(p.error(format!(
+            "`{}` is {}×{}: an infinite light's image is a square equal-area (octahedral) map, \
+             as pbrt-v4 requires (convert an equirectangular map with pbrt-v4's `imgtool \
+             makeequiarea`)",
+            path.display(),
+            image.width,
+            image.height
+        )));
+    }
+    let side = image.width;
+    // pbrt-v4 clamps negative values to zero where it reads the image.
+    let texels: Vec<Color> = image
+        .texels
+        .into_iter()
+        .map(|c| Color::new(c.red.max(0.0), c.green.max(0.0), c.blue.max(0.0)))
+        .collect();
+    let mut scale = entity.params.float_or("scale", 1.0)?;
+    if let Some(e) = target(entity, "illuminance")? {
+        // pbrt-v4's illuminance of the map's upper hemisphere (its sum over the pixels whose
+        // centres have z > 0 of luminance × cos θ, times 2π / N, as it writes it).
+        let n = side * side;
+        let k: f64 = texels
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let w = equal_area_square_to_sphere(
+                    ((i % side) as f64 + 0.5) / side as f64,
+                    ((i / side) as f64 + 0.5) / side as f64,
+                );
+                if w.z > 0.0 {
+                    c.luminance() * w.z
+                } else {
+                    0.0
+                }
+            })
+            .sum::<f64>()
+            * 2.0
+            * PI
+            / n as f64;
+        if k > 0.0 {
+            scale *= e / k;
+        }
+    }
+    if !(scale.is_finite() && scale >= 0.0) {
+        return Err(entity.error(format!(
+            "an infinite light's scale is not negative, found {scale}"
+        )));
+    }
+    let texels = texels.into_iter().map(|c| c * scale).collect();
+    // The light's space seen from the world: its rotation (and any mirror), a uniform scale
+    // taken out; shear or a stretch has no meaning for directions and is refused.
+    let m = DMat3::from_mat4(light.world_from_light);
+    let det = m.determinant();
+    if det == 0.0 || !det.is_finite() {
+        return Err(entity.error("the light is placed by a singular transform"));
+    }
+    let world_to_light = (m * (1.0 / det.abs().cbrt())).inverse();
+    Ok(SkyImage {
+        side,
+        texels,
+        world_to_light,
+        at: entity.loc.clone(),
+    })
 }
 
 /// An area light's emitted radiance and whether it shines from both sides, for a shape of

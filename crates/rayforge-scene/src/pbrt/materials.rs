@@ -21,26 +21,34 @@
 //! `TrowbridgeReitzDistribution::RoughnessToAlpha` makes them, `α = √roughness`, unless
 //! `remaproughness` is false (then the roughness is the width).
 //!
-//! A `reflectance` may name a `Texture` of class `constant`; other texture classes, textured
-//! roughness, and the materials rayforge does not read are refused at the parameter or the
-//! material's type.
+//! Textures ([`super::textures`]) are read where pbrt-v4 takes them and rayforge's materials
+//! can vary per hit: `reflectance` (diffuse, coateddiffuse, diffusetransmission's two shares),
+//! `roughness`, `uroughness`, `vroughness` (conductor, dielectric, coateddiffuse, and
+//! coatedconductor's `interface.` and `conductor.` ones). A textured index (`eta`, `k`), a
+//! conductor's textured `reflectance` and a layer's textured `thickness`, `albedo` or `g` are
+//! refused at the parameter, as are the materials rayforge does not read at their type.
 
-use super::params::{Param, ParamType};
-use super::reader::{Entity, TextureEntity};
+use super::params::ParamType;
+use super::reader::{Description, Entity};
 use super::spectra::{self, SpectrumUse};
+use super::textures::SceneTextures;
 use crate::error::SceneError;
 use rayforge::shading::bsdf::{Coat, ConductorBase, Layers};
+use rayforge::shading::texture_graph::{FloatInput, NodeId, SurfaceTextures, TexturedWidths};
 use rayforge::shading::Physical;
 use rayforge::{Color, Material};
-use std::collections::HashMap;
 
 /// The material described by `entity` (a `Material`, whose name is its type, or a
-/// `MakeNamedMaterial`, whose `"string type"` is), with `textures` to look names up in.
+/// `MakeNamedMaterial`, whose `"string type"` is), with the scene's `textures` (made by
+/// `desc`) to look names up in.
 pub fn material(
     entity: &Entity,
-    textures: &HashMap<String, TextureEntity>,
+    textures: &SceneTextures,
+    desc: &Description,
     warnings: &mut Vec<SceneError>,
 ) -> Result<Material, SceneError> {
+    let t = Textured { textures, desc };
+    let mut surface = SurfaceTextures::new(textures.graph.clone());
     let params = &entity.params;
     let kind = if entity.directive == "MakeNamedMaterial" {
         match params.string("type")? {
@@ -60,13 +68,13 @@ pub fn material(
         physical: Some(physical),
         ..Material::DEFAULT
     };
-    Ok(match kind.as_str() {
+    let mut material = match kind.as_str() {
         "diffuse" => physical(
             Physical::Diffuse,
-            reflectance(entity, "reflectance", Color::WHITE * 0.5, textures)?,
+            t.reflectance(entity, "reflectance", 0.5, &mut surface.color)?,
         ),
         "conductor" => {
-            let (alpha_u, alpha_v) = widths(entity, "", warnings)?;
+            let (alpha_u, alpha_v) = t.widths(entity, "", &mut surface.widths, warnings)?;
             let (eta, k) = metal(entity, "", "reflectance")?;
             physical(
                 Physical::Conductor {
@@ -81,7 +89,7 @@ pub fn material(
         "dielectric" | "thindielectric" => {
             let eta = dielectric_index(entity)?;
             if kind == "dielectric" {
-                let (alpha_u, alpha_v) = widths(entity, "", warnings)?;
+                let (alpha_u, alpha_v) = t.widths(entity, "", &mut surface.widths, warnings)?;
                 physical(
                     Physical::Dielectric {
                         eta,
@@ -103,7 +111,7 @@ pub fn material(
             Color::WHITE,
         ),
         "coateddiffuse" => {
-            let (alpha_u, alpha_v) = widths(entity, "", warnings)?;
+            let (alpha_u, alpha_v) = t.widths(entity, "", &mut surface.widths, warnings)?;
             let coat = Coat {
                 eta: coat_index(entity, "eta")?,
                 alpha_u,
@@ -114,18 +122,20 @@ pub fn material(
                     coat,
                     layers: layers(entity)?,
                 },
-                reflectance(entity, "reflectance", Color::WHITE * 0.5, textures)?,
+                t.reflectance(entity, "reflectance", 0.5, &mut surface.color)?,
             )
         }
         "coatedconductor" => {
-            let (alpha_u, alpha_v) = widths(entity, "interface.", warnings)?;
+            let (alpha_u, alpha_v) =
+                t.widths(entity, "interface.", &mut surface.widths, warnings)?;
             let coat = Coat {
                 eta: coat_index(entity, "interface.eta")?,
                 alpha_u,
                 alpha_v,
             };
             let (eta, k) = metal(entity, "conductor.", "reflectance")?;
-            let (alpha_u, alpha_v) = widths(entity, "conductor.", warnings)?;
+            let (alpha_u, alpha_v) =
+                t.widths(entity, "conductor.", &mut surface.base_widths, warnings)?;
             let base = ConductorBase {
                 eta,
                 k,
@@ -146,15 +156,18 @@ pub fn material(
             if scale.is_nan() || scale < 0.0 {
                 return Err(entity.error(format!("a scale is not negative, found {scale}")));
             }
-            let share = |name| -> Result<Color, SceneError> {
-                Ok(reflectance(entity, name, Color::WHITE * 0.25, textures)? * scale)
-            };
+            // The scale multiplies both shares: it is the material's colour, which the
+            // path tracer multiplies them by, so a textured share is scaled too.
+            let reflectance =
+                t.reflectance(entity, "reflectance", 0.25, &mut surface.reflectance)?;
+            let transmittance =
+                t.reflectance(entity, "transmittance", 0.25, &mut surface.transmittance)?;
             physical(
                 Physical::DiffuseTransmission {
-                    reflectance: share("reflectance")?,
-                    transmittance: share("transmittance")?,
+                    reflectance,
+                    transmittance,
                 },
-                Color::WHITE,
+                Color::WHITE * scale,
             )
         }
         other => {
@@ -165,7 +178,98 @@ pub fn material(
                 crate::error::clip_to(other, 60)
             )))
         }
-    })
+    };
+    if kind == "coateddiffuse" || kind == "coatedconductor" {
+        for name in ["thickness", "albedo", "g"] {
+            refuse_texture(entity, name)?;
+        }
+    }
+    if surface.textures_parameters() {
+        material.textures = Some(Box::new(surface));
+    }
+    Ok(material)
+}
+
+/// The scene's textures, for a material's parameters.
+struct Textured<'a> {
+    textures: &'a SceneTextures,
+    desc: &'a Description,
+}
+
+impl Textured<'_> {
+    /// A reflectance: a spectrum texture (its node put in `slot`, the fixed colour then
+    /// white), rgb or a spectrum (at most 1 in each channel), or `default` grey.
+    fn reflectance(
+        &self,
+        entity: &Entity,
+        name: &str,
+        default: f64,
+        slot: &mut Option<NodeId>,
+    ) -> Result<Color, SceneError> {
+        let params = &entity.params;
+        if let Some(p) = params.find(name, &[ParamType::Texture]) {
+            *slot = Some(self.textures.named(p, "spectrum", self.desc)?);
+            // A value given beside the texture (as exporters write) is read and not used:
+            // pbrt-v4 takes the texture.
+            let _ = params.find(name, &[ParamType::Rgb, ParamType::Spectrum]);
+            return Ok(Color::WHITE);
+        }
+        let Some(p) = params.find(name, &[ParamType::Rgb, ParamType::Spectrum]) else {
+            return Ok(Color::WHITE * default);
+        };
+        let c = spectra::color(p, SpectrumUse::Albedo)?;
+        if c.red.max(c.green).max(c.blue) > 1.0 {
+            return Err(p.error("a reflectance is at most 1 in each channel"));
+        }
+        Ok(c)
+    }
+
+    /// The GGX widths along the two tangents of `entity`'s roughness parameters named with
+    /// `prefix` (see the [module](self)), fixed; where any of them is a texture, the textured
+    /// widths are put in `slot` too.
+    fn widths(
+        &self,
+        entity: &Entity,
+        prefix: &str,
+        slot: &mut Option<TexturedWidths>,
+        warnings: &mut Vec<SceneError>,
+    ) -> Result<(f64, f64), SceneError> {
+        let params = &entity.params;
+        let [rough, u_name, v_name] =
+            ["roughness", "uroughness", "vroughness"].map(|n| format!("{prefix}{n}"));
+        let input = |name: &str| self.textures.float(entity, name, self.desc);
+        let roughness = input(&rough)?;
+        let u = input(&u_name)?
+            .or(roughness)
+            .unwrap_or(FloatInput::Fixed(0.0));
+        let v = input(&v_name)?
+            .or(roughness)
+            .unwrap_or(FloatInput::Fixed(0.0));
+        let remap = params.bool_or("remaproughness", true)?;
+        for r in [u, v] {
+            if let FloatInput::Fixed(r) = r {
+                if r.is_nan() || r < 0.0 {
+                    return Err(entity.error("roughness is not negative"));
+                }
+            }
+        }
+        if matches!(u, FloatInput::Texture(_)) || matches!(v, FloatInput::Texture(_)) {
+            *slot = Some(TexturedWidths { u, v, remap });
+        }
+        let mut width = |r: FloatInput| {
+            let FloatInput::Fixed(r) = r else {
+                return 0.0;
+            };
+            let alpha = if remap { r.sqrt() } else { r };
+            if alpha > 1.0 {
+                warnings.push(entity.error(format!(
+                    "a GGX width of {alpha} is rendered as 1, rayforge's widest"
+                )));
+            }
+            alpha.min(1.0)
+        };
+        Ok((width(u), width(v)))
+    }
 }
 
 /// A conductor's `eta` or `k`: rgb or a spectrum.
@@ -288,38 +392,6 @@ const MAX_WALK_DEPTH: u32 = 1000;
 /// See [`MAX_WALK_DEPTH`].
 const MAX_WALK_SAMPLES: u32 = 256;
 
-/// The GGX widths along the two tangents of `entity`'s roughness parameters named with
-/// `prefix` (see the [module](self)).
-fn widths(
-    entity: &Entity,
-    prefix: &str,
-    warnings: &mut Vec<SceneError>,
-) -> Result<(f64, f64), SceneError> {
-    let params = &entity.params;
-    let [rough, u_name, v_name] =
-        ["roughness", "uroughness", "vroughness"].map(|n| format!("{prefix}{n}"));
-    for name in [&rough, &u_name, &v_name] {
-        refuse_texture(entity, name)?;
-    }
-    let roughness = params.float(&rough)?;
-    let u = params.float(&u_name)?.or(roughness).unwrap_or(0.0);
-    let v = params.float(&v_name)?.or(roughness).unwrap_or(0.0);
-    if !(u >= 0.0 && v >= 0.0) {
-        return Err(entity.error("roughness is not negative"));
-    }
-    let remap = params.bool_or("remaproughness", true)?;
-    let mut width = |r: f64| {
-        let alpha = if remap { r.sqrt() } else { r };
-        if alpha > 1.0 {
-            warnings.push(entity.error(format!(
-                "a GGX width of {alpha} is rendered as 1, rayforge's widest"
-            )));
-        }
-        alpha.min(1.0)
-    };
-    Ok((width(u), width(v)))
-}
-
 /// Refuses a float parameter given as a texture (rayforge's widths and indices are fixed per
 /// material).
 fn refuse_texture(entity: &Entity, name: &str) -> Result<(), SceneError> {
@@ -329,59 +401,5 @@ fn refuse_texture(entity: &Entity, name: &str) -> Result<(), SceneError> {
             entity.what()
         ))),
         None => Ok(()),
-    }
-}
-
-/// A reflectance: rgb, a spectrum, or a `constant` texture; `default` when absent.
-fn reflectance(
-    entity: &Entity,
-    name: &str,
-    default: Color,
-    textures: &HashMap<String, TextureEntity>,
-) -> Result<Color, SceneError> {
-    let params = &entity.params;
-    if let Some((texture, p)) = params.one_string(name, ParamType::Texture)? {
-        return constant_texture(p, texture, textures);
-    }
-    let Some(p) = params.find(name, &[ParamType::Rgb, ParamType::Spectrum]) else {
-        return Ok(default);
-    };
-    let c = spectra::color(p, SpectrumUse::Albedo)?;
-    if c.red.max(c.green).max(c.blue) > 1.0 {
-        return Err(p.error("a reflectance is at most 1 in each channel"));
-    }
-    Ok(c)
-}
-
-/// The colour of the spectrum texture `name` named by `p`: a `constant` one's `value`.
-fn constant_texture(
-    p: &Param,
-    name: &str,
-    textures: &HashMap<String, TextureEntity>,
-) -> Result<Color, SceneError> {
-    let Some(texture) = textures.get(name) else {
-        return Err(p.error(format!(
-            "no texture is named \"{}\"",
-            crate::error::clip_to(name, 60)
-        )));
-    };
-    let entity = &texture.entity;
-    if texture.kind != "spectrum" {
-        return Err(p.error(format!(
-            "the texture \"{name}\" is a float texture; a colour needs a spectrum texture"
-        )));
-    }
-    if entity.name != "constant" {
-        return Err(entity.error(format!(
-            "textures of class \"{}\" are not read yet (only \"constant\" ones)",
-            crate::error::clip_to(&entity.name, 60)
-        )));
-    }
-    match entity
-        .params
-        .find("value", &[ParamType::Rgb, ParamType::Spectrum])
-    {
-        Some(v) => spectra::color(v, SpectrumUse::Albedo),
-        None => Ok(Color::WHITE),
     }
 }

@@ -5,8 +5,8 @@
 //! The format is read as pbrt-v4 defines it (<https://pbrt.org/fileformat-v4>): tokens
 //! ([`lexer`]), typed parameter lists ([`params`]), the directives with the graphics state and
 //! its stack ([`reader`]), then the build ([`build`]) of the camera and options ([`camera`]),
-//! shapes ([`shapes`]), materials ([`materials`]), lights ([`lights`]) and spectra
-//! ([`spectra`]). Every error names the file, line, column and directive or parameter; a
+//! shapes ([`shapes`]), materials ([`materials`]), lights ([`lights`]), textures
+//! ([`textures`]) and spectra ([`spectra`]). Every error names the file, line, column and directive or parameter; a
 //! parameter nothing reads is a warning naming its line, as pbrt-v4 warns. What is read, what
 //! is approximated and what is refused is listed in `docs/scene-format.md` ("pbrt-v4 scenes").
 //!
@@ -27,6 +27,7 @@ mod reader;
 mod shapes;
 mod spectra;
 mod stream;
+mod textures;
 
 pub use input::{MAX_INCLUDE_DEPTH, MAX_SCENE_BYTES, MAX_TOTAL_BYTES};
 

@@ -91,8 +91,12 @@ pub struct LightEntity {
 pub struct TextureEntity {
     /// `float` or `spectrum`.
     pub kind: String,
+    /// Its name.
+    pub name: String,
     /// The directive (its name is the texture's class: `imagemap`, `checkerboard`, …).
     pub entity: Entity,
+    /// From the texture's space to the world (where the 3D mappings read points).
+    pub world_from_texture: DMat4,
 }
 
 /// One use of a named object.
@@ -134,8 +138,11 @@ pub struct Description {
     pub materials: Vec<Option<Entity>>,
     /// `MakeNamedMaterial`'s materials.
     pub named_materials: HashMap<String, Entity>,
-    /// `Texture`'s textures, by name.
-    pub textures: HashMap<String, TextureEntity>,
+    /// `Texture`'s textures, in the order they were made (a texture may read only those
+    /// before it, as in pbrt-v4).
+    pub textures: Vec<TextureEntity>,
+    /// Each texture's place in `textures`, by its type (`float`, `spectrum`) and name.
+    pub texture_index: HashMap<(String, String), usize>,
     /// `MakeNamedMedium`'s media, by name.
     pub media: HashMap<String, Entity>,
     /// The world's shapes.
@@ -641,12 +648,21 @@ impl Reader<'_> {
                 }
                 let attributes = self.state.attributes[4].clone();
                 let entity = Self::entity(stream, "Texture", loc, &attributes)?;
-                if self.out.textures.contains_key(&texture) {
-                    return Err(entity.error(format!("the texture \"{texture}\" is made twice")));
+                // Float and spectrum textures have a name space each, as in pbrt-v4.
+                let key = (kind.clone(), texture.clone());
+                if self.out.texture_index.contains_key(&key) {
+                    return Err(entity.error(format!(
+                        "the {kind} texture \"{}\" is made twice",
+                        crate::error::clip_to(&texture, 60)
+                    )));
                 }
-                self.out
-                    .textures
-                    .insert(texture, TextureEntity { kind, entity });
+                self.out.texture_index.insert(key, self.out.textures.len());
+                self.out.textures.push(TextureEntity {
+                    kind,
+                    name: texture,
+                    entity,
+                    world_from_texture: self.state.ctm[0],
+                });
             }
             "MakeNamedMedium" => {
                 let attributes = self.state.attributes[3].clone();

@@ -42,20 +42,7 @@ pub fn build(
 ) -> Result<Built, SceneError> {
     let entity = &shape.entity;
     let params = &entity.params;
-    if let Some(alpha) = params.find(
-        "alpha",
-        &[
-            super::params::ParamType::Float,
-            super::params::ParamType::Texture,
-        ],
-    ) {
-        if alpha.values != super::params::Values::Numbers(vec![1.0]) {
-            return Err(alpha.error(format!(
-                "{}: cut-outs (`alpha`) are not read; rayforge draws the whole shape",
-                entity.what()
-            )));
-        }
-    }
+    // `alpha` is read where the shape is placed (`build::place`), with the textures.
     let whole_turn = |name: &str| -> Result<(), SceneError> {
         match params.float(name)? {
             Some(phi) if phi < 360.0 => Err(entity.error(format!(
