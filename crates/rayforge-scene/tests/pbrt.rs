@@ -909,8 +909,14 @@ fn textures_have_a_name_space_per_type_and_read_only_those_before_them() {
         quad(1.0, "")
     ));
     assert_at(&e, 4, 20, "texture reflectance", "float texture");
-    let e = error(&format!("{HEAD}Texture \"n\" \"float\" \"fbm\"\n"));
-    assert_at(&e, 3, 1, "Texture", "fbm");
+    let e = error(&format!("{HEAD}Texture \"n\" \"float\" \"ptex\"\n"));
+    assert_at(&e, 3, 1, "Texture", "ptex");
+    let e = error(&format!("{HEAD}Texture \"n\" \"float\" \"marble\"\n"));
+    assert_at(&e, 3, 1, "Texture", "spectrum texture");
+    let e = error(&format!(
+        "{HEAD}Texture \"n\" \"float\" \"fbm\" \"integer octaves\" 1000\n"
+    ));
+    assert_at(&e, 3, 27, "integer octaves", "octaves");
     let e = error(&format!(
         "{HEAD}Texture \"a\" \"float\" \"constant\"\nTexture \"a\" \"float\" \"constant\"\n"
     ));
@@ -1042,4 +1048,81 @@ fn an_alpha_cut_out_lets_through_its_share_of_rays() {
     assert!(e.message.contains("area light"), "{e}");
     let e = error(&format!("{HEAD}Shape \"sphere\" \"float alpha\" 0.5\n"));
     assert!(e.message.contains("meshes"), "{e}");
+}
+
+#[test]
+fn spheres_disks_and_cylinders_have_pbrts_uv() {
+    use glam::DVec3;
+    use rayforge::geometry::LocalHit;
+    use rayforge::shading::SurfacePoint;
+    let scene = load(&format!(
+        "{HEAD}Shape \"sphere\" \"float radius\" 2\n\
+         Shape \"disk\" \"float radius\" 2 \"float height\" 1\n\
+         Shape \"cylinder\" \"float radius\" 1 \"float zmin\" 0 \"float zmax\" 2\n"
+    ));
+    let uv = |i: usize, p: DVec3| {
+        let ctx = scene.world.objects[i].texture_context(
+            p,
+            &SurfacePoint::default(),
+            &LocalHit::at(0.0),
+            DVec3::Z,
+        );
+        ctx.uv
+    };
+    let close = |a: (f64, f64), b: (f64, f64)| (a.0 - b.0).abs() < 1e-9 && (a.1 - b.1).abs() < 1e-9;
+    // u = φ / 2π about pbrt's z; v from the sphere's bottom, the disk's rim, the cylinder's zmin.
+    for (i, p, want) in [
+        (0, DVec3::new(0.0, 2.0, 0.0), (0.25, 0.5)),
+        (0, DVec3::new(0.0, 0.0, 2.0), (0.0, 1.0)),
+        (0, DVec3::new(-2.0, 0.0, 0.0), (0.5, 0.5)),
+        (1, DVec3::new(-1.0, 0.0, 1.0), (0.5, 0.5)),
+        (1, DVec3::new(0.0, 0.5, 1.0), (0.25, 0.75)),
+        (2, DVec3::new(0.0, -1.0, 0.5), (0.75, 0.25)),
+    ] {
+        let got = uv(i, p);
+        assert!(close(got, want), "object {i} at {p}: {got:?}, not {want:?}");
+    }
+}
+
+#[test]
+fn noise_textures_are_pbrts() {
+    use rayforge::shading::texture_noise as noise;
+    let scene = load(&format!(
+        "{HEAD}Texture \"f\" \"float\" \"fbm\" \"integer octaves\" 5 \"float roughness\" 0.4\n\
+         Texture \"w\" \"float\" \"wrinkled\"\n\
+         Texture \"y\" \"float\" \"windy\"\n\
+         Texture \"d\" \"float\" \"dots\" \"texture inside\" \"w\" \"float outside\" 0.25\n\
+         Texture \"mix\" \"float\" \"mix\" \"texture tex1\" \"f\" \"texture tex2\" \"y\" \
+         \"texture amount\" \"d\"\n\
+         AttributeBegin\nTranslate 1 2 3\nTexture \"m\" \"spectrum\" \"marble\" \"float scale\" 3\n\
+         AttributeEnd\n\
+         Material \"conductor\" \"texture roughness\" \"mix\" \"bool remaproughness\" false\n{}\
+         Material \"diffuse\" \"texture reflectance\" \"m\"\n{}",
+        quad(1.0, ""),
+        quad(2.0, "")
+    ));
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let t = scene.world.objects[0].material.textures.as_deref().unwrap();
+    let m = scene.world.objects[1].material.textures.as_deref().unwrap();
+    for (u, v) in [(0.1, 0.3), (0.77, 0.05), (0.5, 0.9)] {
+        let p = glam::DVec3::new(2.0 * u - 1.0, 2.0 * v - 1.0, 1.0);
+        let ctx = rayforge::shading::texture_graph::TextureContext {
+            uv: (u, v),
+            point: p,
+            normal: glam::DVec3::Z,
+        };
+        let f = noise::fbm(p, 0.4, 5);
+        let y = noise::windy(p);
+        let a = if noise::inside_polka_dot(u, v) {
+            noise::turbulence(p, 0.5, 8)
+        } else {
+            0.25
+        };
+        let want = ((1.0 - a) * f + a * y).clamp(0.0, 1.0);
+        let (got, _) = t.widths.unwrap().at(&t.graph, &ctx);
+        assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+        // The marble reads the point in its own space (made under `Translate 1 2 3`), scaled.
+        let q = (p - glam::DVec3::new(1.0, 2.0, 3.0)) * 3.0;
+        assert_eq!(m.color_at(&ctx), Some(noise::marble(q, 0.5, 8, 0.2)));
+    }
 }

@@ -20,7 +20,10 @@
 //! folder, at most [`MAX_IMAGE_BYTES`] each, their pixels costed against the scene's image
 //! memory before they are decoded; a file read the same way twice is read once.
 //!
-//! Refused, at the texture: `dots`, `fbm`, `wrinkled`, `windy`, `marble`, `ptex`.
+//! The noise textures (`fbm`, `wrinkled`, `windy` as floats, `marble` as a spectrum, `dots` as
+//! either; `octaves` up to [`MAX_OCTAVES`], `roughness`, and marble's `scale`, `variation`) are
+//! pbrt-v4's ([`rayforge::shading::texture_noise`]), every octave summed (the path tracer has no
+//! footprints to leave fine ones out by). Refused, at the texture: `ptex`.
 
 use super::input::Files;
 use super::params::{Param, ParamType};
@@ -34,6 +37,7 @@ use glam::{DAffine3, DMat4, DVec3};
 use rayforge::shading::texture_graph::{
     FloatInput, ImageFilter, Mapping2D, NodeId, TextureGraph, TextureImage, TextureNode, Wrap,
 };
+use rayforge::shading::texture_noise::MAX_OCTAVES;
 use rayforge::Color;
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -318,11 +322,50 @@ impl Builder<'_> {
                 ],
             },
             "imagemap" => self.image(texture)?,
-            other @ ("dots" | "fbm" | "wrinkled" | "windy" | "marble" | "ptex") => {
-                return Err(entity.error(format!(
-                    "the texture class \"{other}\" is not one rayforge reads; it reads \
-                     constant, scale, mix, directionmix, checkerboard, bilerp and imagemap"
-                )))
+            "dots" => TextureNode::Dots {
+                mapping: mapping(texture)?,
+                inside: self.input(entity, kind, "inside", 1.0)?,
+                outside: self.input(entity, kind, "outside", 0.0)?,
+            },
+            class @ ("fbm" | "wrinkled" | "windy") => {
+                if kind != "float" {
+                    return Err(entity.error(format!(
+                        "\"{class}\" is a float texture in pbrt-v4, not a {kind} one"
+                    )));
+                }
+                let texture_from_world = texture_from_world(texture)?;
+                match class {
+                    "windy" => TextureNode::Windy { texture_from_world },
+                    "fbm" => TextureNode::Fbm {
+                        texture_from_world,
+                        omega: finite(entity, "roughness", 0.5)?,
+                        octaves: octaves(entity)?,
+                    },
+                    _ => TextureNode::Wrinkled {
+                        texture_from_world,
+                        omega: finite(entity, "roughness", 0.5)?,
+                        octaves: octaves(entity)?,
+                    },
+                }
+            }
+            "marble" => {
+                if kind != "spectrum" {
+                    return Err(entity
+                        .error("\"marble\" is a spectrum texture in pbrt-v4, not a float one"));
+                }
+                TextureNode::Marble {
+                    texture_from_world: texture_from_world(texture)?,
+                    omega: finite(entity, "roughness", 0.5)?,
+                    octaves: octaves(entity)?,
+                    scale: finite(entity, "scale", 1.0)?,
+                    variation: finite(entity, "variation", 0.2)?,
+                }
+            }
+            "ptex" => {
+                return Err(entity.error(
+                    "the texture class \"ptex\" is not one rayforge reads (no Ptex reader); \
+                     convert the texture to an image and use \"imagemap\"",
+                ))
             }
             other => {
                 return Err(entity.error(format!(
@@ -450,6 +493,27 @@ impl Builder<'_> {
         }
         self.memory.hold(texels.len() as u64 * COLOR_BYTES);
         TextureImage::new(width, height, texels).ok_or_else(|| "the image is empty".to_string())
+    }
+}
+
+/// The float parameter `name` of `entity` (`default` when absent), finite.
+fn finite(entity: &Entity, name: &str, default: f64) -> Result<f64, SceneError> {
+    let v = entity.params.float_or(name, default)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(entity.error(format!("\"{name}\" is a finite number, found {v}")))
+    }
+}
+
+/// A noise texture's `octaves` (pbrt-v4's default 8), from 0 to [`MAX_OCTAVES`].
+fn octaves(entity: &Entity) -> Result<u32, SceneError> {
+    match entity.params.integer("octaves")? {
+        None => Ok(8),
+        Some((n, _)) if (0..=i64::from(MAX_OCTAVES)).contains(&n) => Ok(n as u32),
+        Some((n, p)) => Err(p.error(format!(
+            "octaves are from 0 to {MAX_OCTAVES} (each costs a noise at every hit), found {n}"
+        ))),
     }
 }
 

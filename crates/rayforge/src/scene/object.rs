@@ -227,9 +227,9 @@ impl Object {
     }
 
     /// Where the material's textures are read at a hit on this object: the world-space
-    /// `point`, the surface's `at` coordinates, or where a mesh has none pbrt-v4's defaults
-    /// for a triangle ((0, 0), (1, 0), (1, 1) at its corners; (0, 0) on other shapes), and the
-    /// world-space geometric `normal`.
+    /// `point`, the surface's `at` coordinates, or where it has none pbrt-v4's: a triangle's
+    /// (0, 0), (1, 0), (1, 1) at its corners, a quadric's parametric ones
+    /// ([`Shape::quadric_uv`]); and the world-space geometric `normal`.
     #[inline]
     pub fn texture_context(
         &self,
@@ -238,10 +238,11 @@ impl Object {
         hit: &LocalHit,
         normal: Vec3,
     ) -> TextureContext {
-        let uv = at.uv.unwrap_or(match self.shape {
-            Shape::Mesh(_) => (hit.u + hit.v, hit.v),
-            _ => (0.0, 0.0),
-        });
+        let uv = match (at.uv, &self.shape) {
+            (Some(uv), _) => uv,
+            (None, Shape::Mesh(_)) => (hit.u + hit.v, hit.v),
+            (None, shape) => shape.quadric_uv(self.transform_at(hit.time).inverse_point(point)),
+        };
         TextureContext { uv, point, normal }
     }
 

@@ -216,6 +216,46 @@ impl Shape {
         }
     }
 
+    /// The (u, v) pbrt-v4 gives the object-space point `p` of a sphere, ring (pbrt's disk) or
+    /// open cylinder, in the frame the pbrt reader places them in (pbrt's z along the ring's
+    /// and cylinder's y): `u = φ / 2π` with φ pbrt's angle about its z from its x, and `v` from
+    /// the bottom pole to the top (sphere), from the outer edge in (disk), from `minimum` to
+    /// `maximum` (cylinder). Other shapes have none: (0, 0).
+    pub fn quadric_uv(&self, p: Point3) -> (f64, f64) {
+        use std::f64::consts::PI;
+        let turn = |y: f64, x: f64| {
+            let phi = y.atan2(x);
+            (if phi < 0.0 { phi + 2.0 * PI } else { phi }) / (2.0 * PI)
+        };
+        match *self {
+            Shape::Sphere => {
+                let r = p.length();
+                let cos_theta = if r > 0.0 {
+                    (p.z / r).clamp(-1.0, 1.0)
+                } else {
+                    1.0
+                };
+                (turn(p.y, p.x), 1.0 - cos_theta.acos() / PI)
+            }
+            // pbrt's (x, y, z) is the reader's (x, −z, y) for these two.
+            Shape::Ring { inner, outer } => {
+                let r = (p.x * p.x + p.z * p.z).sqrt();
+                let v = if outer > inner {
+                    (outer - r) / (outer - inner)
+                } else {
+                    0.0
+                };
+                (turn(-p.z, p.x), v)
+            }
+            Shape::Cylinder {
+                minimum, maximum, ..
+            } if maximum > minimum && maximum.is_finite() && minimum.is_finite() => {
+                (turn(-p.z, p.x), (p.y - minimum) / (maximum - minimum))
+            }
+            _ => (0.0, 0.0),
+        }
+    }
+
     /// Whether an object-space point is inside the shape, for the shapes whose inside a formula
     /// gives (`None` for the others, which the caller asks by casting a ray). Every formula is
     /// `f(p) < 0` for the implicit surface `f = 0` with `f > 0` far away, so it agrees with the

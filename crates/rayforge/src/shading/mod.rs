@@ -20,6 +20,7 @@ mod physical;
 pub mod spectrum;
 mod texture;
 pub mod texture_graph;
+pub mod texture_noise;
 
 pub use crate::math::random::{Jitter, SplitMix64};
 pub use bump::{Bump, BumpKind};

@@ -1,5 +1,5 @@
 //! Textures as pbrt-v4 composes them: a small graph of nodes (constants, images, checkerboards,
-//! bilinear patches, products and blends), each read at a surface point through a mapping from
+//! bilinear patches, products and blends, and the noise textures of [`super::texture_noise`]), each read at a surface point through a mapping from
 //! the point to texture coordinates, so that a material's reflectance or roughness can vary
 //! over a surface as a scene file describes it.
 //!
@@ -20,6 +20,7 @@
 //! box-filtered checkerboard with a zero footprint is exactly this one).
 
 use super::physical::Physical;
+use super::texture_noise as noise;
 use crate::color::Color;
 use crate::math::{Point3, Vec3};
 use glam::DAffine3;
@@ -324,6 +325,52 @@ pub enum TextureNode {
         /// The float amount.
         amount: NodeId,
     },
+    /// pbrt-v4's `fbm` (a float): fractional Brownian motion of `octaves` octaves, each `omega`
+    /// times the last, at the point in texture space.
+    Fbm {
+        /// From the world into texture space.
+        texture_from_world: DAffine3,
+        /// pbrt-v4's `roughness`.
+        omega: f64,
+        /// `octaves`.
+        octaves: u32,
+    },
+    /// pbrt-v4's `wrinkled` (a float): turbulence, the sum of the octaves' magnitudes.
+    Wrinkled {
+        /// From the world into texture space.
+        texture_from_world: DAffine3,
+        /// pbrt-v4's `roughness`.
+        omega: f64,
+        /// `octaves`.
+        octaves: u32,
+    },
+    /// pbrt-v4's `windy` (a float): wave heights scaled by a slower wind strength.
+    Windy {
+        /// From the world into texture space.
+        texture_from_world: DAffine3,
+    },
+    /// pbrt-v4's `marble` (a spectrum): bands of its grey spline, disturbed by fBm.
+    Marble {
+        /// From the world into texture space.
+        texture_from_world: DAffine3,
+        /// pbrt-v4's `roughness`.
+        omega: f64,
+        /// `octaves`.
+        octaves: u32,
+        /// A factor on the point (`scale`).
+        scale: f64,
+        /// The fBm's weight (`variation`).
+        variation: f64,
+    },
+    /// pbrt-v4's `dots`: `inside` in the polka dots of the (s, t) plane, `outside` elsewhere.
+    Dots {
+        /// How the point becomes (s, t).
+        mapping: Mapping2D,
+        /// The dots' texture.
+        inside: NodeId,
+        /// The rest's.
+        outside: NodeId,
+    },
     /// `a tex1 + (1 − a) tex2` with `a = |n · dir|`, the normal's alignment with `dir`
     /// (pbrt-v4's `directionmix`).
     DirectionMix {
@@ -340,9 +387,16 @@ impl TextureNode {
     /// The nodes this one reads.
     fn inputs(&self) -> impl Iterator<Item = NodeId> {
         let list: [Option<NodeId>; 3] = match *self {
-            TextureNode::Constant(_) | TextureNode::Image { .. } | TextureNode::Bilerp { .. } => {
-                [None; 3]
-            }
+            TextureNode::Constant(_)
+            | TextureNode::Image { .. }
+            | TextureNode::Bilerp { .. }
+            | TextureNode::Fbm { .. }
+            | TextureNode::Wrinkled { .. }
+            | TextureNode::Windy { .. }
+            | TextureNode::Marble { .. } => [None; 3],
+            TextureNode::Dots {
+                inside, outside, ..
+            } => [Some(inside), Some(outside), None],
             TextureNode::Checkerboard2D { tex1, tex2, .. }
             | TextureNode::Checkerboard3D { tex1, tex2, .. }
             | TextureNode::DirectionMix { tex1, tex2, .. } => [Some(tex1), Some(tex2), None],
@@ -479,6 +533,52 @@ impl TextureGraph {
                 let a = ctx.normal.dot(*dir).abs();
                 self.blend(*tex2, *tex1, a, ctx)
             }
+            TextureNode::Fbm {
+                texture_from_world,
+                omega,
+                octaves,
+            } => grey(noise::fbm(
+                texture_from_world.transform_point3(ctx.point),
+                *omega,
+                *octaves,
+            )),
+            TextureNode::Wrinkled {
+                texture_from_world,
+                omega,
+                octaves,
+            } => grey(noise::turbulence(
+                texture_from_world.transform_point3(ctx.point),
+                *omega,
+                *octaves,
+            )),
+            TextureNode::Windy { texture_from_world } => {
+                grey(noise::windy(texture_from_world.transform_point3(ctx.point)))
+            }
+            TextureNode::Marble {
+                texture_from_world,
+                omega,
+                octaves,
+                scale,
+                variation,
+            } => noise::marble(
+                texture_from_world.transform_point3(ctx.point) * *scale,
+                *omega,
+                *octaves,
+                *variation,
+            ),
+            TextureNode::Dots {
+                mapping,
+                inside,
+                outside,
+            } => {
+                let (s, t) = mapping.map(ctx);
+                let id = if noise::inside_polka_dot(s, t) {
+                    *inside
+                } else {
+                    *outside
+                };
+                self.evaluate(id, ctx)
+            }
         }
     }
 
@@ -498,6 +598,12 @@ impl TextureGraph {
         };
         one + two
     }
+}
+
+/// A float as a grey colour (how float textures hold their values).
+#[inline]
+fn grey(v: f64) -> Color {
+    Color::new(v, v, v)
 }
 
 /// A float parameter: a fixed number, or a float texture's value (its red channel).
@@ -949,5 +1055,68 @@ mod tests {
         assert!(t.is_there(&at(0.0, 0.0), 0.999));
         t.alpha = Some(FloatInput::Fixed(0.0));
         assert!(!t.is_there(&at(0.0, 0.0), 0.0));
+    }
+
+    #[test]
+    fn noise_nodes_read_the_point_in_texture_space() {
+        let mut g = TextureGraph::new();
+        let shift = DAffine3::from_translation(Vec3::new(0.5, -1.0, 2.0));
+        let fbm = g
+            .add(TextureNode::Fbm {
+                texture_from_world: shift,
+                omega: 0.5,
+                octaves: 4,
+            })
+            .unwrap();
+        let wrinkled = g
+            .add(TextureNode::Wrinkled {
+                texture_from_world: shift,
+                omega: 0.5,
+                octaves: 4,
+            })
+            .unwrap();
+        let windy = g
+            .add(TextureNode::Windy {
+                texture_from_world: shift,
+            })
+            .unwrap();
+        let marble = g
+            .add(TextureNode::Marble {
+                texture_from_world: shift,
+                omega: 0.5,
+                octaves: 8,
+                scale: 2.0,
+                variation: 0.2,
+            })
+            .unwrap();
+        let one = g.add(TextureNode::Constant(grey(1.0))).unwrap();
+        let zero = g.add(TextureNode::Constant(grey(0.0))).unwrap();
+        let dots = g
+            .add(TextureNode::Dots {
+                mapping: Mapping2D::UV,
+                inside: one,
+                outside: zero,
+            })
+            .unwrap();
+        let ctx = at(0.3, 0.7);
+        let q = ctx.point + Vec3::new(0.5, -1.0, 2.0);
+        assert_eq!(g.evaluate(fbm, &ctx), grey(noise::fbm(q, 0.5, 4)));
+        assert_eq!(
+            g.evaluate(wrinkled, &ctx),
+            grey(noise::turbulence(q, 0.5, 4))
+        );
+        assert_eq!(g.evaluate(windy, &ctx), grey(noise::windy(q)));
+        assert_eq!(
+            g.evaluate(marble, &ctx),
+            noise::marble(q * 2.0, 0.5, 8, 0.2)
+        );
+        for (u, v) in [(0.1, 0.2), (3.3, -1.7), (10.0, 4.5)] {
+            let want = if noise::inside_polka_dot(u, v) {
+                1.0
+            } else {
+                0.0
+            };
+            assert_eq!(g.evaluate(dots, &at(u, v)), grey(want));
+        }
     }
 }
