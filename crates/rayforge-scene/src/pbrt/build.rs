@@ -17,7 +17,6 @@ use glam::DMat4;
 use rayforge::draw2d::Overlay;
 use rayforge::shading::texture_graph::{FloatInput, SurfaceTextures};
 use rayforge::shading::EmissionSide;
-use rayforge::Shape;
 use rayforge::{Color, Material, Object, Transform, World};
 use std::collections::HashMap;
 use std::path::Path;
@@ -312,19 +311,6 @@ fn place(
     let mut material = cache.get(&shape.material, warnings)?;
     if let Some(alpha) = cache.textures.float(entity, "alpha", cache.desc)? {
         if !matches!(alpha, FloatInput::Fixed(a) if a >= 1.0) {
-            if shape.area_light.is_some() {
-                return Err(entity.error(
-                    "an area light on a shape with \"alpha\" is not read: rayforge's area \
-                     lights have no holes",
-                ));
-            }
-            if objects.iter().any(|o| !matches!(o.shape, Shape::Mesh(_))) {
-                return Err(entity.error(format!(
-                    "\"alpha\" is read on meshes (trianglemesh, plymesh, and the shapes made \
-                     of triangles); a {} is not one",
-                    entity.name
-                )));
-            }
             let mut surface = material
                 .textures
                 .take()

@@ -15,6 +15,8 @@
 //!     spheres from inside, cubes, rectangles, rings and
 //!     discs, triangles, meshes, finite cylinders and cones, ring tori and spindle tori; a
 //!     still rectangle as a parallelogram and a still box face by face in world space.
+//!   - Alpha cut-outs (pbrt-v4's `alpha`) on an emitting mesh: a drawn point's light is
+//!     weighed by the alpha there, the chance a path meeting it finds the surface.
 //!   - Emissive textures, on any of those: sampled as the plain shape, the radiance
 //!     read at the sampled point by the same code a path that hits it uses; the emitter's
 //!     power (which picks it) uses the texture's mean over 32 × 32 points.
@@ -471,7 +473,7 @@ fn surface_light(
     if !object.material.emission_side.emits_towards(cos) || !keep(drawn.point) {
         return None;
     }
-    let radiance = emitted(object, &drawn.hit);
+    let radiance = emitted(object, &drawn.hit) * coverage(object, &drawn);
     (radiance.max_channel() > 0.0).then_some(LightSample {
         direction: drawn.direction,
         distance: drawn.distance,
@@ -479,6 +481,23 @@ fn surface_light(
         pdf: drawn.pdf,
         delta: false,
     })
+}
+
+/// How much of the surface is there at the drawn point: its alpha (pbrt-v4's cut-outs), 1
+/// where it has none. A path meets a cut-out surface with that probability (the stochastic
+/// test at each hit), so light sampling weighs what it draws there by it: both estimate the
+/// same light, and their weighing against each other is unchanged.
+#[inline]
+fn coverage(object: &Object, drawn: &SolidAngleSample) -> f64 {
+    let Some(textures) = object.material.textures.as_deref() else {
+        return 1.0;
+    };
+    if textures.alpha.is_none() {
+        return 1.0;
+    }
+    let at = object.shape.surface_point(&drawn.hit);
+    let ctx = object.texture_context(drawn.point, &at, &drawn.hit, drawn.normal);
+    textures.coverage(&ctx)
 }
 
 /// The radiance `object` gives off at the object-space hit `hit`: the same reading of its

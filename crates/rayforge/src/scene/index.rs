@@ -67,7 +67,7 @@ impl SurfaceNormal {
             Self::Flat(object.normal_to_world(Vec3::Y))
         } else if let Some(ball) = Ball::of(object) {
             Self::Round(ball)
-        } else if let Some(cuboid) = Cuboid::of(object) {
+        } else if let Some(cuboid) = Cuboid::of(object).filter(|_| !object.has_alpha()) {
             Self::Boxy(cuboid)
         } else {
             Self::Transformed
@@ -145,7 +145,11 @@ impl WorldIndex {
                 let object = &world.objects[i as usize];
                 let pad = (b.max - b.min + b.min.abs() + b.max.abs()) * 1e-9;
                 let widened = Aabb::new(b.min - pad, b.max + pad);
-                if let Some(level) = Level::of(object) {
+                // A cut-out surface (alpha) is found through its own test, which knows its
+                // holes.
+                if object.has_alpha() {
+                    few.boxed.push((i, widened));
+                } else if let Some(level) = Level::of(object) {
                     few.levels.push((i, level));
                 } else if let Some(ball) = Ball::of(object) {
                     few.balls.push((i, ball, widened));

@@ -195,8 +195,8 @@ impl Object {
             (Shape::Mesh(mesh), Some(m)) if m.has_holes() || m.culls_back() => {
                 mesh.closest_hit_where(local, t_min, t_max, |h| surface_is_there(mesh, m, local, h))
             }
-            (Shape::Mesh(mesh), None) if self.has_alpha() => {
-                mesh.closest_hit_where(local, t_min, t_max, |h| self.alpha_keeps(mesh, local, h))
+            (shape, None) if self.has_alpha() => {
+                shape.closest_hit_where(local, t_min, t_max, |h| self.alpha_keeps(local, h))
             }
             _ => self.shape.closest_hit(local, t_min, t_max),
         }
@@ -210,20 +210,23 @@ impl Object {
             (Shape::Mesh(mesh), Some(m)) if m.has_holes() || m.culls_back() => {
                 mesh.any_hit_where(local, t_min, t_max, |h| surface_is_there(mesh, m, local, h))
             }
-            (Shape::Mesh(mesh), None) if self.has_alpha() => {
-                mesh.any_hit_where(local, t_min, t_max, |h| self.alpha_keeps(mesh, local, h))
+            (shape, None) if self.has_alpha() => {
+                shape.any_hit_where(local, t_min, t_max, |h| self.alpha_keeps(local, h))
             }
             _ => self.shape.any_hit(local, t_min, t_max),
         }
     }
 
-    /// Whether the material cuts the surface by an alpha texture (pbrt-v4's `alpha`).
+    /// Whether the material cuts the surface by an alpha texture (pbrt-v4's `alpha`; not on
+    /// CSG solids, whose primitives' hits the solid filters itself).
     #[inline]
-    fn has_alpha(&self) -> bool {
-        self.material
-            .textures
-            .as_ref()
-            .is_some_and(|t| t.alpha.is_some())
+    pub(crate) fn has_alpha(&self) -> bool {
+        !matches!(self.shape, Shape::Csg(_))
+            && self
+                .material
+                .textures
+                .as_ref()
+                .is_some_and(|t| t.alpha.is_some())
     }
 
     /// Where the material's textures are read at a hit on this object: the world-space
@@ -246,21 +249,22 @@ impl Object {
         TextureContext { uv, point, normal }
     }
 
-    /// Whether a hit on this mesh survives its alpha texture: pbrt-v4's stochastic test, the
-    /// coin a hash of the ray and the hit (as for glTF's blended surfaces), so the same ray
+    /// Whether a hit on this object survives its alpha texture: pbrt-v4's stochastic test,
+    /// the coin a hash of the ray and the hit (as for glTF's blended surfaces), so the same ray
     /// always gets the same answer and shadow rays see the same holes as camera rays.
-    fn alpha_keeps(&self, mesh: &Mesh, local: &Ray, hit: &LocalHit) -> bool {
+    fn alpha_keeps(&self, local: &Ray, hit: &LocalHit) -> bool {
         let Some(textures) = self.material.textures.as_deref() else {
             return true;
         };
         let transform = self.transform_at(local.time);
-        let at = SurfacePoint {
-            uv: mesh.texcoord_at(hit),
-            vertex_color: None,
+        let at = self.shape.surface_point(hit);
+        let local_point = local.position(hit.t);
+        let point = transform.point(local_point);
+        let normal = match &self.shape {
+            Shape::Mesh(mesh) => mesh.face_normal(hit.face),
+            shape => shape.normal_at_hit(local_point, hit),
         };
-        let point = transform.point(local.position(hit.t));
-        let normal = transform.normal(mesh.face_normal(hit.face));
-        let ctx = self.texture_context(point, &at, hit, normal);
+        let ctx = self.texture_context(point, &at, hit, transform.normal(normal));
         textures.is_there(&ctx, hit_coin(local, hit))
     }
 

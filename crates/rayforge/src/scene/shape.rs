@@ -173,6 +173,57 @@ impl Shape {
         found
     }
 
+    /// [`Shape::closest_hit`] among the hits that `keep` accepts (an alpha texture's holes): a
+    /// refused hit lets the search go on to those behind it. Not for CSG solids, whose own
+    /// filtering of their primitives' hits this would bypass (they get `closest_hit`).
+    #[inline]
+    pub fn closest_hit_where(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mut keep: impl FnMut(&LocalHit) -> bool,
+    ) -> Option<LocalHit> {
+        match self {
+            Shape::Mesh(mesh) => mesh.closest_hit_where(ray, t_min, t_max, keep),
+            Shape::Csg(_) => self.closest_hit(ray, t_min, t_max),
+            _ => {
+                let mut best = None;
+                let mut limit = t_max;
+                self.intersect_hits(ray, |h| {
+                    if h.t >= t_min && h.t < limit && keep(&h) {
+                        limit = h.t;
+                        best = Some(h);
+                    }
+                });
+                best
+            }
+        }
+    }
+
+    /// [`Shape::any_hit`] among the hits that `keep` accepts (as
+    /// [`closest_hit_where`](Self::closest_hit_where)).
+    #[inline]
+    pub fn any_hit_where(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mut keep: impl FnMut(&LocalHit) -> bool,
+    ) -> bool {
+        match self {
+            Shape::Mesh(mesh) => mesh.any_hit_where(ray, t_min, t_max, keep),
+            Shape::Csg(_) => self.any_hit(ray, t_min, t_max),
+            _ => {
+                let mut found = false;
+                self.intersect_hits(ray, |h| {
+                    found = found || (h.t >= t_min && h.t < t_max && keep(&h));
+                });
+                found
+            }
+        }
+    }
+
     /// The book's `local_normal_at`: the object-space normal at an object-space point on the
     /// surface (not normalised for every shape: the caller normalises after the normal
     /// transform). Smooth triangles and meshes need the hit: see [`Shape::normal_at_hit`].

@@ -722,6 +722,23 @@ impl SurfaceTextures {
         )
     }
 
+    /// The chance the surface is there at `ctx` ([`is_there`](Self::is_there)'s): the alpha
+    /// held in `[0, 1]`, 1 without one.
+    #[inline]
+    pub fn coverage(&self, ctx: &TextureContext) -> f64 {
+        match self.alpha {
+            None => 1.0,
+            Some(alpha) => {
+                let a = alpha.at(&self.graph, ctx);
+                if a.is_nan() {
+                    0.0
+                } else {
+                    a.clamp(0.0, 1.0)
+                }
+            }
+        }
+    }
+
     /// Whether the surface is there at `ctx` for a ray whose coin (uniform in `[0, 1)`, a
     /// hash of the ray) is `coin`: pbrt-v4's stochastic alpha test. Always there without an
     /// alpha texture or where the alpha is at least 1; never where it is 0 or below.
@@ -1053,8 +1070,12 @@ mod tests {
         assert!(!t.is_there(&at(0.0, 0.0), 0.5));
         t.alpha = Some(FloatInput::Texture(big));
         assert!(t.is_there(&at(0.0, 0.0), 0.999));
+        assert_eq!(t.coverage(&at(0.0, 0.0)), 1.0);
         t.alpha = Some(FloatInput::Fixed(0.0));
         assert!(!t.is_there(&at(0.0, 0.0), 0.0));
+        assert_eq!(t.coverage(&at(0.0, 0.0)), 0.0);
+        t.alpha = Some(FloatInput::Texture(half));
+        assert_eq!(t.coverage(&at(0.0, 0.0)), 0.5);
     }
 
     #[test]
