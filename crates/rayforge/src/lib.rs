@@ -44,6 +44,7 @@ pub mod film;
 pub mod geometry;
 pub mod lights;
 pub mod math;
+pub mod media;
 pub mod options;
 pub mod raster;
 pub mod render;

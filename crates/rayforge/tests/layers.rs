@@ -16,7 +16,7 @@ const LAYERS: &[&[&str]] = &[
     &["color", "math"],
     &["accel", "camera", "canvas", "film", "draw2d", "options"],
     &["geometry"],
-    &["shading"],
+    &["shading", "media"],
     &["scene"],
     &["lights"],
     &["render", "raster"],
