@@ -12,7 +12,7 @@ use miette::{
     Diagnostic, MietteError, MietteHandlerOpts, MietteSpanContents, SourceCode, SourceSpan,
     SpanContents,
 };
-use rayforge_scene::SceneError;
+use rayforge_scene::{clip, SceneError};
 
 /// How many characters of a line the display shows at most.
 pub(crate) const WINDOW: usize = 120;
@@ -297,8 +297,19 @@ fn window(line: &str, skip: usize) -> String {
 }
 
 /// A scene error as a failure (exit 2): a miette report with the offending line when the
-/// position is known, otherwise the one-line message (which names the file).
+/// position is known, otherwise the one-line message (which names the file); a reading
+/// stopped by Ctrl-C or a termination signal is the interrupt's failure (exit 130).
 pub fn scene_failure(error: SceneError) -> Failure {
+    if error.interrupted {
+        let at = match error.span {
+            Some(span) => format!(" at {}:{}:{}", error.path.display(), span.line, span.column),
+            None => format!(" in {}", error.path.display()),
+        };
+        return Failure::Interrupted(format!(
+            "stopped while reading the scene{}; nothing was written",
+            clip(&at)
+        ));
+    }
     match locate(&error) {
         Some((source_code, span)) => Failure::Scene(miette::Report::new(SceneDiagnostic {
             error,

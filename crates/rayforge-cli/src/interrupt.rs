@@ -2,10 +2,20 @@
 //! progress (so they can be saved); a second stops the process at once.
 
 use crate::failure::EXIT_INTERRUPTED;
+use rayforge_scene::StopFlag;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, LazyLock};
 
-static STOP: AtomicBool = AtomicBool::new(false);
+/// Shared, so that the scene reader (which holds its flag by [`StopFlag`]) stops at it too.
+static STOP: LazyLock<Arc<AtomicBool>> = LazyLock::new(Arc::default);
 static QUIET: AtomicBool = AtomicBool::new(false);
+
+/// The flag an interrupt sets, as the scene reader takes it, with the handler installed: a
+/// reading stops part-way, and the command exits 130 having written nothing.
+pub fn load_stop(quiet: bool) -> StopFlag {
+    stop_flag(quiet);
+    StopFlag::new(Arc::clone(&STOP))
+}
 
 /// The flag an interrupt sets, with the handler installed (once per process). Without a
 /// handler (the system refused one) the flag is never set and Ctrl-C stops the process as
@@ -19,9 +29,7 @@ pub fn stop_flag(quiet: bool) -> &'static AtomicBool {
             std::process::exit(i32::from(EXIT_INTERRUPTED));
         }
         if !QUIET.load(Ordering::Relaxed) {
-            eprintln!(
-                "\nstopping after the rows in progress to save them (Ctrl-C again stops at once)"
-            );
+            eprintln!("\nstopping (Ctrl-C again stops at once)");
         }
     });
     &STOP

@@ -18,6 +18,7 @@ use rayforge::canvas::Canvas;
 use rayforge::draw2d::Overlay;
 use rayforge::film::{develop, Exposure, Film};
 use rayforge::options::RasterOptions;
+use rayforge::raster::RasterError;
 use rayforge::render::{render_rows, PartialImage, RenderOptions, RenderStats, Sampling};
 use rayforge_scene::gltf::CameraChoice;
 use rayforge_scene::{LoadOptions, Scene};
@@ -95,8 +96,12 @@ pub(crate) fn load_scene(
     settings: &RenderSettings,
     frame: u64,
 ) -> Result<(Scene, Camera), Failure> {
-    let scene = rayforge_scene::load_file_with(&settings.scene, &load_options(settings, frame))
-        .map_err(scene_failure)?;
+    // Ctrl-C and SIGTERM stop the reading of a scene of millions of parts within one part.
+    let options = LoadOptions {
+        stop: crate::interrupt::load_stop(settings.quiet),
+        ..load_options(settings, frame)
+    };
+    let scene = rayforge_scene::load_file_with(&settings.scene, &options).map_err(scene_failure)?;
     if !settings.quiet {
         // Once each: the frames of `--frames` read the same file.
         for warning in &scene.warnings {
@@ -177,9 +182,10 @@ fn raster_render(
     output: &Path,
 ) -> Result<(), Failure> {
     let started = Instant::now();
+    let stop = crate::interrupt::stop_flag(settings.quiet);
     let (film, stats) = pool
-        .install(|| rayforge::raster::render_film(camera, &scene.world, options))
-        .map_err(|e| Failure::usage(e.to_string()))?;
+        .install(|| rayforge::raster::render_film(camera, &scene.world, options, Some(stop)))
+        .map_err(raster_failure)?;
     let (canvas, non_finite) = develop_with_overlay(scene, camera, &film);
     let elapsed = started.elapsed();
     if let Some(mut display) = display_for(settings, output, (canvas.width(), canvas.height()), &[])
@@ -204,6 +210,17 @@ fn raster_render(
         }
     }
     Ok(())
+}
+
+/// A raster frame that did not finish as a failure: stopped by Ctrl-C or a termination signal
+/// (exit 130, nothing written), or refused (exit 2).
+pub(crate) fn raster_failure(error: RasterError) -> Failure {
+    match error {
+        RasterError::Cancelled { .. } => {
+            Failure::Interrupted(format!("{error}; nothing was written"))
+        }
+        _ => Failure::usage(error.to_string()),
+    }
 }
 
 /// The ray tracer's options that change pixels: depth, bailout, sampling, subsampling (the

@@ -302,14 +302,22 @@ impl SliceRender<'_> {
     }
 
     /// The rasterizer's rows of the slice: the bands of tiles that hold them drawn, in one go
-    /// (it cannot stop between rows).
+    /// (it keeps no rows of a frame it did not finish: Ctrl-C stops it before its next tile,
+    /// and no part is written).
     fn raster(&self, options: &rayforge::options::RasterOptions) -> Result<Film, Failure> {
         let film = self.film(PixelFilter::Box)?;
+        let stop = crate::interrupt::stop_flag(self.settings.quiet);
         self.pool
             .install(|| {
-                rayforge::raster::render_rows_into(self.camera, &self.scene.world, options, &film)
+                rayforge::raster::render_rows_into(
+                    self.camera,
+                    &self.scene.world,
+                    options,
+                    &film,
+                    Some(stop),
+                )
             })
-            .map_err(|e| Failure::usage(e.to_string()))?;
+            .map_err(crate::render_command::raster_failure)?;
         Ok(film.into_film())
     }
 

@@ -166,6 +166,54 @@ fn an_interrupt_stops_a_render_inside_one_pixel() {
     assert!(!out.exists());
 }
 
+/// Ctrl-C while a scene of 300,000 parts is read (about 16 MB; seconds to read in a debug
+/// build): the reading stops part-way, at the line it reached, and the command exits 130
+/// having written nothing. The handler is installed just before the reading starts, and the
+/// signal sent once it is: the place named must be well before the file's end.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_interrupt_stops_the_reading_of_a_huge_scene() {
+    let d = Dir::new();
+    let mut text = String::from(CAMERA);
+    for i in 0..300_000 {
+        text.push_str(&format!(
+            "- add: sphere\n  transform: [[translate, {i}, 0, 9]]\n"
+        ));
+    }
+    let lines = text.lines().count();
+    let scene = d.file("huge.yml", &text);
+    let out = d.path("huge.png");
+    let child = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_until_it_catches_sigint(child.id());
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(!out.exists());
+    let at = err
+        .split("stopped while reading the scene at ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("not stopped while reading: {err}"));
+    let line: usize = at
+        .split(':')
+        .nth(1)
+        .and_then(|l| l.parse().ok())
+        .unwrap_or_else(|| panic!("no line: {err}"));
+    assert!(line < lines / 2, "stopped at line {line} of {lines}: {err}");
+    assert!(err.contains("nothing was written"), "{err}");
+}
+
 /// Waits until the process `pid` has a handler for SIGINT (its `SigCgt` mask in
 /// `/proc/PID/status` holds the signal), the observable sign that its Ctrl-C handler is
 /// installed; the deadline is a guard against a hang, not a measure of speed.

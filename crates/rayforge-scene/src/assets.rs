@@ -11,7 +11,8 @@ use crate::images::{
     MAX_IMAGE_BYTES,
 };
 use crate::obj::{read_obj_in, to_meshes};
-use crate::ply::read_ply_file;
+use crate::ply::read_ply_in;
+use crate::stop::StopFlag;
 use rayforge::geometry::Mesh;
 use rayforge::shading::{Filter, Texture};
 use rayforge::Material;
@@ -34,18 +35,21 @@ pub struct Assets {
     max_triangles: usize,
     /// How many they hold so far.
     triangles: usize,
+    /// The flag that stops the models' reading part-way.
+    stop: StopFlag,
 }
 
 impl Assets {
     /// Assets for the scene file at `scene_path`: names resolve in its folder and must stay
     /// inside it unless `allow_outside`; its models together may hold at most `max_triangles`
     /// triangles and its images (textures and environment maps) take at most
-    /// `max_image_memory` bytes.
+    /// `max_image_memory` bytes; the models' reading stops once `stop` is set.
     pub fn new(
         scene_path: &Path,
         allow_outside: bool,
         max_triangles: usize,
         max_image_memory: u64,
+        stop: StopFlag,
     ) -> Self {
         Self {
             folder: Folder::of_file(scene_path, allow_outside),
@@ -58,6 +62,7 @@ impl Assets {
             },
             max_triangles,
             triangles: 0,
+            stop,
         }
     }
 
@@ -89,6 +94,7 @@ impl Assets {
             folder,
             &mut |image| cached_texture(textures, folder, image),
             self.max_triangles,
+            &self.stop,
         )?;
         let triangles: usize = obj.groups.iter().map(|g| g.triangles.len()).sum();
         self.triangles = self.triangles.saturating_add(triangles);
@@ -122,6 +128,7 @@ impl Assets {
                 folder: &self.folder,
                 memory: &mut self.textures.memory,
                 max_triangles: self.max_triangles.saturating_sub(self.triangles),
+                stop: &self.stop,
             },
         )?;
         let triangles: usize = model
@@ -148,7 +155,7 @@ impl Assets {
             .check(path)
             .map_err(|e| SceneError::new(path, e))?;
         let left = self.max_triangles.saturating_sub(self.triangles);
-        let mesh = read_ply_file(path, left).map_err(|mut e| {
+        let mesh = read_ply_in(path, left, &self.stop).map_err(|mut e| {
             if left < self.max_triangles {
                 e.message = format!(
                     "{} (what the scene's models before it leave of the limit of {})",

@@ -206,10 +206,14 @@ fn next_event<'s>(
     source: &Source<'s>,
     parser: &mut Events<'s>,
 ) -> Result<Option<(Event<'s>, Span)>, SceneError> {
-    parser
+    let event = parser
         .next()
         .transpose()
-        .map_err(|e: ScanError| source.syntax_error(&e))
+        .map_err(|e: ScanError| source.syntax_error(&e))?;
+    if let Some((_, span)) = &event {
+        source.stop_at(span.start)?;
+    }
+    Ok(event)
 }
 
 /// The events stopped inside a node, which the parser reports as a syntax error first; an

@@ -28,6 +28,9 @@ pub struct SceneError {
     pub key: Option<String>,
     /// What is wrong, in a sentence.
     pub message: String,
+    /// Whether the reading was stopped by its [`StopFlag`](crate::StopFlag) (Ctrl-C, a
+    /// termination signal, the page's cancel) rather than refused: the file is not at fault.
+    pub interrupted: bool,
 }
 
 impl SceneError {
@@ -38,6 +41,16 @@ impl SceneError {
             span: None,
             key: None,
             message: message.into(),
+            interrupted: false,
+        }
+    }
+
+    /// The error of a reading stopped by its [`StopFlag`](crate::StopFlag), in `path` (each
+    /// reader places it where it stopped).
+    pub fn interrupted(path: &Path) -> Self {
+        Self {
+            interrupted: true,
+            ..Self::new(path, "reading stopped: interrupted")
         }
     }
 

@@ -26,6 +26,7 @@ pub mod ply;
 mod scene;
 mod settings;
 mod source;
+mod stop;
 mod text_line;
 mod transform;
 
@@ -35,6 +36,7 @@ pub use images::{DEFAULT_MAX_IMAGE_MEMORY, MAX_IMAGE_BYTES, MAX_TEXTURE_PIXELS, 
 pub use obj::DEFAULT_MAX_TRIANGLES;
 pub use scene::{CameraChoice, LoadOptions, Scene};
 pub use settings::MAX_DEPTH as MAX_RAY_DEPTH;
+pub use stop::StopFlag;
 
 use defines::Defines;
 use document::Items;
@@ -123,7 +125,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
             "the scene file is binary, not YAML text",
         ));
     }
-    let source = Source::new(path, text);
+    let source = Source::new(path, text, options.stop.clone());
     let mut items = Items::open(&source)?;
     let mut defines = Defines::default();
     let mut assets = assets::Assets::new(
@@ -131,6 +133,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         options.allow_outside,
         options.max_triangles,
         options.max_image_memory,
+        options.stop.clone(),
     );
     let mut read = Contents::default();
     let mut settings: Option<settings::Settings> = None;

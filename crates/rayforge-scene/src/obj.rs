@@ -11,6 +11,7 @@
 
 use crate::error::{SceneError, Span};
 use crate::files::Folder;
+use crate::stop::StopFlag;
 use crate::text_line::TextLine;
 use rayforge::{Color, Material, Point3, Vec3};
 use std::collections::HashMap;
@@ -98,17 +99,19 @@ pub fn read_obj_file(
         &Folder::of_file(path, false),
         load_texture,
         DEFAULT_MAX_TRIANGLES,
+        &StopFlag::default(),
     )
 }
 
 /// [`read_obj_file`] for a scene: the MTL files and images the model names must be inside
 /// `folder` (the scene's), and it may hold at most `max_triangles` triangles (see
-/// [`parse_obj_with_limit`]).
+/// [`parse_obj_with_limit`]), stopping at the first statement after `stop` is set.
 pub(crate) fn read_obj_in(
     path: &Path,
     folder: &Folder,
     load_texture: &mut TextureLoader<'_>,
     max_triangles: usize,
+    stop: &StopFlag,
 ) -> Result<ObjFile, SceneError> {
     let text = read_text(path)?;
     if text.contains('\0') {
@@ -128,7 +131,7 @@ pub(crate) fn read_obj_in(
             ),
         ));
     }
-    let mut obj = parse_obj_with_limit(&text, path, max_triangles)?;
+    let mut obj = parse_obj_in(&text, path, max_triangles, stop)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     // Names in the libraries are held to the folder too, before the loader reads them.
     let mut load_inside = |image: &Path| {
@@ -231,6 +234,16 @@ pub fn parse_obj_with_limit(
     path: &Path,
     max_triangles: usize,
 ) -> Result<ObjFile, SceneError> {
+    parse_obj_in(text, path, max_triangles, &StopFlag::default())
+}
+
+/// [`parse_obj_with_limit`] that stops at the first statement after `stop` is set.
+pub(crate) fn parse_obj_in(
+    text: &str,
+    path: &Path,
+    max_triangles: usize,
+    stop: &StopFlag,
+) -> Result<ObjFile, SceneError> {
     let mut triangles = 0usize;
     let too_many = |line: &TextLine<'_>| {
         line.error(
@@ -275,6 +288,7 @@ pub fn parse_obj_with_limit(
     let mut corners: Vec<Corner> = Vec::with_capacity(8);
     let texcoords_named = statements(text, path).any(|(_, keyword)| keyword == "vt");
     for (line, keyword) in statements(text, path) {
+        stop.check(path).map_err(|e| e.at(line.span(0, 0)))?;
         match keyword {
             "v" => {
                 room(&line, "v", obj.vertices.len())?;

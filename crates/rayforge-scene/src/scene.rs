@@ -7,6 +7,7 @@ use crate::error::SceneError;
 use crate::images::DEFAULT_MAX_IMAGE_MEMORY;
 use crate::items::camera::LookAt;
 use crate::obj::DEFAULT_MAX_TRIANGLES;
+use crate::stop::StopFlag;
 
 /// A scene ready to render: the world and the camera that looks at it.
 #[derive(Debug, Clone)]
@@ -71,6 +72,8 @@ pub struct LoadOptions {
     /// Which of a glTF model's cameras to look through when the model is rendered directly
     /// (`--camera`).
     pub camera: CameraChoice,
+    /// The flag that stops the reading part-way (see [`StopFlag`]): none by default.
+    pub stop: StopFlag,
 }
 
 impl Default for LoadOptions {
@@ -81,6 +84,7 @@ impl Default for LoadOptions {
             max_image_memory: DEFAULT_MAX_IMAGE_MEMORY,
             allow_outside: false,
             camera: CameraChoice::First,
+            stop: StopFlag::default(),
         }
     }
 }

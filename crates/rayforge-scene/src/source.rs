@@ -2,6 +2,7 @@
 
 use crate::budget::Budget;
 use crate::error::{SceneError, Span};
+use crate::stop::StopFlag;
 use saphyr::{MarkedYaml, Marker, Scalar, ScanError, YamlData};
 use saphyr_parser::{Event, Parser};
 use std::collections::HashMap;
@@ -35,6 +36,8 @@ pub struct Source<'s> {
     warnings: std::cell::RefCell<Vec<SceneError>>,
     /// What the scene may still build.
     budget: Budget,
+    /// The flag that stops the reading, looked at for each parser event and each part built.
+    stop: StopFlag,
     /// Whether the text is ASCII (character and byte offsets agree).
     ascii: bool,
 }
@@ -48,14 +51,22 @@ pub type Node<'s> = MarkedYaml<'s>;
 impl<'s> Source<'s> {
     /// A scene file's text, `path` naming it in messages. Its items are read by
     /// [`Items`](crate::document::Items).
-    pub fn new(path: &'s Path, text: &'s str) -> Self {
+    pub fn new(path: &'s Path, text: &'s str, stop: StopFlag) -> Self {
         Self {
             path,
             text,
             warnings: Default::default(),
             budget: Budget::default(),
+            stop,
             ascii: text.is_ascii(),
         }
+    }
+
+    /// `Err` at the parser's position `at` once the stop flag is set (see [`StopFlag`]).
+    pub fn stop_at(&self, at: Marker) -> Result<(), SceneError> {
+        self.stop
+            .check(self.path)
+            .map_err(|e| e.at(self.span_at(at.index(), at.line(), at.col(), 0)))
     }
 
     /// The file's text.
@@ -166,8 +177,11 @@ impl<'s> Source<'s> {
     }
 
     /// Spends one part of the scene's budget (see the `budget` module) on something built at
-    /// `node` for `key`.
+    /// `node` for `key`; stops there once the stop flag is set.
     pub fn spend(&self, node: &Node<'_>, key: &str) -> Result<(), SceneError> {
+        self.stop
+            .check(self.path)
+            .map_err(|e| e.at(self.span(node)))?;
         self.budget
             .spend()
             .map_err(|message| self.error(node, key, message))

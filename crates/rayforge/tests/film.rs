@@ -528,11 +528,12 @@ fn renders_into_a_film_of_some_rows_are_those_rows_of_the_whole_render() {
 
     let options = RasterOptions::default();
     let raster = film(PixelFilter::Box);
-    let stats = rayforge::raster::render_rows_into(&camera, &world, &options, &raster).unwrap();
-    let (whole, whole_stats) = render_film(&camera, &world, &options).unwrap();
+    let stats =
+        rayforge::raster::render_rows_into(&camera, &world, &options, &raster, None).unwrap();
+    let (whole, whole_stats) = render_film(&camera, &world, &options, None).unwrap();
     assert_eq!(stats, whole_stats);
     assert_eq!(bits(&raster.into_film()), bits(&rows_of(&whole, &keep)));
-    let refused = rayforge::raster::render_rows_into(&camera, &world, &options, &film(tent));
+    let refused = rayforge::raster::render_rows_into(&camera, &world, &options, &film(tent), None);
     assert!(matches!(
         refused,
         Err(RasterError::FilmMismatch {

@@ -551,3 +551,40 @@ fn a_resized_viewport_camera_rasterizes_the_same_view_at_the_new_size() {
     );
     assert_eq!(resized.pixel_size(), native.pixel_size());
 }
+
+/// The stop flag is looked at before each stage and each tile: set before the frame, nothing
+/// is drawn (0 tiles, of the 2 × 3 of a 100 × 90 image in 64 × 32 tiles) and the frame is
+/// refused as interrupted; left clear, the frame is the bytes of one drawn without a flag.
+#[test]
+fn a_stop_flag_set_before_a_frame_draws_no_tile() {
+    use rayforge::raster::{RasterError, Rasterizer};
+    use std::sync::atomic::AtomicBool;
+    let w = rayforge::default_world();
+    let c = Camera::new(100, 90, std::f64::consts::FRAC_PI_3).with_transform(view_transform(
+        point(0.0, 0.0, -5.0),
+        point(0.0, 0.0, 0.0),
+        vector(0.0, 1.0, 0.0),
+    ));
+    let options = RasterOptions::default();
+    let stop = AtomicBool::new(true);
+    let cancelled = RasterError::Cancelled {
+        tiles_drawn: 0,
+        tiles: 6,
+    };
+    assert_eq!(
+        raster::render_film(&c, &w, &options, Some(&stop)).err(),
+        Some(cancelled)
+    );
+    let mut rasterizer = Rasterizer::new();
+    assert_eq!(
+        rasterizer.render(&c, &w, &options, Some(&stop)).err(),
+        Some(cancelled)
+    );
+    let clear = AtomicBool::new(false);
+    let drawn = rasterizer
+        .render(&c, &w, &options, Some(&clear))
+        .expect("drawn whole")
+        .0
+        .clone();
+    assert_eq!(drawn, raster::render(&c, &w, &options).unwrap());
+}

@@ -28,7 +28,7 @@ use rayforge::raster::Rasterizer;
 use rayforge::render::path::{learn_roulette, render_path, PathJob};
 use rayforge::render::{render_rows, RenderOptions, Sampling};
 use rayforge::LightingModel;
-use rayforge_scene::Scene;
+use rayforge_scene::{LoadOptions, Scene, StopFlag};
 use rayon::ThreadPool;
 use std::ffi::OsString;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -126,7 +126,7 @@ impl Worker {
     /// Reads the scene when its files changed, and renders the job's passes.
     fn render(&mut self, job: &Job, started: Instant) -> Result<(), Stop> {
         let settings = settings_for(&self.config, &job.request)?;
-        let loaded = load(&mut self.loaded, &settings, job.generation)?;
+        let loaded = load(&mut self.loaded, &settings, job)?;
         self.config.files.set(&loaded.scene.files);
         let lighting = job.request.lighting.unwrap_or(loaded.lighting);
         loaded.scene.world.lighting = lighting;
@@ -209,17 +209,28 @@ impl Worker {
     }
 }
 
-/// The scene for `generation` of the files: the one read last, or read again.
+/// The scene for the job's generation of the files: the one read last, or read again (a
+/// reading the job's cancel stops part-way, as a newer request or the page's going does).
 fn load<'a>(
     loaded: &'a mut Option<Loaded>,
     settings: &RenderSettings,
-    generation: u64,
+    job: &Job,
 ) -> Result<&'a mut Loaded, Stop> {
+    let generation = job.generation;
     if loaded.as_ref().map(|l| l.generation) != Some(generation) {
         // A scene that no longer reads is not kept: the page keeps its last good image.
         *loaded = None;
-        let scene = rayforge_scene::load_file_with(&settings.scene, &load_options(settings, 0))
-            .map_err(Stop::Scene)?;
+        let options = LoadOptions {
+            stop: StopFlag::new(job.cancel.clone()),
+            ..load_options(settings, 0)
+        };
+        let scene = rayforge_scene::load_file_with(&settings.scene, &options).map_err(|e| {
+            if e.interrupted {
+                Stop::Cancelled
+            } else {
+                Stop::Scene(e)
+            }
+        })?;
         let lighting = scene.world.lighting;
         *loaded = Some(Loaded {
             generation,
@@ -464,8 +475,12 @@ fn raster_pass(
     options: &RasterOptions,
 ) -> Result<(), Stop> {
     let (image, _) = pool
-        .install(|| rasterizer.render(camera, &scene.world, options))
-        .map_err(|e| Stop::Failed(e.to_string()))?;
+        .install(|| rasterizer.render(camera, &scene.world, options, Some(&pass.job.cancel)))
+        .map_err(|e| match e {
+            // A newer request, or the page gone: the frame is dropped, as a ray pass's is.
+            rayforge::raster::RasterError::Cancelled { .. } => Stop::Cancelled,
+            _ => Stop::Failed(e.to_string()),
+        })?;
     let (canvas, _) = finish_image(image.clone(), Some((&scene.overlay, camera)));
     pass.frame(&canvas, 1, 1, 1)
 }

@@ -6,6 +6,7 @@
 use super::buffers::Buffers;
 use super::paths::error;
 use crate::error::SceneError;
+use crate::stop::StopFlag;
 use glam::{DVec3, DVec4};
 use rayforge::geometry::{Mesh, MeshFace, VertexAttributes};
 use rayforge::{Point3, Vec3};
@@ -24,11 +25,19 @@ pub(crate) struct Meshes<'a> {
     max_triangles: usize,
     /// What was left out, for warnings.
     pub notes: Vec<String>,
+    /// Looked at before each node and each primitive.
+    stop: &'a StopFlag,
 }
 
 impl<'a> Meshes<'a> {
-    pub fn new(path: &'a Path, buffers: &'a Buffers, max_triangles: usize) -> Self {
+    pub fn new(
+        path: &'a Path,
+        buffers: &'a Buffers,
+        max_triangles: usize,
+        stop: &'a StopFlag,
+    ) -> Self {
         Self {
+            stop,
             path,
             buffers,
             by_primitive: HashMap::new(),
@@ -36,6 +45,11 @@ impl<'a> Meshes<'a> {
             max_triangles,
             notes: Vec::new(),
         }
+    }
+
+    /// `Err`, naming the part `at` (`nodes[3]`), once the stop flag is set.
+    pub fn stopped_at(&self, at: &str) -> Result<(), SceneError> {
+        self.stop.check(self.path).map_err(|e| e.with_key(at))
     }
 
     /// The mesh of a primitive (`None` for points and lines, which have no surface), with
@@ -53,6 +67,7 @@ impl<'a> Meshes<'a> {
             return Ok(m.clone());
         }
         let at = format!("meshes[{}].primitives[{}]", mesh.index(), primitive.index());
+        self.stopped_at(&at)?;
         let built = self.read(primitive, &at, tangents, uv_set)?;
         self.by_primitive.insert(key, built.clone());
         Ok(built)

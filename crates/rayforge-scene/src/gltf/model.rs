@@ -10,6 +10,7 @@ use crate::error::{SceneError, Span};
 use crate::files::{read_bounded, Folder};
 use crate::images::ImageMemory;
 use crate::obj::MAX_MODEL_BYTES;
+use crate::stop::StopFlag;
 use glam::{DMat4, DVec3};
 use rayforge::Object;
 use std::path::Path;
@@ -62,6 +63,8 @@ pub(crate) struct Limits<'a> {
     pub memory: &'a mut ImageMemory,
     /// The most triangles the model may hold.
     pub max_triangles: usize,
+    /// The flag that stops the reading part-way.
+    pub stop: &'a StopFlag,
 }
 
 /// Reads the glTF model at `path`, within `limits`.
@@ -72,7 +75,7 @@ pub(crate) fn read_gltf(path: &Path, limits: Limits<'_>) -> Result<GltfModel, Sc
     let mut gltf = parse(path, &bytes)?;
     let buffers = buffers::load(path, &mut gltf, limits.folder)?;
     let mut materials = materials::Materials::new(path, &buffers, limits.folder, limits.memory);
-    let mut meshes = meshes::Meshes::new(path, &buffers, limits.max_triangles);
+    let mut meshes = meshes::Meshes::new(path, &buffers, limits.max_triangles, limits.stop);
     let mut notes = Vec::new();
     for extension in gltf.extensions_required() {
         if APPROXIMATED_EXTENSIONS.contains(&extension) {

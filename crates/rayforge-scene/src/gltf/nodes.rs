@@ -121,6 +121,7 @@ pub(crate) fn walk(
         .collect();
     while let Some((node, parent)) = stack.pop() {
         let at = format!("nodes[{}]", node.index());
+        meshes.stopped_at(&at)?;
         if let ::gltf::scene::Transform::Decomposed { rotation, .. } = node.transform() {
             let length = rotation
                 .iter()

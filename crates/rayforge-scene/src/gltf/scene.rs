@@ -226,6 +226,7 @@ pub fn model_scene(path: &Path, options: &LoadOptions) -> Result<Scene, SceneErr
         options.allow_outside,
         options.max_triangles,
         options.max_image_memory,
+        options.stop.clone(),
     );
     let model = assets.gltf(path)?;
     let chosen = pick(path, &model.cameras, &options.camera)?;

@@ -95,6 +95,7 @@ pub fn scene(
     };
     let mut noted = Notes::default();
     for shape in &desc.shapes {
+        shape.entity.loc.stopped(files.stop(), "Shape")?;
         let placed = place(
             shape,
             files,
@@ -126,6 +127,7 @@ pub fn scene(
         if !defined.contains_key(used.name.as_str()) {
             let mut objects = Vec::new();
             for shape in shapes {
+                shape.entity.loc.stopped(files.stop(), "Shape")?;
                 objects.extend(place(
                     shape,
                     files,
@@ -147,6 +149,7 @@ pub fn scene(
             )
         })?;
         for object in &defined[used.name.as_str()] {
+            used.loc.stopped(files.stop(), "ObjectInstance")?;
             budget
                 .spend()
                 .map_err(|e| used.loc.error(Some("ObjectInstance"), e))?;

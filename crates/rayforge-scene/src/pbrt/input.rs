@@ -4,6 +4,7 @@
 
 use crate::error::{SceneError, Span};
 use crate::files::{read_bounded, Folder};
+use crate::stop::StopFlag;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -38,6 +39,12 @@ impl Loc {
             None => error,
         }
     }
+
+    /// `Err` here, about `key`, once `stop` is set.
+    pub fn stopped(&self, stop: &StopFlag, key: &str) -> Result<(), SceneError> {
+        stop.check(&self.file)
+            .map_err(|e| e.at(self.span).with_key(key))
+    }
 }
 
 /// The files read so far, and the folder the names in them are found in.
@@ -46,6 +53,9 @@ pub struct Files {
     folder: Folder,
     /// Bytes read so far, all files together.
     total: u64,
+    /// The flag that stops the reading part-way: looked at before each directive and each
+    /// shape built.
+    stop: StopFlag,
 }
 
 impl Files {
@@ -57,7 +67,18 @@ impl Files {
             main: main.to_path_buf(),
             folder: Folder::of_file(main, allow_outside),
             total: 0,
+            stop: StopFlag::default(),
         }
+    }
+
+    /// The same files, whose reading and building stop once `stop` is set.
+    pub fn stopped_by(self, stop: StopFlag) -> Self {
+        Self { stop, ..self }
+    }
+
+    /// The flag that stops the reading.
+    pub fn stop(&self) -> &StopFlag {
+        &self.stop
     }
 
     /// The top-level file.

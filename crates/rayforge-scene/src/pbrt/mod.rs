@@ -46,7 +46,7 @@ pub fn is_scene_file(path: &Path) -> bool {
 
 /// Reads and builds the pbrt scene whose top-level file is `path`.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
-    let mut files = input::Files::new(path, options.allow_outside);
+    let mut files = input::Files::new(path, options.allow_outside).stopped_by(options.stop.clone());
     let description = reader::read(&mut files)?;
     build::scene(description, &files, options)
 }

@@ -296,6 +296,7 @@ impl Reader<'_> {
             if self.options_only && token.text == "WorldBegin" {
                 return Ok(());
             }
+            loc.stopped(self.files.stop(), token.text)?;
             self.directive(token.text, loc, stream, depth)?;
         }
         Ok(())

@@ -248,7 +248,7 @@ fn ply_mesh(
     let path = files.resolve(name);
     files.check(&path, &param.loc, "filename")?;
     let left = max_triangles.saturating_sub(*triangles);
-    let read = crate::ply::read_ply_file(&path, left).map_err(|mut e| {
+    let read = crate::ply::read_ply_in(&path, left, files.stop()).map_err(|mut e| {
         // The error's place is in the PLY file; say which directive named it.
         e.message = format!(
             "{} (the PLY file of the plymesh at {}:{}:{})",

@@ -5,6 +5,7 @@
 
 use super::header::{Format, Scalar};
 use crate::error::{SceneError, Span};
+use crate::stop::StopFlag;
 use std::path::Path;
 
 /// What is being read, for errors: the element's name and number, and the property's name.
@@ -34,12 +35,22 @@ pub struct Body<'b> {
     line_end: usize,
     /// Where the value read last starts (it ends where reading is now).
     last: usize,
+    /// Looked at as each element begins.
+    stop: &'b StopFlag,
 }
 
 impl<'b> Body<'b> {
     /// The body of `bytes` (the whole file) from `start`, whose line is number `line` + 1.
-    pub fn new(bytes: &'b [u8], start: usize, line: usize, format: Format, path: &'b Path) -> Self {
+    pub fn new(
+        bytes: &'b [u8],
+        start: usize,
+        line: usize,
+        format: Format,
+        path: &'b Path,
+        stop: &'b StopFlag,
+    ) -> Self {
         Self {
+            stop,
             bytes,
             pos: start,
             format,
@@ -51,8 +62,12 @@ impl<'b> Body<'b> {
         }
     }
 
-    /// Starts an element: in a text body, moves to the next line that holds anything.
+    /// Starts an element: in a text body, moves to the next line that holds anything. Stops
+    /// here, before the element, once the stop flag is set.
     pub fn begin(&mut self, element: &str, index: u64, count: u64) -> Result<(), SceneError> {
+        self.stop
+            .check(self.path)
+            .map_err(|e| e.at(self.span_at(self.pos, 0)).with_key(element))?;
         if self.format != Format::Ascii {
             return Ok(());
         }

@@ -37,6 +37,7 @@ mod header;
 
 use crate::error::SceneError;
 use crate::obj::MAX_MODEL_BYTES;
+use crate::stop::StopFlag;
 use body::{At, Body};
 use header::{Element, Header, Kind, Scalar};
 use rayforge::geometry::{Mesh, MeshFace, Winding};
@@ -52,19 +53,38 @@ pub use header::MAX_HEADER_BYTES;
 /// folder) is the caller's to check first; the file must be a regular one, of at most
 /// [`MAX_MODEL_BYTES`].
 pub fn read_ply_file(path: &Path, max_triangles: usize) -> Result<Mesh, SceneError> {
+    read_ply_in(path, max_triangles, &StopFlag::default())
+}
+
+/// [`read_ply_file`] that stops at the first element after `stop` is set.
+pub(crate) fn read_ply_in(
+    path: &Path,
+    max_triangles: usize,
+    stop: &StopFlag,
+) -> Result<Mesh, SceneError> {
     let bytes = crate::files::read_bounded(path, MAX_MODEL_BYTES)
         .map_err(|e| SceneError::new(path, format!("cannot read `{}`: {e}", path.display())))?;
-    parse_ply(&bytes, path, max_triangles)
+    parse_ply_in(&bytes, path, max_triangles, stop)
 }
 
 /// Reads a PLY model from the bytes of its file (gzip-compressed or not); `path` names the
 /// file in errors. See [`read_ply_file`].
 pub fn parse_ply(bytes: &[u8], path: &Path, max_triangles: usize) -> Result<Mesh, SceneError> {
+    parse_ply_in(bytes, path, max_triangles, &StopFlag::default())
+}
+
+/// [`parse_ply`] that stops at the first element after `stop` is set.
+pub(crate) fn parse_ply_in(
+    bytes: &[u8],
+    path: &Path,
+    max_triangles: usize,
+    stop: &StopFlag,
+) -> Result<Mesh, SceneError> {
     if bytes.starts_with(&[0x1f, 0x8b]) {
         let inflated = gunzip(bytes, path, max_triangles)?;
-        return parse_plain(&inflated, path, max_triangles);
+        return parse_plain(&inflated, path, max_triangles, stop);
     }
-    parse_plain(bytes, path, max_triangles)
+    parse_plain(bytes, path, max_triangles, stop)
 }
 
 /// Inflates a gzip-compressed model, to at most [`MAX_MODEL_BYTES`]. The header comes first and
@@ -258,7 +278,12 @@ fn list_for<T>(count: u64, path: &Path, what: &str) -> Result<Vec<T>, SceneError
 }
 
 /// Reads an uncompressed PLY file's bytes into a mesh (see [`read_ply_file`]).
-fn parse_plain(bytes: &[u8], path: &Path, max_triangles: usize) -> Result<Mesh, SceneError> {
+fn parse_plain(
+    bytes: &[u8],
+    path: &Path,
+    max_triangles: usize,
+    stop: &StopFlag,
+) -> Result<Mesh, SceneError> {
     let header = header::parse(bytes, path)?;
     check_counts(&header, path, max_triangles)?;
     check_room(&header, bytes.len() - header.body_start, path)?;
@@ -292,7 +317,14 @@ fn parse_plain(bytes: &[u8], path: &Path, max_triangles: usize) -> Result<Mesh, 
         Vec::new()
     };
     let mut triangles: Vec<[u32; 3]> = list_for(face.count, path, "faces")?;
-    let mut body = Body::new(bytes, header.body_start, header.lines, header.format, path);
+    let mut body = Body::new(
+        bytes,
+        header.body_start,
+        header.lines,
+        header.format,
+        path,
+        stop,
+    );
     let mut corners: Vec<u32> = Vec::new();
     for element in &header.elements {
         let is_vertex = element.name == "vertex";

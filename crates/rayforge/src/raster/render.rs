@@ -17,6 +17,7 @@ use crate::math::Vec3;
 use crate::options::RasterOptions;
 use crate::scene::{LightingModel, World};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// What a raster render did, for tests and summaries.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -55,6 +56,15 @@ pub enum RasterError {
          with --camera"
     )]
     Orthographic,
+    /// The render's stop flag was set (Ctrl-C, a termination signal, the page's cancel): it
+    /// stopped before the next stage or tile, its image unfinished.
+    #[error("the raster frame was interrupted after {tiles_drawn} of its {tiles} tiles")]
+    Cancelled {
+        /// Tiles drawn whole before the stop was seen.
+        tiles_drawn: u64,
+        /// Tiles in the frame.
+        tiles: u64,
+    },
     /// The film given to draw into ([`render_rows_into`]) is not the camera's size or not
     /// box-filtered: the rasterizer gives each pixel one sample of weight 1.
     #[error(
@@ -87,20 +97,22 @@ pub fn render_with_stats(
     options: &RasterOptions,
 ) -> Result<(Canvas, RasterStats), RasterError> {
     let mut rasterizer = Rasterizer::new();
-    let stats = rasterizer.render(camera, world, options)?.1;
+    let stats = rasterizer.render(camera, world, options, None)?.1;
     Ok((rasterizer.canvas, stats))
 }
 
 /// Rasterizes `world` through `camera` into a film, with counts of what was drawn. Every pixel
 /// is one sample of weight 1 (the colour its nearest triangle shades it), under the box
-/// filter: the tiles draw finished colours, which the film takes as they are.
+/// filter: the tiles draw finished colours, which the film takes as they are. Once `cancel`
+/// is set the frame stops before its next stage or tile ([`RasterError::Cancelled`]).
 pub fn render_film(
     camera: &Camera,
     world: &World,
     options: &RasterOptions,
+    cancel: Option<&AtomicBool>,
 ) -> Result<(Film, RasterStats), RasterError> {
     let mut rasterizer = Rasterizer::new();
-    let stats = rasterizer.draw(camera, world, options)?;
+    let stats = rasterizer.draw(camera, world, options, cancel)?;
     Ok((Film::from_canvas(rasterizer.canvas), stats))
 }
 
@@ -136,14 +148,16 @@ impl Rasterizer {
 
     /// Rasterizes `world` through `camera` on the current rayon thread pool and develops it
     /// (the optics model's automatic exposure, as the ray tracer's film gets it): the image,
-    /// lent until the next frame, and counts of what was drawn.
+    /// lent until the next frame, and counts of what was drawn. Once `cancel` is set the
+    /// frame stops before its next stage or tile ([`RasterError::Cancelled`]).
     pub fn render(
         &mut self,
         camera: &Camera,
         world: &World,
         options: &RasterOptions,
+        cancel: Option<&AtomicBool>,
     ) -> Result<(&Canvas, RasterStats), RasterError> {
-        let stats = self.draw(camera, world, options)?;
+        let stats = self.draw(camera, world, options, cancel)?;
         let exposure = match world.lighting {
             LightingModel::Optics => Exposure::Automatic,
             _ => Exposure::Fixed,
@@ -164,6 +178,7 @@ impl Rasterizer {
         camera: &Camera,
         world: &World,
         options: &RasterOptions,
+        cancel: Option<&AtomicBool>,
     ) -> Result<RasterStats, RasterError> {
         if camera.is_orthographic() {
             return Err(RasterError::Orthographic);
@@ -177,7 +192,7 @@ impl Rasterizer {
             return Ok(RasterStats::default());
         }
         let canvas = &mut self.canvas;
-        with_frame(camera, world, options, &mut self.scratch, |frame| {
+        with_frame(camera, world, options, cancel, &mut self.scratch, |frame| {
             canvas
                 .pixels_mut()
                 .par_chunks_mut(width * TILE_HEIGHT)
@@ -195,12 +210,14 @@ impl Rasterizer {
 /// only the bands of tiles that hold one of the film's rows are drawn, each into a band of
 /// pixels of its thread's own (`width` × 32 colours) from which the film's rows are kept: no
 /// canvas of the whole image is made. Refused when `film` is not the camera's size or not
-/// box-filtered.
+/// box-filtered. Once `cancel` is set the frame stops before its next stage or tile
+/// ([`RasterError::Cancelled`]; the film then holds some of the rows).
 pub fn render_rows_into(
     camera: &Camera,
     world: &World,
     options: &RasterOptions,
     film: &SharedFilm,
+    cancel: Option<&AtomicBool>,
 ) -> Result<RasterStats, RasterError> {
     if camera.is_orthographic() {
         return Err(RasterError::Orthographic);
@@ -220,26 +237,36 @@ pub fn render_rows_into(
     let bands: Vec<usize> = (0..height.div_ceil(TILE_HEIGHT))
         .filter(|&band| rows_of(band).any(|y| film.holds_row(y)))
         .collect();
-    with_frame(camera, world, options, &mut Scratch::default(), |frame| {
-        bands.into_par_iter().for_each_init(
-            || (TileBuffers::new(), vec![Color::BLACK; width * TILE_HEIGHT]),
-            |(buffers, pixels), band| {
-                frame.draw_band(band, pixels, buffers);
-                for (y, row) in rows_of(band).zip(pixels.chunks_exact(width)) {
-                    if !film.holds_row(y) {
-                        continue;
+    with_frame(
+        camera,
+        world,
+        options,
+        cancel,
+        &mut Scratch::default(),
+        |frame| {
+            bands.into_par_iter().for_each_init(
+                || (TileBuffers::new(), vec![Color::BLACK; width * TILE_HEIGHT]),
+                |(buffers, pixels), band| {
+                    if !frame.draw_band(band, pixels, buffers) {
+                        // Stopped inside the band: its rows are not all drawn, and none is kept.
+                        return;
                     }
-                    let mut part = Film::new(width, 1);
-                    for (x, &pixel) in row.iter().enumerate() {
-                        part.add_pixel(x, 0, pixel, 1.0);
+                    for (y, row) in rows_of(band).zip(pixels.chunks_exact(width)) {
+                        if !film.holds_row(y) {
+                            continue;
+                        }
+                        let mut part = Film::new(width, 1);
+                        for (x, &pixel) in row.iter().enumerate() {
+                            part.add_pixel(x, 0, pixel, 1.0);
+                        }
+                        // A held row, the film's width, the box filter: checked above.
+                        let added = film.add(y, &part);
+                        debug_assert!(added.is_ok(), "{added:?}");
                     }
-                    // A held row, the film's width, the box filter: checked above.
-                    let added = film.add(y, &part);
-                    debug_assert!(added.is_ok(), "{added:?}");
-                }
-            },
-        );
-    })
+                },
+            );
+        },
+    )
 }
 
 /// A frame ready to draw: the world's triangles projected and binned into the tiles of the
@@ -249,13 +276,27 @@ struct Frame<'a> {
     tiles: Tiles,
     background: Color,
     wireframe: bool,
+    /// The stop flag, looked at before each tile: a tile of a frame of millions of triangles
+    /// may take a while, a load of a flag next to nothing.
+    cancel: Option<&'a AtomicBool>,
+    /// Tiles drawn whole so far, all threads together (what a stopped frame reports).
+    drawn: AtomicU64,
 }
 
 impl Frame<'_> {
+    /// Whether the stop flag is set.
+    fn cancelled(&self) -> bool {
+        self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+    }
+
     /// Draws every tile of band `row` (the image's rows `row · 32` on) into `band`, rows of the
-    /// image's width: every pixel of the band's rows is written.
-    fn draw_band(&self, row: usize, band: &mut [Color], buffers: &mut TileBuffers) {
+    /// image's width: every pixel of the band's rows is written. `false` when the stop flag
+    /// cut it short (some of its tiles are then not drawn).
+    fn draw_band(&self, row: usize, band: &mut [Color], buffers: &mut TileBuffers) -> bool {
         for column in 0..self.tiles.columns {
+            if self.cancelled() {
+                return false;
+            }
             if self.wireframe {
                 draw_wireframe_tile(self.ctx, &self.tiles, column, row, band, self.background);
             } else {
@@ -269,20 +310,37 @@ impl Frame<'_> {
                     buffers,
                 );
             }
+            self.drawn.fetch_add(1, Ordering::Relaxed);
         }
+        true
     }
 }
 
 /// Prepares `world`'s frame through `camera` (of at least one pixel, perspective) in
-/// `scratch`'s arrays and hands it to `draw`, with counts of what was binned.
+/// `scratch`'s arrays and hands it to `draw`, with counts of what was binned; once `cancel` is
+/// set, stops before the next stage (or, in `draw`, the next tile) with
+/// [`RasterError::Cancelled`].
 fn with_frame(
     camera: &Camera,
     world: &World,
     options: &RasterOptions,
+    cancel: Option<&AtomicBool>,
     scratch: &mut Scratch,
     draw: impl FnOnce(&Frame<'_>),
 ) -> Result<RasterStats, RasterError> {
     let (width, height) = (camera.hsize(), camera.vsize());
+    let tiles = Tiles::new(width, height);
+    let tile_count = (tiles.columns * tiles.rows) as u64;
+    let stopped = |tiles_drawn: u64| -> Result<(), RasterError> {
+        match cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            true => Err(RasterError::Cancelled {
+                tiles_drawn,
+                tiles: tile_count,
+            }),
+            false => Ok(()),
+        }
+    };
+    stopped(0)?;
     let projection = Projection::new(camera, options.near);
     let bits = subpixel_bits(width, height);
     let divisions = options.sphere_divisions.max(3);
@@ -293,6 +351,7 @@ fn with_frame(
         options.backface_culling,
         options.max_triangles,
     )?;
+    stopped(0)?;
     let Scratch {
         vertices,
         outside,
@@ -300,7 +359,7 @@ fn with_frame(
         chunks,
     } = scratch;
     transform_vertices(&instances, &projection, bits, vertices, outside, normals);
-    let tiles = Tiles::new(width, height);
+    stopped(0)?;
     bin_all(
         &BinContext {
             instances: &instances,
@@ -312,6 +371,7 @@ fn with_frame(
         },
         chunks,
     );
+    stopped(0)?;
     let mut stats = RasterStats {
         instances: instances.len() as u64,
         ..RasterStats::default()
@@ -346,11 +406,51 @@ fn with_frame(
     if options.shading == crate::options::Shading::Gouraud && !options.wireframe {
         ctx.light_vertices();
     }
-    draw(&Frame {
+    let frame = Frame {
         ctx: &ctx,
         tiles,
         background: world.background,
         wireframe: options.wireframe,
-    });
+        cancel,
+        drawn: AtomicU64::new(0),
+    };
+    draw(&frame);
+    stopped(frame.drawn.load(Ordering::Relaxed))?;
     Ok(stats)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The flag set at a known point, between two bands of one thread: the first band's tiles
+    /// are drawn, none after it, and the frame is refused with that count.
+    #[test]
+    fn a_stop_set_between_bands_draws_no_tile_after_it() {
+        let world = crate::scene::default_world();
+        let camera = Camera::new(200, 100, std::f64::consts::FRAC_PI_3);
+        let stop = AtomicBool::new(false);
+        let (width, columns) = (200, 200usize.div_ceil(super::super::bin::TILE_WIDTH));
+        let result = with_frame(
+            &camera,
+            &world,
+            &RasterOptions::default(),
+            Some(&stop),
+            &mut Scratch::default(),
+            |frame| {
+                let mut band = vec![Color::BLACK; width * TILE_HEIGHT];
+                let mut buffers = TileBuffers::new();
+                assert!(frame.draw_band(0, &mut band, &mut buffers));
+                stop.store(true, Ordering::Relaxed);
+                assert!(!frame.draw_band(1, &mut band, &mut buffers));
+            },
+        );
+        assert_eq!(
+            result,
+            Err(RasterError::Cancelled {
+                tiles_drawn: columns as u64,
+                tiles: (columns * 100usize.div_ceil(TILE_HEIGHT)) as u64,
+            })
+        );
+    }
 }
