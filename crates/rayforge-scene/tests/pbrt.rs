@@ -1169,3 +1169,120 @@ fn a_cut_out_lamp_gives_its_alpha_share_of_light() {
     let z = (a - b) / (va + vb).sqrt();
     assert!(z.abs() < 4.0, "cut-out lamp {a} vs whole lamp {b}: z = {z}");
 }
+
+#[test]
+fn the_3d_mappings_read_points_in_the_space_the_texture_was_made_in() {
+    // A bilerp whose value is s (v10 = v11 = 1, v00 = v01 = 0), made under `Translate 1 0 0`.
+    let value_at = |mapping: &str, p: glam::DVec3| {
+        let scene = load(&format!(
+            "{HEAD}AttributeBegin\nTranslate 1 0 0\nTexture \"s\" \"spectrum\" \"bilerp\" \
+             \"rgb v00\" [0 0 0] \"rgb v01\" [0 0 0] \"rgb v10\" [1 1 1] \"rgb v11\" [1 1 1] \
+             {mapping}\nAttributeEnd\nMaterial \"diffuse\" \"texture reflectance\" \"s\"\n{}",
+            quad(1.0, "")
+        ));
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        let (t, mut ctx) = textures_at(&scene, (0.25, 0.0));
+        ctx.point = p;
+        t.color_at(&ctx).unwrap().red
+    };
+    let cases = [
+        ("", glam::DVec3::ZERO, 0.25),
+        (
+            "\"float uscale\" 2 \"float udelta\" 0.1",
+            glam::DVec3::ZERO,
+            0.6,
+        ),
+        (
+            "\"string mapping\" \"planar\" \"vector3 v1\" [0 1 0] \"float udelta\" 0.5",
+            glam::DVec3::new(3.0, 2.0, 0.0),
+            2.5,
+        ),
+        (
+            "\"string mapping\" \"spherical\"",
+            glam::DVec3::new(1.0, 0.0, -1.0),
+            1.0,
+        ),
+        (
+            "\"string mapping\" \"cylindrical\"",
+            glam::DVec3::new(1.0, 1.0, 0.0),
+            0.75,
+        ),
+    ];
+    for (mapping, p, want) in cases {
+        let got = value_at(mapping, p);
+        assert!(
+            (got - want).abs() < 1e-12,
+            "{mapping} at {p}: {got}, not {want}"
+        );
+    }
+    let e = error(&format!(
+        "{HEAD}Texture \"s\" \"float\" \"bilerp\" \"string mapping\" \"cubic\"\n"
+    ));
+    assert_at(&e, 3, 30, "string mapping", "mapping");
+}
+
+#[test]
+fn a_metals_index_and_a_layers_slab_may_be_textured() {
+    use rayforge::shading::bsdf::{ConductorBase, Layers};
+    let scene = load(&format!(
+        "{HEAD}Texture \"e\" \"spectrum\" \"constant\" \"rgb value\" [0.2 0.3 0.4]\n\
+         Texture \"r\" \"spectrum\" \"constant\" \"rgb value\" [0.5 0.5 0.5]\n\
+         Texture \"th\" \"float\" \"constant\" \"float value\" 0.25\n\
+         Texture \"gg\" \"float\" \"constant\" \"float value\" 0.3\n\
+         Texture \"al\" \"spectrum\" \"constant\" \"rgb value\" [0.9 0.8 0.7]\n\
+         Material \"conductor\" \"texture eta\" \"e\" \"rgb k\" [3 3 3]\n{}\
+         Material \"conductor\" \"texture reflectance\" \"r\"\n{}\
+         Material \"coatedconductor\" \"texture conductor.k\" \"e\" \"texture thickness\" \"th\" \
+         \"texture g\" \"gg\" \"texture albedo\" \"al\"\n{}",
+        quad(1.0, ""),
+        quad(1.0, ""),
+        quad(1.0, "")
+    ));
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let at = |i: usize| {
+        let m = &scene.world.objects[i].material;
+        let (_, ctx) = textures_at(&scene, (0.5, 0.5));
+        m.textures
+            .as_deref()
+            .expect("textured")
+            .physical_at(m.physical.unwrap(), &ctx)
+    };
+    match at(0) {
+        Physical::Conductor { eta, k, .. } => {
+            assert_eq!((eta, k), (Color::new(0.2, 0.3, 0.4), Color::WHITE * 3.0));
+        }
+        other => panic!("{other:?}"),
+    }
+    match at(1) {
+        Physical::Conductor { eta, k, .. } => {
+            assert_eq!(eta, Color::WHITE);
+            let f0 = k.red * k.red / (4.0 + k.red * k.red);
+            assert!((f0 - 0.5).abs() < 1e-12, "{f0}");
+        }
+        other => panic!("{other:?}"),
+    }
+    match at(2) {
+        Physical::CoatedConductor {
+            base: ConductorBase { k, .. },
+            layers,
+            ..
+        } => {
+            assert_eq!(k, Color::new(0.2, 0.3, 0.4));
+            assert_eq!(
+                layers,
+                Layers {
+                    thickness: 0.25,
+                    albedo: Color::new(0.9, 0.8, 0.7),
+                    g: 0.3,
+                    ..Layers::PBRT_DEFAULT
+                }
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    let e = error(&format!(
+        "{HEAD}Material \"conductor\" \"rgb reflectance\" [0.5 0.5 0.5] \"rgb eta\" [1 1 1]\n{}",
+        quad(1.0, "")
+    ));
+    assert!(e.message.contains("not both"), "{e}");
+}

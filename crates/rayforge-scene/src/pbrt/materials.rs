@@ -24,9 +24,11 @@
 //! Textures ([`super::textures`]) are read where pbrt-v4 takes them and rayforge's materials
 //! can vary per hit: `reflectance` (diffuse, coateddiffuse, diffusetransmission's two shares),
 //! `roughness`, `uroughness`, `vroughness` (conductor, dielectric, coateddiffuse, and
-//! coatedconductor's `interface.` and `conductor.` ones). A textured index (`eta`, `k`), a
-//! conductor's textured `reflectance` and a layer's textured `thickness`, `albedo` or `g` are
-//! refused at the parameter, as are the materials rayforge does not read at their type.
+//! coatedconductor's `interface.` and `conductor.` ones), a conductor's `eta`, `k` or
+//! `reflectance` (coatedconductor's `conductor.eta`, `conductor.k`, `reflectance`), and a
+//! layer's `thickness`, `albedo` and `g`. A dielectric's or coat's `eta` is a number or a
+//! spectrum in pbrt-v4 too (a texture there is refused at the parameter), and the materials
+//! rayforge does not read are refused at their type.
 
 use super::params::ParamType;
 use super::reader::{Description, Entity};
@@ -34,8 +36,10 @@ use super::spectra::{self, SpectrumUse};
 use super::textures::SceneTextures;
 use crate::error::SceneError;
 use rayforge::shading::bsdf::{Coat, ConductorBase, Layers};
-use rayforge::shading::texture_graph::{FloatInput, NodeId, SurfaceTextures, TexturedWidths};
-use rayforge::shading::Physical;
+use rayforge::shading::texture_graph::{
+    FloatInput, LayerTextures, MetalTextures, NodeId, SurfaceTextures, TexturedWidths,
+};
+use rayforge::shading::{conductor_of_reflectance, Physical};
 use rayforge::{Color, Material};
 
 /// The material described by `entity` (a `Material`, whose name is its type, or a
@@ -75,7 +79,7 @@ pub fn material(
         ),
         "conductor" => {
             let (alpha_u, alpha_v) = t.widths(entity, "", &mut surface.widths, warnings)?;
-            let (eta, k) = metal(entity, "", "reflectance")?;
+            let (eta, k) = t.metal(entity, "", &mut surface.metal)?;
             physical(
                 Physical::Conductor {
                     eta,
@@ -120,7 +124,7 @@ pub fn material(
             physical(
                 Physical::CoatedDiffuse {
                     coat,
-                    layers: layers(entity)?,
+                    layers: t.layers(entity, &mut surface.layers)?,
                 },
                 t.reflectance(entity, "reflectance", 0.5, &mut surface.color)?,
             )
@@ -133,7 +137,7 @@ pub fn material(
                 alpha_u,
                 alpha_v,
             };
-            let (eta, k) = metal(entity, "conductor.", "reflectance")?;
+            let (eta, k) = t.metal(entity, "conductor.", &mut surface.metal)?;
             let (alpha_u, alpha_v) =
                 t.widths(entity, "conductor.", &mut surface.base_widths, warnings)?;
             let base = ConductorBase {
@@ -146,7 +150,7 @@ pub fn material(
                 Physical::CoatedConductor {
                     coat,
                     base,
-                    layers: layers(entity)?,
+                    layers: t.layers(entity, &mut surface.layers)?,
                 },
                 Color::WHITE,
             )
@@ -179,11 +183,6 @@ pub fn material(
             )))
         }
     };
-    if kind == "coateddiffuse" || kind == "coatedconductor" {
-        for name in ["thickness", "albedo", "g"] {
-            refuse_texture(entity, name)?;
-        }
-    }
     if surface.textures_parameters() {
         material.textures = Some(Box::new(surface));
     }
@@ -222,6 +221,97 @@ impl Textured<'_> {
             return Err(p.error("a reflectance is at most 1 in each channel"));
         }
         Ok(c)
+    }
+
+    /// A metal's index: `{prefix}eta` and `{prefix}k` (rgb, pbrt's named metal spectra or
+    /// spectrum textures; copper by default), or `reflectance` in their place (rgb, spectrum or
+    /// texture), read as pbrt-v4 reads it ([`conductor_of_reflectance`]). The fixed values,
+    /// and in `slot` the textured ones.
+    fn metal(
+        &self,
+        entity: &Entity,
+        prefix: &str,
+        slot: &mut Option<MetalTextures>,
+    ) -> Result<(Color, Color), SceneError> {
+        let params = &entity.params;
+        let given = |name: &str| {
+            params.find(
+                name,
+                &[ParamType::Texture, ParamType::Rgb, ParamType::Spectrum],
+            )
+        };
+        if given("reflectance").is_some() {
+            if let Some(p) = given(&format!("{prefix}eta")).or(given(&format!("{prefix}k"))) {
+                return Err(p.error(
+                    "a conductor has \"reflectance\" or \"eta\" and \"k\", not both (as in \
+                     pbrt-v4)",
+                ));
+            }
+        }
+        if let Some(p) = params.find("reflectance", &[ParamType::Texture]) {
+            *slot = Some(MetalTextures::Reflectance(
+                self.textures.named(p, "spectrum", self.desc)?,
+            ));
+            return Ok(conductor_of_reflectance(Color::WHITE * 0.5));
+        }
+        let (eta, k) = match params.find("reflectance", &[ParamType::Rgb, ParamType::Spectrum]) {
+            Some(r) => conductor_of_reflectance(spectra::color(r, SpectrumUse::Albedo)?),
+            None => {
+                let (cu_eta, cu_k) =
+                    rayforge::shading::bsdf::metal("copper").expect("rayforge names copper");
+                let [eta_name, k_name] = ["eta", "k"].map(|n| format!("{prefix}{n}"));
+                let textured = |name: &str| -> Result<Option<NodeId>, SceneError> {
+                    params
+                        .find(name, &[ParamType::Texture])
+                        .map(|p| self.textures.named(p, "spectrum", self.desc))
+                        .transpose()
+                };
+                let (eta_tex, k_tex) = (textured(&eta_name)?, textured(&k_name)?);
+                if eta_tex.is_some() || k_tex.is_some() {
+                    *slot = Some(MetalTextures::Index {
+                        eta: eta_tex,
+                        k: k_tex,
+                    });
+                }
+                let eta = index(entity, &eta_name)?.unwrap_or(cu_eta);
+                let k = index(entity, &k_name)?.unwrap_or(cu_k);
+                (eta, k)
+            }
+        };
+        if eta.red.min(eta.green).min(eta.blue) <= 0.0 || k.red.min(k.green).min(k.blue) < 0.0 {
+            return Err(entity.error("a conductor's eta is above 0 and its k not negative"));
+        }
+        Ok((eta, k))
+    }
+
+    /// The medium between a layered material's coat and base ([`layers`]), with its
+    /// `thickness`, `albedo` and `g` textures, where given, in `slot`.
+    fn layers(
+        &self,
+        entity: &Entity,
+        slot: &mut Option<LayerTextures>,
+    ) -> Result<Layers, SceneError> {
+        let params = &entity.params;
+        let float = |name: &str| -> Result<Option<FloatInput>, SceneError> {
+            match params.find(name, &[ParamType::Texture]) {
+                Some(p) => Ok(Some(FloatInput::Texture(
+                    self.textures.named(p, "float", self.desc)?,
+                ))),
+                None => Ok(None),
+            }
+        };
+        let textured = LayerTextures {
+            thickness: float("thickness")?,
+            albedo: params
+                .find("albedo", &[ParamType::Texture])
+                .map(|p| self.textures.named(p, "spectrum", self.desc))
+                .transpose()?,
+            g: float("g")?,
+        };
+        if textured != LayerTextures::default() {
+            *slot = Some(textured);
+        }
+        layers(entity)
     }
 
     /// The GGX widths along the two tangents of `entity`'s roughness parameters named with
@@ -274,7 +364,6 @@ impl Textured<'_> {
 
 /// A conductor's `eta` or `k`: rgb or a spectrum.
 fn index(entity: &Entity, name: &str) -> Result<Option<Color>, SceneError> {
-    refuse_texture(entity, name)?;
     entity
         .params
         .find(name, &[ParamType::Rgb, ParamType::Spectrum])
@@ -297,36 +386,6 @@ fn dielectric_index(entity: &Entity) -> Result<f64, SceneError> {
         return Err(entity.error(format!("a dielectric's eta is above 0, found {eta}")));
     }
     Ok(eta)
-}
-
-/// A metal's index: `{prefix}eta` and `{prefix}k` (rgb or pbrt's named spectra; copper by
-/// default), or `reflectance` in their place, read as pbrt-v4 reads it: index 1 and
-/// `k = 2√r / √(1 − r)`, whose reflectance at normal incidence is `r`.
-fn metal(entity: &Entity, prefix: &str, reflectance: &str) -> Result<(Color, Color), SceneError> {
-    let (eta, k) = match entity
-        .params
-        .find(reflectance, &[ParamType::Rgb, ParamType::Spectrum])
-    {
-        Some(r) => {
-            let r = spectra::color(r, SpectrumUse::Albedo)?;
-            let k = |r: f64| {
-                let r = r.clamp(0.0, 0.9999);
-                2.0 * r.sqrt() / (1.0 - r).sqrt()
-            };
-            (Color::WHITE, Color::new(k(r.red), k(r.green), k(r.blue)))
-        }
-        None => {
-            let (cu_eta, cu_k) =
-                rayforge::shading::bsdf::metal("copper").expect("rayforge names copper");
-            let eta = index(entity, &format!("{prefix}eta"))?.unwrap_or(cu_eta);
-            let k = index(entity, &format!("{prefix}k"))?.unwrap_or(cu_k);
-            (eta, k)
-        }
-    };
-    if eta.red.min(eta.green).min(eta.blue) <= 0.0 || k.red.min(k.green).min(k.blue) < 0.0 {
-        return Err(entity.error("a conductor's eta is above 0 and its k not negative"));
-    }
-    Ok((eta, k))
 }
 
 /// A coat's index, the float or spectrum parameter `name` (1.5 by default).

@@ -37,7 +37,7 @@ pub use noise::perlin_noise;
 pub use optics::matte_light;
 pub use pattern::{Pattern, PatternKind};
 pub use phong::{can_light, lighting_with, most_light};
-pub use physical::{Layer, Physical, Scattering};
+pub use physical::{conductor_of_reflectance, HitParameters, Layer, Physical, Scattering};
 pub use texture::{
     cylindrical_map, planar_map, spherical_map, CubeFace, Filter, TexelGrid, Texture, UvMapping,
     UvPattern,

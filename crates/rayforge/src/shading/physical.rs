@@ -160,24 +160,31 @@ impl Physical {
         }
     }
 
-    /// The same material with the GGX widths of its outer interface (a conductor's, a
-    /// dielectric's, a coat's) and of a coated conductor's metal, and a diffuse transmitter's
-    /// shares, replaced where given: its textures' values at a hit (pbrt-v4's textured
-    /// `uroughness`, `vroughness`, `conductor.roughness`, `reflectance`, `transmittance`).
-    /// Materials without the parameter keep their own.
-    pub fn with_textured(
-        self,
-        widths: Option<(f64, f64)>,
-        base_widths: Option<(f64, f64)>,
-        shares: (Option<Color>, Option<Color>),
-    ) -> Self {
-        let coat = |c: Coat| match widths {
-            Some((alpha_u, alpha_v)) => Coat {
+    /// The same material with the parameters its textures give at a hit replaced where given
+    /// (pbrt-v4's textured `roughness`, `eta`, `k`, `reflectance`, `thickness`, …); materials
+    /// without a parameter keep their own, and values out of range are held in it.
+    pub fn with_textured(self, at: &HitParameters) -> Self {
+        let widths = |old: (f64, f64)| at.widths.unwrap_or(old);
+        let coat = |c: Coat| {
+            let (alpha_u, alpha_v) = widths((c.alpha_u, c.alpha_v));
+            Coat {
                 alpha_u,
                 alpha_v,
                 ..c
-            },
-            None => c,
+            }
+        };
+        let metal = |eta: Color, k: Color| {
+            let eta = at.eta.map_or(eta, |e| at_least(e, MIN_INDEX));
+            let k = at.k.map_or(k, |k| at_least(k, 0.0));
+            (eta, k)
+        };
+        let layers = |l: Layers| Layers {
+            thickness: at
+                .thickness
+                .map_or(l.thickness, |t| t.max(f64::MIN_POSITIVE)),
+            albedo: at.albedo.map_or(l.albedo, clamp_unit),
+            g: at.g.map_or(l.g, |g| g.clamp(-MAX_G, MAX_G)),
+            ..l
         };
         match self {
             Physical::Conductor {
@@ -186,7 +193,8 @@ impl Physical {
                 alpha_u,
                 alpha_v,
             } => {
-                let (alpha_u, alpha_v) = widths.unwrap_or((alpha_u, alpha_v));
+                let (alpha_u, alpha_v) = widths((alpha_u, alpha_v));
+                let (eta, k) = metal(eta, k);
                 Physical::Conductor {
                     eta,
                     k,
@@ -199,39 +207,41 @@ impl Physical {
                 alpha_u,
                 alpha_v,
             } => {
-                let (alpha_u, alpha_v) = widths.unwrap_or((alpha_u, alpha_v));
+                let (alpha_u, alpha_v) = widths((alpha_u, alpha_v));
                 Physical::Dielectric {
                     eta,
                     alpha_u,
                     alpha_v,
                 }
             }
-            Physical::CoatedDiffuse { coat: c, layers } => Physical::CoatedDiffuse {
+            Physical::CoatedDiffuse { coat: c, layers: l } => Physical::CoatedDiffuse {
                 coat: coat(c),
-                layers,
+                layers: layers(l),
             },
             Physical::CoatedConductor {
                 coat: c,
                 base,
-                layers,
-            } => Physical::CoatedConductor {
-                coat: coat(c),
-                base: match base_widths {
-                    Some((alpha_u, alpha_v)) => ConductorBase {
+                layers: l,
+            } => {
+                let (alpha_u, alpha_v) = at.base_widths.unwrap_or((base.alpha_u, base.alpha_v));
+                let (eta, k) = metal(base.eta, base.k);
+                Physical::CoatedConductor {
+                    coat: coat(c),
+                    base: ConductorBase {
+                        eta,
+                        k,
                         alpha_u,
                         alpha_v,
-                        ..base
                     },
-                    None => base,
-                },
-                layers,
-            },
+                    layers: layers(l),
+                }
+            }
             Physical::DiffuseTransmission {
                 reflectance,
                 transmittance,
             } => Physical::DiffuseTransmission {
-                reflectance: shares.0.unwrap_or(reflectance),
-                transmittance: shares.1.unwrap_or(transmittance),
+                reflectance: at.reflectance.unwrap_or(reflectance),
+                transmittance: at.transmittance.unwrap_or(transmittance),
             },
             other => other,
         }
@@ -312,6 +322,53 @@ impl Physical {
         }
     }
 }
+
+/// A material's parameters as its textures give them at one hit; `None` keeps the material's
+/// own (see [`Physical::with_textured`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct HitParameters {
+    /// The GGX widths of the interface on top (a conductor's, a dielectric's, a coat's).
+    pub widths: Option<(f64, f64)>,
+    /// A coated conductor's metal's widths.
+    pub base_widths: Option<(f64, f64)>,
+    /// A diffuse transmitter's reflectance.
+    pub reflectance: Option<Color>,
+    /// A diffuse transmitter's transmittance.
+    pub transmittance: Option<Color>,
+    /// A metal's index (a conductor's, a coated conductor's base, relative to vacuum).
+    pub eta: Option<Color>,
+    /// A metal's extinction coefficient.
+    pub k: Option<Color>,
+    /// A layered material's slab thickness.
+    pub thickness: Option<f64>,
+    /// Its medium's albedo.
+    pub albedo: Option<Color>,
+    /// Its medium's asymmetry.
+    pub g: Option<f64>,
+}
+
+/// The index and extinction coefficient pbrt-v4 gives a conductor of normal-incidence
+/// reflectance `r` (its `reflectance` parameter): index 1 and `k = 2√r / √(1 − r)` per
+/// channel, `r` held below 1.
+pub fn conductor_of_reflectance(r: Color) -> (Color, Color) {
+    let k = |r: f64| {
+        let r = r.clamp(0.0, 0.9999);
+        2.0 * r.sqrt() / (1.0 - r).sqrt()
+    };
+    (Color::WHITE, Color::new(k(r.red), k(r.green), k(r.blue)))
+}
+
+/// Every channel raised to `floor` at least (NaN to it as well).
+fn at_least(c: Color, floor: f64) -> Color {
+    let f = |v: f64| if v >= floor { v } else { floor };
+    Color::new(f(c.red), f(c.green), f(c.blue))
+}
+
+/// The smallest metal index a texture may give (an index of 0 has no meaning).
+const MIN_INDEX: f64 = 1e-4;
+
+/// The largest |g| a texture may give (1 is a delta, which the medium's walk cannot sample).
+const MAX_G: f64 = 0.999;
 
 /// Every channel limited to [0, 1]: an albedo above 1 would create light.
 fn clamp_unit(c: Color) -> Color {

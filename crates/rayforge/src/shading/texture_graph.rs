@@ -19,7 +19,7 @@
 //! what a MIP map would have prefiltered), and checkerboards are not antialiased (pbrt-v4's
 //! box-filtered checkerboard with a zero footprint is exactly this one).
 
-use super::physical::Physical;
+use super::physical::{conductor_of_reflectance, HitParameters, Physical};
 use super::texture_noise as noise;
 use crate::color::Color;
 use crate::math::{Point3, Vec3};
@@ -652,6 +652,32 @@ impl TexturedWidths {
     }
 }
 
+/// A metal's index from textures: `eta` and `k` (each where textured), or a `reflectance`
+/// read as pbrt-v4 reads it ([`conductor_of_reflectance`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MetalTextures {
+    /// The index's parts, each a spectrum texture where given.
+    Index {
+        /// The real part.
+        eta: Option<NodeId>,
+        /// The extinction coefficient.
+        k: Option<NodeId>,
+    },
+    /// The reflectance at normal incidence.
+    Reflectance(NodeId),
+}
+
+/// A layered material's slab from textures, each where given.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LayerTextures {
+    /// The thickness (a float).
+    pub thickness: Option<FloatInput>,
+    /// The medium's albedo (a spectrum).
+    pub albedo: Option<NodeId>,
+    /// The medium's asymmetry (a float).
+    pub g: Option<FloatInput>,
+}
+
 /// The textures a material's parameters are read from, each replacing the fixed value where
 /// given: the material's colour (a diffuse or coated surface's reflectance), the outer
 /// interface's GGX widths (a conductor's, a dielectric's, a coat's), a coated conductor's
@@ -671,6 +697,10 @@ pub struct SurfaceTextures {
     pub reflectance: Option<NodeId>,
     /// A diffuse transmitter's transmittance.
     pub transmittance: Option<NodeId>,
+    /// A metal's textured index (a conductor's, a coated conductor's base).
+    pub metal: Option<MetalTextures>,
+    /// A layered material's textured slab (`thickness`, `albedo`, `g`).
+    pub layers: Option<LayerTextures>,
     /// The surface's alpha (a float): where it is `a < 1`, a ray passes through with
     /// probability `1 − a` (always where `a ≤ 0`).
     pub alpha: Option<FloatInput>,
@@ -686,6 +716,8 @@ impl SurfaceTextures {
             base_widths: None,
             reflectance: None,
             transmittance: None,
+            metal: None,
+            layers: None,
             alpha: None,
         }
     }
@@ -697,6 +729,8 @@ impl SurfaceTextures {
             || self.base_widths.is_some()
             || self.reflectance.is_some()
             || self.transmittance.is_some()
+            || self.metal.is_some()
+            || self.layers.is_some()
     }
 
     /// The surface colour at `ctx`, where it is textured.
@@ -712,14 +746,27 @@ impl SurfaceTextures {
             return physical;
         }
         let g = &*self.graph;
-        physical.with_textured(
-            self.widths.map(|w| w.at(g, ctx)),
-            self.base_widths.map(|w| w.at(g, ctx)),
-            (
-                self.reflectance.map(|id| g.evaluate(id, ctx)),
-                self.transmittance.map(|id| g.evaluate(id, ctx)),
-            ),
-        )
+        let spectrum = |id: Option<NodeId>| id.map(|id| g.evaluate(id, ctx));
+        let (eta, k) = match self.metal {
+            None => (None, None),
+            Some(MetalTextures::Index { eta, k }) => (spectrum(eta), spectrum(k)),
+            Some(MetalTextures::Reflectance(r)) => {
+                let (eta, k) = conductor_of_reflectance(g.evaluate(r, ctx));
+                (Some(eta), Some(k))
+            }
+        };
+        let layers = self.layers.unwrap_or_default();
+        physical.with_textured(&HitParameters {
+            widths: self.widths.map(|w| w.at(g, ctx)),
+            base_widths: self.base_widths.map(|w| w.at(g, ctx)),
+            reflectance: spectrum(self.reflectance),
+            transmittance: spectrum(self.transmittance),
+            eta,
+            k,
+            thickness: layers.thickness.map(|t| t.at(g, ctx)),
+            albedo: spectrum(layers.albedo),
+            g: layers.g.map(|v| v.at(g, ctx)),
+        })
     }
 
     /// The chance the surface is there at `ctx` ([`is_there`](Self::is_there)'s): the alpha
