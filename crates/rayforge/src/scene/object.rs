@@ -6,6 +6,7 @@ use crate::geometry::Mesh;
 use crate::geometry::Triangle;
 use crate::math::random::SplitMix64;
 use crate::math::{Aabb, Motion, Point3, Ray, SingularTransform, Transform, Vec3};
+use crate::media::MediumInterface;
 use crate::scene::{Intersection, Shape};
 use crate::shading::texture_graph::TextureContext;
 use crate::shading::{Material, MetalRough, SurfacePoint};
@@ -25,6 +26,9 @@ pub struct Object {
     /// Where it moves while the shutter is open (motion blur); `transform` is then where it
     /// is when the shutter opens. Boxed: most objects stand still.
     pub motion: Option<Box<Motion>>,
+    /// The media inside and outside it, where it bounds one (see [`MediumInterface`]); `None`:
+    /// a ray crossing it stays in the medium it was in.
+    pub media: Option<MediumInterface>,
 }
 
 impl Object {
@@ -36,6 +40,7 @@ impl Object {
             material: Material::DEFAULT,
             casts_shadow: true,
             motion: None,
+            media: None,
         }
     }
 

@@ -5,6 +5,7 @@ use super::intersection::{sort_intersections, Intersection};
 use super::object::Object;
 use crate::color::Color;
 use crate::math::{point, scaling, Ray};
+use crate::media::{Media, MediumId};
 use crate::shading::{EnvironmentMap, Light, Material};
 use std::sync::Arc;
 
@@ -24,6 +25,12 @@ pub struct World {
     /// Light arriving from every direction far away (an equirectangular sky), for the path
     /// tracer; without one, the path tracer takes the background as a constant sky.
     pub environment: Option<Arc<EnvironmentMap>>,
+    /// The participating media that objects' interfaces name (none by default); only the path
+    /// tracer renders them.
+    pub media: Media,
+    /// The medium the camera sits in (`None`: vacuum); where it is the medium all around
+    /// (fog), objects' outsides name it too.
+    pub camera_medium: Option<MediumId>,
 }
 
 /// How a world's hits are shaded: which book's lighting model (chosen per scene).
@@ -52,6 +59,8 @@ impl Default for World {
             lighting: LightingModel::Phong,
             ambient_index: 1.0,
             environment: None,
+            media: Media::NONE,
+            camera_medium: None,
         }
     }
 }
@@ -60,6 +69,12 @@ impl World {
     /// The book's `world()`: nothing in it.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Whether any medium fills part of the world: the path tracer then tracks light through
+    /// media (and crosses index-matched boundaries), which the other renderers ignore.
+    pub fn has_media(&self) -> bool {
+        !self.media.is_empty()
     }
 
     /// The book's `intersect_world(world, ray)`: every intersection, sorted by `t`.

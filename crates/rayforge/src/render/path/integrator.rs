@@ -24,6 +24,8 @@
 //! the same vertex feed two separate estimates (on the Cornell box, 0.8 % less squared error
 //! at 64 samples, for nothing).
 
+mod volume;
+
 use super::continuation::ContinuationCache;
 use super::sampler::SampleStream;
 use crate::color::Color;
@@ -501,6 +503,9 @@ impl<'w> PathContext<'w> {
         stream: &mut SampleStream,
         log: &mut impl PathLog,
     ) -> (Color, FirstHit) {
+        if self.world.has_media() {
+            return self.radiance_in_media(ray, stream, log);
+        }
         let mut path = PathState::camera(ray);
         let mut first = FirstHit::default();
         // The second half of a path split at glass, waiting for the first to end.
