@@ -48,6 +48,10 @@ Render options (`rayforge render --help` describes each in full):
       --max-pixels <PIXELS> the largest image accepted [default: 268435456, 2^28]
       --max-triangles <N>   the most triangles the scene's models may hold [default: 10000000]
       --max-rays-per-sample <N> ray: the most rays one camera ray may lead to [default: 4194304]
+      --max-pbrt-file-bytes <N>    a pbrt scene's largest file [default: 67108864, 64 MiB]
+      --max-pbrt-total-bytes <N>   a pbrt scene's files together [default: 1073741824, 1 GiB]
+      --max-pbrt-include-depth <N> how deep a pbrt scene's Include/Import nest [default: 32]
+      --max-pbrt-values <N>        a pbrt scene's parameter values together [default: 67108864]
       --allow-outside       let the scene name files outside its folder
       --camera <N|NAME>     a glTF model's camera, by index or name [default: its first]
       --resume              continue an interrupted render from its checkpoint
@@ -476,6 +480,25 @@ pub struct RenderArgs {
     /// elsewhere cannot make rayforge read other files.
     #[arg(long)]
     pub allow_outside: bool,
+
+    /// The most bytes one file of a pbrt-v4 scene may hold (a `.gz` before and after
+    /// inflating).
+    #[arg(long, value_name = "N", default_value_t = rayforge_scene::pbrt::PbrtLimits::DEFAULT.file_bytes)]
+    pub max_pbrt_file_bytes: u64,
+
+    /// The most bytes all the files of a pbrt-v4 scene may hold together, after inflating (a
+    /// file included again counts again).
+    #[arg(long, value_name = "N", default_value_t = rayforge_scene::pbrt::PbrtLimits::DEFAULT.total_bytes)]
+    pub max_pbrt_total_bytes: u64,
+
+    /// How deep a pbrt-v4 scene's `Include` and `Import` may nest.
+    #[arg(long, value_name = "N", default_value_t = rayforge_scene::pbrt::PbrtLimits::DEFAULT.include_depth)]
+    pub max_pbrt_include_depth: usize,
+
+    /// The most parameter values (numbers, strings, booleans) a pbrt-v4 scene's files may hold
+    /// together, counted as they are read, before any is kept.
+    #[arg(long, value_name = "N", default_value_t = rayforge_scene::pbrt::PbrtLimits::DEFAULT.values)]
+    pub max_pbrt_values: u64,
 
     /// For a glTF model rendered directly: which of its cameras to look through, by index
     /// (0 is the first in node order) or by name; without it, its first camera, or one that

@@ -135,6 +135,7 @@ pub(crate) fn load_options(settings: &RenderSettings, frame: u64) -> LoadOptions
     LoadOptions {
         max_triangles: settings.max_triangles,
         allow_outside: settings.allow_outside,
+        pbrt: settings.pbrt_limits,
         frame,
         camera: settings
             .camera

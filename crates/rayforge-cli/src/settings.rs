@@ -80,6 +80,8 @@ pub struct RenderSettings {
     pub display_server: Option<String>,
     /// Whether the scene may name files outside its folder.
     pub allow_outside: bool,
+    /// What a pbrt-v4 scene's files may hold (`--max-pbrt-*`).
+    pub pbrt_limits: rayforge_scene::pbrt::PbrtLimits,
     /// `--camera`: a glTF model's camera.
     pub camera: Option<String>,
     /// Continue from the checkpoint.
@@ -764,6 +766,24 @@ impl RenderSettings {
                 args.max_triangles
             )));
         }
+        let pbrt_limits = rayforge_scene::pbrt::PbrtLimits {
+            file_bytes: args.max_pbrt_file_bytes,
+            total_bytes: args.max_pbrt_total_bytes,
+            include_depth: args.max_pbrt_include_depth,
+            values: args.max_pbrt_values,
+        };
+        for (flag, value) in [
+            ("--max-pbrt-file-bytes", pbrt_limits.file_bytes),
+            ("--max-pbrt-total-bytes", pbrt_limits.total_bytes),
+            ("--max-pbrt-include-depth", pbrt_limits.include_depth as u64),
+            ("--max-pbrt-values", pbrt_limits.values),
+        ] {
+            if value == 0 {
+                return Err(Failure::usage(format!(
+                    "{flag} must be at least 1, found 0"
+                )));
+            }
+        }
         if args.max_rays_per_sample == Some(0) {
             return Err(Failure::usage(
                 "--max-rays-per-sample must be at least 1, found 0",
@@ -796,6 +816,7 @@ impl RenderSettings {
             max_rays_given: args.max_rays_per_sample.is_some(),
             display_server: args.display_server.clone(),
             allow_outside: args.allow_outside,
+            pbrt_limits,
             camera: args.camera.clone(),
             resume: args.resume,
             pause_after_rows: args.pause_after_rows,

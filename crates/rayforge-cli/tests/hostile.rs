@@ -319,3 +319,26 @@ fn an_error_in_a_file_of_carriage_returns_shows_the_line_it_names() {
     assert!(err.contains("13 │   material: { colr: 1 }"), "{err}");
     assert!(err.contains("12 │ - add: sphere"), "{err}");
 }
+
+#[test]
+fn the_pbrt_readers_limits_are_flags() {
+    let d = Dir::new();
+    let scene = d.file(
+        "s.pbrt",
+        "Film \"rgb\" \"integer xresolution\" 4 \"integer yresolution\" 3\nCamera \
+         \"perspective\"\nSampler \"independent\" \"integer pixelsamples\" 1\nWorldBegin\n\
+         Shape \"sphere\" \"float radius\" 2\n",
+    );
+    let out = d.path("s.png");
+    let o = render(&scene, &out, &["-q", "--max-pbrt-values", "3"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("--max-pbrt-values"), "{err}");
+    assert!(err.contains("s.pbrt:5:"), "{err}");
+    assert!(!out.exists());
+    let o = render(&scene, &out, &["-q", "--max-pbrt-include-depth", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--max-pbrt-include-depth must be at least 1"));
+    let o = render(&scene, &out, &["-q", "--max-pbrt-values", "4"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}

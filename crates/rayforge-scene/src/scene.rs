@@ -74,6 +74,45 @@ pub struct LoadOptions {
     pub camera: CameraChoice,
     /// The flag that stops the reading part-way (see [`StopFlag`]): none by default.
     pub stop: StopFlag,
+    /// The limits of a pbrt-v4 scene's files (`--max-pbrt-*`).
+    pub pbrt: PbrtLimits,
+}
+
+/// What a pbrt-v4 scene's files may hold (the triangles are [`LoadOptions::max_triangles`]).
+/// Each default is far past a real scene (Bitterli's largest file is 9 MB; their meshes are
+/// PLY files, read apart) and keeps a hostile or broken one within a few gigabytes and
+/// seconds. Going over one is an error at the place it happened, naming its flag.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PbrtLimits {
+    /// The most bytes one file may hold, a `.gz` before and after inflating
+    /// (`--max-pbrt-file-bytes`).
+    pub file_bytes: u64,
+    /// The most bytes all files may hold together, after inflating; a file included again is
+    /// counted again (`--max-pbrt-total-bytes`).
+    pub total_bytes: u64,
+    /// How deep `Include` and `Import` may nest (`--max-pbrt-include-depth`).
+    pub include_depth: usize,
+    /// The most parameter values (numbers, strings, booleans) all files may hold together,
+    /// counted as they are lexed, before any is kept: what bounds the memory the parameter
+    /// lists take, each value a few dozen bytes while it is read (`--max-pbrt-values`).
+    pub values: u64,
+}
+
+impl PbrtLimits {
+    /// The defaults: 64 MiB a file (a YAML scene's limit), 1 GiB in all, 32 levels of
+    /// includes, 2^26 (67,108,864) values (a mesh of 5 million triangles written inline).
+    pub const DEFAULT: PbrtLimits = PbrtLimits {
+        file_bytes: 64 * 1024 * 1024,
+        total_bytes: 1 << 30,
+        include_depth: 32,
+        values: 1 << 26,
+    };
+}
+
+impl Default for PbrtLimits {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
 }
 
 impl Default for LoadOptions {
@@ -85,6 +124,7 @@ impl Default for LoadOptions {
             allow_outside: false,
             camera: CameraChoice::First,
             stop: StopFlag::default(),
+            pbrt: PbrtLimits::DEFAULT,
         }
     }
 }

@@ -4,22 +4,64 @@
 
 use crate::error::{SceneError, Span};
 use crate::files::{read_bounded, Folder};
+use crate::scene::PbrtLimits;
 use crate::stop::StopFlag;
+use std::cell::Cell;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
-/// The most bytes one of a scene's files may hold (after inflating, for a `.gz`): a YAML
-/// scene's limit (`crate::MAX_SCENE_BYTES`, named here by value so that this module does not
-/// import the crate root that imports it).
-pub const MAX_SCENE_BYTES: u64 = 64 * 1024 * 1024;
+/// The default of the most bytes one of a scene's files may hold (after inflating, for a
+/// `.gz`): a YAML scene's limit (see [`PbrtLimits`]).
+pub const MAX_SCENE_BYTES: u64 = PbrtLimits::DEFAULT.file_bytes;
 
-/// How deep `Include` and `Import` may nest (a file that includes itself stops here).
-pub const MAX_INCLUDE_DEPTH: usize = 32;
+/// The default of how deep `Include` and `Import` may nest (a file that includes itself stops
+/// here).
+pub const MAX_INCLUDE_DEPTH: usize = PbrtLimits::DEFAULT.include_depth;
 
-/// The most bytes all of a scene's files may hold together, after inflating: a file included
-/// many times is read each time.
-pub const MAX_TOTAL_BYTES: u64 = 1 << 30;
+/// The default of the most bytes all of a scene's files may hold together, after inflating: a
+/// file included many times is read each time.
+pub const MAX_TOTAL_BYTES: u64 = PbrtLimits::DEFAULT.total_bytes;
+
+/// The default of the most parameter values all of a scene's files may hold together.
+pub const MAX_VALUES: u64 = PbrtLimits::DEFAULT.values;
+
+/// What is left of a scene's parameter values ([`PbrtLimits::values`]), spent as each value is
+/// lexed, before it is kept.
+#[derive(Debug)]
+pub struct ValueBudget {
+    left: Cell<u64>,
+    limit: u64,
+}
+
+impl ValueBudget {
+    pub fn new(limit: u64) -> Self {
+        Self {
+            left: Cell::new(limit),
+            limit,
+        }
+    }
+
+    /// Spends one value: `false` when none is left.
+    pub fn take(&self) -> bool {
+        match self.left.get().checked_sub(1) {
+            Some(left) => {
+                self.left.set(left);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// What an error past the budget says.
+    pub fn spent(&self) -> String {
+        format!(
+            "the scene's parameter lists hold more than {} values together \
+             (`--max-pbrt-values`)",
+            self.limit
+        )
+    }
+}
 
 /// Where something is: which file, and where in it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -56,6 +98,10 @@ pub struct Files {
     /// The flag that stops the reading part-way: looked at before each directive and each
     /// shape built.
     stop: StopFlag,
+    /// What the files may hold.
+    limits: PbrtLimits,
+    /// What is left of the parameter values.
+    values: ValueBudget,
 }
 
 impl Files {
@@ -68,7 +114,28 @@ impl Files {
             folder: Folder::of_file(main, allow_outside),
             total: 0,
             stop: StopFlag::default(),
+            limits: PbrtLimits::DEFAULT,
+            values: ValueBudget::new(PbrtLimits::DEFAULT.values),
         }
+    }
+
+    /// The same files, held to `limits`.
+    pub fn limited_by(self, limits: PbrtLimits) -> Self {
+        Self {
+            limits,
+            values: ValueBudget::new(limits.values),
+            ..self
+        }
+    }
+
+    /// What the files may hold.
+    pub fn limits(&self) -> &PbrtLimits {
+        &self.limits
+    }
+
+    /// What is left of the parameter values.
+    pub fn values(&self) -> &ValueBudget {
+        &self.values
     }
 
     /// The same files, whose reading and building stop once `stop` is set.
@@ -125,21 +192,27 @@ impl Files {
             .map_err(|e| loc.error(Some(key), format!("cannot read `{}`: {e}", path.display())))
     }
 
-    /// A file's text: a regular file of at most [`MAX_SCENE_BYTES`], inflated when its name
-    /// ends in `.gz` (to at most as many bytes), UTF-8 without NUL bytes; the error is the
+    /// A file's text: a regular file of at most [`PbrtLimits::file_bytes`], inflated when its
+    /// name ends in `.gz` (to at most as many bytes), UTF-8 without NUL bytes; the error is the
     /// reason.
     fn read_text(&mut self, path: &Path) -> Result<String, String> {
-        let raw = read_bounded(path, MAX_SCENE_BYTES)?;
+        let PbrtLimits {
+            file_bytes,
+            total_bytes,
+            ..
+        } = self.limits;
+        let raw = read_bounded(path, file_bytes)
+            .map_err(|e| format!("{e} (`--max-pbrt-file-bytes`: {file_bytes})"))?;
         let bytes = if is_gzip_name(path) {
-            inflate(&raw, MAX_SCENE_BYTES)?
+            inflate(&raw, file_bytes)?
         } else {
             raw
         };
         self.total = self.total.saturating_add(bytes.len() as u64);
-        if self.total > MAX_TOTAL_BYTES {
+        if self.total > total_bytes {
             return Err(format!(
-                "the scene's files hold more than {MAX_TOTAL_BYTES} bytes together (a file \
-                 included again is counted again)"
+                "the scene's files hold more than {total_bytes} bytes together (a file \
+                 included again is counted again; `--max-pbrt-total-bytes`)"
             ));
         }
         if bytes.contains(&0) {
@@ -166,7 +239,8 @@ fn inflate(raw: &[u8], limit: u64) -> Result<Vec<u8>, String> {
         .map_err(|e| format!("it is not a valid gzip file: {e}"))?;
     if out.len() as u64 > limit {
         return Err(format!(
-            "it inflates to more than {limit} bytes, the limit of a scene file"
+            "it inflates to more than {limit} bytes, the limit of a scene file \
+             (`--max-pbrt-file-bytes`)"
         ));
     }
     Ok(out)

@@ -11,10 +11,12 @@
 //! is approximated and what is refused is listed in `docs/scene-format.md` ("pbrt-v4 scenes").
 //!
 //! The files are untrusted input as a YAML scene is: regular files only, each at most
-//! [`MAX_SCENE_BYTES`] (gzip's output too, bounded as it inflates),
-//! names resolved in the top-level file's folder and kept inside it unless
-//! [`LoadOptions::allow_outside`], `Include` nested at most [`MAX_INCLUDE_DEPTH`] deep, the
-//! meshes' triangles within [`LoadOptions::max_triangles`].
+//! [`PbrtLimits::file_bytes`] (gzip's output too, bounded as it inflates), all together at
+//! most [`PbrtLimits::total_bytes`], names resolved in the top-level file's folder and kept
+//! inside it unless [`LoadOptions::allow_outside`], `Include` nested at most
+//! [`PbrtLimits::include_depth`] deep, the parameter values counted against
+//! [`PbrtLimits::values`] as they are lexed, the meshes' triangles within
+//! [`LoadOptions::max_triangles`] (the defaults: [`PbrtLimits::DEFAULT`]).
 
 mod build;
 mod camera;
@@ -29,7 +31,8 @@ mod spectra;
 mod stream;
 mod textures;
 
-pub use input::{MAX_INCLUDE_DEPTH, MAX_SCENE_BYTES, MAX_TOTAL_BYTES};
+pub use crate::scene::PbrtLimits;
+pub use input::{MAX_INCLUDE_DEPTH, MAX_SCENE_BYTES, MAX_TOTAL_BYTES, MAX_VALUES};
 
 use crate::error::SceneError;
 use crate::scene::{LoadOptions, Scene};
@@ -46,7 +49,9 @@ pub fn is_scene_file(path: &Path) -> bool {
 
 /// Reads and builds the pbrt scene whose top-level file is `path`.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
-    let mut files = input::Files::new(path, options.allow_outside).stopped_by(options.stop.clone());
+    let mut files = input::Files::new(path, options.allow_outside)
+        .stopped_by(options.stop.clone())
+        .limited_by(options.pbrt);
     let description = reader::read(&mut files)?;
     build::scene(description, &files, options)
 }

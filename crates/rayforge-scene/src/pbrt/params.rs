@@ -7,7 +7,7 @@
 //! another type than the file gives it is not read either, and its warning says which type
 //! was expected. Parameters set by `Attribute` may go unused without a warning.
 
-use super::input::Loc;
+use super::input::{Loc, ValueBudget};
 use super::lexer::Kind;
 use super::stream::{number, Stream};
 use crate::error::SceneError;
@@ -151,8 +151,13 @@ impl Param {
 }
 
 /// Reads the parameter list after a directive's arguments, up to the first token that is not
-/// a quoted string (the next directive, or the end of the file).
-pub fn parse(stream: &mut Stream<'_>, directive: &str) -> Result<Vec<Param>, SceneError> {
+/// a quoted string (the next directive, or the end of the file); each value spends one of
+/// `budget` as it is lexed, before it is kept.
+pub fn parse(
+    stream: &mut Stream<'_>,
+    directive: &str,
+    budget: &ValueBudget,
+) -> Result<Vec<Param>, SceneError> {
     let mut list = Vec::new();
     while let Some(declaration) = stream.peek()? {
         if declaration.kind != Kind::Str {
@@ -182,7 +187,7 @@ pub fn parse(stream: &mut Stream<'_>, directive: &str) -> Result<Vec<Param>, Sce
             )
         })?;
         let key = format!("{} {name}", ty.name());
-        let values = values(stream, directive, &key, ty, &loc)?;
+        let values = values(stream, directive, &key, ty, &loc, budget)?;
         list.push(Param {
             ty,
             name: name.to_string(),
@@ -202,6 +207,7 @@ fn values(
     key: &str,
     ty: ParamType,
     loc: &Loc,
+    budget: &ValueBudget,
 ) -> Result<Values, SceneError> {
     let first = stream.required(directive, &format!("the value of \"{key}\""))?;
     let mut tokens = Vec::new();
@@ -215,12 +221,16 @@ fn values(
                         .loc(&t)
                         .error(Some(key), "a `[` inside a parameter's values"))
                 }
-                _ => tokens.push(t),
+                _ => {
+                    spend(stream, budget, &t, key)?;
+                    tokens.push(t);
+                }
             }
         }
     } else if first.kind == Kind::Close {
         return Err(stream.loc(&first).error(Some(key), "a `]` without its `[`"));
     } else {
+        spend(stream, budget, &first, key)?;
         tokens.push(first);
     }
     let bad = |t: &super::lexer::Token<'_>, wanted: &str| {
@@ -287,6 +297,21 @@ fn values(
         }
     }
     Ok(values)
+}
+
+/// Spends one value of `budget` on `token` of the parameter `key`: an error at the token once
+/// none is left.
+fn spend(
+    stream: &Stream<'_>,
+    budget: &ValueBudget,
+    token: &super::lexer::Token<'_>,
+    key: &str,
+) -> Result<(), SceneError> {
+    if budget.take() {
+        Ok(())
+    } else {
+        Err(stream.loc(token).error(Some(key), budget.spent()))
+    }
 }
 
 /// A whole number as pbrt-v4 reads an `integer` (optional sign, digits, 32 bits).
@@ -492,7 +517,10 @@ mod tests {
 
     fn params(text: &str) -> Result<Params, SceneError> {
         let mut stream = Stream::new(text, Rc::from(Path::new("t.pbrt")));
-        Ok(Params::new(parse(&mut stream, "Shape")?, &[]))
+        Ok(Params::new(
+            parse(&mut stream, "Shape", &ValueBudget::new(1000))?,
+            &[],
+        ))
     }
 
     #[test]
@@ -573,12 +601,12 @@ mod tests {
     #[test]
     fn attributes_come_after_and_may_go_unused() {
         let mut stream = Stream::new("\"float radius\" 3", Rc::from(Path::new("a.pbrt")));
-        let inherited = parse(&mut stream, "Attribute").unwrap();
+        let inherited = parse(&mut stream, "Attribute", &ValueBudget::new(1000)).unwrap();
         let p = Params::new(Vec::new(), &inherited);
         assert!(p.unused("Shape").is_empty());
         assert_eq!(p.float("radius").unwrap(), Some(3.0));
         let mut stream = Stream::new("\"float radius\" 1", Rc::from(Path::new("a.pbrt")));
-        let own = parse(&mut stream, "Shape").unwrap();
+        let own = parse(&mut stream, "Shape", &ValueBudget::new(1000)).unwrap();
         assert_eq!(
             Params::new(own, &inherited).float("radius").unwrap(),
             Some(1.0)

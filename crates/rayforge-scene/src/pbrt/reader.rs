@@ -10,7 +10,7 @@
 //! too, its graphics state left behind when it ends, as pbrt-v4's import builds with a copy.
 //! Every file name resolves in the top-level file's folder, as pbrt-v4 resolves it.
 
-use super::input::{Files, Loc, MAX_INCLUDE_DEPTH};
+use super::input::{Files, Loc};
 use super::lexer::Kind;
 use super::params::{self, Param, Params};
 use super::stream::Stream;
@@ -326,13 +326,14 @@ impl Reader<'_> {
 
     /// An entity: the directive's quoted name and its parameters, with `attributes` after.
     fn entity(
+        &self,
         stream: &mut Stream<'_>,
         directive: &'static str,
         loc: Loc,
         attributes: &[Param],
     ) -> Result<Entity, SceneError> {
         let (name, _) = stream.string(directive, "a type in quotes")?;
-        let own = params::parse(stream, directive)?;
+        let own = params::parse(stream, directive, self.files.values())?;
         Ok(Entity {
             name,
             params: Params::new(own, attributes),
@@ -418,7 +419,7 @@ impl Reader<'_> {
             }
             "Attribute" => {
                 let (target, target_loc) = stream.string(name, "a target in quotes")?;
-                let own = params::parse(stream, name)?;
+                let own = params::parse(stream, name, self.files.values())?;
                 let index = attribute_target(&target).ok_or_else(|| {
                     target_loc.error(
                         Some(name),
@@ -537,7 +538,7 @@ impl Reader<'_> {
             }
             "Camera" => {
                 self.options_block(name, &loc)?;
-                let entity = Self::entity(stream, "Camera", loc, &[])?;
+                let entity = self.entity(stream, "Camera", loc, &[])?;
                 let camera_from_world = self.state.ctm[0];
                 if camera_from_world.determinant().abs() < 1e-300 || !camera_from_world.is_finite()
                 {
@@ -556,7 +557,7 @@ impl Reader<'_> {
                     "PixelFilter" => "PixelFilter",
                     _ => "Accelerator",
                 };
-                let entity = Self::entity(stream, directive, loc, &[])?;
+                let entity = self.entity(stream, directive, loc, &[])?;
                 let options = &mut self.out.options;
                 match name {
                     "Film" => options.film = Some(entity),
@@ -584,12 +585,13 @@ impl Reader<'_> {
                 if name == "Import" {
                     self.world_block(name, &loc)?;
                 }
-                if depth + 1 >= MAX_INCLUDE_DEPTH {
+                let most = self.files.limits().include_depth;
+                if depth + 1 >= most {
                     return Err(at.error(
                         Some(name),
                         format!(
-                            "files included more than {MAX_INCLUDE_DEPTH} deep (does a file \
-                             include itself?)"
+                            "files included more than {most} deep (does a file include \
+                             itself? `--max-pbrt-include-depth`)"
                         ),
                     ));
                 }
@@ -614,14 +616,14 @@ impl Reader<'_> {
             "Material" => {
                 self.world_block(name, &loc)?;
                 let attributes = self.state.attributes[2].clone();
-                let entity = Self::entity(stream, "Material", loc, &attributes)?;
+                let entity = self.entity(stream, "Material", loc, &attributes)?;
                 self.out.materials.push(Some(entity));
                 self.state.material = MaterialRef::Index(self.out.materials.len() - 1);
             }
             "MakeNamedMaterial" => {
                 self.world_block(name, &loc)?;
                 let attributes = self.state.attributes[2].clone();
-                let entity = Self::entity(stream, "MakeNamedMaterial", loc, &attributes)?;
+                let entity = self.entity(stream, "MakeNamedMaterial", loc, &attributes)?;
                 if self.out.named_materials.contains_key(&entity.name) {
                     return Err(
                         entity.error(format!("the material \"{}\" is made twice", entity.name))
@@ -648,7 +650,7 @@ impl Reader<'_> {
                     ));
                 }
                 let attributes = self.state.attributes[4].clone();
-                let entity = Self::entity(stream, "Texture", loc, &attributes)?;
+                let entity = self.entity(stream, "Texture", loc, &attributes)?;
                 // Float and spectrum textures have a name space each, as in pbrt-v4.
                 let key = (kind.clone(), texture.clone());
                 if self.out.texture_index.contains_key(&key) {
@@ -667,7 +669,7 @@ impl Reader<'_> {
             }
             "MakeNamedMedium" => {
                 let attributes = self.state.attributes[3].clone();
-                let entity = Self::entity(stream, "MakeNamedMedium", loc, &attributes)?;
+                let entity = self.entity(stream, "MakeNamedMedium", loc, &attributes)?;
                 if self.out.media.contains_key(&entity.name) {
                     return Err(
                         entity.error(format!("the medium \"{}\" is made twice", entity.name))
@@ -689,7 +691,7 @@ impl Reader<'_> {
             "LightSource" => {
                 self.world_block(name, &loc)?;
                 let attributes = self.state.attributes[1].clone();
-                let entity = Self::entity(stream, "LightSource", loc, &attributes)?;
+                let entity = self.entity(stream, "LightSource", loc, &attributes)?;
                 self.out.lights.push(LightEntity {
                     entity,
                     world_from_light: self.state.ctm[0],
@@ -698,13 +700,13 @@ impl Reader<'_> {
             "AreaLightSource" => {
                 self.world_block(name, &loc)?;
                 let attributes = self.state.attributes[1].clone();
-                let entity = Self::entity(stream, "AreaLightSource", loc, &attributes)?;
+                let entity = self.entity(stream, "AreaLightSource", loc, &attributes)?;
                 self.state.area_light = Some(Rc::new(entity));
             }
             "Shape" => {
                 self.world_block(name, &loc)?;
                 let attributes = self.state.attributes[0].clone();
-                let entity = Self::entity(stream, "Shape", loc, &attributes)?;
+                let entity = self.entity(stream, "Shape", loc, &attributes)?;
                 let shape = ShapeEntity {
                     entity,
                     world_from_object: self.state.ctm[0],

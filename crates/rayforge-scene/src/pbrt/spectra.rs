@@ -188,7 +188,15 @@ mod tests {
 
     fn colour(decl: &str, usage: SpectrumUse) -> Result<Color, SceneError> {
         let mut s = Stream::new(decl, Rc::from(Path::new("s.pbrt")));
-        let params = Params::new(parse(&mut s, "Material").unwrap(), &[]);
+        let params = Params::new(
+            parse(
+                &mut s,
+                "Material",
+                &crate::pbrt::input::ValueBudget::new(1000),
+            )
+            .unwrap(),
+            &[],
+        );
         let p = params
             .find(
                 "v",
