@@ -61,7 +61,12 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
     output_not_an_input(settings, &scene, output)?;
     let pool = thread_pool(settings)?;
     let (width, height) = (camera.hsize(), camera.vsize());
-    match settings.choose(&scene)? {
+    let chosen = settings.choose(&scene)?;
+    let scene = match chosen {
+        Chosen::Path(_) => scene,
+        _ => without_media(settings, scene),
+    };
+    match chosen {
         Chosen::Raster(options) => {
             reserve_for_render(width, height, 1)?;
             return raster_render(settings, &scene, &camera, &pool, &options, output);
@@ -88,6 +93,28 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
         trace_pixel(settings, &scene, &camera, &options, x, y)?;
     }
     ray_render(settings, &scene, &camera, &pool, options, output, frame)
+}
+
+/// The scene as the Whitted ray tracer and the rasterizer draw it: they render no
+/// participating media, which the user is told once (never silently); the surfaces that only
+/// separate media (index-matched, invisible) are left out, every other surface drawn as if in
+/// vacuum.
+fn without_media(settings: &RenderSettings, mut scene: Scene) -> Scene {
+    let boundary = |o: &rayforge::Object| o.media.is_some_and(|m| m.index_matched);
+    if !scene.world.has_media() && !scene.world.objects.iter().any(boundary) {
+        return scene;
+    }
+    if !settings.quiet {
+        settings.said.warn(
+            "the scene's participating media are rendered by the path tracer only \
+             (`renderer: path` or `--renderer path`); this renderer ignores them and leaves \
+             out the surfaces that only bound them",
+        );
+    }
+    scene.world.objects.retain(|o| !boundary(o));
+    scene.world.media = rayforge::media::Media::NONE;
+    scene.world.camera_medium = None;
+    scene
 }
 
 /// Reads the scene (printing its warnings) and the camera to render it through, resized to

@@ -477,3 +477,37 @@ fn aovs_in_an_exr_are_layers_of_the_one_file_in_float_or_half() {
         "{stderr}"
     );
 }
+
+#[test]
+fn media_render_the_same_for_any_thread_count_and_only_the_path_tracer_draws_them() {
+    let dir = temp();
+    let scene = "scenes/pbr/media/cornell-media.yml";
+    let run = |name: &str, extra: &[&str]| {
+        let image = out(&dir, name);
+        let mut args = SMALL.to_vec();
+        args.extend_from_slice(extra);
+        let (ok, stderr) = render(scene, &image, &args);
+        assert!(ok, "{stderr}");
+        assert!(!stderr.contains("media"), "{stderr}");
+        std::fs::read(image).unwrap()
+    };
+    assert_eq!(
+        run("a.pfm", &["--threads", "1"]),
+        run("b.pfm", &["--threads", "3"])
+    );
+    // The other renderers say once that they leave the media out.
+    for renderer in ["ray", "raster"] {
+        let image = out(&dir, &format!("{renderer}.png"));
+        let (ok, stderr) = render(
+            scene,
+            &image,
+            &["--width", "8", "--height", "8", "--renderer", renderer],
+        );
+        assert!(ok, "{stderr}");
+        assert_eq!(
+            stderr.matches("participating media").count(),
+            1,
+            "{renderer}: {stderr}"
+        );
+    }
+}

@@ -178,6 +178,13 @@ impl Assets {
         cached_texture(&mut self.textures, &self.folder, path)
     }
 
+    /// The bytes of a medium's grid file (`.vol`), at most `limit` of them; the error is the
+    /// reason, for the caller to place at the `file:` that names it.
+    pub fn volume_bytes(&mut self, path: &Path, limit: u64) -> Result<Vec<u8>, String> {
+        self.folder.check(path)?;
+        crate::files::read_bounded(path, limit)
+    }
+
     /// An environment map (OpenEXR, Radiance HDR or PFM), within what is left of the images'
     /// memory; the error is the reason, for the caller to place at the `file:` that names it.
     pub fn environment_image(&mut self, path: &Path) -> Result<HdrImage, String> {

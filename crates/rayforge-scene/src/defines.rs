@@ -24,6 +24,9 @@ struct Define<'n, 's> {
 #[derive(Default)]
 pub struct Defines<'n, 's> {
     table: HashMap<&'n str, Define<'n, 's>>,
+    /// The `medium:` items read so far, by name (a medium is built when it is read, and
+    /// later items name it as they name defines).
+    media: HashMap<String, rayforge::media::MediumId>,
 }
 
 /// A trail of names being resolved, to detect cycles.
@@ -72,6 +75,16 @@ impl<'n, 's> Defines<'n, 's> {
             },
         );
         Ok(())
+    }
+
+    /// Records the medium `name` as `id` (a later one of the same name replaces it).
+    pub fn add_medium(&mut self, name: &str, id: rayforge::media::MediumId) {
+        self.media.insert(name.to_string(), id);
+    }
+
+    /// The medium named `name`, if one has been read.
+    pub fn medium(&self, name: &str) -> Option<rayforge::media::MediumId> {
+        self.media.get(name).copied()
     }
 
     /// Whether `name` has been defined.

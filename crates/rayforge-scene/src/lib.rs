@@ -20,6 +20,7 @@ mod hdr;
 mod images;
 mod items;
 mod material;
+mod media;
 pub mod obj;
 pub mod pbrt;
 pub mod ply;
@@ -137,6 +138,7 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
     );
     let mut read = Contents::default();
     let mut settings: Option<settings::Settings> = None;
+    let mut world_medium: Option<media::NamedLater> = None;
     // Each item is dropped once read, except a define's, which later items name.
     let defined = typed_arena::Arena::new();
     while let Some(item) = items.next_item(&source) {
@@ -147,6 +149,20 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
             continue;
         }
         let entries = source.entries(&item, "")?;
+        if media::is_medium(&entries) {
+            let (name, medium) = media::medium(&source, &defines, &mut assets, &item, &entries)?;
+            let at = entries
+                .iter()
+                .find(|e| e.name == "medium")
+                .expect("a medium item");
+            let id = read
+                .world
+                .media
+                .add(medium)
+                .map_err(|e| source.error(at.value, "medium", e.to_string()))?;
+            defines.add_medium(name, id);
+            continue;
+        }
         if let Some(e) = entries.iter().find(|e| e.name == "world") {
             if entries.len() > 1 || settings.is_some() {
                 let message = if settings.is_some() {
@@ -155,6 +171,13 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
                     "a `world:` item has nothing beside it"
                 };
                 return Err(source.error(e.key, "world", message));
+            }
+            if let Some(m) = source
+                .entries(e.value, "world")?
+                .iter()
+                .find(|m| m.name == "medium")
+            {
+                world_medium = Some(media::NamedLater::new(&source, m.value, "medium")?);
             }
             settings = Some(settings::apply(
                 &source,
@@ -174,10 +197,22 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         )?;
     }
     let Contents {
-        world,
+        mut world,
         camera,
         canvas_items,
+        camera_medium,
     } = read;
+    // The world's medium is all around: the camera's (unless it names its own) and every
+    // boundary's outside that names none.
+    let around = world_medium
+        .map(|m| m.resolve(&defines))
+        .transpose()?
+        .flatten();
+    media::resolve_around(&mut world.objects, around);
+    world.camera_medium = match camera_medium {
+        Some(m) => m.resolve(&defines)?,
+        None => around,
+    };
     let CameraItem {
         camera,
         samples,

@@ -58,6 +58,7 @@ const WORLD_KEYS: &[&str] = &[
     "ambient-index",
     "renderer",
     "environment",
+    "medium",
 ];
 
 /// The keys that only the rasterizer reads.

@@ -63,6 +63,7 @@ pub fn add_array<'n, 's>(
             material: placement.material.clone(),
             casts_shadow: placement.casts_shadow,
             depth: inherited.depth + 1,
+            media: placement.media,
         };
         let mut parts = Vec::new();
         let item_entries = match as_str(of.value) {

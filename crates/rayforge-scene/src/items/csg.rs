@@ -32,6 +32,7 @@ pub fn add_csg<'n, 's>(
         material: placement.material,
         casts_shadow: placement.casts_shadow,
         depth: inherited.depth + 1,
+        media: placement.media,
     };
     if inside.depth >= MAX_GROUP_DEPTH {
         return Err(source.error(

@@ -39,6 +39,7 @@ pub fn add_group<'n, 's>(
         material: placement.material,
         casts_shadow: placement.casts_shadow,
         depth: inherited.depth + 1,
+        media: placement.media,
     };
     for child in source.sequence(children_node, "children")? {
         add_child(builder, child, &inside, out)?;

@@ -41,6 +41,8 @@ const SHAPE_KEYS: &[&str] = &[
     "motion",
     "velocity",
     "per-frame",
+    "interior",
+    "exterior",
 ];
 
 /// The keys a kind of item accepts besides [`SHAPE_KEYS`].

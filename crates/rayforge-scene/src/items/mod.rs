@@ -24,6 +24,7 @@ use crate::assets::Assets;
 use crate::canvas_items::{canvas_item, CANVAS_KINDS};
 use crate::defines::Defines;
 use crate::error::SceneError;
+use crate::media::NamedLater;
 use crate::source::{as_str, Node, Source};
 use camera::CameraItem;
 
@@ -36,6 +37,8 @@ pub struct Contents {
     pub camera: Option<CameraItem>,
     /// `canvas-line` and `canvas-triangle` items, in order.
     pub canvas_items: Vec<rayforge::draw2d::CanvasItem>,
+    /// The camera's `medium:`, named.
+    pub camera_medium: Option<NamedLater>,
 }
 
 /// Whether a top-level item is a `define:` (which the reader keeps for later items).
@@ -63,7 +66,15 @@ pub fn add_item<'n, 's>(
         "camera" if read.camera.is_some() => {
             return Err(source.error(kind, "add", "a second camera: a scene has exactly one"))
         }
-        "camera" => read.camera = Some(camera::camera(source, &entries, item)?),
+        "camera" => {
+            // The medium the camera sits in is the renderer's business, not the lens's.
+            let (medium, lens): (Vec<_>, Vec<_>) =
+                entries.into_iter().partition(|e| e.name == "medium");
+            if let Some(m) = medium.first() {
+                read.camera_medium = Some(NamedLater::new(source, m.value, "medium")?);
+            }
+            read.camera = Some(camera::camera(source, &lens, item)?)
+        }
         "light" => read
             .world
             .lights

@@ -9,6 +9,7 @@ use super::templates::{expand_template, Expanded};
 use crate::assets::Assets;
 use crate::defines::{Defines, Trail};
 use crate::error::SceneError;
+use crate::media::MediaKeys;
 use crate::source::{Entry, Node, Source};
 use glam::DMat4;
 use rayforge::{Material, Object};
@@ -33,6 +34,8 @@ pub struct Inherited {
     pub casts_shadow: bool,
     /// How many groups enclose this item.
     pub depth: usize,
+    /// The nearest enclosing groups' `interior:`, `exterior:` and `material: interface`.
+    pub media: MediaKeys,
 }
 
 impl Inherited {
@@ -44,6 +47,7 @@ impl Inherited {
         material: None,
         casts_shadow: true,
         depth: 0,
+        media: MediaKeys::NONE,
     };
 }
 

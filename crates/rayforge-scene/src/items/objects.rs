@@ -69,6 +69,8 @@ fn build_objects<'n, 's>(
     };
     check_keys(source, entries, &format!("a {kind}"), &keys(kind))?;
     let placement = place(builder, item, kind_node, inherited)?;
+    let interface = placement.media.interface();
+    let start = out.len();
     match (shape, kind) {
         (Some(shape), _) => add_shape(source, kind_node, shape, placement, out),
         (None, "csg") => add_csg(builder, entries, kind_node, placement, inherited, out),
@@ -77,5 +79,12 @@ fn build_objects<'n, 's>(
         (None, "ply") => add_ply(source, builder.assets, entries, kind_node, placement, out),
         (None, "array") => add_array(builder, entries, kind_node, placement, inherited, out),
         (None, _) => add_group(builder, entries, kind_node, placement, inherited, out),
+    }?;
+    // What the item says of media reaches every object it built that says nothing itself.
+    for object in &mut out[start..] {
+        if object.media.is_none() {
+            object.media = interface;
+        }
     }
+    Ok(())
 }

@@ -10,6 +10,8 @@ use super::templates::Expanded;
 use crate::defines::{Defines, Trail};
 use crate::error::SceneError;
 use crate::material::{checked, material};
+use crate::media::{medium_named, MediaKeys, INTERFACE};
+use crate::source::as_str;
 use crate::source::{Entry, Node, Source};
 use crate::transform::transform_list;
 use glam::DMat4;
@@ -29,6 +31,9 @@ pub struct Placement<'n, 's> {
     pub material_explicit: bool,
     /// False when the item or an enclosing group has `shadow: false`.
     pub casts_shadow: bool,
+    /// The media it bounds: its own `interior:`, `exterior:` and `material: interface`,
+    /// else the nearest enclosing group's.
+    pub media: MediaKeys,
 }
 
 /// Places an expanded item whose `add:` is `kind_node`, inside what it inherits.
@@ -49,7 +54,7 @@ pub fn place<'n, 's>(
         Some((node, end)) => checked(source, node, inherited.end_matrix * end)?,
         None => checked(source, placed_at, inherited.end_matrix * own)?,
     };
-    let (material_here, casts_shadow) = looks(builder, entries, inherited)?;
+    let (material_here, casts_shadow, media) = looks(builder, entries, inherited)?;
     Ok(Placement {
         placed_at,
         world,
@@ -57,6 +62,7 @@ pub fn place<'n, 's>(
         material_explicit: material_here.is_some(),
         material: material_here.or_else(|| inherited.material.clone()),
         casts_shadow,
+        media,
     })
 }
 
@@ -73,19 +79,29 @@ fn own_transform<'n, 's>(
     Ok(own)
 }
 
-/// The item's own `material:`, if any, and whether it casts shadows (`shadow:`, and what it
-/// inherits), read in the order the keys are written.
+/// The item's own `material:`, if any, whether it casts shadows (`shadow:`, and what it
+/// inherits) and the media it bounds, read in the order the keys are written.
 fn looks<'n, 's>(
     builder: &mut Builder<'_, 'n, 's>,
     entries: &[Entry<'n, 's>],
     inherited: &Inherited,
-) -> Result<(Option<Material>, bool), SceneError> {
+) -> Result<(Option<Material>, bool, MediaKeys), SceneError> {
     let source = builder.source;
     let mut material_here = None;
     let mut casts_shadow = inherited.casts_shadow;
+    let mut media = inherited.media;
     for e in entries {
         match e.name {
+            "interior" => {
+                media.interior = Some(medium_named(source, builder.defines, e.value, "interior")?)
+            }
+            "exterior" => {
+                media.exterior = Some(medium_named(source, builder.defines, e.value, "exterior")?)
+            }
+            // A boundary between media only (pbrt-v4's `interface` material).
+            "material" if as_str(e.value) == Some(INTERFACE) => media.index_matched = true,
             "material" => {
+                media.index_matched = false;
                 material_here = Some(material(
                     source,
                     builder.defines,
@@ -98,5 +114,5 @@ fn looks<'n, 's>(
             _ => {}
         }
     }
-    Ok((material_here, casts_shadow))
+    Ok((material_here, casts_shadow, media))
 }

@@ -1,0 +1,245 @@
+//! The media keys: `medium:` items (homogeneous and grid, coefficients or albedo and density,
+//! inline data or a `.vol` file), `interior:`/`exterior:` and `material: interface` on objects
+//! and groups, `medium:` on the camera and in `world:`, and their errors, each located.
+use rayforge::media::{Medium, MediumId, MediumInterface};
+use rayforge::Color;
+use rayforge_scene::{load_str, Scene, SceneError};
+use std::path::Path;
+
+/// Seven lines: what the tests add begins on line 8.
+const CAMERA: &str = "- add: camera
+  width: 10
+  height: 10
+  field-of-view: 1
+  from: [0, 0, -5]
+  to: [0, 0, 0]
+  up: [0, 1, 0]
+";
+
+fn load(body: &str) -> Result<Scene, SceneError> {
+    load_str(&format!("{CAMERA}{body}"), Path::new("scene.yml"))
+}
+
+#[track_caller]
+fn assert_error(
+    result: Result<Scene, SceneError>,
+    line: usize,
+    column: usize,
+    key: &str,
+    words: &str,
+) {
+    let e = result.expect_err("the scene must be rejected");
+    let span = e.span.unwrap_or_else(|| panic!("no position in: {e}"));
+    assert_eq!((span.line, span.column), (line, column), "{e}");
+    assert_eq!(e.key.as_deref(), Some(key), "{e}");
+    assert!(e.message.contains(words), "{e}");
+}
+
+const FOG: &str = "- medium: fog
+  sigma-a: 0.1
+  sigma-s: [0.2, 0.3, 0.4]
+  scale: 2
+  g: 0.5
+";
+
+#[test]
+fn a_homogeneous_medium_is_read_with_its_coefficients() {
+    let scene = load(FOG).expect("loads");
+    assert_eq!(scene.world.media.len(), 1);
+    let Medium::Homogeneous(m) = scene.world.media.get(MediumId(0)) else {
+        panic!("homogeneous")
+    };
+    assert_eq!(m.sigma_a, Color::new(0.2, 0.2, 0.2));
+    assert_eq!(m.sigma_s, Color::new(0.4, 0.6, 0.8));
+    assert_eq!(m.phase.g, 0.5);
+}
+
+#[test]
+fn albedo_and_density_give_the_coefficients() {
+    let scene = load("- medium: milk\n  albedo: 0.75\n  density: 4\n").expect("loads");
+    let Medium::Homogeneous(m) = scene.world.media.get(MediumId(0)) else {
+        panic!("homogeneous")
+    };
+    assert_eq!(m.sigma_a, Color::new(1.0, 1.0, 1.0));
+    assert_eq!(m.sigma_s, Color::new(3.0, 3.0, 3.0));
+}
+
+#[test]
+fn objects_and_groups_bound_media_and_the_world_fills_the_rest() {
+    let body = format!(
+        "{FOG}- medium: juice
+  sigma-a: [0.1, 0.5, 0.9]
+- world:
+    renderer: path
+    medium: fog
+- add: sphere
+  interior: juice
+- add: group
+  material: interface
+  interior: juice
+  children:
+    - add: cube
+    - add: sphere
+      exterior: vacuum
+- add: plane
+"
+    );
+    let scene = load(&body).expect("loads");
+    let (fog, juice) = (Some(MediumId(0)), Some(MediumId(1)));
+    let objects = &scene.world.objects;
+    assert_eq!(scene.world.camera_medium, fog);
+    assert_eq!(
+        objects[0].media,
+        Some(MediumInterface {
+            inside: juice,
+            outside: fog,
+            index_matched: false
+        })
+    );
+    assert_eq!(
+        objects[1].media,
+        Some(MediumInterface {
+            inside: juice,
+            outside: fog,
+            index_matched: true
+        })
+    );
+    assert_eq!(
+        objects[2].media,
+        Some(MediumInterface {
+            inside: juice,
+            outside: None,
+            index_matched: true
+        })
+    );
+    // Saying nothing: a ray crossing it stays where it is.
+    assert_eq!(objects[3].media, None);
+}
+
+#[test]
+fn the_camera_names_its_own_medium() {
+    let body = format!("{FOG}- medium: water\n  sigma-a: 1\n- world:\n    medium: fog\n");
+    let text = format!(
+        "- add: camera\n  width: 4\n  height: 4\n  field-of-view: 1\n  from: [0, 0, -5]\n  to: [0, 0, 0]\n  up: [0, 1, 0]\n  medium: water\n{body}"
+    );
+    let scene = load_str(&text, Path::new("scene.yml")).expect("loads");
+    assert_eq!(scene.world.camera_medium, Some(MediumId(1)));
+}
+
+#[test]
+fn a_grid_medium_reads_its_data_and_box() {
+    let body = "- medium: smoke
+  type: grid
+  sigma-s: 2
+  size: [2, 1, 1]
+  data: [0, 1]
+  bounds: [[-1, -1, -1], [1, 1, 1]]
+  transform:
+    - [translate, 0, 1, 0]
+";
+    let scene = load(body).expect("loads");
+    let Medium::Grid(g) = scene.world.media.get(MediumId(0)) else {
+        panic!("grid")
+    };
+    assert_eq!(g.density.size(), [2, 1, 1]);
+    assert_eq!(g.sigma_s, Color::new(2.0, 2.0, 2.0));
+    let p = g.to_unit(rayforge::point(0.5, 1.0, 0.0));
+    assert!((p - rayforge::point(0.75, 0.5, 0.5)).length() < 1e-12);
+}
+
+#[test]
+fn a_grid_medium_reads_a_vol_file() {
+    let dir = std::env::temp_dir().join(format!("rayforge-media-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let mut bytes = b"VOL\x03".to_vec();
+    for i in [1i32, 2, 2, 1, 1] {
+        bytes.extend(i.to_le_bytes());
+    }
+    for f in [0.0f32, 0.0, 0.0, 2.0, 2.0, 1.0, 1.0, 2.0, 3.0, 4.0] {
+        bytes.extend(f.to_le_bytes());
+    }
+    std::fs::write(dir.join("puff.vol"), &bytes).expect("write");
+    let text = format!("{CAMERA}- medium: puff\n  type: grid\n  sigma-a: 1\n  file: puff.vol\n");
+    let scene = load_str(&text, &dir.join("scene.yml")).expect("loads");
+    let Medium::Grid(g) = scene.world.media.get(MediumId(0)) else {
+        panic!("grid")
+    };
+    assert_eq!(g.bounds.max, rayforge::point(2.0, 2.0, 1.0));
+    assert_eq!(g.density.lookup(rayforge::point(0.75, 0.75, 0.5)), 4.0);
+    assert!(scene.files.iter().any(|f| f.ends_with("puff.vol")));
+    std::fs::write(dir.join("bad.vol"), &bytes[..40]).expect("write");
+    let text = format!("{CAMERA}- medium: puff\n  type: grid\n  file: bad.vol\n");
+    let e = load_str(&text, &dir.join("scene.yml")).expect_err("refused");
+    assert_eq!(e.span.map(|s| (s.line, s.column)), Some((10, 9)), "{e}");
+    assert!(e.message.contains("bad.vol"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_media_are_refused_where_they_are_written() {
+    assert_error(
+        load("- medium: m\n  type: cloud\n"),
+        9,
+        9,
+        "type",
+        "homogeneous or grid",
+    );
+    assert_error(
+        load("- medium: m\n  sigma-a: -1\n"),
+        9,
+        12,
+        "sigma-a",
+        "at least 0",
+    );
+    assert_error(load("- medium: m\n  g: 1\n"), 9, 6, "g", "between");
+    assert_error(
+        load("- medium: m\n  albedo: 0.5\n  sigma-s: 1\n"),
+        10,
+        3,
+        "sigma-s",
+        "not both",
+    );
+    assert_error(
+        load("- medium: m\n  albedo: 2\n"),
+        9,
+        11,
+        "albedo",
+        "between 0 and 1",
+    );
+    assert_error(
+        load("- medium: m\n  size: [1, 1, 1]\n"),
+        9,
+        3,
+        "size",
+        "type: grid",
+    );
+    assert_error(
+        load("- medium: m\n  type: grid\n  size: [2, 2, 2]\n  data: [1, 2]\n"),
+        11,
+        9,
+        "data",
+        "holds 8 values, found 2",
+    );
+    assert_error(
+        load("- medium: m\n  type: grid\n"),
+        8,
+        3,
+        "data",
+        "needs `data:`",
+    );
+    assert_error(load("- medium: vacuum\n"), 8, 11, "medium", "empty space");
+    assert_error(
+        load("- add: sphere\n  interior: mist\n"),
+        9,
+        13,
+        "interior",
+        "no medium is named `mist`",
+    );
+    assert_error(
+        load("- world:\n    medium: mist\n"),
+        9,
+        13,
+        "medium",
+        "no medium is named `mist`",
+    );
+}
