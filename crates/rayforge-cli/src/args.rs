@@ -277,6 +277,19 @@ pub struct MergeArgs {
     #[arg(long, value_name = "N", default_value_t = rayforge_scene::DEFAULT_MAX_TRIANGLES)]
     pub max_triangles: usize,
 
+    /// Path tracer: write the merged AOVs (albedo, normal, depth, sample count) as
+    /// `rayforge render --aovs` does, beside the image or as layers of an OpenEXR output; the
+    /// slices must have been rendered with --aovs, which keeps them in the parts.
+    #[arg(long)]
+    pub aovs: bool,
+
+    /// Path tracer: denoise the merged image with Intel Open Image Denoise as `rayforge
+    /// render --denoise` does, guided by the merged albedo and normals when the slices were
+    /// rendered with --aovs (else unguided, with a warning); with --aovs the raw image is kept
+    /// too (`out.noisy.png`, or the layer `noisy` of an OpenEXR output).
+    #[arg(long)]
+    pub denoise: bool,
+
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,

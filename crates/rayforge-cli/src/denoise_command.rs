@@ -66,7 +66,7 @@ pub fn run(args: &DenoiseArgs) -> Result<(), Failure> {
     });
     let what = format!("`{}`", args.input.display());
     let mut out = crate::denoise::denoise(&denoiser, &image.color, guides, threads, &what)?;
-    crate::path_command::encode_for(format, &mut out);
+    crate::path_output::encode_for(format, &mut out);
     write_atomically(&args.output, &format.encode(&out)?)?;
     if !args.quiet {
         let guided = match (&albedo, &normal) {

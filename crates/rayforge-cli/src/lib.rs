@@ -22,6 +22,7 @@ mod merge_command;
 mod output_lock;
 mod part_file;
 mod path_command;
+mod path_output;
 mod progress;
 mod render_command;
 mod serve;

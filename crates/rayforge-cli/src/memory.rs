@@ -35,22 +35,38 @@ pub fn reserve_for_render(width: usize, height: usize, films: u64) -> Result<(),
     reserve(&[(width, height, per_pixel)], what, SMALLER)
 }
 
-/// Checks that a slice of `rows` rows of a `width` × `height` image can have its memory, by
-/// reserving it. A slice holds a film of its rows only (see `crate::slice_render`), and the
-/// film made of it for its part file as one block, for a moment both: two films of its rows.
-/// It develops no image and writes its part as it goes.
-pub fn reserve_for_slice(width: usize, height: usize, rows: usize) -> Result<(), Failure> {
+/// Checks that a slice of `rows` rows of a `width` × `height` image, of `films` films (the
+/// image's and its AOVs'), can have its memory, by reserving it. A slice holds films of its
+/// rows only (see `crate::slice_render`), and the films made of them for its part file as
+/// blocks, for a moment both: twice its films of its rows. It develops no image and writes
+/// its part as it goes.
+pub fn reserve_for_slice(
+    width: usize,
+    height: usize,
+    rows: usize,
+    films: u64,
+) -> Result<(), Failure> {
     let what = || format!("a slice of {rows} rows of a {width}×{height} render");
     let remedy = "more slices cut by rows, or a smaller --width or --height, need less";
-    reserve(&[(width, rows, 2 * FILM_BYTES_PER_PIXEL)], what, remedy)
+    reserve(
+        &[(width, rows, 2 * films * FILM_BYTES_PER_PIXEL)],
+        what,
+        remedy,
+    )
 }
 
-/// Checks that merging the parts of a `width` × `height` image, the largest of `part_rows`
-/// rows, can have its memory, by reserving it: the image's film, one part's film at a time,
-/// and the developed image with its encoded file.
-pub fn reserve_for_merge(width: usize, height: usize, part_rows: usize) -> Result<(), Failure> {
-    let image = FILM_BYTES_PER_PIXEL + OUTPUT_BYTES_PER_PIXEL;
-    let part = (width, part_rows, FILM_BYTES_PER_PIXEL);
+/// Checks that merging the parts of a `width` × `height` image of `films` films each (the
+/// image's and its AOVs'), the largest part of `part_rows` rows, can have its memory, by
+/// reserving it: the image's films, one part's films at a time, and the developed images
+/// (the image, or with AOVs also the denoised image and each AOV) with their encoded files.
+pub fn reserve_for_merge(
+    width: usize,
+    height: usize,
+    part_rows: usize,
+    films: u64,
+) -> Result<(), Failure> {
+    let image = films * (FILM_BYTES_PER_PIXEL + OUTPUT_BYTES_PER_PIXEL) + OUTPUT_BYTES_PER_PIXEL;
+    let part = (width, part_rows, films * FILM_BYTES_PER_PIXEL);
     let what = || format!("merging a {width}×{height} render");
     reserve(&[(width, height, image), part], what, SMALLER)
 }
@@ -104,22 +120,22 @@ mod tests {
 
     #[test]
     fn slices_and_merges_are_refused_naming_what_they_hold() {
-        let Err(Failure::Input(message)) = reserve_for_slice(1 << 40, 1 << 40, 1 << 30) else {
+        let Err(Failure::Input(message)) = reserve_for_slice(1 << 40, 1 << 40, 1 << 30, 1) else {
             panic!("an absurd slice was granted");
         };
         assert!(
             message.contains("a slice of 1073741824 rows of a 1099511627776×1099511627776"),
             "{message}"
         );
-        let Err(Failure::Input(message)) = reserve_for_merge(1 << 31, 1 << 31, 1) else {
+        let Err(Failure::Input(message)) = reserve_for_merge(1 << 31, 1 << 31, 1, 1) else {
             panic!("an absurd merge was granted");
         };
         assert!(
             message.contains("merging a 2147483648×2147483648"),
             "{message}"
         );
-        assert!(reserve_for_slice(640, 480, 60).is_ok());
-        assert!(reserve_for_merge(640, 480, 60).is_ok());
+        assert!(reserve_for_slice(640, 480, 60, 5).is_ok());
+        assert!(reserve_for_merge(640, 480, 60, 5).is_ok());
     }
 
     #[test]

@@ -5,7 +5,10 @@
 //! in slice order (so the sums of a cut by samples are added in the same order whatever order
 //! the parts are given in), into one film of the image's size, which is developed and written
 //! exactly as `rayforge render` develops and writes that renderer's film: the same functions,
-//! the optics model's exposure and the scene's canvas items included.
+//! the optics model's exposure and the scene's canvas items included. Path-traced parts
+//! rendered with `--aovs` carry their AOVs, merged beside the image: `merge --aovs` writes
+//! them as `render --aovs` does, and `merge --denoise` denoises the merged image guided by the
+//! merged albedo and normal (a denoiser must see the whole image, so slices are not denoised).
 
 use crate::args::MergeArgs;
 use crate::atomic_write::{check_writable, not_an_input};
@@ -14,8 +17,8 @@ use crate::failure::Failure;
 use crate::format::ImageFormat;
 use crate::memory::reserve_for_merge;
 use crate::output_lock::OutputLock;
-use crate::part_file::{scene_fingerprint, Development, Part, PartHeader};
-use crate::path_command::develop_path_image;
+use crate::part_file::{scene_fingerprint, Development, Part, PartHeader, PART_AOVS};
+use crate::path_output::PathOutputs;
 use crate::render_command::{camera_at, develop_book_image, write_image_as};
 use crate::slice::{Slice, MAX_SLICES};
 use crate::summary::non_finite_warning;
@@ -46,18 +49,46 @@ pub fn run(args: &MergeArgs) -> Result<(), Failure> {
     let scene = args.scene.iter().map(|p| (p.as_path(), "the scene file"));
     not_an_input(output, inputs.chain(listed).chain(scene))?;
     let (first, slices) = in_slice_order(&parts)?;
+    check_companions(args, &first)?;
+    // Loaded before the films are read: without the library the merge is refused at once.
+    let denoiser = args
+        .denoise
+        .then(|| crate::denoise::load("--denoise"))
+        .transpose()?;
+    if denoiser.is_some() && !first.aovs && !args.quiet {
+        eprintln!(
+            "warning: the parts hold no albedo and normals (their slices were rendered without \
+             --aovs): the image is denoised without guides, which blurs its textures and edges \
+             more; render the slices with --aovs for a guided denoise"
+        );
+    }
     let overlay = if first.overlay {
         Some(scene_overlay(args, &first)?)
     } else {
         None
     };
+    let overlay = overlay.as_ref().map(|(o, camera)| (o, camera));
+    let threads = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
+    let outputs = PathOutputs {
+        output,
+        format,
+        aovs: args.aovs,
+        denoiser: denoiser.as_ref(),
+        threads,
+        overlay,
+    };
+    outputs.check_writable()?;
+    // The AOVs are merged only where they are written or guide the denoiser.
+    let keep_aovs = first.aovs && (args.aovs || args.denoise);
     // Slice 0 covers the most rows (all of them when cut by samples).
     let largest = Slice {
         index: 0,
         ..first.slice
     };
-    reserve_for_merge(first.width, first.height, largest.row_count(first.height))?;
-    let mut film = None;
+    let films = if keep_aovs { 1 + PART_AOVS as u64 } else { 1 };
+    let rows = largest.row_count(first.height);
+    reserve_for_merge(first.width, first.height, rows, films)?;
+    let mut merged = None;
     for (index, path) in slices {
         let part = Part::read(path)?;
         if part.header.slice.index != index || first.differs_from(&part.header).is_some() {
@@ -66,38 +97,78 @@ pub fn run(args: &MergeArgs) -> Result<(), Failure> {
                 path.display()
             )));
         }
-        let film = match &mut film {
-            Some(film) => film,
-            None => film.insert(
-                part.empty_image_film()
-                    .map_err(|e| Failure::usage(format!("`{}`: {e}", path.display())))?,
-            ),
+        let films = match &mut merged {
+            Some(films) => films,
+            None => {
+                let mut films = part
+                    .empty_image_films()
+                    .map_err(|e| Failure::usage(format!("`{}`: {e}", path.display())))?;
+                if !keep_aovs {
+                    films.aovs = None;
+                }
+                merged.insert(films)
+            }
         };
-        part.add_to(film)
+        part.add_to(films)
             .map_err(|e| Failure::usage(format!("`{}`: {e}", path.display())))?;
     }
-    let Some(film) = film else {
+    let Some(merged) = merged else {
         return Err(Failure::internal("no part was read"));
     };
-    let overlay = overlay.as_ref().map(|(o, camera)| (o, camera));
-    let (canvas, non_finite) = match first.development {
-        Development::Book(exposure) => develop_book_image(&film, exposure, overlay),
-        Development::Path => develop_path_image(&film, format, overlay),
+    let merged = merged.finished();
+    let non_finite = match first.development {
+        Development::Book(exposure) => {
+            let (canvas, non_finite) = develop_book_image(&merged.film, exposure, overlay);
+            write_image_as(format, &canvas, output)?;
+            vec![(non_finite, output.to_path_buf())]
+        }
+        Development::Path => {
+            let aovs = merged.aovs.map(|aovs| aovs.map(|film| film.resolve()));
+            outputs.write(merged.film.resolve(), aovs, |_| ())?
+        }
     };
-    write_image_as(format, &canvas, output)?;
     if !args.quiet {
         eprintln!(
-            "merged {} slices (by {}) of {}×{} into `{}` in {:.2} s",
+            "merged {} slices (by {}) of {}×{} into `{}`{} in {:.2} s",
             first.slice.count,
             first.slice.cut.name(),
             first.width,
             first.height,
             output.display(),
+            if denoiser.is_some() {
+                ", denoised,"
+            } else {
+                ""
+            },
             started.elapsed().as_secs_f64()
         );
-        if let Some(warning) = non_finite_warning(non_finite, output) {
-            eprintln!("{warning}");
+        for (pixels, path) in non_finite {
+            if let Some(warning) = non_finite_warning(pixels, &path) {
+                eprintln!("{warning}");
+            }
         }
+    }
+    Ok(())
+}
+
+/// Refuses `--aovs` and `--denoise` where the parts cannot give them: AOVs only from parts
+/// that hold them, either only for the path tracer's images.
+fn check_companions(args: &MergeArgs, first: &PartHeader) -> Result<(), Failure> {
+    let asked = [("--aovs", args.aovs), ("--denoise", args.denoise)];
+    let Some((flag, _)) = asked.iter().find(|(_, given)| *given) else {
+        return Ok(());
+    };
+    if first.development != Development::Path {
+        return Err(Failure::usage(format!(
+            "{flag} is for path-traced images: these parts are not the path tracer's (their \
+             slices were rendered without --renderer path)"
+        )));
+    }
+    if args.aovs && !first.aovs {
+        return Err(Failure::usage(
+            "--aovs: the parts hold no AOVs; render the slices with --aovs (each part then \
+             keeps its albedo, normal, depth and sample count) to merge them",
+        ));
     }
     Ok(())
 }
@@ -293,6 +364,7 @@ mod tests {
             spp: 0,
             development: Development::Path,
             overlay: false,
+            aovs: false,
             scene: "s.yml".into(),
             settings: "ray".into(),
         }

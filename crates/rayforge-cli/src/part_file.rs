@@ -1,12 +1,14 @@
 //! Part files: what `rayforge render --slice I/N` writes and `rayforge merge` reads. A part
 //! holds one slice's film, linear and lossless (each pixel's sums of weighted colours and of
 //! weights as 64-bit floats, stored as their bits), behind a header that says which render it
-//! belongs to, which slice it is and what that slice covers.
+//! belongs to, which slice it is and what that slice covers; a path-traced slice rendered with
+//! `--aovs` holds its AOV films too (albedo, normal, depth, samples), which the merge joins as
+//! it joins the image, for `merge --aovs` to write and `merge --denoise` to be guided by.
 //!
 //! ```text
 //! offset  size  field
 //!      0     8  magic "RAYPART\n"
-//!      8     4  format version, u32 (2)
+//!      8     4  format version, u32 (3; version 2 is read too, see below)
 //!     12     4  header length H, u32, at most 65 536: the bytes of the fields below
 //!     16     H  8  scene fingerprint, u64: FNV-1a 64 of the scene file's bytes, then of each
 //!                  file the scene read (models, images, …; `Scene::files`), each as its
@@ -23,6 +25,8 @@
 //!               1  development: 0 the colours as they are, 1 automatic exposure (the optics
 //!                  model's), 2 the path tracer's (linear; sRGB-encoded for PNG and PPM)
 //!               1  overlay: 1 when the scene has canvas items to draw over the image
+//!               1  AOVs: 1 when the four AOV films follow the image's film (path tracer
+//!                  only), else 0 (version 3 only: a version 2 header has no such byte)
 //!             4+n  the scene file's path (absolute where it could be made so), for messages
 //!                  only: u32 n, UTF-8
 //!             4+n  the settings: every setting that changes a pixel, as text (renderer,
@@ -32,15 +36,25 @@
 //!   24+H     …  the slice's film, a film file (magic "RAYFILM\n", crates/rayforge/src/film/
 //!               file.rs): width × R pixels, the slice's rows top to bottom, the pixel filter,
 //!               the brightest sample, and a CRC-32 of the film
+//!      …     …  with AOVs: four more film files of width × R pixels (box filter), in the
+//!               order albedo, normal, depth, samples, each with its own CRC-32; each pixel's
+//!               sums and weight as the path tracer's AOV films hold them (the samples
+//!               film: the count as the sum of a pixel of weight 1)
 //! ```
 //!
-//! Every number is little-endian. The file ends with the film's checksum. Reading checks the
-//! magic, the version, the header's length before reading it and its checksum, every field's
-//! range, that the rows and samples covered are the ones the slice's index gives, the film's
-//! size against the header before trusting it (the film reader bounds its own size before
-//! allocating and grows its buffers only as bytes arrive), the film's checksum, and that
-//! nothing follows. Parts are written atomically (a temporary file renamed), so a part that
-//! exists was written whole; a part cut short or damaged since is refused, naming the file.
+//! Every number is little-endian. The file ends with its last film's checksum. Reading checks
+//! the magic, the version, the header's length before reading it and its checksum, every
+//! field's range, that the rows and samples covered are the ones the slice's index gives,
+//! each film's size against the header before trusting it (the film reader bounds its own
+//! size before allocating and grows its buffers only as bytes arrive), each film's checksum,
+//! and that nothing follows. Parts are written atomically (a temporary file renamed), so a
+//! part that exists was written whole; a part cut short or damaged since is refused, naming
+//! the file.
+//!
+//! **Versions.** Version 3 added the AOV byte and the AOV films. A version 2 part (what
+//! rayforge wrote before) is read as a version 3 part without AOVs, and merges with version 3
+//! parts of the same render that have none; version 1 (which carried the merge's limits,
+//! see below) is refused, naming its version.
 //!
 //! The merge needs only the parts (and, for the canvas items, the scene file): the header holds
 //! how to develop the film, so the merge does not load the scene otherwise.
@@ -65,8 +79,16 @@ use std::path::Path;
 
 /// The first bytes of every part file.
 pub const PART_MAGIC: &[u8; 8] = b"RAYPART\n";
-/// The format version this build writes and reads.
-pub const PART_VERSION: u32 = 2;
+/// The format version this build writes.
+pub const PART_VERSION: u32 = 3;
+/// The oldest format version this build reads: version 2, the same without AOVs.
+pub const OLDEST_PART_VERSION: u32 = 2;
+/// How many AOV films a part with AOVs holds, in the order of
+/// [`crate::path_output::AOV_NAMES`].
+pub const PART_AOVS: usize = 4;
+/// The AOV film that holds each pixel's sample count as the sum of a pixel of weight 1,
+/// whose weights are therefore not added up by a merge.
+const SAMPLES_AOV: usize = 3;
 /// The longest header accepted: its two texts are a path and a line of settings.
 const MAX_HEADER_LEN: u32 = 1 << 16;
 
@@ -117,6 +139,9 @@ pub struct PartHeader {
     pub development: Development,
     /// Whether the scene has canvas items, drawn over the merged image.
     pub overlay: bool,
+    /// Whether the part holds the path tracer's AOV films beside the image's
+    /// (`render --slice --aovs`; never in a version 2 part).
+    pub aovs: bool,
     /// The scene file, as the slice named it: for messages only, never opened.
     pub scene: String,
     /// Every setting that changes a pixel, as text.
@@ -171,6 +196,15 @@ impl PartHeader {
                 &(other.development, other.overlay),
             );
         }
+        if self.aovs != other.aovs {
+            let with = |aovs: bool| if aovs { "with" } else { "without" };
+            return Some(format!(
+                "one was rendered {} --aovs and the other {} (render every slice with the same \
+                 flags)",
+                with(self.aovs),
+                with(other.aovs)
+            ));
+        }
         None
     }
 
@@ -197,6 +231,7 @@ impl PartHeader {
         }
         fields.push(self.development.code());
         fields.push(u8::from(self.overlay));
+        fields.push(u8::from(self.aovs));
         for text in [&self.scene, &self.settings] {
             fields.extend_from_slice(&(text.len() as u32).to_le_bytes());
             fields.extend_from_slice(text.as_bytes());
@@ -219,10 +254,10 @@ impl PartHeader {
             return Err("it is not a rayforge part file (wrong magic bytes)".into());
         }
         let version = u32::from_le_bytes(array(&start[8..]));
-        if version != PART_VERSION {
+        if !(OLDEST_PART_VERSION..=PART_VERSION).contains(&version) {
             return Err(format!(
-                "it is a part file of format version {version}; this build reads version \
-                 {PART_VERSION}"
+                "it is a part file of format version {version}; this build reads versions \
+                 {OLDEST_PART_VERSION} to {PART_VERSION}"
             ));
         }
         let len = u32::from_le_bytes(array(&start[12..]));
@@ -240,11 +275,11 @@ impl PartHeader {
         if fnv(&covered) != u64::from_le_bytes(sum) {
             return Err("its header is damaged (the checksum does not match)".into());
         }
-        Self::parse(&fields)
+        Self::parse(&fields, version)
     }
 
-    /// The header's fields (checksum already checked), each in range.
-    fn parse(fields: &[u8]) -> Result<Self, String> {
+    /// The header's fields (checksum already checked) in format `version`, each in range.
+    fn parse(fields: &[u8], version: u32) -> Result<Self, String> {
         let mut at = Fields { bytes: fields };
         let fingerprint = at.u64()?;
         let (width, height) = (at.u64()?, at.u64()?);
@@ -284,6 +319,11 @@ impl PartHeader {
         let development = Development::from_code(development)
             .ok_or_else(|| format!("unknown development code {development}"))?;
         let overlay = at.flag()?;
+        // Version 2 has no AOV byte, and no AOVs.
+        let aovs = version >= 3 && at.flag()?;
+        if aovs && development != Development::Path {
+            return Err("it claims AOV films, which only the path tracer renders".into());
+        }
         let scene = at.text()?;
         let settings = at.text()?;
         if !at.bytes.is_empty() {
@@ -300,6 +340,7 @@ impl PartHeader {
             spp,
             development,
             overlay,
+            aovs,
             scene,
             settings,
         })
@@ -345,64 +386,130 @@ impl Fields<'_> {
     }
 }
 
-/// A part: its header and the film of the rows it covers.
+/// A part: its header, the film of the rows it covers and, with AOVs, theirs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Part {
     /// Which render and which slice.
     pub header: PartHeader,
     /// The slice's rows, top to bottom (all rows when cut by samples).
     film: Film,
+    /// The AOVs' films of the same rows, when the header says so.
+    aovs: Option<[Film; PART_AOVS]>,
+}
+
+/// The films a merge adds the parts into: the image's and, when the parts hold them, the
+/// AOVs' (in the order of [`crate::path_output::AOV_NAMES`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MergedFilms {
+    /// The image's film.
+    pub film: Film,
+    /// The AOVs' films.
+    pub aovs: Option<[Film; PART_AOVS]>,
+}
+
+impl MergedFilms {
+    /// The films once every part is added: the sample counts as `rayforge render` holds them,
+    /// each pixel's count the sum of one pixel of weight 1 (the parts' weights of 1 were added
+    /// up with their counts).
+    pub fn finished(mut self) -> Self {
+        if let Some(samples) = self.aovs.as_mut().map(|a| &mut a[SAMPLES_AOV]) {
+            for y in 0..samples.height() {
+                for x in 0..samples.width() {
+                    if samples.weight(x, y) > 0.0 {
+                        samples.set_pixel_sum(x, y, samples.sum(x, y), 1.0);
+                    }
+                }
+            }
+        }
+        self
+    }
 }
 
 impl Part {
     /// The part of the slice `header` names, from `film`, the film of the rows it covers, top
-    /// to bottom (what a slice renders into, see [`rayforge::film::SharedFilm::with_rows`]).
-    /// Refused when the film is not that size: a part is only ever made of its own rows.
-    pub fn new(header: PartHeader, film: Film) -> Result<Self, Failure> {
+    /// to bottom (what a slice renders into, see [`rayforge::film::SharedFilm::with_rows`]),
+    /// and the AOVs' films of those rows when the header says it has AOVs. Refused when a film
+    /// is not that size or the AOVs are not as the header says: a part is only ever made of
+    /// its own rows.
+    pub fn new(
+        header: PartHeader,
+        film: Film,
+        aovs: Option<[Film; PART_AOVS]>,
+    ) -> Result<Self, Failure> {
         let rows = header.slice.row_count(header.height);
-        if (film.width(), film.height()) != (header.width, rows) {
+        if aovs.is_some() != header.aovs {
             return Err(Failure::internal(format!(
-                "slice {} of {} rows was rendered into a {}×{} film, not one of its {}×{rows}",
-                header.slice,
-                header.height,
-                film.width(),
-                film.height(),
-                header.width
+                "slice {}'s header and its AOV films disagree on whether it has AOVs",
+                header.slice
             )));
         }
-        Ok(Self { header, film })
+        for film in std::iter::once(&film).chain(aovs.iter().flatten()) {
+            if (film.width(), film.height()) != (header.width, rows) {
+                return Err(Failure::internal(format!(
+                    "slice {} of {} rows was rendered into a {}×{} film, not one of its {}×{rows}",
+                    header.slice,
+                    header.height,
+                    film.width(),
+                    film.height(),
+                    header.width
+                )));
+            }
+        }
+        Ok(Self { header, film, aovs })
     }
 
     /// Writes the part file (see [the layout](self)) to `out` as it goes, so that a slice
-    /// never holds the file's bytes beside its film.
+    /// never holds the file's bytes beside its films.
     pub fn write_to(&self, out: &mut dyn Write) -> std::io::Result<()> {
         out.write_all(&self.header.to_bytes())?;
-        self.film.write_to(&mut &mut *out).map_err(|e| match e {
-            FilmError::Io(e) => e,
-            other => std::io::Error::other(other.to_string()),
-        })
-    }
-
-    /// Adds this slice's samples to `film`, the image's film: each of its rows onto the image's
-    /// row it covers, pixel by pixel (sums and weights), and its brightest sample. Refused when
-    /// the pixel filters differ.
-    pub fn add_to(&self, film: &mut Film) -> Result<(), FilmError> {
-        if film.filter() != self.film.filter() {
-            return Err(FilmError::FilterMismatch(self.film.filter(), film.filter()));
+        for film in std::iter::once(&self.film).chain(self.aovs.iter().flatten()) {
+            film.write_to(&mut &mut *out).map_err(|e| match e {
+                FilmError::Io(e) => e,
+                other => std::io::Error::other(other.to_string()),
+            })?;
         }
-        for (j, y) in self.header.slice.rows(self.header.height).enumerate() {
-            let sums = self.film.row_sums(j).iter();
-            for (x, (&sum, &weight)) in sums.zip(self.film.row_weights(j)).enumerate() {
-                film.add_pixel_sum(x, y, sum, weight);
-            }
-        }
-        film.note_brightest(self.film.brightest());
         Ok(())
     }
 
-    /// The film this part's slice adds to: the image's size, its pixel filter, no samples.
-    pub fn empty_image_film(&self) -> Result<Film, FilmError> {
-        Film::with_filter(self.header.width, self.header.height, self.film.filter())
+    /// Adds this slice's samples to `films`, the image's: each of its rows onto the image's
+    /// row it covers, pixel by pixel (sums and weights), its brightest sample, and the same for
+    /// each AOV when both hold them. Refused when the pixel filters differ.
+    pub fn add_to(&self, films: &mut MergedFilms) -> Result<(), FilmError> {
+        if films.film.filter() != self.film.filter() {
+            return Err(FilmError::FilterMismatch(
+                self.film.filter(),
+                films.film.filter(),
+            ));
+        }
+        let pairs = std::iter::once((&self.film, &mut films.film));
+        let aovs = self
+            .aovs
+            .iter()
+            .flatten()
+            .zip(films.aovs.iter_mut().flatten());
+        for (part, film) in pairs.chain(aovs) {
+            for (j, y) in self.header.slice.rows(self.header.height).enumerate() {
+                let sums = part.row_sums(j).iter();
+                for (x, (&sum, &weight)) in sums.zip(part.row_weights(j)).enumerate() {
+                    film.add_pixel_sum(x, y, sum, weight);
+                }
+            }
+            film.note_brightest(part.brightest());
+        }
+        Ok(())
+    }
+
+    /// The films this part's slice adds to: the image's size, its pixel filter, no samples;
+    /// the AOVs' beside it when the part has AOVs.
+    pub fn empty_image_films(&self) -> Result<MergedFilms, FilmError> {
+        let (width, height) = (self.header.width, self.header.height);
+        Ok(MergedFilms {
+            film: Film::with_filter(width, height, self.film.filter())?,
+            aovs: self
+                .aovs
+                .as_ref()
+                .map(|_| std::array::from_fn(|_| Film::new(width, height))),
+        })
     }
 
     /// Reads and checks the part file at `path` (see [the layout](self)); the error names the
@@ -410,23 +517,44 @@ impl Part {
     pub fn read(path: &Path) -> Result<Self, Failure> {
         let mut input = open(path)?;
         let header = PartHeader::read_from(&mut input).map_err(|why| unusable(path, &why))?;
-        let film = Film::read_from(&mut input).map_err(|e| unusable(path, &film_error(e)))?;
         let rows = header.slice.row_count(header.height);
-        if (film.width(), film.height()) != (header.width, rows) {
-            return Err(unusable(
-                path,
-                &format!(
-                    "its film is {}×{}, where its header says {}×{rows}",
-                    film.width(),
-                    film.height(),
-                    header.width
-                ),
-            ));
-        }
+        let mut film = |what: &str| -> Result<Film, Failure> {
+            let film =
+                Film::read_from(&mut input).map_err(|e| unusable(path, &film_error(what, e)))?;
+            if (film.width(), film.height()) != (header.width, rows) {
+                return Err(unusable(
+                    path,
+                    &format!(
+                        "its {what} is {}×{}, where its header says {}×{rows}",
+                        film.width(),
+                        film.height(),
+                        header.width
+                    ),
+                ));
+            }
+            Ok(film)
+        };
+        let image = film("film")?;
+        let aovs = if header.aovs {
+            let mut films = Vec::with_capacity(PART_AOVS);
+            for name in crate::path_output::AOV_NAMES {
+                films.push(film(&format!("{name} film"))?);
+            }
+            films.try_into().ok()
+        } else {
+            None
+        };
         let mut rest = [0u8; 1];
         match input.read(&mut rest) {
-            Ok(0) => Ok(Self { header, film }),
-            Ok(_) => Err(unusable(path, "it has bytes after its film's checksum")),
+            Ok(0) => Ok(Self {
+                header,
+                film: image,
+                aovs,
+            }),
+            Ok(_) => Err(unusable(
+                path,
+                "it has bytes after its last film's checksum",
+            )),
             Err(e) => Err(unusable(path, &e.to_string())),
         }
     }
@@ -462,12 +590,12 @@ fn unusable(path: &Path, why: &str) -> Failure {
     ))
 }
 
-/// Why a part's film could not be read, in the part's terms.
-fn film_error(e: FilmError) -> String {
+/// Why a part's film (`what`: `film`, or an AOV's) could not be read, in the part's terms.
+fn film_error(what: &str, e: FilmError) -> String {
     match e {
-        FilmError::Truncated => "it is truncated (its film ends early)".into(),
-        FilmError::BadChecksum { .. } => format!("its film is damaged: {e}"),
-        other => format!("its film cannot be read: {other}"),
+        FilmError::Truncated => format!("it is truncated (its {what} ends early)"),
+        FilmError::BadChecksum { .. } => format!("its {what} is damaged: {e}"),
+        other => format!("its {what} cannot be read: {other}"),
     }
 }
 
@@ -526,6 +654,7 @@ mod tests {
             spp: 10,
             development: Development::Path,
             overlay: false,
+            aovs: false,
             scene: "/s.yml".into(),
             settings: "path; spp 10".into(),
         }
@@ -555,7 +684,7 @@ mod tests {
         }
         let mut film = film.into_film();
         film.note_brightest(full.brightest());
-        Part::new(header, film).unwrap()
+        Part::new(header, film, None).unwrap()
     }
 
     /// The part file's bytes.
@@ -582,7 +711,10 @@ mod tests {
     #[test]
     fn a_part_reads_back_as_written_and_adds_its_rows_in_place() {
         let full = film();
-        let mut merged = Film::new(3, 5);
+        let mut merged = MergedFilms {
+            film: Film::new(3, 5),
+            aovs: None,
+        };
         for index in 0..2 {
             let part = part(header(index, 2, Cut::Rows), &full);
             let back = read_bytes(&bytes(&part)).unwrap();
@@ -591,18 +723,30 @@ mod tests {
             back.add_to(&mut merged).unwrap();
         }
         // Bit for bit, NaNs included (which `==` would not see).
-        assert_eq!(merged.to_bytes(), full.to_bytes());
+        assert_eq!(merged.film.to_bytes(), full.to_bytes());
     }
 
     #[test]
     fn a_part_is_made_of_its_slice_s_rows_only() {
         // Slice 1/2 of 5 rows has rows 1 and 3: a film of the whole image is not its film.
-        let Err(Failure::Internal(m)) = Part::new(header(1, 2, Cut::Rows), film()) else {
+        let Err(Failure::Internal(m)) = Part::new(header(1, 2, Cut::Rows), film(), None) else {
             panic!("a whole-image film made a part of two rows");
         };
         assert!(m.contains("a 3×5 film, not one of its 3×2"), "{m}");
-        assert!(Part::new(header(1, 2, Cut::Rows), Film::new(3, 2)).is_ok());
-        assert!(Part::new(header(1, 2, Cut::Samples), Film::new(3, 5)).is_ok());
+        assert!(Part::new(header(1, 2, Cut::Rows), Film::new(3, 2), None).is_ok());
+        assert!(Part::new(header(1, 2, Cut::Samples), Film::new(3, 5), None).is_ok());
+        // The AOVs as the header says, each of the slice's rows.
+        let with_aovs = PartHeader {
+            aovs: true,
+            ..header(1, 2, Cut::Rows)
+        };
+        let aovs = || std::array::from_fn(|_| Film::new(3, 2));
+        assert!(Part::new(with_aovs.clone(), Film::new(3, 2), Some(aovs())).is_ok());
+        assert!(Part::new(with_aovs.clone(), Film::new(3, 2), None).is_err());
+        assert!(Part::new(header(1, 2, Cut::Rows), Film::new(3, 2), Some(aovs())).is_err());
+        let mut wrong = aovs();
+        wrong[2] = Film::new(3, 5);
+        assert!(Part::new(with_aovs, Film::new(3, 2), Some(wrong)).is_err());
     }
 
     #[test]
@@ -652,5 +796,129 @@ mod tests {
         let mut c = header(1, 2, Cut::Rows);
         c.settings.push('!');
         assert!(a.differs_from(&c).unwrap().contains("settings differ"));
+    }
+
+    /// The AOV films of `header`'s slice: distinct sums, the sample count as a sum of weight 1.
+    fn aov_films(header: &PartHeader) -> [Film; PART_AOVS] {
+        let rows = header.slice.row_count(header.height);
+        std::array::from_fn(|i| {
+            let mut film = Film::new(header.width, rows);
+            for y in 0..rows {
+                for x in 0..header.width {
+                    let v = (i * 100 + y * 10 + x) as f64 + header.slice.index as f64 * 0.5;
+                    let weight = if i == SAMPLES_AOV { 1.0 } else { 2.0 };
+                    film.add_pixel_sum(x, y, Color::new(v, v, v), weight);
+                }
+            }
+            film
+        })
+    }
+
+    #[test]
+    fn a_part_with_aovs_reads_back_and_merges_its_aovs_as_a_whole_render_holds_them() {
+        let parts: Vec<Part> = (0..2)
+            .map(|index| {
+                let header = PartHeader {
+                    aovs: true,
+                    ..header(index, 2, Cut::Samples)
+                };
+                let aovs = aov_films(&header);
+                Part::new(header, Film::new(3, 5), Some(aovs)).unwrap()
+            })
+            .collect();
+        let mut merged = parts[0].empty_image_films().unwrap();
+        for part in &parts {
+            let back = read_bytes(&bytes(part)).unwrap();
+            assert_eq!(&back, part);
+            back.add_to(&mut merged).unwrap();
+        }
+        let merged = merged.finished();
+        let aovs = merged.aovs.unwrap();
+        // Albedo (i = 0) at (1, 2): sums 21 and 21.5 over weights 2 and 2.
+        assert_eq!(aovs[0].sum(1, 2).red, 42.5);
+        assert_eq!(aovs[0].weight(1, 2), 4.0);
+        // The counts added, their weight still 1: the pixel's count is the sum.
+        assert_eq!(aovs[SAMPLES_AOV].sum(1, 2).red, 321.0 + 321.5);
+        assert_eq!(aovs[SAMPLES_AOV].weight(1, 2), 1.0);
+        // Every AOV film damaged or cut short is refused, naming it.
+        let whole = bytes(&parts[1]);
+        let last_film = whole.len() - Film::new(3, 5).to_bytes().len();
+        let m = message(read_bytes(&whole[..last_film + 10]).unwrap_err());
+        assert!(m.contains("its samples film ends early"), "{m}");
+        let mut bad = whole.clone();
+        bad[last_film + 60] ^= 1;
+        let m = message(read_bytes(&bad).unwrap_err());
+        assert!(m.contains("its samples film is damaged"), "{m}");
+    }
+
+    #[test]
+    fn parts_with_and_without_aovs_are_not_one_render() {
+        let with = PartHeader {
+            aovs: true,
+            ..header(0, 2, Cut::Rows)
+        };
+        let m = with.differs_from(&header(1, 2, Cut::Rows)).unwrap();
+        assert!(
+            m.contains("rendered with --aovs and the other without"),
+            "{m}"
+        );
+    }
+
+    #[test]
+    fn only_the_path_tracer_s_parts_may_claim_aovs() {
+        let forged = PartHeader {
+            aovs: true,
+            development: Development::Book(rayforge::film::Exposure::Fixed),
+            ..header(0, 1, Cut::Rows)
+        };
+        let mut bytes = forged.to_bytes();
+        bytes.extend_from_slice(&film().to_bytes());
+        let m = message(read_bytes(&bytes).unwrap_err());
+        assert!(m.contains("only the path tracer renders"), "{m}");
+    }
+
+    /// `bytes`, a version 3 part without AOVs, as version 2 wrote it: no AOV byte.
+    fn as_version_2(bytes: &[u8]) -> Vec<u8> {
+        let len = u32::from_le_bytes(array(&bytes[12..])) as usize;
+        let fields = &bytes[16..16 + len];
+        // The AOV byte follows the nine u64s, the cut, the development and the overlay.
+        let aov_at = 9 * 8 + 3;
+        assert_eq!(fields[aov_at], 0);
+        let mut out = PART_MAGIC.to_vec();
+        out.extend_from_slice(&2u32.to_le_bytes());
+        out.extend_from_slice(&(len as u32 - 1).to_le_bytes());
+        out.extend_from_slice(&fields[..aov_at]);
+        out.extend_from_slice(&fields[aov_at + 1..]);
+        let sum = fnv(&out);
+        out.extend_from_slice(&sum.to_le_bytes());
+        out.extend_from_slice(&bytes[16 + len + 8..]);
+        out
+    }
+
+    #[test]
+    fn a_version_2_part_reads_as_one_without_aovs_and_versions_outside_are_refused() {
+        let part = part(header(1, 3, Cut::Samples), &film());
+        let old = as_version_2(&bytes(&part));
+        let back = read_bytes(&old).unwrap();
+        // Bit for bit (the film holds a NaN, which `==` would not see).
+        assert_eq!(back.header, part.header);
+        assert_eq!(bytes(&back), bytes(&part));
+        // A part version 2 rayforge wrote (the fuzzer's seed before version 3): the one slice,
+        // by samples, of a 4×3 path-traced Cornell box of 2 samples per pixel.
+        let written = include_bytes!("../tests/fixtures/parts/v2-path-samples.part");
+        let header = read_bytes(written).unwrap().header;
+        assert!(!header.aovs);
+        assert_eq!(header.development, Development::Path);
+        for version in [1u32, 4] {
+            let mut other = old.clone();
+            other[8..12].copy_from_slice(&version.to_le_bytes());
+            let m = message(read_bytes(&other).unwrap_err());
+            assert!(
+                m.contains(&format!(
+                    "format version {version}; this build reads versions 2 to 3"
+                )),
+                "{m}"
+            );
+        }
     }
 }

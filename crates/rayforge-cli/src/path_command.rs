@@ -1,23 +1,17 @@
-//! `rayforge render --renderer path`: the path tracer's render, from the film to the files: the
-//! image (linear in PFM and OpenEXR, sRGB-encoded in PNG and PPM, which are for looking at), and
-//! with `--aovs` the albedo and normal images beside it for denoisers; with `--denoise` the
-//! image denoised by Intel Open Image Denoise, guided by those two (see [`crate::denoise`]),
-//! and with both the raw image beside it. Pixels that are not finite are written black in
-//! every file and counted in a warning (see [`crate::finite`]).
+//! `rayforge render --renderer path`: the path tracer's render, in one pass or in passes (for
+//! a time budget or a viewer), checkpointed and resumed, to its films; they are written by
+//! [`crate::path_output`] (the image, with `--aovs` the AOVs, with `--denoise` denoised).
 
-use crate::atomic_write::write_atomically;
 use crate::checkpoint;
 use crate::checkpointed;
 use crate::failure::Failure;
-use crate::finite::blacken_non_finite;
-use crate::format::{ImageFormat, Layer};
+use crate::path_output::{PathOutputs, AOV_NAMES};
 use crate::render_command::display_for;
 use crate::settings::RenderSettings;
 use crate::settings::MAX_PATH_SPP;
 use crate::summary::{non_finite_warning, path_summary_line};
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
-use rayforge::color::Color;
 use rayforge::film::{Film, SharedFilm};
 use rayforge::options::PathOptions;
 use rayforge::render::path::{
@@ -27,7 +21,7 @@ use rayforge::render::PartialImage;
 use rayforge_scene::Scene;
 use rayon::ThreadPool;
 use std::ops::Range;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 /// Samples per pixel when neither `--spp` nor the camera's `samples` asks for more than one:
@@ -150,14 +144,15 @@ pub fn path_render(
     let film = SharedFilm::from(film);
     // The denoiser's guides are the albedo and normal AOVs, written only with --aovs.
     let aovs = (settings.path.aovs || denoiser.is_some()).then(|| Aovs::new(width, height));
-    // Beside the image, except in OpenEXR, which holds them as layers; with --denoise the raw
-    // image too.
-    let beside = settings.path.aovs && !settings.format.is_exr();
-    let aov_paths = beside.then(|| aov_paths(output));
-    let noisy_path = (beside && denoiser.is_some()).then(|| noisy_path(output));
-    for path in aov_paths.iter().flatten().chain(&noisy_path) {
-        crate::atomic_write::check_writable(path)?;
-    }
+    let outputs = PathOutputs {
+        output,
+        format: settings.format,
+        aovs: settings.path.aovs,
+        denoiser: denoiser.as_ref(),
+        threads: pool.current_num_threads(),
+        overlay: Some((&scene.overlay, camera)),
+    };
+    outputs.check_writable()?;
     // A saved row holds the image's row, then each AOV's with --aovs.
     let layers = if aovs.is_some() {
         1 + AOV_NAMES.len()
@@ -272,87 +267,16 @@ pub fn path_render(
         }
         return Err(checkpointed::interrupted(height, &logged, &checkpoint));
     }
-    // Each file's pixels that were not finite, to warn about after the summary.
-    let mut non_finite = Vec::new();
-    let mut canvas = film.into_film().resolve();
-    non_finite.push((blacken_non_finite(&mut canvas), output.to_path_buf()));
+    let image = film.into_film().resolve();
     let aovs = aovs.map(|aovs| {
-        let mut resolved =
-            [aovs.albedo, aovs.normal, aovs.depth, aovs.samples].map(|f| f.into_film().resolve());
-        let counts = resolved.each_mut().map(blacken_non_finite);
-        (resolved, counts)
+        [aovs.albedo, aovs.normal, aovs.depth, aovs.samples].map(|f| f.into_film().resolve())
     });
-    let overlay = Some((&scene.overlay, camera));
-    // Denoised in linear radiance, before the image is encoded for its format; the raw image
-    // kept, finished as it would be without --denoise, when --aovs writes it.
-    let mut noisy = None;
-    if let (Some(denoiser), Some(([albedo, normal, ..], _))) = (&denoiser, &aovs) {
-        let guides = crate::denoise::Guides {
-            albedo,
-            normal: Some(normal),
-        };
-        let threads = pool.current_num_threads();
-        let denoised =
-            crate::denoise::denoise(denoiser, &canvas, Some(guides), threads, "the render")?;
-        let mut raw = std::mem::replace(&mut canvas, denoised);
-        if settings.path.aovs {
-            finish_path_image(&mut raw, settings.format, overlay);
-            noisy = Some(raw);
+    let show = |image: &Canvas| {
+        if let Some(mut display) = display {
+            display.image(image);
         }
-    }
-    if let Some(mut display) = display {
-        display.image(&canvas);
-    }
-    finish_path_image(&mut canvas, settings.format, overlay);
-    // The AOVs, resolved; the albedo encoded as the image is, the normal in a display format
-    // as normal maps store it; depth and sample count as they are (linear files only).
-    let aov_images = aovs.filter(|_| settings.path.aovs).map(|aovs| {
-        let ([mut albedo, mut normal, depth, samples], counts) = aovs;
-        encode_for(settings.format, &mut albedo);
-        if !settings.format.is_linear() {
-            // [-1, 1] into [0, 1].
-            for c in normal.pixels_mut() {
-                *c = (*c + Color::WHITE) * 0.5;
-            }
-        }
-        ([albedo, normal, depth, samples], counts)
-    });
-    match (&aov_images, &aov_paths) {
-        // OpenEXR holds them as layers of the one file, as compositors and denoisers read them:
-        // albedo and normal as `NAME.R/G/B`, the depth as OpenEXR's standard `Z` channel and the
-        // sample count as one channel `samples`.
-        (Some(([albedo, normal, depth, samples], counts)), None) => {
-            non_finite.push((counts.iter().sum(), output.to_path_buf()));
-            let mut layers = vec![
-                Layer::rgb("albedo", albedo),
-                Layer::rgb("normal", normal),
-                Layer::single("Z", depth),
-                Layer::single("samples", samples),
-            ];
-            layers.extend(noisy.as_ref().map(|noisy| Layer::rgb("noisy", noisy)));
-            write_atomically(
-                output,
-                &settings.format.encode_with_layers(&canvas, &layers)?,
-            )?;
-        }
-        (Some((images, counts)), Some(paths)) => {
-            write_atomically(output, &settings.format.encode(&canvas)?)?;
-            for (i, (image, path)) in images.iter().zip(paths).enumerate() {
-                non_finite.push((counts[i], path.clone()));
-                // Depth and sample count are no colours: always linear PFM.
-                let format = if i < 2 {
-                    settings.format
-                } else {
-                    ImageFormat::Pfm
-                };
-                write_atomically(path, &format.encode(image)?)?;
-            }
-            if let (Some(noisy), Some(path)) = (&noisy, &noisy_path) {
-                write_atomically(path, &settings.format.encode(noisy)?)?;
-            }
-        }
-        _ => write_atomically(output, &settings.format.encode(&canvas)?)?,
-    }
+    };
+    let non_finite = outputs.write(image, aovs, show)?;
     // The image is complete: its checkpoint has done its job.
     let _ = std::fs::remove_file(&checkpoint);
     if !settings.quiet {
@@ -381,121 +305,4 @@ pub fn path_render(
         }
     }
     Ok(())
-}
-
-/// The path tracer's image of `film` for `format`: resolved, its pixels that are not finite
-/// blackened (their count returned), encoded for the format (see [`encode_for`]), with the
-/// canvas items drawn over it; `rayforge merge` develops merged films the same way.
-pub(crate) fn develop_path_image(
-    film: &Film,
-    format: ImageFormat,
-    overlay: Option<(&rayforge::draw2d::Overlay, &Camera)>,
-) -> (Canvas, usize) {
-    let mut canvas = film.resolve();
-    let non_finite = blacken_non_finite(&mut canvas);
-    finish_path_image(&mut canvas, format, overlay);
-    (canvas, non_finite)
-}
-
-/// The last steps of a path-traced image, after it is resolved (and shown to a viewer, in
-/// linear values): encoded for `format`, the canvas items drawn over it.
-fn finish_path_image(
-    canvas: &mut Canvas,
-    format: ImageFormat,
-    overlay: Option<(&rayforge::draw2d::Overlay, &Camera)>,
-) {
-    encode_for(format, canvas);
-    if let Some((overlay, camera)) = overlay {
-        overlay.draw(canvas, camera);
-    }
-}
-
-/// The AOVs `--aovs` writes, in the order of [`Aovs::films`].
-pub const AOV_NAMES: [&str; 4] = ["albedo", "normal", "depth", "samples"];
-
-/// Where `--aovs` writes the AOVs when the image is not OpenEXR: beside the image,
-/// `out.albedo.png` and `out.normal.png` for `out.png` (in the image's format), and
-/// `out.depth.pfm` and `out.samples.pfm` (always linear PFM).
-pub fn aov_paths(output: &Path) -> [PathBuf; 4] {
-    let ext = output
-        .extension()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    [
-        beside(output, "albedo", &ext),
-        beside(output, "normal", &ext),
-        beside(output, "depth", "pfm"),
-        beside(output, "samples", "pfm"),
-    ]
-}
-
-/// `out.NAME.EXT` beside `out.png`.
-fn beside(output: &Path, name: &str, ext: &str) -> PathBuf {
-    let stem = output
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    output.with_file_name(format!("{stem}.{name}.{ext}"))
-}
-
-/// Where `--denoise --aovs` writes the raw image when the image is not OpenEXR: beside it,
-/// `out.noisy.png` for `out.png`, in the image's format.
-pub fn noisy_path(output: &Path) -> PathBuf {
-    let ext = output
-        .extension()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    beside(output, "noisy", &ext)
-}
-
-/// Radiance as the format wants it: linear for PFM and OpenEXR; for the 8-bit formats,
-/// encoded with the sRGB transfer curve (a display shows code values, not radiance).
-pub(crate) fn encode_for(format: ImageFormat, canvas: &mut Canvas) {
-    if format.is_linear() {
-        return;
-    }
-    for c in canvas.pixels_mut() {
-        *c = Color::new(srgb(c.red), srgb(c.green), srgb(c.blue));
-    }
-}
-
-/// The sRGB transfer curve (IEC 61966-2-1) of a linear value, clamped to [0, 1] first.
-fn srgb(linear: f64) -> f64 {
-    let v = if linear.is_nan() {
-        0.0
-    } else {
-        linear.clamp(0.0, 1.0)
-    };
-    if v <= 0.003_130_8 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_aovs_go_beside_the_image() {
-        let [a, n, d, s] = aov_paths(Path::new("out/cornell.png"));
-        assert_eq!(d, Path::new("out/cornell.depth.pfm"));
-        assert_eq!(s, Path::new("out/cornell.samples.pfm"));
-        assert_eq!(a, Path::new("out/cornell.albedo.png"));
-        assert_eq!(n, Path::new("out/cornell.normal.png"));
-        assert_eq!(
-            noisy_path(Path::new("out/cornell.png")),
-            Path::new("out/cornell.noisy.png")
-        );
-    }
-
-    #[test]
-    fn the_srgb_curve_meets_its_fixed_points() {
-        assert_eq!(srgb(0.0), 0.0);
-        assert!((srgb(1.0) - 1.0).abs() < 1e-12);
-        assert!((srgb(0.18) - 0.4614).abs() < 1e-3);
-        assert_eq!(srgb(5.0), srgb(1.0));
-        assert_eq!(srgb(f64::NAN), 0.0);
-    }
 }

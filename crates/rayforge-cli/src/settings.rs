@@ -858,12 +858,20 @@ fn slice(args: &RenderArgs) -> Result<Option<Slice>, Failure> {
     // With --frames, a slice is a share of the frames, each rendered as a whole image: the
     // flags of a whole render apply.
     let part = args.frames.is_none();
+    if part && args.denoise {
+        // A denoiser sees the whole image: a slice's rows or samples alone would be denoised
+        // as another image (its noise and edges), and the merge would add denoised slices.
+        return Err(Failure::usage(
+            "--denoise cannot be used with --slice: a slice is not the image. Render the \
+             slices with --aovs (each part then keeps its albedo and normals) and denoise when \
+             merging: `rayforge merge PARTS --denoise -o OUT` (rayforge slurm does both for \
+             --denoise)",
+        ));
+    }
     if let Some(flag) = first_given([
         // A slice is not checkpointed: a requeued slice renders again (a complete part is kept).
         ("--resume", part && args.resume),
         ("--trace-pixel", part && args.trace_pixel.is_some()),
-        ("--aovs", part && args.aovs),
-        ("--denoise", part && args.denoise),
         (
             "--pause-after-rows",
             part && args.pause_after_rows.is_some(),

@@ -14,13 +14,16 @@
 //! each into a band of its own, keeping the slice's rows. A part already there and complete for
 //! the same render and slice is kept, so a requeued task costs a scene load and a read of its
 //! part. Slices are not checkpointed: an interrupted slice writes nothing and is rendered
-//! again.
+//! again. With `--aovs` a path-traced slice renders the AOVs of its rows too (into films of
+//! those rows, as the image's) and keeps them in its part, for the merge to write them and to
+//! guide its denoiser (`merge --aovs`, `merge --denoise`); `--denoise` itself is the merge's,
+//! as a denoiser must see the whole image.
 
 use crate::atomic_write::{check_writable, write_atomically_with};
 use crate::failure::Failure;
 use crate::memory::reserve_for_slice;
 use crate::output_lock::OutputLock;
-use crate::part_file::{scene_fingerprint, Development, Part, PartHeader};
+use crate::part_file::{scene_fingerprint, Development, Part, PartHeader, PART_AOVS};
 use crate::path_command::samples_per_pixel;
 use crate::progress::row_bar;
 use crate::render_command::{load_scene, output_not_an_input, ray_options, thread_pool};
@@ -29,7 +32,7 @@ use crate::slice::{Cut, Slice};
 use rayforge::camera::Camera;
 use rayforge::film::{Film, PixelFilter, SharedFilm, MAX_FILM_PIXELS};
 use rayforge::options::{PathOptions, SampleAllocation};
-use rayforge::render::path::{learn_roulette, render_path, LearnedRoulette, PathJob};
+use rayforge::render::path::{learn_roulette, render_path, Aovs, LearnedRoulette, PathJob};
 use rayforge::render::{exposure, render_rows_into, RenderOptions};
 use rayforge_scene::Scene;
 use rayon::ThreadPool;
@@ -55,7 +58,8 @@ pub fn run(settings: &RenderSettings, slice: &Slice) -> Result<(), Failure> {
         return Ok(());
     }
     let (width, height) = (camera.hsize(), camera.vsize());
-    reserve_for_slice(width, height, slice.row_count(height))?;
+    let films = if header.aovs { 1 + PART_AOVS as u64 } else { 1 };
+    reserve_for_slice(width, height, slice.row_count(height), films)?;
     let pool = thread_pool(settings)?;
     let started = Instant::now();
     let render = SliceRender {
@@ -65,14 +69,14 @@ pub fn run(settings: &RenderSettings, slice: &Slice) -> Result<(), Failure> {
         camera: &camera,
         pool: &pool,
     };
-    let film = match chosen {
-        Chosen::Ray => render.ray()?,
-        Chosen::Raster(options) => render.raster(&options)?,
-        Chosen::Path(options) => render.path(options, header.samples())?,
+    let (film, aovs) = match chosen {
+        Chosen::Ray => (render.ray()?, None),
+        Chosen::Raster(options) => (render.raster(&options)?, None),
+        Chosen::Path(options) => render.path(options, header.samples(), header.aovs)?,
     };
     let elapsed = started.elapsed();
     let samples = header.samples();
-    let part = Part::new(header, film)?;
+    let part = Part::new(header, film, aovs)?;
     write_atomically_with(output, |out| part.write_to(out))?;
     if !settings.quiet {
         let covers = match slice.cut {
@@ -132,6 +136,8 @@ fn header(
 ) -> Result<PartHeader, Failure> {
     let version = env!("CARGO_PKG_VERSION");
     let lighting = scene.world.lighting;
+    // Only the path tracer renders AOVs (`--aovs` is refused for the others).
+    let aovs = settings.path.aovs && matches!(chosen, Chosen::Path(_));
     let (described, development, spp) = match chosen {
         Chosen::Ray => {
             let o = ray_options(settings, scene);
@@ -190,6 +196,7 @@ fn header(
         spp,
         development,
         overlay: !scene.overlay.is_empty(),
+        aovs,
         scene: scene_path.to_string_lossy().into_owned(),
         settings: described,
     })
@@ -321,9 +328,20 @@ impl SliceRender<'_> {
         Ok(film.into_film())
     }
 
-    /// The path tracer's rows of the slice, with its `samples`.
-    fn path(&self, options: PathOptions, samples: std::ops::Range<u64>) -> Result<Film, Failure> {
+    /// The path tracer's rows of the slice, with its `samples`, and with `aovs` the AOVs'
+    /// films of those rows.
+    fn path(
+        &self,
+        options: PathOptions,
+        samples: std::ops::Range<u64>,
+        aovs: bool,
+    ) -> Result<(Film, Option<[Film; PART_AOVS]>), Failure> {
         let film = self.film(options.filter)?;
+        let height = self.camera.vsize();
+        let aovs = aovs
+            .then(|| Aovs::with_rows(self.camera.hsize(), height, self.slice.rows(height)))
+            .transpose()
+            .map_err(|e| Failure::usage(e.to_string()))?;
         let mut done = self.others_done();
         let stats = self.with_hooks(|progress, stop| {
             // Learned for the whole render's samples, as an unsliced render learns it, so
@@ -345,11 +363,13 @@ impl SliceRender<'_> {
                 roulette: Some(&roulette),
             };
             self.pool.install(|| {
-                render_path(self.camera, &self.scene.world, &job, &film, None, &mut done)
+                let world = &self.scene.world;
+                render_path(self.camera, world, &job, &film, aovs.as_ref(), &mut done)
             })
         });
         stats.map_err(|e| Failure::internal(format!("the path tracer refused its film: {e}")))?;
         self.check_finished(&done)?;
-        Ok(film.into_film())
+        let aovs = aovs.map(|a| [a.albedo, a.normal, a.depth, a.samples].map(|f| f.into_film()));
+        Ok((film.into_film(), aovs))
     }
 }

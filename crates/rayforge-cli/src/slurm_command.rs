@@ -18,6 +18,7 @@ use crate::args::{Cli, Command as Subcommand, SlurmArgs};
 use crate::atomic_write::{check_writable, write_atomically};
 use crate::failure::Failure;
 use crate::format::ImageFormat;
+use crate::part_file::PART_AOVS;
 use crate::settings::RenderSettings;
 use crate::slice::{Cut, Slice, MAX_SLICES};
 use crate::slice_render;
@@ -33,7 +34,7 @@ use std::process::Command;
 /// and its first lines say what is wrong).
 const QUOTED_STDERR_CHARS: usize = 1000;
 
-/// The bytes a part holds per pixel of its film: three sums and a weight, 64-bit floats.
+/// The bytes a part holds per pixel of each film: three sums and a weight, 64-bit floats.
 const PART_BYTES_PER_PIXEL: u64 = 32;
 
 /// Runs the slurm command.
@@ -63,6 +64,13 @@ pub fn run(args: &SlurmArgs) -> Result<(), Failure> {
     } else {
         parts.join("part-0.part")
     };
+    // A cut image is denoised by the merge, from the AOVs its slices keep.
+    let (render_flags, merge_companions) = if frames {
+        (render_flags.to_vec(), Vec::new())
+    } else {
+        merge_companions(render_flags)
+    };
+    let render_flags = &render_flags[..];
     let (settings, slice) = task_settings(args, render_flags, &scene, &target)?;
     if frames {
         return submit_frames(
@@ -86,7 +94,7 @@ pub fn run(args: &SlurmArgs) -> Result<(), Failure> {
         tasks: args.tasks,
         cut: slice.cut,
         render_flags: render_flags.to_vec(),
-        merge_flags: merge_flags(&settings),
+        merge_flags: [merge_flags(&settings), merge_companions].concat(),
         threads_given: settings.threads.is_some(),
         frames: false,
     };
@@ -117,7 +125,9 @@ pub fn run(args: &SlurmArgs) -> Result<(), Failure> {
         println!("merge:  job {merge}, once every slice has succeeded (afterok:{array})");
     }
     let pixels = header.width as u64 * header.height as u64;
-    let part_bytes = PART_BYTES_PER_PIXEL.saturating_mul(pixels);
+    // The image's film, and the AOVs' beside it when the parts keep them.
+    let films = if header.aovs { 1 + PART_AOVS as u64 } else { 1 };
+    let part_bytes = (films * PART_BYTES_PER_PIXEL).saturating_mul(pixels);
     let all_parts = match slice.cut {
         Cut::Rows => part_bytes,
         Cut::Samples => part_bytes.saturating_mul(args.tasks),
@@ -239,6 +249,30 @@ fn merge_flags(settings: &RenderSettings) -> Vec<String> {
         ]);
     }
     flags
+}
+
+/// The render flags the slices of a cut image get, and the flags the merge adds for them:
+/// `--denoise` is the merge's (a denoiser must see the whole image), the slices keeping the
+/// albedo and normals that guide it (`--aovs`); `--aovs` is both, the slices keeping the AOVs
+/// and the merge writing them.
+fn merge_companions(render: &[String]) -> (Vec<String>, Vec<String>) {
+    let denoise = render.iter().any(|f| f == "--denoise");
+    let aovs = render.iter().any(|f| f == "--aovs");
+    let mut tasks: Vec<String> = render
+        .iter()
+        .filter(|f| *f != "--denoise")
+        .cloned()
+        .collect();
+    let mut merge = Vec::new();
+    if aovs {
+        merge.push("--aovs".to_string());
+    } else if denoise {
+        tasks.push("--aovs".to_string());
+    }
+    if denoise {
+        merge.push("--denoise".to_string());
+    }
+    (tasks, merge)
 }
 
 /// The render flags and the sbatch options. Once the render flags have begun, clap hands every

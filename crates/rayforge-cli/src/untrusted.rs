@@ -22,15 +22,17 @@ pub fn merge_parts(parts: &[PathBuf], output: &Path) -> Result<(), Failure> {
         scene: None,
         allow_outside: false,
         max_triangles: rayforge_scene::DEFAULT_MAX_TRIANGLES,
+        aovs: false,
+        denoise: false,
         quiet: true,
     })
 }
 
-/// `bytes` as a part file with its two checksums made right for what it holds (the header's
-/// FNV-1a 64 after the header, the film's CRC-32 at the end; see [`crate::part_file`]'s
-/// layout), where the lengths in it allow: what else is wrong with a damaged part then meets
-/// the checks behind the checksums, which a fuzzer's random changes would otherwise never
-/// pass.
+/// `bytes` as a part file with its checksums made right for what it holds (the header's
+/// FNV-1a 64 after the header, each film's CRC-32 at its end: the image's, then the AOVs';
+/// see [`crate::part_file`]'s layout), where the lengths in it allow: what else is wrong with
+/// a damaged part then meets the checks behind the checksums, which a fuzzer's random changes
+/// would otherwise never pass.
 pub fn with_part_checksums_repaired(bytes: &[u8]) -> Vec<u8> {
     let mut part = bytes.to_vec();
     let Some(header_len) = part.get(12..16) else {
@@ -43,10 +45,27 @@ pub fn with_part_checksums_repaired(bytes: &[u8]) -> Vec<u8> {
     }
     let checksum = crate::checkpoint::fnv(&part[..header_end]);
     part[header_end..film_start].copy_from_slice(&checksum.to_le_bytes());
-    let film = &mut part[film_start..];
-    if let Some(body) = film.len().checked_sub(4) {
-        let crc = crc32fast::hash(&film[..body]);
-        film[body..].copy_from_slice(&crc.to_le_bytes());
+    let mut films = &mut part[film_start..];
+    // Each film as long as its width and height say (45 bytes, 32 a pixel, its CRC), the last
+    // one (or one whose size does not fit) to the end of the file.
+    while !films.is_empty() {
+        let size = |at: usize| {
+            films
+                .get(at..at + 8)
+                .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")))
+        };
+        let len = size(12)
+            .zip(size(20))
+            .and_then(|(w, h)| w.checked_mul(h)?.checked_mul(32)?.checked_add(45 + 4))
+            .and_then(|len| usize::try_from(len).ok())
+            .filter(|&len| len <= films.len())
+            .unwrap_or(films.len());
+        let (film, rest) = films.split_at_mut(len);
+        if let Some(body) = film.len().checked_sub(4) {
+            let crc = crc32fast::hash(&film[..body]);
+            film[body..].copy_from_slice(&crc.to_le_bytes());
+        }
+        films = rest;
     }
     part
 }

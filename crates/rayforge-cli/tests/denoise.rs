@@ -283,6 +283,96 @@ fn without_the_library_denoising_is_refused_with_how_to_install_it_and_nothing_w
     let o = rayforge(&[&"denoise", &input, &"-o", &out], &env);
     says(&o);
     assert!(!out.exists());
+    // The merge is refused as the render is, before it reads a film.
+    let part = dir.path().join("p.part");
+    let o = render(&part, &["--slice", "0/1", "--aovs"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = rayforge(&[&"merge", &part, &"--denoise", &"-o", &out], &env);
+    says(&o);
+    assert!(!out.exists());
+}
+
+/// Renders the small Cornell box in `n` row slices with `extra` into `dir`: the parts.
+fn row_parts(dir: &Path, n: u32, extra: &[&str]) -> Vec<PathBuf> {
+    (0..n)
+        .map(|i| {
+            let part = dir.join(format!("{i}.part"));
+            let slice = format!("{i}/{n}");
+            let args: Vec<&str> = ["--slice", &slice]
+                .into_iter()
+                .chain(extra.iter().copied())
+                .collect();
+            let o = render(&part, &args);
+            assert!(o.status.success(), "{}", stderr(&o));
+            part
+        })
+        .collect()
+}
+
+/// `rayforge merge PARTS -o OUT -q EXTRA…`.
+fn merge(parts: &[PathBuf], out: &Path, extra: &[&str]) -> Output {
+    let mut args: Vec<&dyn AsRef<std::ffi::OsStr>> = vec![&"merge"];
+    args.extend(parts.iter().map(|p| p as &dyn AsRef<std::ffi::OsStr>));
+    args.extend([&"-o" as &dyn AsRef<std::ffi::OsStr>, &out, &"-q"]);
+    args.extend(extra.iter().map(|a| a as &dyn AsRef<std::ffi::OsStr>));
+    rayforge(&args, &[])
+}
+
+#[test]
+fn merge_denoise_of_row_slices_with_aovs_is_the_render_s_denoised_image_byte_for_byte() {
+    if !oidn_present("merge --denoise") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let one = dir.path().join("one.png");
+    let o = render(&one, &["--denoise", "--aovs"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The merged image and its guides are the render's, so is what OIDN makes of them.
+    let parts = row_parts(dir.path(), 3, &["--aovs"]);
+    let merged = dir.path().join("merged.png");
+    let o = merge(&parts, &merged, &["--denoise", "--aovs"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for file in ["png", "noisy.png", "albedo.png", "normal.png"] {
+        let read = |stem: &str| std::fs::read(dir.path().join(format!("{stem}.{file}"))).unwrap();
+        assert!(
+            read("merged") == read("one"),
+            "{file} differs from the render's"
+        );
+    }
+    // The denoised image is not the raw one.
+    assert!(
+        std::fs::read(&merged).unwrap()
+            != std::fs::read(dir.path().join("merged.noisy.png")).unwrap()
+    );
+    // Denoised without --aovs: the one image, nothing beside it.
+    let alone = dir.path().join("alone.png");
+    let o = merge(&parts, &alone, &["--denoise"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::read(&alone).unwrap() == std::fs::read(&one).unwrap());
+    assert!(!dir.path().join("alone.noisy.png").exists());
+}
+
+#[test]
+fn merge_denoise_of_parts_without_aovs_denoises_unguided_and_says_so() {
+    if !oidn_present("merge --denoise without guides") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let parts = row_parts(dir.path(), 2, &[]);
+    let out = dir.path().join("out.png");
+    let mut args: Vec<&dyn AsRef<std::ffi::OsStr>> = vec![&"merge"];
+    args.extend(parts.iter().map(|p| p as &dyn AsRef<std::ffi::OsStr>));
+    args.extend([&"-o" as &dyn AsRef<std::ffi::OsStr>, &out, &"--denoise"]);
+    let o = rayforge(&args, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("denoised without guides"),
+        "{}",
+        stderr(&o)
+    );
+    let raw = dir.path().join("raw.png");
+    assert!(merge(&parts, &raw, &[]).status.success());
+    assert!(std::fs::read(&out).unwrap() != std::fs::read(&raw).unwrap());
 }
 
 #[test]
@@ -306,7 +396,8 @@ fn denoise_is_the_path_tracers_and_not_a_slices() {
     let o = rayforge(&args, &[]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("--denoise cannot be used with --slice"),
+        stderr(&o).contains("--denoise cannot be used with --slice")
+            && stderr(&o).contains("rayforge merge PARTS --denoise"),
         "{}",
         stderr(&o)
     );

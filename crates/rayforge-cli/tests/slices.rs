@@ -622,3 +622,156 @@ fn a_slice_of_an_image_too_large_to_merge_is_refused_before_rendering() {
     );
     assert!(!part.exists());
 }
+
+/// `rayforge merge <parts…> -o <out> -q <args…>`.
+fn merge_with(parts: &[PathBuf], out: &Path, args: &[&str]) -> Output {
+    rayforge()
+        .arg("merge")
+        .args(parts)
+        .arg("-o")
+        .arg(out)
+        .arg("-q")
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// The files `--aovs` writes beside `out.png`.
+const AOV_FILES: [&str; 4] = ["albedo.png", "normal.png", "depth.pfm", "samples.pfm"];
+
+#[test]
+fn row_slices_with_aovs_merge_into_the_render_s_aovs_byte_for_byte() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/pbr/cornell.yml");
+    let args = [
+        "--renderer",
+        "path",
+        "--width",
+        "9",
+        "--height",
+        "7",
+        "--spp",
+        "3",
+        "--aovs",
+    ];
+    // OpenEXR holds the AOVs as layers of the one file; PNG has them beside it.
+    for ext in ["exr", "png"] {
+        let one = dir.path().join(format!("one.{ext}"));
+        ok(&render(&scene, &one, &args));
+        let parts = slices(&scene, dir.path(), 3, "rows", &args);
+        let merged = dir.path().join(format!("merged.{ext}"));
+        ok(&merge_with(&parts, &merged, &["--aovs"]));
+        assert!(std::fs::read(&merged).unwrap() == std::fs::read(&one).unwrap());
+        if ext == "png" {
+            for file in AOV_FILES {
+                let read = |stem: &str| std::fs::read(dir.path().join(format!("{stem}.{file}")));
+                assert!(
+                    read("merged").unwrap() == read("one").unwrap(),
+                    "{file} differs"
+                );
+            }
+        }
+    }
+    // Without --aovs the merge writes the image alone, the same image.
+    let plain = dir.path().join("plain.png");
+    ok(&merge(
+        &slices(&scene, dir.path(), 3, "rows", &args),
+        &plain,
+    ));
+    assert!(std::fs::read(&plain).unwrap() == std::fs::read(dir.path().join("one.png")).unwrap());
+    assert!(!dir.path().join("plain.albedo.png").exists());
+}
+
+#[test]
+fn sample_slices_with_aovs_count_every_pixel_s_samples_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/pbr/cornell.yml");
+    let args = [
+        "--renderer",
+        "path",
+        "--width",
+        "5",
+        "--height",
+        "4",
+        "--spp",
+        "7",
+        "--aovs",
+    ];
+    let one = dir.path().join("one.png");
+    ok(&render(&scene, &one, &args));
+    let parts = slices(&scene, dir.path(), 3, "samples", &args);
+    let merged = dir.path().join("merged.png");
+    ok(&merge_with(&parts, &merged, &["--aovs"]));
+    // Counts are whole numbers, summed exactly: the one-process render's, 7 a pixel (not
+    // 7 / 3, as the three parts' weights of 1 would make them if added).
+    let samples = |stem: &str| std::fs::read(dir.path().join(format!("{stem}.samples.pfm")));
+    assert!(samples("merged").unwrap() == samples("one").unwrap());
+}
+
+#[test]
+fn merge_refuses_aovs_the_parts_do_not_hold_and_a_mix_of_parts() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/pbr/cornell.yml");
+    let path = [
+        "--renderer",
+        "path",
+        "--width",
+        "4",
+        "--height",
+        "2",
+        "--spp",
+        "1",
+    ];
+    let plain = slices(&scene, dir.path(), 2, "rows", &path);
+    let out = dir.path().join("out.png");
+    let m = refused(&merge_with(&plain, &out, &["--aovs"]));
+    assert!(
+        m.contains("the parts hold no AOVs; render the slices with --aovs"),
+        "{m}"
+    );
+    // A part with AOVs beside one without: not slices of one render.
+    let with: Vec<&str> = path.iter().copied().chain(["--aovs"]).collect();
+    let part = dir.path().join("aovs-1.part");
+    ok(&render(
+        &scene,
+        &part,
+        &[&["--slice", "1/2"][..], &with].concat(),
+    ));
+    let m = refused(&merge(&[plain[0].clone(), part], &out));
+    assert!(
+        m.contains("rendered without --aovs and the other with"),
+        "{m}"
+    );
+    // The ray tracer's parts have no AOVs to write or image to denoise.
+    let ray = repo().join("scenes/trtc/ch07-world.yml");
+    let parts = slices(
+        &ray,
+        dir.path(),
+        1,
+        "rows",
+        &["--width", "4", "--height", "2"],
+    );
+    for flag in ["--aovs", "--denoise"] {
+        let m = refused(&merge_with(&parts, &out, &[flag]));
+        assert!(
+            m.contains(&format!("{flag} is for path-traced images")),
+            "{m}"
+        );
+    }
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_part_of_format_version_2_still_merges() {
+    // Written by rayforge before parts could hold AOVs: the one slice, by samples, of a 4×3
+    // path-traced Cornell box of 2 samples a pixel.
+    let dir = tempfile::tempdir().unwrap();
+    let part =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/parts/v2-path-samples.part");
+    let out = dir.path().join("out.pfm");
+    ok(&merge(std::slice::from_ref(&part), &out));
+    let pfm = std::fs::read(&out).unwrap();
+    assert!(pfm.starts_with(b"PF\n4 3\n"), "{:?}", &pfm[..8]);
+    let m = refused(&merge_with(&[part], &out, &["--aovs"]));
+    assert!(m.contains("the parts hold no AOVs"), "{m}");
+}

@@ -293,7 +293,7 @@ fn flags_a_task_would_refuse_are_refused_before_anything_is_written() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("cover.png");
     for (more, says) in [
-        (&["--aovs"][..], "--aovs cannot be used with --slice"),
+        (&["--resume"][..], "--resume cannot be used with --slice"),
         (
             &["--slice-by", "samples"],
             "--slice-by samples cuts the path",
@@ -353,4 +353,49 @@ fn a_real_one_node_slurm_cluster_renders_the_same_bytes() {
     eprintln!("{log}{}", String::from_utf8_lossy(&output.stderr));
     assert!(output.status.success(), "the Slurm cluster test failed");
     assert!(log.contains("PASSED"), "{log}");
+}
+
+#[test]
+fn denoise_is_the_merge_job_s_and_the_slices_keep_the_aovs_that_guide_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cover.png");
+    let path = ["--renderer", "path", "--spp", "2", "--width", "8"];
+    let denoised: Vec<&str> = ["--dry-run"]
+        .iter()
+        .chain(&path)
+        .copied()
+        .chain(["--denoise"])
+        .collect();
+    ok(&slurm(&out, dir.path(), &denoised));
+    let jobs = dir.path().join("cover.png.slurm");
+    let slices = fs::read_to_string(jobs.join("slices.sh")).unwrap();
+    let merge = fs::read_to_string(jobs.join("merge.sh")).unwrap();
+    assert!(
+        slices.contains("--aovs") && !slices.contains("--denoise"),
+        "{slices}"
+    );
+    assert!(
+        merge.contains("--denoise") && !merge.contains("--aovs"),
+        "{merge}"
+    );
+    // With --aovs too, the merge writes them as well.
+    let both: Vec<&str> = denoised.iter().copied().chain(["--aovs"]).collect();
+    ok(&slurm(&out, dir.path(), &both));
+    let slices = fs::read_to_string(jobs.join("slices.sh")).unwrap();
+    let merge = fs::read_to_string(jobs.join("merge.sh")).unwrap();
+    assert_eq!(slices.matches("--aovs").count(), 1, "{slices}");
+    assert!(merge.contains("--aovs --denoise"), "{merge}");
+    // An animation's tasks render whole frames: they denoise them themselves.
+    let frames = dir.path().join("f-%02d.png");
+    let animated: Vec<&str> = denoised
+        .iter()
+        .copied()
+        .chain(["--frames", "0..3"])
+        .collect();
+    ok(&slurm(&frames, dir.path(), &animated));
+    let slices = fs::read_to_string(dir.path().join("f-%02d.png.slurm/slices.sh")).unwrap();
+    assert!(
+        slices.contains("--denoise") && !slices.contains("--aovs"),
+        "{slices}"
+    );
 }

@@ -270,8 +270,9 @@ fn forge_scene_path(part: &Path, scene: &str) -> Vec<u8> {
     let bytes = std::fs::read(part).unwrap();
     let header_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
     let fields = &bytes[16..16 + header_len];
-    // The fields before the scene's path: 5 u64s, the cut, 4 u64s, development and overlay.
-    let fixed = 5 * 8 + 1 + 4 * 8 + 2;
+    // The fields before the scene's path: 5 u64s, the cut, 4 u64s, development, overlay and
+    // AOVs (format 3).
+    let fixed = 5 * 8 + 1 + 4 * 8 + 3;
     let old_len = u32::from_le_bytes(fields[fixed..fixed + 4].try_into().unwrap()) as usize;
     let mut new_fields = fields[..fixed].to_vec();
     new_fields.extend_from_slice(&(scene.len() as u32).to_le_bytes());

@@ -14,7 +14,8 @@ use crate::args::{Cli, Command, Renderer};
 use crate::failure::Failure;
 use crate::finite::blacken_non_finite;
 use crate::format::ImageFormat;
-use crate::path_command::{doubling_passes, encode_for, samples_per_pixel};
+use crate::path_command::{doubling_passes, samples_per_pixel};
+use crate::path_output::encode_for;
 use crate::render_command::{
     develop_with_overlay, finish_image, load_options, ray_options, sized_camera,
 };

@@ -100,6 +100,23 @@ impl Aovs {
         }
     }
 
+    /// Empty AOV films of `width` × `height` that hold only the rows `rows` names, as a
+    /// slice's image film does ([`SharedFilm::with_rows`]); refused for a row past the last.
+    pub fn with_rows(
+        width: usize,
+        height: usize,
+        rows: impl IntoIterator<Item = usize>,
+    ) -> Result<Self, FilmError> {
+        let rows: Vec<usize> = rows.into_iter().collect();
+        let film = || SharedFilm::with_rows(width, height, PixelFilter::Box, rows.iter().copied());
+        Ok(Self {
+            albedo: film()?,
+            normal: film()?,
+            depth: film()?,
+            samples: film()?,
+        })
+    }
+
     /// The films in the order rows are saved and restored: albedo, normal, depth, samples.
     pub fn films(&self) -> [&SharedFilm; 4] {
         [&self.albedo, &self.normal, &self.depth, &self.samples]
