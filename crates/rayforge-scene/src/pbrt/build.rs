@@ -7,6 +7,7 @@ use super::camera;
 use super::input::Files;
 use super::lights::{self, Lit};
 use super::materials;
+use super::media;
 use super::reader::{Description, Entity, MaterialRef, ShapeEntity};
 use super::shapes::{self, Built};
 use super::textures::{self, SceneTextures};
@@ -84,6 +85,8 @@ pub fn scene(
     let mut warnings = std::mem::take(&mut desc.warnings);
     let setup = camera::setup(&desc.options, &mut warnings)?;
     let mut world = World::new();
+    let media_ids = media::build(&desc, &mut world)?;
+    world.camera_medium = media::camera_medium(&media_ids, desc.options.camera_medium.as_ref())?;
     let budget = Budget::default();
     let mut triangles = 0usize;
     let scene_textures = textures::build(&desc, files, options.max_image_memory)?;
@@ -107,8 +110,11 @@ pub fn scene(
             &mut warnings,
             &mut noted,
         )?;
-        for object in placed {
+        let boundary = media::is_boundary(&desc, &shape.material);
+        let interface = media::interface(&media_ids, shape.media.as_ref(), boundary)?;
+        for mut object in placed {
             budget.spend().map_err(|e| shape.entity.error(e))?;
+            object.media = interface;
             world.objects.push(object);
         }
     }
@@ -128,6 +134,9 @@ pub fn scene(
             let mut objects = Vec::new();
             for shape in shapes {
                 shape.entity.loc.stopped(files.stop(), "Shape")?;
+                let boundary = media::is_boundary(&desc, &shape.material);
+                let interface = media::interface(&media_ids, shape.media.as_ref(), boundary)?;
+                let start = objects.len();
                 objects.extend(place(
                     shape,
                     files,
@@ -139,6 +148,9 @@ pub fn scene(
                     &mut warnings,
                     &mut noted,
                 )?);
+                for object in &mut objects[start..] {
+                    object.media = interface;
+                }
             }
             defined.insert(used.name.as_str(), objects);
         }
@@ -223,6 +235,9 @@ pub fn scene(
     for texture in &desc.textures {
         unused(&texture.entity, &mut warnings);
     }
+    for (medium, _) in desc.media.values() {
+        unused(medium, &mut warnings);
+    }
     for entity in desc
         .materials
         .iter()
@@ -270,7 +285,6 @@ use camera::Setup;
 #[derive(Default)]
 struct Notes {
     motion: bool,
-    media: Vec<super::input::Loc>,
     instanced_light: bool,
 }
 
@@ -300,16 +314,6 @@ fn place(
             "motion blur (`ActiveTransform`) is not rendered: moving shapes stand where they \
              are when the shutter opens",
         ));
-    }
-    if let Some(loc) = &shape.media {
-        if !noted.media.contains(loc) {
-            noted.media.push(loc.clone());
-            warnings.push(loc.error(
-                Some("MediumInterface"),
-                "participating media are not rendered yet: the shapes inside this interface \
-                 are drawn as surfaces in empty space",
-            ));
-        }
     }
     let mut material = cache.get(&shape.material, warnings)?;
     if let Some(alpha) = cache.textures.float(entity, "alpha", cache.desc)? {

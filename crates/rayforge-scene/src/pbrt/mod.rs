@@ -24,6 +24,7 @@ mod input;
 mod lexer;
 mod lights;
 mod materials;
+mod media;
 mod params;
 mod reader;
 mod shapes;

@@ -73,8 +73,19 @@ pub struct ShapeEntity {
     pub material: MaterialRef,
     /// The area light in force, shared by every shape in its scope.
     pub area_light: Option<Rc<Entity>>,
-    /// Where a `MediumInterface` naming a medium is in force.
-    pub media: Option<Loc>,
+    /// The `MediumInterface` in force, where one names a medium.
+    pub media: Option<MediaNames>,
+}
+
+/// A `MediumInterface`: the media inside and outside (empty: vacuum), and where it is.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MediaNames {
+    /// The inside medium's name.
+    pub inside: String,
+    /// The outside medium's name.
+    pub outside: String,
+    /// The directive.
+    pub loc: Loc,
 }
 
 /// A light and where it stands.
@@ -125,6 +136,8 @@ pub struct Options {
     pub filter: Option<Entity>,
     /// `Option "name" value`: each name, its value's token text, and where.
     pub options: Vec<(String, String, Loc)>,
+    /// The `MediumInterface` in force at `Camera`, whose outside the camera sits in.
+    pub camera_medium: Option<MediaNames>,
 }
 
 /// Everything a scene's files say.
@@ -143,8 +156,9 @@ pub struct Description {
     pub textures: Vec<TextureEntity>,
     /// Each texture's place in `textures`, by its type (`float`, `spectrum`) and name.
     pub texture_index: HashMap<(String, String), usize>,
-    /// `MakeNamedMedium`'s media, by name.
-    pub media: HashMap<String, Entity>,
+    /// `MakeNamedMedium`'s media, by name, with the transform in force there (from the
+    /// medium's space to the world).
+    pub media: HashMap<String, (Entity, DMat4)>,
     /// The world's shapes.
     pub shapes: Vec<ShapeEntity>,
     /// The world's lights.
@@ -167,7 +181,7 @@ struct GraphicsState {
     reverse: bool,
     material: MaterialRef,
     area_light: Option<Rc<Entity>>,
-    media: Option<Loc>,
+    media: Option<MediaNames>,
     /// `Attribute`'s parameters for shapes, lights, materials, media and textures.
     attributes: [Rc<Vec<Param>>; 5],
 }
@@ -547,6 +561,8 @@ impl Reader<'_> {
                 self.named_systems
                     .insert("camera".into(), self.state.ctm.map(|m| m.inverse()));
                 self.out.options.camera = Some((entity, camera_from_world));
+                // pbrt-v4: the camera sits in the outside medium of the interface in force.
+                self.out.options.camera_medium = self.state.media.clone();
             }
             "Film" | "Sampler" | "Integrator" | "PixelFilter" | "Accelerator" => {
                 self.options_block(name, &loc)?;
@@ -675,7 +691,9 @@ impl Reader<'_> {
                         entity.error(format!("the medium \"{}\" is made twice", entity.name))
                     );
                 }
-                self.out.media.insert(entity.name.clone(), entity);
+                self.out
+                    .media
+                    .insert(entity.name.clone(), (entity, self.state.ctm[0]));
             }
             "MediumInterface" => {
                 let (inside, _) = stream.string(name, "the inside medium's name in quotes")?;
@@ -686,7 +704,12 @@ impl Reader<'_> {
                     }
                     _ => inside.clone(),
                 };
-                self.state.media = (!inside.is_empty() || !outside.is_empty()).then_some(loc);
+                self.state.media =
+                    (!inside.is_empty() || !outside.is_empty()).then_some(MediaNames {
+                        inside,
+                        outside,
+                        loc,
+                    });
             }
             "LightSource" => {
                 self.world_block(name, &loc)?;

@@ -1,0 +1,227 @@
+//! pbrt-v4's media: `MakeNamedMedium` (`homogeneous` and `uniformgrid`), the
+//! `MediumInterface` of each shape, and the camera's medium (the outside medium in force at
+//! `Camera`), into the world's media and each object's `MediumInterface`.
+//!
+//! Both types read `sigma_a` and `sigma_s` (rgb or spectrum; pbrt-v4's defaults, its
+//! coefficients of skin in mm⁻¹, when absent), `scale` and `g`; `homogeneous` also `Le` with
+//! `Lescale`. `uniformgrid` reads `density` (`nx` × `ny` × `nz` values, x fastest) over the box
+//! `p0`–`p1` in the medium's space, placed by the transform in force at `MakeNamedMedium`.
+//! What rayforge does not render is refused at its parameter: `preset` (pbrt's table of
+//! measured media), a grid's `temperature` and `Le`, and the other types (`rgbgrid`, `cloud`,
+//! `nanovdb`).
+
+use super::params::ParamType;
+use super::reader::{Description, Entity, MaterialRef, MediaNames};
+use super::spectra::{self, SpectrumUse};
+use crate::error::SceneError;
+use glam::{DMat4, DVec3};
+use rayforge::math::{Aabb, Transform};
+use rayforge::media::{
+    DensityGrid, GridMedium, HenyeyGreenstein, Homogeneous, Medium, MediumId, MediumInterface,
+    MAX_ASYMMETRY,
+};
+use rayforge::{Color, World};
+use std::collections::HashMap;
+
+/// pbrt-v4's default σa and σs (its medium's defaults, per mm).
+const DEFAULT_SIGMA_A: Color = Color::new(0.0011, 0.0024, 0.014);
+const DEFAULT_SIGMA_S: Color = Color::new(2.55, 3.21, 3.77);
+
+/// The scene's media, built into `world`, by name.
+pub fn build(
+    desc: &Description,
+    world: &mut World,
+) -> Result<HashMap<String, MediumId>, SceneError> {
+    let mut names: Vec<&String> = desc.media.keys().collect();
+    // In a fixed order, so that ids do not depend on the hash.
+    names.sort();
+    let mut ids = HashMap::new();
+    for name in names {
+        let (entity, world_from_medium) = &desc.media[name];
+        let medium = medium(entity, world_from_medium)?;
+        let id = world
+            .media
+            .add(medium)
+            .map_err(|e| entity.error(e.to_string()))?;
+        ids.insert(name.clone(), id);
+    }
+    Ok(ids)
+}
+
+/// The medium `entity` describes.
+fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneError> {
+    let params = &entity.params;
+    if let Some(p) = params.find("preset", &[ParamType::String]) {
+        return Err(
+            p.error("pbrt's measured media (`preset`) are not read: give `sigma_a` and `sigma_s`")
+        );
+    }
+    let spectrum = |name: &str, default: Color, usage: SpectrumUse| -> Result<Color, SceneError> {
+        match params.find(
+            name,
+            &[ParamType::Rgb, ParamType::Spectrum, ParamType::Blackbody],
+        ) {
+            None => Ok(default),
+            Some(p) => {
+                let c = spectra::color(p, usage)?;
+                rayforge::media::coefficient("a medium's coefficient", c)
+                    .map_err(|e| p.error(e.to_string()))
+            }
+        }
+    };
+    let scale = params.float_or("scale", 1.0)?;
+    if !(scale >= 0.0) {
+        return Err(entity.error(format!("`scale` is at least 0, found {scale}")));
+    }
+    let sigma_a = spectrum("sigma_a", DEFAULT_SIGMA_A, SpectrumUse::Index)? * scale;
+    let sigma_s = spectrum("sigma_s", DEFAULT_SIGMA_S, SpectrumUse::Index)? * scale;
+    let g = params.float_or("g", 0.0)?;
+    if g.abs() > MAX_ASYMMETRY {
+        return Err(entity.error(format!(
+            "`g` lies between −{MAX_ASYMMETRY} and {MAX_ASYMMETRY}, found {g}"
+        )));
+    }
+    let phase = HenyeyGreenstein::new(g);
+    let kind = match params.string("type")? {
+        Some((t, _)) => t.to_string(),
+        None => {
+            return Err(entity.error(format!(
+                "the medium \"{}\" has no \"string type\"",
+                entity.name
+            )))
+        }
+    };
+    match kind.as_str() {
+        "homogeneous" => {
+            let emission = spectrum("Le", Color::BLACK, SpectrumUse::Illuminant)?
+                * params.float_or("Lescale", 1.0)?;
+            Ok(Medium::Homogeneous(Homogeneous {
+                sigma_a,
+                sigma_s,
+                emission,
+                phase,
+            }))
+        }
+        "uniformgrid" => {
+            for refused in ["temperature", "Le", "Lescale"] {
+                if let Some(p) = params.find(
+                    refused,
+                    &[
+                        ParamType::Float,
+                        ParamType::Rgb,
+                        ParamType::Spectrum,
+                        ParamType::Blackbody,
+                    ],
+                ) {
+                    return Err(p.error(
+                        "an emitting grid (`Le`, `Lescale`, `temperature`) is not rendered: rayforge's grids read `density` alone",
+                    ));
+                }
+            }
+            let size = |name: &str| -> Result<usize, SceneError> {
+                match params.integer(name)? {
+                    None => Ok(1),
+                    Some((n, _)) if n >= 1 => Ok(n as usize),
+                    Some((n, p)) => Err(p.error(format!("a grid's size is at least 1, found {n}"))),
+                }
+            };
+            let size = [size("nx")?, size("ny")?, size("nz")?];
+            let Some((values, p)) = params.numbers("density", ParamType::Float)? else {
+                return Err(entity.error("a `uniformgrid` medium needs `\"float density\"`"));
+            };
+            let values = values.iter().map(|&v| v as f32).collect();
+            let density = DensityGrid::new(size, values).map_err(|e| p.error(e.to_string()))?;
+            let p0 = params.point3_or("p0", DVec3::ZERO)?;
+            let p1 = params.point3_or("p1", DVec3::ONE)?;
+            let bounds = Aabb::new(p0.min(p1), p0.max(p1));
+            let transform = Transform::try_new(*world_from_medium)
+                .map_err(|_| entity.error("the medium is placed by a singular transform"))?;
+            let grid = GridMedium::new(
+                sigma_a,
+                sigma_s,
+                Color::BLACK,
+                phase,
+                density,
+                bounds,
+                transform,
+            )
+            .map_err(|e| entity.error(e.to_string()))?;
+            Ok(Medium::Grid(Box::new(grid)))
+        }
+        other => Err(entity.error(format!(
+            "the medium type \"{other}\" is not read; rayforge reads homogeneous and uniformgrid"
+        ))),
+    }
+}
+
+/// The medium a name gives (empty: vacuum).
+fn named(
+    ids: &HashMap<String, MediumId>,
+    name: &str,
+    names: &MediaNames,
+) -> Result<Option<MediumId>, SceneError> {
+    if name.is_empty() {
+        return Ok(None);
+    }
+    ids.get(name).copied().map(Some).ok_or_else(|| {
+        names.loc.error(
+            Some("MediumInterface"),
+            format!(
+                "no medium is named \"{}\" (`MakeNamedMedium` makes one)",
+                crate::error::clip_to(name, 60)
+            ),
+        )
+    })
+}
+
+/// A shape's interface: the media its `MediumInterface` names, and whether its material is
+/// `interface` (a boundary only). pbrt-v4 leaves a ray crossing a surface whose two media
+/// are the same in the medium it was in; so does `None`.
+pub fn interface(
+    ids: &HashMap<String, MediumId>,
+    names: Option<&MediaNames>,
+    boundary_only: bool,
+) -> Result<Option<MediumInterface>, SceneError> {
+    // An `interface` material with no `MediumInterface` keeps its reading as a smooth
+    // surface of index 1, which light crosses unbent, in the medium it was in.
+    let Some(names) = names else {
+        return Ok(None);
+    };
+    let inside = named(ids, &names.inside, names)?;
+    let outside = named(ids, &names.outside, names)?;
+    if inside == outside && !boundary_only {
+        return Ok(None);
+    }
+    Ok(Some(MediumInterface {
+        inside,
+        outside,
+        index_matched: boundary_only,
+    }))
+}
+
+/// Whether the material `reference` names is pbrt-v4's `interface`.
+pub fn is_boundary(desc: &Description, reference: &MaterialRef) -> bool {
+    let entity = match reference {
+        MaterialRef::Index(i) => desc.materials.get(*i).and_then(|m| m.as_ref()),
+        MaterialRef::Named(name, _) => desc.named_materials.get(name),
+    };
+    entity.is_some_and(|e| {
+        let kind = if e.directive == "MakeNamedMaterial" {
+            e.params.string("type").ok().flatten().map(|(t, _)| t)
+        } else {
+            Some(e.name.as_str())
+        };
+        kind == Some("interface")
+    })
+}
+
+/// The camera's medium: the outside of the interface in force at `Camera`.
+pub fn camera_medium(
+    ids: &HashMap<String, MediumId>,
+    names: Option<&MediaNames>,
+) -> Result<Option<MediumId>, SceneError> {
+    match names {
+        Some(n) => named(ids, &n.outside, n),
+        None => Ok(None),
+    }
+}

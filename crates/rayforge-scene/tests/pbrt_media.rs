@@ -1,0 +1,122 @@
+//! pbrt-v4's media through the reader: `MakeNamedMedium` (homogeneous, uniformgrid),
+//! `MediumInterface` on shapes (with the `interface` material a boundary only), the camera's
+//! medium, and what is refused, each at its place.
+use rayforge::media::{Medium, MediumId, MediumInterface};
+use rayforge::Color;
+use rayforge_scene::{LoadOptions, Scene, SceneError};
+
+fn load_text(text: &str) -> Result<Scene, SceneError> {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.pbrt");
+    std::fs::write(&path, text).unwrap();
+    rayforge_scene::load_file_with(&path, &LoadOptions::default())
+}
+
+#[track_caller]
+fn assert_at(text: &str, line: usize, column: usize, key: &str, part: &str) {
+    let e = load_text(text).expect_err("refused");
+    let span = e.span.unwrap_or_else(|| panic!("no place: {e}"));
+    assert_eq!((span.line, span.column), (line, column), "{e}");
+    assert_eq!(e.key.as_deref(), Some(key), "{e}");
+    assert!(e.message.contains(part), "`{part}` not in: {e}");
+}
+
+#[test]
+fn media_interfaces_and_the_camera_medium_are_read() {
+    let text = r#"MediumInterface "" "fog"
+Camera "perspective"
+WorldBegin
+MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [0.1 0.2 0.3] "rgb sigma_s" [1 1 1] "float scale" 2 "float g" 0.5
+MakeNamedMedium "puff" "string type" "uniformgrid" "integer nx" 2 "float density" [1 3] "point3 p0" [-1 -1 -1] "point3 p1" [1 1 1] "rgb sigma_s" [4 4 4] "rgb sigma_a" [0 0 0]
+AttributeBegin
+  MediumInterface "puff" "fog"
+  Material "interface"
+  Shape "sphere"
+AttributeEnd
+AttributeBegin
+  MediumInterface "" "fog"
+  Material "dielectric"
+  Shape "sphere"
+AttributeEnd
+Shape "sphere"
+"#;
+    let scene = load_text(text).unwrap_or_else(|e| panic!("{e}"));
+    let world = &scene.world;
+    assert_eq!(world.media.len(), 2);
+    // Ids in the names' order: fog 0, puff 1.
+    let (fog, puff) = (Some(MediumId(0)), Some(MediumId(1)));
+    let Medium::Homogeneous(m) = world.media.get(MediumId(0)) else {
+        panic!("fog is homogeneous")
+    };
+    assert_eq!(m.sigma_a, Color::new(0.2, 0.4, 0.6));
+    assert_eq!(m.sigma_s, Color::new(2.0, 2.0, 2.0));
+    assert_eq!(m.phase.g, 0.5);
+    let Medium::Grid(g) = world.media.get(MediumId(1)) else {
+        panic!("puff is a grid")
+    };
+    assert_eq!(g.density.size(), [2, 1, 1]);
+    assert_eq!(world.camera_medium, fog);
+    assert_eq!(
+        world.objects[0].media,
+        Some(MediumInterface {
+            inside: puff,
+            outside: fog,
+            index_matched: true
+        })
+    );
+    assert_eq!(
+        world.objects[1].media,
+        Some(MediumInterface {
+            inside: None,
+            outside: fog,
+            index_matched: false
+        })
+    );
+    // The interface before `Camera` is still in force (`WorldBegin` resets the transform only).
+    assert_eq!(world.objects[2].media, world.objects[1].media);
+    assert!(
+        !scene.warnings.iter().any(|w| w.message.contains("media")),
+        "{:?}",
+        scene.warnings
+    );
+}
+
+#[test]
+fn what_is_not_rendered_is_refused_at_its_place() {
+    let head = "Camera \"perspective\"\nWorldBegin\n";
+    assert_at(
+        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"cloud\"\n"),
+        3,
+        1,
+        "MakeNamedMedium",
+        "homogeneous and uniformgrid",
+    );
+    assert_at(
+        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" \"Skin1\"\n"),
+        3,
+        49,
+        "string preset",
+        "measured media",
+    );
+    assert_at(
+        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [1] \"rgb Le\" [1 1 1]\n"),
+        3,
+        69,
+        "rgb Le",
+        "emitting grid",
+    );
+    assert_at(
+        &format!("{head}MediumInterface \"smoke\" \"\"\nShape \"sphere\"\n"),
+        3,
+        1,
+        "MediumInterface",
+        "no medium is named \"smoke\"",
+    );
+    assert_at(
+        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [1]\n"),
+        3,
+        64,
+        "float density",
+        "holds 2 values, found 1",
+    );
+}
