@@ -70,7 +70,7 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
         }
     };
     let scale = params.float_or("scale", 1.0)?;
-    if !(scale >= 0.0) {
+    if scale.is_nan() || scale < 0.0 {
         return Err(entity.error(format!("`scale` is at least 0, found {scale}")));
     }
     let sigma_a = spectrum("sigma_a", DEFAULT_SIGMA_A, SpectrumUse::Index)? * scale;
