@@ -24,14 +24,17 @@ use std::ops::Range;
 use std::path::Path;
 use std::time::Instant;
 
-/// Samples per pixel when neither `--spp` nor the camera's `samples` asks for more than one:
-/// a path-traced image of one sample is mostly noise.
+/// Samples per pixel when neither `--spp` nor the scene gives a count (a YAML camera without
+/// `samples`): a path-traced image of one sample is mostly noise.
 pub const DEFAULT_PATH_SPP: u32 = 64;
 
-/// The samples per pixel: `--spp`, else the camera's `samples` when above 1, else
-/// [`DEFAULT_PATH_SPP`].
+/// The samples per pixel: `--spp`, else the count the scene's file gives (the camera's
+/// `samples`, a pbrt `Sampler`'s `pixelsamples`, 1 included: the file is followed), else the
+/// scene's own default when above 1 (a pbrt file without `pixelsamples` takes pbrt-v4's
+/// default for its sampler; a zoom camera its anti-aliasing grid), else [`DEFAULT_PATH_SPP`].
 pub(crate) fn samples_per_pixel(settings: &RenderSettings, scene: &Scene) -> u64 {
-    let spp = settings.spp.unwrap_or(if scene.samples > 1 {
+    let from_scene = scene.samples_at.is_some() || scene.samples > 1;
+    let spp = settings.spp.unwrap_or(if from_scene {
         scene.samples
     } else {
         DEFAULT_PATH_SPP

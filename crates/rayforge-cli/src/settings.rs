@@ -510,21 +510,16 @@ impl RenderSettings {
         if drawn.renderer != Renderer::Ray || self.spp.is_some() || self.adaptive_aa.is_some() {
             return Ok(());
         }
-        let (samples, Some(at)) = (scene.samples, scene.samples_at) else {
+        let (samples, Some(at)) = (scene.samples, &scene.samples_at) else {
             return Ok(());
         };
         if samples <= MAX_RAY_SPP {
             return Ok(());
         }
-        let error = rayforge_scene::SceneError::new(
-            &self.scene,
-            format!(
-                "{samples} samples per pixel is more than {MAX_RAY_SPP}, the most {drawn} takes \
-                 (the path tracer's limit is {MAX_PATH_SPP})"
-            ),
-        )
-        .at(at)
-        .with_key("samples");
+        let error = at.error(format!(
+            "{samples} samples per pixel is more than {MAX_RAY_SPP}, the most {drawn} takes (the \
+             path tracer's limit is {MAX_PATH_SPP})"
+        ));
         Err(crate::diagnostics::scene_failure(error))
     }
 
@@ -535,22 +530,17 @@ impl RenderSettings {
         if drawn.renderer != Renderer::Ray || self.max_depth.is_some() {
             return Ok(());
         }
-        let (Some(depth), Some(at)) = (scene.max_depth, scene.max_depth_at) else {
+        let (Some(depth), Some(at)) = (scene.max_depth, &scene.max_depth_at) else {
             return Ok(());
         };
         if depth <= MAX_RAY_DEPTH {
             return Ok(());
         }
-        let error = rayforge_scene::SceneError::new(
-            &self.scene,
-            format!(
-                "{depth} bounces is more than {MAX_RAY_DEPTH}, the most {drawn} follows (the \
-                 path tracer's limit is {})",
-                PathOptions::MAX_DEPTH
-            ),
-        )
-        .at(at)
-        .with_key("max-depth");
+        let error = at.error(format!(
+            "{depth} bounces is more than {MAX_RAY_DEPTH}, the most {drawn} follows (the path \
+             tracer's limit is {})",
+            PathOptions::MAX_DEPTH
+        ));
         Err(crate::diagnostics::scene_failure(error))
     }
 

@@ -35,7 +35,7 @@ pub use assets::texture_from_bytes;
 pub use error::{clip, clip_to, SceneError, Span, MAX_SHOWN_CHARS};
 pub use images::{DEFAULT_MAX_IMAGE_MEMORY, MAX_IMAGE_BYTES, MAX_TEXTURE_PIXELS, MAX_TEXTURE_SIDE};
 pub use obj::DEFAULT_MAX_TRIANGLES;
-pub use scene::{CameraChoice, LoadOptions, Scene};
+pub use scene::{CameraChoice, LoadOptions, Scene, Written};
 pub use settings::MAX_DEPTH as MAX_RAY_DEPTH;
 pub use stop::StopFlag;
 
@@ -222,6 +222,11 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
     } = camera.ok_or_else(|| {
         SceneError::new(path, "the scene has no camera: add an item `- add: camera`")
     })?;
+    let written = |span, key: &str| Written {
+        file: path.to_path_buf(),
+        span,
+        key: key.into(),
+    };
     // Canvas coordinates are pixels of the camera's canvas.
     let overlay = rayforge::draw2d::Overlay::new(canvas_items, camera.hsize(), camera.vsize());
     Ok(Scene {
@@ -229,10 +234,13 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         world,
         camera,
         samples,
-        samples_at,
+        samples_at: samples_at.map(|span| written(span, "samples")),
         anti_alias,
         max_depth: settings.as_ref().and_then(|s| s.max_depth),
-        max_depth_at: settings.as_ref().and_then(|s| s.max_depth_at),
+        max_depth_at: settings
+            .as_ref()
+            .and_then(|s| s.max_depth_at)
+            .map(|span| written(span, "max-depth")),
         raster: settings.as_ref().and_then(|s| s.raster),
         path: settings.and_then(|s| s.path),
         warnings: source.take_warnings(),

@@ -18,20 +18,22 @@ pub struct Scene {
     pub camera: rayforge::Camera,
     /// Camera rays per pixel asked for by the camera's `samples` (1: one through the centre).
     pub samples: u32,
-    /// Where the camera's `samples` is written, when it is: the renderer that draws the scene
-    /// holds it to its own limit (at most [`crate::items::camera::MAX_RAY_SAMPLES`] for the ray
-    /// tracer, [`crate::items::camera::MAX_PATH_SAMPLES`] for the path tracer, which the reader
+    /// Where the file gives `samples` (the camera's `samples`; a pbrt file's `pixelsamples`),
+    /// when it does: the count is then the file's own, 1 included (the path tracer takes
+    /// it as `--spp`); the renderer that draws the scene holds it to its own limit (at most
+    /// [`crate::items::camera::MAX_RAY_SAMPLES`] for the ray tracer,
+    /// [`crate::items::camera::MAX_PATH_SAMPLES`] for the path tracer, which the reader
     /// checks), and the error points here.
-    pub samples_at: Option<crate::error::Span>,
+    pub samples_at: Option<Written>,
     /// Fundamentals of Ray Tracing's anti-aliasing, when the camera gives `anti-alias: N`: an
     /// N × N grid of rays from each pixel's corner, unjittered (`samples` is then N²).
     pub anti_alias: Option<u32>,
     /// Reflection and refraction bounces, when the scene's `world:` item sets `max-depth`.
     pub max_depth: Option<u32>,
-    /// Where `max-depth` is written, when it is: the reader holds it to the limit of the
-    /// scene's own renderer, and the renderer the command line picks holds it to its own, the
-    /// error pointing here.
-    pub max_depth_at: Option<crate::error::Span>,
+    /// Where `max-depth` is written (a pbrt file's `maxdepth`), when it is: the reader holds
+    /// it to the limit of the scene's own renderer, and the renderer the command line picks
+    /// holds it to its own, the error pointing here.
+    pub max_depth_at: Option<Written>,
     /// The rasterizer's options, when the scene's `world:` item says `renderer: raster`.
     pub raster: Option<rayforge::options::RasterOptions>,
     /// The path tracer's options, when the scene's `world:` item says `renderer: path`
@@ -49,6 +51,29 @@ pub struct Scene {
     /// environment maps, glTF models with their buffers and images), each once, in the order
     /// first read: what a render's fingerprint covers and what the live page watches.
     pub files: Vec<std::path::PathBuf>,
+}
+
+/// Where a setting is written in a scene's files: the file (a pbrt scene's may be one it
+/// includes), the place in it and the key as the format names it, for an error located there
+/// by whoever holds the setting to a limit the reader could not know (the command line's
+/// renderer).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Written {
+    /// The file.
+    pub file: std::path::PathBuf,
+    /// The place in it.
+    pub span: crate::error::Span,
+    /// The key (`samples`, `max-depth`; `Sampler`, `Integrator` for a pbrt directive).
+    pub key: String,
+}
+
+impl Written {
+    /// An error with `message` at the setting.
+    pub fn error(&self, message: impl Into<String>) -> SceneError {
+        SceneError::new(&self.file, message)
+            .at(self.span)
+            .with_key(self.key.clone())
+    }
 }
 
 /// Limits on what loading a scene may take, beyond the fixed ones of the format.

@@ -630,6 +630,17 @@ fn a_plymesh_is_read_from_its_file_and_fronts_as_pbrt_says() {
     let scene = read("ReverseOrientation\nShape \"plymesh\" \"string filename\" \"quad.ply\"\n")
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(normal_of(&scene).z < -0.99);
+    // An emitting one turned over shines from its turned faces' fronts: turned once, as a
+    // trianglemesh's, not a second time by the emitting side.
+    let scene = read(
+        "AreaLightSource \"diffuse\"\nReverseOrientation\n\
+         Shape \"plymesh\" \"string filename\" \"quad.ply\"\n",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(normal_of(&scene).z < -0.99);
+    let emitting = &scene.world.objects[0].material;
+    assert_eq!(emitting.emission_side, EmissionSide::Front);
+    assert_eq!(emitting.emission, Color::WHITE);
     let e = read("Shape \"plymesh\" \"string filename\" \"broken.ply\"\n").unwrap_err();
     assert!(e.path.ends_with("broken.ply"), "{e}");
     assert!(e.message.contains("s.pbrt:3:"), "{e}");
@@ -1285,4 +1296,132 @@ fn a_metals_index_and_a_layers_slab_may_be_textured() {
         quad(1.0, "")
     ));
     assert!(e.message.contains("not both"), "{e}");
+}
+
+/// An area light's `power` as pbrt-v4 gives it: each triangle of a mesh is a light of its own
+/// emitting `power` (`DiffuseAreaLight::Create`: radiance × power / (sides · π · area), the
+/// triangle's area in the world), so triangles of unequal areas shine unequally; a sphere's,
+/// disk's or cylinder's area is taken in its own space, as pbrt-v4's `Area()` takes it. The
+/// fixture's lamp, seen straight on, shows the radiances exactly.
+#[test]
+fn an_area_lights_power_is_each_triangles_as_in_pbrt() {
+    let scene =
+        rayforge_scene::load_file(&fixture("area-power.pbrt")).unwrap_or_else(|e| panic!("{e}"));
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let colour = Color::new(1.0, 0.5, 0.25);
+    let mut emissions: Vec<Color> = scene
+        .world
+        .objects
+        .iter()
+        .map(|o| o.material.emission)
+        .collect();
+    emissions.sort_by(|a, b| a.red.total_cmp(&b.red));
+    assert_eq!(emissions.len(), 2, "one piece for each size of triangle");
+    let near = |a: Color, b: Color| (a.red - b.red).abs() + (a.blue - b.blue).abs() < 1e-12;
+    assert!(near(emissions[0], colour * 0.5), "{:?}", emissions[0]);
+    assert!(near(emissions[1], colour), "{:?}", emissions[1]);
+    // Rendered: pixels wholly inside each triangle (x, y of their corners in the world, the
+    // image's x along world +x, as pbrt's camera looks down +z with +y up).
+    let img = support::render(&scene, 32, 32, 4).resolve();
+    let inside = |x: f64, y: f64| {
+        let small = x >= -1.0 && y >= -1.0 && x + y <= -1.0;
+        let large = x <= 1.0 && y >= -1.0 && y <= 2.0 * x - 1.0;
+        (small, large)
+    };
+    let (mut small, mut large) = (Vec::new(), Vec::new());
+    for py in 0..32 {
+        for px in 0..32 {
+            let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)].map(|(dx, dy)| {
+                inside(
+                    -1.0 + (px as f64 + dx) / 16.0,
+                    1.0 - (py as f64 + dy) / 16.0,
+                )
+            });
+            if corners.iter().all(|c| c.0) {
+                small.push(img.pixel_at(px, py));
+            }
+            if corners.iter().all(|c| c.1) {
+                large.push(img.pixel_at(px, py));
+            }
+        }
+    }
+    assert!(
+        small.len() > 50 && large.len() > 100,
+        "{} {}",
+        small.len(),
+        large.len()
+    );
+    for (pixels, radiance) in [(&small, colour), (&large, colour * 0.5)] {
+        for p in pixels.iter() {
+            assert!(
+                (p.red - radiance.red).abs() < 1e-6 && (p.blue - radiance.blue).abs() < 1e-6,
+                "{p:?} is not {radiance:?}"
+            );
+        }
+    }
+    // Quadrics: the area in the shape's own space (a sphere of radius 1 scaled by 2 counts
+    // 4π), two-sided lights halving it per side.
+    let pi = std::f64::consts::PI;
+    let scene = load(&format!(
+        "{HEAD}AttributeBegin\nScale 2 2 2\nAreaLightSource \"diffuse\" \"float power\" {}\n\
+         Shape \"sphere\"\nAttributeEnd\n\
+         AttributeBegin\nAreaLightSource \"diffuse\" \"float power\" {} \"bool twosided\" true\n\
+         Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  3 0 0  0 2 0  0 0 0  0 2 0  -3 0 0 ] \
+         \"integer indices\" [ 0 1 2  3 4 5 ]\nAttributeEnd\n",
+        4.0 * pi * pi,
+        2.0 * pi * 3.0,
+    ));
+    let objects = &scene.world.objects;
+    assert!((objects[0].material.emission.green - 1.0).abs() < 1e-12);
+    // Two triangles of one size: one piece, radiance power / (2 π 3).
+    assert_eq!(objects.len(), 2);
+    assert!((objects[1].material.emission.green - 1.0).abs() < 1e-12);
+    assert_eq!(objects[1].material.emission_side, EmissionSide::Both);
+}
+
+/// Samples per pixel as pbrt-v4's samplers count them, and where the file gives them and
+/// `maxdepth` (in an included file too): the command line holds them to its renderer's limits
+/// and errors point there.
+#[test]
+fn samplers_count_samples_as_pbrt_does_and_say_where() {
+    let count = |sampler: &str| load(&format!("{sampler}\nWorldBegin\n"));
+    let scene = count("");
+    assert_eq!((scene.samples, scene.samples_at.is_none()), (16, true));
+    assert_eq!(count("Sampler \"zsobol\"").samples, 16);
+    assert_eq!(count("Sampler \"pmj02bn\"").samples, 16);
+    let independent = count("Sampler \"independent\" \"integer seed\" 77");
+    assert_eq!(independent.samples, 4);
+    assert_eq!(independent.path.unwrap().seed, 77);
+    let scene = count("Sampler \"stratified\" \"integer xsamples\" 3 \"integer ysamples\" 5");
+    assert_eq!(scene.samples, 15);
+    assert_eq!(count("Sampler \"stratified\"").samples, 16);
+    let scene = count("Option \"seed\" 5\nSampler \"sobol\" \"integer pixelsamples\" 1");
+    assert_eq!(scene.samples, 1);
+    assert_eq!(scene.path.unwrap().seed, 5);
+    let at = scene.samples_at.expect("written");
+    assert!(at.file.ends_with("s.pbrt"));
+    assert_eq!((at.span.line, at.span.column), (2, 17));
+    assert_eq!(at.key, "integer pixelsamples");
+    let e = error("Sampler \"lowdiscrepancy\"\nWorldBegin\n");
+    assert_at(&e, 1, 1, "Sampler", "not one pbrt-v4 has");
+    let e = error("Sampler \"halton\" \"integer pixelsamples\" 0\nWorldBegin\n");
+    assert_at(&e, 1, 18, "integer pixelsamples", "from 1");
+    // maxdepth, from an included file: the place is in that file.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("settings.pbrt"),
+        "\nIntegrator \"volpath\" \"integer maxdepth\" 65\n",
+    )
+    .unwrap();
+    let main = dir.path().join("main.pbrt");
+    std::fs::write(&main, "Include \"settings.pbrt\"\nWorldBegin\n").unwrap();
+    let scene = rayforge_scene::load_file(&main).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.max_depth, Some(65));
+    let at = scene.max_depth_at.expect("written");
+    assert!(at.file.ends_with("settings.pbrt"), "{}", at.file.display());
+    assert_eq!(
+        (at.span.line, at.span.column, at.key.as_str()),
+        (2, 22, "integer maxdepth")
+    );
+    assert!(count("").max_depth_at.is_none());
 }

@@ -3,6 +3,7 @@
 //! each `ObjectInstance`, sharing their meshes), its lights and sky, the camera and the path
 //! tracer's options.
 
+use super::area_power;
 use super::camera;
 use super::input::Files;
 use super::lights::{self, Lit};
@@ -18,10 +19,11 @@ use glam::DMat4;
 use rayforge::draw2d::Overlay;
 use rayforge::shading::texture_graph::{FloatInput, SurfaceTextures};
 use rayforge::shading::EmissionSide;
-use rayforge::{Color, Material, Object, Transform, World};
+use rayforge::{Color, Material, Object, Shape, Transform, World};
 use std::collections::HashMap;
 use std::path::Path;
 use std::rc::Rc;
+use std::sync::Arc;
 
 /// The materials built so far, each once.
 struct MaterialCache<'d> {
@@ -259,18 +261,20 @@ pub fn scene(
     let Setup {
         camera,
         samples,
+        samples_at,
         path,
         max_depth,
+        max_depth_at,
     } = setup;
     Ok(Scene {
         overlay: Overlay::new(Vec::new(), camera.hsize(), camera.vsize()),
         world,
         camera,
         samples,
-        samples_at: None,
+        samples_at,
         anti_alias: None,
         max_depth: Some(max_depth),
-        max_depth_at: None,
+        max_depth_at,
         raster: None,
         path: Some(path),
         warnings,
@@ -328,35 +332,77 @@ fn place(
         }
     }
     let world_from_object = *parent * shape.world_from_object;
-    if let Some(area_light) = &shape.area_light {
-        if lit {
-            // The area in the world: the transform's mean stretch squared.
-            let stretch = world_from_object.determinant().abs().cbrt();
-            let (radiance, two_sided) = lights::emission(area_light, area * stretch * stretch)?;
-            material.emission = radiance;
-            material.emission_side = match (two_sided, shape.reverse, entity.name.as_str()) {
-                (true, _, _) => EmissionSide::Both,
-                // A mesh's faces were turned over already.
-                (false, true, name) if name != "trianglemesh" => EmissionSide::Back,
-                _ => EmissionSide::Front,
-            };
-        } else if !noted.instanced_light {
+    let transform = Transform::try_new(world_from_object)
+        .map_err(|_| entity.error("the shape is placed by a singular transform"))?;
+    let place = |object: Object, material: Material| {
+        object
+            .with_material(material)
+            .placed_by(&transform)
+            .map_err(|_| entity.error("the shape is placed by a singular transform"))
+    };
+    let Some(area_light) = shape.area_light.as_ref().filter(|_| lit) else {
+        if shape.area_light.is_some() && !noted.instanced_light {
             noted.instanced_light = true;
             warnings.push(
                 entity.error("area lights in object instances give no light (as in pbrt-v4)"),
             );
         }
-    }
-    let transform = Transform::try_new(world_from_object)
-        .map_err(|_| entity.error("the shape is placed by a singular transform"))?;
-    objects
-        .into_iter()
-        .map(|o| {
-            o.with_material(material.clone())
-                .placed_by(&transform)
-                .map_err(|_| entity.error("the shape is placed by a singular transform"))
+        return objects
+            .into_iter()
+            .map(|o| place(o, material.clone()))
+            .collect();
+    };
+    let side = |two_sided: bool| match (two_sided, shape.reverse, entity.name.as_str()) {
+        (true, _, _) => EmissionSide::Both,
+        // A mesh's faces were turned over already.
+        (false, true, name) if name != "trianglemesh" && name != "plymesh" => EmissionSide::Back,
+        _ => EmissionSide::Front,
+    };
+    let emitting = |area: f64| -> Result<Material, SceneError> {
+        let (radiance, two_sided) = lights::emission(area_light, area)?;
+        Ok(Material {
+            emission: radiance,
+            emission_side: side(two_sided),
+            ..material.clone()
         })
-        .collect()
+    };
+    let mut placed = Vec::with_capacity(objects.len());
+    for object in objects {
+        match &object.shape {
+            // `power` per triangle, as pbrt-v4 gives it (see `area_power`).
+            Shape::Mesh(mesh) if area_power::has_power(area_light)? => {
+                let world_from_mesh = world_from_object * object.transform.matrix();
+                let cut = area_power::pieces(mesh, &world_from_mesh)
+                    .map_err(|e| entity.error(e.to_string()))?;
+                if let Some(spread) = cut.spread {
+                    warnings.push(entity.error(format!(
+                        "the area light's power is each triangle's, as in pbrt-v4, and this \
+                         mesh's triangles have more than {} sizes: triangles whose areas \
+                         differ by up to {:.2} % share one radiance (each band of sizes keeps \
+                         its power)",
+                        area_power::MAX_RADIANCES,
+                        (spread - 1.0) * 100.0
+                    )));
+                }
+                for (piece, area) in cut.pieces {
+                    let mut lit = emitting(area)?;
+                    if area <= 0.0 {
+                        // Degenerate faces: no ray meets them, no light leaves them.
+                        lit.emission = Color::BLACK;
+                    }
+                    let piece = Object::mesh(Arc::new(piece)).with_transform_of(object.transform);
+                    placed.push(place(piece, lit)?);
+                }
+            }
+            // pbrt-v4's spheres, disks and cylinders give their area in their own space
+            // (`Sphere::Area` and the rest ignore the transform), and so does `power` here.
+            _ => {
+                let lit = emitting(area)?;
+                placed.push(place(object, lit)?);
+            }
+        }
+    }
+    Ok(placed)
 }
 
 /// The path pbrt's `Film` names as the image, checked to be a plain file name (it comes from

@@ -9,8 +9,10 @@
 //! nothing is mirrored. `fov` spans the image's shorter side, as pbrt-v4 says; rayforge's
 //! field of view spans the longer, and is worked out from it.
 
+use super::params::Param;
 use super::reader::{Entity, Options};
 use crate::error::SceneError;
+use crate::scene::Written;
 use glam::{DMat4, DVec4};
 use rayforge::film::PixelFilter;
 use rayforge::options::{LightSamplerKind, PathOptions, SamplerKind};
@@ -23,12 +25,16 @@ pub const MAX_RESOLUTION: u64 = 1 << 16;
 pub struct Setup {
     /// The camera, at the film's resolution.
     pub camera: Camera,
-    /// Samples per pixel (`pixelsamples`).
+    /// Samples per pixel (`pixelsamples`, or pbrt-v4's default for the sampler).
     pub samples: u32,
+    /// Where the file gives the samples, when it does.
+    pub samples_at: Option<Written>,
     /// The path tracer's options (`maxdepth`, sampler, filter, seed, light sampler).
     pub path: PathOptions,
     /// The most bounces (`maxdepth`).
     pub max_depth: u32,
+    /// Where the file gives `maxdepth`, when it does.
+    pub max_depth_at: Option<Written>,
 }
 
 /// From pbrt's camera space to the book's: x and z negated.
@@ -86,9 +92,13 @@ pub fn setup(options: &Options, warnings: &mut Vec<SceneError>) -> Result<Setup,
     }
     let (width, height) = resolution(film)?;
     let camera = camera(options.camera.as_ref(), width, height)?;
-    let (samples, mut path) = sampler(options.sampler.as_ref())?;
+    let sampling = sampler(options.sampler.as_ref(), warnings)?;
+    let mut path = PathOptions {
+        sampler: sampling.kind,
+        ..PathOptions::default()
+    };
     path.filter = filter(options.filter.as_ref(), warnings)?;
-    let max_depth = integrator(options.integrator.as_ref(), &mut path, warnings)?;
+    let (max_depth, max_depth_at) = integrator(options.integrator.as_ref(), &mut path, warnings)?;
     for (name, value, loc) in &options.options {
         match name.as_str() {
             "seed" => {
@@ -108,11 +118,16 @@ pub fn setup(options: &Options, warnings: &mut Vec<SceneError>) -> Result<Setup,
             )),
         }
     }
+    if let Some(seed) = sampling.seed {
+        path.seed = seed;
+    }
     Ok(Setup {
         camera,
-        samples,
+        samples: sampling.samples,
+        samples_at: sampling.samples_at,
         path,
         max_depth,
+        max_depth_at,
     })
 }
 
@@ -178,26 +193,91 @@ fn camera(
     Ok(built.with_transform_of(view))
 }
 
-/// `pixelsamples` (pbrt's default 16) and the sampler's kind.
-fn sampler(sampler: Option<&Entity>) -> Result<(u32, PathOptions), SceneError> {
-    let mut path = PathOptions::default();
-    let Some(sampler) = sampler else {
-        return Ok((16, path));
-    };
-    if sampler.name == "independent" {
-        path.sampler = SamplerKind::Independent;
+/// What the `Sampler` says: samples per pixel and where the file gives them, the sampler's
+/// kind, and its own `seed` (which wins over `Option "seed"`, as in pbrt-v4).
+struct Sampling {
+    samples: u32,
+    samples_at: Option<Written>,
+    kind: SamplerKind,
+    seed: Option<u64>,
+}
+
+/// The place of parameter `p`, for an error the command line may raise at it later.
+fn written(p: &Param) -> Written {
+    Written {
+        file: p.loc.file.to_path_buf(),
+        span: p.loc.span,
+        key: p.declaration(),
     }
-    let samples = match sampler.params.integer("pixelsamples")? {
-        None => 16,
-        Some((n, p)) => {
-            let max = crate::items::camera::MAX_PATH_SAMPLES;
-            if n < 1 || n > i64::from(max) {
-                return Err(p.error(format!("pixelsamples is from 1 to {max}, found {n}")));
+}
+
+/// The samples per pixel as pbrt-v4's samplers take them (`samplers.cpp`, each sampler's
+/// `Create`): `pixelsamples`, whose default is 16 (`halton`, `sobol`, `zsobol`, the default
+/// sampler, `paddedsobol`, `pmj02bn`) or 4 (`independent`); `stratified` takes
+/// `xsamples` × `ysamples` (4 × 4). The independent sampler is rayforge's independent one,
+/// the others its Owen-scrambled Sobol points: the same expectation, another sequence.
+fn sampler(
+    sampler: Option<&Entity>,
+    warnings: &mut Vec<SceneError>,
+) -> Result<Sampling, SceneError> {
+    let max = crate::items::camera::MAX_PATH_SAMPLES;
+    let mut sampling = Sampling {
+        samples: 16,
+        samples_at: None,
+        kind: SamplerKind::Sobol,
+        seed: None,
+    };
+    let Some(sampler) = sampler else {
+        return Ok(sampling);
+    };
+    let params = &sampler.params;
+    let count = |name: &str, default: i64| -> Result<(i64, Option<&Param>), SceneError> {
+        match params.integer(name)? {
+            None => Ok((default, None)),
+            Some((n, p)) if n < 1 || n > i64::from(max) => {
+                Err(p.error(format!("{name} is from 1 to {max}, found {n}")))
             }
-            n as u32
+            Some((n, p)) => Ok((n, Some(p))),
         }
     };
-    Ok((samples, path))
+    let (samples, at) = match sampler.name.as_str() {
+        "independent" => {
+            sampling.kind = SamplerKind::Independent;
+            count("pixelsamples", 4)?
+        }
+        "halton" | "sobol" | "zsobol" | "paddedsobol" | "pmj02bn" => count("pixelsamples", 16)?,
+        "stratified" => {
+            let (x, x_at) = count("xsamples", 4)?;
+            let (y, y_at) = count("ysamples", 4)?;
+            if !params.bool_or("jitter", true)? {
+                warnings.push(sampler.error(
+                    "an unjittered stratified sampler is rendered with jittered points (the \
+                     same strata, each sample anywhere in its own)",
+                ));
+            }
+            let n = x * y;
+            if n > i64::from(max) {
+                return Err(sampler.error(format!(
+                    "xsamples × ysamples is {n} samples per pixel, more than {max}"
+                )));
+            }
+            (n, y_at.or(x_at))
+        }
+        other => {
+            return Err(sampler.error(format!(
+                "the sampler \"{}\" is not one pbrt-v4 has (halton, independent, paddedsobol, \
+                 pmj02bn, sobol, stratified, zsobol)",
+                crate::error::clip_to(other, 60)
+            )))
+        }
+    };
+    if let Some((seed, _)) = params.integer("seed")? {
+        // pbrt-v4 takes the seed as an int; any whole number seeds rayforge's sampler.
+        sampling.seed = Some(seed as u64);
+    }
+    sampling.samples = samples as u32;
+    sampling.samples_at = at.map(written);
+    Ok(sampling)
 }
 
 /// The pixel filter: box, triangle (a tent), gaussian; others as a Gaussian, with a warning.
@@ -250,16 +330,17 @@ fn filter(
     built.checked().map_err(|e| filter.error(format!("{e}")))
 }
 
-/// `maxdepth` (pbrt's default 5), the light sampler, and the integrator's kind.
+/// `maxdepth` (pbrt's default 5) and where the file gives it, the light sampler, and the
+/// integrator's kind.
 fn integrator(
     integrator: Option<&Entity>,
     path: &mut PathOptions,
     warnings: &mut Vec<SceneError>,
-) -> Result<u32, SceneError> {
+) -> Result<(u32, Option<Written>), SceneError> {
     path.light_sampler = LightSamplerKind::Bvh;
     let Some(integrator) = integrator else {
         path.max_depth = 5;
-        return Ok(5);
+        return Ok((5, None));
     };
     let params = &integrator.params;
     match integrator.name.as_str() {
@@ -269,14 +350,14 @@ fn integrator(
             crate::error::clip_to(other, 60)
         ))),
     }
-    let depth = match params.integer("maxdepth")? {
-        None => 5,
+    let (depth, depth_at) = match params.integer("maxdepth")? {
+        None => (5, None),
         Some((d, p)) => {
             let max = i64::from(PathOptions::MAX_DEPTH);
             if d < 0 || d > max {
                 return Err(p.error(format!("maxdepth is from 0 to {max}, found {d}")));
             }
-            d as u32
+            (d as u32, Some(written(p)))
         }
     };
     if let Some((sampler, p)) = params.string("lightsampler")? {
@@ -293,5 +374,5 @@ fn integrator(
         };
     }
     path.max_depth = depth;
-    Ok(depth)
+    Ok((depth, depth_at))
 }

@@ -18,6 +18,7 @@
 //! [`PbrtLimits::values`] as they are lexed, the meshes' triangles within
 //! [`LoadOptions::max_triangles`] (the defaults: [`PbrtLimits::DEFAULT`]).
 
+mod area_power;
 mod build;
 mod camera;
 mod input;
