@@ -1,5 +1,5 @@
-//! What is fuzzed: the scene reader, the OBJ/MTL reader, the glTF reader, the PLY reader
-//! ([`ply`]) and the image-texture decoder (8-bit and HDR), each followed by a tiny render of what it produced,
+//! What is fuzzed: the scene reader, the pbrt-v4 reader ([`pbrt`]), the OBJ/MTL reader, the
+//! glTF reader, the PLY reader ([`ply`]) and the image-texture decoder (8-bit and HDR), each followed by a tiny render of what it produced,
 //! so that values the readers let through are also fed to the renderer; and the command's own
 //! readers of outside bytes (`rayforge_cli::untrusted`): part files through the whole merge,
 //! and what a browser sends the live page's server.
@@ -18,6 +18,7 @@ use rayforge_scene::{load_file_with, load_str_with, texture_from_bytes, LoadOpti
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+pub mod pbrt;
 pub mod ply;
 
 /// The mesh size limit while fuzzing: low, so that inputs that multiply faces stay quick.
@@ -27,6 +28,12 @@ const FUZZ_MAX_TRIANGLES: usize = 200_000;
 /// models and images they name resolve to real files).
 pub fn repo_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The pbrt-v4 reader on a scene's files (the top-level one, those it includes, gzip, PLY),
+/// and what it built, rendered: see [`pbrt::run`].
+pub fn pbrt(input: &[u8]) -> bool {
+    pbrt::run(input)
 }
 
 /// The PLY reader (text, binary, gzip) and the mesh it builds, rendered: see [`ply::run`].

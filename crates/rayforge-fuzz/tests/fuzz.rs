@@ -37,6 +37,7 @@ fuzz_target!(scene);
 fuzz_target!(obj);
 fuzz_target!(gltf);
 fuzz_target!(ply);
+fuzz_target!(pbrt);
 fuzz_target!(image);
 fuzz_target!(part);
 fuzz_target!(page);
@@ -88,6 +89,13 @@ fn the_seeds_are_accepted_where_they_should_be() {
     for model in &models {
         assert!(rayforge_fuzz::targets::ply(model));
     }
+    // broken.pbrt, includes.pbrt, room.pbrt, then the four read as words (the last
+    // includes itself past the depth).
+    let scenes: Vec<bool> = corpus::seeds("pbrt")
+        .iter()
+        .map(|s| rayforge_fuzz::targets::pbrt(s))
+        .collect();
+    assert_eq!(scenes, [false, true, true, true, true, true, false]);
     assert!(parts.len() >= 5, "{} part seeds", parts.len());
     for part in &parts {
         assert!(rayforge_fuzz::targets::part(part));
