@@ -35,7 +35,7 @@ fn main() {
     let started = std::time::Instant::now();
     let mut stats = None;
     for _ in 0..frames {
-        match rasterizer.render(&camera, &world, &options) {
+        match rasterizer.render(&camera, &world, &options, None) {
             Ok((_, counts)) => stats = Some(counts),
             Err(e) => {
                 eprintln!("{e}");

@@ -74,7 +74,11 @@ pub fn run(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
                 for _ in 0..FRAMES {
                     bench
                         .pool
-                        .install(|| rasterizer.render(&camera, &world, &options).map(|_| ()))
+                        .install(|| {
+                            rasterizer
+                                .render(&camera, &world, &options, None)
+                                .map(|_| ())
+                        })
                         .map_err(|e| Failure::internal(e.to_string()))?;
                 }
                 ours = ours.min(started.elapsed().as_secs_f64() * 1e3 / f64::from(FRAMES));
@@ -214,7 +218,7 @@ fn orbit(bench: &Bench, report: &mut Report) -> Result<(), Failure> {
             .pool
             .install(|| {
                 rasterizer
-                    .render(&view, &scene.world, &options)
+                    .render(&view, &scene.world, &options, None)
                     .map(|(image, _)| image.to_rgb8().len())
             })
             .map_err(|e| Failure::internal(e.to_string()))?;

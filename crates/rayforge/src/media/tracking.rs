@@ -422,7 +422,7 @@ mod tests {
         }
         let exact = [(-tau.red).exp(), (-tau.green).exp(), (-tau.blue).exp()];
         let mut rng = SplitMix64::new(5);
-        for c in 0..3 {
+        for (c, &expected) in exact.iter().enumerate() {
             let (m, se) = mean(60_000, || {
                 let hero = (rng.next_u64() % 3) as usize;
                 let mut through = Transmitted::CLEAR;
@@ -430,9 +430,8 @@ mod tests {
                 channel(through.t_ray, c) / average(through.r_l)
             });
             assert!(
-                (m - exact[c]).abs() < 4.0 * se,
-                "channel {c}: {m} ± {se} against {}",
-                exact[c]
+                (m - expected).abs() < 4.0 * se,
+                "channel {c}: {m} ± {se} against {expected}"
             );
         }
     }
