@@ -1,9 +1,12 @@
 //! What `rayforge render` writes and saves, under hostile scenes, forged checkpoints, two
 //! renders racing for one output, failing writes and scarce memory (issue 21, findings 6 to 8;
 //! docs/reliability.md describes each behaviour).
+#[path = "support/pfm.rs"]
+mod pfm;
 #[path = "support/scratch.rs"]
 mod scratch;
 
+use pfm::pfm_floats;
 use scratch::{render, stderr, Dir};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -91,17 +94,6 @@ fn lock_of(output: &Path) -> PathBuf {
 
 fn size(p: &Path) -> u64 {
     std::fs::metadata(p).map_or(0, |m| m.len())
-}
-
-/// The 32-bit floats of a PFM file.
-fn pfm_floats(path: &Path) -> Vec<f32> {
-    let bytes = std::fs::read(path).unwrap();
-    let header = b"-1.0\n";
-    let at = bytes.windows(5).position(|w| w == header).unwrap() + 5;
-    bytes[at..]
-        .chunks(4)
-        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
-        .collect()
 }
 
 /// Every float channel of an OpenEXR file.

@@ -1,7 +1,10 @@
 //! `rayforge render --renderer path`: the path tracer from the command line: its flags, its
 //! outputs (linear PFM, the albedo and normal images), determinism across threads and seeds,
 //! and refusals of flags that belong to other renderers.
+#[path = "support/pfm.rs"]
+mod pfm;
 
+use pfm::pfm_floats;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -36,24 +39,6 @@ fn temp() -> tempfile::TempDir {
 
 fn out(dir: &tempfile::TempDir, name: &str) -> PathBuf {
     dir.path().join(name)
-}
-
-/// The PFM's floats after its header.
-fn pfm_floats(path: &Path) -> Vec<f32> {
-    let bytes = std::fs::read(path).unwrap();
-    let mut lines = 0;
-    let start = bytes
-        .iter()
-        .position(|&b| {
-            lines += usize::from(b == b'\n');
-            lines == 3
-        })
-        .unwrap()
-        + 1;
-    bytes[start..]
-        .chunks_exact(4)
-        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect()
 }
 
 const SMALL: &[&str] = &["--width", "12", "--height", "12", "--spp", "8"];

@@ -1,7 +1,10 @@
 //! `rayforge render scene.pbrt`: the file's sample count and depth followed as pbrt-v4 follows
 //! them (`pixelsamples 1` is one sample, `--spp` replaces it), and held to the limits of the
 //! renderer the command line picks, the error at the file's own place for them.
+#[path = "support/pfm.rs"]
+mod pfm;
 
+use pfm::pfm_floats;
 use std::path::Path;
 use std::process::Command;
 
@@ -17,24 +20,6 @@ fn render(scene: &Path, args: &[&str]) -> (bool, String) {
         output.status.success(),
         String::from_utf8_lossy(&output.stderr).into_owned(),
     )
-}
-
-/// The PFM's floats after its header.
-fn pfm_floats(path: &Path) -> Vec<f32> {
-    let bytes = std::fs::read(path).unwrap();
-    let mut lines = 0;
-    let start = bytes
-        .iter()
-        .position(|&b| {
-            lines += usize::from(b == b'\n');
-            lines == 3
-        })
-        .unwrap()
-        + 1;
-    bytes[start..]
-        .chunks_exact(4)
-        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect()
 }
 
 /// A ball under a white sky, seen by a camera of 6 × 4 pixels, after the options `head`.

@@ -1,39 +1,13 @@
 //! The media keys: `medium:` items (homogeneous and grid, coefficients or albedo and density,
 //! inline data or a `.vol` file), `interior:`/`exterior:` and `material: interface` on objects
 //! and groups, `medium:` on the camera and in `world:`, and their errors, each located.
+mod support;
+
 use rayforge::media::{Medium, MediumId, MediumInterface};
 use rayforge::Color;
-use rayforge_scene::{load_str, Scene, SceneError};
+use rayforge_scene::load_str;
 use std::path::Path;
-
-/// Seven lines: what the tests add begins on line 8.
-const CAMERA: &str = "- add: camera
-  width: 10
-  height: 10
-  field-of-view: 1
-  from: [0, 0, -5]
-  to: [0, 0, 0]
-  up: [0, 1, 0]
-";
-
-fn load(body: &str) -> Result<Scene, SceneError> {
-    load_str(&format!("{CAMERA}{body}"), Path::new("scene.yml"))
-}
-
-#[track_caller]
-fn assert_error(
-    result: Result<Scene, SceneError>,
-    line: usize,
-    column: usize,
-    key: &str,
-    words: &str,
-) {
-    let e = result.expect_err("the scene must be rejected");
-    let span = e.span.unwrap_or_else(|| panic!("no position in: {e}"));
-    assert_eq!((span.line, span.column), (line, column), "{e}");
-    assert_eq!(e.key.as_deref(), Some(key), "{e}");
-    assert!(e.message.contains(words), "{e}");
-}
+use support::{assert_located, load_after_camera, CAMERA};
 
 const FOG: &str = "- medium: fog
   sigma-a: 0.1
@@ -44,7 +18,7 @@ const FOG: &str = "- medium: fog
 
 #[test]
 fn a_homogeneous_medium_is_read_with_its_coefficients() {
-    let scene = load(FOG).expect("loads");
+    let scene = load_after_camera(FOG).expect("loads");
     assert_eq!(scene.world.media.len(), 1);
     let Medium::Homogeneous(m) = scene.world.media.get(MediumId(0)) else {
         panic!("homogeneous")
@@ -56,7 +30,7 @@ fn a_homogeneous_medium_is_read_with_its_coefficients() {
 
 #[test]
 fn albedo_and_density_give_the_coefficients() {
-    let scene = load("- medium: milk\n  albedo: 0.75\n  density: 4\n").expect("loads");
+    let scene = load_after_camera("- medium: milk\n  albedo: 0.75\n  density: 4\n").expect("loads");
     let Medium::Homogeneous(m) = scene.world.media.get(MediumId(0)) else {
         panic!("homogeneous")
     };
@@ -84,7 +58,7 @@ fn objects_and_groups_bound_media_and_the_world_fills_the_rest() {
 - add: plane
 "
     );
-    let scene = load(&body).expect("loads");
+    let scene = load_after_camera(&body).expect("loads");
     let (fog, juice) = (Some(MediumId(0)), Some(MediumId(1)));
     let objects = &scene.world.objects;
     assert_eq!(scene.world.camera_medium, fog);
@@ -137,7 +111,7 @@ fn a_grid_medium_reads_its_data_and_box() {
   transform:
     - [translate, 0, 1, 0]
 ";
-    let scene = load(body).expect("loads");
+    let scene = load_after_camera(body).expect("loads");
     let Medium::Grid(g) = scene.world.media.get(MediumId(0)) else {
         panic!("grid")
     };
@@ -177,66 +151,78 @@ fn a_grid_medium_reads_a_vol_file() {
 
 #[test]
 fn bad_media_are_refused_where_they_are_written() {
-    assert_error(
-        load("- medium: m\n  type: cloud\n"),
+    assert_located(
+        load_after_camera("- medium: m\n  type: cloud\n"),
         9,
         9,
         "type",
         "homogeneous or grid",
     );
-    assert_error(
-        load("- medium: m\n  sigma-a: -1\n"),
+    assert_located(
+        load_after_camera("- medium: m\n  sigma-a: -1\n"),
         9,
         12,
         "sigma-a",
         "at least 0",
     );
-    assert_error(load("- medium: m\n  g: 1\n"), 9, 6, "g", "between");
-    assert_error(
-        load("- medium: m\n  albedo: 0.5\n  sigma-s: 1\n"),
+    assert_located(
+        load_after_camera("- medium: m\n  g: 1\n"),
+        9,
+        6,
+        "g",
+        "between",
+    );
+    assert_located(
+        load_after_camera("- medium: m\n  albedo: 0.5\n  sigma-s: 1\n"),
         10,
         3,
         "sigma-s",
         "not both",
     );
-    assert_error(
-        load("- medium: m\n  albedo: 2\n"),
+    assert_located(
+        load_after_camera("- medium: m\n  albedo: 2\n"),
         9,
         11,
         "albedo",
         "between 0 and 1",
     );
-    assert_error(
-        load("- medium: m\n  size: [1, 1, 1]\n"),
+    assert_located(
+        load_after_camera("- medium: m\n  size: [1, 1, 1]\n"),
         9,
         3,
         "size",
         "type: grid",
     );
-    assert_error(
-        load("- medium: m\n  type: grid\n  size: [2, 2, 2]\n  data: [1, 2]\n"),
+    assert_located(
+        load_after_camera("- medium: m\n  type: grid\n  size: [2, 2, 2]\n  data: [1, 2]\n"),
         11,
         9,
         "data",
         "holds 8 values, found 2",
     );
-    assert_error(
-        load("- medium: m\n  type: grid\n"),
+    assert_located(
+        load_after_camera("- medium: m\n  type: grid\n"),
         8,
         3,
         "data",
         "needs `data:`",
     );
-    assert_error(load("- medium: vacuum\n"), 8, 11, "medium", "empty space");
-    assert_error(
-        load("- add: sphere\n  interior: mist\n"),
+    assert_located(
+        load_after_camera("- medium: vacuum\n"),
+        8,
+        11,
+        "medium",
+        "empty space",
+    );
+    assert_located(
+        load_after_camera("- add: sphere\n  interior: mist\n"),
         9,
         13,
         "interior",
         "no medium is named `mist`",
     );
-    assert_error(
-        load("- world:\n    medium: mist\n"),
+    assert_located(
+        load_after_camera("- world:\n    medium: mist\n"),
         9,
         13,
         "medium",

@@ -1,5 +1,7 @@
 //! The path tracer's keys: `emission` and the physical material `type:` (with `metal`, `eta`,
 //! `k`, `alpha`, `roughness`, `refractive-index`), and `renderer: path` with its `world:` keys.
+mod support;
+
 use rayforge::film::PixelFilter;
 use rayforge::options::{
     LightSamplerKind, MirrorBallBudget, PathOptions, Roulette, SampleAllocation, SamplerKind,
@@ -8,28 +10,14 @@ use rayforge::options::{
 use rayforge::shading::bsdf::{metal, Coat, ConductorBase, Layers, METAL_NAMES};
 use rayforge::shading::Physical;
 use rayforge::{Color, Material};
-use rayforge_scene::{load_str, Scene, SceneError};
-use std::path::Path;
-
-/// Seven lines: what the tests add begins on line 8.
-const CAMERA: &str = "- add: camera
-  width: 10
-  height: 10
-  field-of-view: 1
-  from: [0, 0, -5]
-  to: [0, 0, 0]
-  up: [0, 1, 0]
-";
-
-fn load(body: &str) -> Result<Scene, SceneError> {
-    load_str(&format!("{CAMERA}{body}"), Path::new("scene.yml"))
-}
+use rayforge_scene::{Scene, SceneError};
+use support::{assert_located, load_after_camera};
 
 /// The material of a sphere whose material mapping holds `lines` (each indented by the caller's
 /// four spaces): the first line of the mapping is line 10.
 fn material(lines: &str) -> Result<Material, SceneError> {
     let body = format!("- add: sphere\n  material:\n{}", indent(lines));
-    load(&body).map(|s| s.world.objects[0].material.clone())
+    load_after_camera(&body).map(|s| s.world.objects[0].material.clone())
 }
 
 fn indent(lines: &str) -> String {
@@ -42,28 +30,7 @@ fn physical(lines: &str) -> Option<Physical> {
 
 /// The `world:` item holding `lines`: the first is line 9.
 fn world(lines: &str) -> Result<Scene, SceneError> {
-    load(&format!("- world:\n{}", indent(lines)))
-}
-
-#[track_caller]
-fn assert_error(
-    result: Result<impl std::fmt::Debug, SceneError>,
-    line: usize,
-    column: usize,
-    key: &str,
-    words: &str,
-) -> SceneError {
-    let e = result.expect_err("the scene must be rejected");
-    let span = e.span.unwrap_or_else(|| panic!("no position in: {e}"));
-    assert_eq!((span.line, span.column), (line, column), "{e}");
-    assert_eq!(e.key.as_deref(), Some(key), "{e}");
-    assert!(e.message.contains(words), "{e}");
-    assert!(
-        e.to_string()
-            .starts_with(&format!("scene.yml:{line}:{column}: ")),
-        "{e}"
-    );
-    e
+    load_after_camera(&format!("- world:\n{}", indent(lines)))
 }
 
 // Emission.
@@ -82,29 +49,29 @@ fn emission_is_a_colour_or_one_grey_number_and_black_by_default() {
 
 #[test]
 fn emission_is_not_negative_nor_text() {
-    assert_error(
+    assert_located(
         material("emission: [1, -1, 1]"),
         10,
         15,
         "emission",
         "negative",
     );
-    assert_error(material("emission: -2"), 10, 15, "emission", "negative");
-    assert_error(
+    assert_located(material("emission: -2"), 10, 15, "emission", "negative");
+    assert_located(
         material("emission: bright"),
         10,
         15,
         "emission",
         "or one number",
     );
-    assert_error(
+    assert_located(
         material("emission: [1, 1]"),
         10,
         15,
         "emission",
         "3 numbers",
     );
-    assert_error(material("emission: .inf"), 10, 15, "emission", "finite");
+    assert_located(material("emission: .inf"), 10, 15, "emission", "finite");
 }
 
 // Material types.
@@ -224,7 +191,7 @@ fn dielectrics_and_plastic_take_the_refractive_index_and_a_width() {
 
 #[test]
 fn an_unknown_type_lists_the_types() {
-    let e = assert_error(
+    let e = assert_located(
         material("type: metal"),
         10,
         11,
@@ -236,12 +203,12 @@ fn an_unknown_type_lists_the_types() {
             .contains("diffuse, conductor, dielectric, thin-dielectric, plastic, mirror"),
         "{e}"
     );
-    assert_error(material("type: [1]"), 10, 11, "type", "expected a name");
+    assert_located(material("type: [1]"), 10, 11, "type", "expected a name");
 }
 
 #[test]
 fn an_unknown_metal_lists_the_metals() {
-    let e = assert_error(
+    let e = assert_located(
         material("type: conductor\nmetal: unobtainium"),
         11,
         12,
@@ -253,35 +220,35 @@ fn an_unknown_metal_lists_the_metals() {
 
 #[test]
 fn keys_of_another_type_are_errors_naming_the_key() {
-    assert_error(
+    assert_located(
         material("type: dielectric\nmetal: gold"),
         11,
         5,
         "metal",
         "does not apply to `type: dielectric`",
     );
-    assert_error(
+    assert_located(
         material("type: plastic\nk: [1, 1, 1]"),
         11,
         5,
         "k",
         "does not apply to `type: plastic`",
     );
-    assert_error(
+    assert_located(
         material("type: thin-dielectric\nalpha: 0.1"),
         11,
         5,
         "alpha",
         "does not apply to `type: thin-dielectric`",
     );
-    assert_error(
+    assert_located(
         material("type: mirror\nroughness: 0.1"),
         11,
         5,
         "roughness",
         "does not apply",
     );
-    assert_error(
+    assert_located(
         material("metal: gold\ntype: diffuse"),
         10,
         5,
@@ -292,28 +259,28 @@ fn keys_of_another_type_are_errors_naming_the_key() {
 
 #[test]
 fn physical_keys_without_a_type_are_errors() {
-    let e = assert_error(material("alpha: 0.1"), 10, 5, "alpha", "add a `type:`");
+    let e = assert_located(material("alpha: 0.1"), 10, 5, "alpha", "add a `type:`");
     assert!(e.message.contains("conductor"), "{e}");
-    assert_error(
+    assert_located(
         material("color: [1, 1, 1]\nmetal: gold"),
         11,
         5,
         "metal",
         "add a `type:`",
     );
-    assert_error(material("eta: [1, 1, 1]"), 10, 5, "eta", "add a `type:`");
+    assert_located(material("eta: [1, 1, 1]"), 10, 5, "eta", "add a `type:`");
 }
 
 #[test]
 fn alpha_and_roughness_together_are_an_error() {
-    assert_error(
+    assert_located(
         material("type: conductor\nalpha: 0.1\nroughness: 0.2"),
         12,
         5,
         "roughness",
         "not both",
     );
-    assert_error(
+    assert_located(
         material("type: dielectric\nroughness: 0.2\nalpha: 0.1"),
         12,
         5,
@@ -324,21 +291,21 @@ fn alpha_and_roughness_together_are_an_error() {
 
 #[test]
 fn alpha_and_roughness_lie_between_zero_and_one() {
-    assert_error(
+    assert_located(
         material("type: conductor\nalpha: 1.5"),
         11,
         12,
         "alpha",
         "between 0",
     );
-    assert_error(
+    assert_located(
         material("type: plastic\nroughness: -0.1"),
         11,
         16,
         "roughness",
         "between 0",
     );
-    assert_error(
+    assert_located(
         material("type: plastic\nalpha: rough"),
         11,
         12,
@@ -358,42 +325,42 @@ fn alpha_and_roughness_lie_between_zero_and_one() {
 
 #[test]
 fn a_conductor_index_is_a_metal_or_eta_and_k_together() {
-    assert_error(
+    assert_located(
         material("type: conductor\neta: [1, 1, 1]"),
         11,
         5,
         "eta",
         "needs `k`",
     );
-    assert_error(
+    assert_located(
         material("type: conductor\nk: [1, 1, 1]"),
         11,
         5,
         "k",
         "needs `eta`",
     );
-    assert_error(
+    assert_located(
         material("type: conductor\nmetal: gold\neta: [1, 1, 1]\nk: [1, 1, 1]"),
         12,
         5,
         "eta",
         "not both",
     );
-    assert_error(
+    assert_located(
         material("type: conductor\neta: [1, 0, 1]\nk: [1, 1, 1]"),
         11,
         10,
         "eta",
         "positive",
     );
-    assert_error(
+    assert_located(
         material("type: conductor\neta: [1, 1, 1]\nk: [1, -1, 1]"),
         12,
         8,
         "k",
         "negative",
     );
-    assert_error(
+    assert_located(
         material("type: conductor\neta: 1\nk: [1, 1, 1]"),
         11,
         10,
@@ -404,21 +371,21 @@ fn a_conductor_index_is_a_metal_or_eta_and_k_together() {
 
 #[test]
 fn a_physical_refractive_index_lies_between_one_and_nine() {
-    assert_error(
+    assert_located(
         material("type: dielectric\nrefractive-index: 0.5"),
         11,
         23,
         "refractive-index",
         "between 1 and 9",
     );
-    assert_error(
+    assert_located(
         material("refractive-index: 10\ntype: thin-dielectric"),
         10,
         23,
         "refractive-index",
         "between 1 and 9",
     );
-    assert_error(
+    assert_located(
         material("type: plastic\nrefractive-index: 0.9"),
         11,
         23,
@@ -453,7 +420,7 @@ const DEFINES: &str = "- define: gold
 ";
 
 fn defined(name: &str) -> Material {
-    load(&format!("{DEFINES}- add: sphere\n  material: {name}\n"))
+    load_after_camera(&format!("{DEFINES}- add: sphere\n  material: {name}\n"))
         .expect("the scene loads")
         .world
         .objects[0]
@@ -501,7 +468,7 @@ fn defined_materials_carry_the_new_keys_and_extend_them() {
 #[test]
 fn an_extension_must_fit_the_type_it_inherits() {
     // `metal` comes from `gold` (line 11), which `shiny-glass` re-types as a dielectric.
-    let e = load(&format!(
+    let e = load_after_camera(&format!(
         "{DEFINES}- define: shiny-glass\n  extend: gold\n  value:\n    type: dielectric\n- add: sphere\n  material: shiny-glass\n"
     ))
     .unwrap_err();
@@ -527,7 +494,7 @@ fn renderer_path_gives_the_path_tracers_defaults() {
     for other in ["renderer: ray", "renderer: raster", "lighting: phong"] {
         assert_eq!(world(other).unwrap().path, None, "{other}");
     }
-    assert_eq!(load("").unwrap().path, None);
+    assert_eq!(load_after_camera("").unwrap().path, None);
 }
 
 #[test]
@@ -622,7 +589,7 @@ fn the_old_name_of_the_allocation_by_noise_is_read_with_a_warning() {
 fn a_path_scene_may_go_deeper_than_a_ray_traced_one() {
     let deep = world("renderer: path\nmax-depth: 1024").unwrap();
     assert_eq!(deep.path.unwrap().max_depth, 1024);
-    assert_error(
+    assert_located(
         world("max-depth: 65"),
         9,
         16,
@@ -644,8 +611,8 @@ fn the_path_tracers_keys_need_renderer_path() {
         "roulette-predictions: false",
     ] {
         let name = key.split(':').next().unwrap();
-        assert_error(world(key), 9, 5, name, "add `renderer: path`");
-        assert_error(
+        assert_located(world(key), 9, 5, name, "add `renderer: path`");
+        assert_located(
             world(&format!("renderer: raster\n{key}")),
             10,
             5,
@@ -654,7 +621,7 @@ fn the_path_tracers_keys_need_renderer_path() {
         );
     }
     // And the rasterizer's keys are not the path tracer's.
-    assert_error(
+    assert_located(
         world("renderer: path\nwireframe: true"),
         10,
         5,
@@ -665,7 +632,7 @@ fn the_path_tracers_keys_need_renderer_path() {
 
 #[test]
 fn an_unknown_renderer_lists_path() {
-    assert_error(
+    assert_located(
         world("renderer: photon"),
         9,
         15,
@@ -677,28 +644,28 @@ fn an_unknown_renderer_lists_path() {
 #[test]
 fn bad_path_tracer_values_are_errors_naming_the_key() {
     let path = |lines: &str| world(&format!("renderer: path\n{lines}"));
-    assert_error(
+    assert_located(
         path("sampler: halton"),
         10,
         14,
         "sampler",
         "sobol or independent",
     );
-    assert_error(
+    assert_located(
         path("filter: mitchell"),
         10,
         13,
         "filter",
         "box, tent or gaussian",
     );
-    assert_error(
+    assert_located(
         path("filter: box\nfilter-radius: 2"),
         11,
         5,
         "filter-radius",
         "box filter has no radius",
     );
-    assert_error(
+    assert_located(
         path("filter-radius: 2"),
         10,
         5,
@@ -706,7 +673,7 @@ fn bad_path_tracer_values_are_errors_naming_the_key() {
         "needs `filter: tent`",
     );
     for radius in ["0", "-1", "8.5"] {
-        assert_error(
+        assert_located(
             path(&format!("filter: tent\nfilter-radius: {radius}")),
             11,
             20,
@@ -714,38 +681,38 @@ fn bad_path_tracer_values_are_errors_naming_the_key() {
             "at most 8",
         );
     }
-    assert_error(path("seed: -1"), 10, 11, "seed", "whole number");
-    assert_error(path("seed: 1.5"), 10, 11, "seed", "whole number");
-    assert_error(path("seed: 1e20"), 10, 11, "seed", "whole number");
-    assert_error(
+    assert_located(path("seed: -1"), 10, 11, "seed", "whole number");
+    assert_located(path("seed: 1.5"), 10, 11, "seed", "whole number");
+    assert_located(path("seed: 1e20"), 10, 11, "seed", "whole number");
+    assert_located(
         path("roulette-depth: 0"),
         10,
         21,
         "roulette-depth",
         "at least 1",
     );
-    assert_error(
+    assert_located(
         path("max-depth: 1025"),
         10,
         16,
         "max-depth",
         "the limit 1024 of the path tracer",
     );
-    assert_error(
+    assert_located(
         path("light-sampler: tree"),
         10,
         20,
         "light-sampler",
         "expected `uniform`, `power`, `bvh` or `auto`, found `tree`",
     );
-    assert_error(
+    assert_located(
         path("roulette-predictions: off"),
         10,
         27,
         "roulette-predictions",
         "expected true or false",
     );
-    assert_error(
+    assert_located(
         path("sample-allocation: even"),
         10,
         24,
@@ -753,7 +720,7 @@ fn bad_path_tracer_values_are_errors_naming_the_key() {
         "expected `uniform` or `by-noise`, found `even`",
     );
     for bad in ["0.2", "65", "-1", "nan", "often", "[1, 2]"] {
-        assert_error(
+        assert_located(
             path(&format!("roulette-scale: {bad}")),
             10,
             21,
@@ -875,14 +842,14 @@ fn bad_technique_keys_are_located() {
         "sphere-cones",
     ] {
         let column = key.len() + 7;
-        assert_error(
+        assert_located(
             path(&format!("{key}: maybe")),
             10,
             column,
             key,
             "expected `on` or `off`, found `maybe`",
         );
-        assert_error(
+        assert_located(
             path(&format!("{key}: 1")),
             10,
             column,
@@ -890,7 +857,7 @@ fn bad_technique_keys_are_located() {
             "expected `on` or `off`, found the number 1",
         );
         // Another renderer's scene is told what the key belongs to.
-        assert_error(
+        assert_located(
             world(&format!("{key}: off")),
             9,
             5,
@@ -898,7 +865,7 @@ fn bad_technique_keys_are_located() {
             "applies to the path tracer",
         );
     }
-    assert_error(
+    assert_located(
         path("mirror-ball-cap: 0"),
         10,
         22,
@@ -906,7 +873,7 @@ fn bad_technique_keys_are_located() {
         "at least 1",
     );
     for bad in ["1", "-0.1", "2"] {
-        assert_error(
+        assert_located(
             path(&format!("mirror-ball-cull: {bad}")),
             10,
             23,
@@ -914,14 +881,14 @@ fn bad_technique_keys_are_located() {
             "from 0 to below 1",
         );
     }
-    assert_error(
+    assert_located(
         path("mirror-ball-cull: many"),
         10,
         23,
         "mirror-ball-cull",
         "number",
     );
-    assert_error(
+    assert_located(
         path("roulette: off\nroulette-scale: 2"),
         11,
         5,
@@ -950,28 +917,28 @@ fn anisotropic_widths_are_read_per_tangent() {
             alpha_v: 0.2 * 0.2
         })
     );
-    assert_error(
+    assert_located(
         material("type: conductor\nalpha-u: 0.1"),
         11,
         5,
         "alpha-u",
         "needs `alpha-u` and `alpha-v`",
     );
-    assert_error(
+    assert_located(
         material("type: conductor\nalpha: 0.1\nalpha-v: 0.2"),
         12,
         5,
         "alpha-v",
         "not both",
     );
-    assert_error(
+    assert_located(
         material("type: conductor\nalpha-u: 0.1\nroughness-v: 0.2"),
         12,
         5,
         "roughness-v",
         "one of each kind",
     );
-    assert_error(
+    assert_located(
         material("type: plastic\nalpha-u: 0.1\nalpha-v: 0.1"),
         11,
         5,
@@ -1027,28 +994,28 @@ fn coated_materials_take_the_layers_with_pbrt_defaults() {
             layers: Layers::PBRT_DEFAULT
         })
     );
-    assert_error(
+    assert_located(
         material("type: coated-diffuse\nthickness: 0"),
         11,
         16,
         "thickness",
         "above 0",
     );
-    assert_error(
+    assert_located(
         material("type: coated-diffuse\nmedium-g: 1"),
         11,
         15,
         "medium-g",
         "between -1 and 1",
     );
-    assert_error(
+    assert_located(
         material("type: coated-diffuse\nwalk-depth: 1000"),
         11,
         17,
         "walk-depth",
         "at most",
     );
-    assert_error(
+    assert_located(
         material("type: coated-diffuse\nbase-alpha: 0.1"),
         11,
         5,
@@ -1073,14 +1040,14 @@ fn diffuse_transmission_takes_two_shares() {
             transmittance: Color::new(0.1, 0.2, 0.3)
         })
     );
-    assert_error(
+    assert_located(
         material("type: diffuse-transmission\ntransmittance: 1.5"),
         11,
         20,
         "transmittance",
         "from 0 to 1",
     );
-    assert_error(
+    assert_located(
         material("type: conductor\nreflectance: 0.5"),
         11,
         5,

@@ -2,6 +2,9 @@
 //! room, white and grey furnaces. Each test renders a few pixels at a fixed seed and fails
 //! when any pixel leaves the interval the issue states.
 
+mod path_support;
+
+use path_support::render_counted;
 use rayforge::film::{Film, SharedFilm};
 use rayforge::math::{scaling, view_transform};
 use rayforge::options::{PathOptions, Roulette, SamplerKind};
@@ -21,24 +24,6 @@ fn render(world: &World, camera: &Camera, spp: u64, sampler: SamplerKind) -> Fil
 /// Renders `world` through `camera` at `spp` samples per pixel with `options`.
 fn render_with(world: &World, camera: &Camera, spp: u64, options: PathOptions) -> Film {
     render_counted(world, camera, spp, options).0
-}
-
-/// [`render_with`], and the rays it cast.
-fn render_counted(world: &World, camera: &Camera, spp: u64, options: PathOptions) -> (Film, u64) {
-    let job = PathJob {
-        options,
-        samples: 0..spp,
-        plan: None,
-        progress: None,
-        cancel: None,
-        on_row: None,
-        roulette: None,
-    };
-    let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
-    let mut done = vec![false; camera.vsize()];
-    let stats = render_path(camera, world, &job, &film, None, &mut done).unwrap();
-    assert!(done.iter().all(|&d| d));
-    (film.into_film(), stats.rays)
 }
 
 fn diffuse(albedo: f64) -> Material {
@@ -114,7 +99,8 @@ fn in_a_bright_closed_room_the_learned_roulette_ends_paths_into_the_light_still_
     // The pilot's answer is a function of the scene alone.
     assert_eq!(roulette, learn());
     let error = |options: PathOptions| {
-        let (film, rays) = render_counted(&world, &camera, 32, options);
+        let (film, stats) = render_counted(&world, &camera, 32, options);
+        let rays = stats.rays;
         let p = pixels(&film);
         let mean = p.iter().sum::<f64>() / p.len() as f64;
         let rmse = (p.iter().map(|v| (v - 1.0).powi(2)).sum::<f64>() / p.len() as f64).sqrt();

@@ -5,14 +5,16 @@
 //! medium. Each compares the image's mean per channel with a z-test on the spread of its
 //! pixels (every pixel of these scenes has the same expected value), at a fixed seed.
 
-use rayforge::film::{Film, SharedFilm};
+use path_support::render_counted;
+mod path_support;
+
+use rayforge::film::Film;
 use rayforge::math::{scaling, view_transform, Aabb, Transform};
 use rayforge::media::{
     DensityGrid, GridMedium, HenyeyGreenstein, Homogeneous, Media, Medium, MediumId,
     MediumInterface,
 };
 use rayforge::options::{PathOptions, Roulette, SampleAllocation, SamplerKind};
-use rayforge::render::path::{render_path, PathJob};
 use rayforge::shading::{EnvironmentMap, Light, PointLight};
 use rayforge::{point, vector, Camera, Color, Object, World};
 use std::sync::Arc;
@@ -25,19 +27,7 @@ fn render(world: &World, camera: &Camera, spp: u64, max_depth: u32) -> Film {
         allocation: SampleAllocation::Uniform,
         ..PathOptions::default()
     };
-    let job = PathJob {
-        options,
-        samples: 0..spp,
-        plan: None,
-        progress: None,
-        cancel: None,
-        on_row: None,
-        roulette: None,
-    };
-    let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
-    let mut done = vec![false; camera.vsize()];
-    render_path(camera, world, &job, &film, None, &mut done).unwrap();
-    film.into_film()
+    render_counted(world, camera, spp, options).0
 }
 
 /// Per channel: the mean over the pixels and its standard error.

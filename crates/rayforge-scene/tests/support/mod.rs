@@ -1,12 +1,14 @@
-//! What the scene reader's tests share: a scene path traced into a film, and the first lines
-//! of a path-traced test scene. Each test file uses some of them.
+//! What the scene reader's tests share: a scene path traced into a film, the first lines of a
+//! path-traced test scene, and for the key tests a camera to load items after and the check of
+//! a located error. Each test file uses some of them.
 #![allow(dead_code)]
 
 use rayforge::film::{Film, SharedFilm};
 use rayforge::render::path::{render_path, PathJob, PathStats};
 use rayforge::Camera;
-use rayforge_scene::Scene;
+use rayforge_scene::{load_str, Scene, SceneError};
 use std::ops::Range;
+use std::path::Path;
 
 /// The film of `scene` path traced at `width` × `height` with `spp` samples per pixel, every
 /// sample of it finite: the path tracer leaves a NaN or infinite sample out of its pixel (so
@@ -61,4 +63,42 @@ pub fn path_scene_head(
         "- add: camera\n  width: {width}\n  height: {height}\n  field-of-view: {field_of_view}\n  \
          from: {from:?}\n  to: {to:?}\n  up: [0, 1, 0]\n- world:\n    renderer: path\n"
     )
+}
+
+/// A camera of 10 × 10 pixels in seven lines: what a key test adds after it begins on line 8.
+pub const CAMERA: &str = "- add: camera
+  width: 10
+  height: 10
+  field-of-view: 1
+  from: [0, 0, -5]
+  to: [0, 0, 0]
+  up: [0, 1, 0]
+";
+
+/// `body` loaded as `scene.yml` after [`CAMERA`].
+pub fn load_after_camera(body: &str) -> Result<Scene, SceneError> {
+    load_str(&format!("{CAMERA}{body}"), Path::new("scene.yml"))
+}
+
+/// Checks that `result` is an error at `line`:`column` of `scene.yml` naming `key`, whose
+/// message holds `words`, and gives the error.
+#[track_caller]
+pub fn assert_located(
+    result: Result<impl std::fmt::Debug, SceneError>,
+    line: usize,
+    column: usize,
+    key: &str,
+    words: &str,
+) -> SceneError {
+    let e = result.expect_err("the scene must be rejected");
+    let span = e.span.unwrap_or_else(|| panic!("no position in: {e}"));
+    assert_eq!((span.line, span.column), (line, column), "{e}");
+    assert_eq!(e.key.as_deref(), Some(key), "{e}");
+    assert!(e.message.contains(words), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with(&format!("scene.yml:{line}:{column}: ")),
+        "{e}"
+    );
+    e
 }

@@ -1,0 +1,31 @@
+//! What the path tracer's statistical tests share: a whole render of a world through a camera
+//! into a film, every row of it done. Included by `mod path_support;`.
+
+use rayforge::film::{Film, SharedFilm};
+use rayforge::options::PathOptions;
+use rayforge::render::path::{render_path, PathJob, PathStats};
+use rayforge::{Camera, World};
+
+/// Renders `world` through `camera` at `spp` samples per pixel with `options`: the film and
+/// the render's statistics.
+pub fn render_counted(
+    world: &World,
+    camera: &Camera,
+    spp: u64,
+    options: PathOptions,
+) -> (Film, PathStats) {
+    let job = PathJob {
+        options,
+        samples: 0..spp,
+        plan: None,
+        progress: None,
+        cancel: None,
+        on_row: None,
+        roulette: None,
+    };
+    let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
+    let mut done = vec![false; camera.vsize()];
+    let stats = render_path(camera, world, &job, &film, None, &mut done).unwrap();
+    assert!(done.iter().all(|&d| d), "every row is rendered");
+    (film.into_film(), stats)
+}
