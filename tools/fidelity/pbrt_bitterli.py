@@ -41,6 +41,10 @@ SHARED = next(
 PBRT = "/work/peers/pbrt-v4/build/pbrt"
 
 RES = re.compile(r'"integer\s+([xy])resolution"\s*(\[\s*)?(\d+)(\s*\])?')
+# One parameter with its values: `"type name" [ values ]` or `"type name" value`.
+PARAM = re.compile(r'"\w+\s+(\w+)"\s*(?:\[[^\]]*\]|"[^"]*"|[-+0-9.eE]+)')
+# The parameters pbrt-v4's `path` and `volpath` integrators take.
+KEPT_BY_PATH = {"maxdepth", "regularize", "lightsampler"}
 RGB = re.compile(r'"(rgb|color)\s+([A-Za-z_.]+)"\s*\[\s*([-+0-9.eE]+)\s+([-+0-9.eE]+)\s+([-+0-9.eE]+)\s*\]')
 
 
@@ -81,10 +85,20 @@ def prepared(scene, data, divide, grey, integrator=None):
     width, height = resolution(text)
     w, h = max(1, width // divide), max(1, height // divide)
     out_lines = []
+    in_integrator = False
     for line in text.splitlines():
         code, sep, comment = line.partition("#")
         if code.strip() and integrator:
-            code = re.sub(r'^(\s*)Integrator\s+"[^"]*"', rf'\1Integrator "{integrator}"', code)
+            # The replaced integrator's parameters follow on its line or the next ones; those
+            # the new one does not take (sppm's `radius`, bdpt's visualisations) are dropped,
+            # as pbrt-v4 refuses a parameter its integrator does not use.
+            replaced = re.sub(r'^(\s*)Integrator\s+"[^"]*"', rf'\1Integrator "{integrator}"', code)
+            if replaced != code:
+                in_integrator, code = True, replaced
+            elif not code.lstrip().startswith('"'):
+                in_integrator = False
+            if in_integrator:
+                code = PARAM.sub(lambda m: m.group(0) if m.group(1) in KEPT_BY_PATH else "", code)
         if code.strip():
             code = RES.sub(
                 lambda m: f'"integer {m.group(1)}resolution" [ {w if m.group(1) == "x" else h} ]',
