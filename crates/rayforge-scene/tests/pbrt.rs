@@ -973,10 +973,11 @@ fn an_infinite_light_reads_an_equal_area_image_placed_and_scaled_as_pbrt_says() 
         let want = Color::new(f64::from(a), f64::from(b), f64::from(d)) * 2.0;
         assert_eq!(map.radiance(world), want, "texel ({c}, {r})");
     }
-    // A non-square image is refused, as pbrt-v4 refuses it.
+    // An image neither square nor twice as wide as high (a latitude–longitude map, see
+    // pbrt_lights.rs) is refused.
     std::fs::write(dir.path().join("wide.pfm"), {
-        let mut b = b"PF\n2 1\n-1\n".to_vec();
-        b.extend(std::iter::repeat_n(0u8, 24));
+        let mut b = b"PF\n3 1\n-1\n".to_vec();
+        b.extend(std::iter::repeat_n(0u8, 36));
         b
     })
     .unwrap();

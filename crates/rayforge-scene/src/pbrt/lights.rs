@@ -7,11 +7,14 @@
 //! scale as pbrt-v4 does (its normalisation counts the light's spectrum, not an rgb's
 //! brightness). A uniform `infinite` light is the world's background, which the path tracer
 //! takes as light from every direction; an `infinite` light with a `filename` is an
-//! environment map in pbrt-v4's equal-area octahedral layout ([`EnvironmentMap::equal_area`],
-//! read from EXR, PFM or Radiance HDR; square, as pbrt-v4 requires), placed by the light's
-//! transform (which may mirror it), times `scale`, or scaled so that the upper hemisphere
-//! (+z of the light's space) gives `illuminance` as pbrt-v4 computes it. Area lights
-//! ([`emission`]) are emitting surfaces.
+//! environment map read from EXR, PFM or Radiance HDR: a square image is in pbrt-v4's
+//! equal-area octahedral layout ([`EnvironmentMap::equal_area`], the only one pbrt-v4 reads),
+//! an image twice as wide as high in the latitude–longitude layout pbrt-v3 read and older
+//! exporters write ([`EnvironmentMap::lat_long`]: +z up, `φ` from +x towards +y across, row 0
+//! at +z), which no equal-area map can be; any other shape is refused. The map is placed by the
+//! light's transform (which may mirror it), times `scale`, or scaled so that the upper
+//! hemisphere (+z of the light's space) gives `illuminance` as pbrt-v4 computes it. Area
+//! lights ([`emission`]) are emitting surfaces.
 
 use super::input::{Files, Loc};
 use super::params::ParamType;
@@ -32,15 +35,20 @@ pub enum Lit {
     Light(Light),
     /// Radiance from every direction, added to the background.
     Sky(Color),
-    /// An image of the sky, in pbrt-v4's equal-area layout.
+    /// An image of the sky, equal-area or latitude–longitude.
     Map(SkyImage),
 }
 
 /// An `infinite` light's image, scaled, to become the world's environment map once the
 /// uniform skies beside it are known.
 pub struct SkyImage {
-    /// Pixels on a side.
-    pub side: usize,
+    /// Pixels across.
+    pub width: usize,
+    /// Pixels down.
+    pub height: usize,
+    /// Whether the image is latitude–longitude (twice as wide as high) rather than
+    /// equal-area (square).
+    pub lat_long: bool,
     /// Radiance, row by row from the top, scaled, not negative.
     pub texels: Vec<Color>,
     /// From the world into the light's space (orthogonal).
@@ -53,8 +61,12 @@ impl SkyImage {
     /// The environment map, with `uniform` radiance added from every direction.
     pub fn into_map(self, uniform: Color) -> Result<EnvironmentMap, SceneError> {
         let texels = self.texels.into_iter().map(|c| c + uniform).collect();
-        EnvironmentMap::equal_area(self.side, self.side, texels, 1.0)
-            .and_then(|m| m.with_frame(self.world_to_light))
+        let map = if self.lat_long {
+            EnvironmentMap::lat_long(self.width, self.height, texels, 1.0)
+        } else {
+            EnvironmentMap::equal_area(self.width, self.height, texels, 1.0)
+        };
+        map.and_then(|m| m.with_frame(self.world_to_light))
             .map_err(|e| self.at.error(Some("LightSource"), e.to_string()))
     }
 }
@@ -181,17 +193,16 @@ fn sky_image(
     let image =
         crate::hdr::read_hdr_image(&path, memory.room()).map_err(|e| p.error(e.to_string()))?;
     memory.hold(image.texels.len() as u64 * crate::images::ENVIRONMENT_BYTES_PER_TEXEL);
-    if image.width != image.height {
+    let (width, height) = (image.width, image.height);
+    let lat_long = width != height;
+    if lat_long && width != 2 * height {
         return Err(p.error(format!(
-            "`{}` is {}×{}: an infinite light's image is a square equal-area (octahedral) map, \
-             as pbrt-v4 requires (convert an equirectangular map with pbrt-v4's `imgtool \
-             makeequiarea`)",
+            "`{}` is {width}×{height}: an infinite light's image is a square equal-area \
+             (octahedral) map, as pbrt-v4 requires, or an equirectangular (latitude–longitude) \
+             map twice as wide as high, as pbrt-v3 read",
             path.display(),
-            image.width,
-            image.height
         )));
     }
-    let side = image.width;
     // pbrt-v4 clamps negative values to zero where it reads the image.
     let texels: Vec<Color> = image
         .texels
@@ -200,27 +211,7 @@ fn sky_image(
         .collect();
     let mut scale = entity.params.float_or("scale", 1.0)?;
     if let Some(e) = target(entity, "illuminance")? {
-        // pbrt-v4's illuminance of the map's upper hemisphere (its sum over the pixels whose
-        // centres have z > 0 of luminance × cos θ, times 2π / N, as it writes it).
-        let n = side * side;
-        let k: f64 = texels
-            .iter()
-            .enumerate()
-            .map(|(i, c)| {
-                let w = equal_area_square_to_sphere(
-                    ((i % side) as f64 + 0.5) / side as f64,
-                    ((i / side) as f64 + 0.5) / side as f64,
-                );
-                if w.z > 0.0 {
-                    c.luminance() * w.z
-                } else {
-                    0.0
-                }
-            })
-            .sum::<f64>()
-            * 2.0
-            * PI
-            / n as f64;
+        let k = upper_illuminance(&texels, width, height, lat_long);
         if k > 0.0 {
             scale *= e / k;
         }
@@ -240,11 +231,48 @@ fn sky_image(
     }
     let world_to_light = (m * (1.0 / det.abs().cbrt())).inverse();
     Ok(SkyImage {
-        side,
+        width,
+        height,
+        lat_long,
         texels,
         world_to_light,
         at: entity.loc.clone(),
     })
+}
+
+/// The illuminance of a sky image's upper hemisphere (+z) as pbrt-v4 computes it for its
+/// `illuminance` parameter: for an equal-area map, the sum over the pixels whose centres have
+/// z > 0 of luminance × cos θ, times `2π / N` (as pbrt-v4 writes it: half the `4π / N` of
+/// solid angle a pixel has); for a latitude–longitude map, the same sum with each pixel's own
+/// solid angle, halved alike, so that a sky gives the same radiance in either layout.
+fn upper_illuminance(texels: &[Color], width: usize, height: usize, lat_long: bool) -> f64 {
+    let n = (width * height) as f64;
+    let centre = |i: usize| {
+        let (u, v) = (
+            ((i % width) as f64 + 0.5) / width as f64,
+            ((i / width) as f64 + 0.5) / height as f64,
+        );
+        if lat_long {
+            let (a, b) = (PI * (i / width) as f64, PI * (i / width + 1) as f64);
+            let solid_angle =
+                2.0 * PI / width as f64 * ((a / height as f64).cos() - (b / height as f64).cos());
+            ((PI * v).cos(), 0.5 * solid_angle)
+        } else {
+            (equal_area_square_to_sphere(u, v).z, 2.0 * PI / n)
+        }
+    };
+    texels
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let (cos_theta, weight) = centre(i);
+            if cos_theta > 0.0 {
+                c.luminance() * cos_theta * weight
+            } else {
+                0.0
+            }
+        })
+        .sum()
 }
 
 /// An area light's emitted radiance and whether it shines from both sides, for a shape of

@@ -32,6 +32,16 @@
 //! is read by the nearest pixel and sampled by a table over its pixels (constant over each),
 //! the weights compensated as above; a direction's density is the table's over the square
 //! divided by `4π`.
+//!
+//! And a map may be in pbrt's latitude–longitude layout ([`EnvironmentMap::lat_long`], the
+//! equirectangular maps pbrt-v3 read and older exporters still write): +z the pole, texel
+//! `(x, y)` of a `W × H` image the directions of `φ` in `2π [x, x + 1) / W` (from +x towards
+//! +y) and `θ` in `π [y, y + 1] / H` (from +z), row 0 at the pole. It is read by the nearest
+//! texel too and sampled by the same kind of table, each texel's weight times its solid angle
+//! `2π / W · (cos θ_y − cos θ_(y+1))` (the `sin θ` Jacobian of the angles, integrated over the
+//! texel's band), a point in the texel drawn uniformly in solid angle (uniform in `φ` and in
+//! `cos θ`), so a direction's density is its texel's probability over its solid angle: constant
+//! over the texel, with no `1 / sin θ` at the poles.
 
 use crate::color::Color;
 use crate::math::distribution::Distribution2D;
@@ -49,6 +59,14 @@ pub enum EnvironmentError {
          this one is {width}×{height}"
     )]
     TooSmall {
+        /// Columns.
+        width: usize,
+        /// Rows.
+        height: usize,
+    },
+    /// A map without a texel (a latitude–longitude map needs one at least).
+    #[error("an environment map needs at least one texel; this one is {width}×{height}")]
+    Empty {
         /// Columns.
         width: usize,
         /// Rows.
@@ -129,6 +147,9 @@ pub struct EnvironmentMap {
     cells: Distribution2D,
     /// The mean radiance over the sphere.
     average: Color,
+    /// For a latitude–longitude map, `cos θ` at the edges of its rows (`H + 1` of them, from
+    /// the top); empty for the other layouts.
+    bands: Vec<f64>,
 }
 
 /// How a map's texels cover the sphere.
@@ -139,6 +160,10 @@ enum Layout {
     /// pbrt-v4's equal-area octahedral square, +z up, read by the nearest texel: `weights` is
     /// then one weight per texel and `cells` a table over the texels.
     EqualArea,
+    /// pbrt's latitude–longitude rectangle, +z up, read by the nearest texel, with `weights`
+    /// and `cells` as for `EqualArea` (each weight times its texel's solid angle) and `bands`
+    /// the rows' edges.
+    LatLong,
 }
 
 impl EnvironmentMap {
@@ -156,15 +181,7 @@ impl EnvironmentMap {
         if width < 1 || height < 2 {
             return Err(EnvironmentError::TooSmall { width, height });
         }
-        let expected = width as u128 * height as u128;
-        if expected != texels.len() as u128 {
-            return Err(EnvironmentError::WrongTexelCount {
-                width,
-                height,
-                expected,
-                got: texels.len(),
-            });
-        }
+        check_texel_count(width, height, texels.len())?;
         let texels = scaled_texels(width, texels, scale)?;
         let weights = sampling_weights(width, height, &texels);
         let cells = cell_distribution(width, height, &weights);
@@ -179,6 +196,7 @@ impl EnvironmentMap {
             to_local: DMat3::IDENTITY,
             to_world: DMat3::IDENTITY,
             average,
+            bands: Vec::new(),
         })
     }
 
@@ -196,16 +214,68 @@ impl EnvironmentMap {
         if width != height || width == 0 {
             return Err(EnvironmentError::NotSquare { width, height });
         }
-        let expected = width as u128 * height as u128;
-        if expected != texels.len() as u128 {
-            return Err(EnvironmentError::WrongTexelCount {
-                width,
-                height,
-                expected,
-                got: texels.len(),
-            });
-        }
+        check_texel_count(width, height, texels.len())?;
         let texels = scaled_texels(width, texels, scale)?;
+        // Every texel is the same solid angle.
+        Ok(Self::texel_table(
+            Layout::EqualArea,
+            width,
+            height,
+            texels,
+            Vec::new(),
+            |_| 1.0,
+        ))
+    }
+
+    /// A map in pbrt's latitude–longitude (equirectangular) layout, the one pbrt-v3 read: a
+    /// `width × height` image (any size of at least one texel; pbrt's are twice as wide as
+    /// high), texels row by row from the top, each multiplied by `scale`; texel `(x, y)` holds
+    /// the radiance from the directions `(sin θ cos φ, sin θ sin φ, cos θ)` of the map's frame
+    /// with `φ / 2π` in `[x, x + 1) / width` and `θ / π` in `[y, y + 1] / height`, read by the
+    /// nearest texel (see the module documentation). Refuses an empty map, a wrong number of
+    /// texels and texels that are negative, infinite or NaN after scaling.
+    pub fn lat_long(
+        width: usize,
+        height: usize,
+        texels: Vec<Color>,
+        scale: f64,
+    ) -> Result<Self, EnvironmentError> {
+        if width == 0 || height == 0 {
+            return Err(EnvironmentError::Empty { width, height });
+        }
+        check_texel_count(width, height, texels.len())?;
+        let texels = scaled_texels(width, texels, scale)?;
+        // cos θ at the rows' edges, from the turns θ / 2π (exact at the poles and the equator).
+        let bands: Vec<f64> = (0..=height)
+            .map(|edge| sin_cos_turns(0.5 * edge as f64 / height as f64).1)
+            .collect();
+        let per_column = 2.0 * PI / width as f64;
+        let solid_angles: Vec<f64> = bands
+            .windows(2)
+            .map(|edge| per_column * (edge[0] - edge[1]))
+            .collect();
+        Ok(Self::texel_table(
+            Layout::LatLong,
+            width,
+            height,
+            texels,
+            bands,
+            |row| solid_angles[row],
+        ))
+    }
+
+    /// A map read by the nearest texel (`layout` one of the table layouts) from its scaled
+    /// `texels`, whose rows each cover `solid_angle(row)` per texel (in any unit: only their
+    /// ratios count), sampled by a table of each texel's compensated luminance (see the module
+    /// documentation) times its solid angle.
+    fn texel_table(
+        layout: Layout,
+        width: usize,
+        height: usize,
+        texels: Vec<Color>,
+        bands: Vec<f64>,
+        solid_angle: impl Fn(usize) -> f64,
+    ) -> Self {
         let lum: Vec<f64> = texels.iter().map(|c| c.luminance().max(0.0)).collect();
         let brightest = lum.iter().fold(0.0f64, |m, &l| m.max(l));
         let norm = if brightest > 0.0 {
@@ -213,18 +283,30 @@ impl EnvironmentMap {
         } else {
             0.0
         };
-        let mean = lum.iter().sum::<f64>() * norm / lum.len() as f64;
+        // The luminance and the radiance averaged over the sphere.
+        let (mut weighted, mut radiance, mut total) = (0.0, Color::BLACK, 0.0);
+        for (row, (lum, texels)) in lum
+            .chunks_exact(width)
+            .zip(texels.chunks_exact(width))
+            .enumerate()
+        {
+            let omega = solid_angle(row);
+            weighted += lum.iter().sum::<f64>() * norm * omega;
+            radiance = radiance + texels.iter().fold(Color::BLACK, |acc, &c| acc + c) * omega;
+            total += omega * width as f64;
+        }
+        let mean = weighted / total;
+        let average = radiance * (1.0 / total);
         let floor = if mean > 0.0 { 1e-3 * mean } else { 1.0 };
         let weights: Vec<f64> = lum
             .iter()
-            .map(|l| (l * norm - mean).max(0.0) + floor)
+            .enumerate()
+            .map(|(i, l)| ((l * norm - mean).max(0.0) + floor) * solid_angle(i / width))
             .collect();
         let cells = Distribution2D::new(width, height, &weights)
             .expect("texel weights are finite and positive, one per texel");
-        let count = texels.len() as f64;
-        let average = texels.iter().fold(Color::BLACK, |acc, &c| acc + c) * (1.0 / count);
-        Ok(Self {
-            layout: Layout::EqualArea,
+        Self {
+            layout,
             width,
             height,
             texels,
@@ -233,7 +315,8 @@ impl EnvironmentMap {
             weights,
             cells,
             average,
-        })
+            bands,
+        }
     }
 
     /// The map placed in the world by any orthogonal `world_to_local` (a rotation, or a
@@ -304,7 +387,7 @@ impl EnvironmentMap {
     /// escape to the sky; it need not be normalised), interpolated bilinearly between texel
     /// centres. A zero or non-finite direction sees black.
     pub fn radiance(&self, direction: Vec3) -> Color {
-        if self.layout == Layout::EqualArea {
+        if self.layout != Layout::Equirectangular {
             return self
                 .texel_towards(direction)
                 .map_or(Color::BLACK, |(i, _)| self.texels[i]);
@@ -319,7 +402,7 @@ impl EnvironmentMap {
     /// density with which [`sample`](Self::sample) draws it, as [`pdf`](Self::pdf): what a
     /// path that escapes needs, for the price of one conversion to angles.
     pub fn radiance_and_pdf(&self, direction: Vec3) -> (Color, f64) {
-        if self.layout == Layout::EqualArea {
+        if self.layout != Layout::Equirectangular {
             return self
                 .texel_towards(direction)
                 .map_or((Color::BLACK, 0.0), |(i, pdf)| (self.texels[i], pdf));
@@ -330,32 +413,55 @@ impl EnvironmentMap {
         }
     }
 
-    /// The texel of an equal-area map that a world direction falls in, and the density per
-    /// solid angle with which [`sample`](Self::sample) draws it; `None` for a zero or
-    /// non-finite direction.
+    /// The texel of a map read by the nearest texel (equal-area or latitude–longitude) that a
+    /// world direction falls in, and the density per solid angle with which
+    /// [`sample`](Self::sample) draws it; `None` for a zero or non-finite direction.
     fn texel_towards(&self, direction: Vec3) -> Option<(usize, f64)> {
         let d = (self.to_local * direction).try_normalize()?;
-        let (u, v) = equal_area_sphere_to_square(d);
-        let side = self.width;
-        let column = ((u * side as f64) as usize).min(side - 1);
-        let row = ((v * side as f64) as usize).min(side - 1);
-        let index = row * side + column;
+        let (u, v) = if self.layout == Layout::LatLong {
+            // θ by an arctangent (full precision near the poles), both angles in turns.
+            let theta = atan2_turns((d.x * d.x + d.y * d.y).sqrt(), d.z);
+            let phi = atan2_turns(d.y, d.x);
+            (if phi < 0.0 { phi + 1.0 } else { phi }, 2.0 * theta)
+        } else {
+            equal_area_sphere_to_square(d)
+        };
+        let column = ((u * self.width as f64) as usize).min(self.width - 1);
+        let row = ((v * self.height as f64) as usize).min(self.height - 1);
+        let index = row * self.width + column;
         Some((index, self.texel_pdf(index)))
     }
 
-    /// The density per solid angle of directions in texel `index` of an equal-area map: the
-    /// table's density over the unit square (its weight over the mean weight) over `4π`.
+    /// The density per solid angle of directions in texel `index` of a map read by the
+    /// nearest texel: the texel's probability in the table over its solid angle (`4π / N` for
+    /// every texel of an equal-area map).
     fn texel_pdf(&self, index: usize) -> f64 {
-        self.weights[index] / (self.cells.integral() * 4.0 * PI)
+        let count = (self.width * self.height) as f64;
+        let probability = self.weights[index] / (self.cells.integral() * count);
+        let solid_angle = if self.layout == Layout::LatLong {
+            let row = index / self.width;
+            2.0 * PI / self.width as f64 * (self.bands[row] - self.bands[row + 1])
+        } else {
+            4.0 * PI / count
+        };
+        probability / solid_angle
     }
 
-    /// [`sample`](Self::sample) of an equal-area map: a texel by its weight, a point in it
-    /// uniformly (the mapping keeps areas, so uniformly in solid angle too).
-    fn sample_equal_area(&self, u: [f64; 2]) -> Option<(Vec3, Color, f64)> {
+    /// [`sample`](Self::sample) of a map read by the nearest texel: a texel by its weight, a
+    /// point in it uniformly in solid angle (an equal-area map's mapping keeps areas; a
+    /// latitude–longitude texel is uniform in φ and in cos θ).
+    fn sample_texel(&self, u: [f64; 2]) -> Option<(Vec3, Color, f64)> {
         let ((column, row), _, [x, y]) = self.cells.sample_cell(u);
-        let side = self.width as f64;
-        let local =
-            equal_area_square_to_sphere((column as f64 + x) / side, (row as f64 + y) / side);
+        let local = if self.layout == Layout::LatLong {
+            let (sin_phi, cos_phi) = sin_cos_turns((column as f64 + x) / self.width as f64);
+            let (top, bottom) = (self.bands[row], self.bands[row + 1]);
+            let cos_theta = top + (bottom - top) * y;
+            let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+            Vec3::new(sin_theta * cos_phi, sin_theta * sin_phi, cos_theta)
+        } else {
+            let side = self.width as f64;
+            equal_area_square_to_sphere((column as f64 + x) / side, (row as f64 + y) / side)
+        };
         let index = row * self.width + column;
         let direction = (self.to_world * local).try_normalize()?;
         Some((direction, self.texels[index], self.texel_pdf(index)))
@@ -445,8 +551,8 @@ impl EnvironmentMap {
     /// that direction. `None` only if the draw lands exactly on a pole, where the density per
     /// solid angle is undefined (it never does for random numbers inside `(0, 1)`).
     pub fn sample(&self, u: [f64; 2]) -> Option<(Vec3, Color, f64)> {
-        if self.layout == Layout::EqualArea {
-            return self.sample_equal_area(u);
+        if self.layout != Layout::Equirectangular {
+            return self.sample_texel(u);
         }
         let ((column, row), _, [u_across, u_down]) = self.cells.sample_cell(u);
         let at = CellPoint {
@@ -481,7 +587,7 @@ impl EnvironmentMap {
     /// direction `direction`, for weighing its samples against another strategy's (multiple
     /// importance sampling). 0 for a zero or non-finite direction and at the poles.
     pub fn pdf(&self, direction: Vec3) -> f64 {
-        if self.layout == Layout::EqualArea {
+        if self.layout != Layout::Equirectangular {
             return self.texel_towards(direction).map_or(0.0, |(_, pdf)| pdf);
         }
         match self.locate(direction) {
@@ -535,6 +641,20 @@ impl SkyDraw {
         let u = self.u;
         *self.drawn.get_or_insert_with(|| map.sample(u))
     }
+}
+
+/// Refuses `got` texels for a `width × height` map unless they fill it.
+fn check_texel_count(width: usize, height: usize, got: usize) -> Result<(), EnvironmentError> {
+    let expected = width as u128 * height as u128;
+    if expected != got as u128 {
+        return Err(EnvironmentError::WrongTexelCount {
+            width,
+            height,
+            expected,
+            got,
+        });
+    }
+    Ok(())
 }
 
 /// `texels`, each times `scale`, refused (naming the first bad texel of a map `width` across)
@@ -1363,5 +1483,165 @@ mod tests {
         // The sun is found in proportion to its excess over the average.
         let sun = side * side / 3 + 2;
         assert!(expected[sun] > 0.1, "{}", expected[sun]);
+    }
+
+    /// A 2:1 latitude–longitude map of smooth variation and a bright texel (a sun) near the
+    /// pole, where the rows' solid angles differ most.
+    fn lat_long_map(width: usize, height: usize, seed: u64) -> EnvironmentMap {
+        let mut rng = SplitMix64::new(seed);
+        let mut texels: Vec<Color> = (0..width * height)
+            .map(|_| Color::new(rng.next_offset(), rng.next_offset(), rng.next_offset()))
+            .collect();
+        texels[width + 3] = Color::new(40.0, 30.0, 20.0);
+        EnvironmentMap::lat_long(width, height, texels, 1.5).unwrap()
+    }
+
+    /// The direction (pbrt's: +z the pole, φ from +x towards +y) of the point `(x, y)` of a
+    /// latitude–longitude map `w × h`, in texels.
+    fn lat_long_direction(x: f64, y: f64, w: usize, h: usize) -> Vec3 {
+        let (phi, theta) = (2.0 * PI * x / w as f64, PI * y / h as f64);
+        Vec3::new(
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        )
+    }
+
+    /// The solid angle of a texel of row `row` of a `w × h` latitude–longitude map.
+    fn lat_long_solid_angle(row: usize, w: usize, h: usize) -> f64 {
+        let (a, b) = (PI * row as f64 / h as f64, PI * (row + 1) as f64 / h as f64);
+        2.0 * PI / w as f64 * (a.cos() - b.cos())
+    }
+
+    #[test]
+    fn a_lat_long_map_reads_its_texels_and_its_pdf_integrates_to_one() {
+        let (w, h) = (16, 8);
+        let mirror = DMat3::from_diagonal(Vec3::new(1.0, -1.0, 1.0)) * DMat3::from_rotation_x(0.4);
+        for frame in [DMat3::IDENTITY, mirror] {
+            let map = lat_long_map(w, h, 5).with_frame(frame).unwrap();
+            // Each texel's centre and a point near its corner, in the world, see that texel.
+            for (column, row) in [(0, 0), (3, 1), (15, 7), (8, 4), (5, 3)] {
+                for (dx, dy) in [(0.5, 0.5), (0.01, 0.01), (0.99, 0.98)] {
+                    let local = lat_long_direction(column as f64 + dx, row as f64 + dy, w, h);
+                    let world = frame.transpose() * local;
+                    assert_eq!(
+                        map.radiance(world),
+                        map.texel(column, row).unwrap(),
+                        "({column}, {row}) + ({dx}, {dy})"
+                    );
+                }
+            }
+            // The pole and the seam: +z is row 0, φ = 0 column 0, just below it the last.
+            let world = |d: Vec3| frame.transpose() * d;
+            assert_eq!(map.radiance(world(Vec3::Z)), map.texel(0, 0).unwrap());
+            assert_eq!(map.radiance(world(-Vec3::Z)), map.texel(0, h - 1).unwrap());
+            let below_seam = lat_long_direction(w as f64 - 1e-6, 4.5, w, h);
+            assert_eq!(
+                map.radiance(world(below_seam)),
+                map.texel(w - 1, 4).unwrap()
+            );
+            // Each texel's pdf (constant over it) times its solid angle sums to 1.
+            let total: f64 = (0..w * h)
+                .map(|i| {
+                    let (c, r) = (i % w, i / w);
+                    let d = lat_long_direction(c as f64 + 0.5, r as f64 + 0.5, w, h);
+                    map.pdf(world(d)) * lat_long_solid_angle(r, w, h)
+                })
+                .sum();
+            assert!((total - 1.0).abs() < 1e-9, "{total}");
+            // And by brute force over the sphere.
+            let brute = integrate(400, |d| map.pdf(d));
+            assert!((brute - 1.0).abs() < 2e-2, "{brute}");
+            // The average weighs each texel by its solid angle.
+            let mean = (0..w * h)
+                .map(|i| map.texel(i % w, i / w).unwrap() * lat_long_solid_angle(i / w, w, h))
+                .fold(Color::BLACK, |a, c| a + c)
+                * (0.25 / PI);
+            assert!(close(map.average_radiance(), mean, 1e-12));
+            let brute = integrate(400, |d| map.radiance(d).green) / (4.0 * PI);
+            assert!((brute - mean.green).abs() < 1e-2 * mean.green, "{brute}");
+        }
+        assert!(matches!(
+            EnvironmentMap::lat_long(0, 4, Vec::new(), 1.0),
+            Err(EnvironmentError::Empty { .. })
+        ));
+        assert!(matches!(
+            EnvironmentMap::lat_long(4, 2, vec![Color::WHITE; 7], 1.0),
+            Err(EnvironmentError::WrongTexelCount { .. })
+        ));
+    }
+
+    #[test]
+    fn lat_long_samples_follow_their_pdf() {
+        let (w, h) = (12, 6);
+        let frame = DMat3::from_rotation_y(0.9);
+        let map = lat_long_map(w, h, 7).with_frame(frame).unwrap();
+        let n = 300_000;
+        let mut counts = vec![0u64; w * h];
+        let mut rng = SplitMix64::new(11);
+        // The sky's light over the sphere by importance: ∫ L dω = 4π × the average.
+        let mut sum = 0.0;
+        let mut sum_sq = 0.0;
+        for _ in 0..n {
+            let u = [rng.next_offset(), rng.next_offset()];
+            let (d, radiance, pdf) = map.sample(u).unwrap();
+            assert!((d.length() - 1.0).abs() < 1e-12);
+            assert!(
+                (map.pdf(d) - pdf).abs() <= 1e-9 * pdf,
+                "{} vs {pdf}",
+                map.pdf(d)
+            );
+            assert_eq!(map.radiance(d), radiance);
+            let local = frame * d;
+            let theta = local.z.clamp(-1.0, 1.0).acos();
+            let phi = local.y.atan2(local.x).rem_euclid(2.0 * PI);
+            let c = ((phi / (2.0 * PI) * w as f64) as usize).min(w - 1);
+            let r = ((theta / PI * h as f64) as usize).min(h - 1);
+            counts[r * w + c] += 1;
+            let value = radiance.green / pdf;
+            sum += value;
+            sum_sq += value * value;
+        }
+        // Each texel's chance: its pdf times its solid angle.
+        let expected: Vec<f64> = (0..w * h)
+            .map(|i| {
+                let (c, r) = (i % w, i / w);
+                let d = lat_long_direction(c as f64 + 0.5, r as f64 + 0.5, w, h);
+                map.pdf(frame.transpose() * d) * lat_long_solid_angle(r, w, h)
+            })
+            .collect();
+        let p = chi_square_p_value(&counts, &expected);
+        assert!(p > 1e-3, "chi-square p-value {p}");
+        // The sun is found in proportion to its excess over the average.
+        let sun = w + 3;
+        assert!(expected[sun] > 0.1, "{}", expected[sun]);
+        let (mean, se) = {
+            let mean = sum / n as f64;
+            (mean, ((sum_sq / n as f64 - mean * mean) / n as f64).sqrt())
+        };
+        let want = 4.0 * PI * map.average_radiance().green;
+        assert!((mean - want).abs() < 4.0 * se, "{mean} ± {se} vs {want}");
+    }
+
+    #[test]
+    fn a_lat_long_texel_is_drawn_uniformly_in_solid_angle() {
+        // One bright texel by the pole, the rest black: its samples' cos θ is uniform over the
+        // texel's band (a draw uniform in θ would crowd the pole).
+        let (w, h) = (4, 2);
+        let mut texels = vec![Color::BLACK; w * h];
+        texels[1] = Color::WHITE;
+        let map = EnvironmentMap::lat_long(w, h, texels, 1.0).unwrap();
+        let mut rng = SplitMix64::new(2);
+        let bins = 10;
+        let mut counts = vec![0u64; bins];
+        for _ in 0..100_000 {
+            let (d, radiance, _) = map.sample([rng.next_offset(), rng.next_offset()]).unwrap();
+            if radiance == Color::WHITE {
+                // The band is cos θ in [0, 1].
+                counts[((d.z * bins as f64) as usize).min(bins - 1)] += 1;
+            }
+        }
+        let p = chi_square_p_value(&counts, &vec![1.0 / bins as f64; bins]);
+        assert!(p > 1e-3, "chi-square p-value {p}: {counts:?}");
     }
 }
