@@ -292,7 +292,7 @@ impl EnvironmentMap {
         {
             let omega = solid_angle(row);
             weighted += lum.iter().sum::<f64>() * norm * omega;
-            radiance = radiance + texels.iter().fold(Color::BLACK, |acc, &c| acc + c) * omega;
+            radiance += texels.iter().fold(Color::BLACK, |acc, &c| acc + c) * omega;
             total += omega * width as f64;
         }
         let mean = weighted / total;
