@@ -647,12 +647,20 @@ impl std::fmt::Display for Drawn {
 const MAX_TRIANGLE_LIMIT: usize = u32::MAX as usize - 1;
 
 /// The image to write: `-o`, else a pbrt scene's `Film` filename (in the current folder).
-fn output(args: &RenderArgs) -> Result<PathBuf, Failure> {
+/// The film is read as the render reads the scene: under `--allow-outside`, `--max-triangles`
+/// and the `--max-pbrt-*` limits.
+fn output(args: &RenderArgs, pbrt: rayforge_scene::pbrt::PbrtLimits) -> Result<PathBuf, Failure> {
     if let Some(output) = &args.output {
         return Ok(output.clone());
     }
     if rayforge_scene::pbrt::is_scene_file(&args.scene) {
-        return rayforge_scene::pbrt::film_output(&args.scene)
+        let options = rayforge_scene::LoadOptions {
+            max_triangles: args.max_triangles,
+            allow_outside: args.allow_outside,
+            pbrt,
+            ..rayforge_scene::LoadOptions::default()
+        };
+        return rayforge_scene::pbrt::film_output(&args.scene, &options)
             .map_err(crate::diagnostics::scene_failure);
     }
     Err(Failure::usage(
@@ -677,7 +685,33 @@ fn parse_pixel(text: &str) -> Result<(usize, usize), Failure> {
 impl RenderSettings {
     /// Checks the raw arguments; each refusal names the flag.
     pub fn from_args(args: RenderArgs) -> Result<Self, Failure> {
-        let output = output(&args)?;
+        // The scene's limits first: a pbrt scene's film, which names the default output, is
+        // read under them.
+        if args.max_triangles == 0 || args.max_triangles > MAX_TRIANGLE_LIMIT {
+            return Err(Failure::usage(format!(
+                "--max-triangles must be between 1 and {MAX_TRIANGLE_LIMIT}, found {}",
+                args.max_triangles
+            )));
+        }
+        let pbrt_limits = rayforge_scene::pbrt::PbrtLimits {
+            file_bytes: args.max_pbrt_file_bytes,
+            total_bytes: args.max_pbrt_total_bytes,
+            include_depth: args.max_pbrt_include_depth,
+            values: args.max_pbrt_values,
+        };
+        for (flag, value) in [
+            ("--max-pbrt-file-bytes", pbrt_limits.file_bytes),
+            ("--max-pbrt-total-bytes", pbrt_limits.total_bytes),
+            ("--max-pbrt-include-depth", pbrt_limits.include_depth as u64),
+            ("--max-pbrt-values", pbrt_limits.values),
+        ] {
+            if value == 0 {
+                return Err(Failure::usage(format!(
+                    "{flag} must be at least 1, found 0"
+                )));
+            }
+        }
+        let output = output(&args, pbrt_limits)?;
         let slice = slice(&args)?;
         let format = match (slice, args.exr_half) {
             // A slice writes a part file whatever the extension; this format is never used
@@ -747,30 +781,6 @@ impl RenderSettings {
             if threads == 0 || threads > MAX_THREADS {
                 return Err(Failure::usage(format!(
                     "--threads must be between 1 and {MAX_THREADS}, found {threads}"
-                )));
-            }
-        }
-        if args.max_triangles == 0 || args.max_triangles > MAX_TRIANGLE_LIMIT {
-            return Err(Failure::usage(format!(
-                "--max-triangles must be between 1 and {MAX_TRIANGLE_LIMIT}, found {}",
-                args.max_triangles
-            )));
-        }
-        let pbrt_limits = rayforge_scene::pbrt::PbrtLimits {
-            file_bytes: args.max_pbrt_file_bytes,
-            total_bytes: args.max_pbrt_total_bytes,
-            include_depth: args.max_pbrt_include_depth,
-            values: args.max_pbrt_values,
-        };
-        for (flag, value) in [
-            ("--max-pbrt-file-bytes", pbrt_limits.file_bytes),
-            ("--max-pbrt-total-bytes", pbrt_limits.total_bytes),
-            ("--max-pbrt-include-depth", pbrt_limits.include_depth as u64),
-            ("--max-pbrt-values", pbrt_limits.values),
-        ] {
-            if value == 0 {
-                return Err(Failure::usage(format!(
-                    "{flag} must be at least 1, found 0"
                 )));
             }
         }

@@ -342,3 +342,54 @@ fn the_pbrt_readers_limits_are_flags() {
     let o = render(&scene, &out, &["-q", "--max-pbrt-values", "4"]);
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+/// Without `-o`, a pbrt scene's film names the image; the film is read under the flags the
+/// scene is read under: `--allow-outside` for a film in an included file outside the scene's
+/// folder, `--max-pbrt-include-depth` for one included 40 files deep. The film was read with
+/// the default limits and the folder rule whatever the flags, so both were refused before the
+/// render began.
+#[test]
+fn a_pbrt_films_default_output_is_read_under_the_users_flags() {
+    let d = Dir::new();
+    std::fs::create_dir(d.path("scene")).unwrap();
+    let film = "Film \"rgb\" \"integer xresolution\" 4 \"integer yresolution\" 3 \
+                \"string filename\" \"room.pfm\"\n";
+    let rest = "Camera \"perspective\"\nSampler \"independent\" \"integer pixelsamples\" 1\n\
+                WorldBegin\nShape \"sphere\" \"float radius\" 2\n";
+    d.file("film.pbrt", film);
+    d.file("scene/s.pbrt", &format!("Include \"../film.pbrt\"\n{rest}"));
+    let run = |scene: &str, extra: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_rayforge"))
+            .current_dir(d.path(""))
+            .args(["render", scene, "-q"])
+            .args(extra)
+            .output()
+            .expect("runs")
+    };
+    let o = run("scene/s.pbrt", &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--allow-outside"), "{}", stderr(&o));
+    let o = run("scene/s.pbrt", &["--allow-outside"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(d.path("room.pfm").is_file());
+    std::fs::remove_file(d.path("room.pfm")).unwrap();
+
+    for i in 1..40 {
+        d.file(
+            &format!("scene/i{i}.pbrt"),
+            &format!("Include \"i{}.pbrt\"\n", i + 1),
+        );
+    }
+    d.file("scene/i40.pbrt", film);
+    d.file("scene/deep.pbrt", &format!("Include \"i1.pbrt\"\n{rest}"));
+    let o = run("scene/deep.pbrt", &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--max-pbrt-include-depth"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run("scene/deep.pbrt", &["--max-pbrt-include-depth", "64"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(d.path("room.pfm").is_file());
+}

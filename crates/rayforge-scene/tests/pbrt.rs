@@ -585,16 +585,16 @@ fn the_film_names_the_default_output() {
     )
     .unwrap();
     assert_eq!(
-        rayforge_scene::pbrt::film_output(&path).unwrap(),
+        rayforge_scene::pbrt::film_output(&path, &Default::default()).unwrap(),
         PathBuf::from("room.exr")
     );
     std::fs::write(&path, "WorldBegin\n").unwrap();
     assert_eq!(
-        rayforge_scene::pbrt::film_output(&path).unwrap(),
+        rayforge_scene::pbrt::film_output(&path, &Default::default()).unwrap(),
         PathBuf::from("pbrt.exr")
     );
     std::fs::write(&path, "Film \"rgb\" \"string filename\" \"/tmp/x.exr\"\n").unwrap();
-    let e = rayforge_scene::pbrt::film_output(&path).unwrap_err();
+    let e = rayforge_scene::pbrt::film_output(&path, &Default::default()).unwrap_err();
     assert!(e.message.contains("plain file name"), "{e}");
     assert_eq!(e.key.as_deref(), Some("Film"));
 }

@@ -219,7 +219,7 @@ pub fn run(input: &[u8]) -> bool {
             false
         }
     };
-    if let Err(e) = rayforge_scene::pbrt::film_output(&main) {
+    if let Err(e) = rayforge_scene::pbrt::film_output(&main, &options) {
         check_error(&e, &texts);
     }
     accepted

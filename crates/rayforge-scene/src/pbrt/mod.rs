@@ -60,9 +60,17 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Scene, SceneError> {
 
 /// The image the scene's `Film` names (`"string filename"`, pbrt-v4's default `pbrt.exr`), to
 /// be written in the current folder when the command is given no output: a plain file name,
-/// else an error at the film. Only the options block, before `WorldBegin`, is read.
-pub fn film_output(path: &Path) -> Result<PathBuf, SceneError> {
-    let mut files = input::Files::new(path, false);
+/// else an error at the film. Only the options block, before `WorldBegin`, is read, under the
+/// same `options` as [`load`] (the folder rule and `allow_outside`, the pbrt limits, the stop
+/// flag), so that a scene the load takes never fails here first.
+///
+/// The command needs the name before it reads the scene (the output's lock and checks come
+/// first, so that a second render to the same image is refused before a long read): the
+/// options block is read twice, once here and once by the load, and costs little beside it.
+pub fn film_output(path: &Path, options: &LoadOptions) -> Result<PathBuf, SceneError> {
+    let mut files = input::Files::new(path, options.allow_outside)
+        .stopped_by(options.stop.clone())
+        .limited_by(options.pbrt);
     let description = reader::read_options(&mut files)?;
     build::film_output(&description, path)
 }
