@@ -8,6 +8,7 @@ use crate::failure::Failure;
 use crate::progress::row_bar;
 use crate::settings::RenderSettings;
 use crate::tev::Display;
+use rayforge::canvas::Canvas;
 use rayforge::color::Color;
 use rayforge::render::{PartialImage, RowCallback};
 use std::path::Path;
@@ -26,6 +27,15 @@ pub struct Hooks<'a> {
     pub stop: &'a AtomicBool,
     /// Starts the progress bar again (a render in passes, at each pass).
     pub restart_progress: &'a (dyn Fn() + Sync),
+    /// Shows a whole image as a layer of the viewer's image (after the rows sent before it),
+    /// from any thread: a pass denoised beside the render. Nothing without a viewer.
+    pub show_layer: &'a (dyn Fn(&'static str, Canvas) + Sync),
+}
+
+/// What goes to the viewer's thread: a finished row, or a whole layer.
+enum Shown {
+    Row(FinishedRow),
+    Layer(&'static str, Canvas),
 }
 
 /// The rows of the checkpoint to resume from (with `--resume`) and the log that saves new
@@ -88,7 +98,7 @@ pub fn render<R>(
     let restart_progress = || bar.set_position(0);
     let finished_rows: Mutex<Vec<FinishedRow>> = Mutex::new(Vec::new());
     let (render_running, render_over) = mpsc::channel::<()>();
-    let (to_display, shown) = mpsc::channel::<FinishedRow>();
+    let (to_display, shown) = mpsc::channel::<Shown>();
     // Set when the render returns whole, before the log learns the render is over.
     let complete = AtomicBool::new(false);
     let (rendered, logged, display) = std::thread::scope(|scope| {
@@ -102,10 +112,14 @@ pub fn render<R>(
             display.stop_on(stop);
             scope.spawn(move || {
                 // Rows come in bursts; each burst goes out as few packets as it can.
-                while let Ok((y, row)) = shown.recv() {
-                    display.row(y, &row);
-                    while let Ok((y, row)) = shown.try_recv() {
-                        display.row(y, &row);
+                let show = |display: &mut Display, shown| match shown {
+                    Shown::Row((y, row)) => display.row(y, &row),
+                    Shown::Layer(layer, canvas) => display.layer(layer, &canvas),
+                };
+                while let Ok(first) = shown.recv() {
+                    show(&mut display, first);
+                    while let Ok(next) = shown.try_recv() {
+                        show(&mut display, next);
                     }
                     display.flush();
                 }
@@ -128,7 +142,7 @@ pub fn render<R>(
                 }
                 if let Some(to_display) = &to_display {
                     // Fails only once the display's thread is gone, which it never is first.
-                    let _ = to_display.send((y, row.to_vec()));
+                    let _ = to_display.send(Shown::Row((y, row.to_vec())));
                 }
                 let done = rows_done.fetch_add(1, SeqCst) + 1;
                 if let Some(n) = settings.pause_after_rows.filter(|&n| done >= n) {
@@ -136,11 +150,17 @@ pub fn render<R>(
                     wait_for_interrupt(stop);
                 }
             };
+            let show_layer = |layer: &'static str, canvas: Canvas| {
+                if let Some(to_display) = &to_display {
+                    let _ = to_display.send(Shown::Layer(layer, canvas));
+                }
+            };
             let (rendered, whole) = render(Hooks {
                 on_row: &on_row,
                 progress: &progress,
                 stop,
                 restart_progress: &restart_progress,
+                show_layer: &show_layer,
             });
             complete.store(whole, SeqCst);
             drop(running);

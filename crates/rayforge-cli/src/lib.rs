@@ -17,6 +17,7 @@ mod finite;
 mod format;
 mod frames;
 mod interrupt;
+mod live_denoise;
 mod memory;
 mod merge_command;
 mod output_lock;

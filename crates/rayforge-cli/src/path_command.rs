@@ -6,7 +6,9 @@ use crate::checkpoint;
 use crate::checkpointed;
 use crate::failure::Failure;
 use crate::path_output::{PathOutputs, AOV_NAMES};
-use crate::render_command::display_for;
+use crate::live_denoise::{resolved, Frame, LiveDenoiser, Oidn, Summary};
+use crate::render_command::display_with;
+use crate::tev::Layout;
 use crate::settings::RenderSettings;
 use crate::settings::MAX_PATH_SPP;
 use crate::summary::{non_finite_warning, path_summary_line};
@@ -190,72 +192,116 @@ pub fn path_render(
         restore_rows(saved, width, &film, aovs.as_ref(), &mut done)?;
     }
     let already = done.iter().filter(|&&d| d).count();
-    let layer_names: &[&str] = if aovs.is_some() { &AOV_NAMES } else { &[] };
-    let display = display_for(settings, output, (width, height), layer_names);
+    // With --denoise, the viewer's image is the denoised one (each pass's beside the render,
+    // then the final), and the rows fill its `noisy` layer.
+    let mut rows = vec![if denoiser.is_some() { "noisy" } else { "" }];
+    if aovs.is_some() {
+        rows.extend(AOV_NAMES);
+    }
+    let whole: &[&str] = if denoiser.is_some() { &["denoised"] } else { &[] };
+    let layout = Layout { whole, rows: &rows };
+    let display = display_with(settings, output, (width, height), &layout);
+    // The passes a viewer watches are denoised beside the render (see `live_denoise`).
+    let live = denoiser
+        .as_ref()
+        .zip(aovs.as_ref())
+        .filter(|_| display.is_some() && passes.len() > 1);
     let started = Instant::now();
+    let mut live_summary = None;
     let (rendered, logged, display) =
         checkpointed::render(settings, height, already, log, display, |hooks| {
-            let mut total = PathStats::default();
-            let mut reached = 0;
-            let (roulette, plan) = if passes.len() > 1 {
-                // In passes, samples are shared evenly, and the roulette is learned once, not
-                // again in each pass.
-                // The pilot heeds a stop, and then nothing is rendered.
-                let stop = Some(hooks.stop);
-                let learned =
-                    pool.install(|| learn_roulette(camera, &scene.world, &options, spp, stop));
-                let Some(roulette) = learned else {
-                    return (Ok((total, reached)), false);
-                };
-                (roulette, None)
-            } else {
-                // The pilot heeds a stop; the render after it then stops at once.
-                let aovs = aovs.is_some();
-                pool.install(|| {
-                    prepare_render(camera, &scene.world, &options, spp, aovs, Some(hooks.stop))
-                })
-            };
-            for (i, pass) in passes.iter().enumerate() {
-                if i > 0 {
-                    // A pass takes about its share of samples of the time so far.
-                    let spent = started.elapsed();
-                    let next = spent.mul_f64((pass.end - pass.start) as f64 / reached as f64);
-                    if settings
-                        .path
-                        .time
-                        .is_some_and(|budget| spent + next > budget)
-                    {
-                        break;
-                    }
-                    done.fill(false);
-                    (hooks.restart_progress)();
-                }
-                let job = PathJob {
-                    options,
-                    samples: pass.clone(),
-                    plan: plan.as_ref(),
-                    progress: Some(hooks.progress),
-                    cancel: Some(hooks.stop),
-                    on_row: Some(hooks.on_row),
-                    roulette: Some(&roulette),
-                };
-                let stats = pool.install(|| {
-                    render_path(camera, &scene.world, &job, &film, aovs.as_ref(), &mut done)
+            std::thread::scope(|scope| {
+                let show_layer = hooks.show_layer;
+                let live = live.map(|(denoiser, aovs)| {
+                    let oidn = Oidn {
+                        denoiser,
+                        threads: pool.current_num_threads(),
+                    };
+                    let deliver = move |_: &Frame, image| show_layer("denoised", image);
+                    (LiveDenoiser::start(scope, oidn, deliver), aovs)
                 });
-                match stats {
-                    Ok(stats) => {
-                        total.rays += stats.rays;
-                        total.samples += stats.samples;
-                        total.discarded += stats.discarded;
+                let offer = |pass: usize, samples: u64| {
+                    if let Some((live, aovs)) = &live {
+                        live.offer(|| Frame {
+                            image: resolved(&film),
+                            albedo: resolved(&aovs.albedo),
+                            normal: resolved(&aovs.normal),
+                            pass,
+                            samples,
+                        });
                     }
-                    Err(e) => return (Err(e), false),
+                };
+                let rendered = 'passes: {
+                    let mut total = PathStats::default();
+                    let mut reached = 0;
+                    let (roulette, plan) = if passes.len() > 1 {
+                        // In passes, samples are shared evenly, and the roulette is learned once, not
+                        // again in each pass.
+                        // The pilot heeds a stop, and then nothing is rendered.
+                        let stop = Some(hooks.stop);
+                        let learned =
+                            pool.install(|| learn_roulette(camera, &scene.world, &options, spp, stop));
+                        let Some(roulette) = learned else {
+                            break 'passes (Ok((total, reached)), false);
+                        };
+                        (roulette, None)
+                    } else {
+                        // The pilot heeds a stop; the render after it then stops at once.
+                        let aovs = aovs.is_some();
+                        pool.install(|| {
+                            prepare_render(camera, &scene.world, &options, spp, aovs, Some(hooks.stop))
+                        })
+                    };
+                    for (i, pass) in passes.iter().enumerate() {
+                        if i > 0 {
+                            // A pass takes about its share of samples of the time so far.
+                            let spent = started.elapsed();
+                            let next = spent.mul_f64((pass.end - pass.start) as f64 / reached as f64);
+                            if settings
+                                .path
+                                .time
+                                .is_some_and(|budget| spent + next > budget)
+                            {
+                                break;
+                            }
+                            done.fill(false);
+                            (hooks.restart_progress)();
+                        }
+                        let job = PathJob {
+                            options,
+                            samples: pass.clone(),
+                            plan: plan.as_ref(),
+                            progress: Some(hooks.progress),
+                            cancel: Some(hooks.stop),
+                            on_row: Some(hooks.on_row),
+                            roulette: Some(&roulette),
+                        };
+                        let stats = pool.install(|| {
+                            render_path(camera, &scene.world, &job, &film, aovs.as_ref(), &mut done)
+                        });
+                        match stats {
+                            Ok(stats) => {
+                                total.rays += stats.rays;
+                                total.samples += stats.samples;
+                                total.discarded += stats.discarded;
+                            }
+                            Err(e) => break 'passes (Err(e), false),
+                        }
+                        if !done.iter().all(|&d| d) {
+                            break 'passes (Ok((total, reached)), false);
+                        }
+                        reached = pass.end;
+                        if i + 1 < passes.len() {
+                            offer(i + 1, reached);
+                        }
+                    }
+                    (Ok((total, reached)), true)
+                };
+                if let Some((live, _)) = live {
+                    live_summary = Some(live.finish());
                 }
-                if !done.iter().all(|&d| d) {
-                    return (Ok((total, reached)), false);
-                }
-                reached = pass.end;
-            }
-            (Ok((total, reached)), true)
+                rendered
+            })
         });
     let (stats, spp) = rendered
         .map_err(|e| Failure::internal(format!("the path tracer refused its film: {e}")))?;
@@ -274,9 +320,10 @@ pub fn path_render(
     let aovs = aovs.map(|aovs| {
         [aovs.albedo, aovs.normal, aovs.depth, aovs.samples].map(|f| f.into_film().resolve())
     });
+    let shown_layer = whole.first().copied().unwrap_or("");
     let show = |image: &Canvas| {
         if let Some(mut display) = display {
-            display.image(image);
+            display.layer(shown_layer, image);
         }
     };
     let non_finite = outputs.write(image, aovs, show)?;
@@ -295,6 +342,9 @@ pub fn path_render(
                 output
             )
         );
+        if let Some(live) = &live_summary {
+            eprintln!("{}", live_summary_line(live));
+        }
         if stats.discarded > 0 {
             eprintln!(
                 "{} samples whose radiance was not a finite number were left out",
@@ -308,4 +358,18 @@ pub fn path_render(
         }
     }
     Ok(())
+}
+
+/// The line after the summary that says how the passes denoised beside the render went.
+fn live_summary_line(live: &Summary) -> String {
+    let mut line = format!(
+        "denoised beside the render: {} pass{}, {} skipped while the denoiser was busy",
+        live.denoised,
+        if live.denoised == 1 { "" } else { "es" },
+        live.skipped
+    );
+    if let Some(failure) = &live.failure {
+        line.push_str(&format!(" (it stopped: {failure})"));
+    }
+    line
 }

@@ -12,7 +12,7 @@ use crate::memory::reserve_for_render;
 use crate::output_lock::OutputLock;
 use crate::settings::{Chosen, RenderSettings};
 use crate::summary::{non_finite_warning, raster_summary_line, summary_line};
-use crate::tev::Display;
+use crate::tev::{Display, Layout};
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::draw2d::Overlay;
@@ -567,13 +567,29 @@ pub fn display_for(
     size: (usize, usize),
     layers: &[&str],
 ) -> Option<Display> {
+    let mut rows = vec![""];
+    rows.extend_from_slice(layers);
+    let layout = Layout {
+        whole: &[],
+        rows: &rows,
+    };
+    display_with(settings, output, size, &layout)
+}
+
+/// [`display_for`] with the layers `layout` names (the path tracer's denoised layer).
+pub fn display_with(
+    settings: &RenderSettings,
+    output: &Path,
+    size: (usize, usize),
+    layout: &Layout<'_>,
+) -> Option<Display> {
     let address = settings.display_server.as_deref()?;
     let name = output.display().to_string();
-    Some(Display::connect(
+    Some(Display::connect_with(
         address,
         &name,
         size,
-        layers,
+        layout,
         settings.quiet,
     ))
 }

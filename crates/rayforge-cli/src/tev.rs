@@ -136,8 +136,30 @@ impl Packet {
     }
 }
 
+/// Which layers an image shown in tev has, and which of them the rows fill.
+#[derive(Debug, Clone, Copy)]
+pub struct Layout<'a> {
+    /// Layers sent only as whole images ([`Display::layer`]), first in the viewer: with
+    /// `--denoise`, `denoised`.
+    pub whole: &'a [&'a str],
+    /// The layers each row holds, in order ([`Display::row`]): the image's own (`""` for tev's
+    /// bare `R`, `G`, `B`; `noisy` beside a denoised layer), then each AOV's.
+    pub rows: &'a [&'a str],
+}
+
+/// A layer's three channels as tev names them: `R`, `G`, `B` for `""`, else `NAME.R`, ….
+fn layer_channels(layer: &str) -> [String; 3] {
+    ["R", "G", "B"].map(|c| {
+        if layer.is_empty() {
+            c.to_string()
+        } else {
+            format!("{layer}.{c}")
+        }
+    })
+}
+
 /// An image shown in tev while it renders: created when the display connects, updated row by
-/// row. Every failure turns it off with one warning.
+/// row and layer by layer. Every failure turns it off with one warning.
 pub struct Display {
     /// The connection, until it fails.
     stream: Option<TcpStream>,
@@ -145,8 +167,13 @@ pub struct Display {
     address: String,
     /// The image's name in the viewer (the output file's).
     name: String,
-    /// The image's channels: R, G, B, then each extra layer's.
+    /// The image's channels: the whole layers', then the rows' (R, G, B or `noisy.R`, …, then
+    /// each extra layer's).
     channels: Vec<String>,
+    /// The layers' names, in the order of `channels`.
+    layers: Vec<String>,
+    /// How many of the first layers are sent whole only.
+    whole: usize,
     width: usize,
     quiet: bool,
     /// Rows waiting to go out together: the first row's index and the samples.
@@ -160,25 +187,30 @@ pub struct Display {
 
 impl Display {
     /// Connects to tev at `address` (`HOST:PORT`, or `HOST` for the default port) and creates
-    /// the image `name` of `width` × `height` with the colour channels and, for each name in
-    /// `layers`, that layer's three (`albedo.R`, …). Unreachable: a display that shows nothing,
-    /// after one warning.
-    pub fn connect(
+    /// the image `name` of `width` × `height` with the channels of the layers `layout` names
+    /// (`R`, `G`, `B` for the image's own, `albedo.R`, … for the others). Unreachable: a
+    /// display that shows nothing, after one warning.
+    pub fn connect_with(
         address: &str,
         name: &str,
         (width, height): (usize, usize),
-        layers: &[&str],
+        layout: &Layout<'_>,
         quiet: bool,
     ) -> Self {
-        let mut channels: Vec<String> = ["R", "G", "B"].map(String::from).to_vec();
-        for layer in layers {
-            channels.extend(["R", "G", "B"].map(|c| format!("{layer}.{c}")));
-        }
+        let layers: Vec<String> = layout
+            .whole
+            .iter()
+            .chain(layout.rows)
+            .map(|l| l.to_string())
+            .collect();
+        let channels = layers.iter().flat_map(|l| layer_channels(l)).collect();
         let mut display = Self {
             stream: None,
             address: address.to_string(),
             name: name.to_string(),
             channels,
+            layers,
+            whole: layout.whole.len(),
             width,
             quiet,
             pending: None,
@@ -189,8 +221,9 @@ impl Display {
         match connect(address) {
             Ok(stream) => {
                 display.stream = Some(stream);
-                let channels = display.channel_names();
-                display.send(&create_image_packet(name, width, height, &channels));
+                let channels: Vec<&str> = display.channels.iter().map(String::as_str).collect();
+                let packet = create_image_packet(name, width, height, &channels);
+                display.send(&packet);
             }
             Err(why) => display.give_up(&why),
         }
@@ -203,17 +236,22 @@ impl Display {
         self.stop = Some(stop);
     }
 
-    fn channel_names(&self) -> Vec<&str> {
-        self.channels.iter().map(String::as_str).collect()
+    /// The channels the rows fill.
+    fn row_channels(&self) -> Vec<&str> {
+        self.channels[3 * self.whole..]
+            .iter()
+            .map(String::as_str)
+            .collect()
     }
 
     /// Queues row `y`: `values` holds the image's row, then each layer's, `width` colours
-    /// each. Rows that follow one another go out in one packet.
+    /// each (as the layout's `rows` name them). Rows that follow one another go out in one
+    /// packet.
     pub fn row(&mut self, y: usize, values: &[Color]) {
         if self.stream.is_none() {
             return;
         }
-        let layers = self.channels.len() / 3;
+        let layers = self.layers.len() - self.whole;
         let follows = matches!(&self.pending, Some((first, _)) if *first + self.pending_rows == y);
         if !follows {
             self.flush();
@@ -238,7 +276,7 @@ impl Display {
     pub fn flush(&mut self) {
         if let Some((first, samples)) = self.pending.take() {
             let rows = std::mem::take(&mut self.pending_rows);
-            let channels = self.channel_names();
+            let channels = self.row_channels();
             let packet = update_image_packet(
                 &self.name,
                 &channels,
@@ -253,10 +291,18 @@ impl Display {
     /// Sends the finished image (as written to the file, its colour channels): the viewer's
     /// last state is then the file's.
     pub fn image(&mut self, canvas: &Canvas) {
+        self.layer("", canvas);
+    }
+
+    /// Sends `canvas` whole as the layer `layer` (`""`: the bare `R`, `G`, `B`), after the rows
+    /// queued; a layer the image does not have is not sent.
+    pub fn layer(&mut self, layer: &str, canvas: &Canvas) {
         self.flush();
-        if self.stream.is_none() {
+        if self.stream.is_none() || !self.layers.iter().any(|l| l == layer) {
             return;
         }
+        let channels = layer_channels(layer);
+        let channels = [&*channels[0], &*channels[1], &*channels[2]];
         let width = canvas.width();
         let rows_per_packet = (MAX_PACKET_FLOATS / (3 * width.max(1))).max(1);
         let pixels = canvas.pixels();
@@ -267,7 +313,7 @@ impl Display {
                 .collect();
             let packet = update_image_packet(
                 &self.name,
-                &["R", "G", "B"],
+                &channels,
                 (0, band * rows_per_packet),
                 (width, chunk.len() / width.max(1)),
                 &samples,
@@ -356,6 +402,12 @@ fn connect(address: &str) -> Result<TcpStream, String> {
 mod tests {
     use super::*;
 
+    /// The image's colour alone.
+    const PLAIN: Layout<'static> = Layout {
+        whole: &[],
+        rows: &[""],
+    };
+
     #[test]
     fn a_create_image_packet_has_tevs_layout() {
         let p = create_image_packet("a.exr", 3, 2, &["R", "G", "B"]);
@@ -401,6 +453,103 @@ mod tests {
         assert!(p.windows(3).any(|w| w == b"ab\0"));
     }
 
+    /// A packet as tev reads it: its kind, its channels' names and (for an update) its
+    /// rectangle's samples.
+    #[derive(Debug)]
+    struct Received {
+        kind: u8,
+        channels: Vec<String>,
+        samples: Vec<f32>,
+    }
+
+    /// The packets in `bytes`, read as tev reads them.
+    fn packets(mut bytes: &[u8]) -> Vec<Received> {
+        let mut out = Vec::new();
+        while bytes.len() >= 5 {
+            let len = u32::from_le_bytes(bytes[..4].try_into().unwrap()) as usize;
+            let (packet, rest) = bytes.split_at(len);
+            bytes = rest;
+            let kind = packet[4];
+            let mut at = 6; // length, kind, grab focus
+            let string = |at: &mut usize| {
+                let end = *at + packet[*at..].iter().position(|&b| b == 0).unwrap();
+                let s = String::from_utf8(packet[*at..end].to_vec()).unwrap();
+                *at = end + 1;
+                s
+            };
+            let int = |at: &mut usize| {
+                let v = i32::from_le_bytes(packet[*at..*at + 4].try_into().unwrap());
+                *at += 4;
+                v as usize
+            };
+            string(&mut at);
+            if kind == CREATE_IMAGE {
+                at += 8; // width, height
+            }
+            let count = int(&mut at);
+            let channels: Vec<String> = (0..count).map(|_| string(&mut at)).collect();
+            let mut samples = Vec::new();
+            if kind == UPDATE_IMAGE {
+                at += 16 + 16 * count; // rectangle, offsets, strides
+                samples = packet[at..]
+                    .chunks_exact(4)
+                    .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+                    .collect();
+            }
+            out.push(Received {
+                kind,
+                channels,
+                samples,
+            });
+        }
+        out
+    }
+
+    #[test]
+    fn a_viewer_gets_the_rows_in_their_layers_and_a_whole_layer_in_its_own() {
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("a port");
+        let address = listener.local_addr().expect("its address").to_string();
+        let viewer = std::thread::spawn(move || {
+            let (mut stream, _) = listener.accept().expect("a connection");
+            let mut bytes = Vec::new();
+            std::io::Read::read_to_end(&mut stream, &mut bytes).expect("reads");
+            bytes
+        });
+        let layout = Layout {
+            whole: &["denoised"],
+            rows: &["noisy", "albedo"],
+        };
+        let mut display = Display::connect_with(&address, "x", (2, 1), &layout, true);
+        let grey = Color::WHITE * 0.5;
+        display.row(0, &[Color::WHITE, Color::WHITE, grey, grey]);
+        display.layer("denoised", &Canvas::from_pixels(2, 1, vec![grey; 2]));
+        // A layer the image lacks is not sent.
+        display.layer("", &Canvas::new(2, 1));
+        drop(display);
+        let received = packets(&viewer.join().expect("the viewer"));
+        let names = |list: &[&str]| list.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let rgb = |layer: &str| ["R", "G", "B"].map(|c| format!("{layer}.{c}"));
+        assert_eq!(received.len(), 3, "{received:?}");
+        assert_eq!(received[0].kind, CREATE_IMAGE);
+        let all: Vec<String> = ["denoised", "noisy", "albedo"]
+            .iter()
+            .flat_map(|l| rgb(l))
+            .collect();
+        assert_eq!(received[0].channels, all);
+        // The row: its pixels' noisy colour, then their albedo, in the rows' channels.
+        let row: Vec<String> = ["noisy", "albedo"].iter().flat_map(|l| rgb(l)).collect();
+        assert_eq!(received[1].channels, row);
+        assert_eq!(
+            received[1].samples,
+            [1.0, 1.0, 1.0, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0, 0.5, 0.5, 0.5]
+        );
+        assert_eq!(
+            received[2].channels,
+            names(&["denoised.R", "denoised.G", "denoised.B"])
+        );
+        assert_eq!(received[2].samples, [0.5; 6]);
+    }
+
     #[test]
     fn an_absent_viewer_leaves_a_display_that_shows_nothing() {
         // A port nothing listens on: bind one, note it, close it.
@@ -409,7 +558,8 @@ mod tests {
             .local_addr()
             .unwrap()
             .port();
-        let mut display = Display::connect(&format!("127.0.0.1:{port}"), "x", (2, 2), &[], true);
+        let address = format!("127.0.0.1:{port}");
+        let mut display = Display::connect_with(&address, "x", (2, 2), &PLAIN, true);
         display.row(0, &[Color::WHITE; 2]);
         display.flush();
         assert!(display.stream.is_none());
@@ -420,7 +570,7 @@ mod tests {
     fn stalled_viewer(width: usize, height: usize) -> (std::net::TcpListener, Display) {
         let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("a port");
         let address = listener.local_addr().expect("its address").to_string();
-        let display = Display::connect(&address, "x", (width, height), &[], true);
+        let display = Display::connect_with(&address, "x", (width, height), &PLAIN, true);
         assert!(display.stream.is_some(), "connected");
         (listener, display)
     }

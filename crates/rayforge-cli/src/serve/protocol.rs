@@ -2,14 +2,18 @@
 //!
 //! The page sends one kind of message, a render request, as JSON text:
 //! `{"type": "render", "renderer": "ray", "lighting": "phong", "samples": 4, "width": 320,
-//! "height": 180, "yaw": 30, "pitch": -10, "preview": false}`, every field but `type`
-//! optional (left out or `null`: the scene's own choice; no orbit; not a preview). A message
-//! that is not such a request is answered with an `error` message and changes nothing.
+//! "height": 180, "yaw": 30, "pitch": -10, "preview": false, "denoise": false}`, every field
+//! but `type` optional (left out or `null`: the scene's own choice; no orbit; not a preview;
+//! not denoised; `denoise` applies to the path tracer, the other renderers ignore it). A message that is not such a request is answered with an `error` message and
+//! changes nothing.
 //!
 //! The server sends JSON text (`started`, `progress`, `frame`, `done`, `error`; each names the
 //! request it belongs to by `job`, so the page can drop what a newer request made stale), and
 //! after each `frame` the image itself as a binary message: a PNG, developed as `rayforge
-//! render` writes it.
+//! render` writes it. With `denoise` (the path tracer's `--denoise`), passes are denoised beside
+//! the render (see [`crate::live_denoise`]): their frames come with `"denoised": true` after
+//! the raw passes' (`"denoised": false`), and the last frame is the denoised image `rayforge
+//! render --denoise` writes, in place of the raw last pass.
 
 use crate::args::Renderer;
 use crate::diagnostics::{ErrorLine, LEAD, WINDOW};
@@ -41,11 +45,14 @@ pub struct Request {
     pub pitch: f64,
     /// A quick, small image while the camera is being dragged, not the refined one.
     pub preview: bool,
+    /// Denoised when the path tracer renders (its `--denoise`); the other renderers ignore it.
+    pub denoise: bool,
 }
 
 /// The fields a request may have.
 const FIELDS: &[&str] = &[
     "type", "renderer", "lighting", "samples", "width", "height", "yaw", "pitch", "preview",
+    "denoise",
 ];
 
 /// Reads a message from the page; the error says what is wrong, for the page to show.
@@ -86,12 +93,18 @@ pub fn parse_request(text: &str) -> Result<Request, String> {
         height: whole(&fields, "height")?,
         yaw: angle(&fields, "yaw")?,
         pitch: angle(&fields, "pitch")?,
-        preview: match fields.get("preview") {
-            None | Some(Value::Null) => false,
-            Some(Value::Bool(b)) => *b,
-            Some(_) => return Err("`preview` must be true or false".into()),
-        },
+        preview: switch(&fields, "preview")?,
+        denoise: switch(&fields, "denoise")?,
     })
+}
+
+/// A field holding true or false; false when left out.
+fn switch(fields: &Map<String, Value>, name: &str) -> Result<bool, String> {
+    match fields.get(name) {
+        None | Some(Value::Null) => Ok(false),
+        Some(Value::Bool(b)) => Ok(*b),
+        Some(_) => Err(format!("`{name}` must be true or false")),
+    }
 }
 
 /// A field naming one of a set of choices, read by `named` (which lists them when it fails).
@@ -193,6 +206,8 @@ pub struct Started {
     /// Whether the camera can orbit: about the book's camera's `to`, or about what another
     /// camera's image centre sees (none for an image less than 2 pixels high).
     pub orbits: bool,
+    /// Whether the frames are denoised (asked for, and the path tracer renders).
+    pub denoise: bool,
     /// The scene's warnings (what it read but will not use as written), as the terminal
     /// shows them: at most [`MAX_WARNINGS`].
     pub warnings: Vec<String>,
@@ -226,6 +241,7 @@ pub fn started(job: u64, s: &Started) -> String {
         "height": s.size.1,
         "samples": s.samples,
         "orbits": s.orbits,
+        "denoise": s.denoise,
         "warnings": s.warnings,
     })
     .to_string()
@@ -252,6 +268,8 @@ pub struct Frame {
     pub samples: u64,
     /// Milliseconds since the job started.
     pub millis: u128,
+    /// Whether the image is denoised.
+    pub denoised: bool,
 }
 
 /// `frame`: the binary message after it is this pass's image.
@@ -259,6 +277,7 @@ pub fn frame(job: u64, f: &Frame) -> String {
     json!({
         "type": "frame", "job": job, "pass": f.pass, "passes": f.passes,
         "width": f.size.0, "height": f.size.1, "samples": f.samples, "millis": f.millis,
+        "denoised": f.denoised,
     })
     .to_string()
 }
@@ -330,7 +349,8 @@ mod tests {
     fn a_full_request_is_read() {
         let request = parse_request(
             r#"{"type": "render", "renderer": "path", "lighting": "cgfs", "samples": 16,
-                "width": 320, "height": null, "yaw": -12.5, "pitch": 30, "preview": true}"#,
+                "width": 320, "height": null, "yaw": -12.5, "pitch": 30, "preview": true,
+                "denoise": true}"#,
         )
         .expect("parses");
         assert_eq!(
@@ -344,6 +364,7 @@ mod tests {
                 yaw: -12.5,
                 pitch: 30.0,
                 preview: true,
+                denoise: true,
             }
         );
     }
@@ -387,6 +408,10 @@ mod tests {
             (
                 r#"{"type": "render", "preview": 1}"#,
                 "`preview` must be true or false",
+            ),
+            (
+                r#"{"type": "render", "denoise": "yes"}"#,
+                "`denoise` must be true or false",
             ),
         ];
         for (text, expected) in cases {

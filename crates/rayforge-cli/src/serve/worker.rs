@@ -1,6 +1,7 @@
 //! One page's renders: the newest request, rendered in passes with the render command's own
 //! functions on one of the server's render threads (see [`super::session`]), each pass's image
-//! sent to the page.
+//! sent to the page; with `denoise`, the passes denoised beside the render as well (see
+//! [`crate::live_denoise`]), and the last one denoised in its place.
 //!
 //! A request is translated into `rayforge render`'s arguments and checked by the same code
 //! ([`RenderSettings::from_args`]), so the page's final image is the one `rayforge render`
@@ -11,11 +12,13 @@ use super::orbit::{implied_look_at, orbit};
 use super::protocol::{self, Frame, Request, Started};
 use super::Config;
 use crate::args::{Cli, Command, Renderer};
+use crate::denoise::Guides;
 use crate::failure::Failure;
 use crate::finite::blacken_non_finite;
 use crate::format::ImageFormat;
+use crate::live_denoise::{self, resolved, LiveDenoiser, Oidn};
 use crate::path_command::{doubling_passes, samples_per_pixel};
-use crate::path_output::encode_for;
+use crate::path_output::{encode_for, AOV_NAMES};
 use crate::render_command::{
     develop_with_overlay, finish_image, load_options, ray_options, sized_camera,
 };
@@ -26,9 +29,10 @@ use rayforge::canvas::Canvas;
 use rayforge::film::{Film, SharedFilm};
 use rayforge::options::{PathOptions, RasterOptions};
 use rayforge::raster::Rasterizer;
-use rayforge::render::path::{learn_roulette, render_path, PathJob};
+use rayforge::render::path::{learn_roulette, render_path, Aovs, PathJob};
 use rayforge::render::{render_rows, RenderOptions, Sampling};
 use rayforge::LightingModel;
+use rayforge_denoise::Denoiser;
 use rayforge_scene::{LoadOptions, Scene, StopFlag};
 use rayon::ThreadPool;
 use std::ffi::OsString;
@@ -86,6 +90,8 @@ pub struct Worker {
     loaded: Option<Loaded>,
     /// The page's rasterizer, which keeps its memory from frame to frame.
     rasterizer: Rasterizer,
+    /// OIDN, loaded when a request first asks to denoise.
+    denoiser: Option<Denoiser>,
 }
 
 impl Worker {
@@ -103,6 +109,7 @@ impl Worker {
             out,
             loaded: None,
             rasterizer: Rasterizer::new(),
+            denoiser: None,
         }
     }
 
@@ -145,11 +152,24 @@ impl Worker {
                 .ok_or_else(|| Stop::Failed("the camera cannot be turned so".into()))?;
         }
         let chosen = settings.choose(scene)?;
+        // The page's denoise box is the path tracer's --denoise; the other renderers' images
+        // have no noise to take out, and ignore it.
+        let denoise = job.request.denoise && matches!(chosen, Chosen::Path(_));
+        if denoise && self.denoiser.is_none() {
+            // Its absence says how to install it, as `rayforge render --denoise` does.
+            self.denoiser = Some(crate::denoise::load("denoise")?);
+        }
         let size = (camera.hsize(), camera.vsize());
+        // The image's film, and with denoising the AOVs' beside it.
+        let films = if denoise {
+            1 + AOV_NAMES.len() as u64
+        } else {
+            1
+        };
         // As `rayforge render` does: a size the machine cannot hold is an error, not an abort.
-        crate::memory::reserve_for_render(size.0, size.1, 1)?;
+        crate::memory::reserve_for_render(size.0, size.1, films)?;
         // And beside the other pages' renders: held until this one ends.
-        let bytes = crate::memory::render_bytes(size.0, size.1, 1).unwrap_or(u64::MAX);
+        let bytes = crate::memory::render_bytes(size.0, size.1, films).unwrap_or(u64::MAX);
         let what = format!("a {}×{} render", size.0, size.1);
         let _memory = self
             .budget
@@ -172,12 +192,14 @@ impl Worker {
             size,
             samples,
             orbits: look_at.is_some(),
+            denoise,
             warnings: protocol::warning_lines(&scene.warnings),
         };
         let pass = Pass {
             job,
             out: &self.out,
             started,
+            sending: Mutex::new(()),
         };
         pass.text(protocol::started(job.id, &about))?;
         let preview = job.request.preview;
@@ -194,7 +216,8 @@ impl Worker {
             Chosen::Path(options) => {
                 let spp = if preview { 1 } else { samples };
                 let camera = if preview { quarter(&camera) } else { camera };
-                path_passes(&pass, &self.pool, scene, &camera, options, spp)
+                let denoiser = self.denoiser.as_ref().filter(|_| denoise);
+                path_passes(&pass, &self.pool, scene, &camera, options, spp, denoiser)
             }
         }
     }
@@ -328,6 +351,8 @@ struct Pass<'a> {
     job: &'a Job,
     out: &'a Sender<Outgoing>,
     started: Instant,
+    /// Held while a frame's two messages go out: the denoiser's thread sends frames too.
+    sending: Mutex<()>,
 }
 
 impl Pass<'_> {
@@ -348,6 +373,18 @@ impl Pass<'_> {
 
     /// Sends pass `pass` of `passes`: the `frame` message, then the image as a PNG.
     fn frame(&self, canvas: &Canvas, pass: usize, passes: usize, samples: u64) -> Result<(), Stop> {
+        self.send_frame(canvas, pass, passes, samples, false)
+    }
+
+    /// [`Pass::frame`], saying whether the image is `denoised`.
+    fn send_frame(
+        &self,
+        canvas: &Canvas,
+        pass: usize,
+        passes: usize,
+        samples: u64,
+        denoised: bool,
+    ) -> Result<(), Stop> {
         // A stale image is not encoded: a large PNG takes a second.
         if self.cancelled() {
             return Err(Stop::Cancelled);
@@ -359,7 +396,10 @@ impl Pass<'_> {
             size: (canvas.width(), canvas.height()),
             samples,
             millis: elapsed(self.started),
+            denoised,
         };
+        // A poisoned lock only means another frame's sender panicked: the messages still pair.
+        let _sending = self.sending.lock().unwrap_or_else(|e| e.into_inner());
         self.text(protocol::frame(self.job.id, &frame))?;
         self.out
             .blocking_send(Outgoing::Binary(png))
@@ -488,7 +528,9 @@ fn raster_pass(
 
 /// The path tracer's passes of 1, 1, 2, 4, … samples per pixel into one film, up to `spp`;
 /// after each, the image resolved from the film so far, developed as `rayforge render`
-/// develops a path-traced PNG (see `path_command::path_render`).
+/// develops a path-traced PNG (see `path_command::path_render`). With `denoiser`, the passes
+/// are also denoised beside the render (skipped while it is busy) and sent flagged so, and the
+/// last pass is sent only denoised with its AOVs: `rayforge render --denoise`'s image.
 fn path_passes(
     pass: &Pass<'_>,
     pool: &ThreadPool,
@@ -496,11 +538,13 @@ fn path_passes(
     camera: &Camera,
     options: PathOptions,
     spp: u64,
+    denoiser: Option<&Denoiser>,
 ) -> Result<(), Stop> {
     let (width, height) = (camera.hsize(), camera.vsize());
     let film = Film::with_filter(width, height, options.filter)
         .map_err(|e| Stop::Failed(e.to_string()))?;
     let film = SharedFilm::from(film);
+    let aovs = denoiser.map(|_| Aovs::new(width, height));
     let mut done = vec![false; height];
     // The roulette is learned once, not again in each pass, by a pilot sized for the passes'
     // samples (a sixteenth of them at most) that heeds the page's cancel. A preview (one
@@ -515,30 +559,81 @@ fn path_passes(
     };
     let passes = doubling_passes(spp);
     let count = passes.len();
-    for (i, samples) in passes.into_iter().enumerate() {
-        let progress = pass.progress(i + 1, count, height);
-        let add = |rows: usize| progress.add(rows);
-        done.fill(false);
-        let reached = samples.end;
-        let job = PathJob {
-            options,
-            samples,
-            plan: None,
-            progress: Some(&add),
-            cancel: Some(&pass.job.cancel),
-            on_row: None,
-            roulette: Some(&roulette),
-        };
-        pool.install(|| render_path(camera, &scene.world, &job, &film, None, &mut done))
-            .map_err(|e| Stop::Failed(format!("the path tracer refused its film: {e}")))?;
-        if !done.iter().all(|&d| d) {
-            return Err(Stop::Cancelled);
-        }
-        let mut canvas = film.snapshot().resolve();
+    let threads = pool.current_num_threads();
+    let develop = |mut canvas: Canvas| {
         blacken_non_finite(&mut canvas);
         encode_for(ImageFormat::Png, &mut canvas);
         scene.overlay.draw(&mut canvas, camera);
-        pass.frame(&canvas, i + 1, count, reached)?;
+        canvas
+    };
+    std::thread::scope(|scope| {
+        let live = denoiser
+            .zip(aovs.as_ref())
+            .filter(|_| count > 1)
+            .map(|(denoiser, aovs)| {
+                let oidn = Oidn { denoiser, threads };
+                // A stale or closed page drops the frame; the render finds out at its own.
+                let deliver = |frame: &live_denoise::Frame, image| {
+                    let canvas = develop(image);
+                    let _ = pass.send_frame(&canvas, frame.pass, count, frame.samples, true);
+                };
+                (LiveDenoiser::start(scope, oidn, deliver), aovs)
+            });
+        let rendered = (|| {
+            for (i, samples) in passes.into_iter().enumerate() {
+                let progress = pass.progress(i + 1, count, height);
+                let add = |rows: usize| progress.add(rows);
+                done.fill(false);
+                let reached = samples.end;
+                let job = PathJob {
+                    options,
+                    samples,
+                    plan: None,
+                    progress: Some(&add),
+                    cancel: Some(&pass.job.cancel),
+                    on_row: None,
+                    roulette: Some(&roulette),
+                };
+                pool.install(|| {
+                    render_path(camera, &scene.world, &job, &film, aovs.as_ref(), &mut done)
+                })
+                .map_err(|e| Stop::Failed(format!("the path tracer refused its film: {e}")))?;
+                if !done.iter().all(|&d| d) {
+                    return Err(Stop::Cancelled);
+                }
+                let last = i + 1 == count;
+                if let Some((live, aovs)) = live.as_ref().filter(|_| !last) {
+                    live.offer(|| live_denoise::Frame {
+                        image: resolved(&film),
+                        albedo: resolved(&aovs.albedo),
+                        normal: resolved(&aovs.normal),
+                        pass: i + 1,
+                        samples: reached,
+                    });
+                }
+                // Denoised, the last pass is sent once its denoise is done, below.
+                if !(last && denoiser.is_some()) {
+                    pass.frame(&develop(film.snapshot().resolve()), i + 1, count, reached)?;
+                }
+            }
+            Ok(())
+        })();
+        // The pass in the denoiser's hands is sent before the last, denoised image.
+        if let Some((live, _)) = live {
+            live.finish();
+        }
+        rendered
+    })?;
+    if let (Some(denoiser), Some(aovs)) = (denoiser, &aovs) {
+        let (albedo, normal) = (resolved(&aovs.albedo), resolved(&aovs.normal));
+        let guides = Guides {
+            albedo: &albedo,
+            normal: Some(&normal),
+        };
+        let image = resolved(&film);
+        let denoised =
+            crate::denoise::denoise(denoiser, &image, Some(guides), threads, "the image")?;
+        pass.send_frame(&develop(denoised), count, count, spp, true)?;
     }
     Ok(())
 }
