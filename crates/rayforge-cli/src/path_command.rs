@@ -5,13 +5,13 @@
 use crate::checkpoint;
 use crate::checkpointed;
 use crate::failure::Failure;
-use crate::path_output::{PathOutputs, AOV_NAMES};
 use crate::live_denoise::{resolved, Frame, LiveDenoiser, Oidn, Summary};
+use crate::path_output::{PathOutputs, AOV_NAMES};
 use crate::render_command::display_with;
-use crate::tev::Layout;
 use crate::settings::RenderSettings;
 use crate::settings::MAX_PATH_SPP;
 use crate::summary::{non_finite_warning, path_summary_line};
+use crate::tev::Layout;
 use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::film::{Film, SharedFilm};
@@ -198,7 +198,11 @@ pub fn path_render(
     if aovs.is_some() {
         rows.extend(AOV_NAMES);
     }
-    let whole: &[&str] = if denoiser.is_some() { &["denoised"] } else { &[] };
+    let whole: &[&str] = if denoiser.is_some() {
+        &["denoised"]
+    } else {
+        &[]
+    };
     let layout = Layout { whole, rows: &rows };
     let display = display_with(settings, output, (width, height), &layout);
     // The passes a viewer watches are denoised beside the render (see `live_denoise`).
@@ -235,12 +239,12 @@ pub fn path_render(
                     let mut total = PathStats::default();
                     let mut reached = 0;
                     let (roulette, plan) = if passes.len() > 1 {
-                        // In passes, samples are shared evenly, and the roulette is learned once, not
-                        // again in each pass.
-                        // The pilot heeds a stop, and then nothing is rendered.
+                        // In passes, samples are shared evenly, and the roulette is learned
+                        // once, not again in each pass. The pilot heeds a stop, and then
+                        // nothing is rendered.
                         let stop = Some(hooks.stop);
-                        let learned =
-                            pool.install(|| learn_roulette(camera, &scene.world, &options, spp, stop));
+                        let learned = pool
+                            .install(|| learn_roulette(camera, &scene.world, &options, spp, stop));
                         let Some(roulette) = learned else {
                             break 'passes (Ok((total, reached)), false);
                         };
@@ -249,14 +253,22 @@ pub fn path_render(
                         // The pilot heeds a stop; the render after it then stops at once.
                         let aovs = aovs.is_some();
                         pool.install(|| {
-                            prepare_render(camera, &scene.world, &options, spp, aovs, Some(hooks.stop))
+                            prepare_render(
+                                camera,
+                                &scene.world,
+                                &options,
+                                spp,
+                                aovs,
+                                Some(hooks.stop),
+                            )
                         })
                     };
                     for (i, pass) in passes.iter().enumerate() {
                         if i > 0 {
                             // A pass takes about its share of samples of the time so far.
                             let spent = started.elapsed();
-                            let next = spent.mul_f64((pass.end - pass.start) as f64 / reached as f64);
+                            let next =
+                                spent.mul_f64((pass.end - pass.start) as f64 / reached as f64);
                             if settings
                                 .path
                                 .time

@@ -116,7 +116,15 @@ fn render_to_viewer(out: &Path, extra: &[&str]) -> (Output, Vec<Packet>) {
         .arg(repo().join("scenes/pbr/cornell.yml"))
         .arg("-o")
         .arg(out)
-        .args(["--renderer", "path", "--width", "32", "--spp", "8", "--quiet"])
+        .args([
+            "--renderer",
+            "path",
+            "--width",
+            "32",
+            "--spp",
+            "8",
+            "--quiet",
+        ])
         .args(["--display-server", &address])
         .args(extra)
         .output()
@@ -193,7 +201,10 @@ fn the_viewer_gets_a_denoised_layer_beside_the_noisy_rows_and_ends_on_the_writte
     let file: Vec<f32> = (0..pixels)
         .flat_map(|i| [written["R"][i], written["G"][i], written["B"][i]])
         .collect();
-    assert_eq!(*last, file, "the last denoised update is the whole written image");
+    assert_eq!(
+        *last, file,
+        "the last denoised update is the whole written image"
+    );
 }
 
 #[test]
@@ -285,9 +296,7 @@ async fn next(socket: &mut Socket) -> Result<serde_json::Value, Vec<u8>> {
             .await
             .expect("a message within the time");
         match message {
-            Some(Ok(Message::Text(text))) => {
-                return Ok(serde_json::from_str(&text).expect("JSON"))
-            }
+            Some(Ok(Message::Text(text))) => return Ok(serde_json::from_str(&text).expect("JSON")),
             Some(Ok(Message::Binary(bytes))) => return Err(bytes.to_vec()),
             Some(Ok(Message::Ping(_) | Message::Pong(_) | Message::Frame(_))) => continue,
             other => panic!("the socket closed: {other:?}"),

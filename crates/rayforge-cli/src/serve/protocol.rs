@@ -4,8 +4,8 @@
 //! `{"type": "render", "renderer": "ray", "lighting": "phong", "samples": 4, "width": 320,
 //! "height": 180, "yaw": 30, "pitch": -10, "preview": false, "denoise": false}`, every field
 //! but `type` optional (left out or `null`: the scene's own choice; no orbit; not a preview;
-//! not denoised; `denoise` applies to the path tracer, the other renderers ignore it). A message that is not such a request is answered with an `error` message and
-//! changes nothing.
+//! not denoised; `denoise` applies to the path tracer, the other renderers ignore it). A
+//! message that is not such a request is answered with an `error` message and changes nothing.
 //!
 //! The server sends JSON text (`started`, `progress`, `frame`, `done`, `error`; each names the
 //! request it belongs to by `job`, so the page can drop what a newer request made stale), and
