@@ -157,14 +157,7 @@ fn a_lat_long_sky_lights_a_floor_with_its_upper_hemisphere_irradiance() {
         &floor_under("LightSource \"infinite\" \"string filename\" \"sky.pfm\""),
     )
     .unwrap_or_else(|e| panic!("{e}"));
-    let mut irradiance = 0.0;
-    for r in 0..h / 2 {
-        let (a, b) = (PI * r as f64 / h as f64, PI * (r + 1) as f64 / h as f64);
-        let band = 2.0 * PI / w as f64 * (a.cos().powi(2) - b.cos().powi(2)) / 2.0;
-        for c in 0..w {
-            irradiance += f64::from(lat_long_texel(c, r)[1]) * band;
-        }
-    }
+    let irradiance = lat_long_irradiance(1.0, false);
     let want = 0.5 / PI * irradiance;
     let (mean, se) = mean_and_error(&scene, 24, 16);
     assert!(
@@ -172,4 +165,48 @@ fn a_lat_long_sky_lights_a_floor_with_its_upper_hemisphere_irradiance() {
         "{mean} ± {se} vs {want}"
     );
     assert!(se < 0.01 * want, "{se}");
+}
+
+/// The irradiance a floor facing up (+z) gets from a sky of `lat_long_texel`s (green
+/// channel) times `scale`, placed by `Rotate 180 1 0 0` where `turned` (its lower half up).
+fn lat_long_irradiance(scale: f64, turned: bool) -> f64 {
+    let (w, h) = (16, 8);
+    let rows = if turned { h / 2..h } else { 0..h / 2 };
+    let mut irradiance = 0.0;
+    for r in rows {
+        let (a, b) = (PI * r as f64 / h as f64, PI * (r + 1) as f64 / h as f64);
+        let band = 2.0 * PI / w as f64 * (a.cos().powi(2) - b.cos().powi(2)).abs() / 2.0;
+        for c in 0..w {
+            irradiance += f64::from(lat_long_texel(c, r)[1]) * band;
+        }
+    }
+    irradiance * scale
+}
+
+#[test]
+fn several_infinite_lights_are_summed_and_each_sampled() {
+    // Two image skies (the second turned over, so that its bright lower half lights the floor,
+    // and scaled) and a uniform one: the floor's irradiance is the sum of the three.
+    let dir = tempfile::tempdir().unwrap();
+    write_pfm(&dir.path().join("sky.pfm"), 16, 8, lat_long_texel);
+    let lights = "LightSource \"infinite\" \"string filename\" \"sky.pfm\"\n\
+                  AttributeBegin\nRotate 180 1 0 0\nLightSource \"infinite\" \"string filename\" \
+                  \"sky.pfm\" \"float scale\" 0.25\nAttributeEnd\n\
+                  LightSource \"infinite\" \"rgb L\" [0.3 0.3 0.3]";
+    let scene = load_in(dir.path(), &floor_under(lights)).unwrap_or_else(|e| panic!("{e}"));
+    assert!(scene.world.environment.is_some());
+    assert_eq!(scene.world.more_environments.len(), 1);
+    // The uniform sky went into the first map, and the background is the maps.
+    assert_eq!(scene.world.background, Color::BLACK);
+    let irradiance = lat_long_irradiance(1.0, false) + lat_long_irradiance(0.25, true) + PI * 0.3;
+    let want = 0.5 / PI * irradiance;
+    let (mean, se) = mean_and_error(&scene, 24, 16);
+    assert!(
+        (mean - want).abs() < 4.0 * se + 1e-9,
+        "{mean} ± {se} vs {want}"
+    );
+    assert!(se < 0.01 * want, "{se}");
+    // The first sky alone gives less by the others' share (the test tells them apart).
+    let alone = 0.5 / PI * lat_long_irradiance(1.0, false);
+    assert!(want - alone > 20.0 * se, "{want} vs {alone}");
 }

@@ -177,26 +177,27 @@ pub fn scene(
         }
     }
     let mut memory = scene_textures.memory;
-    let mut sky_image: Option<lights::SkyImage> = None;
+    let mut sky_images: Vec<lights::SkyImage> = Vec::new();
     for light in &desc.lights {
         match lights::light(light, files, &mut memory)? {
             Lit::Light(l) => world.lights.push(l),
             Lit::Sky(c) => world.background += c,
-            Lit::Map(image) => {
-                if sky_image.is_some() {
-                    return Err(light.entity.error(
-                        "a second infinite light from an image is not read: rayforge's sky is \
-                         one map",
-                    ));
-                }
-                sky_image = Some(image);
-            }
+            Lit::Map(image) => sky_images.push(image),
         }
     }
-    if let Some(image) = sky_image {
-        // Uniform skies beside the image are added to it; the background is then the map.
-        let uniform = std::mem::replace(&mut world.background, Color::BLACK);
-        world.environment = Some(std::sync::Arc::new(image.into_map(uniform)?));
+    // Several image skies are summed (the path tracer samples each by its power); uniform
+    // skies beside them are added to the first, and the background is then the maps.
+    let mut uniform = Color::BLACK;
+    if !sky_images.is_empty() {
+        uniform = std::mem::replace(&mut world.background, Color::BLACK);
+    }
+    for (i, image) in sky_images.into_iter().enumerate() {
+        let map = Arc::new(image.into_map(if i == 0 { uniform } else { Color::BLACK })?);
+        if i == 0 {
+            world.environment = Some(map);
+        } else {
+            world.more_environments.push(map);
+        }
     }
     // Every parameter nothing read, once each (an area light is shared by its shapes).
     let mut area_lights: Vec<&Rc<Entity>> = Vec::new();

@@ -29,7 +29,7 @@ use crate::geometry::LocalHit;
 use crate::math::{Point3, Vec3};
 use crate::options::{LightSamplerKind, PathOptions, Techniques};
 use crate::scene::{LightingModel, Object, World};
-use crate::shading::{EnvironmentMap, Light, SkyDraw, SurfacePoint};
+use crate::shading::{Light, SkyDraw, SurfacePoint};
 use std::f64::consts::PI;
 
 /// Marks an object that is not a sampled emitter.
@@ -125,7 +125,13 @@ impl Emitters {
             power.push(emitter.power());
             list.push(Emitter::Area(emitter));
         }
-        let sky_light = SkyEmitter::new(world.background, world.environment.clone());
+        let maps = world
+            .environment
+            .iter()
+            .chain(&world.more_environments)
+            .cloned()
+            .collect();
+        let sky_light = SkyEmitter::new(world.background, maps);
         let sky_power = sky_light.power(disc);
         let sky = (sky_power > 0.0).then(|| {
             list.push(Emitter::Sky);
@@ -149,10 +155,11 @@ impl Emitters {
         }
     }
 
-    /// The environment map, when it gives light (what [`mirror_balls`](Self::mirror_balls)
-    /// reflect).
-    pub fn environment(&self) -> Option<&EnvironmentMap> {
-        self.sky.and(self.sky_light.map())
+    /// The sky of environment maps, when it gives light (what
+    /// [`mirror_balls`](Self::mirror_balls) reflect).
+    pub fn sampled_sky(&self) -> Option<&SkyEmitter> {
+        self.sky
+            .and(self.sky_light.has_maps().then_some(&self.sky_light))
     }
 
     /// The polished metal balls through which the path tracer samples the environment map's

@@ -25,6 +25,9 @@ pub struct World {
     /// Light arriving from every direction far away (an equirectangular sky), for the path
     /// tracer; without one, the path tracer takes the background as a constant sky.
     pub environment: Option<Arc<EnvironmentMap>>,
+    /// Further environment maps whose light adds to `environment`'s (a pbrt-v4 scene's
+    /// several image `infinite` lights), for the path tracer, which samples each by its power.
+    pub more_environments: Vec<Arc<EnvironmentMap>>,
     /// The participating media that objects' interfaces name (none by default); only the path
     /// tracer renders them.
     pub media: Media,
@@ -59,6 +62,7 @@ impl Default for World {
             lighting: LightingModel::Phong,
             ambient_index: 1.0,
             environment: None,
+            more_environments: Vec::new(),
             media: Media::NONE,
             camera_medium: None,
         }

@@ -634,12 +634,15 @@ impl SkyDraw {
         self.u
     }
 
-    /// [`EnvironmentMap::sample`] of `map` with these numbers, made on the first call.
-    /// (Every call must name the same map.)
+    /// The draw `sample` makes with these numbers (a sky's: [`EnvironmentMap::sample`], or
+    /// the lights' sum of maps), made on the first call. (Every call must name the same sky.)
     #[inline]
-    pub fn of(&mut self, map: &EnvironmentMap) -> Option<(Vec3, Color, f64)> {
+    pub fn of(
+        &mut self,
+        sample: impl FnOnce([f64; 2]) -> Option<(Vec3, Color, f64)>,
+    ) -> Option<(Vec3, Color, f64)> {
         let u = self.u;
-        *self.drawn.get_or_insert_with(|| map.sample(u))
+        *self.drawn.get_or_insert_with(|| sample(u))
     }
 }
 
@@ -1156,8 +1159,8 @@ mod tests {
             let (d, radiance, pdf) = map.sample(u).expect("a sample");
             // A draw shared between estimates is the map's own, however often it is read.
             let mut shared = SkyDraw::new(u);
-            assert_eq!(shared.of(&map), Some((d, radiance, pdf)));
-            assert_eq!(shared.of(&map), Some((d, radiance, pdf)));
+            assert_eq!(shared.of(|u| map.sample(u)), Some((d, radiance, pdf)));
+            assert_eq!(shared.of(|u| map.sample(u)), Some((d, radiance, pdf)));
             assert!((d.length() - 1.0).abs() < 1e-12);
             assert!(pdf > 0.0);
             let again = map.pdf(d);

@@ -30,14 +30,14 @@ use super::continuation::ContinuationCache;
 use super::sampler::SampleStream;
 use crate::color::Color;
 use crate::geometry::LocalHit;
-use crate::lights::{mirror_spread, Emitters, MirrorBall};
+use crate::lights::{mirror_spread, Emitters, MirrorBall, SkyEmitter};
 use crate::math::{Frame, Point3, Ray, Vec3};
 use crate::options::Techniques;
 use crate::scene::{
     surface_offset, Intersection, LightingModel, Object, World, WorldIndex, NO_OBJECT,
 };
 use crate::shading::bsdf::{Bsdf, BsdfSample};
-use crate::shading::{EnvironmentMap, Layer, Scattering, SkyDraw, SurfacePoint};
+use crate::shading::{Layer, Scattering, SkyDraw, SurfacePoint};
 
 /// Dimensions a camera sample uses: a group of four for the image point and the first
 /// vertex's light point, then the lens point, the instant and one spare.
@@ -847,7 +847,7 @@ impl<'w> PathContext<'w> {
         stream: &mut SampleStream,
     ) {
         let emitters = self.emitters;
-        let Some(map) = emitters.environment() else {
+        let Some(sky) = emitters.sampled_sky() else {
             return;
         };
         if path.depth + 1 >= self.max_depth {
@@ -863,14 +863,14 @@ impl<'w> PathContext<'w> {
         emitters
             .mirror_balls()
             .choose(point, budget, u, |ball, solves, weight| {
-                let light = self.sky_in_mirror(ball, map, vertex, time, scatter, sky_draw, solves);
+                let light = self.sky_in_mirror(ball, sky, vertex, time, scatter, sky_draw, solves);
                 path.radiance += path.throughput.hadamard(light) * weight;
             });
     }
 
-    /// The environment map's light that the mirror ball `ball` reflects to `at` (at the
-    /// instant `time`) and the layer of `scatter` scatters back along the path, from the
-    /// direction of the map in `draw` (the vertex's, which next-event estimation may have
+    /// The environment maps' light (`sky_light`'s) that the mirror ball `ball` reflects to `at`
+    /// (at the instant `time`) and the layer of `scatter` scatters back along the path, from the
+    /// direction of the sky in `draw` (the vertex's, which next-event estimation may have
     /// drawn already; the ball's reflection point solved for it), weighed by the power
     /// heuristic against the layer's own sampling finding the same path, the ball being
     /// solved `solves` times at the vertex on average.
@@ -878,14 +878,14 @@ impl<'w> PathContext<'w> {
     fn sky_in_mirror(
         &mut self,
         ball: &MirrorBall,
-        map: &EnvironmentMap,
+        sky_light: &SkyEmitter,
         at: &SurfaceVertex,
         time: f64,
         scatter: &Scatter,
         draw: &mut SkyDraw,
         solves: f64,
     ) -> Color {
-        let Some((towards, sky, sky_pdf)) = draw.of(map) else {
+        let Some((towards, sky, sky_pdf)) = draw.of(|u| sky_light.draw(u)) else {
             return Color::BLACK;
         };
         self.solves += 1;
