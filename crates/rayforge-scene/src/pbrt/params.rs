@@ -380,6 +380,11 @@ impl Params {
         Ok(self.one_number(name, ParamType::Float)?.map(|(v, _)| v))
     }
 
+    /// A `float` parameter of one value, with the parameter (for its place).
+    pub fn float_at(&self, name: &str) -> Result<Option<(f64, &Param)>, SceneError> {
+        self.one_number(name, ParamType::Float)
+    }
+
     /// A `float` parameter of one value, `default` when absent.
     pub fn float_or(&self, name: &str, default: f64) -> Result<f64, SceneError> {
         Ok(self.float(name)?.unwrap_or(default))

@@ -6,19 +6,24 @@
 //!   is pbrt's); where the mesh has normals `N`, pbrt turns each face's geometric normal to
 //!   the side of its shading normal, so each face is wound here to face the mean of its
 //!   corners' `N`. `ReverseOrientation` turns every face (and the normals) over.
-//! - `sphere` (`radius`): a sphere; `disk` (`radius`, `innerradius`, `height`): a ring in the
-//!   plane z = height facing +z; `cylinder` (`radius`, `zmin`, `zmax`): an open cylinder about
-//!   z. Their fronts face out (+z for the disk); `ReverseOrientation` makes an emitting one
-//!   shine from its back. Cut shapes (`zmin`/`zmax` on a sphere, `phimax` below 360) are
-//!   refused: rayforge's shapes are whole.
+//! - `sphere` (`radius`, `zmin`, `zmax`, `phimax`); `disk` (`radius`, `innerradius`,
+//!   `height`, `phimax`): in the plane z = height facing +z; `cylinder` (`radius`, `zmin`,
+//!   `zmax`, `phimax`): open, about z. Their fronts face out (+z for the disk);
+//!   `ReverseOrientation` makes an emitting one shine from its back. A whole one is the
+//!   shape of its kind (a sphere, a ring, a cylinder) placed to pbrt's frame; one cut by its
+//!   heights or sweep is a [`PartialQuadric`], intersected and sampled as its cut leaves it.
+//!   Cuts are clamped as pbrt-v4 clamps them (heights to the sphere, `phimax` to 360°); one
+//!   that leaves nothing (`phimax` 0 or less, `zmin` and `zmax` beyond the same pole) is
+//!   refused at its parameter.
 //! - `curves` are left out with a warning (they are hair and fur, not surfaces), and every
 //!   other shape is refused at its directive.
 
 use super::input::Files;
+use super::params::Param;
 use super::reader::ShapeEntity;
 use crate::error::SceneError;
 use glam::{DMat4, DVec3};
-use rayforge::geometry::{Mesh, MeshFace, Winding};
+use rayforge::geometry::{CutError, Mesh, MeshFace, PartialQuadric, Winding};
 use rayforge::{Object, Shape};
 use std::sync::Arc;
 
@@ -43,15 +48,18 @@ pub fn build(
     let entity = &shape.entity;
     let params = &entity.params;
     // `alpha` is read where the shape is placed (`build::place`), with the textures.
-    let whole_turn = |name: &str| -> Result<(), SceneError> {
-        match params.float(name)? {
-            Some(phi) if phi < 360.0 => Err(entity.error(format!(
-                "a {} cut to {phi}° (`phimax`) is not read; rayforge's are whole",
-                entity.name
-            ))),
-            _ => Ok(()),
-        }
+    // A quadric cut by its sweep or heights becomes one of rayforge's cut quadrics; a whole
+    // one stays the shape of its kind (a whole sphere keeps its sampling by the cone it
+    // subtends).
+    let cut_error = |e: CutError, at: Option<&Param>| match at {
+        Some(p) => p.error(e.to_string()),
+        None => entity.error(format!("a {} whose {e}", entity.name)),
     };
+    let partial = |q: Result<PartialQuadric, CutError>, at: Option<&Param>| {
+        q.map(|q| Object::new(Shape::Partial(Box::new(q))))
+            .map_err(|e| cut_error(e, at))
+    };
+    let cut = |sweep: Option<(f64, &Param)>| sweep.is_some_and(|(phi, _)| phi < 360.0);
     Ok(match entity.name.as_str() {
         "trianglemesh" => {
             let (mesh, area) = triangle_mesh(shape, triangles, max_triangles)?;
@@ -59,41 +67,61 @@ pub fn build(
         }
         "sphere" => {
             let radius = positive(shape, "radius", 1.0)?;
-            for (name, end) in [("zmin", -radius), ("zmax", radius)] {
-                if let Some(z) = params.float(name)? {
-                    if (z.clamp(-radius, radius) - end).abs() > 0.0 {
-                        return Err(entity.error(format!(
-                            "a sphere cut at {name} {z} is not read; rayforge's spheres are \
-                             whole"
-                        )));
-                    }
-                }
+            let sweep = params.float_at("phimax")?;
+            let z_min = params.float_at("zmin")?;
+            let z_max = params.float_at("zmax")?;
+            let below = z_min.is_some_and(|(z, _)| z > -radius);
+            let above = z_max.is_some_and(|(z, _)| z < radius);
+            if below || above || cut(sweep) {
+                let phi = sweep.map_or(360.0, |(phi, _)| phi);
+                let q = PartialQuadric::sphere(
+                    radius,
+                    z_min.map_or(-radius, |(z, _)| z),
+                    z_max.map_or(radius, |(z, _)| z),
+                    phi,
+                );
+                // Name the parameter the cut fails at.
+                let at = match q {
+                    Err(CutError::Sweep(_)) => sweep.map(|(_, p)| p),
+                    _ => z_max.or(z_min).map(|(_, p)| p),
+                };
+                let area = q.map_or(0.0, |q| q.area());
+                Built::Objects(vec![partial(q, at)?], area)
+            } else {
+                let object =
+                    Object::sphere().with_transform(DMat4::from_scale(DVec3::splat(radius)));
+                Built::Objects(vec![object], 4.0 * std::f64::consts::PI * radius * radius)
             }
-            whole_turn("phimax")?;
-            let object = Object::sphere().with_transform(DMat4::from_scale(DVec3::splat(radius)));
-            Built::Objects(vec![object], 4.0 * std::f64::consts::PI * radius * radius)
         }
         "disk" => {
             let radius = positive(shape, "radius", 1.0)?;
-            let inner = params.float_or("innerradius", 0.0)?;
-            if !(0.0..radius).contains(&inner) {
-                return Err(entity.error(format!(
-                    "a disk's innerradius is from 0 to below its radius {radius}, found {inner}"
+            let inner = params.float_at("innerradius")?;
+            if let Some((r, p)) = inner.filter(|(r, _)| !(0.0..radius).contains(r)) {
+                return Err(p.error(format!(
+                    "a disk's innerradius is from 0 to below its radius {radius}, found {r}"
                 )));
             }
+            let inner = inner.map_or(0.0, |(r, _)| r);
             let height = params.float_or("height", 0.0)?;
-            whole_turn("phimax")?;
-            // rayforge's ring lies in the xz plane facing +y; pbrt's disk in the xy plane
-            // facing +z: a quarter turn about x takes +y to +z.
-            let placed = DMat4::from_translation(DVec3::new(0.0, 0.0, height))
-                * DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2);
-            let object = Object::new(Shape::Ring {
-                inner,
-                outer: radius,
-            })
-            .with_transform(placed);
-            let area = std::f64::consts::PI * (radius * radius - inner * inner);
-            Built::Objects(vec![object], area)
+            let sweep = params.float_at("phimax")?;
+            if cut(sweep) {
+                let phi = sweep.map_or(360.0, |(phi, _)| phi);
+                let q = PartialQuadric::disk(height, radius, inner, phi);
+                let area = q.map_or(0.0, |q| q.area());
+                Built::Objects(vec![partial(q, sweep.map(|(_, p)| p))?], area)
+            } else {
+                // rayforge's ring lies in the xz plane facing +y; pbrt's disk in the xy plane
+                // facing +z: a quarter turn about x takes +y to +z.
+                let placed = DMat4::from_translation(DVec3::new(0.0, 0.0, height))
+                    * DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2);
+                let object = Object::new(Shape::Ring {
+                    inner,
+                    outer: radius,
+                })
+                .with_transform(placed);
+                let area = std::f64::consts::PI * (radius * radius - inner * inner);
+                Built::Objects(vec![object], area)
+            }
         }
         "cylinder" => {
             let radius = positive(shape, "radius", 1.0)?;
@@ -104,18 +132,25 @@ pub fn build(
                     "a cylinder's zmin ({zmin}) is below its zmax ({zmax})"
                 )));
             }
-            whole_turn("phimax")?;
-            // rayforge's cylinder stands along y; a quarter turn about x lays it along z.
-            let placed = DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2)
-                * DMat4::from_scale(DVec3::new(radius, 1.0, radius));
-            let object = Object::new(Shape::Cylinder {
-                minimum: zmin,
-                maximum: zmax,
-                closed: false,
-            })
-            .with_transform(placed);
-            let area = 2.0 * std::f64::consts::PI * radius * (zmax - zmin);
-            Built::Objects(vec![object], area)
+            let sweep = params.float_at("phimax")?;
+            if cut(sweep) {
+                let phi = sweep.map_or(360.0, |(phi, _)| phi);
+                let q = PartialQuadric::cylinder(radius, zmin, zmax, phi);
+                let area = q.map_or(0.0, |q| q.area());
+                Built::Objects(vec![partial(q, sweep.map(|(_, p)| p))?], area)
+            } else {
+                // rayforge's cylinder stands along y; a quarter turn about x lays it along z.
+                let placed = DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2)
+                    * DMat4::from_scale(DVec3::new(radius, 1.0, radius));
+                let object = Object::new(Shape::Cylinder {
+                    minimum: zmin,
+                    maximum: zmax,
+                    closed: false,
+                })
+                .with_transform(placed);
+                let area = 2.0 * std::f64::consts::PI * radius * (zmax - zmin);
+                Built::Objects(vec![object], area)
+            }
         }
         "curves" => {
             warnings.push(

@@ -13,6 +13,7 @@ pub mod cone;
 pub mod cube;
 pub mod cylinder;
 mod mesh;
+mod partial;
 pub mod plane;
 mod polyhedra;
 pub mod rectangle;
@@ -24,6 +25,7 @@ pub mod torus;
 mod triangle;
 
 pub use mesh::{Mesh, MeshError, MeshFace, VertexAttributes, Winding};
+pub use partial::{CutError, PartialQuadric};
 pub use polyhedra::{dodecahedron, icosahedron};
 pub use sampling::{AreaSample, Heights, ShapeSampler, SolidAngleSample};
 pub use tessellate::sphere_mesh;

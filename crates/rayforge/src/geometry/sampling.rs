@@ -18,7 +18,7 @@
 //! ellipsoid) is not a sphere in the world, and is drawn by area too.
 
 use super::{cone, cube, cylinder, rectangle, ring, sphere, torus, triangle, LocalHit, Mesh};
-use super::{sphere::SubtendedCone, Triangle};
+use super::{sphere::SubtendedCone, PartialQuadric, Triangle};
 use crate::math::{Distribution1D, Point3, Transform, Vec3};
 use std::sync::Arc;
 
@@ -53,6 +53,8 @@ pub enum ShapeSampler {
     /// The double cone x² + z² = y² between two finite heights, with its end discs when
     /// closed.
     Cone(Heights),
+    /// One of pbrt-v4's cut quadrics, uniformly over what its cut keeps.
+    Partial(PartialQuadric),
     /// A ring or spindle torus about the y axis (see [`torus::is_sampled`]).
     Torus {
         /// Radius of the tube's centre circle.
@@ -146,6 +148,7 @@ impl ShapeSampler {
             ShapeSampler::Cylinder(h) => cylinder::area(h.minimum, h.maximum, h.closed),
             ShapeSampler::Cone(h) => cone::area(h.minimum, h.maximum, h.closed),
             ShapeSampler::Torus { major, minor } => torus::area(*major, *minor),
+            ShapeSampler::Partial(q) => q.area(),
         }
     }
 
@@ -181,6 +184,7 @@ impl ShapeSampler {
             }
             ShapeSampler::Cone(h) => cone::sample_area(h.minimum, h.maximum, h.closed, pick, u),
             ShapeSampler::Torus { major, minor } => torus::sample_area(*major, *minor, u),
+            ShapeSampler::Partial(q) => q.sample_area(u),
         };
         AreaSample {
             point,
@@ -202,6 +206,7 @@ impl ShapeSampler {
             ShapeSampler::Cylinder(h) => cylinder::normal_at(point, h.minimum, h.maximum),
             ShapeSampler::Cone(h) => cone::normal_at(point, h.minimum, h.maximum),
             ShapeSampler::Torus { major, minor } => torus::normal_at(point, *major, *minor),
+            ShapeSampler::Partial(q) => q.normal_at(point),
         };
         n.normalize_or_zero()
     }

@@ -84,7 +84,7 @@ fn model_key(shape: &Shape) -> Option<ModelKey> {
         Shape::Torus { major, minor } => ModelKey::Torus(major.to_bits(), minor.to_bits()),
         Shape::Ring { inner, outer } => ModelKey::Ring(inner.to_bits(), outer.to_bits()),
         Shape::Mesh(mesh) => ModelKey::Mesh(Arc::as_ptr(mesh) as usize),
-        Shape::Triangle(_) | Shape::Csg(_) => return None,
+        Shape::Triangle(_) | Shape::Csg(_) | Shape::Partial(_) => return None,
     })
 }
 

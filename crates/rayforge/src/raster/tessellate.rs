@@ -12,7 +12,7 @@
 //! geometrically further out (the farther parts cover few pixels), so a plane costs a few
 //! thousand triangles and Gouraud shading still has vertices near what the camera looks at.
 
-use crate::geometry::{Mesh, MeshFace, Winding};
+use crate::geometry::{Mesh, MeshFace, PartialQuadric, Winding};
 use crate::math::{Aabb, Point3, Vec3};
 use crate::scene::Csg;
 use crate::scene::Shape;
@@ -250,6 +250,39 @@ fn torus(divs: u32, major: f64, minor: f64) -> Tessellation<'static> {
                 .map(|&c| t.normals[c as usize])
                 .fold(Vec3::ZERO, |a, n| a + n);
             t.quad(corners, outward);
+        }
+    }
+    t
+}
+
+/// A cut quadric as a grid over its (u, v): `4·divs` columns about its axis, `divs` rows
+/// along it, each vertex's normal the surface's; open, so seen from both sides.
+fn partial(divs: u32, q: &PartialQuadric) -> Tessellation<'static> {
+    let (columns, rows) = (divs.max(3) * 4, divs.max(3));
+    let mut t = Tessellation::empty(false);
+    for i in 0..=columns {
+        for j in 0..=rows {
+            let p = q.point_at(
+                f64::from(i) / f64::from(columns),
+                f64::from(j) / f64::from(rows),
+            );
+            t.vertex(p, q.normal_at(p));
+        }
+    }
+    let index = |i: u32, j: u32| i * (rows + 1) + j;
+    for i in 0..columns {
+        for j in 0..rows {
+            let corners = [
+                index(i, j),
+                index(i + 1, j),
+                index(i + 1, j + 1),
+                index(i, j + 1),
+            ];
+            let front = corners
+                .iter()
+                .map(|&c| t.normals[c as usize])
+                .fold(Vec3::ZERO, |a, n| a + n);
+            t.quad(corners, front);
         }
     }
     t
@@ -521,6 +554,7 @@ pub fn face_count(shape: &Shape, divisions: u32) -> u64 {
         Shape::Sphere => 2 * d * d,
         Shape::Torus { .. } => 4 * d * d,
         Shape::Ring { .. } => 8 * d,
+        Shape::Partial(_) => 8 * d * d,
         Shape::Cube => 12,
         Shape::Rectangle => 2,
         Shape::Triangle(_) => 1,
@@ -612,5 +646,6 @@ pub fn tessellate(shape: &Shape, divisions: u32) -> Tessellation<'_> {
         Shape::Triangle(tri) => triangle(tri),
         Shape::Mesh(mesh) => Tessellation::of_mesh(mesh),
         Shape::Csg(c) => csg(c, divisions),
+        Shape::Partial(q) => partial(divisions, q),
     }
 }

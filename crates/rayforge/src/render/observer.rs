@@ -352,5 +352,6 @@ fn kind(shape: &Shape) -> &'static str {
         Shape::Triangle(_) => "triangle",
         Shape::Mesh(_) => "mesh",
         Shape::Csg(_) => "csg",
+        Shape::Partial(_) => "cut quadric",
     }
 }

@@ -8,7 +8,7 @@
 
 use super::csg::Csg;
 use crate::geometry::{cone, cube, cylinder, plane, rectangle, ring, sphere, torus};
-use crate::geometry::{Heights, LocalHit, Mesh, ShapeSampler, Triangle};
+use crate::geometry::{Heights, LocalHit, Mesh, PartialQuadric, ShapeSampler, Triangle};
 use crate::math::{Aabb, Point3, Ray, Vec3};
 use crate::shading::SurfacePoint;
 use std::sync::Arc;
@@ -65,6 +65,10 @@ pub enum Shape {
     /// The square from -1 to 1 in x and z of the xz plane, normal +y: a bounded plane (the
     /// walls and lights of the path tracer's reference scenes). No thickness, no volume.
     Rectangle,
+    /// One of pbrt-v4's quadrics cut by its heights and sweep (a pbrt file's `sphere` with
+    /// `zmin`, `zmax` or `phimax`, a `disk` or `cylinder` with `phimax`), in pbrt's own frame.
+    /// Boxed: larger than the other shapes. Open: no volume.
+    Partial(Box<PartialQuadric>),
 }
 
 impl Shape {
@@ -124,6 +128,7 @@ impl Shape {
             Shape::Torus { major, minor } => torus::intersect(ray, *major, *minor, &mut hit_t),
             Shape::Ring { inner, outer } => ring::intersect(ray, *inner, *outer, &mut hit_t),
             Shape::Rectangle => rectangle::intersect(ray, &mut hit_t),
+            Shape::Partial(q) => q.intersect(ray, &mut hit_t),
         }
     }
 
@@ -251,6 +256,7 @@ impl Shape {
             Shape::Torus { major, minor } => torus::normal_at(point, *major, *minor),
             Shape::Ring { .. } => ring::normal_at(point),
             Shape::Rectangle => rectangle::normal_at(point),
+            Shape::Partial(q) => q.normal_at(point),
         }
     }
 
@@ -267,8 +273,8 @@ impl Shape {
         }
     }
 
-    /// The (u, v) pbrt-v4 gives the object-space point `p` of a sphere, ring (pbrt's disk) or
-    /// open cylinder, in the frame the pbrt reader places them in (pbrt's z along the ring's
+    /// The (u, v) pbrt-v4 gives the object-space point `p` of a sphere, ring (pbrt's disk),
+    /// open cylinder or cut quadric (its own: see [`PartialQuadric::uv`]), in the frame the pbrt reader places them in (pbrt's z along the ring's
     /// and cylinder's y): `u = φ / 2π` with φ pbrt's angle about its z from its x, and `v` from
     /// the bottom pole to the top (sphere), from the outer edge in (disk), from `minimum` to
     /// `maximum` (cylinder). Other shapes have none: (0, 0).
@@ -303,6 +309,7 @@ impl Shape {
             } if maximum > minimum && maximum.is_finite() && minimum.is_finite() => {
                 (turn(-p.z, p.x), (p.y - minimum) / (maximum - minimum))
             }
+            Shape::Partial(ref q) => q.uv(p),
             _ => (0.0, 0.0),
         }
     }
@@ -337,6 +344,7 @@ impl Shape {
             Shape::Sphere => ShapeSampler::Sphere,
             Shape::Cube => ShapeSampler::Cube,
             Shape::Rectangle => ShapeSampler::Rectangle,
+            Shape::Partial(q) => ShapeSampler::Partial(**q),
             Shape::Ring { inner, outer } => ShapeSampler::Ring {
                 inner: *inner,
                 outer: *outer,
@@ -368,7 +376,7 @@ impl Shape {
     pub fn has_volume(&self) -> bool {
         !matches!(
             self,
-            Shape::Ring { .. } | Shape::Triangle(_) | Shape::Rectangle
+            Shape::Ring { .. } | Shape::Triangle(_) | Shape::Rectangle | Shape::Partial(_)
         )
     }
 
@@ -408,6 +416,7 @@ impl Shape {
             Shape::Rectangle => Aabb::new(Point3::new(-1.0, 0.0, -1.0), Point3::new(1.0, 0.0, 1.0)),
             Shape::Mesh(mesh) => mesh.bounds(),
             Shape::Csg(csg) => csg.bounds(),
+            Shape::Partial(q) => q.bounds(),
             Shape::Triangle(t) => {
                 let mut b = Aabb::EMPTY;
                 for p in [t.p1, t.p2, t.p3] {
