@@ -472,8 +472,8 @@ fn errors_name_file_line_column_directive_and_parameter() {
     assert_at(&e, 2, 35, "float radius", "takes numbers");
     let e = error("WorldBegin\nShape \"sphere\" \"float radius\" -1\n");
     assert_at(&e, 2, 1, "Shape", "above 0");
-    let e = error("WorldBegin\nShape \"sphere\" \"float zmax\" 0.5\n");
-    assert_at(&e, 2, 1, "Shape", "cut");
+    let e = error("WorldBegin\nShape \"sphere\" \"float phimax\" -1\n");
+    assert_at(&e, 2, 16, "float phimax", "above 0");
     let e = error("WorldBegin\nMaterial \"measured\"\nShape \"sphere\"\n");
     assert_at(&e, 2, 1, "Material", "measured");
     let e = error("WorldBegin\nNamedMaterial \"nowhere\"\nShape \"sphere\"\n");
