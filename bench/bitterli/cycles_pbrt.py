@@ -3,7 +3,7 @@
 docs/performance.md ("The path tracer against Blender's Cycles"). A benchmarking aid outside
 the renderer: rayforge never depends on Blender.
 
-    /path/to/venv/bin/python bench/cycles/cycles_pbrt.py SCENE.pbrt -o OUT.exr \\
+    /path/to/venv/bin/python bench/bitterli/cycles_pbrt.py SCENE.pbrt -o OUT.exr \\
         [--divide 4] [--spp 64] [--threads 2] [--seed 1]
 
 Needs PyPI's `bpy` (Blender as a Python module; 5.3.0 on Python 3.13 when measured). It
@@ -30,8 +30,10 @@ that a comparison never runs on a scene read differently):
 - `AreaLightSource "diffuse"` `L` (and `scale`): an Emission of that radiance on the shape's
   front only (pbrt's lamps are one-sided): Cycles' mesh lights shine from both sides, so the
   back face is masked by the geometry's `Backfacing` output.
-- Shapes: `trianglemesh` (`P`, `indices`, `N`) and `sphere` (`radius`; a smooth UV sphere of
-  256 × 128 facets, whose area is within 0.02 % of the sphere's).
+- Shapes: `trianglemesh` (`P`, `indices`, `N`) and `sphere` (`radius`): a glowing sphere of a
+  black material as Cycles' sphere light (a point light with that radius, camera-visible, no
+  soft falloff: sampled by its cone as pbrt-v4 and rayforge sample it), any other sphere as a
+  smooth UV sphere of 256 × 128 facets (its area within 0.02 % of the sphere's).
 - `Transform`, `Translate`, `Scale`, `ConcatTransform`, `AttributeBegin`/`End`,
   `MakeNamedMaterial`, `NamedMaterial`, `Material`; `Sampler` and `Accelerator` ignored (each
   renderer uses its own).
@@ -192,6 +194,30 @@ def add_mesh(name, verts, faces, normals, mat, world_from_object):
     bpy.context.scene.collection.objects.link(obj)
 
 
+def add_sphere_lamp(name, radius, radiance, mat, world_from_object):
+    """A glowing sphere as Cycles' own sphere light (a point light of that radius, seen by the
+    camera, without the soft falloff), sampled as pbrt-v4 samples a sphere (by its visible
+    cone), which a tessellated emitter would not be. A point light of power P and radius r
+    shows a radiance of P ∕ (4π² r²) (measured with Blender 5.3: exact to 1e-7)."""
+    loc, _, scale = world_from_object.decompose()
+    if max(scale) - min(scale) > 1e-6 * max(scale):
+        raise SystemExit("a glowing sphere scaled unevenly is not read by this script")
+    bsdf = next(n for n in mat.node_tree.nodes if n.type == "BSDF_DIFFUSE")
+    if any(bsdf.inputs["Color"].default_value[:3]):
+        raise SystemExit("a glowing sphere that also reflects is not read by this script")
+    r = radius * scale[0]
+    peak = max(radiance)
+    light = bpy.data.lights.new(name, "POINT")
+    light.color = [c / peak for c in radiance]
+    light.energy = 4 * math.pi ** 2 * r * r * peak
+    light.shadow_soft_size = r
+    light.use_soft_falloff = False
+    obj = bpy.data.objects.new(name, light)
+    obj.location = loc
+    obj.visible_camera = True
+    bpy.context.scene.collection.objects.link(obj)
+
+
 def uv_sphere(radius, segments=256, rings=128):
     verts, faces = [], []
     for j in range(1, rings):
@@ -290,8 +316,12 @@ def build(path, divide):
                 for cut in ("zmin", "zmax", "phimax"):
                     if cut in params:
                         raise SystemExit(f"a cut sphere ({cut}) is not read")
-                verts, faces, normals = uv_sphere(params.get("radius", ("float", [1.0]))[1][0])
-                add_mesh(f"shape{count}", verts, faces, normals, mat, ctm)
+                radius = params.get("radius", ("float", [1.0]))[1][0]
+                if area:
+                    add_sphere_lamp(f"shape{count}", radius, area, current, ctm)
+                else:
+                    verts, faces, normals = uv_sphere(radius)
+                    add_mesh(f"shape{count}", verts, faces, normals, mat, ctm)
             else:
                 raise SystemExit(f"shape {args[0]!r} is not read by this script")
         else:
