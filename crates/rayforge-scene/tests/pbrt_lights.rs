@@ -210,3 +210,35 @@ fn several_infinite_lights_are_summed_and_each_sampled() {
     let alone = 0.5 / PI * lat_long_irradiance(1.0, false);
     assert!(want - alone > 20.0 * se, "{want} vs {alone}");
 }
+
+#[test]
+fn a_portal_is_checked_and_the_sky_is_the_same_with_or_without_it() {
+    let dir = tempfile::tempdir().unwrap();
+    write_pfm(&dir.path().join("sky.pfm"), 16, 8, lat_long_texel);
+    let sky = "LightSource \"infinite\" \"string filename\" \"sky.pfm\"";
+    let window = "\"point3 portal\" [-1 -1 3  1 -1 3  1 1 3  -1 1 3]";
+    let plain = load_in(dir.path(), &floor_under(sky)).unwrap();
+    let text = floor_under(&format!("{sky} {window}"));
+    let portal = load_in(dir.path(), &text).unwrap_or_else(|e| panic!("{e}"));
+    // The same light: the same map, placed alike.
+    assert_eq!(portal.world.environment, plain.world.environment);
+    let warning = portal
+        .warnings
+        .iter()
+        .find(|w| w.message.contains("portal"))
+        .expect("a warning that the portal is not sampled through");
+    assert_eq!(warning.key.as_deref(), Some("point3 portal"), "{warning}");
+    // Line 5 of `floor_under`: the light sources.
+    assert_eq!(warning.span.map(|s| s.line), Some(5), "{warning}");
+    // Not a rectangle, or not four corners: refused at the parameter, as pbrt-v4 refuses.
+    for (bad, part) in [
+        ("[-1 -1 3  1 -1 3  2 1 3  -1 1 3]", "rectangle"),
+        ("[-1 -1 3  1 -1 3  1 1 3]", "four points"),
+        ("[0 0 3  0 0 3  1 1 3  -1 1 3]", "distinct"),
+    ] {
+        let text = floor_under(&format!("{sky} \"point3 portal\" {bad}"));
+        let e = load_in(dir.path(), &text).expect_err(bad);
+        assert!(e.message.contains(part), "{bad}: {e}");
+        assert_eq!(e.key.as_deref(), Some("point3 portal"), "{e}");
+    }
+}

@@ -179,7 +179,7 @@ pub fn scene(
     let mut memory = scene_textures.memory;
     let mut sky_images: Vec<lights::SkyImage> = Vec::new();
     for light in &desc.lights {
-        match lights::light(light, files, &mut memory)? {
+        match lights::light(light, files, &mut memory, &mut warnings)? {
             Lit::Light(l) => world.lights.push(l),
             Lit::Sky(c) => world.background += c,
             Lit::Map(image) => sky_images.push(image),

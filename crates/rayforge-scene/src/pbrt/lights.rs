@@ -89,11 +89,13 @@ fn target(entity: &Entity, name: &str) -> Result<Option<f64>, SceneError> {
     Ok(entity.params.float(name)?.filter(|v| *v > 0.0))
 }
 
-/// The light of a `LightSource` (images found through `files`, within `memory`).
+/// The light of a `LightSource` (images found through `files`, within `memory`; what is
+/// approximated said in `warnings`).
 pub fn light(
     light: &LightEntity,
     files: &Files,
     memory: &mut ImageMemory,
+    warnings: &mut Vec<SceneError>,
 ) -> Result<Lit, SceneError> {
     let entity = &light.entity;
     let params = &entity.params;
@@ -150,8 +152,13 @@ pub fn light(
             })))
         }
         "infinite" => {
-            if let Some(p) = params.find("portal", &[ParamType::Point3]) {
-                return Err(p.error("portals are not read"));
+            if let Some((portal, p)) = params.points3("portal", ParamType::Point3)? {
+                check_portal(&portal, p)?;
+                warnings.push(p.error(
+                    "the portal is checked but not sampled through: the sky is sampled over \
+                     the whole sphere (the same light, noisier where the portal is the only \
+                     way in)",
+                ));
             }
             if let Some((file, p)) = params.string("filename")? {
                 let given_l = params.find(
@@ -177,6 +184,30 @@ pub fn light(
             crate::error::clip_to(other, 60)
         ))),
     }
+}
+
+/// Refuses a `portal` (parameter `p`) that is not four points making a rectangle, as pbrt-v4
+/// refuses it (opposite sides parallel and every corner square, within 0.001 of the cosines).
+fn check_portal(portal: &[DVec3], p: &super::params::Param) -> Result<(), SceneError> {
+    let [a, b, c, d] = portal else {
+        return Err(p.error(format!(
+            "a portal is four points (a rectangle's corners in order), not {}",
+            portal.len()
+        )));
+    };
+    let edge = |from: &DVec3, to: &DVec3| (*to - *from).try_normalize();
+    let (Some(ab), Some(bc), Some(dc), Some(ad)) = (edge(a, b), edge(b, c), edge(d, c), edge(a, d))
+    else {
+        return Err(p.error("a portal's corners are four distinct finite points"));
+    };
+    let parallel = (ab.dot(dc) - 1.0).abs() <= 1e-3 && (bc.dot(ad) - 1.0).abs() <= 1e-3;
+    let square = [ab.dot(bc), bc.dot(dc), dc.dot(ad), ad.dot(ab)]
+        .iter()
+        .all(|cos| cos.abs() <= 1e-3);
+    if !(parallel && square) {
+        return Err(p.error("a portal is a rectangle (its corners in order, as pbrt-v4 requires)"));
+    }
+    Ok(())
 }
 
 /// The image of the `infinite` light `light` whose `filename` parameter `p` names `file`.
