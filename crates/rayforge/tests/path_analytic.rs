@@ -986,7 +986,16 @@ fn a_mirror_balls_caustic_is_the_same_sampled_through_the_ball_or_found_by_bounc
     let (w, h) = (8, 5);
     let mut texels = vec![Color::new(0.05, 0.05, 0.06); w * h];
     texels[w + 1] = Color::new(60.0, 55.0, 50.0);
-    let sky = EnvironmentMap::new(w, h, texels, 1.0).unwrap();
+    let sky = EnvironmentMap::new(w, h, texels.clone(), 1.0).unwrap();
+    // The same sky as two maps (the dim sky with a third of the sun, and the rest of the sun
+    // alone): the path tracer sums them, and samples the sky through the ball by their mixture.
+    let mut rest = vec![Color::BLACK; w * h];
+    rest[w + 1] = texels[w + 1] * (2.0 / 3.0);
+    texels[w + 1] = texels[w + 1] * (1.0 / 3.0);
+    let parts = [
+        Arc::new(EnvironmentMap::new(w, h, texels, 1.0).unwrap()),
+        Arc::new(EnvironmentMap::new(w, h, rest, 1.0).unwrap()),
+    ];
     // The sun lies towards +x, 45° up; the wall stands at x = 1.2 facing −x, towards the
     // ball, low enough (y from 0 to 1.2) not to shade the ball from the sun.
     let wall = Object::new(rayforge::Shape::Rectangle)
@@ -1044,7 +1053,7 @@ fn a_mirror_balls_caustic_is_the_same_sampled_through_the_ball_or_found_by_bounc
         let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
         (mean, (var / n).sqrt())
     };
-    let (through, through_error) = stats(&batches(&world_of(ball), 8));
+    let (through, through_error) = stats(&batches(&world_of(ball.clone()), 8));
     let (bounced, bounced_error) = stats(&batches(&world_of(still), 64));
     let z = (through - bounced) / (through_error.powi(2) + bounced_error.powi(2)).sqrt();
     assert!(
@@ -1055,5 +1064,17 @@ fn a_mirror_balls_caustic_is_the_same_sampled_through_the_ball_or_found_by_bounc
     assert!(
         through_error < 0.5 * bounced_error,
         "{through_error} vs {bounced_error}"
+    );
+    // The sky of two maps, through the ball: the same light.
+    let two = World {
+        environment: Some(parts[0].clone()),
+        more_environments: vec![parts[1].clone()],
+        ..world_of(ball)
+    };
+    let (summed, summed_error) = stats(&batches(&two, 8));
+    let z = (summed - through) / (summed_error.powi(2) + through_error.powi(2)).sqrt();
+    assert!(
+        z.abs() < 4.0 && summed_error < 0.03 * summed,
+        "two maps {summed} ± {summed_error}, one {through} ± {through_error}"
     );
 }
