@@ -84,6 +84,8 @@ Render options (`rayforge render --help` describes each in full):
                             to BSDF sampling [default: 0.001]
       --sphere-cones <on|off> path only: glowing balls sampled in the cone they subtend
                             (off: by area) [default: on]
+      --equiangular <on|off> path only: in homogeneous media, points drawn towards the
+                            lamps, weighed by MIS (off: distance sampling alone) [default: on]
       --roulette-predictions <on|off> path only: whether the learned roulette ends paths
                             into learned predictions of the light to come [default: on]
       --aovs                path only: also write the first hit's albedo and normal
@@ -648,6 +650,13 @@ pub struct RenderArgs {
     /// scene's `sphere-cones`, else on].
     #[arg(long, value_name = "on|off", value_parser = ["on", "off"])]
     pub sphere_cones: Option<String>,
+
+    /// Path tracer: in a homogeneous medium, a point per ray segment drawn towards the lamps
+    /// (equiangular sampling) and weighed by MIS against distance sampling; `off` finds
+    /// their scattered light by distance sampling alone [default: the scene's
+    /// `equiangular`, else on].
+    #[arg(long, value_name = "on|off", value_parser = ["on", "off"])]
+    pub equiangular: Option<String>,
 
     /// Path tracer: whether the learned roulette (`--roulette-scale auto`) also learns where
     /// the light a path still gathers past a diffuse surface is predictable, and ends paths

@@ -188,6 +188,7 @@ impl PathRequest {
                 self.techniques.mirror_ball_cull.is_some(),
             ),
             ("--sphere-cones", self.techniques.sphere_cones.is_some()),
+            ("--equiangular", self.techniques.equiangular.is_some()),
             (
                 "--roulette-predictions",
                 self.roulette_predictions.is_some(),
@@ -217,6 +218,8 @@ pub struct TechniquesRequest {
     pub mirror_ball_cull: Option<f64>,
     /// `--sphere-cones`.
     pub sphere_cones: Option<bool>,
+    /// `--equiangular`.
+    pub equiangular: Option<bool>,
 }
 
 impl TechniquesRequest {
@@ -254,6 +257,7 @@ impl TechniquesRequest {
             mirror_ball_cap: args.mirror_ball_cap,
             mirror_ball_cull: cull,
             sphere_cones: on(&args.sphere_cones),
+            equiangular: on(&args.equiangular),
         })
     }
 
@@ -270,6 +274,7 @@ impl TechniquesRequest {
         set(&mut techniques.glass_split, self.glass_split);
         set(&mut techniques.mirror_balls, self.mirror_balls);
         set(&mut techniques.sphere_cones, self.sphere_cones);
+        set(&mut techniques.equiangular, self.equiangular);
         if let Some(cap) = self.mirror_ball_cap {
             techniques.mirror_ball_budget.cap = cap;
         }

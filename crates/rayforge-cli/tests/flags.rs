@@ -574,6 +574,29 @@ fn the_sphere_cones_flag_samples_the_balls_as_the_scenes_key_does() {
 }
 
 #[test]
+fn the_equiangular_flag_samples_the_fog_as_the_scenes_key_does() {
+    let d = Dir::new();
+    let image = |scene: &Path, name: &str, args: &[&str]| {
+        let out = d.path(name);
+        accepted(scene, &out, &[&["-q", "--spp", "4"], args].concat());
+        std::fs::read(out).unwrap()
+    };
+    // The ball lamps in a box of fog.
+    let fog = "- medium: fog\n  sigma-s: 0.5\n\
+               - add: cube\n  material: interface\n  interior: fog\n\
+               \x20 transform: [[scale, 2, 1.5, 2]]\n";
+    let plain = d.file("fog.yml", &(lamps("") + fog));
+    let keyed = d.file("off.yml", &(lamps("    equiangular: off\n") + fog));
+    let on = image(&plain, "on.pfm", &[]);
+    let off = image(&plain, "off.pfm", &["--equiangular", "off"]);
+    // Points drawn towards the lamps: another image from the same seed.
+    assert_ne!(on, off);
+    // The flag gives the image of the scene's key, and overrides it.
+    assert_eq!(off, image(&keyed, "key.pfm", &[]));
+    assert_eq!(on, image(&keyed, "over.pfm", &["--equiangular", "on"]));
+}
+
+#[test]
 fn the_path_tracers_technique_switches_are_its_flags() {
     let d = Dir::new();
     let path = d.file("path.yml", &choosing("path"));
@@ -585,6 +608,7 @@ fn the_path_tracers_technique_switches_are_its_flags() {
         "--glass-split",
         "--mirror-balls",
         "--sphere-cones",
+        "--equiangular",
     ];
     for (i, flag) in switches.iter().enumerate() {
         for value in ["on", "off"] {

@@ -12,7 +12,8 @@
 //!                             # `sample-allocation` (`by-noise` or `uniform`),
 //!                             # `light-sampler` and the techniques' switches
 //!                             # (`next-event`, `mis`, `roulette`, `glass-split`,
-//!                             # `mirror-balls`, `sphere-cones`: `on` or `off`) with the
+//!                             # `mirror-balls`, `sphere-cones`, `equiangular`: `on` or
+//!                             # `off`) with the
 //!                             # mirror balls' `mirror-ball-cap` and `mirror-ball-cull`, and
 //!                             # `roulette-predictions`
 //! ```
@@ -82,6 +83,7 @@ const PATH_KEYS: &[&str] = &[
     "mirror-ball-cap",
     "mirror-ball-cull",
     "sphere-cones",
+    "equiangular",
     "roulette-predictions",
 ];
 
@@ -319,6 +321,7 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
             "glass-split" => options.techniques.glass_split = switch(source, e.value, e.name)?,
             "mirror-balls" => options.techniques.mirror_balls = switch(source, e.value, e.name)?,
             "sphere-cones" => options.techniques.sphere_cones = switch(source, e.value, e.name)?,
+            "equiangular" => options.techniques.equiangular = switch(source, e.value, e.name)?,
             "mirror-ball-cap" => {
                 let cap = source.integer(e.value, "mirror-ball-cap", 1)?;
                 options.techniques.mirror_ball_budget.cap = cap as u32;

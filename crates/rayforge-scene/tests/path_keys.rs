@@ -769,10 +769,10 @@ fn the_techniques_are_switched_on_and_off() {
     let on = world("renderer: path").unwrap().path.unwrap().techniques;
     assert_eq!(on, Techniques::default());
     assert!(on.next_event && on.mis && on.roulette && on.glass_split && on.mirror_balls);
-    assert!(on.sphere_cones);
+    assert!(on.sphere_cones && on.equiangular);
     assert_eq!(on.mirror_ball_budget, MirrorBallBudget::default());
     let off = world(
-        "renderer: path\nnext-event: off\nmis: off\nroulette: off\nglass-split: off\nmirror-balls: off\nmirror-ball-cap: 7\nmirror-ball-cull: 0.25\nsphere-cones: off",
+        "renderer: path\nnext-event: off\nmis: off\nroulette: off\nglass-split: off\nmirror-balls: off\nmirror-ball-cap: 7\nmirror-ball-cull: 0.25\nsphere-cones: off\nequiangular: off",
     )
     .unwrap()
     .path
@@ -788,6 +788,7 @@ fn the_techniques_are_switched_on_and_off() {
             mirror_balls: false,
             mirror_ball_budget: MirrorBallBudget { cap: 7, cull: 0.25 },
             sphere_cones: false,
+            equiangular: false,
         }
     );
     // Each switch on its own, in either spelling.
@@ -802,6 +803,7 @@ fn the_techniques_are_switched_on_and_off() {
         ("glass-split", "false", |t| t.glass_split),
         ("mirror-balls", "off", |t| t.mirror_balls),
         ("sphere-cones", "false", |t| t.sphere_cones),
+        ("equiangular", "off", |t| t.equiangular),
     ] {
         let t = world(&format!("renderer: path\n{key}: {value}"))
             .unwrap()
@@ -817,7 +819,8 @@ fn the_techniques_are_switched_on_and_off() {
                 t.roulette,
                 t.glass_split,
                 t.mirror_balls,
-                t.sphere_cones
+                t.sphere_cones,
+                t.equiangular
             ]
             .iter()
             .filter(|on| !**on)

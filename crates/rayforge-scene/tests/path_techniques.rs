@@ -1,5 +1,5 @@
 //! The path tracer's techniques, each switched off in turn (`next-event`, `mis`, `roulette`,
-//! `glass-split`, `mirror-balls`, `sphere-cones`, and the mirror balls' cap): every combination is an
+//! `glass-split`, `mirror-balls`, `sphere-cones`, `equiangular`, and the mirror balls' cap): every combination is an
 //! unbiased estimate of the same image, so the image with a technique off has the mean of the
 //! image with it on, within noise.
 //!
@@ -178,6 +178,54 @@ fn without_the_sphere_cones_the_image_is_the_same() {
         ..on
     };
     assert_agrees(&scene, 64, on, off, "sphere-cones off");
+}
+
+/// The lit floor in a box of thin fog, with a point light besides its lamps: light the fog scatters
+/// from a point, a ball and a panel, once and many times.
+fn foggy_floor() -> Scene {
+    let mut scene = scene(
+        "- medium: fog
+  sigma-a: 0.05
+  sigma-s: [0.3, 0.35, 0.45]
+  g: 0.3
+- add: cube
+  material: interface
+  interior: fog
+  transform: [[scale, 2.5, 1.5, 2.5], [translate, 0, 1.2, 0]]
+- add: light
+  at: [-0.6, 1.0, 0.8]
+  intensity: [2, 2, 2]
+- add: rectangle
+  material: { type: diffuse, color: [0.6, 0.6, 0.6] }
+  transform: [[scale, 3, 1, 3]]
+- add: sphere
+  material: { type: diffuse, color: [0, 0, 0], emission: [6, 6, 5] }
+  transform: [[scale, 0.25, 0.25, 0.25], [translate, 0.8, 1.2, 0.3]]
+- add: rectangle
+  material: { type: diffuse, color: [0, 0, 0], emission: [3, 3, 4] }
+  transform: [[scale, 0.5, 1, 0.5], [rotate-x-degrees, 180], [translate, -0.5, 2, -0.5]]
+",
+        [0.0, 1.6, 3.5],
+        [0.0, 0.4, 0.0],
+        6,
+    );
+    scene.world.background = Color::new(0.2, 0.2, 0.3);
+    scene
+}
+
+#[test]
+fn without_equiangular_sampling_the_image_is_the_same() {
+    // Points drawn towards the lamps through the fog, weighed against distance sampling (and,
+    // without MIS, in its place).
+    let scene = foggy_floor();
+    let on = Techniques::default();
+    let off = Techniques {
+        equiangular: false,
+        ..on
+    };
+    assert_agrees(&scene, 64, on, off, "equiangular off");
+    let alone = Techniques { mis: false, ..on };
+    assert_agrees(&scene, 64, alone, off, "equiangular without MIS");
 }
 
 #[test]

@@ -175,7 +175,10 @@ pub struct PathOptions {
 /// - without the mirror-ball sampling, the sky in a polished metal ball reaches a surface
 ///   only by the surface's own BSDF sampling meeting the ball;
 /// - without the sphere cones, a glowing ball is sampled by area, as every other shape
-///   (about half its points on the side facing away, which give no light).
+///   (about half its points on the side facing away, which give no light);
+/// - without equiangular sampling, the light a homogeneous medium scatters from a lamp is
+///   found only at the points where distance sampling (by transmittance) makes the path
+///   scatter.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Techniques {
     /// Next-event estimation: a light (or the sky) sampled at every vertex that is not a
@@ -199,6 +202,11 @@ pub struct Techniques {
     /// uniformly in the cone of directions it subtends (`crate::geometry::sphere::SubtendedCone`),
     /// every sample on the cap that faces the vertex, rather than by area.
     pub sphere_cones: bool,
+    /// In a homogeneous medium, one more point per ray segment drawn towards the lights
+    /// (`crate::media::equiangular`, Kulla and Fajardo 2012) and lit by next-event
+    /// estimation, weighed by MIS against the points distance sampling finds (with MIS
+    /// off, it replaces their light sampling there); it needs next-event estimation.
+    pub equiangular: bool,
 }
 
 /// What the mirror-ball sampling may spend at a vertex. Each ball has a share of the sky's
@@ -253,6 +261,7 @@ impl Default for Techniques {
             mirror_balls: true,
             mirror_ball_budget: MirrorBallBudget::default(),
             sphere_cones: true,
+            equiangular: true,
         }
     }
 }

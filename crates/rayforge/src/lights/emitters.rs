@@ -27,6 +27,7 @@ use super::spot::SpotEmitter;
 use crate::color::Color;
 use crate::geometry::LocalHit;
 use crate::math::{Point3, Vec3};
+use crate::media::Anchors;
 use crate::options::{LightSamplerKind, PathOptions, Techniques};
 use crate::scene::{LightingModel, Object, World};
 use crate::shading::{Light, SkyDraw, SurfacePoint};
@@ -61,6 +62,9 @@ pub struct Emitters {
     /// The polished metal balls through which the environment map's light is sampled
     /// (none without a map that gives light), and the hierarchy that chooses among them.
     mirror_balls: MirrorBalls,
+    /// The places of the most powerful lights that have one, which the path tracer draws
+    /// distances through a medium towards ([`Anchors`]).
+    anchors: Anchors,
 }
 
 impl Emitters {
@@ -140,6 +144,13 @@ impl Emitters {
             (list.len() - 1) as u32
         });
         let pick = LightSampler::new(kind, &power, &bounds);
+        let anchors = Anchors::of_lights(
+            bounds
+                .iter()
+                .flatten()
+                .filter(|b| !b.bounds.is_empty())
+                .map(|b| (b.bounds.centroid(), b.power)),
+        );
         let mirror_balls = if sky.is_some() {
             MirrorBalls::of_objects(&world.objects)
         } else {
@@ -152,7 +163,14 @@ impl Emitters {
             sky,
             sky_light,
             mirror_balls,
+            anchors,
         }
+    }
+
+    /// Where the most powerful lights with a place are (points, spots and emitting surfaces
+    /// whose light falls off with distance), for equiangular sampling in media.
+    pub fn anchors(&self) -> &Anchors {
+        &self.anchors
     }
 
     /// The sky of environment maps, when it gives light (what

@@ -6,14 +6,17 @@
 //! medium is is told by surfaces: an object's [`MediumInterface`] says which medium lies
 //! inside it and which outside, and the world names the medium around the camera. Light is
 //! tracked through media by null-collision methods ([`tracking`]): delta tracking chooses
-//! where a path scatters, ratio tracking estimates what a shadow ray lets through.
+//! where a path scatters, ratio tracking estimates what a shadow ray lets through; in a
+//! homogeneous medium [`equiangular`] sampling draws points near small lamps besides.
 
+pub mod equiangular;
 pub mod grid;
 pub mod homogeneous;
 pub mod majorant;
 pub mod phase;
 pub mod tracking;
 
+pub use equiangular::{Anchors, Equiangular, MAX_ANCHORS};
 pub use grid::{DensityGrid, GridMedium, MAX_GRID_SAMPLES};
 pub use homogeneous::Homogeneous;
 pub use majorant::{MajorantGrid, MAJORANT_CELLS};

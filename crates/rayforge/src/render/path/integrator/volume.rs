@@ -13,10 +13,18 @@
 //! light found both ways is weighed by the balance heuristic over strategies and channels at
 //! once, as in pbrt-v4. Russian roulette follows the surface loop's rule and switch.
 //!
+//! In a homogeneous medium each ray segment also draws one point by equiangular sampling
+//! towards the lamps ([`Equiangular`]) and lights it by next-event estimation: a third
+//! strategy for light scattered once more, which the balance heuristic weighs against the
+//! other two by its density ratio `r_e` (the point's equiangular density over the hero
+//! channel's density of the strategy that made it), added to light sampling's ratios, since
+//! both end in a sampled light point.
+//!
 //! Random numbers: each vertex keeps the surface loop's layout of its dimensions (the
 //! direction, the light's point, the layer, the light, the roulette's coin, and one for the
 //! first distance drawn in a medium); the rest of the tracking (further distances, the
-//! choice of event at each collision, the hero channel, the shadow rays' ratio tracking)
+//! choice of event at each collision, the hero channel, the shadow rays' ratio tracking,
+//! the equiangular points and their lights)
 //! comes from a generator seeded by the camera's spare dimension, so a sample is still a
 //! pure function of the pixel, its index and the seed.
 //!
@@ -31,9 +39,17 @@ use crate::color::Color;
 use crate::math::random::{Jitter, SplitMix64};
 use crate::math::{Point3, Ray, Vec3};
 use crate::media::tracking::{clamp_zero, sample_majorant, transmittance, Transmitted};
-use crate::media::{average, channel, Medium, MediumId};
+use crate::media::{average, beer, channel, Equiangular, Homogeneous, Medium, MediumId};
 use crate::render::path::sampler::SampleStream;
 use crate::scene::surface_offset;
+
+/// σs·e^(−σt·t) per channel in the homogeneous medium `m`: what a point at `t` along a ray
+/// scatters of the light that left the ray's start, and the density (per unit length) with
+/// which delta tracking in each channel scatters there.
+#[inline]
+fn scattered_at(m: &Homogeneous, t: f64) -> Color {
+    m.sigma_s.hadamard(beer(m.sigma_t(), t))
+}
 
 /// How many boundaries one ray (a path's leg or a shadow ray) may cross without meeting
 /// anything else before it is given up: only a degenerate scene (a ray caught between two
@@ -112,6 +128,21 @@ impl<'w> PathContext<'w> {
             let hit = self.index.closest_hit(world, &ray);
             let t_hit = hit.as_ref().map_or(f64::INFINITY, |h| h.t);
             if let Some(id) = medium {
+                // What the path carried into this segment: the equiangular strategy starts
+                // from it.
+                let (beta_in, r_in) = (path.beta, path.r_u);
+                let equiangular = self.equiangular_along(world.media.get(id), &ray, t_hit, depth);
+                if let Some((m, draw)) = &equiangular {
+                    path.radiance += self.equiangular_light(
+                        m,
+                        &ray,
+                        draw,
+                        (beta_in, r_in),
+                        medium,
+                        &mut rng,
+                        hero,
+                    );
+                }
                 let stop = CAMERA_DIMENSIONS + depth * VERTEX_DIMENSIONS + 7;
                 stream.seek(stop);
                 let u = stream.next_1d();
@@ -133,7 +164,20 @@ impl<'w> PathContext<'w> {
                         let point = ray.position(t);
                         let phase = world.media.get(id).phase();
                         let numbers = CAMERA_DIMENSIONS + depth * VERTEX_DIMENSIONS;
-                        if self.techniques.next_event {
+                        // The equiangular strategy's density of this point, as a ratio to
+                        // the hero channel's density of distance sampling it (what the path's
+                        // `r_u` holds for the other channels).
+                        let r_e = equiangular.as_ref().map_or(Color::BLACK, |(m, draw)| {
+                            let p_hero = channel(scattered_at(m, t), hero);
+                            if p_hero > 0.0 {
+                                r_in * (draw.pdf(t) / p_hero)
+                            } else {
+                                Color::BLACK
+                            }
+                        });
+                        // Without MIS the equiangular point alone samples the lights here.
+                        let lights_here = equiangular.is_none() || self.techniques.mis;
+                        if self.techniques.next_event && lights_here {
                             stream.seek(numbers + 5);
                             let u_pick = stream.next_1d();
                             stream.seek(numbers + 2);
@@ -145,7 +189,7 @@ impl<'w> PathContext<'w> {
                                 medium,
                                 ray.time,
                                 (u_pick, u_point),
-                                path.r_u,
+                                (path.r_u, r_e),
                                 &mut rng,
                                 hero,
                                 |wi| {
@@ -157,8 +201,9 @@ impl<'w> PathContext<'w> {
                         }
                         stream.seek(numbers);
                         let sample = phase.sample(ray.direction, stream.next_2d());
-                        // The sampling is exact: the weight p / pdf is 1.
-                        path.r_l = path.r_u * (1.0 / sample.pdf);
+                        // The sampling is exact: the weight p / pdf is 1. A light it meets
+                        // could also have been sampled from an equiangular point here.
+                        path.r_l = (path.r_u + r_e) * (1.0 / sample.pdf);
                         previous = Previous {
                             point,
                             normal: None,
@@ -264,7 +309,7 @@ impl<'w> PathContext<'w> {
                     frame.n,
                     &side,
                     (u_pick, u_point),
-                    path.r_u,
+                    (path.r_u, Color::BLACK),
                     &mut rng,
                     hero,
                     |wi| {
@@ -431,7 +476,7 @@ impl<'w> PathContext<'w> {
         normal: Vec3,
         side: &impl Fn(Vec3) -> Option<MediumId>,
         numbers: (f64, [f64; 2]),
-        r_p: Color,
+        ratios: (Color, Color),
         rng: &mut SplitMix64,
         hero: usize,
         scatter: impl Fn(Vec3) -> (Color, f64),
@@ -460,13 +505,24 @@ impl<'w> PathContext<'w> {
             f64::INFINITY
         };
         let medium = side(light.direction);
-        self.weighed_light(ray, reach, medium, &light, (f, scatter_pdf), r_p, rng, hero)
+        self.weighed_light(
+            ray,
+            reach,
+            medium,
+            &light,
+            (f, scatter_pdf),
+            ratios,
+            rng,
+            hero,
+        )
     }
 
     /// Next-event estimation from a point in a medium (`normal` `None`) or on a surface: a
     /// light sampled with `numbers`, its light carried back through the media between
     /// (starting in `medium`), scattered by `scatter` (the value and density of the phase
     /// function or BSDF towards a direction), weighed against the path's own sampling.
+    /// `ratios` are the densities of the point by distance sampling (`r_p`, per channel) and
+    /// by equiangular sampling (`r_e`), each over the density the point was drawn with.
     #[allow(clippy::too_many_arguments)] // the vertex, its medium and its numbers, each its own
     fn light_through_media(
         &mut self,
@@ -475,7 +531,7 @@ impl<'w> PathContext<'w> {
         medium: Option<MediumId>,
         time: f64,
         numbers: (f64, [f64; 2]),
-        r_p: Color,
+        ratios: (Color, Color),
         rng: &mut SplitMix64,
         hero: usize,
         scatter: impl Fn(Vec3) -> (Color, f64),
@@ -503,13 +559,23 @@ impl<'w> PathContext<'w> {
         } else {
             f64::INFINITY
         };
-        self.weighed_light(ray, reach, medium, &light, (f, scatter_pdf), r_p, rng, hero)
+        self.weighed_light(
+            ray,
+            reach,
+            medium,
+            &light,
+            (f, scatter_pdf),
+            ratios,
+            rng,
+            hero,
+        )
     }
 
     /// The light of `light` along the shadow ray `ray` (clear for `reach`, starting in
     /// `medium`), scattered by `f` (whose sampling density is `scatter_pdf`), the path's
-    /// ratios being `r_p`, still to be multiplied by the path's throughput: the balance
-    /// heuristic between strategies and channels, or light sampling alone for a delta light.
+    /// ratios being `r_p` (and `r_e`, the equiangular strategy's, 0 where it did not run),
+    /// still to be multiplied by the path's throughput: the balance heuristic between
+    /// strategies and channels, or light sampling alone for a delta light.
     #[allow(clippy::too_many_arguments)] // the shadow ray and the light's sample, each its own
     fn weighed_light(
         &mut self,
@@ -518,7 +584,7 @@ impl<'w> PathContext<'w> {
         medium: Option<MediumId>,
         light: &crate::lights::LightSample,
         (f, scatter_pdf): (Color, f64),
-        r_p: Color,
+        (r_p, r_e): (Color, Color),
         rng: &mut SplitMix64,
         hero: usize,
     ) -> Color {
@@ -528,7 +594,7 @@ impl<'w> PathContext<'w> {
         let Some(through) = self.transmitted(ray, reach, medium, rng, hero) else {
             return Color::BLACK;
         };
-        let r_l = through.r_l.hadamard(r_p) * light.pdf;
+        let r_l = through.r_l.hadamard(r_p + r_e) * light.pdf;
         let r_u = through.r_u.hadamard(r_p) * scatter_pdf;
         let denominator = if light.delta || !self.techniques.mis {
             average(r_l)
@@ -587,6 +653,81 @@ impl<'w> PathContext<'w> {
             ray.origin = origin;
         }
         None
+    }
+
+    /// The equiangular sampler of the segment of `ray` through `medium` up to `t_max`, where
+    /// it runs: a homogeneous medium, the technique and next-event estimation on, lights to
+    /// draw towards, and a scattering there still within the most bounces.
+    fn equiangular_along<'m>(
+        &self,
+        medium: &'m Medium,
+        ray: &Ray,
+        t_max: f64,
+        depth: u32,
+    ) -> Option<(&'m Homogeneous, Equiangular)> {
+        let on = self.techniques.equiangular && self.techniques.next_event;
+        let Medium::Homogeneous(m) = medium else {
+            return None;
+        };
+        if !on || depth >= self.max_depth || m.sigma_s.max_channel() <= 0.0 {
+            return None;
+        }
+        let draw = self
+            .emitters
+            .anchors()
+            .along(ray.origin, ray.direction, t_max)?;
+        Some((m, draw))
+    }
+
+    /// The light scattered once towards the path from a point of the segment of `ray`
+    /// drawn by `draw` (equiangular sampling), lit by next-event estimation: the path having
+    /// carried `beta_in` and ratios `r_in` into the segment, the light sampled from the point
+    /// weighed by the balance heuristic against distance sampling finding the point (and
+    /// against the phase function finding the light), or alone without MIS.
+    #[allow(clippy::too_many_arguments)] // the segment, its sampler and the path's state
+    fn equiangular_light(
+        &mut self,
+        m: &Homogeneous,
+        ray: &Ray,
+        draw: &Equiangular,
+        (beta_in, r_in): (Color, Color),
+        medium: Option<MediumId>,
+        rng: &mut SplitMix64,
+        hero: usize,
+    ) -> Color {
+        let (u_anchor, u_t) = (rng.next_offset(), rng.next_offset());
+        let u_pick = rng.next_offset();
+        let u_point = [rng.next_offset(), rng.next_offset()];
+        let (t, pdf) = draw.sample(u_anchor, u_t);
+        if !(pdf > 0.0) {
+            return Color::BLACK;
+        }
+        // σs·e^(−σt·t) per channel: what the point scatters of what reaches it, and the
+        // density with which distance sampling in each channel scatters there.
+        let scattered = scattered_at(m, t);
+        let beta = beta_in.hadamard(scattered) * (1.0 / pdf);
+        let r_p = if self.techniques.mis {
+            r_in.hadamard(scattered) * (1.0 / pdf)
+        } else {
+            Color::BLACK
+        };
+        let phase = m.phase;
+        let travel = ray.direction;
+        let light = self.light_through_media(
+            ray.position(t),
+            None,
+            medium,
+            ray.time,
+            (u_pick, u_point),
+            (r_p, r_in),
+            rng,
+            hero,
+            |wi| {
+                let p = phase.eval(travel, wi);
+                (Color::new(p, p, p), p)
+            },
+        );
+        light.hadamard(beta)
     }
 
     /// Russian roulette after a bounce in media, by the surface loop's rule on the path's
