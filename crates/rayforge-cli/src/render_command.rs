@@ -100,21 +100,37 @@ fn render_frame(settings: &RenderSettings, output: &Path, frame: u64) -> Result<
 /// separate media (index-matched, invisible) are left out, every other surface drawn as if in
 /// vacuum.
 fn without_media(settings: &RenderSettings, mut scene: Scene) -> Scene {
-    let boundary = |o: &rayforge::Object| o.media.is_some_and(|m| m.index_matched);
-    if !scene.world.has_media() && !scene.world.objects.iter().any(boundary) {
+    if !has_media(&scene) {
         return scene;
     }
     if !settings.quiet {
-        settings.said.warn(
-            "the scene's participating media are rendered by the path tracer only \
-             (`renderer: path` or `--renderer path`); this renderer ignores them and leaves \
-             out the surfaces that only bound them",
-        );
+        settings.said.warn(MEDIA_IGNORED);
     }
-    scene.world.objects.retain(|o| !boundary(o));
+    strip_media(&mut scene);
+    scene
+}
+
+/// What the Whitted ray tracer and the rasterizer say of a scene with media (`rayforge
+/// render` on the terminal, `rayforge serve` on the page).
+pub(crate) const MEDIA_IGNORED: &str = "the scene's participating media are rendered by the \
+     path tracer only (`renderer: path` or `--renderer path`); this renderer ignores them and \
+     leaves out the surfaces that only bound them";
+
+/// Whether a surface only separates media.
+fn is_boundary(o: &rayforge::Object) -> bool {
+    o.media.is_some_and(|m| m.index_matched)
+}
+
+/// Whether `scene` has media, or surfaces that only bound them.
+pub(crate) fn has_media(scene: &Scene) -> bool {
+    scene.world.has_media() || scene.world.objects.iter().any(is_boundary)
+}
+
+/// `scene` in vacuum: its media and the surfaces that only bound them taken out.
+pub(crate) fn strip_media(scene: &mut Scene) {
+    scene.world.objects.retain(|o| !is_boundary(o));
     scene.world.media = rayforge::media::Media::NONE;
     scene.world.camera_medium = None;
-    scene
 }
 
 /// Reads the scene (printing its warnings) and the camera to render it through, resized to

@@ -244,6 +244,44 @@ fn only_the_page_and_its_socket_are_served_on_127_0_0_1() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_ray_tracer_on_the_page_says_it_ignores_media_as_the_command_does() {
+    // The red scene with its ball filled with fog, inside a boundary that only bounds it: the
+    // ray tracer draws it in vacuum (the boundary left out), and the page is told so.
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("scene.yml");
+    let foggy = format!(
+        "- medium: fog\n  sigma-s: 2\n{}\
+         - add: sphere\n  material: interface\n  interior: fog\n  \
+         transform: [[scale, 1.5, 1.5, 1.5], [translate, 0, 0.6, 0]]\n",
+        scene("[1, 0.2, 0.2]")
+    );
+    std::fs::write(&path, foggy).expect("writes the scene");
+    let (server, _) = serve(&path);
+    let mut socket = open_page(server.port).await;
+    send(&mut socket, r#"{"type": "render"}"#.to_string()).await;
+    let started = loop {
+        match next(&mut socket).await {
+            Received::Json(m) if m["type"] == "started" => break m,
+            Received::Closed => panic!("the socket closed"),
+            _ => {}
+        }
+    };
+    let warnings = started["warnings"].as_array().expect("a list of warnings");
+    assert!(
+        warnings.iter().any(|w| w
+            .as_str()
+            .is_some_and(|w| w.contains("participating media are rendered by the path tracer only"))),
+        "{started}"
+    );
+    let (image, _) = final_image(&mut socket, 0).await;
+    assert_eq!(image, rendered(&path, &dir.path().join("vacuum.png")));
+    // And the image is the scene's without its fog.
+    let plain = dir.path().join("plain.yml");
+    std::fs::write(&plain, scene("[1, 0.2, 0.2]")).expect("writes the scene");
+    assert_eq!(image, rendered(&plain, &dir.path().join("plain.png")));
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_page_follows_the_scene_file() {
     let (dir, path) = red_scene();
     let (server, _) = serve(&path);

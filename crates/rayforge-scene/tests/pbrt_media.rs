@@ -82,6 +82,57 @@ Shape "sphere"
 }
 
 #[test]
+fn an_interface_that_separates_nothing_is_not_there() {
+    // pbrt-v4 skips an `interface` surface (and its shadow rays do, in `volpath`): without a
+    // `MediumInterface`, or with the same medium on both sides, it changes nothing for any
+    // ray, and is left out; its area light is ignored, with pbrt's warning. `none` and an
+    // empty name are read as `interface`, as pbrt-v4 reads them.
+    let text = r#"Camera "perspective"
+WorldBegin
+MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_s" [1 1 1] "rgb sigma_a" [0 0 0]
+Material "interface"
+Shape "sphere"
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [1 1 1]
+  Shape "sphere" "float radius" 2
+AttributeEnd
+AttributeBegin
+  MediumInterface "fog" "fog"
+  Shape "sphere" "float radius" 3
+AttributeEnd
+Material "none"
+Shape "sphere" "float radius" 4
+AttributeBegin
+  MediumInterface "fog" ""
+  AreaLightSource "diffuse" "rgb L" [1 1 1]
+  Shape "sphere" "float radius" 5
+AttributeEnd
+Material "diffuse"
+Shape "sphere" "float radius" 6
+"#;
+    let scene = load_text(text).unwrap_or_else(|e| panic!("{e}"));
+    let world = &scene.world;
+    assert_eq!(world.objects.len(), 2, "{:?}", world.objects.len());
+    // The boundary of the fog (its light ignored), then the diffuse ball.
+    assert_eq!(
+        world.objects[0].media,
+        Some(MediumInterface {
+            inside: Some(MediumId(0)),
+            outside: None,
+            index_matched: true
+        })
+    );
+    assert_eq!(world.objects[0].material.emission, Color::BLACK);
+    assert_eq!(world.objects[1].media, None);
+    let ignored = scene
+        .warnings
+        .iter()
+        .filter(|w| w.message.contains("\"interface\" material gives no light"))
+        .count();
+    assert_eq!(ignored, 2, "{:?}", scene.warnings);
+}
+
+#[test]
 fn what_is_not_rendered_is_refused_at_its_place() {
     let head = "Camera \"perspective\"\nWorldBegin\n";
     assert_at(

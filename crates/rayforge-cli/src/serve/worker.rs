@@ -20,7 +20,8 @@ use crate::live_denoise::{self, resolved, LiveDenoiser, Oidn};
 use crate::path_command::{doubling_passes, samples_per_pixel};
 use crate::path_output::{encode_for, AOV_NAMES};
 use crate::render_command::{
-    develop_with_overlay, finish_image, load_options, ray_options, sized_camera,
+    develop_with_overlay, finish_image, has_media, load_options, ray_options, sized_camera,
+    strip_media, MEDIA_IGNORED,
 };
 use crate::settings::{Chosen, RenderSettings};
 use clap::Parser;
@@ -159,6 +160,18 @@ impl Worker {
             // Its absence says how to install it, as `rayforge render --denoise` does.
             self.denoiser = Some(crate::denoise::load("denoise")?);
         }
+        // As `rayforge render` does: the ray tracer and the rasterizer draw the scene in
+        // vacuum, and the page is told so (the scene read is kept whole for the path tracer).
+        let in_vacuum;
+        let media_ignored = !matches!(chosen, Chosen::Path(_)) && has_media(scene);
+        let scene = if media_ignored {
+            let mut copy = scene.clone();
+            strip_media(&mut copy);
+            in_vacuum = copy;
+            &in_vacuum
+        } else {
+            scene
+        };
         let size = (camera.hsize(), camera.vsize());
         // The image's film, and with denoising the AOVs' beside it.
         let films = if denoise {
@@ -193,7 +206,13 @@ impl Worker {
             samples,
             orbits: look_at.is_some(),
             denoise,
-            warnings: protocol::warning_lines(&scene.warnings),
+            warnings: {
+                let mut lines = protocol::warning_lines(&scene.warnings);
+                if media_ignored {
+                    lines.push(MEDIA_IGNORED.into());
+                }
+                lines
+            },
         };
         let pass = Pass {
             job,

@@ -101,19 +101,26 @@ pub fn scene(
     let mut noted = Notes::default();
     for shape in &desc.shapes {
         shape.entity.loc.stopped(files.stop(), "Shape")?;
+        let boundary = media::is_boundary(&desc, &shape.material);
+        let interface = media::interface(&media_ids, shape.media.as_ref(), boundary)?;
+        if boundary {
+            media::note_boundary_light(shape, &mut warnings);
+            if interface.is_none() {
+                // Nothing to cross: rays pass it as if it were not there (pbrt-v4).
+                continue;
+            }
+        }
         let placed = place(
             shape,
             files,
             &DMat4::IDENTITY,
-            true,
+            !boundary,
             &mut cache,
             &mut triangles,
             options,
             &mut warnings,
             &mut noted,
         )?;
-        let boundary = media::is_boundary(&desc, &shape.material);
-        let interface = media::interface(&media_ids, shape.media.as_ref(), boundary)?;
         for mut object in placed {
             budget.spend().map_err(|e| shape.entity.error(e))?;
             object.media = interface;
@@ -138,6 +145,12 @@ pub fn scene(
                 shape.entity.loc.stopped(files.stop(), "Shape")?;
                 let boundary = media::is_boundary(&desc, &shape.material);
                 let interface = media::interface(&media_ids, shape.media.as_ref(), boundary)?;
+                if boundary {
+                    media::note_boundary_light(shape, &mut warnings);
+                    if interface.is_none() {
+                        continue;
+                    }
+                }
                 let start = objects.len();
                 objects.extend(place(
                     shape,
@@ -342,7 +355,9 @@ fn place(
             .map_err(|_| entity.error("the shape is placed by a singular transform"))
     };
     let Some(area_light) = shape.area_light.as_ref().filter(|_| lit) else {
-        if shape.area_light.is_some() && !noted.instanced_light {
+        // (A boundary's light is ignored with a warning of its own.)
+        let boundary = media::is_boundary(cache.desc, &shape.material);
+        if shape.area_light.is_some() && !noted.instanced_light && !boundary {
             noted.instanced_light = true;
             warnings.push(
                 entity.error("area lights in object instances give no light (as in pbrt-v4)"),

@@ -11,7 +11,7 @@
 //! `nanovdb`).
 
 use super::params::ParamType;
-use super::reader::{Description, Entity, MaterialRef, MediaNames};
+use super::reader::{Description, Entity, MaterialRef, MediaNames, ShapeEntity};
 use super::spectra::{self, SpectrumUse};
 use crate::error::SceneError;
 use glam::{DMat4, DVec3};
@@ -176,20 +176,20 @@ fn named(
 
 /// A shape's interface: the media its `MediumInterface` names, and whether its material is
 /// `interface` (a boundary only). pbrt-v4 leaves a ray crossing a surface whose two media
-/// are the same in the medium it was in; so does `None`.
+/// are the same in the medium it was in; so does `None`. An `interface` shape of `None`
+/// changes nothing for any ray (pbrt-v4's rays skip it, its shadow rays in `volpath` too),
+/// and is left out of the world.
 pub fn interface(
     ids: &HashMap<String, MediumId>,
     names: Option<&MediaNames>,
     boundary_only: bool,
 ) -> Result<Option<MediumInterface>, SceneError> {
-    // An `interface` material with no `MediumInterface` keeps its reading as a smooth
-    // surface of index 1, which light crosses unbent, in the medium it was in.
     let Some(names) = names else {
         return Ok(None);
     };
     let inside = named(ids, &names.inside, names)?;
     let outside = named(ids, &names.outside, names)?;
-    if inside == outside && !boundary_only {
+    if inside == outside {
         return Ok(None);
     }
     Ok(Some(MediumInterface {
@@ -197,6 +197,17 @@ pub fn interface(
         outside,
         index_matched: boundary_only,
     }))
+}
+
+/// pbrt-v4's warning for an `AreaLightSource` on a shape of the `interface` material, whose
+/// light it ignores (as rayforge does: a boundary has no surface to give off light).
+pub fn note_boundary_light(shape: &ShapeEntity, warnings: &mut Vec<SceneError>) {
+    if shape.area_light.is_some() {
+        warnings.push(shape.entity.error(
+            "the area light of a shape with the \"interface\" material gives no light (as \
+             in pbrt-v4: the shape is only a boundary between media)",
+        ));
+    }
 }
 
 /// Whether the material `reference` names is pbrt-v4's `interface`.
@@ -211,7 +222,8 @@ pub fn is_boundary(desc: &Description, reference: &MaterialRef) -> bool {
         } else {
             Some(e.name.as_str())
         };
-        kind == Some("interface")
+        // pbrt-v4 reads `none` and an empty name as `interface`.
+        matches!(kind, Some("interface" | "none" | ""))
     })
 }
 
