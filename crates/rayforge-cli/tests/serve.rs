@@ -268,9 +268,9 @@ async fn the_ray_tracer_on_the_page_says_it_ignores_media_as_the_command_does() 
     };
     let warnings = started["warnings"].as_array().expect("a list of warnings");
     assert!(
-        warnings.iter().any(|w| w
-            .as_str()
-            .is_some_and(|w| w.contains("participating media are rendered by the path tracer only"))),
+        warnings.iter().any(|w| w.as_str().is_some_and(
+            |w| w.contains("participating media are rendered by the path tracer only")
+        )),
         "{started}"
     );
     let (image, _) = final_image(&mut socket, 0).await;
