@@ -83,7 +83,7 @@ impl Anchors {
     /// The distance sampler of the ray from `origin` along unit `direction` over
     /// `[0, t_max]` (`t_max` may be infinite); `None` without anchors or an empty range.
     pub fn along(&self, origin: Point3, direction: Vec3, t_max: f64) -> Option<Equiangular> {
-        if self.len == 0 || !(t_max > 0.0) {
+        if self.len == 0 || t_max.is_nan() || t_max <= 0.0 {
             return None;
         }
         let mut sampler = Equiangular {

@@ -699,7 +699,7 @@ impl<'w> PathContext<'w> {
         let u_pick = rng.next_offset();
         let u_point = [rng.next_offset(), rng.next_offset()];
         let (t, pdf) = draw.sample(u_anchor, u_t);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return Color::BLACK;
         }
         // σs·e^(−σt·t) per channel: what the point scatters of what reaches it, and the
