@@ -929,27 +929,13 @@ fn textures_have_a_name_space_per_type_and_read_only_those_before_them() {
     assert_at(&e, 4, 1, "Texture", "made twice");
 }
 
-/// A PFM file of `side × side` texels (row 0 the top of the picture), little-endian.
-fn write_pfm(path: &Path, side: usize, texel: impl Fn(usize, usize) -> [f32; 3]) {
-    let mut bytes = format!("PF\n{side} {side}\n-1\n").into_bytes();
-    // PFM stores rows from the bottom.
-    for row in (0..side).rev() {
-        for column in 0..side {
-            for v in texel(column, row) {
-                bytes.extend_from_slice(&v.to_le_bytes());
-            }
-        }
-    }
-    std::fs::write(path, bytes).unwrap();
-}
-
 #[test]
 fn an_infinite_light_reads_an_equal_area_image_placed_and_scaled_as_pbrt_says() {
     use rayforge::shading::equal_area_square_to_sphere;
     let dir = tempfile::tempdir().unwrap();
     let side = 8;
     let value = |c: usize, r: usize| [c as f32 + 1.0, r as f32 + 1.0, 0.5];
-    write_pfm(&dir.path().join("sky.pfm"), side, value);
+    support::write_pfm(&dir.path().join("sky.pfm"), side, side, value);
     // Mirrored in x, as Bitterli's breakfast room's sky is.
     let text = format!(
         "{HEAD}AttributeBegin\nScale -1 1 1\nLightSource \"infinite\" \"string filename\" \
@@ -991,7 +977,9 @@ fn an_infinite_light_reads_an_equal_area_image_placed_and_scaled_as_pbrt_says() 
     .unwrap_err();
     assert!(e.message.contains("not both"), "{e}");
     // `illuminance` scales the upper hemisphere's illuminance (pbrt-v4's sum) to the value.
-    write_pfm(&dir.path().join("grey.pfm"), side, |_, _| [1.0, 1.0, 1.0]);
+    support::write_pfm(&dir.path().join("grey.pfm"), side, side, |_, _| {
+        [1.0, 1.0, 1.0]
+    });
     let scene = load_in(
         dir.path(),
         &format!(

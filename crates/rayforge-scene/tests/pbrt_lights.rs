@@ -16,21 +16,6 @@ fn load_in(dir: &Path, text: &str) -> Result<Scene, SceneError> {
     rayforge_scene::load_file_with(&path, &LoadOptions::default())
 }
 
-/// A PFM image `width × height` whose texel in `column` and `row` (from the top) is
-/// `texel(column, row)`.
-fn write_pfm(path: &Path, width: usize, height: usize, texel: impl Fn(usize, usize) -> [f32; 3]) {
-    let mut bytes = format!("PF\n{width} {height}\n-1\n").into_bytes();
-    // PFM stores rows from the bottom.
-    for row in (0..height).rev() {
-        for column in 0..width {
-            for v in texel(column, row) {
-                bytes.extend_from_slice(&v.to_le_bytes());
-            }
-        }
-    }
-    std::fs::write(path, bytes).unwrap();
-}
-
 /// pbrt's direction (+z up, φ from +x towards +y) of the point `(x, y)` of a
 /// latitude–longitude map `w × h`, in texels.
 fn lat_long_direction(x: f64, y: f64, w: usize, h: usize) -> glam::DVec3 {
@@ -56,7 +41,7 @@ const HEAD: &str = "Camera \"perspective\"\nWorldBegin\n";
 fn an_infinite_light_reads_a_lat_long_image_placed_and_scaled_as_pbrt_says() {
     let dir = tempfile::tempdir().unwrap();
     let (w, h) = (16, 8);
-    write_pfm(&dir.path().join("sky.pfm"), w, h, lat_long_texel);
+    support::write_pfm(&dir.path().join("sky.pfm"), w, h, lat_long_texel);
     // Mirrored in x, as Bitterli's breakfast room's sky is, and turned.
     let text = format!(
         "{HEAD}AttributeBegin\nScale -1 1 1\nRotate 30 0 0 1\nLightSource \"infinite\" \
@@ -79,7 +64,7 @@ fn an_infinite_light_reads_a_lat_long_image_placed_and_scaled_as_pbrt_says() {
         }
     }
     // Neither square nor twice as wide as high: refused, naming both layouts.
-    write_pfm(&dir.path().join("wide.pfm"), 3, 1, |_, _| [1.0; 3]);
+    support::write_pfm(&dir.path().join("wide.pfm"), 3, 1, |_, _| [1.0; 3]);
     let e = load_in(
         dir.path(),
         &format!("{HEAD}LightSource \"infinite\" \"string filename\" \"wide.pfm\"\n"),
@@ -94,7 +79,7 @@ fn an_infinite_light_reads_a_lat_long_image_placed_and_scaled_as_pbrt_says() {
     // `illuminance` as pbrt-v4 computes it for an equal-area map (its 2π / N: half the solid
     // angle of its pixels), with each texel's own solid angle: a grey sky's upper hemisphere
     // then gives π/2 per unit of radiance, in either layout.
-    write_pfm(&dir.path().join("grey.pfm"), w, h, |_, _| [1.0; 3]);
+    support::write_pfm(&dir.path().join("grey.pfm"), w, h, |_, _| [1.0; 3]);
     let scene = load_in(
         dir.path(),
         &format!(
@@ -132,15 +117,23 @@ fn floor_under(lights: &str) -> String {
     )
 }
 
-/// The mean of the image's green channel and its standard error (the pixels are independent
-/// estimates of one value: the floor is lit alike everywhere the camera sees).
-fn mean_and_error(scene: &Scene, size: usize, spp: u64) -> (f64, f64) {
-    let film = support::render(scene, size, size, spp).resolve();
+/// Asserts that the image's green channel is `want` within 4 standard errors, and that the
+/// error is under 1 % of it (the pixels are independent estimates of one value: the floor is
+/// lit alike everywhere the camera sees); the error.
+#[track_caller]
+fn assert_floor_is(scene: &Scene, want: f64) -> f64 {
+    let film = support::render(scene, 24, 24, 16).resolve();
     let values: Vec<f64> = film.pixels().iter().map(|c| c.green).collect();
     let n = values.len() as f64;
     let mean = values.iter().sum::<f64>() / n;
     let var = values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0);
-    (mean, (var / n).sqrt())
+    let se = (var / n).sqrt();
+    assert!(
+        (mean - want).abs() < 4.0 * se + 1e-9,
+        "{mean} ± {se} vs {want}"
+    );
+    assert!(se < 0.01 * want, "{se}");
+    se
 }
 
 #[test]
@@ -151,7 +144,7 @@ fn a_lat_long_sky_lights_a_floor_with_its_upper_hemisphere_irradiance() {
     // towards +x must count as much as towards −x.
     let dir = tempfile::tempdir().unwrap();
     let (w, h) = (16, 8);
-    write_pfm(&dir.path().join("sky.pfm"), w, h, lat_long_texel);
+    support::write_pfm(&dir.path().join("sky.pfm"), w, h, lat_long_texel);
     let scene = load_in(
         dir.path(),
         &floor_under("LightSource \"infinite\" \"string filename\" \"sky.pfm\""),
@@ -159,12 +152,7 @@ fn a_lat_long_sky_lights_a_floor_with_its_upper_hemisphere_irradiance() {
     .unwrap_or_else(|e| panic!("{e}"));
     let irradiance = lat_long_irradiance(1.0, false);
     let want = 0.5 / PI * irradiance;
-    let (mean, se) = mean_and_error(&scene, 24, 16);
-    assert!(
-        (mean - want).abs() < 4.0 * se + 1e-9,
-        "{mean} ± {se} vs {want}"
-    );
-    assert!(se < 0.01 * want, "{se}");
+    assert_floor_is(&scene, want);
 }
 
 /// The irradiance a floor facing up (+z) gets from a sky of `lat_long_texel`s (green
@@ -188,7 +176,7 @@ fn several_infinite_lights_are_summed_and_each_sampled() {
     // Two image skies (the second turned over, so that its bright lower half lights the floor,
     // and scaled) and a uniform one: the floor's irradiance is the sum of the three.
     let dir = tempfile::tempdir().unwrap();
-    write_pfm(&dir.path().join("sky.pfm"), 16, 8, lat_long_texel);
+    support::write_pfm(&dir.path().join("sky.pfm"), 16, 8, lat_long_texel);
     let lights = "LightSource \"infinite\" \"string filename\" \"sky.pfm\"\n\
                   AttributeBegin\nRotate 180 1 0 0\nLightSource \"infinite\" \"string filename\" \
                   \"sky.pfm\" \"float scale\" 0.25\nAttributeEnd\n\
@@ -200,12 +188,7 @@ fn several_infinite_lights_are_summed_and_each_sampled() {
     assert_eq!(scene.world.background, Color::BLACK);
     let irradiance = lat_long_irradiance(1.0, false) + lat_long_irradiance(0.25, true) + PI * 0.3;
     let want = 0.5 / PI * irradiance;
-    let (mean, se) = mean_and_error(&scene, 24, 16);
-    assert!(
-        (mean - want).abs() < 4.0 * se + 1e-9,
-        "{mean} ± {se} vs {want}"
-    );
-    assert!(se < 0.01 * want, "{se}");
+    let se = assert_floor_is(&scene, want);
     // The first sky alone gives less by the others' share (the test tells them apart).
     let alone = 0.5 / PI * lat_long_irradiance(1.0, false);
     assert!(want - alone > 20.0 * se, "{want} vs {alone}");
@@ -214,7 +197,7 @@ fn several_infinite_lights_are_summed_and_each_sampled() {
 #[test]
 fn a_portal_is_checked_and_the_sky_is_the_same_with_or_without_it() {
     let dir = tempfile::tempdir().unwrap();
-    write_pfm(&dir.path().join("sky.pfm"), 16, 8, lat_long_texel);
+    support::write_pfm(&dir.path().join("sky.pfm"), 16, 8, lat_long_texel);
     let sky = "LightSource \"infinite\" \"string filename\" \"sky.pfm\"";
     let window = "\"point3 portal\" [-1 -1 3  1 -1 3  1 1 3  -1 1 3]";
     let plain = load_in(dir.path(), &floor_under(sky)).unwrap();

@@ -102,3 +102,23 @@ pub fn assert_located(
     );
     e
 }
+
+/// Writes a PFM image `width × height` to `path` whose texel in `column` and `row` (from the
+/// top) is `texel(column, row)`.
+pub fn write_pfm(
+    path: &std::path::Path,
+    width: usize,
+    height: usize,
+    texel: impl Fn(usize, usize) -> [f32; 3],
+) {
+    let mut bytes = format!("PF\n{width} {height}\n-1\n").into_bytes();
+    // PFM stores rows from the bottom.
+    for row in (0..height).rev() {
+        for column in 0..width {
+            for v in texel(column, row) {
+                bytes.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(path, bytes).unwrap();
+}
