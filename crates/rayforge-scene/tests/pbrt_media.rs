@@ -133,6 +133,35 @@ Shape "sphere" "float radius" 6
 }
 
 #[test]
+fn measured_presets_and_pbrts_defaults_give_the_coefficients() {
+    // `preset` in place of `sigma_a` and `sigma_s` (which are then not read), times `scale`;
+    // without either, pbrt-v4's 1.
+    let text = r#"Camera "perspective"
+WorldBegin
+MakeNamedMedium "a" "string type" "homogeneous" "string preset" "Ketchup" "float scale" 10 "rgb sigma_a" [5 5 5]
+MakeNamedMedium "b" "string type" "homogeneous"
+MakeNamedMedium "c" "string type" "homogeneous" "string preset" "Pacific Ocean Surface Water"
+"#;
+    let scene = load_text(text).unwrap_or_else(|e| panic!("{e}"));
+    let coefficients = |i: u32| match scene.world.media.get(MediumId(i)) {
+        Medium::Homogeneous(m) => (m.sigma_a, m.sigma_s),
+        _ => panic!("homogeneous"),
+    };
+    let (a, s) = coefficients(0);
+    let close = |x: Color, y: Color| (x - y).to_array().iter().all(|d| d.abs() < 1e-12);
+    assert!(close(a, Color::new(0.61, 9.7, 14.5)), "{a:?}");
+    assert!(close(s, Color::new(1.8, 0.7, 0.3)), "{s:?}");
+    assert_eq!(coefficients(1), (Color::WHITE, Color::WHITE));
+    assert_eq!(coefficients(2).0, Color::new(0.031845, 0.031324, 0.030147));
+    // The `sigma_a` the preset replaces is reported unread, as pbrt-v4 would.
+    assert!(
+        scene.warnings.iter().any(|w| w.message.contains("sigma_a")),
+        "{:?}",
+        scene.warnings
+    );
+}
+
+#[test]
 fn what_is_not_rendered_is_refused_at_its_place() {
     let head = "Camera \"perspective\"\nWorldBegin\n";
     assert_at(
@@ -143,11 +172,18 @@ fn what_is_not_rendered_is_refused_at_its_place() {
         "homogeneous and uniformgrid",
     );
     assert_at(
-        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" \"Skin1\"\n"),
+        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" \"Skin3\"\n"),
         3,
         49,
         "string preset",
-        "measured media",
+        "no measured medium is named \"Skin3\"; pbrt-v4's are: Apple, Chicken1",
+    );
+    assert_at(
+        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"smoke.nvdb\"\n"),
+        3,
+        1,
+        "MakeNamedMedium",
+        "NanoVDB files",
     );
     assert_at(
         &format!("{head}MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [1] \"rgb Le\" [1 1 1]\n"),

@@ -2,14 +2,16 @@
 //! `MediumInterface` of each shape, and the camera's medium (the outside medium in force at
 //! `Camera`), into the world's media and each object's `MediumInterface`.
 //!
-//! Both types read `sigma_a` and `sigma_s` (rgb or spectrum; pbrt-v4's defaults, its
-//! coefficients of skin in mm⁻¹, when absent), `scale` and `g`; `homogeneous` also `Le` with
-//! `Lescale`. `uniformgrid` reads `density` (`nx` × `ny` × `nz` values, x fastest) over the box
-//! `p0`–`p1` in the medium's space, placed by the transform in force at `MakeNamedMedium`.
-//! What rayforge does not render is refused at its parameter: `preset` (pbrt's table of
-//! measured media), a grid's `temperature` and `Le`, and the other types (`rgbgrid`, `cloud`,
-//! `nanovdb`).
+//! Both types read `sigma_a` and `sigma_s` (rgb or spectrum; 1 when absent, pbrt-v4's
+//! defaults), `scale` and `g`; `homogeneous` also `Le` with `Lescale`, and `preset`, one of
+//! pbrt-v4's named measured media ([`measured_media`](super::measured_media)), in place of
+//! `sigma_a` and `sigma_s`. `uniformgrid` reads `density` (`nx` × `ny` × `nz` values, x
+//! fastest) over the box `p0`–`p1` in the medium's space, placed by the transform in force at
+//! `MakeNamedMedium`. What rayforge does not render is refused at its parameter: a grid's
+//! `temperature` and `Le`, and the other types (`rgbgrid`, `cloud`, and `nanovdb`, whose
+//! files rayforge does not read).
 
+use super::measured_media;
 use super::params::ParamType;
 use super::reader::{Description, Entity, MaterialRef, MediaNames, ShapeEntity};
 use super::spectra::{self, SpectrumUse};
@@ -23,9 +25,9 @@ use rayforge::media::{
 use rayforge::{Color, World};
 use std::collections::HashMap;
 
-/// pbrt-v4's default σa and σs (its medium's defaults, per mm).
-const DEFAULT_SIGMA_A: Color = Color::new(0.0011, 0.0024, 0.014);
-const DEFAULT_SIGMA_S: Color = Color::new(2.55, 3.21, 3.77);
+/// pbrt-v4's default σa and σs (`HomogeneousMedium::Create`, `GridMedium::Create`: 1).
+const DEFAULT_SIGMA_A: Color = Color::WHITE;
+const DEFAULT_SIGMA_S: Color = Color::WHITE;
 
 /// The scene's media, built into `world`, by name.
 pub fn build(
@@ -51,11 +53,6 @@ pub fn build(
 /// The medium `entity` describes.
 fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneError> {
     let params = &entity.params;
-    if let Some(p) = params.find("preset", &[ParamType::String]) {
-        return Err(
-            p.error("pbrt's measured media (`preset`) are not read: give `sigma_a` and `sigma_s`")
-        );
-    }
     let spectrum = |name: &str, default: Color, usage: SpectrumUse| -> Result<Color, SceneError> {
         match params.find(
             name,
@@ -73,15 +70,6 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
     if scale.is_nan() || scale < 0.0 {
         return Err(entity.error(format!("`scale` is at least 0, found {scale}")));
     }
-    let sigma_a = spectrum("sigma_a", DEFAULT_SIGMA_A, SpectrumUse::Index)? * scale;
-    let sigma_s = spectrum("sigma_s", DEFAULT_SIGMA_S, SpectrumUse::Index)? * scale;
-    let g = params.float_or("g", 0.0)?;
-    if g.abs() > MAX_ASYMMETRY {
-        return Err(entity.error(format!(
-            "`g` lies between −{MAX_ASYMMETRY} and {MAX_ASYMMETRY}, found {g}"
-        )));
-    }
-    let phase = HenyeyGreenstein::new(g);
     let kind = match params.string("type")? {
         Some((t, _)) => t.to_string(),
         None => {
@@ -91,6 +79,37 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
             )))
         }
     };
+    // A homogeneous medium's measured preset, as pbrt-v4 reads it: in place of `sigma_a` and
+    // `sigma_s` (which are then not read), still multiplied by `scale`.
+    let preset = if kind == "homogeneous" {
+        match params.string("preset")? {
+            Some((name, p)) => Some(measured_media::coefficients(name).ok_or_else(|| {
+                p.error(format!(
+                    "no measured medium is named \"{}\"; pbrt-v4's are: {}",
+                    crate::error::clip_to(name, 60),
+                    measured_media::names().collect::<Vec<_>>().join(", ")
+                ))
+            })?),
+            None => None,
+        }
+    } else {
+        None
+    };
+    let (sigma_a, sigma_s) = match preset {
+        Some(coefficients) => coefficients,
+        None => (
+            spectrum("sigma_a", DEFAULT_SIGMA_A, SpectrumUse::Index)?,
+            spectrum("sigma_s", DEFAULT_SIGMA_S, SpectrumUse::Index)?,
+        ),
+    };
+    let (sigma_a, sigma_s) = (sigma_a * scale, sigma_s * scale);
+    let g = params.float_or("g", 0.0)?;
+    if g.abs() > MAX_ASYMMETRY {
+        return Err(entity.error(format!(
+            "`g` lies between −{MAX_ASYMMETRY} and {MAX_ASYMMETRY}, found {g}"
+        )));
+    }
+    let phase = HenyeyGreenstein::new(g);
     match kind.as_str() {
         "homogeneous" => {
             let emission = spectrum("Le", Color::BLACK, SpectrumUse::Illuminant)?
@@ -148,6 +167,11 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
             .map_err(|e| entity.error(e.to_string()))?;
             Ok(Medium::Grid(Box::new(grid)))
         }
+        "nanovdb" => Err(entity.error(
+            "NanoVDB files (the medium type \"nanovdb\") are not read: no well-kept Rust reader \
+             of the format exists; give the grid as a \"uniformgrid\" medium (its \"density\" \
+             values) or, in a YAML scene, as a Mitsuba .vol file",
+        )),
         other => Err(entity.error(format!(
             "the medium type \"{other}\" is not read; rayforge reads homogeneous and uniformgrid"
         ))),

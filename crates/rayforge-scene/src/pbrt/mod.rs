@@ -25,6 +25,7 @@ mod input;
 mod lexer;
 mod lights;
 mod materials;
+mod measured_media;
 mod media;
 mod params;
 mod reader;
