@@ -10,7 +10,7 @@ use crate::images::{
     decode, ImageMemory, Room, COLOR_BYTES, DEFAULT_MAX_IMAGE_MEMORY, ENVIRONMENT_BYTES_PER_TEXEL,
     MAX_IMAGE_BYTES,
 };
-use crate::obj::{read_obj_in, to_meshes};
+use crate::obj::{read_obj_in, to_meshes_until};
 use crate::ply::read_ply_in;
 use crate::stop::StopFlag;
 use rayforge::geometry::Mesh;
@@ -108,7 +108,9 @@ impl Assets {
                 ),
             ));
         }
-        let meshes: ObjMeshes = Arc::new(to_meshes(&obj));
+        let meshes: ObjMeshes = Arc::new(
+            to_meshes_until(&obj, &self.stop).ok_or_else(|| SceneError::interrupted(path))?,
+        );
         self.meshes.insert(path.to_path_buf(), meshes.clone());
         Ok(meshes)
     }

@@ -525,7 +525,16 @@ pub fn parse_mtl(
 /// by `usemtl` and found in the libraries, or `None`. Each mesh's faces have OBJ's
 /// counter-clockwise fronts.
 pub fn to_meshes(obj: &ObjFile) -> Vec<(Arc<rayforge::geometry::Mesh>, Option<Material>)> {
-    use rayforge::geometry::{Mesh, MeshFace, Winding};
+    to_meshes_until(obj, &StopFlag::default())
+        .expect("meshes without a stop flag are never stopped")
+}
+
+/// [`to_meshes`], `None` once `stop` is set (looked at inside each mesh's build).
+pub(crate) fn to_meshes_until(
+    obj: &ObjFile,
+    stop: &StopFlag,
+) -> Option<Vec<(Arc<rayforge::geometry::Mesh>, Option<Material>)>> {
+    use rayforge::geometry::{Mesh, MeshError, MeshFace, Winding};
     /// Old index → new index, `UNUSED` until the entry is first used in the mesh being built:
     /// a dense table is several times faster than hashing on million-face files. The table is
     /// shared by all meshes and only the entries a mesh used are reset, so a file of many
@@ -589,10 +598,15 @@ pub fn to_meshes(obj: &ObjFile) -> Vec<(Arc<rayforge::geometry::Mesh>, Option<Ma
             if faces.is_empty() {
                 continue;
             }
-            // Indices were checked while parsing and remapped into range, so this cannot fail.
-            let Ok(mesh) = Mesh::with_texcoords(positions, normals, texcoords, faces) else {
-                continue;
-            };
+            // Indices were checked while parsing and remapped into range, so this fails only
+            // when stopped.
+            let mesh =
+                match Mesh::with_texcoords_until(positions, normals, texcoords, faces, stop.flag())
+                {
+                    Ok(mesh) => mesh,
+                    Err(MeshError::Stopped) => return None,
+                    Err(_) => continue,
+                };
             let mesh = mesh.with_winding(Winding::RightHanded);
             let material = material
                 .and_then(|m| obj.material_names.get(m as usize))
@@ -601,5 +615,5 @@ pub fn to_meshes(obj: &ObjFile) -> Vec<(Arc<rayforge::geometry::Mesh>, Option<Ma
             out.push((Arc::new(mesh), material));
         }
     }
-    out
+    Some(out)
 }

@@ -7,24 +7,49 @@
 
 use crate::error::SceneError;
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 
 /// The flag a load stops at (see the [module](self)); none by default.
 #[derive(Debug, Clone, Default)]
-pub struct StopFlag(Option<Arc<AtomicBool>>);
+pub struct StopFlag(Option<Arc<AtomicBool>>, Option<Arc<AtomicU64>>);
 
 impl StopFlag {
     /// Stops the load once `flag` is set (by another thread: a signal handler, a server).
     pub fn new(flag: Arc<AtomicBool>) -> Self {
-        Self(Some(flag))
+        Self(Some(flag), None)
+    }
+
+    /// A flag that sets itself at the reader's `looks`-th look at it (from 1), the same on
+    /// every run: what tests stop a load partway with, at a known unit, instead of by time.
+    /// The library's builds that take [`StopFlag::flag`] see it once it has set itself.
+    #[doc(hidden)]
+    pub fn set_at_look(looks: u64) -> Self {
+        Self(
+            Some(Arc::new(AtomicBool::new(false))),
+            Some(Arc::new(AtomicU64::new(looks))),
+        )
     }
 
     /// Whether the flag is set (a relaxed load: nothing else is read through it).
     pub fn is_set(&self) -> bool {
-        self.0
-            .as_ref()
-            .is_some_and(|flag| flag.load(Ordering::Relaxed))
+        let Some(flag) = &self.0 else {
+            return false;
+        };
+        if let Some(left) = &self.1 {
+            let before = left.fetch_sub(1, Ordering::Relaxed);
+            if before <= 1 {
+                left.store(0, Ordering::Relaxed);
+                flag.store(true, Ordering::Relaxed);
+            }
+        }
+        flag.load(Ordering::Relaxed)
+    }
+
+    /// The flag itself, for the library's builds that stop at it (a mesh's BVH, the
+    /// tessellation): `None` when nothing stops the load.
+    pub fn flag(&self) -> Option<&AtomicBool> {
+        self.0.as_deref()
     }
 
     /// `Err` with the interrupted error for `path` once the flag is set; each reader places it
@@ -42,6 +67,7 @@ impl StopFlag {
 impl PartialEq for StopFlag {
     fn eq(&self, other: &Self) -> bool {
         match (&self.0, &other.0) {
+            _ if self.1.is_some() != other.1.is_some() => false,
             (None, None) => true,
             (Some(a), Some(b)) => Arc::ptr_eq(a, b),
             _ => false,

@@ -274,3 +274,53 @@ fn intersecting_ray_group_tests_children_if_box_is_hit() {
     let ray = Ray::new(point(0.0, 0.0, -5.0), vector(0.0, 0.0, 1.0));
     assert_eq!(visit_all(&bvh, &ray), [0, 1, 2]);
 }
+
+/// A build given a stop flag (Ctrl-C, a server's cancel): set, the hierarchy, a mesh and a
+/// world's index give up; clear, they are the very ones made without a flag (the same
+/// nodes, order and hits: no image changes).
+#[test]
+fn a_build_gives_up_at_its_stop_flag_and_is_otherwise_the_same() {
+    use rayforge::geometry::{Mesh, MeshError, MeshFace};
+    use std::sync::atomic::AtomicBool;
+    let (clear, set) = (AtomicBool::new(false), AtomicBool::new(true));
+    let boxes: Vec<Aabb> = (0..20_000)
+        .map(|i| {
+            let (x, y, z) = ((i % 30) as f64, ((i / 30) % 30) as f64, (i / 900) as f64);
+            Aabb::new(point(x, y, z), point(x + 1.5, y + 0.5, z + 2.0))
+        })
+        .collect();
+    let plain = Bvh::build(&boxes);
+    assert_eq!(Bvh::build_until(&boxes, Some(&clear)), Some(plain.clone()));
+    assert_eq!(Bvh::build_until(&boxes, None), Some(plain));
+    assert_eq!(Bvh::build_until(&boxes, Some(&set)), None);
+
+    // A stack of 1000 triangles, one a thousandth behind the other.
+    let positions: Vec<_> = (0..3000)
+        .map(|i| {
+            let z = (i / 3) as f64 * 1e-3;
+            [point(0.0, 0.0, z), point(1.0, 0.0, z), point(0.0, 1.0, z)][i % 3]
+        })
+        .collect();
+    let faces: Vec<MeshFace> = (0..1000u32)
+        .map(|f| MeshFace {
+            vertices: [3 * f, 3 * f + 1, 3 * f + 2],
+            normals: None,
+            texcoords: None,
+        })
+        .collect();
+    let build =
+        |stop| Mesh::with_texcoords_until(positions.clone(), vec![], vec![], faces.clone(), stop);
+    let mesh = Mesh::new(positions.clone(), vec![], faces.clone()).unwrap();
+    let ray = Ray::new(point(0.2, 0.3, -5.0), vector(0.0, 0.0, 1.0));
+    let stopless = build(Some(&clear)).unwrap();
+    assert!(mesh.closest_hit(&ray, 0.0, f64::INFINITY).is_some());
+    assert_eq!(
+        stopless.closest_hit(&ray, 0.0, f64::INFINITY),
+        mesh.closest_hit(&ray, 0.0, f64::INFINITY)
+    );
+    assert_eq!(build(Some(&set)).unwrap_err(), MeshError::Stopped);
+
+    let world = world_of(&[(0, (0.0, 0.0, 0.0), 1.0), (1, (3.0, 0.0, 0.0), 1.0)]);
+    assert!(WorldIndex::build_until(&world, Some(&set)).is_none());
+    assert!(WorldIndex::build_until(&world, Some(&clear)).is_some());
+}

@@ -8,7 +8,7 @@ use super::paths::error;
 use crate::error::SceneError;
 use crate::stop::StopFlag;
 use glam::{DVec3, DVec4};
-use rayforge::geometry::{Mesh, MeshFace, VertexAttributes};
+use rayforge::geometry::{Mesh, MeshError, MeshFace, VertexAttributes};
 use rayforge::{Point3, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
@@ -99,17 +99,25 @@ impl<'a> Meshes<'a> {
         // The accessor readers index into the buffers as the file says; every view was checked
         // against its buffer, and the readers return `None` past a view's end, but a panic
         // in third-party code on a damaged file is reported, not passed on.
+        // Each list collected with a look at the stop flag every `STOP_EVERY` elements (a
+        // primitive may hold tens of millions); a list cut short by it is dropped below.
+        let stop = self.stop;
         let read = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            let positions: Option<Vec<[f32; 3]>> = reader.read_positions().map(Iterator::collect);
-            let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(Iterator::collect);
+            let positions: Option<Vec<[f32; 3]>> =
+                reader.read_positions().map(|i| collect_until(i, stop));
+            let normals: Option<Vec<[f32; 3]>> =
+                reader.read_normals().map(|i| collect_until(i, stop));
             let uvs: Option<Vec<[f32; 2]>> = reader
                 .read_tex_coords(uv_set)
-                .map(|t| t.into_f32().collect());
+                .map(|t| collect_until(t.into_f32(), stop));
             let given_tangents: Option<Vec<[f32; 4]>> =
-                reader.read_tangents().map(Iterator::collect);
-            let colors: Option<Vec<[f32; 4]>> =
-                reader.read_colors(0).map(|c| c.into_rgba_f32().collect());
-            let indices: Option<Vec<u32>> = reader.read_indices().map(|i| i.into_u32().collect());
+                reader.read_tangents().map(|i| collect_until(i, stop));
+            let colors: Option<Vec<[f32; 4]>> = reader
+                .read_colors(0)
+                .map(|c| collect_until(c.into_rgba_f32(), stop));
+            let indices: Option<Vec<u32>> = reader
+                .read_indices()
+                .map(|i| collect_until(i.into_u32(), stop));
             (positions, normals, uvs, given_tangents, colors, indices)
         }))
         .map_err(|_| {
@@ -119,6 +127,7 @@ impl<'a> Meshes<'a> {
                 "the primitive's data is damaged (its reader failed)",
             )
         })?;
+        self.stopped_at(at)?;
         let (positions, normals, uvs, given_tangents, colors, indices) = read;
         let positions = positions.ok_or_else(|| {
             error(
@@ -220,6 +229,7 @@ impl<'a> Meshes<'a> {
                 .map(|t| DVec4::new(t[0].into(), t[1].into(), t[2].into(), t[3].into()))
                 .collect(),
             (true, None) if !texcoords.is_empty() => {
+                self.stopped_at(at)?;
                 generate_tangents(&points, &normals, &texcoords, &triangles)
             }
             (true, None) => Vec::new(),
@@ -242,12 +252,31 @@ impl<'a> Meshes<'a> {
                 }
             })
             .collect();
-        let mesh = Mesh::with_texcoords(points, normals, texcoords, faces)
-            .map_err(|e| error(path, at, e.to_string()))?
+        let mesh = Mesh::with_texcoords_until(points, normals, texcoords, faces, self.stop.flag())
+            .map_err(|e| match e {
+                MeshError::Stopped => SceneError::interrupted(path).with_key(at),
+                e => error(path, at, e.to_string()),
+            })?
             .with_attributes(attributes)
             .ok_or_else(|| error(path, at, "its vertex attributes disagree in length"))?;
         Ok(Some(Arc::new(mesh)))
     }
+}
+
+/// How many elements of an accessor are read between two looks at the stop flag.
+const STOP_EVERY: usize = 1 << 16;
+
+/// The items of `items`, or the first of them once `stop` is set (looked at every
+/// [`STOP_EVERY`]): the caller drops a list cut short, seeing the flag set.
+fn collect_until<T>(items: impl Iterator<Item = T>, stop: &StopFlag) -> Vec<T> {
+    let mut out = Vec::with_capacity(items.size_hint().0);
+    for (i, item) in items.enumerate() {
+        if i % STOP_EVERY == 0 && stop.is_set() {
+            break;
+        }
+        out.push(item);
+    }
+    out
 }
 
 /// Checks, before anything is read, that each accessor the primitive's readers use has a type

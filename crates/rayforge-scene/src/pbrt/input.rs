@@ -26,12 +26,18 @@ pub const MAX_TOTAL_BYTES: u64 = PbrtLimits::DEFAULT.total_bytes;
 /// The default of the most parameter values all of a scene's files may hold together.
 pub const MAX_VALUES: u64 = PbrtLimits::DEFAULT.values;
 
+/// How many parameter values are lexed between two looks at the stop flag: one directive's
+/// bracket may hold tens of millions (a `trianglemesh`'s points), seconds of lexing.
+const STOP_EVERY: u64 = 1 << 16;
+
 /// What is left of a scene's parameter values ([`PbrtLimits::values`]), spent as each value is
-/// lexed, before it is kept.
+/// lexed, before it is kept; with the flag that stops the reading, looked at every
+/// [`STOP_EVERY`] values.
 #[derive(Debug)]
 pub struct ValueBudget {
     left: Cell<u64>,
     limit: u64,
+    stop: StopFlag,
 }
 
 impl ValueBudget {
@@ -39,7 +45,13 @@ impl ValueBudget {
         Self {
             left: Cell::new(limit),
             limit,
+            stop: StopFlag::default(),
         }
+    }
+
+    /// The stop flag, when the value just spent is one at which it is looked at.
+    pub fn stop_due(&self) -> Option<&StopFlag> {
+        ((self.limit - self.left.get()) % STOP_EVERY == 0).then_some(&self.stop)
     }
 
     /// Spends one value: `false` when none is left.
@@ -123,7 +135,10 @@ impl Files {
     pub fn limited_by(self, limits: PbrtLimits) -> Self {
         Self {
             limits,
-            values: ValueBudget::new(limits.values),
+            values: ValueBudget {
+                stop: self.stop.clone(),
+                ..ValueBudget::new(limits.values)
+            },
             ..self
         }
     }
@@ -140,7 +155,14 @@ impl Files {
 
     /// The same files, whose reading and building stop once `stop` is set.
     pub fn stopped_by(self, stop: StopFlag) -> Self {
-        Self { stop, ..self }
+        Self {
+            values: ValueBudget {
+                stop: stop.clone(),
+                ..self.values
+            },
+            stop,
+            ..self
+        }
     }
 
     /// The flag that stops the reading.

@@ -307,10 +307,12 @@ fn spend(
     token: &super::lexer::Token<'_>,
     key: &str,
 ) -> Result<(), SceneError> {
-    if budget.take() {
-        Ok(())
-    } else {
-        Err(stream.loc(token).error(Some(key), budget.spent()))
+    if !budget.take() {
+        return Err(stream.loc(token).error(Some(key), budget.spent()));
+    }
+    match budget.stop_due() {
+        Some(stop) => stream.loc(token).stopped(stop, key),
+        None => Ok(()),
     }
 }
 

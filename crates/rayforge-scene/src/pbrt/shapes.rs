@@ -62,7 +62,7 @@ pub fn build(
     let cut = |sweep: Option<(f64, &Param)>| sweep.is_some_and(|(phi, _)| phi < 360.0);
     Ok(match entity.name.as_str() {
         "trianglemesh" => {
-            let (mesh, area) = triangle_mesh(shape, triangles, max_triangles)?;
+            let (mesh, area) = triangle_mesh(shape, triangles, max_triangles, files.stop())?;
             Built::Objects(vec![Object::mesh(Arc::new(mesh))], area)
         }
         "sphere" => {
@@ -189,6 +189,7 @@ fn triangle_mesh(
     shape: &ShapeEntity,
     triangles: &mut usize,
     max_triangles: usize,
+    stop: &crate::stop::StopFlag,
 ) -> Result<(Mesh, f64), SceneError> {
     use super::params::ParamType;
     let entity = &shape.entity;
@@ -246,7 +247,7 @@ fn triangle_mesh(
         None => Vec::new(),
     };
     counted(shape, indices.len() / 3, triangles, max_triangles)?;
-    oriented(shape, positions, normals, texcoords, &indices)
+    oriented(shape, positions, normals, texcoords, &indices, stop)
 }
 
 /// Adds a mesh's `faces` to the scene's `triangles`, held to `max_triangles`.
@@ -314,6 +315,7 @@ fn ply_mesh(
         normals,
         texcoords,
         &indices,
+        files.stop(),
     )
 }
 
@@ -326,6 +328,7 @@ fn oriented(
     mut normals: Vec<DVec3>,
     texcoords: Vec<[f64; 2]>,
     indices: &[u32],
+    stop: &crate::stop::StopFlag,
 ) -> Result<(Mesh, f64), SceneError> {
     let entity = &shape.entity;
     if shape.reverse {
@@ -356,8 +359,14 @@ fn oriented(
             }
         })
         .collect();
-    let mesh = Mesh::with_texcoords(positions, normals, texcoords, faces)
-        .map_err(|e| entity.error(e.to_string()))?
+    // Stopped while its BVH was built: the stop's error, at the shape.
+    let mesh = Mesh::with_texcoords_until(positions, normals, texcoords, faces, stop.flag())
+        .map_err(|e| match e {
+            rayforge::geometry::MeshError::Stopped => SceneError::interrupted(&entity.loc.file)
+                .at(entity.loc.span)
+                .with_key("Shape"),
+            e => entity.error(e.to_string()),
+        })?
         .with_winding(Winding::RightHanded);
     Ok((mesh, area))
 }

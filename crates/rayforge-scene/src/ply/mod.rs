@@ -40,7 +40,7 @@ use crate::obj::MAX_MODEL_BYTES;
 use crate::stop::StopFlag;
 use body::{At, Body};
 use header::{Element, Header, Kind, Scalar};
-use rayforge::geometry::{Mesh, MeshFace, Winding};
+use rayforge::geometry::{Mesh, MeshError, MeshFace, Winding};
 use rayforge::{Point3, Vec3};
 use std::io::Read;
 use std::path::Path;
@@ -81,16 +81,25 @@ pub(crate) fn parse_ply_in(
     stop: &StopFlag,
 ) -> Result<Mesh, SceneError> {
     if bytes.starts_with(&[0x1f, 0x8b]) {
-        let inflated = gunzip(bytes, path, max_triangles)?;
+        let inflated = gunzip(bytes, path, max_triangles, stop)?;
         return parse_plain(&inflated, path, max_triangles, stop);
     }
     parse_plain(bytes, path, max_triangles, stop)
 }
 
+/// How much of a compressed model is inflated between two looks at the stop flag.
+const INFLATE_STEP: u64 = 1 << 20;
+
 /// Inflates a gzip-compressed model, to at most [`MAX_MODEL_BYTES`]. The header comes first and
 /// its counts are checked against the limits before the body is inflated, so that a small
-/// file claiming a huge mesh is refused without inflating a gigabyte.
-fn gunzip(bytes: &[u8], path: &Path, max_triangles: usize) -> Result<Vec<u8>, SceneError> {
+/// file claiming a huge mesh is refused without inflating a gigabyte. The body is inflated a
+/// mebibyte at a time (a few milliseconds), the stop flag looked at before each.
+fn gunzip(
+    bytes: &[u8],
+    path: &Path,
+    max_triangles: usize,
+    stop: &StopFlag,
+) -> Result<Vec<u8>, SceneError> {
     let failed = |e: std::io::Error| {
         SceneError::new(
             path,
@@ -105,11 +114,18 @@ fn gunzip(bytes: &[u8], path: &Path, max_triangles: usize) -> Result<Vec<u8>, Sc
         .map_err(failed)?;
     let header = header::parse(&out, path)?;
     check_counts(&header, path, max_triangles)?;
-    let room = MAX_MODEL_BYTES + 1 - out.len() as u64;
-    (&mut decoder)
-        .take(room)
-        .read_to_end(&mut out)
-        .map_err(failed)?;
+    let mut room = MAX_MODEL_BYTES + 1 - out.len() as u64;
+    while room > 0 {
+        stop.check(path)?;
+        let read = (&mut decoder)
+            .take(room.min(INFLATE_STEP))
+            .read_to_end(&mut out)
+            .map_err(failed)?;
+        if read == 0 {
+            break;
+        }
+        room -= read as u64;
+    }
     if out.len() as u64 > MAX_MODEL_BYTES {
         return Err(SceneError::new(
             path,
@@ -402,8 +418,11 @@ fn parse_plain(
             texcoords: has_texcoords.then_some(vertices),
         })
         .collect();
-    let mesh = Mesh::with_texcoords(positions, normals, texcoords, faces)
-        .map_err(|e| SceneError::new(path, format!("`{}`: {e}", path.display())))?;
+    let mesh = Mesh::with_texcoords_until(positions, normals, texcoords, faces, stop.flag())
+        .map_err(|e| match e {
+            MeshError::Stopped => SceneError::interrupted(path),
+            e => SceneError::new(path, format!("`{}`: {e}", path.display())),
+        })?;
     Ok(mesh.with_winding(Winding::RightHanded))
 }
 

@@ -12,12 +12,19 @@
 //! expected cost of a ray query, the area of each side times the work inside it. Leaves are
 //! costed in whole blocks (a mesh tests four triangles at once, so three triangles cost as
 //! much as four), which steers the build towards full blocks.
+//!
+//! A build may be given a stop flag (Ctrl-C, the page's cancel), looked at as each node is
+//! begun: once it is set, every range not yet split becomes a stub and the build gives up
+//! (`None`), so a hierarchy over tens of millions of primitives stops within one node's
+//! split (a few passes over its range) instead of at its end. The flag is a relaxed load per
+//! node, nothing per primitive; a build that is not stopped makes the very same tree.
 
 use super::bvh::{leaf_blocks, leaf_reference, Bvh, Node, EMPTY, LEAF, MAX_DEPTH, WIDTH};
 use super::bvh::{MAX_BLOCKS, MAX_LEAF_BLOCKS, NO_PRIMITIVE};
 use super::pages;
 use crate::math::{Aabb, Point3};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 use wide::f32x4;
 
 /// Candidate split planes per axis.
@@ -133,8 +140,9 @@ impl Frame {
     }
 }
 
-/// Builds a hierarchy over boxes (empty ones and those too large for `f32` are left out).
-pub(crate) fn from_boxes(bounds: &[Aabb], block: usize) -> Bvh {
+/// Builds a hierarchy over boxes (empty ones and those too large for `f32` are left out);
+/// `None` when `stop` was set before it was through.
+pub(crate) fn from_boxes(bounds: &[Aabb], block: usize, stop: Option<&AtomicBool>) -> Option<Bvh> {
     let mut all = Aabb::EMPTY;
     for b in bounds.iter().filter(|b| !b.is_empty()) {
         all = all.union(b);
@@ -144,22 +152,29 @@ pub(crate) fn from_boxes(bounds: &[Aabb], block: usize) -> Bvh {
         let b = &bounds[i];
         (!b.is_empty()).then_some((b.min, b.max))
     });
-    build(refs, block, frame, all)
+    build(refs, block, frame, all, stop)
 }
 
-/// Builds a hierarchy over prepared primitive records; `bounds` is their exact box.
-pub(crate) fn build(mut refs: Vec<PrimRef>, block: usize, frame: Frame, bounds: Aabb) -> Bvh {
+/// Builds a hierarchy over prepared primitive records; `bounds` is their exact box. `None`
+/// when `stop` was set before the build was through (see the [module](self)).
+pub(crate) fn build(
+    mut refs: Vec<PrimRef>,
+    block: usize,
+    frame: Frame,
+    bounds: Aabb,
+    stop: Option<&AtomicBool>,
+) -> Option<Bvh> {
     let block = block.clamp(1, 8).next_power_of_two();
     assert!(
         refs.len() < MAX_BLOCKS,
         "a hierarchy holds fewer than {MAX_BLOCKS} primitives"
     );
     if refs.is_empty() {
-        return Bvh {
+        return Some(Bvh {
             block,
             base: frame.base,
             ..Bvh::default()
-        };
+        });
     }
     let builder = Builder {
         block,
@@ -170,10 +185,14 @@ pub(crate) fn build(mut refs: Vec<PrimRef>, block: usize, frame: Frame, bounds: 
         } else {
             SINGLE_TRAVERSAL_COST
         },
+        stop,
     };
     let info = Info::of(&refs);
     let mut nodes = pages::with_capacity(refs.len() / (2 * block));
     let root = builder.subtree(&mut refs, info, 0, 0, &mut nodes);
+    if builder.stopped() {
+        return None;
+    }
     if root & LEAF != 0 {
         // Everything in one leaf: the root is still a node, with one child.
         let mut node = Node::EMPTY;
@@ -182,14 +201,14 @@ pub(crate) fn build(mut refs: Vec<PrimRef>, block: usize, frame: Frame, bounds: 
         nodes.push(node);
     }
     let (nodes, order) = lay_out_leaves(nodes, &refs, block);
-    Bvh {
+    Some(Bvh {
         depth: depth_of(&nodes),
         nodes,
         order,
         block,
         base: frame.base,
         bounds,
-    }
+    })
 }
 
 /// Nodes on the longest path from the root down (children always follow their parents).
@@ -499,16 +518,24 @@ impl Pending {
     };
 }
 
-struct Builder {
+struct Builder<'s> {
     block: usize,
     /// `log2(block)`: blocks are counted with a shift.
     block_shift: u32,
     max_leaf: usize,
     /// The SAH's cost of a node, in blocks.
     traversal_cost: f32,
+    /// Looked at as each node is begun (see the [module](self)).
+    stop: Option<&'s AtomicBool>,
 }
 
-impl Builder {
+impl Builder<'_> {
+    /// Whether the stop flag is set.
+    #[inline]
+    fn stopped(&self) -> bool {
+        self.stop.is_some_and(|s| s.load(Ordering::Relaxed))
+    }
+
     /// Blocks needed for `n` primitives.
     #[inline]
     fn blocks(&self, n: u32) -> f32 {
@@ -599,6 +626,10 @@ impl Builder {
         out: &mut Vec<Node>,
     ) -> u32 {
         let n = refs.len();
+        if self.stopped() {
+            // A stub in place of the range: the build is given up (`build` returns `None`).
+            return leaf_reference(first, 1);
+        }
         let mut children = [Pending::EMPTY; WIDTH];
         let count = self.children(refs, info, 0, depth, &mut children);
         let children = &children[..count];

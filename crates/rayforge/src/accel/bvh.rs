@@ -23,6 +23,7 @@ use super::query::RayQuery;
 use crate::math::{Aabb, Point3};
 use glam::DVec3;
 use std::ops::{ControlFlow, Range};
+use std::sync::atomic::AtomicBool;
 
 /// What a padding slot in the primitive order holds.
 pub const NO_PRIMITIVE: u32 = u32::MAX;
@@ -174,13 +175,21 @@ impl Bvh {
     /// Builds the hierarchy over `bounds`, one box per primitive, one primitive per block.
     /// Boxes must be finite; empty boxes are left out of the tree.
     pub fn build(bounds: &[Aabb]) -> Self {
-        build::from_boxes(bounds, 1)
+        build::from_boxes(bounds, 1, None).expect("a build without a stop flag is never stopped")
+    }
+
+    /// [`Bvh::build`] that gives up, `None`, once `stop` is set: looked at as each node is
+    /// begun, so a hierarchy over millions of boxes stops within one node's split. Not
+    /// stopped, the very tree [`Bvh::build`] makes.
+    pub fn build_until(bounds: &[Aabb], stop: Option<&AtomicBool>) -> Option<Self> {
+        build::from_boxes(bounds, 1, stop)
     }
 
     /// Builds the hierarchy with leaves made of blocks of `block` slots (1 to 8): a caller
     /// that tests several primitives at once lays them out by [`Bvh::order`].
     pub fn build_in_blocks(bounds: &[Aabb], block: usize) -> Self {
-        build::from_boxes(bounds, block)
+        build::from_boxes(bounds, block, None)
+            .expect("a build without a stop flag is never stopped")
     }
 
     /// The nodes, root first.

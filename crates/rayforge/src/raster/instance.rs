@@ -4,7 +4,8 @@
 //! whole by its bounding sphere.
 
 use super::clip::{ClipPlane, SphereSide};
-use super::tessellate::{face_count, refine, refined_face_count, tessellate, Tessellation, EXTENT};
+use super::tessellate::{face_count, refine_until, refined_face_count, tessellate_until};
+use super::tessellate::{Tessellation, EXTENT};
 use super::Projection;
 use super::RasterError;
 use crate::geometry::Winding;
@@ -12,6 +13,7 @@ use crate::math::{Point3, Transform};
 use crate::scene::Csg;
 use crate::scene::{Object, Shape, World};
 use glam::{DAffine3, DMat3};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 /// A model with its bounding sphere in object space.
@@ -98,13 +100,15 @@ impl<'w> Models<'w> {
     /// The model of a shape, its faces cut so that no edge is longer than `max_edge` (object
     /// units; 0 for no refinement: only CSG primitives are refined, see [`refine`]).
     /// Refused, before any of it is made, when the model alone would have more than `budget`
-    /// triangles.
+    /// triangles; [`RasterError::Cancelled`] (its counts of tiles 0, for the caller to fill
+    /// in) once `cancel` is set while it is made.
     fn get(
         &mut self,
         shape: &'w Shape,
         divisions: u32,
         max_edge: f64,
         budget: u64,
+        cancel: Option<&AtomicBool>,
     ) -> Result<Arc<Model<'w>>, RasterError> {
         let key = model_key(shape).map(|k| (k, max_edge.to_bits()));
         if let Some(key) = key {
@@ -116,12 +120,16 @@ impl<'w> Models<'w> {
         if face_count(shape, divisions) > budget {
             return Err(too_many());
         }
-        let mut mesh = tessellate(shape, divisions);
+        let cancelled = RasterError::Cancelled {
+            tiles_drawn: 0,
+            tiles: 0,
+        };
+        let mut mesh = tessellate_until(shape, divisions, cancel).ok_or(cancelled)?;
         if max_edge > 0.0 {
             if refined_face_count(&mesh, max_edge) > budget {
                 return Err(too_many());
             }
-            mesh = refine(&mesh, max_edge);
+            mesh = refine_until(&mesh, max_edge, cancel).ok_or(cancelled)?;
         }
         let sphere = mesh.bounding_sphere();
         let model = Arc::new(Model { mesh, sphere });
@@ -152,12 +160,15 @@ fn stretch(m: &DMat3) -> f64 {
 /// and normal offsets assigned in scene order. Refused when the instances together would have
 /// more than `max_triangles` triangles: each instance's vertices are transformed into arrays of
 /// the frame's own, so memory grows with the sum (64 spheres at 4096 divisions asked for 51 GB).
+/// Once `cancel` is set, stops within the model being made ([`RasterError::Cancelled`], its
+/// counts of tiles 0).
 pub(crate) fn instances<'w>(
     world: &'w World,
     projection: &Projection,
     divisions: u32,
     culling: bool,
     max_triangles: u64,
+    cancel: Option<&AtomicBool>,
 ) -> Result<Vec<Instance<'w>>, RasterError> {
     // Every object's triangles first, counted without making them (before culling and CSG
     // refinement, which only remove and add a few): a scene far over the limit is refused
@@ -219,6 +230,7 @@ pub(crate) fn instances<'w>(
                 divisions,
                 max_edge,
                 max_triangles - triangles,
+                cancel,
             )?;
             let to_view =
                 *projection.world_to_view_affine() * DAffine3::from_mat4(transform.matrix());

@@ -350,7 +350,16 @@ fn with_frame(
         divisions,
         options.backface_culling,
         options.max_triangles,
-    )?;
+        cancel,
+    )
+    .map_err(|e| match e {
+        // Stopped while a model was tessellated: no tile drawn.
+        RasterError::Cancelled { .. } => RasterError::Cancelled {
+            tiles_drawn: 0,
+            tiles: tile_count,
+        },
+        e => e,
+    })?;
     stopped(0)?;
     let Scratch {
         vertices,
@@ -422,6 +431,24 @@ fn with_frame(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The flag set while the objects are tessellated (before the frame's first tile): the
+    /// instances give up within the model being made and the frame is refused with no tile
+    /// drawn, its count of tiles filled in.
+    #[test]
+    fn a_stop_reaches_inside_the_tessellation() {
+        let mut world = World::new();
+        world
+            .objects
+            .push(crate::scene::Object::new(crate::scene::Shape::Sphere));
+        let camera = Camera::new(64, 32, std::f64::consts::FRAC_PI_3);
+        let projection = Projection::new(&camera, RasterOptions::default().near);
+        let set = AtomicBool::new(true);
+        let made = instances(&world, &projection, 512, true, u64::MAX, Some(&set));
+        assert!(matches!(made, Err(RasterError::Cancelled { .. })));
+        let made = instances(&world, &projection, 512, true, u64::MAX, None).unwrap();
+        assert_eq!(made.len(), 1);
+    }
 
     /// The flag set at a known point, between two bands of one thread: the first band's tiles
     /// are drawn, none after it, and the frame is refused with that count.

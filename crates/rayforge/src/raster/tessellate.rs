@@ -11,6 +11,11 @@
 //! infinite cylinders and cones long tubes. Grid lines are dense near the origin and grow
 //! geometrically further out (the farther parts cover few pixels), so a plane costs a few
 //! thousand triangles and Gouraud shading still has vertices near what the camera looks at.
+//!
+//! A frame's tessellation may be stopped ([`tessellate_until`]): the generators look at the
+//! stop flag once per ring or band of faces (a sphere at 4096 divisions is 4096 rings of
+//! 8192 triangles) and refinement once per face, so one huge model stops within a ring, not
+//! after its 33 million triangles. Not stopped, they make the very same faces.
 
 use crate::geometry::{Mesh, MeshFace, PartialQuadric, Winding};
 use crate::math::{Aabb, Point3, Vec3};
@@ -18,6 +23,13 @@ use crate::scene::Csg;
 use crate::scene::Shape;
 use std::borrow::Cow;
 use std::f64::consts::{PI, TAU};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Whether `stop` is set.
+#[inline]
+fn stopped(stop: Option<&AtomicBool>) -> bool {
+    stop.is_some_and(|s| s.load(Ordering::Relaxed))
+}
 
 /// How far unbounded shapes reach from their origin, in object units.
 pub const EXTENT: f64 = 1.0e4;
@@ -196,6 +208,11 @@ impl<'a> Tessellation<'a> {
 /// The book spaces the rings evenly in y; here they are evenly spaced in latitude, which keeps
 /// the triangles near the poles from becoming slivers. `divs` below 3 counts as 3.
 pub fn generate_sphere(divs: u32) -> Tessellation<'static> {
+    sphere(divs, None).expect("a tessellation without a stop flag is never stopped")
+}
+
+/// [`generate_sphere`], `None` once `stop` is set (looked at before each ring of faces).
+fn sphere(divs: u32, stop: Option<&AtomicBool>) -> Option<Tessellation<'static>> {
     let divs = divs.max(3);
     let mut t = Tessellation::empty(true);
     for d in 0..=divs {
@@ -208,6 +225,9 @@ pub fn generate_sphere(divs: u32) -> Tessellation<'static> {
         }
     }
     for d in 0..divs {
+        if stopped(stop) {
+            return None;
+        }
         for i in 0..divs {
             let i0 = d * divs + i;
             let i1 = (d + 1) * divs + (i + 1) % divs;
@@ -218,12 +238,18 @@ pub fn generate_sphere(divs: u32) -> Tessellation<'static> {
             t.face(i0, i3, i1, outward);
         }
     }
-    t
+    Some(t)
 }
 
 /// A torus around the y axis: `2·divs` segments around the axis, `divs` around the tube, each
 /// vertex with the surface's own normal.
-fn torus(divs: u32, major: f64, minor: f64) -> Tessellation<'static> {
+/// `None` once `stop` is set (looked at before each ring of faces).
+fn torus(
+    divs: u32,
+    major: f64,
+    minor: f64,
+    stop: Option<&AtomicBool>,
+) -> Option<Tessellation<'static>> {
     let around = divs.max(3) * 2;
     let tube = divs.max(3);
     let mut t = Tessellation::empty(true);
@@ -238,6 +264,9 @@ fn torus(divs: u32, major: f64, minor: f64) -> Tessellation<'static> {
     }
     let index = |i: u32, j: u32| (i % around) * tube + (j % tube);
     for i in 0..around {
+        if stopped(stop) {
+            return None;
+        }
         for j in 0..tube {
             let corners = [
                 index(i, j),
@@ -252,12 +281,16 @@ fn torus(divs: u32, major: f64, minor: f64) -> Tessellation<'static> {
             t.quad(corners, outward);
         }
     }
-    t
+    Some(t)
 }
 
 /// A cut quadric as a grid over its (u, v): `4·divs` columns about its axis, `divs` rows
 /// along it, each vertex's normal the surface's; open, so seen from both sides.
-fn partial(divs: u32, q: &PartialQuadric) -> Tessellation<'static> {
+fn partial(
+    divs: u32,
+    q: &PartialQuadric,
+    stop: Option<&AtomicBool>,
+) -> Option<Tessellation<'static>> {
     let (columns, rows) = (divs.max(3) * 4, divs.max(3));
     let mut t = Tessellation::empty(false);
     for i in 0..=columns {
@@ -271,6 +304,9 @@ fn partial(divs: u32, q: &PartialQuadric) -> Tessellation<'static> {
     }
     let index = |i: u32, j: u32| i * (rows + 1) + j;
     for i in 0..columns {
+        if stopped(stop) {
+            return None;
+        }
         for j in 0..rows {
             let corners = [
                 index(i, j),
@@ -285,7 +321,7 @@ fn partial(divs: u32, q: &PartialQuadric) -> Tessellation<'static> {
             t.quad(corners, front);
         }
     }
-    t
+    Some(t)
 }
 
 /// A flat ring (or disc) in the xz plane: `4·divs` segments around, seen from both sides.
@@ -388,13 +424,17 @@ fn revolution(
     closed: bool,
     radius: impl Fn(f64) -> f64,
     normal: impl Fn(f64, f64) -> Vec3,
-) -> Tessellation<'static> {
+    stop: Option<&AtomicBool>,
+) -> Option<Tessellation<'static>> {
     let segments = segments.max(3);
     let closed = closed && min.is_finite() && max.is_finite();
     let mut t = Tessellation::empty(closed);
     let lines = levels(min, max);
     let around = |i: u32| TAU * i as f64 / segments as f64;
     for band in lines.windows(2) {
+        if stopped(stop) {
+            return None;
+        }
         let (y0, y1) = (band[0], band[1]);
         let mid = (y0 + y1) / 2.0;
         let ring = |t: &mut Tessellation<'static>, y: f64| -> u32 {
@@ -428,7 +468,7 @@ fn revolution(
             }
         }
     }
-    t
+    Some(t)
 }
 
 /// A single triangle (smooth when it has vertex normals). Open: both sides can be seen.
@@ -453,10 +493,10 @@ fn triangle(tri: &crate::geometry::Triangle) -> Tessellation<'static> {
 /// the boundary of another operand are kept or dropped whole, so the cut edges are as jagged as
 /// the tessellation is coarse. The renderer draws CSG primitives one by one with the same rule,
 /// each with its own material; this is the single-mesh form.
-fn csg(csg: &Csg, divisions: u32) -> Tessellation<'static> {
+fn csg(csg: &Csg, divisions: u32, stop: Option<&AtomicBool>) -> Option<Tessellation<'static>> {
     let mut out = Tessellation::empty(false);
     for (leaf, object) in csg.leaves().iter().enumerate() {
-        let part = tessellate(&object.shape, divisions);
+        let part = tessellate_until(&object.shape, divisions, stop)?;
         let base = out.positions.len() as u32;
         let normal_base = out.normals.len() as u32;
         let uv_base = out.texcoords.len() as u32;
@@ -489,7 +529,7 @@ fn csg(csg: &Csg, divisions: u32) -> Tessellation<'static> {
             out.faces.push(face);
         }
     }
-    out
+    Some(out)
 }
 
 /// The most pieces per side [`refine`] cuts a face into.
@@ -500,9 +540,21 @@ const MAX_REFINE: u32 = 32;
 /// (normals renormalised). CSG primitives are refined so that keeping or dropping whole
 /// triangles by their centre follows the solid's edges closely.
 pub fn refine(t: &Tessellation<'_>, max_edge: f64) -> Tessellation<'static> {
+    refine_until(t, max_edge, None).expect("a refinement without a stop flag is never stopped")
+}
+
+/// [`refine`], `None` once `stop` is set (looked at before each face is cut).
+pub(crate) fn refine_until(
+    t: &Tessellation<'_>,
+    max_edge: f64,
+    stop: Option<&AtomicBool>,
+) -> Option<Tessellation<'static>> {
     let mut out = Tessellation::empty(t.closed);
     out.winding = t.winding;
     for face in t.faces.iter() {
+        if stopped(stop) {
+            return None;
+        }
         let p = t.corners(&face);
         let k = refinement(p, max_edge);
         let n = face.normals.map(|n| n.map(|i| t.normals[i as usize]));
@@ -542,7 +594,7 @@ pub fn refine(t: &Tessellation<'_>, max_edge: f64) -> Tessellation<'static> {
             }
         }
     }
-    out
+    Some(out)
 }
 
 /// How many triangles [`tessellate`] makes of `shape` at most, counted without making them, so
@@ -610,8 +662,18 @@ fn refinement(p: [Point3; 3], max_edge: f64) -> u32 {
 /// shapes (see [`generate_sphere`]; cylinders and cones get as many segments around). Meshes
 /// are borrowed as they are; planes and infinite cylinders and cones are cut at [`EXTENT`].
 pub fn tessellate(shape: &Shape, divisions: u32) -> Tessellation<'_> {
-    match shape {
-        Shape::Sphere => generate_sphere(divisions),
+    tessellate_until(shape, divisions, None)
+        .expect("a tessellation without a stop flag is never stopped")
+}
+
+/// [`tessellate`], `None` once `stop` is set (see the [module](self)).
+pub(crate) fn tessellate_until<'s>(
+    shape: &'s Shape,
+    divisions: u32,
+    stop: Option<&AtomicBool>,
+) -> Option<Tessellation<'s>> {
+    Some(match shape {
+        Shape::Sphere => sphere(divisions, stop)?,
         Shape::Cube => cube(),
         Shape::Plane => plane(),
         Shape::Rectangle => rectangle(),
@@ -626,7 +688,8 @@ pub fn tessellate(shape: &Shape, divisions: u32) -> Tessellation<'_> {
             *closed,
             |_| 1.0,
             |a, _| Vec3::new(a.cos(), 0.0, a.sin()),
-        ),
+            stop,
+        )?,
         Shape::Cone {
             minimum,
             maximum,
@@ -640,12 +703,64 @@ pub fn tessellate(shape: &Shape, divisions: u32) -> Tessellation<'_> {
             // The side of x² + z² = y² leans out at 45°: down on the upper nappe, up on the
             // lower (the ray tracer's normal, normalised).
             |a, y| Vec3::new(a.cos(), -y.signum(), a.sin()) / std::f64::consts::SQRT_2,
-        ),
-        Shape::Torus { major, minor } => torus(divisions, *major, *minor),
+            stop,
+        )?,
+        Shape::Torus { major, minor } => torus(divisions, *major, *minor, stop)?,
         Shape::Ring { inner, outer } => ring(divisions, *inner, *outer),
         Shape::Triangle(tri) => triangle(tri),
         Shape::Mesh(mesh) => Tessellation::of_mesh(mesh),
-        Shape::Csg(c) => csg(c, divisions),
-        Shape::Partial(q) => partial(divisions, q),
+        Shape::Csg(c) => csg(c, divisions, stop)?,
+        Shape::Partial(q) => partial(divisions, q, stop)?,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{CsgOperation, Object};
+
+    /// Each generator that makes many faces gives up once the stop flag is set, and with the
+    /// flag clear makes the very faces it makes without one.
+    #[test]
+    fn a_tessellation_gives_up_at_its_stop_flag_and_is_otherwise_the_same() {
+        let (clear, set) = (AtomicBool::new(false), AtomicBool::new(true));
+        let solid = Object::csg(
+            CsgOperation::Difference,
+            Object::new(Shape::Cube),
+            Object::new(Shape::Sphere),
+        )
+        .unwrap();
+        let shapes = [
+            Shape::Sphere,
+            Shape::Torus {
+                major: 1.0,
+                minor: 0.25,
+            },
+            Shape::Cylinder {
+                minimum: -1.0,
+                maximum: 1.0,
+                closed: true,
+            },
+            Shape::Cone {
+                minimum: -1.0,
+                maximum: 0.0,
+                closed: false,
+            },
+            solid.shape,
+        ];
+        for shape in &shapes {
+            let plain = tessellate(shape, 64);
+            assert_eq!(
+                tessellate_until(shape, 64, Some(&clear)).as_ref(),
+                Some(&plain)
+            );
+            assert!(
+                tessellate_until(shape, 64, Some(&set)).is_none(),
+                "{shape:?}"
+            );
+            let fine = refine(&plain, 0.01);
+            assert_eq!(refine_until(&plain, 0.01, Some(&clear)), Some(fine));
+            assert!(refine_until(&plain, 0.01, Some(&set)).is_none());
+        }
     }
 }

@@ -306,7 +306,10 @@ fn render_rows_with<I: Integrator>(
     let rays = AtomicU64::new(0);
     // The pixels with no usable sample (the optics model's ties).
     let ambiguous_pixels = AtomicU64::new(0);
-    let index = WorldIndex::build(world);
+    // Stopped while the index was built: no row is rendered (`done` is left as it was).
+    let Some(index) = WorldIndex::build_until(world, options.cancel) else {
+        return RenderStats::default();
+    };
     // Set by the first thread whose sample goes over the ray budget: every thread stops.
     let failed = AtomicBool::new(false);
     // The index of the lowest pixel found over the budget (u64::MAX: none).

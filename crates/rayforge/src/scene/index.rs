@@ -12,6 +12,7 @@ use crate::accel::Bvh;
 use crate::geometry::LocalHit;
 use crate::math::{Aabb, Point3, Ray, Vec3};
 use std::ops::ControlFlow;
+use std::sync::atomic::AtomicBool;
 
 /// Worlds of at most this many bounded objects skip the hierarchy (see `WorldIndex::few`).
 const FEW_OBJECTS: usize = 8;
@@ -126,6 +127,14 @@ fn visit_boxes<'a>(
 impl WorldIndex {
     /// Indexes the objects of `world`.
     pub fn build(world: &World) -> Self {
+        Self::build_until(world, None).expect("a build without a stop flag is never stopped")
+    }
+
+    /// [`WorldIndex::build`] that gives up, `None`, once `stop` is set (Ctrl-C, a server's
+    /// cancel): its BVH is looked at as each node is begun ([`Bvh::build_until`]), so a world
+    /// of a million objects stops within one node's split. Not stopped, the very index
+    /// [`WorldIndex::build`] makes.
+    pub fn build_until(world: &World, stop: Option<&AtomicBool>) -> Option<Self> {
         let mut boxes: Vec<Aabb> = world.objects.iter().map(|o| o.bounds()).collect();
         let mut unbounded = Vec::new();
         for (i, b) in boxes.iter_mut().enumerate() {
@@ -159,12 +168,12 @@ impl WorldIndex {
             }
             few
         });
-        Self {
-            bvh: Bvh::build(&boxes),
+        Some(Self {
+            bvh: Bvh::build_until(&boxes, stop)?,
             unbounded,
             few,
             normals: world.objects.iter().map(SurfaceNormal::of).collect(),
-        }
+        })
     }
 
     /// The unit world normal at `point`, where `hit` (on one of the world's objects) is: the

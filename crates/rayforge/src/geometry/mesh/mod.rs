@@ -28,6 +28,7 @@ use crate::math::{Aabb, Point3, Ray, Vec3};
 use packet::{TrianglePacket, TriangleRay};
 use rayon::prelude::*;
 use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Faces tested together: one packet's lanes.
 const PACKET: usize = 4;
@@ -72,6 +73,10 @@ pub enum MeshError {
         /// The most a mesh holds.
         max: usize,
     },
+    /// The stop flag given to [`Mesh::with_texcoords_until`] was set before the mesh was
+    /// built.
+    #[error("the mesh's build was stopped")]
+    Stopped,
 }
 
 /// Which side of a mesh's faces is their front, told by the order of their corners: the side
@@ -150,6 +155,21 @@ impl Mesh {
         texcoords: Vec<[f64; 2]>,
         faces: Vec<MeshFace>,
     ) -> Result<Self, MeshError> {
+        Self::with_texcoords_until(positions, normals, texcoords, faces, None)
+    }
+
+    /// [`Mesh::with_texcoords`] that gives up ([`MeshError::Stopped`]) once `stop` is set
+    /// (Ctrl-C, a server's cancel): looked at between the build's passes and as each node of
+    /// the BVH is begun, so a model of tens of millions of faces stops within one node's split.
+    /// Not stopped, the very mesh [`Mesh::with_texcoords`] makes.
+    pub fn with_texcoords_until(
+        positions: Vec<Point3>,
+        normals: Vec<Vec3>,
+        texcoords: Vec<[f64; 2]>,
+        faces: Vec<MeshFace>,
+        stop: Option<&AtomicBool>,
+    ) -> Result<Self, MeshError> {
+        let stopped = || stop.is_some_and(|s| s.load(Ordering::Relaxed));
         if faces.len() >= MAX_BLOCKS {
             return Err(MeshError::TooManyFaces {
                 faces: faces.len(),
@@ -202,7 +222,11 @@ impl Mesh {
         let corner_normals = optional(any_normals, |f| f.normals);
         let corner_texcoords = optional(any_texcoords, |f| f.texcoords);
         drop(faces);
-        let (bvh, packets, tolerance) = index(&positions, &corners);
+        if stopped() {
+            return Err(MeshError::Stopped);
+        }
+        let (bvh, packets, tolerance) =
+            index(&positions, &corners, stop).ok_or(MeshError::Stopped)?;
         Ok(Self {
             positions,
             normals,
@@ -681,8 +705,13 @@ impl<H: FnMut(LocalHit)> Kernel for EveryHit<'_, H> {
     }
 }
 
-/// Builds the BVH over the faces and their packets, and the mesh's `f32` tolerance.
-fn index(positions: &[Point3], corners: &[[u32; 3]]) -> (Bvh, Vec<TrianglePacket>, f64) {
+/// Builds the BVH over the faces and their packets, and the mesh's `f32` tolerance; `None`
+/// when `stop` was set before the BVH was through.
+fn index(
+    positions: &[Point3],
+    corners: &[[u32; 3]],
+    stop: Option<&AtomicBool>,
+) -> Option<(Bvh, Vec<TrianglePacket>, f64)> {
     // The frame is centred on the vertices that fit in f32 (a stray vertex at 1e300 must not
     // drag the base point away from everything else).
     let fits = |p: &Point3| p.is_finite() && p.abs().max_element() <= 1.0e30;
@@ -704,7 +733,7 @@ fn index(positions: &[Point3], corners: &[[u32; 3]]) -> (Bvh, Vec<TrianglePacket
         .filter(|&(min, max)| frame.prim_ref(0, min, max).is_some())
         .map(|(min, max)| Aabb::new(min, max))
         .reduce(|| Aabb::EMPTY, |a, b| a.union(&b));
-    let bvh = crate::accel::build(refs, PACKET, frame, bounds);
+    let bvh = crate::accel::build(refs, PACKET, frame, bounds, stop)?;
     let packets: Vec<TrianglePacket> = pages::collect(
         bvh.order()
             .par_chunks(PACKET)
@@ -727,7 +756,7 @@ fn index(positions: &[Point3], corners: &[[u32; 3]]) -> (Bvh, Vec<TrianglePacket
     } else {
         0.0
     };
-    (bvh, packets, tolerance)
+    Some((bvh, packets, tolerance))
 }
 
 #[cfg(test)]

@@ -274,7 +274,10 @@ fn render_path_logged(
     if film.filter() != filter {
         return Err(FilmError::FilterMismatch(filter, film.filter()));
     }
-    let index = WorldIndex::build(world);
+    // A stop during the index's build renders nothing (as a stop during the pilot below).
+    let Some(index) = WorldIndex::build_until(world, job.cancel) else {
+        return Ok(PathStats::default());
+    };
     let emitters = Emitters::for_options(world, &job.options);
     let rays = AtomicU64::new(0);
     let discarded = AtomicU64::new(0);

@@ -141,7 +141,7 @@ pub fn learn_roulette(
         _ if !options.techniques.roulette => Some(LearnedRoulette::fixed(1.0)),
         Roulette::Scale(scale) => Some(LearnedRoulette::fixed(scale)),
         Roulette::Learned => {
-            let index = WorldIndex::build(world);
+            let index = WorldIndex::build_until(world, cancel)?;
             let emitters = Emitters::for_options(world, options);
             learned(camera, world, &index, &emitters, options, spp, cancel)
         }
