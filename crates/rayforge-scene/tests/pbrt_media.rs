@@ -162,6 +162,36 @@ MakeNamedMedium "c" "string type" "homogeneous" "string preset" "Pacific Ocean S
 }
 
 #[test]
+fn a_grid_glows_by_le_and_lescale_or_by_temperature() {
+    // pbrt-v4's grid emission: `Le` times the grid `Lescale`, or a blackbody (1 at its peak)
+    // at `(temperature − temperatureoffset) × temperaturescale`, none at or below 100 K.
+    let text = r#"Camera "perspective"
+WorldBegin
+MakeNamedMedium "a" "string type" "uniformgrid" "integer nx" 2 "float density" [1 1] "rgb Le" [1 0.5 0.25] "float Lescale" [0 4]
+MakeNamedMedium "b" "string type" "uniformgrid" "integer nx" 2 "float density" [1 1] "float temperature" [150 2000] "float temperatureoffset" 100 "float temperaturescale" 2
+MakeNamedMedium "c" "string type" "uniformgrid" "float density" [1] "rgb Le" [0.5 0.5 0.5]
+"#;
+    let scene = load_text(text).unwrap_or_else(|e| panic!("{e}"));
+    let grid = |i: u32| match scene.world.media.get(MediumId(i)) {
+        Medium::Grid(g) => g.clone(),
+        _ => panic!("a grid"),
+    };
+    let at = |i: u32, x: f64| grid(i).coefficients_at(glam::DVec3::new(x, 0.5, 0.5)).2;
+    assert_eq!(at(0, 0.25), Color::BLACK);
+    assert_eq!(at(0, 0.75), Color::new(4.0, 2.0, 1.0));
+    // 100 K (at the cut-off) gives nothing; 3800 K glows orange: red over green over blue.
+    assert_eq!(at(1, 0.25), Color::BLACK);
+    let hot = at(1, 0.75);
+    assert!(
+        hot.red > hot.green && hot.green > hot.blue && hot.blue > 0.0,
+        "{hot:?}"
+    );
+    assert!(hot.red < 2.0, "normalised at its peak: {hot:?}");
+    assert!(grid(0).emits() && grid(1).emits());
+    assert_eq!(at(2, 0.5), Color::new(0.5, 0.5, 0.5));
+}
+
+#[test]
 fn what_is_not_rendered_is_refused_at_its_place() {
     let head = "Camera \"perspective\"\nWorldBegin\n";
     assert_at(
@@ -186,11 +216,18 @@ fn what_is_not_rendered_is_refused_at_its_place() {
         "NanoVDB files",
     );
     assert_at(
-        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [1] \"rgb Le\" [1 1 1]\n"),
+        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [1] \"rgb Le\" [1 1 1] \"float temperature\" [900]\n"),
         3,
         69,
         "rgb Le",
-        "emitting grid",
+        "`Le` or `temperature`, not both",
+    );
+    assert_at(
+        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [1 1] \"float Lescale\" [1]\n"),
+        3,
+        86,
+        "float Lescale",
+        "takes 2 values, found 1",
     );
     assert_at(
         &format!("{head}MediumInterface \"smoke\" \"\"\nShape \"sphere\"\n"),

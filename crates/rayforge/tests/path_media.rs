@@ -11,7 +11,7 @@ mod path_support;
 use rayforge::film::Film;
 use rayforge::math::{scaling, view_transform, Aabb, Transform};
 use rayforge::media::{
-    DensityGrid, GridMedium, HenyeyGreenstein, Homogeneous, Media, Medium, MediumId,
+    DensityGrid, Glow, GridMedium, HenyeyGreenstein, Homogeneous, Media, Medium, MediumId,
     MediumInterface,
 };
 use rayforge::options::{PathOptions, Roulette, SampleAllocation, SamplerKind};
@@ -232,4 +232,32 @@ fn single_scattering_of_a_point_light_matches_its_integral() {
     }
     let film = render(&world, &camera, 1024, 1);
     assert_means(&film, expected, 0.0, "single scattering");
+}
+
+#[test]
+fn an_emitting_grid_gives_its_light_less_what_it_absorbs() {
+    // A pure absorber (σa = 0.5 where the density is 1) glowing with Le = (1, 0.5, 0.25)
+    // times a grid of factors 2: along 2 units from the camera, L = 2 Le (1 − e^(−σa·2)).
+    let density = DensityGrid::new([2, 2, 2], vec![1.0; 8]).expect("grid");
+    let factors = DensityGrid::new([3, 1, 2], vec![2.0; 6]).expect("grid");
+    let le = Color::new(1.0, 0.5, 0.25);
+    let grid = GridMedium::new(
+        Color::new(0.5, 0.5, 0.5),
+        Color::BLACK,
+        Color::BLACK,
+        HenyeyGreenstein::ISOTROPIC,
+        density,
+        Aabb::new(point(-2.5, -2.5, -2.5), point(2.5, 2.5, 2.5)),
+        Transform::IDENTITY,
+    )
+    .expect("medium")
+    .with_glow(Glow::Scaled {
+        radiance: le,
+        scale: factors,
+    });
+    let (mut world, camera) = inside_ball(Medium::Grid(Box::new(grid)));
+    world.background = Color::BLACK;
+    let film = render(&world, &camera, 256, 8);
+    let expected = le.to_array().map(|c| 2.0 * c * (1.0 - (-1.0f64).exp()));
+    assert_means(&film, expected, 0.0, "emitting grid");
 }

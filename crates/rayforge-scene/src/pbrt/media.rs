@@ -7,8 +7,9 @@
 //! pbrt-v4's named measured media ([`measured_media`](super::measured_media)), in place of
 //! `sigma_a` and `sigma_s`. `uniformgrid` reads `density` (`nx` × `ny` × `nz` values, x
 //! fastest) over the box `p0`–`p1` in the medium's space, placed by the transform in force at
-//! `MakeNamedMedium`. What rayforge does not render is refused at its parameter: a grid's
-//! `temperature` and `Le`, and the other types (`rgbgrid`, `cloud`, and `nanovdb`, whose
+//! `MakeNamedMedium`, and gives off light as pbrt-v4's grid does: `Le` times the grid
+//! `Lescale`, or a blackbody at the grid `temperature`. What rayforge does not render is
+//! refused: the other types (`rgbgrid`, `cloud`, and `nanovdb`, whose
 //! files rayforge does not read).
 
 use super::measured_media;
@@ -19,9 +20,10 @@ use crate::error::SceneError;
 use glam::{DMat4, DVec3};
 use rayforge::math::{Aabb, Transform};
 use rayforge::media::{
-    DensityGrid, GridMedium, HenyeyGreenstein, Homogeneous, Medium, MediumId, MediumInterface,
-    MAX_ASYMMETRY,
+    BlackbodyTable, DensityGrid, Glow, GridMedium, HenyeyGreenstein, Homogeneous, Medium, MediumId,
+    MediumInterface, MAX_ASYMMETRY, MAX_BLACKBODY_ENTRIES,
 };
+use rayforge::shading::spectrum::{planck, spectrum_to_xyz, xyz_to_linear_srgb};
 use rayforge::{Color, World};
 use std::collections::HashMap;
 
@@ -122,21 +124,6 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
             }))
         }
         "uniformgrid" => {
-            for refused in ["temperature", "Le", "Lescale"] {
-                if let Some(p) = params.find(
-                    refused,
-                    &[
-                        ParamType::Float,
-                        ParamType::Rgb,
-                        ParamType::Spectrum,
-                        ParamType::Blackbody,
-                    ],
-                ) {
-                    return Err(p.error(
-                        "an emitting grid (`Le`, `Lescale`, `temperature`) is not rendered: rayforge's grids read `density` alone",
-                    ));
-                }
-            }
             let size = |name: &str| -> Result<usize, SceneError> {
                 match params.integer(name)? {
                     None => Ok(1),
@@ -150,21 +137,19 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
             };
             let values = values.iter().map(|&v| v as f32).collect();
             let density = DensityGrid::new(size, values).map_err(|e| p.error(e.to_string()))?;
+            let (emission, glow) = grid_glow(entity, size, &spectrum)?;
             let p0 = params.point3_or("p0", DVec3::ZERO)?;
             let p1 = params.point3_or("p1", DVec3::ONE)?;
             let bounds = Aabb::new(p0.min(p1), p0.max(p1));
             let transform = Transform::try_new(*world_from_medium)
                 .map_err(|_| entity.error("the medium is placed by a singular transform"))?;
-            let grid = GridMedium::new(
-                sigma_a,
-                sigma_s,
-                Color::BLACK,
-                phase,
-                density,
-                bounds,
-                transform,
+            let mut grid = GridMedium::new(
+                sigma_a, sigma_s, emission, phase, density, bounds, transform,
             )
             .map_err(|e| entity.error(e.to_string()))?;
+            if let Some(glow) = glow {
+                grid = grid.with_glow(glow);
+            }
             Ok(Medium::Grid(Box::new(grid)))
         }
         "nanovdb" => Err(entity.error(
@@ -176,6 +161,96 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
             "the medium type \"{other}\" is not read; rayforge reads homogeneous and uniformgrid"
         ))),
     }
+}
+
+/// A `uniformgrid`'s light, as pbrt-v4's `GridMedium` reads it: `Le` (a spectrum) times the
+/// grid `Lescale` (one value per sample, where given), or a blackbody at each sample's
+/// `temperature` (less `temperatureoffset`, or its old name `temperaturecutoff`, times
+/// `temperaturescale`), normalised to 1 at its peak, times `Lescale` where given; not both.
+/// The uniform part (`Le` without `Lescale`), and the varying part where there is one.
+fn grid_glow(
+    entity: &Entity,
+    size: [usize; 3],
+    spectrum: &impl Fn(&str, Color, SpectrumUse) -> Result<Color, SceneError>,
+) -> Result<(Color, Option<Glow>), SceneError> {
+    let params = &entity.params;
+    let le = spectrum("Le", Color::BLACK, SpectrumUse::Illuminant)?;
+    let count = size[0] * size[1] * size[2];
+    let samples = |name: &str| -> Result<Option<DensityGrid>, SceneError> {
+        let Some((values, p)) = params.numbers(name, ParamType::Float)? else {
+            return Ok(None);
+        };
+        if values.len() != count {
+            return Err(p.error(format!(
+                "a grid of nx × ny × nz = {count} samples takes {count} values, found {}",
+                values.len()
+            )));
+        }
+        if let Some(v) = values.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
+            return Err(p.error(format!("values are finite and at least 0, found {v}")));
+        }
+        let values = values.iter().map(|&v| v as f32).collect();
+        DensityGrid::new(size, values)
+            .map(Some)
+            .map_err(|e| p.error(e.to_string()))
+    };
+    let scale = samples("Lescale")?;
+    let temperature = samples("temperature")?;
+    match temperature {
+        Some(temperature) => {
+            if le.max_channel() > 0.0 {
+                let p = params
+                    .find(
+                        "Le",
+                        &[ParamType::Rgb, ParamType::Spectrum, ParamType::Blackbody],
+                    )
+                    .expect("read above");
+                return Err(p.error("a grid gives `Le` or `temperature`, not both (as pbrt-v4)"));
+            }
+            let offset = match params.float("temperatureoffset")? {
+                Some(v) => v,
+                None => params.float_or("temperaturecutoff", 0.0)?,
+            };
+            let factor = params.float_or("temperaturescale", 1.0)?;
+            if !(offset.is_finite() && factor.is_finite()) {
+                return Err(entity.error("`temperatureoffset` and `temperaturescale` are finite"));
+            }
+            let hottest = (temperature.max_value() - offset) * factor;
+            let table = BlackbodyTable::new(hottest, MAX_BLACKBODY_ENTRIES, blackbody_rgb);
+            Ok((
+                Color::BLACK,
+                Some(Glow::Blackbody {
+                    temperature,
+                    offset,
+                    factor,
+                    scale,
+                    table,
+                }),
+            ))
+        }
+        None => match scale {
+            Some(scale) if le.max_channel() > 0.0 => Ok((
+                Color::BLACK,
+                Some(Glow::Scaled {
+                    radiance: le,
+                    scale,
+                }),
+            )),
+            _ => Ok((le, None)),
+        },
+    }
+}
+
+/// The linear sRGB colour an RGB film sees of a blackbody at `kelvin` normalised to 1 at its
+/// peak (pbrt-v4's `BlackbodySpectrum`).
+fn blackbody_rgb(kelvin: f64) -> Color {
+    // Wien's displacement law: the peak's wavelength, in nm.
+    let peak = planck(2.897_771_955e6 / kelvin, kelvin);
+    if peak.is_nan() || peak <= 0.0 {
+        return Color::BLACK;
+    }
+    let c = xyz_to_linear_srgb(spectrum_to_xyz(|l| planck(l, kelvin) / peak));
+    Color::new(c.red.max(0.0), c.green.max(0.0), c.blue.max(0.0))
 }
 
 /// The medium a name gives (empty: vacuum).

@@ -5,6 +5,7 @@
 //! cells, as in pbrt-v4); outside the box the density is 0. Its majorant grid
 //! ([`MajorantGrid`]) bounds the density cell by cell for null-collision tracking.
 
+use super::glow::{ColorGrid, Glow};
 use super::majorant::MajorantGrid;
 use super::phase::HenyeyGreenstein;
 use super::MediumError;
@@ -50,6 +51,27 @@ impl DensityGrid {
     /// The samples along x, y and z.
     pub fn size(&self) -> [usize; 3] {
         self.size
+    }
+
+    /// How many samples it holds.
+    pub fn len(&self) -> usize {
+        self.values.len()
+    }
+
+    /// Whether it holds none (never: a grid has at least one sample).
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+
+    /// Sample `i` (x fastest).
+    #[inline]
+    pub fn value(&self, i: usize) -> f32 {
+        self.values[i]
+    }
+
+    /// The largest sample.
+    pub fn max_value(&self) -> f64 {
+        self.values.iter().fold(0.0f64, |m, &v| m.max(f64::from(v)))
     }
 
     /// The sample at integer coordinates, held to the grid (its edges extend outwards).
@@ -122,6 +144,11 @@ pub struct GridMedium {
     pub transform: Transform,
     /// Per coarse cell, the most density there.
     pub majorant: MajorantGrid,
+    /// Where the light it gives off varies over the grid (else it is `emission`).
+    pub glow: Option<Box<Glow>>,
+    /// Where σa and σs are grids of colours of their own (pbrt-v4's `rgbgrid`), they (the
+    /// density then their largest channels' sum, which the majorants bound).
+    pub colored: Option<Box<[ColorGrid; 2]>>,
 }
 
 impl GridMedium {
@@ -149,7 +176,83 @@ impl GridMedium {
             bounds,
             transform,
             majorant,
+            glow: None,
+            colored: None,
         })
+    }
+
+    /// The medium giving off `glow` (times σa, point by point) in place of `emission`.
+    pub fn with_glow(mut self, glow: Glow) -> Self {
+        self.glow = Some(Box::new(glow));
+        self
+    }
+
+    /// A medium whose σa and σs are grids of colours (each times `scale`) over `bounds`,
+    /// placed by `transform`: its density (for the majorants) is, sample by sample, the
+    /// largest channel of σa plus the largest of σs; the grids must be of one size.
+    pub fn of_colors(
+        sigma_a: ColorGrid,
+        sigma_s: ColorGrid,
+        scale: f64,
+        phase: HenyeyGreenstein,
+        bounds: Aabb,
+        transform: Transform,
+    ) -> Result<Self, MediumError> {
+        if sigma_a.size() != sigma_s.size() {
+            return Err(MediumError::GridCount {
+                expected: sigma_a.max_channels().len(),
+                found: sigma_s.max_channels().len(),
+            });
+        }
+        if !(scale.is_finite() && scale >= 0.0) {
+            return Err(MediumError::Coefficient {
+                name: "scale",
+                value: Color::new(scale, scale, scale),
+            });
+        }
+        let (a, s) = (sigma_a.max_channels(), sigma_s.max_channels());
+        let values = (0..a.len()).map(|i| a.value(i) + s.value(i)).collect();
+        let density = DensityGrid::new(a.size(), values)?;
+        let mut medium = Self::new(
+            Color::BLACK,
+            Color::new(scale, scale, scale),
+            Color::BLACK,
+            phase,
+            density,
+            bounds,
+            transform,
+        )?;
+        medium.colored = Some(Box::new([sigma_a, sigma_s]));
+        Ok(medium)
+    }
+
+    /// Whether it gives off light anywhere.
+    pub fn emits(&self) -> bool {
+        self.glow.is_some() || self.emission.max_channel() > 0.0
+    }
+
+    /// σa, σs and the radiance given off per unit of absorption at `p` in the unit cube
+    /// (nothing outside it).
+    #[inline]
+    pub fn coefficients_at(&self, p: Point3) -> (Color, Color, Color) {
+        if !(p.cmpge(Point3::ZERO).all() && p.cmple(Point3::ONE).all()) {
+            return (Color::BLACK, Color::BLACK, Color::BLACK);
+        }
+        let (sigma_a, sigma_s) = match &self.colored {
+            Some(grids) => {
+                let scale = self.sigma_s.red;
+                (grids[0].lookup(p) * scale, grids[1].lookup(p) * scale)
+            }
+            None => {
+                let d = self.density.lookup(p);
+                (self.sigma_a * d, self.sigma_s * d)
+            }
+        };
+        let emission = match &self.glow {
+            Some(glow) => glow.at(p),
+            None => self.emission,
+        };
+        (sigma_a, sigma_s, emission)
     }
 
     /// A world point in the grid's unit cube.

@@ -10,6 +10,7 @@
 //! homogeneous medium [`equiangular`] sampling draws points near small lamps besides.
 
 pub mod equiangular;
+pub mod glow;
 pub mod grid;
 pub mod homogeneous;
 pub mod majorant;
@@ -17,6 +18,7 @@ pub mod phase;
 pub mod tracking;
 
 pub use equiangular::{Anchors, Equiangular, MAX_ANCHORS};
+pub use glow::{BlackbodyTable, ColorGrid, Glow, LOWEST_GLOWING_KELVIN, MAX_BLACKBODY_ENTRIES};
 pub use grid::{DensityGrid, GridMedium, MAX_GRID_SAMPLES};
 pub use homogeneous::Homogeneous;
 pub use majorant::{MajorantGrid, MAJORANT_CELLS};
@@ -44,11 +46,10 @@ impl Medium {
 
     /// Whether it gives off light anywhere.
     pub fn emits(&self) -> bool {
-        let emission = match self {
-            Medium::Homogeneous(m) => m.emission,
-            Medium::Grid(m) => m.emission,
-        };
-        emission.max_channel() > 0.0
+        match self {
+            Medium::Homogeneous(m) => m.emission.max_channel() > 0.0,
+            Medium::Grid(m) => m.emits(),
+        }
     }
 }
 

@@ -99,11 +99,11 @@ impl Medium {
                 emission: m.emission,
             },
             Medium::Grid(m) => {
-                let d = m.density_at(m.to_unit(p));
+                let (sigma_a, sigma_s, emission) = m.coefficients_at(m.to_unit(p));
                 MediumPoint {
-                    sigma_a: m.sigma_a * d,
-                    sigma_s: m.sigma_s * d,
-                    emission: m.emission,
+                    sigma_a,
+                    sigma_s,
+                    emission,
                 }
             }
         }
