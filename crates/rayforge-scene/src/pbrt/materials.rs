@@ -30,7 +30,7 @@
 //! spectrum in pbrt-v4 too (a texture there is refused at the parameter), and the materials
 //! rayforge does not read are refused at their type.
 
-use super::params::ParamType;
+use super::params::{ParamType, Values};
 use super::reader::{Description, Entity};
 use super::spectra::{self, SpectrumUse};
 use super::textures::SceneTextures;
@@ -39,8 +39,9 @@ use rayforge::shading::bsdf::{Coat, ConductorBase, Layers};
 use rayforge::shading::texture_graph::{
     FloatInput, LayerTextures, MetalTextures, NodeId, SurfaceTextures, TexturedWidths,
 };
-use rayforge::shading::{conductor_of_reflectance, Physical};
+use rayforge::shading::{conductor_of_reflectance, MaterialMix, Physical};
 use rayforge::{Color, Material};
+use std::sync::Arc;
 
 /// The material described by `entity` (a `Material`, whose name is its type, or a
 /// `MakeNamedMaterial`, whose `"string type"` is), with the scene's `textures` (made by
@@ -51,22 +52,28 @@ pub fn material(
     desc: &Description,
     warnings: &mut Vec<SceneError>,
 ) -> Result<Material, SceneError> {
+    material_within(entity, textures, desc, warnings, 0)
+}
+
+/// How deep `mix` materials may name mixes (a mix that names itself, directly or not, would
+/// go on for ever).
+pub const MAX_MIX_DEPTH: usize = 16;
+
+/// [`material`] at `depth` mixes down.
+fn material_within(
+    entity: &Entity,
+    textures: &SceneTextures,
+    desc: &Description,
+    warnings: &mut Vec<SceneError>,
+    depth: usize,
+) -> Result<Material, SceneError> {
+    if kind_of(entity)? == "mix" {
+        return mix(entity, textures, desc, warnings, depth);
+    }
     let t = Textured { textures, desc };
     let mut surface = SurfaceTextures::new(textures.graph.clone());
     let params = &entity.params;
-    let kind = if entity.directive == "MakeNamedMaterial" {
-        match params.string("type")? {
-            Some((t, _)) => t.to_string(),
-            None => {
-                return Err(entity.error(format!(
-                    "the material \"{}\" has no \"string type\"",
-                    entity.name
-                )))
-            }
-        }
-    } else {
-        entity.name.clone()
-    };
+    let kind = kind_of(entity)?;
     let physical = |physical: Physical, color: Color| Material {
         color,
         physical: Some(physical),
@@ -178,7 +185,7 @@ pub fn material(
             return Err(entity.error(format!(
                 "the material type \"{}\" is not one rayforge reads; it reads diffuse, \
                  conductor, dielectric, thindielectric, coateddiffuse, coatedconductor, \
-                 diffusetransmission and interface",
+                 diffusetransmission, mix and interface",
                 crate::error::clip_to(other, 60)
             )))
         }
@@ -187,6 +194,72 @@ pub fn material(
         material.textures = Some(Box::new(surface));
     }
     Ok(material)
+}
+
+/// The material type `entity` describes: a `Material`'s name, a `MakeNamedMaterial`'s
+/// `"string type"`.
+fn kind_of(entity: &Entity) -> Result<String, SceneError> {
+    if entity.directive != "MakeNamedMaterial" {
+        return Ok(entity.name.clone());
+    }
+    match entity.params.string("type")? {
+        Some((t, _)) => Ok(t.to_string()),
+        None => Err(entity.error(format!(
+            "the material \"{}\" has no \"string type\"",
+            entity.name
+        ))),
+    }
+}
+
+/// pbrt-v4's `mix`: `"string materials"`, two named materials, and `amount` (a float or a
+/// float texture, 0.5 by default), the second's share ([`MaterialMix`]).
+fn mix(
+    entity: &Entity,
+    textures: &SceneTextures,
+    desc: &Description,
+    warnings: &mut Vec<SceneError>,
+    depth: usize,
+) -> Result<Material, SceneError> {
+    let params = &entity.params;
+    let Some(names) = params.find("materials", &[ParamType::String]) else {
+        return Err(entity.error("a mix material needs its two materials, \"string materials\""));
+    };
+    let Values::Strings(list) = &names.values else {
+        return Err(names.error("takes two material names"));
+    };
+    let [first, second] = list.as_slice() else {
+        return Err(names.error(format!("takes two material names, not {}", list.len())));
+    };
+    if depth >= MAX_MIX_DEPTH {
+        return Err(names.error(format!(
+            "mix materials name mixes more than {MAX_MIX_DEPTH} deep (does a mix name itself?)"
+        )));
+    }
+    let mut built = Vec::with_capacity(2);
+    for name in [first, second] {
+        let named = desc.named_materials.get(name).ok_or_else(|| {
+            names.error(format!(
+                "no material is named \"{}\" (`MakeNamedMaterial` makes one)",
+                crate::error::clip_to(name, 60)
+            ))
+        })?;
+        built.push(material_within(named, textures, desc, warnings, depth + 1)?);
+    }
+    let amount = textures
+        .float(entity, "amount", desc)?
+        .unwrap_or(FloatInput::Fixed(0.5));
+    let second = built.pop().expect("two built");
+    let first = built.pop().expect("two built");
+    let mut surface = SurfaceTextures::new(textures.graph.clone());
+    surface.mix = Some(Arc::new(MaterialMix {
+        amount,
+        materials: [first, second],
+    }));
+    Ok(Material {
+        physical: None,
+        textures: Some(Box::new(surface)),
+        ..Material::DEFAULT
+    })
 }
 
 /// The scene's textures, for a material's parameters.

@@ -5,9 +5,9 @@ use super::metal_rough::{MetalRough, SurfacePoint};
 use super::pattern::Pattern;
 use super::physical::Physical;
 use super::texture::UvPattern;
-use super::texture_graph::SurfaceTextures;
+use super::texture_graph::{FloatInput, SurfaceTextures, TextureContext};
 use crate::color::Color;
-use crate::math::Point3;
+use crate::math::{Point3, SplitMix64, Vec3};
 use std::sync::Arc;
 
 /// Surface properties: Phong coefficients, a colour or pattern, reflection and refraction.
@@ -169,6 +169,58 @@ impl Material {
     }
 }
 
+/// pbrt-v4's `MixMaterial`: at each hit one of two materials scatters, the second with
+/// probability `amount` there (a number or a float texture; at most 0 always the first, at
+/// least 1 always the second). Which one is a pure function of the hit (pbrt-v4 hashes the
+/// point and the direction back along the path), so the same hit always scatters alike,
+/// whatever the thread or sample order; a mix of mixes picks again at each level with a new
+/// hash. Held in the outer material's [`SurfaceTextures`], whose graph `amount` reads.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaterialMix {
+    /// The second material's share.
+    pub amount: FloatInput,
+    /// The two materials.
+    pub materials: [Material; 2],
+}
+
+/// A number in [0, 1) that is a hash of `point` and `wo`, as pbrt-v4's `HashFloat(p, wo)`.
+#[inline]
+fn hit_hash(point: Point3, wo: Vec3) -> u64 {
+    let seed = point.x.to_bits()
+        ^ point.y.to_bits().rotate_left(21)
+        ^ point.z.to_bits().rotate_left(42)
+        ^ wo.x.to_bits().rotate_left(11)
+        ^ wo.y.to_bits().rotate_left(32)
+        ^ wo.z.to_bits().rotate_left(53);
+    SplitMix64::new(seed).next_u64()
+}
+
+impl Material {
+    /// The material that scatters at the world-space `point` seen along `wo` (unit, back
+    /// along the path), with the textures read at `ctx`: this one, or where it is a
+    /// [`MaterialMix`], the one the mix picks there (down through mixes of mixes).
+    #[inline]
+    pub fn chosen(&self, ctx: &TextureContext, point: Point3, wo: Vec3) -> &Material {
+        let mut material = self;
+        let mut hash = hit_hash(point, wo);
+        while let Some(textures) = material.textures.as_deref() {
+            let Some(mix) = textures.mix.as_deref() else {
+                break;
+            };
+            let amount = mix.amount.at(&textures.graph, ctx);
+            let u = (hash >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+            hash = SplitMix64::new(hash).next_u64();
+            // pbrt-v4: `amt < u ? materials[0] : materials[1]`, so the second with chance amt.
+            material = if amount <= 0.0 || (amount < 1.0 && amount < u) {
+                &mix.materials[0]
+            } else {
+                &mix.materials[1]
+            };
+        }
+        material
+    }
+}
+
 impl Material {
     /// The physical material at a point: its parameters as the patterns give them there
     /// (`object_point` is asked only when there are patterns).
@@ -198,5 +250,93 @@ impl Material {
 impl Default for Material {
     fn default() -> Self {
         Self::DEFAULT
+    }
+}
+
+#[cfg(test)]
+mod mix_tests {
+    use super::*;
+    use crate::math::random::{Jitter, SplitMix64};
+    use crate::shading::texture_graph::TextureGraph;
+
+    /// A mix of a red and a blue material, the blue's share `amount`.
+    fn mix(amount: f64) -> Material {
+        let plain = |color: Color| Material {
+            color,
+            ..Material::DEFAULT
+        };
+        let mut surface = SurfaceTextures::new(Arc::new(TextureGraph::new()));
+        surface.mix = Some(Arc::new(MaterialMix {
+            amount: FloatInput::Fixed(amount),
+            materials: [
+                plain(Color::new(1.0, 0.0, 0.0)),
+                plain(Color::new(0.0, 0.0, 1.0)),
+            ],
+        }));
+        Material {
+            textures: Some(Box::new(surface)),
+            ..Material::DEFAULT
+        }
+    }
+
+    fn ctx(point: Point3) -> TextureContext {
+        TextureContext {
+            uv: (0.0, 0.0),
+            point,
+            normal: Vec3::Z,
+        }
+    }
+
+    /// The share of `n` random hits at which `material` picks a blue one.
+    fn blue_share(material: &Material, n: usize) -> f64 {
+        let mut random = SplitMix64::new(3);
+        let mut blue = 0;
+        for _ in 0..n {
+            let p = Point3::new(
+                random.next_offset(),
+                random.next_offset(),
+                random.next_offset(),
+            );
+            let wo = Vec3::new(random.next_offset() - 0.5, 0.3, 1.0).normalize();
+            let chosen = material.chosen(&ctx(p), p, wo);
+            // The same hit always picks the same.
+            assert!(std::ptr::eq(chosen, material.chosen(&ctx(p), p, wo)));
+            if chosen.color.blue > 0.0 {
+                blue += 1;
+            }
+        }
+        blue as f64 / n as f64
+    }
+
+    #[test]
+    fn a_mix_picks_its_second_material_with_chance_amount() {
+        let n = 40_000;
+        for amount in [0.1, 0.5, 0.85] {
+            let share = blue_share(&mix(amount), n);
+            let se = (amount * (1.0 - amount) / n as f64).sqrt();
+            assert!((share - amount).abs() < 4.0 * se, "{amount}: {share}");
+        }
+        assert_eq!(blue_share(&mix(0.0), 1000), 0.0);
+        assert_eq!(blue_share(&mix(-1.0), 1000), 0.0);
+        assert_eq!(blue_share(&mix(1.0), 1000), 1.0);
+        // A material that is no mix is itself.
+        let plain = Material::DEFAULT;
+        let p = Point3::ONE;
+        assert!(std::ptr::eq(plain.chosen(&ctx(p), p, Vec3::Z), &plain));
+    }
+
+    #[test]
+    fn a_mix_of_mixes_picks_again_at_each_level() {
+        // The outer mix's second material is a mix of red and blue at 0.5: blue with chance
+        // 0.6 · 0.5 = 0.3, which one coin reused at both levels would not give (0.5).
+        let mut outer = mix(0.6);
+        if let Some(t) = outer.textures.as_deref_mut() {
+            let m = t.mix.as_mut().map(Arc::make_mut).expect("a mix");
+            m.materials[1] = mix(0.5);
+        }
+        let n = 40_000;
+        let share = blue_share(&outer, n);
+        let se = (0.3f64 * 0.7 / n as f64).sqrt();
+        assert!((share - 0.3).abs() < 4.0 * se, "{share}");
     }
 }

@@ -31,7 +31,7 @@ pub use environment::{
 };
 pub use jitter::Sequence;
 pub use light::{AreaLight, DirectionalLight, Light, PointLight, SpotLight};
-pub use material::{Alpha, EmissionSide, Material, PhysicalPatterns};
+pub use material::{Alpha, EmissionSide, Material, MaterialMix, PhysicalPatterns};
 pub use metal_rough::{AlphaMode, MetalRough, SurfacePoint};
 pub use noise::perlin_noise;
 pub use optics::matte_light;

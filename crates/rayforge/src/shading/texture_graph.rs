@@ -19,6 +19,7 @@
 //! what a MIP map would have prefiltered), and checkerboards are not antialiased (pbrt-v4's
 //! box-filtered checkerboard with a zero footprint is exactly this one).
 
+use super::material::MaterialMix;
 use super::physical::{conductor_of_reflectance, HitParameters, Physical};
 use super::texture_noise as noise;
 use crate::color::Color;
@@ -704,6 +705,9 @@ pub struct SurfaceTextures {
     /// The surface's alpha (a float): where it is `a < 1`, a ray passes through with
     /// probability `1 − a` (always where `a ≤ 0`).
     pub alpha: Option<FloatInput>,
+    /// pbrt-v4's `mix`: the two materials one of which scatters at each hit, and by how much
+    /// (see [`Material::chosen`](super::Material::chosen)).
+    pub mix: Option<Arc<MaterialMix>>,
 }
 
 impl SurfaceTextures {
@@ -719,6 +723,7 @@ impl SurfaceTextures {
             metal: None,
             layers: None,
             alpha: None,
+            mix: None,
         }
     }
 

@@ -389,12 +389,18 @@ impl SurfaceVertex<'_> {
     /// How the surface scatters light here, by its material and the world's lighting model.
     fn scattering(&self, world: &World) -> Scattering {
         let (surface, point) = (self.surface, self.point);
-        let material = &surface.material;
-        let mut colour = surface.surface_color(point, &self.at, self.hit.time);
-        let mut physical =
-            material.physical_at(|| surface.world_to_object_at(point, self.hit.time));
+        let mut material = &surface.material;
+        let ctx = || surface.texture_context(point, &self.at, &self.local, self.geometric);
+        // pbrt-v4's mix: one of its materials scatters here.
+        if (material.textures.as_deref()).is_some_and(|t| t.mix.is_some()) {
+            material = material.chosen(&ctx(), point, self.wo);
+        }
+        let time = self.hit.time;
+        let mut colour =
+            material.surface_color(&self.at, || surface.world_to_object_at(point, time));
+        let mut physical = material.physical_at(|| surface.world_to_object_at(point, time));
         if let Some(textures) = material.textures.as_deref() {
-            let ctx = surface.texture_context(point, &self.at, &self.local, self.geometric);
+            let ctx = ctx();
             if let Some(c) = textures.color_at(&ctx) {
                 colour = c;
             }
