@@ -23,6 +23,7 @@ use rayforge_denoise::Denoiser;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc};
 use std::thread::{Scope, ScopedJoinHandle};
+use std::time::{Duration, Instant};
 
 /// A pass's image and its guides, linear and finite, as the denoiser takes them.
 pub struct Frame {
@@ -91,15 +92,20 @@ pub enum Offer {
 }
 
 /// How the denoising beside the render went.
-#[derive(Debug, Default, PartialEq)]
+#[derive(Debug, Default)]
 pub struct Summary {
     /// Frames denoised and handed on.
     pub denoised: usize,
     /// Frames skipped because the denoiser was busy.
     pub skipped: usize,
+    /// The time the denoiser spent on the frames it denoised (reported, never decided on).
+    pub time: Duration,
     /// The first failure, after which no frame was taken.
     pub failure: Option<String>,
 }
+
+/// What the denoiser's thread reports when it ends: frames denoised, their time, a failure.
+type Denoised = (usize, Duration, Option<String>);
 
 /// The thread that denoises frames beside the render, and the render's side of it.
 pub struct LiveDenoiser<'scope> {
@@ -109,7 +115,7 @@ pub struct LiveDenoiser<'scope> {
     /// failure).
     busy: Arc<AtomicBool>,
     skipped: AtomicUsize,
-    thread: ScopedJoinHandle<'scope, (usize, Option<String>)>,
+    thread: ScopedJoinHandle<'scope, Denoised>,
 }
 
 impl<'scope> LiveDenoiser<'scope> {
@@ -129,20 +135,22 @@ impl<'scope> LiveDenoiser<'scope> {
         let busy = Arc::new(AtomicBool::new(false));
         let idle = busy.clone();
         let thread = scope.spawn(move || {
-            let mut denoised = 0;
+            let (mut denoised, mut time) = (0, Duration::ZERO);
             for frame in taken {
+                let started = Instant::now();
                 match denoiser.denoise(&frame) {
                     Ok(image) => {
+                        time += started.elapsed();
                         idle.store(false, Ordering::Release);
                         denoised += 1;
                         deliver(&frame, image);
                     }
                     // Busy for good: no more frames are taken, and the render's own denoise
                     // of its last image reports what is wrong.
-                    Err(failure) => return (denoised, Some(failure)),
+                    Err(failure) => return (denoised, time, Some(failure)),
                 }
             }
-            (denoised, None)
+            (denoised, time, None)
         });
         Self {
             frames,
@@ -169,13 +177,14 @@ impl<'scope> LiveDenoiser<'scope> {
     /// Waits for the frame being denoised (and handed on), and says how it went.
     pub fn finish(self) -> Summary {
         drop(self.frames);
-        let (denoised, failure) = self
-            .thread
-            .join()
-            .unwrap_or_else(|_| (0, Some("the denoising thread failed".into())));
+        let (denoised, time, failure) = self.thread.join().unwrap_or_else(|_| {
+            let failure = "the denoising thread failed".to_string();
+            (0, Duration::ZERO, Some(failure))
+        });
         Summary {
             denoised,
             skipped: self.skipped.into_inner(),
+            time,
             failure,
         }
     }
@@ -263,14 +272,8 @@ mod tests {
         let passes: Vec<usize> = deliveries.try_iter().map(|(p, _)| p).collect();
         assert_eq!(passes, [4]);
         assert!(starts.try_recv().is_err(), "only passes 1 and 4 started");
-        assert_eq!(
-            summary,
-            Summary {
-                denoised: 2,
-                skipped: 2,
-                failure: None
-            }
-        );
+        assert_eq!((summary.denoised, summary.skipped), (2, 2));
+        assert_eq!(summary.failure, None);
     }
 
     #[test]

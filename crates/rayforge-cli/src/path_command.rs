@@ -374,8 +374,10 @@ pub fn path_render(
 
 /// The line after the summary that says how the passes denoised beside the render went.
 fn live_summary_line(live: &Summary) -> String {
+    let each = live.time.as_secs_f64() * 1000.0 / live.denoised.max(1) as f64;
     let mut line = format!(
-        "denoised beside the render: {} pass{}, {} skipped while the denoiser was busy",
+        "denoised beside the render: {} pass{} ({each:.0} ms each), {} skipped while the \
+         denoiser was busy",
         live.denoised,
         if live.denoised == 1 { "" } else { "es" },
         live.skipped

@@ -353,6 +353,73 @@ fn merge_denoise_of_row_slices_with_aovs_is_the_render_s_denoised_image_byte_for
 }
 
 #[test]
+fn merge_denoise_of_sample_slices_with_aovs_is_the_uniform_render_s_denoised_image() {
+    if !oidn_present("merge --denoise of sample slices") {
+        return;
+    }
+    // Slices share samples evenly, so the render they are held to does too. Cut by samples,
+    // each pixel's sums are added in another order than one process adds them, within the
+    // bound docs/distributed.md states; on this scene the images that reach the denoiser (32-bit
+    // floats) are the same bits, and so is what it makes of them (FLIP 0, SSIM 1: nothing
+    // differs). With the default by-noise allocation the one-process render is another
+    // image (its pilot's plan), not the slices'.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/pbr/cornell.yml");
+    let common = [
+        "--renderer",
+        "path",
+        "--width",
+        "24",
+        "--spp",
+        "12",
+        "--sample-allocation",
+        "uniform",
+        "--quiet",
+    ];
+    let run = |args: &[&dyn AsRef<std::ffi::OsStr>]| {
+        let mut all = args.to_vec();
+        all.extend(common.iter().map(|a| a as &dyn AsRef<std::ffi::OsStr>));
+        let o = rayforge(&all, &[]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    };
+    let one = dir.path().join("one.pfm");
+    run(&[&"render", &scene, &"-o", &one, &"--denoise", &"--aovs"]);
+    let n = 3;
+    let parts: Vec<PathBuf> = (0..n)
+        .map(|i| {
+            let part = dir.path().join(format!("s{i}.part"));
+            let slice = format!("{i}/{n}");
+            run(&[
+                &"render",
+                &scene,
+                &"-o",
+                &part,
+                &"--aovs",
+                &"--slice",
+                &slice,
+                &"--slice-by",
+                &"samples",
+            ]);
+            part
+        })
+        .collect();
+    let merged = dir.path().join("merged.pfm");
+    let o = merge(&parts, &merged, &["--denoise", "--aovs"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for file in ["pfm", "noisy.pfm", "albedo.pfm", "normal.pfm"] {
+        let read = |stem: &str| std::fs::read(dir.path().join(format!("{stem}.{file}"))).unwrap();
+        assert!(
+            read("merged") == read("one"),
+            "{file} differs from the render's"
+        );
+    }
+    assert!(
+        std::fs::read(&merged).unwrap()
+            != std::fs::read(dir.path().join("merged.noisy.pfm")).unwrap()
+    );
+}
+
+#[test]
 fn merge_denoise_of_parts_without_aovs_denoises_unguided_and_says_so() {
     if !oidn_present("merge --denoise without guides") {
         return;
