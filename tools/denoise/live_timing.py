@@ -110,7 +110,7 @@ def page(args):
             for kind, request in kinds.items():
                 times = {False: [], True: []}
                 counts = []
-                for r in range(args.rounds * 3):
+                for r in range(args.rounds):
                     for denoise in (False, True):
                         request["yaw"] = r  # a new camera each time, as a drag sends
                         millis, frames, denoised = job(dict(request, denoise=denoise))
