@@ -1,4 +1,4 @@
-//! pbrt-v4's media through the reader: `MakeNamedMedium` (homogeneous, uniformgrid),
+//! pbrt-v4's media through the reader: `MakeNamedMedium` (homogeneous, uniformgrid, rgbgrid),
 //! `MediumInterface` on shapes (with the `interface` material a boundary only), the camera's
 //! medium, and what is refused, each at its place.
 use rayforge::media::{Medium, MediumId, MediumInterface};
@@ -192,6 +192,49 @@ MakeNamedMedium "c" "string type" "uniformgrid" "float density" [1] "rgb Le" [0.
 }
 
 #[test]
+fn an_rgb_grid_reads_its_colours_per_sample_and_one_where_absent() {
+    // pbrt-v4's RGBGridMedium: σa and σs grids of colours times `scale` (either may be absent,
+    // then 1), `Le` a grid of colours times `Lescale`.
+    let text = r#"Camera "perspective"
+WorldBegin
+MakeNamedMedium "a" "string type" "rgbgrid" "integer nx" 2 "rgb sigma_a" [1 2 3 0 0 4] "rgb sigma_s" [0 1 0 2 2 2] "float scale" 3 "rgb Le" [0 0 0 1 0.5 0.25] "float Lescale" 2 "float g" 0.3
+MakeNamedMedium "b" "string type" "rgbgrid" "rgb sigma_s" [0.5 0.25 1] "point3 p0" [-1 -1 -1] "point3 p1" [1 1 1]
+"#;
+    let scene = load_text(text).unwrap_or_else(|e| panic!("{e}"));
+    let grid = |i: u32| match scene.world.media.get(MediumId(i)) {
+        Medium::Grid(g) => g.clone(),
+        _ => panic!("a grid"),
+    };
+    let at = |i: u32, x: f64| grid(i).coefficients_at(glam::DVec3::new(x, 0.5, 0.5));
+    assert_eq!(
+        at(0, 0.25),
+        (
+            Color::new(3.0, 6.0, 9.0),
+            Color::new(0.0, 3.0, 0.0),
+            Color::BLACK
+        )
+    );
+    assert_eq!(
+        at(0, 0.75),
+        (
+            Color::new(0.0, 0.0, 12.0),
+            Color::new(6.0, 6.0, 6.0),
+            Color::new(2.0, 1.0, 0.5)
+        )
+    );
+    assert_eq!(grid(0).phase.g, 0.3);
+    assert!(grid(0).emits() && !grid(1).emits());
+    // No σa: 1 throughout, as pbrt-v4.
+    assert_eq!(
+        at(1, 0.5),
+        (Color::WHITE, Color::new(0.5, 0.25, 1.0), Color::BLACK)
+    );
+    // The majorants bound the colours' largest channels: σa's 4 and σs's 2 at the second
+    // sample, times the scale.
+    assert!(grid(0).density.max_value() * grid(0).sigma_s.red >= 18.0 - 1e-9);
+}
+
+#[test]
 fn what_is_not_rendered_is_refused_at_its_place() {
     let head = "Camera \"perspective\"\nWorldBegin\n";
     assert_at(
@@ -199,7 +242,7 @@ fn what_is_not_rendered_is_refused_at_its_place() {
         3,
         1,
         "MakeNamedMedium",
-        "homogeneous and uniformgrid",
+        "homogeneous, uniformgrid and rgbgrid",
     );
     assert_at(
         &format!("{head}MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" \"Skin3\"\n"),
@@ -228,6 +271,27 @@ fn what_is_not_rendered_is_refused_at_its_place() {
         86,
         "float Lescale",
         "takes 2 values, found 1",
+    );
+    assert_at(
+        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"rgbgrid\" \"float scale\" 2\n"),
+        3,
+        1,
+        "MakeNamedMedium",
+        "needs `\"rgb sigma_a\"`, `\"rgb sigma_s\"` or both",
+    );
+    assert_at(
+        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"rgbgrid\" \"rgb sigma_s\" [1 1 1] \"rgb Le\" [1 1 1]\n"),
+        3,
+        1,
+        "MakeNamedMedium",
+        "giving `Le` needs",
+    );
+    assert_at(
+        &format!("{head}MakeNamedMedium \"m\" \"string type\" \"rgbgrid\" \"integer nx\" 2 \"rgb sigma_a\" [1 1 1]\n"),
+        3,
+        60,
+        "rgb sigma_a",
+        "takes 2 colours, found 1",
     );
     assert_at(
         &format!("{head}MediumInterface \"smoke\" \"\"\nShape \"sphere\"\n"),

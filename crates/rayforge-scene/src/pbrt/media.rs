@@ -1,4 +1,4 @@
-//! pbrt-v4's media: `MakeNamedMedium` (`homogeneous` and `uniformgrid`), the
+//! pbrt-v4's media: `MakeNamedMedium` (`homogeneous`, `uniformgrid` and `rgbgrid`), the
 //! `MediumInterface` of each shape, and the camera's medium (the outside medium in force at
 //! `Camera`), into the world's media and each object's `MediumInterface`.
 //!
@@ -8,9 +8,9 @@
 //! `sigma_a` and `sigma_s`. `uniformgrid` reads `density` (`nx` × `ny` × `nz` values, x
 //! fastest) over the box `p0`–`p1` in the medium's space, placed by the transform in force at
 //! `MakeNamedMedium`, and gives off light as pbrt-v4's grid does: `Le` times the grid
-//! `Lescale`, or a blackbody at the grid `temperature`. What rayforge does not render is
-//! refused: the other types (`rgbgrid`, `cloud`, and `nanovdb`, whose
-//! files rayforge does not read).
+//! `Lescale`, or a blackbody at the grid `temperature`. `rgbgrid` reads grids of colours for
+//! `sigma_a`, `sigma_s` and `Le` over the same box. What rayforge does not render is refused:
+//! the other types (`cloud`, and `nanovdb`, whose files rayforge does not read).
 
 use super::measured_media;
 use super::params::ParamType;
@@ -20,8 +20,8 @@ use crate::error::SceneError;
 use glam::{DMat4, DVec3};
 use rayforge::math::{Aabb, Transform};
 use rayforge::media::{
-    BlackbodyTable, DensityGrid, Glow, GridMedium, HenyeyGreenstein, Homogeneous, Medium, MediumId,
-    MediumInterface, MAX_ASYMMETRY, MAX_BLACKBODY_ENTRIES,
+    BlackbodyTable, ColorGrid, DensityGrid, Glow, GridMedium, HenyeyGreenstein, Homogeneous,
+    Medium, MediumId, MediumInterface, MAX_ASYMMETRY, MAX_BLACKBODY_ENTRIES,
 };
 use rayforge::shading::spectrum::{planck, spectrum_to_xyz, xyz_to_linear_srgb};
 use rayforge::{Color, World};
@@ -81,6 +81,17 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
             )))
         }
     };
+    let g = params.float_or("g", 0.0)?;
+    if g.abs() > MAX_ASYMMETRY {
+        return Err(entity.error(format!(
+            "`g` lies between −{MAX_ASYMMETRY} and {MAX_ASYMMETRY}, found {g}"
+        )));
+    }
+    let phase = HenyeyGreenstein::new(g);
+    if kind == "rgbgrid" {
+        return rgb_grid(entity, world_from_medium, scale, phase)
+            .map(|m| Medium::Grid(Box::new(m)));
+    }
     // A homogeneous medium's measured preset, as pbrt-v4 reads it: in place of `sigma_a` and
     // `sigma_s` (which are then not read), still multiplied by `scale`.
     let preset = if kind == "homogeneous" {
@@ -105,13 +116,6 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
         ),
     };
     let (sigma_a, sigma_s) = (sigma_a * scale, sigma_s * scale);
-    let g = params.float_or("g", 0.0)?;
-    if g.abs() > MAX_ASYMMETRY {
-        return Err(entity.error(format!(
-            "`g` lies between −{MAX_ASYMMETRY} and {MAX_ASYMMETRY}, found {g}"
-        )));
-    }
-    let phase = HenyeyGreenstein::new(g);
     match kind.as_str() {
         "homogeneous" => {
             let emission = spectrum("Le", Color::BLACK, SpectrumUse::Illuminant)?
@@ -124,14 +128,7 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
             }))
         }
         "uniformgrid" => {
-            let size = |name: &str| -> Result<usize, SceneError> {
-                match params.integer(name)? {
-                    None => Ok(1),
-                    Some((n, _)) if n >= 1 => Ok(n as usize),
-                    Some((n, p)) => Err(p.error(format!("a grid's size is at least 1, found {n}"))),
-                }
-            };
-            let size = [size("nx")?, size("ny")?, size("nz")?];
+            let size = grid_size(entity)?;
             let Some((values, p)) = params.numbers("density", ParamType::Float)? else {
                 return Err(entity.error("a `uniformgrid` medium needs `\"float density\"`"));
             };
@@ -158,9 +155,91 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
              values) or, in a YAML scene, as a Mitsuba .vol file",
         )),
         other => Err(entity.error(format!(
-            "the medium type \"{other}\" is not read; rayforge reads homogeneous and uniformgrid"
+            "the medium type \"{other}\" is not read; rayforge reads homogeneous, uniformgrid \
+             and rgbgrid"
         ))),
     }
+}
+
+/// An `rgbgrid`, as pbrt-v4's `RGBGridMedium` reads it: `sigma_a` and `sigma_s` grids of
+/// colours (`nx` × `ny` × `nz` rgb values, x fastest; either may be absent, then 1
+/// throughout, not both) times `scale`, and light `Le` (a grid of colours, which needs
+/// `sigma_a`) times `Lescale`, over the box `p0`–`p1` placed by `world_from_medium`.
+fn rgb_grid(
+    entity: &Entity,
+    world_from_medium: &DMat4,
+    scale: f64,
+    phase: HenyeyGreenstein,
+) -> Result<GridMedium, SceneError> {
+    let params = &entity.params;
+    let size = grid_size(entity)?;
+    let count = size[0] * size[1] * size[2];
+    let colors = |name: &str| -> Result<Option<ColorGrid>, SceneError> {
+        let Some((values, p)) = params.numbers(name, ParamType::Rgb)? else {
+            return Ok(None);
+        };
+        if values.len() != 3 * count {
+            return Err(p.error(format!(
+                "a grid of nx × ny × nz = {count} samples takes {count} colours, found {}",
+                values.len() / 3
+            )));
+        }
+        let colors: Vec<Color> = values
+            .chunks_exact(3)
+            .map(|c| Color::new(c[0], c[1], c[2]))
+            .collect();
+        ColorGrid::new(size, &colors)
+            .map(Some)
+            .map_err(|e| p.error(e.to_string()))
+    };
+    let ones = || ColorGrid::new(size, &vec![Color::WHITE; count]);
+    let (sigma_a, sigma_s, le) = (colors("sigma_a")?, colors("sigma_s")?, colors("Le")?);
+    let (sigma_a, sigma_s) = match (sigma_a, sigma_s) {
+        (None, None) => {
+            return Err(entity
+                .error("an `rgbgrid` medium needs `\"rgb sigma_a\"`, `\"rgb sigma_s\"` or both"))
+        }
+        (a, s) => {
+            if le.is_some() && a.is_none() {
+                return Err(entity.error("an `rgbgrid` giving `Le` needs `\"rgb sigma_a\"`"));
+            }
+            let fill = |g: Option<ColorGrid>| g.map_or_else(ones, Ok);
+            (
+                fill(a).map_err(|e| entity.error(e.to_string()))?,
+                fill(s).map_err(|e| entity.error(e.to_string()))?,
+            )
+        }
+    };
+    let p0 = params.point3_or("p0", DVec3::ZERO)?;
+    let p1 = params.point3_or("p1", DVec3::ONE)?;
+    let bounds = Aabb::new(p0.min(p1), p0.max(p1));
+    let transform = Transform::try_new(*world_from_medium)
+        .map_err(|_| entity.error("the medium is placed by a singular transform"))?;
+    let mut grid = GridMedium::of_colors(sigma_a, sigma_s, scale, phase, bounds, transform)
+        .map_err(|e| entity.error(e.to_string()))?;
+    if let Some(radiance) = le {
+        let le_scale = params.float_or("Lescale", 1.0)?;
+        if !(le_scale.is_finite() && le_scale >= 0.0) {
+            return Err(entity.error(format!("`Lescale` is at least 0, found {le_scale}")));
+        }
+        grid = grid.with_glow(Glow::Colors {
+            radiance,
+            scale: le_scale,
+        });
+    }
+    Ok(grid)
+}
+
+/// A grid's `nx`, `ny` and `nz` (1 where absent, as pbrt-v4).
+fn grid_size(entity: &Entity) -> Result<[usize; 3], SceneError> {
+    let size = |name: &str| -> Result<usize, SceneError> {
+        match entity.params.integer(name)? {
+            None => Ok(1),
+            Some((n, _)) if n >= 1 => Ok(n as usize),
+            Some((n, p)) => Err(p.error(format!("a grid's size is at least 1, found {n}"))),
+        }
+    };
+    Ok([size("nx")?, size("ny")?, size("nz")?])
 }
 
 /// A `uniformgrid`'s light, as pbrt-v4's `GridMedium` reads it: `Le` (a spectrum) times the
