@@ -5,11 +5,12 @@
 //! pbrt-v4 draws a cut sphere's points, leave the dome a fifth and the half dome a third too
 //! dark here.
 
-use rayforge::film::{Film, SharedFilm};
+mod path_support;
+
+use path_support::render_counted;
 use rayforge::geometry::PartialQuadric;
 use rayforge::math::view_transform;
 use rayforge::options::{PathOptions, Techniques};
-use rayforge::render::path::{render_path, PathJob};
 use rayforge::shading::{EmissionSide, Material, Physical};
 use rayforge::{point, vector, Camera, Color, Object, Shape, World};
 
@@ -25,19 +26,7 @@ fn mean_of(world: &World, camera: &Camera, spp: u64, next_event: bool) -> (f64, 
         },
         ..PathOptions::default()
     };
-    let job = PathJob {
-        options,
-        samples: 0..spp,
-        plan: None,
-        progress: None,
-        cancel: None,
-        on_row: None,
-        roulette: None,
-    };
-    let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
-    let mut done = vec![false; camera.vsize()];
-    render_path(camera, world, &job, &film, None, &mut done).unwrap();
-    let canvas = film.into_film().resolve();
+    let canvas = render_counted(world, camera, spp, options).0.resolve();
     let values: Vec<f64> = (0..canvas.height())
         .flat_map(|y| (0..canvas.width()).map(move |x| (x, y)))
         .map(|(x, y)| canvas.pixel_at(x, y).red)

@@ -7,11 +7,13 @@
 //! factor. Each compares an image's mean per channel with a z-test on the spread of its
 //! pixels (every pixel of these scenes has the same expected value), at a fixed seed.
 
-use rayforge::film::{Film, SharedFilm};
+mod path_support;
+
+use path_support::render_counted;
+use rayforge::film::Film;
 use rayforge::math::{scaling, translation, view_transform};
 use rayforge::media::{HenyeyGreenstein, Homogeneous, Medium, MediumId, MediumInterface};
 use rayforge::options::{PathOptions, Roulette, SampleAllocation, SamplerKind, Techniques};
-use rayforge::render::path::{render_path, PathJob};
 use rayforge::shading::{EmissionSide, Light, Material, PointLight};
 use rayforge::{point, vector, Camera, Color, Object, World};
 
@@ -30,19 +32,7 @@ fn render(
         techniques,
         ..PathOptions::default()
     };
-    let job = PathJob {
-        options,
-        samples: 0..spp,
-        plan: None,
-        progress: None,
-        cancel: None,
-        on_row: None,
-        roulette: None,
-    };
-    let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
-    let mut done = vec![false; camera.vsize()];
-    render_path(camera, world, &job, &film, None, &mut done).unwrap();
-    film.into_film()
+    render_counted(world, camera, spp, options).0
 }
 
 /// Per channel: the mean over the pixels and its standard error.
