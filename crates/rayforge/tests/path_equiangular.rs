@@ -7,12 +7,14 @@
 //! factor. Each compares an image's mean per channel with a z-test on the spread of its
 //! pixels (every pixel of these scenes has the same expected value), at a fixed seed.
 
+mod media_support;
 mod path_support;
 
+use media_support::{assert_means, channel_means, homogeneous, medium_ball, single_scattering};
 use path_support::render_counted;
 use rayforge::film::Film;
-use rayforge::math::{scaling, translation, view_transform};
-use rayforge::media::{HenyeyGreenstein, Homogeneous, Medium, MediumId, MediumInterface};
+use rayforge::math::{scaling, view_transform};
+use rayforge::media::Medium;
 use rayforge::options::{PathOptions, Roulette, SampleAllocation, SamplerKind, Techniques};
 use rayforge::shading::{EmissionSide, Light, Material, PointLight};
 use rayforge::{point, vector, Camera, Color, Object, World};
@@ -35,62 +37,6 @@ fn render(
     render_counted(world, camera, spp, options).0
 }
 
-/// Per channel: the mean over the pixels and its standard error.
-fn channel_means(film: &Film) -> [(f64, f64); 3] {
-    let canvas = film.resolve();
-    let mut out = [(0.0, 0.0); 3];
-    for (c, o) in out.iter_mut().enumerate() {
-        let values: Vec<f64> = (0..canvas.height())
-            .flat_map(|y| (0..canvas.width()).map(move |x| (x, y)))
-            .map(|(x, y)| canvas.pixel_at(x, y).to_array()[c])
-            .collect();
-        let n = values.len() as f64;
-        let mean = values.iter().sum::<f64>() / n;
-        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
-        *o = (mean, (var / n).sqrt());
-    }
-    out
-}
-
-/// Fails unless each channel's mean is within four standard errors of `expected`.
-fn assert_means(film: &Film, expected: [f64; 3], what: &str) {
-    for (c, (mean, se)) in channel_means(film).into_iter().enumerate() {
-        assert!(
-            (mean - expected[c]).abs() <= 4.0 * se,
-            "{what}: channel {c} is {mean} ± {se}, expected {}",
-            expected[c]
-        );
-        assert!(
-            se < 0.05 * expected[c].max(1e-3),
-            "{what}: channel {c} too noisy to judge: {se}"
-        );
-    }
-}
-
-fn homogeneous(sigma_a: Color, sigma_s: Color, g: f64) -> Medium {
-    Medium::Homogeneous(Homogeneous {
-        sigma_a,
-        sigma_s,
-        emission: Color::BLACK,
-        phase: HenyeyGreenstein::new(g),
-    })
-}
-
-/// A sphere of `radius` about `centre` that only bounds `medium` (inside, vacuum outside).
-fn medium_ball(world: &mut World, medium: Medium, radius: f64, centre: [f64; 3]) -> MediumId {
-    let id = world.media.add(medium).expect("id");
-    let [x, y, z] = centre;
-    let mut ball =
-        Object::sphere().with_transform(translation(x, y, z) * scaling(radius, radius, radius));
-    ball.media = Some(MediumInterface {
-        inside: Some(id),
-        outside: None,
-        index_matched: true,
-    });
-    world.objects.push(ball);
-    id
-}
-
 const ON: Techniques = Techniques {
     equiangular: true,
     ..TECHNIQUES
@@ -109,12 +55,6 @@ const TECHNIQUES: Techniques = Techniques {
     sphere_cones: true,
     equiangular: true,
 };
-
-/// Henyey–Greenstein's density at the cosine `cos` between travel and scattered directions.
-fn hg(cos: f64, g: f64) -> f64 {
-    let d = 1.0 + g * g - 2.0 * g * cos;
-    (1.0 - g * g) / (4.0 * std::f64::consts::PI * d * d.sqrt())
-}
 
 /// The camera looks along +z from the centre of a ball of radius 10 of thin chromatic medium;
 /// a point light stands `offset` off the axis at z = 3. The expected single scattering per
@@ -139,23 +79,7 @@ fn point_light_in_fog(offset: f64) -> (World, Camera, [f64; 3]) {
         point(0.0, 0.0, 1.0),
         vector(0.0, 1.0, 0.0),
     ));
-    let mut expected = [0.0; 3];
-    for (c, e) in expected.iter_mut().enumerate() {
-        let s = sigma_s.to_array()[c];
-        let sigma_t = s + sigma_a.to_array()[c];
-        let steps = 400_000;
-        let dt = 10.0 / steps as f64;
-        for i in 0..steps {
-            let t = (i as f64 + 0.5) * dt;
-            let to_light = light - point(0.0, 0.0, t);
-            let d = to_light.length();
-            let cos = to_light.z / d;
-            *e +=
-                s * (-sigma_t * t).exp() * hg(cos, g) * std::f64::consts::PI * (-sigma_t * d).exp()
-                    / (d * d)
-                    * dt;
-        }
-    }
+    let expected = single_scattering(sigma_a, sigma_s, g, light, 400_000);
     (world, camera, expected)
 }
 
