@@ -8,12 +8,29 @@
 //! camera-from-world followed by a half turn about y (x and z negated): a rotation, so
 //! nothing is mirrored. `fov` spans the image's shorter side, as pbrt-v4 says; rayforge's
 //! field of view spans the longer, and is worked out from it.
+//!
+//! **The screen.** pbrt-v4's perspective and orthographic cameras map the image onto a
+//! screen window: by default −1 to 1 across the shorter side of the frame
+//! (`frameaspectratio`, the image's own by default), or the file's `screenwindow`
+//! (x_min, x_max, y_min, y_max). A perspective camera's screen is the canvas one unit ahead
+//! over `tan(fov / 2)`, an orthographic one's is in world units. Where the file gives either
+//! parameter, the window is rayforge's camera's [`ScreenWindow`] (the image off the axis, or
+//! its pixels stretched); otherwise the camera is the centred one it always was.
+//!
+//! **The spherical camera** is rayforge's of the same layout ([`SphericalMapping`]):
+//! `equalarea` (pbrt-v4's default) or `equirectangular`. pbrt-v4 reads its `lensradius`,
+//! `focaldistance`, `screenwindow` and `frameaspectratio` and uses none of them; so does
+//! rayforge, without a warning.
+//!
+//! **The realistic camera** (a lens system traced element by element from a lens file) is
+//! refused at its `Camera` directive.
 
-use super::params::Param;
+use super::params::{Param, ParamType};
 use super::reader::{Entity, Options};
 use crate::error::SceneError;
 use crate::scene::Written;
 use glam::{DMat4, DVec4};
+use rayforge::camera::{ScreenWindow, SphericalMapping};
 use rayforge::film::PixelFilter;
 use rayforge::options::{LightSamplerKind, PathOptions, SamplerKind};
 use rayforge::{Camera, Transform};
@@ -91,7 +108,9 @@ pub fn setup(options: &Options, warnings: &mut Vec<SceneError>) -> Result<Setup,
         film.params.string("filename")?;
     }
     let (width, height) = resolution(film)?;
-    let camera = camera(options.camera.as_ref(), width, height)?;
+    let camera = camera(options.camera.as_ref(), width, height)?.with_sensor(
+        super::sensor::sensor(film, options.camera.as_ref().map(|(e, _)| e), warnings)?,
+    );
     let sampling = sampler(options.sampler.as_ref(), warnings)?;
     let mut path = PathOptions {
         sampler: sampling.kind,
@@ -155,11 +174,6 @@ fn camera(
         return Ok(Camera::new(width, height, fov).with_transform_of(view));
     };
     let params = &entity.params;
-    if let Some(p) = params.find("screenwindow", &[super::params::ParamType::Float]) {
-        return Err(p.error(
-            "a screen window is not read: rayforge's image is centred on the camera's axis",
-        ));
-    }
     let built = match entity.name.as_str() {
         "perspective" => {
             let fov = params.float_or("fov", 90.0)?;
@@ -168,7 +182,8 @@ fn camera(
                     "a perspective camera's fov is between 0 and 180 degrees, found {fov}"
                 )));
             }
-            let half_longer = (fov.to_radians() / 2.0).tan() * longer / shorter;
+            let tan_half = (fov.to_radians() / 2.0).tan();
+            let half_longer = tan_half * longer / shorter;
             let lens = params.float_or("lensradius", 0.0)?;
             let focus = params.float_or("focaldistance", 1e6)?;
             if lens < 0.0 || focus <= 0.0 {
@@ -176,21 +191,121 @@ fn camera(
                     entity.error("a lens radius is not negative and a focal distance above 0")
                 );
             }
-            Camera::new(width, height, 2.0 * half_longer.atan()).with_lens(2.0 * lens, focus)
+            let camera =
+                Camera::new(width, height, 2.0 * half_longer.atan()).with_lens(2.0 * lens, focus);
+            windowed(camera, entity, width, height, tan_half)?
         }
         "orthographic" => {
             // pbrt's screen window spans −1 to 1 across the shorter side.
-            Camera::orthographic(width, height, longer / shorter)
+            let camera = Camera::orthographic(width, height, longer / shorter);
+            windowed(camera, entity, width, height, 1.0)?
+        }
+        "spherical" => {
+            let mapping = match params.string("mapping")? {
+                None | Some(("equalarea", _)) => SphericalMapping::EqualArea,
+                Some(("equirectangular", _)) => SphericalMapping::Equirectangular,
+                Some((other, p)) => {
+                    return Err(p.error(format!(
+                        "the spherical camera's mapping \"{}\" is not one pbrt-v4 has \
+                         (equalarea, equirectangular)",
+                        crate::error::clip_to(other, 60)
+                    )))
+                }
+            };
+            // Read and unused by pbrt-v4's spherical camera too: no warning.
+            params.float("lensradius")?;
+            params.float("focaldistance")?;
+            params.float("frameaspectratio")?;
+            params.numbers("screenwindow", ParamType::Float)?;
+            Camera::spherical(width, height, mapping)
+        }
+        "realistic" => {
+            return Err(entity.error(
+                "the realistic camera (pbrt-v4's lens system, traced element by element from \
+                 its lens file) is not read; rayforge reads perspective (with a thin lens), \
+                 orthographic and spherical cameras",
+            ))
         }
         other => {
             return Err(entity.error(format!(
-                "the camera \"{}\" is not one rayforge reads; it reads perspective and \
-                 orthographic",
+                "the camera \"{}\" is not one pbrt-v4 has (orthographic, perspective, \
+                 realistic, spherical)",
                 crate::error::clip_to(other, 60)
             )))
         }
     };
     Ok(built.with_transform_of(view))
+}
+
+/// `camera` (of `width × height`) with pbrt-v4's screen window where the file gives
+/// `frameaspectratio` or `screenwindow`: the frame's default, −1 to 1 across its shorter
+/// side, or the file's four edges, times `scale` (a perspective camera's `tan(fov / 2)`, the
+/// canvas one unit ahead; 1 for an orthographic camera's world units).
+fn windowed(
+    camera: Camera,
+    entity: &Entity,
+    width: usize,
+    height: usize,
+    scale: f64,
+) -> Result<Camera, SceneError> {
+    let params = &entity.params;
+    let frame = match params.float_at("frameaspectratio")? {
+        None => None,
+        Some((v, p)) if !(v > 0.0 && v.is_finite()) => {
+            return Err(p.error(format!("a frame aspect ratio is above 0, found {v}")))
+        }
+        Some((v, _)) => Some(v),
+    };
+    let given = match params.numbers("screenwindow", ParamType::Float)? {
+        None => None,
+        Some((&[x_min, x_max, y_min, y_max], p)) => Some((
+            ScreenWindow {
+                x_min,
+                x_max,
+                y_min,
+                y_max,
+            },
+            p,
+        )),
+        Some((v, p)) => {
+            return Err(p.error(format!(
+                "a screen window has four values (x_min x_max y_min y_max), not {}",
+                v.len()
+            )))
+        }
+    };
+    if frame.is_none() && given.is_none() {
+        return Ok(camera);
+    }
+    let (window, at) = match given {
+        Some((w, p)) => (w, Some(p)),
+        None => {
+            let frame = frame.unwrap_or(width as f64 / height as f64);
+            let window = if frame > 1.0 {
+                ScreenWindow::centred(frame, 1.0)
+            } else {
+                ScreenWindow::centred(1.0, 1.0 / frame)
+            };
+            (window, None)
+        }
+    };
+    let window = ScreenWindow {
+        x_min: window.x_min * scale,
+        x_max: window.x_max * scale,
+        y_min: window.y_min * scale,
+        y_max: window.y_max * scale,
+    };
+    camera.with_screen_window(window).ok_or_else(|| {
+        let message = format!(
+            "a screen window has finite edges, x_min ≠ x_max and y_min ≠ y_max; found \
+             {} {} {} {}",
+            window.x_min, window.x_max, window.y_min, window.y_max
+        );
+        match at {
+            Some(p) => p.error(message),
+            None => entity.error(message),
+        }
+    })
 }
 
 /// What the `Sampler` says: samples per pixel and where the file gives them, the sampler's

@@ -5,6 +5,7 @@
 //! The format is read as pbrt-v4 defines it (<https://pbrt.org/fileformat-v4>): tokens
 //! ([`lexer`]), typed parameter lists ([`params`]), the directives with the graphics state and
 //! its stack ([`reader`]), then the build ([`build`]) of the camera and options ([`camera`]),
+//! the film's sensor ([`sensor`]),
 //! shapes ([`shapes`]), materials ([`materials`]), lights ([`lights`]), textures
 //! ([`textures`]) and spectra ([`spectra`]). Every error names the file, line, column and directive or parameter; a
 //! parameter nothing reads is a warning naming its line, as pbrt-v4 warns. What is read, what
@@ -29,6 +30,7 @@ mod measured_media;
 mod media;
 mod params;
 mod reader;
+mod sensor;
 mod shapes;
 mod spectra;
 mod stream;

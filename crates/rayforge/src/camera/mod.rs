@@ -1,12 +1,20 @@
 //! The camera (chapter 7): a pinhole with a field of view, placed by a view transform; with a
 //! thin lens (focal blur) and a shutter (motion blur) from chapter 17; or Computer Graphics from
-//! Scratch's viewport camera.
+//! Scratch's viewport camera; orthographic and spherical cameras, a canvas window off the
+//! axis, and a sensor's response for the scenes of other renderers (glTF, pbrt-v4).
 
 mod sample;
+mod sensor;
+mod spherical;
 mod viewport;
+mod window;
 
 pub use sample::CameraSample;
+pub use sensor::Sensor;
+pub use spherical::SphericalMapping;
 pub use viewport::Viewport;
+use window::Grid;
+pub use window::ScreenWindow;
 
 use crate::math::{Point3, Ray, Transform, Vec3};
 
@@ -20,6 +28,12 @@ pub struct Camera {
     half_width: f64,
     half_height: f64,
     pixel_size: f64,
+    /// Where each image point lies on the canvas: the book's centred grid of `pixel_size`,
+    /// or a screen window's.
+    grid: Grid,
+    /// The screen window the grid was made from, kept so that a resized camera spans it
+    /// again (`None`: the centred default).
+    window: Option<ScreenWindow>,
     /// Diameter of the thin lens (0: a pinhole, everything in focus).
     aperture: f64,
     /// Distance from the eye to the plane that is in focus.
@@ -29,18 +43,33 @@ pub struct Camera {
     shutter: (f64, f64),
     /// Computer Graphics from Scratch's viewport, which then decides every ray.
     viewport: Option<Viewport>,
-    /// Whether rays leave the canvas in parallel (an orthographic camera, as glTF files
-    /// have); the canvas then spans `2 × half_width` world units at the camera itself.
-    orthographic: bool,
+    /// How rays leave the eye: through a pinhole (or thin lens), in parallel, or to every
+    /// direction about it.
+    model: Model,
+    /// What the film records of each sample's radiance.
+    sensor: Sensor,
     /// The pinhole's rays in the world, worked out from the fields above whenever they
     /// change (see [`PinholeRays`]).
     rays: PinholeRays,
 }
 
+/// How a camera's rays leave it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Model {
+    /// Through a pinhole (or a thin lens) and the canvas one unit in front of it.
+    Pinhole,
+    /// In parallel along −z, each from its canvas point at the camera itself (an
+    /// orthographic camera, as glTF and pbrt files have); the canvas then spans
+    /// `2 × half_width` world units.
+    Orthographic,
+    /// From the eye to every direction about it, the image laid out by the mapping.
+    Spherical(SphericalMapping),
+}
+
 /// A pinhole camera's rays in world space for the path tracer: the eye, and the direction
 /// towards the canvas point `(x, y)` (in pixels) as `corner + x · across + y · down`. The
 /// canvas point is `(half_width − x · pixel_size, half_height − y · pixel_size, −1)` in the
-/// camera's space, and the view transform's inverse is affine, so its linear part takes the
+/// camera's space (the [`Grid`]'s point), and the view transform's inverse is affine, so its linear part takes the
 /// canvas's corner and the two pixel steps to the world once for every ray. The book's
 /// camera ray is two point transforms: 4 % of the instructions of spheres-materials, whose
 /// paths are short. The sums round differently from the book's, so the Whitted renderers,
@@ -55,14 +84,13 @@ struct PinholeRays {
 }
 
 impl PinholeRays {
-    /// The rays of a pinhole with canvas half sizes `half_width`, `half_height`, pixels of
-    /// `pixel_size`, placed by `transform`.
-    fn of(transform: &Transform, half_width: f64, half_height: f64, pixel_size: f64) -> Self {
+    /// The rays of a pinhole whose canvas is `grid`, placed by `transform`.
+    fn of(transform: &Transform, grid: &Grid) -> Self {
         Self {
             eye: transform.inverse_point(Point3::ZERO),
-            corner: transform.inverse_vector(Vec3::new(half_width, half_height, -1.0)),
-            across: transform.inverse_vector(Vec3::new(-pixel_size, 0.0, 0.0)),
-            down: transform.inverse_vector(Vec3::new(0.0, -pixel_size, 0.0)),
+            corner: transform.inverse_vector(Vec3::new(grid.left, grid.top, -1.0)),
+            across: transform.inverse_vector(Vec3::new(-grid.step_x, 0.0, 0.0)),
+            down: transform.inverse_vector(Vec3::new(0.0, -grid.step_y, 0.0)),
         }
     }
 }
@@ -78,6 +106,7 @@ impl Camera {
             (half_view * aspect, half_view)
         };
         let pixel_size = half_width * 2.0 / hsize as f64;
+        let grid = Grid::centred(half_width, half_height, pixel_size);
         Self {
             hsize,
             vsize,
@@ -86,12 +115,15 @@ impl Camera {
             half_width,
             half_height,
             pixel_size,
+            grid,
+            window: None,
             aperture: 0.0,
             focal_distance: 1.0,
             shutter: (0.0, 1.0),
             viewport: None,
-            orthographic: false,
-            rays: PinholeRays::of(&Transform::IDENTITY, half_width, half_height, pixel_size),
+            model: Model::Pinhole,
+            sensor: Sensor::IDENTITY,
+            rays: PinholeRays::of(&Transform::IDENTITY, &grid),
         }
     }
 
@@ -99,12 +131,7 @@ impl Camera {
     /// again: what every change of its placement or canvas goes through.
     fn placed(mut self, transform: Transform) -> Self {
         self.transform = transform;
-        self.rays = PinholeRays::of(
-            &transform,
-            self.half_width,
-            self.half_height,
-            self.pixel_size,
-        );
+        self.rays = PinholeRays::of(&transform, &self.grid);
         self
     }
 
@@ -120,13 +147,79 @@ impl Camera {
             (half_extent * aspect, half_extent)
         };
         camera.pixel_size = camera.half_width * 2.0 / hsize as f64;
-        camera.orthographic = true;
+        camera.grid = Grid::centred(camera.half_width, camera.half_height, camera.pixel_size);
+        camera.model = Model::Orthographic;
         camera.placed(Transform::IDENTITY)
+    }
+
+    /// A spherical camera (pbrt-v4's): rays from the eye to every direction about it, laid
+    /// out on the `hsize × vsize` image by `mapping` (see [`SphericalMapping`]). It has no
+    /// lens, and its field of view is the whole turn (2π).
+    pub fn spherical(hsize: usize, vsize: usize, mapping: SphericalMapping) -> Self {
+        let mut camera = Self::new(hsize, vsize, std::f64::consts::FRAC_PI_2);
+        camera.field_of_view = std::f64::consts::TAU;
+        camera.model = Model::Spherical(mapping);
+        camera
     }
 
     /// Whether the camera is orthographic.
     pub fn is_orthographic(&self) -> bool {
-        self.orthographic
+        self.model == Model::Orthographic
+    }
+
+    /// The mapping of a spherical camera (`None` for any other).
+    pub fn spherical_mapping(&self) -> Option<SphericalMapping> {
+        match self.model {
+            Model::Spherical(m) => Some(m),
+            _ => None,
+        }
+    }
+
+    /// The same pinhole or orthographic camera with its image spanning `window` of the
+    /// canvas instead of the centred default (pbrt's `screenwindow`): the image then lies off
+    /// the axis where the window does, and its pixels are stretched where the window's shape
+    /// is not the image's. `None` for a window that is not finite or is empty
+    /// ([`ScreenWindow::is_valid`]), and for a spherical or viewport camera, which have no
+    /// canvas. What the grid costs each ray is the centred one's: four numbers.
+    pub fn with_screen_window(mut self, window: ScreenWindow) -> Option<Self> {
+        if !window.is_valid()
+            || self.viewport.is_some()
+            || matches!(self.model, Model::Spherical(_))
+        {
+            return None;
+        }
+        self.grid = Grid::of(&window, self.hsize, self.vsize);
+        self.window = Some(window);
+        let transform = self.transform;
+        Some(self.placed(transform))
+    }
+
+    /// The screen window, when one was given ([`Self::with_screen_window`]).
+    pub fn screen_window(&self) -> Option<ScreenWindow> {
+        self.window
+    }
+
+    /// The same camera recording each sample's radiance through `sensor` (pbrt's film's
+    /// imaging ratio and white balance).
+    pub fn with_sensor(mut self, sensor: Sensor) -> Self {
+        self.sensor = sensor;
+        self
+    }
+
+    /// What the film records of each sample's radiance.
+    pub fn sensor(&self) -> &Sensor {
+        &self.sensor
+    }
+
+    /// What the film records of a sample's radiance `c`: `c` itself under the identity
+    /// sensor (not multiplied by it, so that the books' images keep their bits).
+    #[inline]
+    pub fn record(&self, c: crate::color::Color) -> crate::color::Color {
+        if self.sensor.is_identity() {
+            c
+        } else {
+            self.sensor.record(c)
+        }
     }
 
     /// Computer Graphics from Scratch's camera: a `hsize × vsize` canvas onto `viewport`.
@@ -199,19 +292,28 @@ impl Camera {
             if let Some(camera) = Self::viewport(hsize, vsize, viewport) {
                 return camera
                     .with_lens(self.aperture, self.focal_distance)
-                    .with_shutter(self.shutter.0, self.shutter.1);
+                    .with_shutter(self.shutter.0, self.shutter.1)
+                    .with_sensor(self.sensor);
             }
         }
-        let camera = if self.orthographic {
-            let half_longer = self.half_width.max(self.half_height);
-            Self::orthographic(hsize, vsize, half_longer)
-        } else {
-            Self::new(hsize, vsize, self.field_of_view)
+        let mut camera = match self.model {
+            Model::Orthographic => {
+                let half_longer = self.half_width.max(self.half_height);
+                Self::orthographic(hsize, vsize, half_longer)
+            }
+            Model::Pinhole => Self::new(hsize, vsize, self.field_of_view),
+            Model::Spherical(mapping) => Self::spherical(hsize, vsize, mapping),
         };
+        if let Some(window) = self.window {
+            // The same window over the new pixels: the same field of view. It was accepted
+            // once, so it is accepted again.
+            camera = camera.clone().with_screen_window(window).unwrap_or(camera);
+        }
         camera
             .with_transform_of(self.transform)
             .with_lens(self.aperture, self.focal_distance)
             .with_shutter(self.shutter.0, self.shutter.1)
+            .with_sensor(self.sensor)
     }
 
     /// The same camera placed by a view transform (`camera_from_world`).
@@ -271,7 +373,8 @@ impl Camera {
         &self.transform
     }
 
-    /// Size of one pixel on the canvas one unit in front of the eye.
+    /// Size of one pixel of the centred canvas one unit in front of the eye (a screen
+    /// window's pixels are its own: [`Self::screen_window`]).
     pub fn pixel_size(&self) -> f64 {
         self.pixel_size
     }
@@ -293,7 +396,8 @@ impl Camera {
     /// ([`PinholeRays`]) instead of two point transforms per ray. Its last bits may differ
     /// from the book's, which only a Monte Carlo estimate can afford.
     pub fn path_ray_for_sample(&self, sample: &CameraSample) -> Ray {
-        let ray = if self.aperture == 0.0 && self.viewport.is_none() && !self.orthographic {
+        let ray = if self.aperture == 0.0 && self.viewport.is_none() && self.model == Model::Pinhole
+        {
             self.pinhole_ray_through(sample.x, sample.y)
         } else {
             self.ray_through_lens(sample.x, sample.y, sample.lens_u, sample.lens_v)
@@ -322,14 +426,11 @@ impl Camera {
     /// [0, 1) pick the point on the lens disk (0.5, 0.5 is its centre). The ray passes through
     /// the canvas point's image on the focal plane, so only that plane is sharp.
     pub fn ray_through_lens(&self, x: f64, y: f64, lens_u: f64, lens_v: f64) -> Ray {
-        if self.aperture == 0.0 || self.viewport.is_some() || self.orthographic {
+        if self.aperture == 0.0 || self.viewport.is_some() || self.model != Model::Pinhole {
             return self.ray_through(x, y);
         }
-        let canvas = Point3::new(
-            self.half_width - x * self.pixel_size,
-            self.half_height - y * self.pixel_size,
-            -1.0,
-        );
+        let (canvas_x, canvas_y) = self.grid.point(x, y);
+        let canvas = Point3::new(canvas_x, canvas_y, -1.0);
         let focus = canvas * self.focal_distance;
         let (dx, dy) = concentric_disk(lens_u, lens_v);
         let lens = Point3::new(dx, dy, 0.0) * (self.aperture / 2.0);
@@ -347,9 +448,13 @@ impl Camera {
             let (cx, cy) = Viewport::canvas_point(x, y, w, h);
             return Ray::new(viewport.position, viewport.direction(cx, cy, w, h)).from_t(1.0);
         }
-        let world_x = self.half_width - x * self.pixel_size;
-        let world_y = self.half_height - y * self.pixel_size;
-        if self.orthographic {
+        if let Model::Spherical(mapping) = self.model {
+            let direction = mapping.direction(x / self.hsize as f64, y / self.vsize as f64);
+            let origin = self.transform.inverse_point(Point3::ZERO);
+            return Ray::new(origin, self.transform.inverse_vector(direction).normalize());
+        }
+        let (world_x, world_y) = self.grid.point(x, y);
+        if self.model == Model::Orthographic {
             let origin = self
                 .transform
                 .inverse_point(Point3::new(world_x, world_y, 0.0));
@@ -390,11 +495,8 @@ mod tests {
     /// The ray through `(x, y)` as the canvas point and the eye taken through the view
     /// transform's inverse one at a time (what [`PinholeRays`] works out once).
     fn ray_by_two_points(camera: &Camera, x: f64, y: f64) -> Ray {
-        let canvas = Point3::new(
-            camera.half_width - x * camera.pixel_size,
-            camera.half_height - y * camera.pixel_size,
-            -1.0,
-        );
+        let (canvas_x, canvas_y) = camera.grid.point(x, y);
+        let canvas = Point3::new(canvas_x, canvas_y, -1.0);
         let eye = camera.transform.inverse_point(Point3::ZERO);
         let pixel = camera.transform.inverse_point(canvas);
         Ray::new(eye, (pixel - eye).normalize())

@@ -1,4 +1,5 @@
-//! Vectors, points, matrices, transforms, rays, root solvers and sampling distributions.
+//! Vectors, points, matrices, transforms, rays, root solvers, sampling distributions and the
+//! equal-area map of the sphere.
 //!
 //! Geometry is f64 throughout (the book's precision). Points and vectors are both [`glam::DVec3`]:
 //! the book's `w` component is carried by *which* function transforms them
@@ -7,6 +8,7 @@
 
 mod aabb;
 pub mod distribution;
+mod equal_area;
 mod frame;
 mod matrix;
 mod motion;
@@ -21,6 +23,7 @@ mod turn;
 
 pub use aabb::Aabb;
 pub use distribution::{Distribution1D, Distribution2D, DistributionError};
+pub use equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere};
 pub use frame::{cosine_hemisphere, Frame};
 pub use matrix::{
     look_at, matrix2, matrix3, matrix4, rotation_x, rotation_y, rotation_z, scaling, shearing,

@@ -56,6 +56,14 @@ pub enum RasterError {
          with --camera"
     )]
     Orthographic,
+    /// The camera is spherical (a pbrt file's), which no projection onto a plane draws, or
+    /// its image is a screen window of its canvas (off the axis, or pixels not square),
+    /// which the rasterizer's centred projection does not draw.
+    #[error(
+        "the camera is {0}, and the rasterizer draws through perspective cameras centred on \
+         their axis only; render it with --renderer ray or --renderer path"
+    )]
+    Unprojected(&'static str),
     /// The render's stop flag was set (Ctrl-C, a termination signal, the page's cancel): it
     /// stopped before the next stage or tile, its image unfinished.
     #[error("the raster frame was interrupted after {tiles_drawn} of its {tiles} tiles")]
@@ -180,9 +188,7 @@ impl Rasterizer {
         options: &RasterOptions,
         cancel: Option<&AtomicBool>,
     ) -> Result<RasterStats, RasterError> {
-        if camera.is_orthographic() {
-            return Err(RasterError::Orthographic);
-        }
+        check_camera(camera)?;
         let (width, height) = (camera.hsize(), camera.vsize());
         if (self.canvas.width(), self.canvas.height()) != (width, height) {
             // Every pixel is drawn below, so a canvas of the same size is not cleared.
@@ -219,9 +225,7 @@ pub fn render_rows_into(
     film: &SharedFilm,
     cancel: Option<&AtomicBool>,
 ) -> Result<RasterStats, RasterError> {
-    if camera.is_orthographic() {
-        return Err(RasterError::Orthographic);
-    }
+    check_camera(camera)?;
     let (width, height) = (camera.hsize(), camera.vsize());
     if (film.width(), film.height()) != (width, height) || film.filter() != PixelFilter::Box {
         return Err(RasterError::FilmMismatch {
@@ -269,6 +273,20 @@ pub fn render_rows_into(
     )
 }
 
+/// Whether the rasterizer can draw through `camera`: a pinhole centred on its axis.
+fn check_camera(camera: &Camera) -> Result<(), RasterError> {
+    if camera.is_orthographic() {
+        return Err(RasterError::Orthographic);
+    }
+    if camera.spherical_mapping().is_some() {
+        return Err(RasterError::Unprojected("spherical"));
+    }
+    if camera.screen_window().is_some() {
+        return Err(RasterError::Unprojected("given a screen window"));
+    }
+    Ok(())
+}
+
 /// A frame ready to draw: the world's triangles projected and binned into the tiles of the
 /// camera's whole image, with what shading them needs.
 struct Frame<'a> {
@@ -281,6 +299,8 @@ struct Frame<'a> {
     cancel: Option<&'a AtomicBool>,
     /// Tiles drawn whole so far, all threads together (what a stopped frame reports).
     drawn: AtomicU64,
+    /// The camera, whose sensor records each drawn colour.
+    camera: &'a Camera,
 }
 
 impl Frame<'_> {
@@ -311,6 +331,11 @@ impl Frame<'_> {
                 );
             }
             self.drawn.fetch_add(1, Ordering::Relaxed);
+        }
+        if !self.camera.sensor().is_identity() {
+            for pixel in band.iter_mut() {
+                *pixel = self.camera.record(*pixel);
+            }
         }
         true
     }
@@ -422,6 +447,7 @@ fn with_frame(
         wireframe: options.wireframe,
         cancel,
         drawn: AtomicU64::new(0),
+        camera,
     };
     draw(&frame);
     stopped(frame.drawn.load(Ordering::Relaxed))?;

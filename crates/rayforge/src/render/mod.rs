@@ -353,6 +353,7 @@ fn render_rows_with<I: Integrator>(
                         }
                         match radiance {
                             Some(c) => {
+                                let c = camera.record(c);
                                 if I::AUTO_EXPOSURE {
                                     *thread_brightest =
                                         thread_brightest.max(c.red).max(c.green).max(c.blue);
@@ -485,7 +486,7 @@ impl IntegratorJob for TracePixel<'_, '_> {
             state.begin_sample();
             let color = integrator
                 .radiance(&mut state, &ray, options.max_depth, &mut log)
-                .unwrap_or(Color::BLACK);
+                .map_or(Color::BLACK, |c| camera.record(c));
             lines.extend(log.into_lines().into_iter().map(|l| format!("  {l}")));
             match state.stopped() {
                 Some(Stopped::OverBudget) => lines.push(format!(

@@ -23,12 +23,10 @@ pub mod texture_graph;
 pub mod texture_noise;
 
 pub use crate::math::random::{Jitter, SplitMix64};
+pub use crate::math::{equal_area_sphere_to_square, equal_area_square_to_sphere};
 pub use bump::{Bump, BumpKind};
 pub use cgfs::unshadowed_intensity;
-pub use environment::{
-    equal_area_sphere_to_square, equal_area_square_to_sphere, EnvironmentError, EnvironmentMap,
-    SkyDraw,
-};
+pub use environment::{EnvironmentError, EnvironmentMap, SkyDraw};
 pub use jitter::Sequence;
 pub use light::{AreaLight, DirectionalLight, Light, PointLight, SpotLight};
 pub use material::{Alpha, EmissionSide, Material, MaterialMix, PhysicalPatterns};

@@ -30,7 +30,7 @@ pub use roulette::{learn_roulette, LearnedRoulette};
 pub use sampler::SampleStream;
 
 use super::RowCallback;
-use crate::camera::{Camera, CameraSample};
+use crate::camera::{Camera, CameraSample, Sensor};
 use crate::color::Color;
 use crate::film::{Film, FilmError, PixelFilter, SharedFilm};
 use crate::lights::Emitters;
@@ -150,21 +150,35 @@ fn filter_offset(filter: PixelFilter, [u, v]: [f64; 2]) -> (f64, f64, f64) {
 }
 
 /// Where a pixel's samples come from: the camera, the pixel filter, and whether the world
-/// stands still before a pinhole (then no lens point nor instant is drawn).
+/// stands still before a pinhole (then no lens point nor instant is drawn); and what the
+/// film records of each sample's radiance (the camera's sensor, `None` for the identity,
+/// which then costs nothing).
 struct CameraSampler<'c> {
     camera: &'c Camera,
     filter: PixelFilter,
     still: bool,
+    sensor: Option<Sensor>,
 }
 
 impl<'c> CameraSampler<'c> {
     /// The sampler of `camera` over `world` with `filter`.
     fn new(camera: &'c Camera, world: &World, filter: PixelFilter) -> Self {
         let still = camera.aperture() == 0.0 && world.objects.iter().all(|o| o.motion.is_none());
+        let sensor = Some(*camera.sensor()).filter(|s| !s.is_identity());
         Self {
             camera,
             filter,
             still,
+            sensor,
+        }
+    }
+
+    /// What the film records of a sample's `radiance`.
+    #[inline]
+    fn record(&self, radiance: Color) -> Color {
+        match &self.sensor {
+            Some(sensor) => sensor.record(radiance),
+            None => radiance,
         }
     }
 
@@ -408,6 +422,7 @@ fn render_path_logged(
                         stream.start(s);
                         let (ray, weight) = sampler.ray(x, y, &mut stream);
                         let (radiance, first) = context.radiance(ray, &mut stream);
+                        let radiance = sampler.record(radiance);
                         let finite = radiance.red.is_finite()
                             && radiance.green.is_finite()
                             && radiance.blue.is_finite();
