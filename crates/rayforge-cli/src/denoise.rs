@@ -5,7 +5,7 @@
 use crate::failure::Failure;
 use rayforge::canvas::Canvas;
 use rayforge::color::Color;
-use rayforge_denoise::{Denoiser, Images};
+use rayforge_denoise::{Denoiser, Images, Session};
 
 /// OIDN, loaded before any work so that a render is not spent first; its absence refused with
 /// how to install it (exit 2).
@@ -22,13 +22,13 @@ pub struct Guides<'a> {
     pub normal: Option<&'a Canvas>,
 }
 
-/// `image`, linear radiance, denoised on `threads` of OIDN's own threads (the result is the
-/// same for any count), guided by `guides` when given; `what` names the image in messages.
+/// `image`, linear radiance, denoised by `session` (on its device and filters, kept from one
+/// image to the next; the result is the same for any thread count), guided by `guides` when
+/// given; `what` names the image in messages.
 pub fn denoise(
-    denoiser: &Denoiser,
+    session: &Session,
     image: &Canvas,
     guides: Option<Guides<'_>>,
-    threads: usize,
     what: &str,
 ) -> Result<Canvas, Failure> {
     let (width, height) = (image.width(), image.height());
@@ -42,8 +42,8 @@ pub fn denoise(
         albedo: albedo.as_deref(),
         normal: normal.as_deref(),
     };
-    let out = denoiser
-        .denoise(&images, true, threads)
+    let out = session
+        .denoise(&images, true)
         .map_err(|e| Failure::usage(format!("cannot denoise {what}: {e}")))?;
     let pixels = out
         .chunks_exact(3)

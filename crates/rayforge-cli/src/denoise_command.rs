@@ -65,7 +65,7 @@ pub fn run(args: &DenoiseArgs) -> Result<(), Failure> {
         normal: normal.as_ref(),
     });
     let what = format!("`{}`", args.input.display());
-    let mut out = crate::denoise::denoise(&denoiser, &image.color, guides, threads, &what)?;
+    let mut out = crate::denoise::denoise(&denoiser.session(threads), &image.color, guides, &what)?;
     crate::path_output::encode_for(format, &mut out);
     write_atomically(&args.output, &format.encode(&out)?)?;
     if !args.quiet {

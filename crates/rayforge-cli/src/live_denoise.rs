@@ -19,7 +19,7 @@ use crate::failure::Failure;
 use crate::finite::blacken_non_finite;
 use rayforge::canvas::Canvas;
 use rayforge::film::SharedFilm;
-use rayforge_denoise::Denoiser;
+use rayforge_denoise::Session;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc};
 use std::thread::{Scope, ScopedJoinHandle};
@@ -53,12 +53,12 @@ pub trait FrameDenoiser: Send {
 }
 
 /// OIDN as a [`FrameDenoiser`]: the frame denoised as the render's final image is (guided by
-/// its albedo and normals, on `threads` of OIDN's threads).
+/// its albedo and normals), in the render's session: the passes and the final image share
+/// one OIDN device, and its filters while the size stays.
 pub struct Oidn<'a> {
-    /// The library, loaded.
-    pub denoiser: &'a Denoiser,
-    /// OIDN's threads (the image is the same for any number).
-    pub threads: usize,
+    /// The render's session, shared with its final denoise (it is `Sync`: one image at a
+    /// time).
+    pub session: &'a Session,
 }
 
 impl FrameDenoiser for Oidn<'_> {
@@ -68,17 +68,12 @@ impl FrameDenoiser for Oidn<'_> {
             normal: Some(&frame.normal),
         };
         let what = format!("pass {}", frame.pass);
-        crate::denoise::denoise(
-            self.denoiser,
-            &frame.image,
-            Some(guides),
-            self.threads,
-            &what,
+        crate::denoise::denoise(self.session, &frame.image, Some(guides), &what).map_err(
+            |failure| match failure {
+                Failure::Input(m) | Failure::Internal(m) | Failure::Interrupted(m) => m,
+                Failure::Scene(report) => report.to_string(),
+            },
         )
-        .map_err(|failure| match failure {
-            Failure::Input(m) | Failure::Internal(m) | Failure::Interrupted(m) => m,
-            Failure::Scene(report) => report.to_string(),
-        })
     }
 }
 

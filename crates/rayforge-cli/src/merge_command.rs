@@ -69,12 +69,12 @@ pub fn run(args: &MergeArgs) -> Result<(), Failure> {
     };
     let overlay = overlay.as_ref().map(|(o, camera)| (o, camera));
     let threads = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
+    let session = denoiser.as_ref().map(|d| d.session(threads));
     let outputs = PathOutputs {
         output,
         format,
         aovs: args.aovs,
-        denoiser: denoiser.as_ref(),
-        threads,
+        denoiser: session.as_ref(),
         overlay,
     };
     outputs.check_writable()?;

@@ -20,6 +20,7 @@ use rayforge::render::path::{
     learn_roulette, plans_samples, prepare_render, render_path, Aovs, PathJob, PathStats,
 };
 use rayforge::render::PartialImage;
+use rayforge_denoise::SessionStats;
 use rayforge_scene::Scene;
 use rayon::ThreadPool;
 use std::ops::Range;
@@ -149,12 +150,16 @@ pub fn path_render(
     let film = SharedFilm::from(film);
     // The denoiser's guides are the albedo and normal AOVs, written only with --aovs.
     let aovs = (settings.path.aovs || denoiser.is_some()).then(|| Aovs::new(width, height));
+    // One OIDN device and its filters for every denoise of the render: the passes a viewer
+    // watches and the final image.
+    let session = denoiser
+        .as_ref()
+        .map(|d| d.session(pool.current_num_threads()));
     let outputs = PathOutputs {
         output,
         format: settings.format,
         aovs: settings.path.aovs,
-        denoiser: denoiser.as_ref(),
-        threads: pool.current_num_threads(),
+        denoiser: session.as_ref(),
         overlay: Some((&scene.overlay, camera)),
     };
     outputs.check_writable()?;
@@ -206,7 +211,7 @@ pub fn path_render(
     let layout = Layout { whole, rows: &rows };
     let display = display_with(settings, output, (width, height), &layout);
     // The passes a viewer watches are denoised beside the render (see `live_denoise`).
-    let live = denoiser
+    let live = session
         .as_ref()
         .zip(aovs.as_ref())
         .filter(|_| display.is_some() && passes.len() > 1);
@@ -216,11 +221,8 @@ pub fn path_render(
         checkpointed::render(settings, height, already, log, display, |hooks| {
             std::thread::scope(|scope| {
                 let show_layer = hooks.show_layer;
-                let live = live.map(|(denoiser, aovs)| {
-                    let oidn = Oidn {
-                        denoiser,
-                        threads: pool.current_num_threads(),
-                    };
+                let live = live.map(|(session, aovs)| {
+                    let oidn = Oidn { session };
                     let deliver = move |_: &Frame, image| show_layer("denoised", image);
                     (LiveDenoiser::start(scope, oidn, deliver), aovs)
                 });
@@ -354,8 +356,8 @@ pub fn path_render(
                 output
             )
         );
-        if let Some(live) = &live_summary {
-            eprintln!("{}", live_summary_line(live));
+        if let (Some(live), Some(session)) = (&live_summary, &session) {
+            eprintln!("{}", live_summary_line(live, session.stats()));
         }
         if stats.discarded > 0 {
             eprintln!(
@@ -372,8 +374,9 @@ pub fn path_render(
     Ok(())
 }
 
-/// The line after the summary that says how the passes denoised beside the render went.
-fn live_summary_line(live: &Summary) -> String {
+/// The line after the summary that says how the passes denoised beside the render went, and
+/// what OIDN made for them and the final image (one device, its filters once per size).
+fn live_summary_line(live: &Summary, made: SessionStats) -> String {
     let each = live.time.as_secs_f64() * 1000.0 / live.denoised.max(1) as f64;
     let mut line = format!(
         "denoised beside the render: {} pass{} ({each:.0} ms each), {} skipped while the \
@@ -385,5 +388,13 @@ fn live_summary_line(live: &Summary) -> String {
     if let Some(failure) = &live.failure {
         line.push_str(&format!(" (it stopped: {failure})"));
     }
+    let plural =
+        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    line.push_str(&format!(
+        "; with the final image, {} on {} (its filters made {})",
+        plural(made.denoised, "image", "images"),
+        plural(made.devices, "OIDN device", "OIDN devices"),
+        plural(made.setups, "time", "times"),
+    ));
     line
 }

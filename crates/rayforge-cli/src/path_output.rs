@@ -16,7 +16,7 @@ use rayforge::camera::Camera;
 use rayforge::canvas::Canvas;
 use rayforge::color::Color;
 use rayforge::draw2d::Overlay;
-use rayforge_denoise::Denoiser;
+use rayforge_denoise::Session;
 use std::path::{Path, PathBuf};
 
 /// The AOVs `--aovs` writes, in the order of `rayforge::render::path::Aovs::films`.
@@ -30,10 +30,9 @@ pub struct PathOutputs<'a> {
     pub format: ImageFormat,
     /// `--aovs`: the AOVs are written (and, denoised, the raw image).
     pub aovs: bool,
-    /// `--denoise`: the denoiser, loaded.
-    pub denoiser: Option<&'a Denoiser>,
-    /// The denoiser's threads (the image is the same for any number).
-    pub threads: usize,
+    /// `--denoise`: the denoiser's session (the render's, whose passes it may have
+    /// denoised already: its device and filters are reused).
+    pub denoiser: Option<&'a Session>,
     /// The scene's canvas items and the camera they are drawn for, drawn over the image last.
     pub overlay: Option<(&'a Overlay, &'a Camera)>,
 }
@@ -87,8 +86,7 @@ impl PathOutputs<'_> {
                 albedo,
                 normal: Some(normal),
             });
-            let denoised =
-                crate::denoise::denoise(denoiser, &image, guides, self.threads, "the image")?;
+            let denoised = crate::denoise::denoise(denoiser, &image, guides, "the image")?;
             let mut raw = std::mem::replace(&mut image, denoised);
             if self.aovs {
                 self.finish(&mut raw);

@@ -100,8 +100,8 @@ fn packets(mut bytes: &[u8]) -> Vec<Packet> {
 }
 
 /// Renders the Cornell box path traced (32 pixels wide, 8 samples: passes of 1, 1, 2, 4) to
-/// `out`, streamed to a fake tev viewer, with `extra` flags; the command's output and every
-/// packet the viewer received.
+/// `out`, streamed to a fake tev viewer, with `extra` flags (its summary lines on stderr);
+/// the command's output and every packet the viewer received.
 fn render_to_viewer(out: &Path, extra: &[&str]) -> (Output, Vec<Packet>) {
     let listener = TcpListener::bind("127.0.0.1:0").expect("a port");
     let address = listener.local_addr().expect("its address").to_string();
@@ -116,15 +116,7 @@ fn render_to_viewer(out: &Path, extra: &[&str]) -> (Output, Vec<Packet>) {
         .arg(repo().join("scenes/pbr/cornell.yml"))
         .arg("-o")
         .arg(out)
-        .args([
-            "--renderer",
-            "path",
-            "--width",
-            "32",
-            "--spp",
-            "8",
-            "--quiet",
-        ])
+        .args(["--renderer", "path", "--width", "32", "--spp", "8"])
         .args(["--display-server", &address])
         .args(extra)
         .output()
@@ -205,12 +197,33 @@ fn the_viewer_gets_a_denoised_layer_beside_the_noisy_rows_and_ends_on_the_writte
         *last, file,
         "the last denoised update is the whole written image"
     );
+    // The passes denoised beside the render and the final image shared one OIDN device and,
+    // the size never changing, one set of filters.
+    let err = stderr(&o);
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("denoised beside the render: "))
+        .unwrap_or_else(|| panic!("no line about the live denoising: {err}"));
+    let passes: usize = line["denoised beside the render: ".len()..]
+        .split(' ')
+        .next()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no count of passes: {line}"));
+    assert!(
+        passes >= 1,
+        "the first pass finds the denoiser idle: {line}"
+    );
+    let made = format!(
+        "with the final image, {} images on 1 OIDN device (its filters made 1 time)",
+        passes + 1
+    );
+    assert!(line.ends_with(&made), "{line}");
 }
 
 #[test]
 fn without_denoise_the_viewer_gets_the_plain_image_and_no_denoised_layer() {
     let dir = tempfile::tempdir().unwrap();
-    let (o, received) = render_to_viewer(&dir.path().join("c.png"), &[]);
+    let (o, received) = render_to_viewer(&dir.path().join("c.png"), &["--quiet"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(received[0].channels, rgb(""));
     assert!(received.len() > 1);

@@ -10,6 +10,7 @@
 
 use std::ffi::{c_char, c_int, c_void, CStr};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// `OIDN_DEVICE_TYPE_CPU`: the CPU device, whatever GPUs the machine has, so that results do
 /// not depend on them.
@@ -100,31 +101,32 @@ impl Library {
     pub fn path(&self) -> &Path {
         &self.path
     }
+}
 
-    /// A committed CPU device running `threads` threads of its own, not pinned to cores (the
-    /// renderer's pool shares them); the error is OIDN's message.
-    pub fn cpu_device(&self, threads: usize) -> Result<Device<'_>, String> {
-        // SAFETY: `oidnNewDevice` takes a device type and returns a new handle or null.
-        let handle = unsafe { (self.api.new_device)(DEVICE_TYPE_CPU) };
-        if handle.is_null() {
-            // SAFETY: with a null device, OIDN reports the error of this thread's last call.
-            return Err(unsafe { error_of(&self.api, handle) }
-                .unwrap_or_else(|| "OIDN made no CPU device".to_string()));
-        }
-        let device = Device {
-            library: self,
-            handle,
-        };
-        let threads = c_int::try_from(threads).unwrap_or(c_int::MAX);
-        // SAFETY: a live device handle and NUL-terminated parameter names from `oidn.h`.
-        unsafe {
-            (self.api.set_device_int)(handle, c"numThreads".as_ptr(), threads);
-            (self.api.set_device_bool)(handle, c"setAffinity".as_ptr(), false);
-            (self.api.commit_device)(handle);
-        }
-        device.check()?;
-        Ok(device)
+/// A committed CPU device of `library` running `threads` threads of its own, not pinned to
+/// cores (the renderer's pool shares them); the error is OIDN's message.
+pub fn cpu_device(library: &Arc<Library>, threads: usize) -> Result<Device, String> {
+    let api = &library.api;
+    // SAFETY: `oidnNewDevice` takes a device type and returns a new handle or null.
+    let handle = unsafe { (api.new_device)(DEVICE_TYPE_CPU) };
+    if handle.is_null() {
+        // SAFETY: with a null device, OIDN reports the error of this thread's last call.
+        return Err(unsafe { error_of(api, handle) }
+            .unwrap_or_else(|| "OIDN made no CPU device".to_string()));
     }
+    let device = Device {
+        library: library.clone(),
+        handle,
+    };
+    let threads = c_int::try_from(threads).unwrap_or(c_int::MAX);
+    // SAFETY: a live device handle and NUL-terminated parameter names from `oidn.h`.
+    unsafe {
+        (api.set_device_int)(handle, c"numThreads".as_ptr(), threads);
+        (api.set_device_bool)(handle, c"setAffinity".as_ptr(), false);
+        (api.commit_device)(handle);
+    }
+    device.check()?;
+    Ok(device)
 }
 
 /// OIDN's message for the error `device` holds (clearing it), if there is one.
@@ -151,19 +153,27 @@ unsafe fn error_of(api: &Api, device: Handle) -> Option<String> {
 }
 
 /// A committed OIDN device; released on drop.
-pub struct Device<'l> {
-    library: &'l Library,
+pub struct Device {
+    library: Arc<Library>,
     handle: Handle,
 }
 
-impl Device<'_> {
+// SAFETY: a device is an OIDN object reached through its handle, and OIDN documents that
+// "all API calls are thread-safe" (its API reference, on objects), so calls may come from
+// any thread. Errors are kept "per device" for "each user thread": every method here makes
+// its calls and reads their error on one thread, within the one call, so moving the device
+// to another thread between calls loses no error. `Device` is not `Sync`: the wrappers never
+// use one handle from two threads at once.
+unsafe impl Send for Device {}
+
+impl Device {
     /// OIDN's version as `oidn.h` writes it (20501 for 2.5.1).
     pub fn version(&self) -> i32 {
         // SAFETY: a live device handle and a parameter name from `oidn.h`.
         unsafe { (self.library.api.get_device_int)(self.handle, c"version".as_ptr()) }
     }
 
-    /// The error the device holds, if any.
+    /// The error the device holds for this thread, if any.
     fn check(&self) -> Result<(), String> {
         // SAFETY: a live device handle of this library.
         match unsafe { error_of(&self.library.api, self.handle) } {
@@ -172,17 +182,78 @@ impl Device<'_> {
         }
     }
 
-    /// Runs OIDN's `RT` filter once: each of `inputs` (`color`, `albedo`, `normal`) and
-    /// `output` a `width × height` image of three 32-bit floats a pixel, row by row, and the
-    /// filter's `flags` (`hdr`, `cleanAux`) set. Returns when the output is written.
-    pub fn run_rt_filter(
+    /// A new `RT` filter for images of `width × height` pixels, its `flags` (`hdr`,
+    /// `cleanAux`) set; committed by its first [`RtFilter::execute`], which sets its images.
+    pub fn rt_filter(
         &self,
         width: usize,
         height: usize,
+        flags: &[(&CStr, bool)],
+    ) -> Result<RtFilter, String> {
+        let api = &self.library.api;
+        // SAFETY: a live device handle and the filter type's NUL-terminated name.
+        let handle = unsafe { (api.new_filter)(self.handle, c"RT".as_ptr()) };
+        self.check()?;
+        if handle.is_null() {
+            return Err("OIDN made no RT filter".to_string());
+        }
+        let filter = RtFilter {
+            library: self.library.clone(),
+            handle,
+            width,
+            height,
+        };
+        for (name, value) in flags {
+            // SAFETY: a live filter handle and a NUL-terminated parameter name.
+            unsafe { (api.set_filter_bool)(filter.handle, name.as_ptr(), *value) };
+        }
+        self.check()?;
+        Ok(filter)
+    }
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        // SAFETY: the handle is live, and this is its one release.
+        unsafe { (self.library.api.release_device)(self.handle) }
+    }
+}
+
+/// An OIDN `RT` filter for images of one size, made by [`Device::rt_filter`]; released on
+/// drop.
+///
+/// OIDN keeps the image pointers a filter was last given. Here they are set again by every
+/// [`RtFilter::execute`] (always the same names: a filter's inputs are fixed when it is made)
+/// from that call's borrows, and OIDN reads or writes them only while that call runs: between
+/// calls the filter holds stale pointers that nothing dereferences (releasing a filter does
+/// not touch its images). Re-setting images of the same size and format only moves them, and
+/// OIDN's commit then keeps what it built: its reference says a filter is best reused "as
+/// long as these images have the same size, format, and features (i.e., only the memory
+/// locations and pixel values may be different)".
+pub struct RtFilter {
+    library: Arc<Library>,
+    handle: Handle,
+    width: usize,
+    height: usize,
+}
+
+// SAFETY: as for `Device`: OIDN's calls are thread-safe, each `execute` makes its calls and
+// reads their error on one thread, and the stale image pointers a filter keeps between calls
+// are never read (see the type's doc). Not `Sync`: `execute` takes `&mut self`.
+unsafe impl Send for RtFilter {}
+
+impl RtFilter {
+    /// Runs the filter once on `device` (the one that made it): each of `inputs` (`color`,
+    /// `albedo`, `normal`: the same names on every call) and `output` an image of the
+    /// filter's size, three 32-bit floats a pixel, row by row. Returns when the output is
+    /// written.
+    pub fn execute(
+        &mut self,
+        device: &Device,
         inputs: &[(&CStr, &[f32])],
         output: &mut [f32],
-        flags: &[(&CStr, bool)],
     ) -> Result<(), String> {
+        let (width, height) = (self.width, self.height);
         let len = width * height * 3;
         if let Some((name, _)) = inputs.iter().find(|(_, image)| image.len() != len) {
             return Err(format!("the {name:?} image is not {width}×{height} pixels"));
@@ -191,23 +262,14 @@ impl Device<'_> {
             return Err(format!("the output is not {width}×{height} pixels"));
         }
         let api = &self.library.api;
-        // SAFETY: a live device handle and the filter type's NUL-terminated name.
-        let handle = unsafe { (api.new_filter)(self.handle, c"RT".as_ptr()) };
-        self.check()?;
-        if handle.is_null() {
-            return Err("OIDN made no RT filter".to_string());
-        }
-        let filter = Filter {
-            device: self,
-            handle,
-        };
+        let handle = self.handle;
         let image = |name: &CStr, pixels: *mut c_void| {
             // SAFETY: a live filter handle; `pixels` points at `len` floats, laid out as
             // FLOAT3 pixels in rows without padding (strides 0 mean packed), that stay
             // borrowed until this function returns, after the filter has run.
             unsafe {
                 (api.set_shared_filter_image)(
-                    filter.handle,
+                    handle,
                     name.as_ptr(),
                     pixels,
                     FORMAT_FLOAT3,
@@ -224,36 +286,20 @@ impl Device<'_> {
             image(name, pixels.as_ptr().cast_mut().cast());
         }
         image(c"output", output.as_mut_ptr().cast());
-        for (name, value) in flags {
-            // SAFETY: a live filter handle and a NUL-terminated parameter name.
-            unsafe { (api.set_filter_bool)(filter.handle, name.as_ptr(), *value) };
-        }
         // SAFETY: a live filter handle, its images set above and borrowed for this call;
         // `oidnExecuteFilter` returns once the output is written.
         unsafe {
-            (api.commit_filter)(filter.handle);
-            (api.execute_filter)(filter.handle);
+            (api.commit_filter)(handle);
+            (api.execute_filter)(handle);
         }
-        self.check()
+        device.check()
     }
 }
 
-impl Drop for Device<'_> {
+impl Drop for RtFilter {
     fn drop(&mut self) {
-        // SAFETY: the handle is live, and this is its one release.
-        unsafe { (self.library.api.release_device)(self.handle) }
-    }
-}
-
-/// An OIDN filter; released on drop.
-struct Filter<'d, 'l> {
-    device: &'d Device<'l>,
-    handle: Handle,
-}
-
-impl Drop for Filter<'_, '_> {
-    fn drop(&mut self) {
-        // SAFETY: the handle is live, and this is its one release.
-        unsafe { (self.device.library.api.release_filter)(self.handle) }
+        // SAFETY: the handle is live, and this is its one release (the session that holds
+        // filters drops them before their device).
+        unsafe { (self.library.api.release_filter)(self.handle) }
     }
 }

@@ -20,6 +20,15 @@
 //! of the checkout this crate was built from, where `tools/oidn/install.sh` puts the library;
 //! then the system's own search (`LD_LIBRARY_PATH`, installed libraries).
 //!
+//! # One device and its filters per render
+//! Making an OIDN device and committing a filter cost far more than filtering a small image
+//! (a 48×48 preview spent nearly all of its 390 ms there, `docs/performance.md`), and OIDN
+//! asks for one device per process and filters reused for images of one size. A [`Session`]
+//! does so: it makes its CPU device at its first image and its three filters (albedo,
+//! normal, image) for each new size and set of guides, then only points them at each
+//! frame's pixels. A render holds one session for its passes and its final image, the live
+//! page one for all its renders; the bytes are those of a fresh device and filters (tested).
+//!
 //! # Determinism
 //! OIDN's CPU device is deterministic for a given library version and processor: its
 //! convolutions compute each output from fixed weights in a fixed order, whatever its thread
@@ -32,6 +41,7 @@
 mod ffi;
 
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 /// The environment variable naming the folder OIDN is installed in (its `lib/` holds the
 /// library), for both `tools/oidn/install.sh` and the loader.
@@ -140,7 +150,7 @@ pub struct Images<'a> {
 
 /// OIDN, loaded.
 pub struct Denoiser {
-    library: ffi::Library,
+    library: Arc<ffi::Library>,
     version: i32,
 }
 
@@ -169,7 +179,8 @@ impl Denoiser {
         let mut tried = Vec::new();
         for path in candidates {
             let started = ffi::Library::open(path).and_then(|library| {
-                let version = library.cpu_device(1)?.version();
+                let library = Arc::new(library);
+                let version = ffi::cpu_device(&library, 1)?.version();
                 Ok((library, version))
             });
             match started {
@@ -192,90 +203,237 @@ impl Denoiser {
         )
     }
 
-    /// The denoised image (`width × height × 3` floats, as the input), on OIDN's CPU device
-    /// with `threads` threads: the guides denoised first by their own `RT` passes, then the
-    /// image with `cleanAux`; `hdr` for linear radiance (any range), else values in [0, 1].
-    /// Guides of another size, a normal without an albedo and values that are not finite
-    /// are refused before OIDN runs.
-    pub fn denoise(
-        &self,
-        images: &Images<'_>,
-        hdr: bool,
-        threads: usize,
-    ) -> Result<Vec<f32>, DenoiseError> {
-        let Images {
-            width,
-            height,
-            color,
-            albedo,
-            normal,
-        } = *images;
-        if width == 0 || height == 0 {
-            return Err(DenoiseError::Empty { width, height });
+    /// A session denoising on `threads` of OIDN's own threads: its device made at its first
+    /// image and kept, its filters kept while the images' size and guides stay the same.
+    pub fn session(&self, threads: usize) -> Session {
+        Session {
+            library: self.library.clone(),
+            threads: threads.max(1),
+            state: Mutex::new(State::default()),
         }
-        let len = width * height * 3;
-        if color.len() != len {
-            return Err(DenoiseError::Library(format!(
-                "the image holds {} values, not {width}×{height}×3",
-                color.len()
-            )));
-        }
-        if normal.is_some() && albedo.is_none() {
-            return Err(DenoiseError::NormalWithoutAlbedo);
-        }
-        for (guide, pixels) in [("albedo", albedo), ("normal", normal)] {
-            if let Some(pixels) = pixels.filter(|p| p.len() != len) {
-                return Err(DenoiseError::SizeMismatch {
-                    guide,
-                    found: format!("{} values", pixels.len()),
-                    expected: format!("{width}×{height}×3 = {len}"),
-                });
-            }
-        }
-        for (image, pixels) in [
-            ("color", Some(color)),
-            ("albedo", albedo),
-            ("normal", normal),
-        ] {
-            if let Some(at) = pixels.and_then(|p| p.iter().position(|v| !v.is_finite())) {
-                let pixel = at / 3;
-                return Err(DenoiseError::NonFinite {
-                    image,
-                    x: pixel % width,
-                    y: pixel / width,
-                    value: pixels.map_or(0.0, |p| p[at]),
-                });
-            }
-        }
-        let device = self
-            .library
-            .cpu_device(threads.max(1))
-            .map_err(DenoiseError::Library)?;
-        // Each guide denoised alone, as OIDN documents for noisy guides: the filter with only
-        // that guide set, under its own name, writes its clean version.
-        let clean = |name: &std::ffi::CStr, pixels: &[f32]| {
-            let mut out = vec![0.0; len];
-            device
-                .run_rt_filter(width, height, &[(name, pixels)], &mut out, &[])
-                .map(|()| out)
-        };
-        let albedo = albedo.map(|a| clean(c"albedo", a)).transpose();
-        let albedo = albedo.map_err(DenoiseError::Library)?;
-        let normal = normal.map(|n| clean(c"normal", n)).transpose();
-        let normal = normal.map_err(DenoiseError::Library)?;
-        let mut inputs = vec![(c"color", color)];
-        inputs.extend(albedo.as_deref().map(|a| (c"albedo", a)));
-        inputs.extend(normal.as_deref().map(|n| (c"normal", n)));
-        let mut output = vec![0.0; len];
-        device
-            .run_rt_filter(
-                width,
-                height,
-                &inputs,
-                &mut output,
-                &[(c"hdr", hdr), (c"cleanAux", albedo.is_some())],
-            )
-            .map_err(DenoiseError::Library)?;
-        Ok(output)
     }
+}
+
+/// What a [`Session`] has made and done, to show that it reuses its device and filters.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SessionStats {
+    /// OIDN devices made (one, unless OIDN failed and the session started afresh).
+    pub devices: usize,
+    /// Times its filters were made and committed for a new size or set of guides.
+    pub setups: usize,
+    /// Images denoised.
+    pub denoised: usize,
+}
+
+/// The `RT` filters of one size and set of guides: the guides' own passes, then the image's.
+struct Filters {
+    shape: Shape,
+    albedo: Option<ffi::RtFilter>,
+    normal: Option<ffi::RtFilter>,
+    image: ffi::RtFilter,
+}
+
+/// What a session's filters are made for; another shape makes them afresh.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Shape {
+    width: usize,
+    height: usize,
+    hdr: bool,
+    albedo: bool,
+    normal: bool,
+}
+
+/// A session's OIDN objects. The filters come first so that they are dropped before their
+/// device.
+#[derive(Default)]
+struct State {
+    filters: Option<Filters>,
+    device: Option<ffi::Device>,
+    stats: SessionStats,
+}
+
+/// OIDN's device and filters kept from image to image (see the crate's doc), for the frames
+/// of a render or the renders of a page.
+///
+/// # Threads
+/// A render's passes are denoised on a thread beside it and its final image on the render's
+/// own thread, so a session is shared (`Sync`): its device and filters sit behind a mutex and
+/// each image is denoised whole under it, one at a time (OIDN would serialise calls on one
+/// device anyway). OIDN's API is thread-safe and keeps errors per thread, and each
+/// [`Session::denoise`] makes its calls and reads their errors on the one thread that holds
+/// the lock, so which thread that is does not matter; see `ffi`'s `Send` for the device and
+/// its filters.
+pub struct Session {
+    library: Arc<ffi::Library>,
+    threads: usize,
+    state: Mutex<State>,
+}
+
+impl std::fmt::Debug for Session {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Session({} threads, {:?})", self.threads, self.stats())
+    }
+}
+
+impl Session {
+    /// What the session has made and done so far.
+    pub fn stats(&self) -> SessionStats {
+        self.lock().stats
+    }
+
+    /// The state, even after a panic elsewhere while it was held: its filters are then made
+    /// afresh (a panic may have come between setting a filter's images and running it).
+    fn lock(&self) -> std::sync::MutexGuard<'_, State> {
+        self.state.lock().unwrap_or_else(|poisoned| {
+            let mut state = poisoned.into_inner();
+            state.filters = None;
+            state
+        })
+    }
+
+    /// The denoised image (`width × height × 3` floats, as the input): the guides denoised
+    /// first by their own `RT` passes, then the image with `cleanAux`; `hdr` for linear
+    /// radiance (any range), else values in [0, 1]. Guides of another size, a normal without
+    /// an albedo and values that are not finite are refused before OIDN runs. The result is
+    /// the same as a fresh device's and filters'.
+    pub fn denoise(&self, images: &Images<'_>, hdr: bool) -> Result<Vec<f32>, DenoiseError> {
+        check(images)?;
+        let shape = Shape {
+            width: images.width,
+            height: images.height,
+            hdr,
+            albedo: images.albedo.is_some(),
+            normal: images.normal.is_some(),
+        };
+        let mut state = self.lock();
+        let result = run(&self.library, self.threads, &mut state, shape, images);
+        match result {
+            Ok(output) => {
+                state.stats.denoised += 1;
+                Ok(output)
+            }
+            Err(message) => {
+                // What OIDN failed on is not kept: the next image starts afresh.
+                state.filters = None;
+                state.device = None;
+                Err(DenoiseError::Library(message))
+            }
+        }
+    }
+}
+
+/// Refuses images OIDN must not be given: empty, guides of another size, a normal without an
+/// albedo, values that are not finite.
+fn check(images: &Images<'_>) -> Result<(), DenoiseError> {
+    let Images {
+        width,
+        height,
+        color,
+        albedo,
+        normal,
+    } = *images;
+    if width == 0 || height == 0 {
+        return Err(DenoiseError::Empty { width, height });
+    }
+    let len = width * height * 3;
+    if color.len() != len {
+        return Err(DenoiseError::Library(format!(
+            "the image holds {} values, not {width}×{height}×3",
+            color.len()
+        )));
+    }
+    if normal.is_some() && albedo.is_none() {
+        return Err(DenoiseError::NormalWithoutAlbedo);
+    }
+    for (guide, pixels) in [("albedo", albedo), ("normal", normal)] {
+        if let Some(pixels) = pixels.filter(|p| p.len() != len) {
+            return Err(DenoiseError::SizeMismatch {
+                guide,
+                found: format!("{} values", pixels.len()),
+                expected: format!("{width}×{height}×3 = {len}"),
+            });
+        }
+    }
+    for (image, pixels) in [
+        ("color", Some(color)),
+        ("albedo", albedo),
+        ("normal", normal),
+    ] {
+        if let Some(at) = pixels.and_then(|p| p.iter().position(|v| !v.is_finite())) {
+            let pixel = at / 3;
+            return Err(DenoiseError::NonFinite {
+                image,
+                x: pixel % width,
+                y: pixel / width,
+                value: pixels.map_or(0.0, |p| p[at]),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Denoises checked `images` with the state's device and filters, making the device if there
+/// is none and the filters if theirs is another `shape`; the error is OIDN's.
+fn run(
+    library: &Arc<ffi::Library>,
+    threads: usize,
+    state: &mut State,
+    shape: Shape,
+    images: &Images<'_>,
+) -> Result<Vec<f32>, String> {
+    let State {
+        filters,
+        device,
+        stats,
+    } = state;
+    let device = match device {
+        Some(device) => device,
+        None => {
+            stats.devices += 1;
+            device.insert(ffi::cpu_device(library, threads)?)
+        }
+    };
+    let filters = match filters {
+        Some(kept) if kept.shape == shape => kept,
+        stale => {
+            // The old ones released before the new ones are made.
+            *stale = None;
+            let Shape { width, height, .. } = shape;
+            let guide = |wanted: bool| {
+                wanted
+                    .then(|| device.rt_filter(width, height, &[]))
+                    .transpose()
+            };
+            let flags = [(c"hdr", shape.hdr), (c"cleanAux", shape.albedo)];
+            let made = Filters {
+                shape,
+                albedo: guide(shape.albedo)?,
+                normal: guide(shape.normal)?,
+                image: device.rt_filter(width, height, &flags)?,
+            };
+            stats.setups += 1;
+            stale.insert(made)
+        }
+    };
+    let len = images.color.len();
+    // Each guide denoised alone, as OIDN documents for noisy guides: the filter with only
+    // that guide set, under its own name, writes its clean version.
+    let clean = |filter: Option<&mut ffi::RtFilter>, name: &std::ffi::CStr, pixels| match (
+        filter, pixels,
+    ) {
+        (Some(filter), Some(pixels)) => {
+            let mut out = vec![0.0; len];
+            filter.execute(device, &[(name, pixels)], &mut out)?;
+            Ok(Some(out))
+        }
+        _ => Ok::<_, String>(None),
+    };
+    let albedo = clean(filters.albedo.as_mut(), c"albedo", images.albedo)?;
+    let normal = clean(filters.normal.as_mut(), c"normal", images.normal)?;
+    let mut inputs = vec![(c"color", images.color)];
+    inputs.extend(albedo.as_deref().map(|a| (c"albedo", a)));
+    inputs.extend(normal.as_deref().map(|n| (c"normal", n)));
+    let mut output = vec![0.0; len];
+    filters.image.execute(device, &inputs, &mut output)?;
+    Ok(output)
 }

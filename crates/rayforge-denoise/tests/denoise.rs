@@ -116,7 +116,10 @@ fn the_filter_brings_a_noisy_image_at_least_ten_times_closer_to_the_clean_one() 
         albedo: Some(&albedo),
         normal: Some(&normal),
     };
-    let out = denoiser.denoise(&images, true, 2).expect("denoises");
+    let out = denoiser
+        .session(2)
+        .denoise(&images, true)
+        .expect("denoises");
     let (before, after) = (mse(&input, &clean), mse(&out, &clean));
     // Measured with OIDN 2.5.1: about 37 times less squared error (20 without the guides); 10 is the stated floor.
     assert!(
@@ -130,7 +133,7 @@ fn the_filter_brings_a_noisy_image_at_least_ten_times_closer_to_the_clean_one() 
         ..images
     };
     let unguided = mse(
-        &denoiser.denoise(&alone, true, 2).expect("denoises"),
+        &denoiser.session(2).denoise(&alone, true).expect("denoises"),
         &clean,
     );
     assert!(after < unguided, "guided {after}, unguided {unguided}");
@@ -150,14 +153,181 @@ fn the_same_image_gives_the_same_bytes_for_any_thread_count() {
         albedo: Some(&albedo),
         normal: Some(&normal),
     };
-    let bits = |threads| -> Vec<u32> {
-        let out = denoiser.denoise(&images, true, threads).expect("denoises");
-        out.iter().map(|v| v.to_bits()).collect()
+    let denoised = |threads| -> Vec<u32> {
+        bits(
+            &denoiser
+                .session(threads)
+                .denoise(&images, true)
+                .expect("denoises"),
+        )
     };
-    let one = bits(1);
-    assert_eq!(one, bits(1), "twice with one thread");
-    assert_eq!(one, bits(2), "one thread and two");
-    assert_eq!(one, bits(3), "one thread and three");
+    let one = denoised(1);
+    assert_eq!(one, denoised(1), "twice with one thread");
+    assert_eq!(one, denoised(2), "one thread and two");
+    assert_eq!(one, denoised(3), "one thread and three");
+}
+
+/// The image's bytes, to compare exactly.
+fn bits(image: &[f32]) -> Vec<u32> {
+    image.iter().map(|v| v.to_bits()).collect()
+}
+
+/// The top-left `w × h` pixels of a `W`-wide image.
+fn crop(image: &[f32], w: usize, h: usize) -> Vec<f32> {
+    (0..h)
+        .flat_map(|y| image[y * W * 3..(y * W + w) * 3].iter().copied())
+        .collect()
+}
+
+#[test]
+fn a_session_keeps_its_device_and_remakes_its_filters_only_for_a_new_size_with_the_same_bytes() {
+    let Some(denoiser) = denoiser("OIDN's device and filters kept across frames") else {
+        return;
+    };
+    let (clean, albedo, normal) = scene();
+    let frames: Vec<Vec<f32>> = (0..3).map(|seed| noisy(&clean, 0.5, 20 + seed)).collect();
+    let guided = |color: &[f32]| -> Vec<f32> {
+        let images = Images {
+            width: W,
+            height: H,
+            color,
+            albedo: Some(&albedo),
+            normal: Some(&normal),
+        };
+        // A fresh session each time: a device and filters made for this image alone.
+        denoiser
+            .session(2)
+            .denoise(&images, true)
+            .expect("denoises")
+    };
+    let session = denoiser.session(2);
+    let stats = |devices, setups, denoised| rayforge_denoise::SessionStats {
+        devices,
+        setups,
+        denoised,
+    };
+    assert_eq!(
+        session.stats(),
+        stats(0, 0, 0),
+        "nothing made before an image"
+    );
+    for (i, frame) in frames.iter().enumerate() {
+        let images = Images {
+            width: W,
+            height: H,
+            color: frame,
+            albedo: Some(&albedo),
+            normal: Some(&normal),
+        };
+        let out = session.denoise(&images, true).expect("denoises");
+        assert_eq!(
+            bits(&out),
+            bits(&guided(frame)),
+            "frame {i}: a fresh device's bytes"
+        );
+        assert_eq!(session.stats(), stats(1, 1, i + 1), "after frame {i}");
+    }
+    // Another size: the filters made again on the same device; the bytes a fresh one's.
+    let (w, h) = (W / 2, H / 2);
+    let (small, small_albedo, small_normal) = (
+        crop(&frames[0], w, h),
+        crop(&albedo, w, h),
+        crop(&normal, w, h),
+    );
+    let images = Images {
+        width: w,
+        height: h,
+        color: &small,
+        albedo: Some(&small_albedo),
+        normal: Some(&small_normal),
+    };
+    let out = session.denoise(&images, true).expect("denoises");
+    let fresh = denoiser
+        .session(2)
+        .denoise(&images, true)
+        .expect("denoises");
+    assert_eq!(bits(&out), bits(&fresh), "the smaller image");
+    assert_eq!(session.stats(), stats(1, 2, 4));
+    // Without guides, another set of filters; back to the first size, another again.
+    let alone = Images {
+        albedo: None,
+        normal: None,
+        ..images
+    };
+    let out = session.denoise(&alone, true).expect("denoises");
+    let fresh = denoiser.session(2).denoise(&alone, true).expect("denoises");
+    assert_eq!(bits(&out), bits(&fresh), "without guides");
+    assert_eq!(session.stats(), stats(1, 3, 5));
+    let out = session
+        .denoise(
+            &Images {
+                width: W,
+                height: H,
+                color: &frames[2],
+                albedo: Some(&albedo),
+                normal: Some(&normal),
+            },
+            true,
+        )
+        .expect("denoises");
+    assert_eq!(
+        bits(&out),
+        bits(&guided(&frames[2])),
+        "the first size again"
+    );
+    assert_eq!(session.stats(), stats(1, 4, 6));
+    // A refused image reaches no OIDN call and changes nothing.
+    let short = &frames[0][3..];
+    let refused = Images {
+        width: W,
+        height: H,
+        color: short,
+        albedo: None,
+        normal: None,
+    };
+    assert!(session.denoise(&refused, true).is_err());
+    assert_eq!(session.stats(), stats(1, 4, 6));
+}
+
+#[test]
+fn a_session_is_shared_between_threads_one_image_at_a_time() {
+    let Some(denoiser) = denoiser("a session used from two threads") else {
+        return;
+    };
+    let (clean, albedo, normal) = scene();
+    let frames: Vec<Vec<f32>> = (0..4).map(|seed| noisy(&clean, 0.5, 40 + seed)).collect();
+    let images = |color| Images {
+        width: W,
+        height: H,
+        color,
+        albedo: Some(&albedo),
+        normal: Some(&normal),
+    };
+    let session = denoiser.session(1);
+    // Frames 0 and 1 on one thread, 2 and 3 on another, at once: each as alone.
+    let outs: Vec<Vec<f32>> = std::thread::scope(|scope| {
+        let halves: Vec<_> = frames
+            .chunks(2)
+            .map(|pair| {
+                let (session, images) = (&session, &images);
+                scope.spawn(move || {
+                    pair.iter()
+                        .map(|f| session.denoise(&images(f), true).expect("denoises"))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        halves
+            .into_iter()
+            .flat_map(|h| h.join().expect("the thread"))
+            .collect()
+    });
+    for (frame, out) in frames.iter().zip(&outs) {
+        let fresh = denoiser.session(1).denoise(&images(frame), true).unwrap();
+        assert_eq!(bits(out), bits(&fresh));
+    }
+    let stats = session.stats();
+    assert_eq!((stats.devices, stats.setups, stats.denoised), (1, 1, 4));
 }
 
 #[test]
@@ -174,7 +344,7 @@ fn guides_of_another_size_and_values_that_are_not_finite_are_refused() {
         albedo: Some(short),
         normal: None,
     };
-    let e = denoiser.denoise(&images, true, 1).unwrap_err();
+    let e = denoiser.session(1).denoise(&images, true).unwrap_err();
     assert!(
         matches!(
             e,
@@ -186,6 +356,7 @@ fn guides_of_another_size_and_values_that_are_not_finite_are_refused() {
         "{e}"
     );
     let e = denoiser
+        .session(1)
         .denoise(
             &Images {
                 albedo: None,
@@ -193,13 +364,13 @@ fn guides_of_another_size_and_values_that_are_not_finite_are_refused() {
                 ..images
             },
             true,
-            1,
         )
         .unwrap_err();
     assert_eq!(e, DenoiseError::NormalWithoutAlbedo);
     let mut bad = clean.clone();
     bad[(5 * W + 3) * 3 + 1] = f32::NAN;
     let e = denoiser
+        .session(1)
         .denoise(
             &Images {
                 color: &bad,
@@ -207,7 +378,6 @@ fn guides_of_another_size_and_values_that_are_not_finite_are_refused() {
                 ..images
             },
             true,
-            1,
         )
         .unwrap_err();
     assert!(

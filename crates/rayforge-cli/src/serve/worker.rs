@@ -33,7 +33,7 @@ use rayforge::raster::Rasterizer;
 use rayforge::render::path::{learn_roulette, render_path, Aovs, PathJob};
 use rayforge::render::{render_rows, RenderOptions, Sampling};
 use rayforge::LightingModel;
-use rayforge_denoise::Denoiser;
+use rayforge_denoise::Session;
 use rayforge_scene::{LoadOptions, Scene, StopFlag};
 use rayon::ThreadPool;
 use std::ffi::OsString;
@@ -91,8 +91,10 @@ pub struct Worker {
     loaded: Option<Loaded>,
     /// The page's rasterizer, which keeps its memory from frame to frame.
     rasterizer: Rasterizer,
-    /// OIDN, loaded when a request first asks to denoise.
-    denoiser: Option<Denoiser>,
+    /// OIDN, loaded when a request first asks to denoise, in one session for the page's
+    /// renders: its device, and its filters while the size stays, serve every frame (a
+    /// preview would otherwise spend most of its time making them).
+    denoiser: Option<Session>,
 }
 
 impl Worker {
@@ -158,7 +160,8 @@ impl Worker {
         let denoise = job.request.denoise && matches!(chosen, Chosen::Path(_));
         if denoise && self.denoiser.is_none() {
             // Its absence says how to install it, as `rayforge render --denoise` does.
-            self.denoiser = Some(crate::denoise::load("denoise")?);
+            let threads = self.pool.current_num_threads();
+            self.denoiser = Some(crate::denoise::load("denoise")?.session(threads));
         }
         // As `rayforge render` does: the ray tracer and the rasterizer draw the scene in
         // vacuum, and the page is told so (the scene read is kept whole for the path tracer).
@@ -557,7 +560,7 @@ fn path_passes(
     camera: &Camera,
     options: PathOptions,
     spp: u64,
-    denoiser: Option<&Denoiser>,
+    denoiser: Option<&Session>,
 ) -> Result<(), Stop> {
     let (width, height) = (camera.hsize(), camera.vsize());
     let film = Film::with_filter(width, height, options.filter)
@@ -578,7 +581,6 @@ fn path_passes(
     };
     let passes = doubling_passes(spp);
     let count = passes.len();
-    let threads = pool.current_num_threads();
     let develop = |mut canvas: Canvas| {
         blacken_non_finite(&mut canvas);
         encode_for(ImageFormat::Png, &mut canvas);
@@ -589,8 +591,8 @@ fn path_passes(
         let live = denoiser
             .zip(aovs.as_ref())
             .filter(|_| count > 1)
-            .map(|(denoiser, aovs)| {
-                let oidn = Oidn { denoiser, threads };
+            .map(|(session, aovs)| {
+                let oidn = Oidn { session };
                 // A stale or closed page drops the frame; the render finds out at its own.
                 let deliver = |frame: &live_denoise::Frame, image| {
                     let canvas = develop(image);
@@ -650,8 +652,7 @@ fn path_passes(
             normal: Some(&normal),
         };
         let image = resolved(&film);
-        let denoised =
-            crate::denoise::denoise(denoiser, &image, Some(guides), threads, "the image")?;
+        let denoised = crate::denoise::denoise(denoiser, &image, Some(guides), "the image")?;
         pass.send_frame(&develop(denoised), count, count, spp, true)?;
     }
     Ok(())
