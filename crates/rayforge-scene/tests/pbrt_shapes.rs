@@ -145,3 +145,216 @@ fn a_cut_lamps_power_is_spread_over_its_cut_area() {
     let emission = scene.world.objects[0].material.emission;
     assert!((emission.red - 1.0).abs() < 1e-9, "{emission:?}");
 }
+
+/// The mesh object `i` of `scene` is.
+fn mesh(scene: &Scene, i: usize) -> std::sync::Arc<rayforge::geometry::Mesh> {
+    match &scene.world.objects[i].shape {
+        Shape::Mesh(m) => m.clone(),
+        other => panic!("object {i} is {other:?}"),
+    }
+}
+
+/// The area of a mesh's triangles.
+fn area(m: &rayforge::geometry::Mesh) -> f64 {
+    let p = m.positions();
+    m.faces()
+        .map(|f| {
+            let [a, b, c] = f.vertices.map(|i| p[i as usize]);
+            (b - a).cross(c - a).length() / 2.0
+        })
+        .sum()
+}
+
+/// Where a ray straight down from `(x, y, 5)` first meets object `i`, if it does.
+fn down_at(scene: &Scene, i: usize, x: f64, y: f64) -> Option<f64> {
+    let ray = Ray::new(DVec3::new(x, y, 5.0), DVec3::new(0.0, 0.0, -1.0));
+    let hits = scene.world.objects[i].intersections(&ray);
+    hits.iter()
+        .map(|h| 5.0 - h.t)
+        .fold(None, |m: Option<f64>, z| Some(m.map_or(z, |m| m.max(z))))
+}
+
+#[test]
+fn a_planar_bilinear_patch_is_its_two_triangles() {
+    // A parallelogram, as a patch (p00 p10 p01 p11) and as the two triangles it is.
+    let scene = load(&format!(
+        "{HEAD}Shape \"bilinearmesh\" \"point3 P\" [0 0 0  2 0 0  0.5 1 0  2.5 1 0] \
+         \"integer indices\" [0 1 2 3]\n\
+         Shape \"trianglemesh\" \"point3 P\" [0 0 0  2 0 0  0.5 1 0  2.5 1 0] \
+         \"integer indices\" [0 1 3  0 3 2]\n"
+    ));
+    let (patch, triangles) = (mesh(&scene, 0), mesh(&scene, 1));
+    assert_eq!(patch.face_count(), 2);
+    assert!((area(&patch) - 2.0).abs() < 1e-12, "{}", area(&patch));
+    assert!((area(&patch) - area(&triangles)).abs() < 1e-12);
+    for (x, y) in [
+        (0.3, 0.2),
+        (1.0, 0.5),
+        (2.4, 0.95),
+        (0.1, 0.9),
+        (2.6, 0.5),
+        (-0.1, 0.1),
+    ] {
+        assert_eq!(
+            down_at(&scene, 0, x, y),
+            down_at(&scene, 1, x, y),
+            "at ({x}, {y})"
+        );
+    }
+    assert_eq!(down_at(&scene, 0, 1.0, 0.5), Some(0.0));
+    assert_eq!(down_at(&scene, 0, 0.1, 0.9), None);
+    // Its uv is the patch's (u, v): (1, 1) at p11.
+    let uv = patch.texcoords();
+    assert_eq!(uv.len(), 4);
+    assert_eq!(uv[3], [1.0, 1.0]);
+}
+
+#[test]
+fn a_curved_bilinear_patchs_hits_lie_on_the_patch() {
+    // The saddle z = xy over the unit square: P(u, v) = (u, v, uv).
+    let scene = load(&format!(
+        "{HEAD}Shape \"bilinearmesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0  1 1 1]\n"
+    ));
+    let m = mesh(&scene, 0);
+    assert!(
+        m.face_count() > 2 && m.face_count() <= 2 * 23 * 23,
+        "{}",
+        m.face_count()
+    );
+    // Within the stated bound: 1e-3 of the patch's size (√3).
+    let bound = 1e-3 * 3f64.sqrt();
+    let mut worst: f64 = 0.0;
+    for i in 0..=20 {
+        for j in 0..=20 {
+            let (x, y) = (0.01 + 0.049 * i as f64, 0.01 + 0.049 * j as f64);
+            let z = down_at(&scene, 0, x, y).unwrap_or_else(|| panic!("missed ({x}, {y})"));
+            worst = worst.max((z - x * y).abs());
+        }
+    }
+    assert!(worst <= bound, "{worst} > {bound}");
+    assert!(
+        worst > 0.0,
+        "a grid of triangles cannot be exact on a saddle"
+    );
+    // Its shading normals are the patch's own: ∂P/∂u × ∂P/∂v = (−v, −u, 1) at (u, v).
+    let (p, n) = (m.positions(), m.normals());
+    for (q, n) in p.iter().zip(n) {
+        let want = DVec3::new(-q.y, -q.x, 1.0).normalize();
+        assert!(n.normalize().dot(want) > 1.0 - 1e-9, "{n} at {q}");
+    }
+}
+
+#[test]
+fn a_bilinearmesh_refuses_what_it_cannot_read_at_the_parameter() {
+    let e = error(&format!(
+        "{HEAD}Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0]\n    \
+         \"string emissionfilename\" \"e.exr\"\n"
+    ));
+    assert_at(&e, 4, 5, "string emissionfilename", "not read");
+    let e = error(&format!(
+        "{HEAD}Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0]\n    \
+         \"integer indices\" [0 1 2]\n"
+    ));
+    assert_at(&e, 4, 5, "integer indices", "multiple of 4");
+}
+
+/// A regular tetrahedron about the origin, its faces wound outwards.
+const TETRAHEDRON: &str = "\"point3 P\" [1 1 1  1 -1 -1  -1 1 -1  -1 -1 1] \
+                           \"integer indices\" [0 1 2  0 3 1  0 2 3  1 3 2]";
+
+#[test]
+fn loop_subdivision_of_a_tetrahedron_has_loops_counts_and_limit() {
+    let text = (0..=3)
+        .map(|l| format!("Shape \"loopsubdiv\" \"integer levels\" {l} {TETRAHEDRON}\n"))
+        .collect::<String>();
+    let scene = load(&format!("{HEAD}{text}"));
+    // Each level: faces × 4, vertices + edges (V − E + F = 2).
+    for (l, (v, f)) in [(4, 4), (10, 16), (34, 64), (130, 256)]
+        .into_iter()
+        .enumerate()
+    {
+        let m = mesh(&scene, l);
+        assert_eq!((m.positions().len(), m.face_count()), (v, f), "level {l}");
+    }
+    // An original vertex's limit point is the same at every level (Loop's limit mask), and
+    // by symmetry on its own axis: (1 − 3γ) p + γ Σ ring with γ = 1/5 at valence 3.
+    let want = DVec3::splat(0.4 * 1.0 + 0.2 * (1.0 - 1.0 - 1.0));
+    for l in 0..=3 {
+        let m = mesh(&scene, l);
+        let p = m.positions()[0];
+        assert!((p - want).length() < 1e-12, "level {l}: {p}");
+        // Its limit normal is along the axis, and, as pbrt-v4's tangents' cross product
+        // makes it, against the input faces' (p1 − p0) × (p2 − p0): inwards here.
+        let n = m.normals()[0].normalize();
+        assert!(
+            n.dot(-DVec3::ONE.normalize()) > 1.0 - 1e-9,
+            "level {l}: {n}"
+        );
+        // The faces front as their corners' normals do, as a trianglemesh's with N.
+        let face = m.faces().next().unwrap();
+        let [a, b, c] = face.vertices.map(|i| m.positions()[i as usize]);
+        let ns: DVec3 = face.vertices.iter().map(|&i| m.normals()[i as usize]).sum();
+        assert!((b - a).cross(c - a).dot(ns) > 0.0, "level {l}");
+        // The surface is symmetric about the centre.
+        let mean: DVec3 = m.positions().iter().copied().sum::<DVec3>() / m.positions().len() as f64;
+        assert!(mean.length() < 1e-12, "level {l}: {mean}");
+    }
+    // Refining shrinks the mesh towards its limit: the finest and the next agree closely.
+    let radius = |l: usize| {
+        let m = mesh(&scene, l);
+        m.positions().iter().map(|p| p.length()).fold(0.0, f64::max)
+    };
+    assert!(
+        (radius(3) - radius(2)).abs() < 0.02 * radius(3),
+        "{} {}",
+        radius(2),
+        radius(3)
+    );
+}
+
+#[test]
+fn loop_subdivision_keeps_a_boundary() {
+    // One triangle: every vertex on the boundary; the surface stays in its plane, and a
+    // corner's limit is pbrt-v4's 3/5 of it and 1/5 of each boundary neighbour.
+    let scene = load(&format!(
+        "{HEAD}Shape \"loopsubdiv\" \"integer levels\" 0 \"point3 P\" [0 0 0  1 0 0  0 1 0] \
+         \"integer indices\" [0 1 2]\n\
+         Shape \"loopsubdiv\" \"integer levels\" 2 \"point3 P\" [0 0 0  1 0 0  0 1 0] \
+         \"integer indices\" [0 1 2]\n"
+    ));
+    let m = mesh(&scene, 0);
+    let p = m.positions();
+    assert!(
+        (p[0] - DVec3::new(0.2, 0.2, 0.0)).length() < 1e-12,
+        "{}",
+        p[0]
+    );
+    let m = mesh(&scene, 1);
+    assert_eq!((m.positions().len(), m.face_count()), (15, 16));
+    assert!(m.positions().iter().all(|p| p.z == 0.0));
+    for n in m.normals() {
+        assert!(n.x.abs() < 1e-12 && n.y.abs() < 1e-12, "{n}");
+        // Against the face's (p1 − p0) × (p2 − p0), as at an interior point.
+        assert!(n.z < 0.0, "{n}");
+    }
+}
+
+#[test]
+fn loop_subdivision_refuses_a_non_manifold_mesh_at_its_indices() {
+    // Three triangles on one edge.
+    let e = error(&format!(
+        "{HEAD}Shape \"loopsubdiv\" \"point3 P\" [0 0 0 1 0 0 0 1 0 0 -1 0 0 0 1]\n    \
+         \"integer indices\" [0 1 2  1 0 3  0 1 4]\n"
+    ));
+    assert_at(&e, 4, 5, "integer indices", "manifold");
+    // Two cones meeting at a point.
+    let e = error(&format!(
+        "{HEAD}Shape \"loopsubdiv\" \"point3 P\" [0 0 0 1 0 0 0 1 0 -1 0 0 0 -1 0]\n    \
+         \"integer indices\" [0 1 2  0 3 4]\n"
+    ));
+    assert_at(&e, 4, 5, "integer indices", "one fan");
+    let e = error(&format!(
+        "{HEAD}Shape \"loopsubdiv\" {TETRAHEDRON}\n    \"integer levels\" 16\n"
+    ));
+    assert_at(&e, 4, 5, "integer levels", "0 to 15");
+}

@@ -371,7 +371,14 @@ fn place(
     let side = |two_sided: bool| match (two_sided, shape.reverse, entity.name.as_str()) {
         (true, _, _) => EmissionSide::Both,
         // A mesh's faces were turned over already.
-        (false, true, name) if name != "trianglemesh" && name != "plymesh" => EmissionSide::Back,
+        (false, true, name)
+            if !matches!(
+                name,
+                "trianglemesh" | "plymesh" | "bilinearmesh" | "loopsubdiv"
+            ) =>
+        {
+            EmissionSide::Back
+        }
         _ => EmissionSide::Front,
     };
     let emitting = |area: f64| -> Result<Material, SceneError> {

@@ -20,11 +20,13 @@
 //! [`LoadOptions::max_triangles`] (the defaults: [`PbrtLimits::DEFAULT`]).
 
 mod area_power;
+mod bilinear;
 mod build;
 mod camera;
 mod input;
 mod lexer;
 mod lights;
+mod loop_subdiv;
 mod materials;
 mod measured_media;
 mod media;

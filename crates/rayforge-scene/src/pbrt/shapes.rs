@@ -15,6 +15,14 @@
 //!   Cuts are clamped as pbrt-v4 clamps them (heights to the sphere, `phimax` to 360°); one
 //!   that leaves nothing (`phimax` 0 or less, `zmin` and `zmax` beyond the same pole) is
 //!   refused at its parameter.
+//! - `bilinearmesh` (`P`, `indices` four a patch, optional `N`, `uv`): its patches as
+//!   triangles, exactly two for a planar one and a grid within a stated bound of a curved one
+//!   ([`super::bilinear`]), fronting, shading and emitting as a `trianglemesh`'s;
+//!   `emissionfilename` is refused at its parameter.
+//! - `loopsubdiv` (`levels`, default 3, at most [`MAX_LOOP_LEVELS`]; `indices`; `P`): Loop
+//!   subdivision to the limit surface as pbrt-v4 does it ([`super::loop_subdiv`]), a triangle
+//!   mesh with the limit normals; a mesh that is no manifold is refused at its `indices`.
+//! - Every mesh's triangles count against `--max-triangles` before they are built.
 //! - `curves` are left out with a warning (they are hair and fur, not surfaces), and every
 //!   other shape is refused at its directive.
 
@@ -158,6 +166,14 @@ pub fn build(
             );
             Built::Skipped
         }
+        "bilinearmesh" => {
+            let (mesh, area) = bilinear_mesh(shape, triangles, max_triangles, files.stop())?;
+            Built::Objects(vec![Object::mesh(Arc::new(mesh))], area)
+        }
+        "loopsubdiv" => {
+            let (mesh, area) = loop_subdivision(shape, triangles, max_triangles, files.stop())?;
+            Built::Objects(vec![Object::mesh(Arc::new(mesh))], area)
+        }
         "plymesh" => {
             let (mesh, area) = ply_mesh(shape, files, triangles, max_triangles)?;
             Built::Objects(vec![Object::mesh(Arc::new(mesh))], area)
@@ -165,7 +181,7 @@ pub fn build(
         other => {
             return Err(entity.error(format!(
                 "the shape \"{}\" is not one rayforge reads; it reads trianglemesh, plymesh, \
-                 sphere, disk and cylinder",
+                 bilinearmesh, loopsubdiv, sphere, disk and cylinder",
                 crate::error::clip_to(other, 60)
             )))
         }
@@ -197,26 +213,8 @@ fn triangle_mesh(
     let Some((positions, _)) = params.points3("P", ParamType::Point3)? else {
         return Err(entity.error("a trianglemesh needs its points, \"point3 P\""));
     };
-    let indices: Vec<u32> = match params.numbers("indices", ParamType::Integer)? {
-        Some((v, p)) => {
-            if v.len() % 3 != 0 {
-                return Err(p.error(format!(
-                    "takes three indices a triangle; {} is not a multiple of 3",
-                    v.len()
-                )));
-            }
-            let mut out = Vec::with_capacity(v.len());
-            for &i in v {
-                if i < 0.0 || i >= positions.len() as f64 {
-                    return Err(p.error(format!(
-                        "index {i} is not one of the {} points of \"point3 P\"",
-                        positions.len()
-                    )));
-                }
-                out.push(i as u32);
-            }
-            out
-        }
+    let indices: Vec<u32> = match point_indices(shape, 3, "a triangle", positions.len())? {
+        Some((v, _)) => v,
         None if positions.len() == 3 => vec![0, 1, 2],
         None => {
             return Err(
@@ -248,6 +246,176 @@ fn triangle_mesh(
     };
     counted(shape, indices.len() / 3, triangles, max_triangles)?;
     oriented(shape, positions, normals, texcoords, &indices, stop)
+}
+
+/// The shape's `integer indices`, `group` a face (`what`, for the error), each one of the
+/// `points` points of `P`; `None` when absent.
+fn point_indices<'a>(
+    shape: &'a ShapeEntity,
+    group: usize,
+    what: &str,
+    points: usize,
+) -> Result<Option<(Vec<u32>, &'a Param)>, SceneError> {
+    use super::params::ParamType;
+    let Some((v, p)) = shape.entity.params.numbers("indices", ParamType::Integer)? else {
+        return Ok(None);
+    };
+    if v.len() % group != 0 {
+        return Err(p.error(format!(
+            "takes {group} indices {what}; {} is not a multiple of {group}",
+            v.len()
+        )));
+    }
+    let mut out = Vec::with_capacity(v.len());
+    for &i in v {
+        if i < 0.0 || i >= points as f64 {
+            return Err(p.error(format!(
+                "index {i} is not one of the {points} points of \"point3 P\""
+            )));
+        }
+        out.push(i as u32);
+    }
+    Ok(Some((out, p)))
+}
+
+/// A `bilinearmesh` (`P`, `indices` four a patch in pbrt-v4's order `p00 p10 p01 p11`,
+/// optional `N` and `uv` one a point): its patches as triangles ([`super::bilinear`]), fronting
+/// as a `trianglemesh`'s do, and their area.
+fn bilinear_mesh(
+    shape: &ShapeEntity,
+    triangles: &mut usize,
+    max_triangles: usize,
+    stop: &crate::stop::StopFlag,
+) -> Result<(Mesh, f64), SceneError> {
+    use super::bilinear::{Patch, Tessellation};
+    use super::params::ParamType;
+    let entity = &shape.entity;
+    let params = &entity.params;
+    if let Some((_, p)) = params.string("emissionfilename")? {
+        return Err(p.error(
+            "an image emitted over the patches is not read by rayforge; give the area light \
+             its radiance (\"rgb L\", \"spectrum L\") instead",
+        ));
+    }
+    let Some((positions, _)) = params.points3("P", ParamType::Point3)? else {
+        return Err(entity.error("a bilinearmesh needs its points, \"point3 P\""));
+    };
+    let indices = match point_indices(shape, 4, "a patch", positions.len())? {
+        Some((v, _)) => v,
+        None if positions.len() == 4 => vec![0, 1, 2, 3],
+        None => {
+            return Err(
+                entity.error("a bilinearmesh of more than four points needs \"integer indices\"")
+            )
+        }
+    };
+    let normals = match params.points3("N", ParamType::Normal)? {
+        Some((n, p)) if n.len() != positions.len() => {
+            return Err(p.error(format!(
+                "has {} normals for {} points; it takes one a point",
+                n.len(),
+                positions.len()
+            )))
+        }
+        Some((n, _)) => Some(n),
+        None => None,
+    };
+    let uv = match params.points2("uv")? {
+        Some((uv, p)) if uv.len() != positions.len() => {
+            return Err(p.error(format!(
+                "has {} texture coordinates for {} points; it takes one a point",
+                uv.len(),
+                positions.len()
+            )))
+        }
+        Some((uv, _)) => Some(uv),
+        None => None,
+    };
+    let patches: Vec<Patch> = indices
+        .chunks_exact(4)
+        .map(|c| {
+            let c = [c[0], c[1], c[2], c[3]].map(|i| i as usize);
+            Patch {
+                p: c.map(|i| positions[i]),
+                n: normals.as_ref().map(|n| c.map(|i| n[i])),
+                uv: match &uv {
+                    Some(uv) => c.map(|i| uv[i]),
+                    None => [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+                        .map(|(u, v)| glam::DVec2::new(u, v)),
+                },
+            }
+        })
+        .collect();
+    // Count before building, so a scene past the limit is refused without its triangles.
+    let cells: Vec<usize> = patches.iter().map(Patch::cells).collect();
+    let count = cells
+        .iter()
+        .fold(0usize, |sum, n| sum.saturating_add(2 * n * n));
+    counted(shape, count, triangles, max_triangles)?;
+    let mut out = Tessellation::default();
+    for (patch, &n) in patches.iter().zip(&cells) {
+        patch.tessellate(n, &mut out);
+    }
+    oriented(
+        shape,
+        out.positions,
+        out.normals,
+        out.texcoords,
+        &out.indices,
+        stop,
+    )
+}
+
+/// The most levels a `loopsubdiv` is refined (each quadruples its triangles; the scene's
+/// `--max-triangles` holds them too): pbrt-v4 sets none, and 4¹⁵ is a billion triangles of
+/// one face.
+pub const MAX_LOOP_LEVELS: i64 = 15;
+
+/// A `loopsubdiv` (`levels`, default 3; `indices`; `P`): the mesh refined by Loop's rules to
+/// its limit surface ([`super::loop_subdiv`]), with its limit normals, fronting as a
+/// `trianglemesh`'s do, and its area.
+fn loop_subdivision(
+    shape: &ShapeEntity,
+    triangles: &mut usize,
+    max_triangles: usize,
+    stop: &crate::stop::StopFlag,
+) -> Result<(Mesh, f64), SceneError> {
+    use super::loop_subdiv::{subdivide, triangles_after, TriMesh};
+    use super::params::ParamType;
+    let entity = &shape.entity;
+    let params = &entity.params;
+    let levels = match params.integer("levels")? {
+        Some((l, p)) if !(0..=MAX_LOOP_LEVELS).contains(&l) => {
+            return Err(p.error(format!(
+                "a loopsubdiv is refined 0 to {MAX_LOOP_LEVELS} levels, found {l}"
+            )))
+        }
+        Some((l, _)) => l as u32,
+        None => 3,
+    };
+    let Some((positions, _)) = params.points3("P", ParamType::Point3)? else {
+        return Err(entity.error("a loopsubdiv needs its points, \"point3 P\""));
+    };
+    let Some((indices, at)) = point_indices(shape, 3, "a triangle", positions.len())? else {
+        return Err(entity.error("a loopsubdiv needs its triangles, \"integer indices\""));
+    };
+    let faces: Vec<[u32; 3]> = indices
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    let count = triangles_after(faces.len(), levels).unwrap_or(usize::MAX);
+    counted(shape, count, triangles, max_triangles)?;
+    let limit = subdivide(TriMesh { positions, faces }, levels)
+        .map_err(|e| at.error(format!("Loop subdivision needs a manifold mesh: {e}")))?;
+    let indices: Vec<u32> = limit.faces.into_iter().flatten().collect();
+    oriented(
+        shape,
+        limit.positions,
+        limit.normals,
+        Vec::new(),
+        &indices,
+        stop,
+    )
 }
 
 /// Adds a mesh's `faces` to the scene's `triangles`, held to `max_triangles`.
