@@ -69,7 +69,8 @@ Render options (`rayforge render --help` describes each in full):
       --roulette-scale <K>  path only: auto (learned for the scene) or 0.25 to 64; 1 is the
                             classic Russian roulette [default: auto]
       --sample-allocation <NAME> path only: by-noise (samples where the noise is; --spp
-                            is the mean) or uniform [default: by-noise]
+                            is the mean), by-noise-trusted (no even floor) or uniform
+                            [default: by-noise]
       --light-sampler <NAME> path only: uniform, power, bvh (a light tree) or auto (the
                             tree from 4 lights with a place) [default: auto]
       --next-event <on|off> path only: next-event estimation (lights sampled) [default: on]
@@ -596,8 +597,11 @@ pub struct RenderArgs {
 
     /// Path tracer: how a render's samples are shared among its pixels: `by-noise` (each
     /// pixel takes samples as it is noisy, as a pilot pass finds it, --spp being the mean;
-    /// renders in passes and of fewer than 16 samples per pixel share them evenly) or
-    /// `uniform` (--spp each) [default: the scene's `sample-allocation`, else by-noise].
+    /// renders in passes and of fewer than 16 samples per pixel share them evenly; as far as
+    /// the pilot's two halves disagree, a share of the budget is spread evenly, a floor for
+    /// pixels where it may have missed rare paths), `by-noise-trusted` (the same without that
+    /// floor) or `uniform` (--spp each) [default: the scene's `sample-allocation`, else
+    /// by-noise].
     #[arg(long, value_name = "NAME", value_enum)]
     pub sample_allocation: Option<SampleAllocationArg>,
 
@@ -766,6 +770,8 @@ pub enum SamplerArg {
 pub enum SampleAllocationArg {
     /// As each pixel is noisy, from a pilot pass.
     ByNoise,
+    /// As by-noise, the pilot's map trusted whole (no even share held back).
+    ByNoiseTrusted,
     /// The same in every pixel.
     Uniform,
     /// The old name of `by-noise`, read with a deprecation warning.

@@ -344,6 +344,7 @@ fn path_request(args: &RenderArgs) -> Result<PathRequest, Failure> {
         roulette,
         allocation: args.sample_allocation.map(|a| match a {
             SampleAllocationArg::ByNoise => SampleAllocation::ByNoise,
+            SampleAllocationArg::ByNoiseTrusted => SampleAllocation::ByNoiseTrusted,
             SampleAllocationArg::Uniform => SampleAllocation::Uniform,
             SampleAllocationArg::Adaptive => {
                 if !args.quiet {

@@ -298,7 +298,10 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
                     source.error(
                         e.value,
                         "sample-allocation",
-                        format!("expected `uniform` or `by-noise`, found `{}`", clip(name)),
+                        format!(
+                            "expected `by-noise`, `by-noise-trusted` or `uniform`, found `{}`",
+                            clip(name)
+                        ),
                     )
                 })?;
             }

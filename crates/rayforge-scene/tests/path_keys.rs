@@ -717,7 +717,7 @@ fn bad_path_tracer_values_are_errors_naming_the_key() {
         10,
         24,
         "sample-allocation",
-        "expected `uniform` or `by-noise`, found `even`",
+        "expected `by-noise`, `by-noise-trusted` or `uniform`, found `even`",
     );
     for bad in ["0.2", "65", "-1", "nan", "often", "[1, 2]"] {
         assert_located(

@@ -314,15 +314,22 @@ pub enum SampleAllocation {
     /// anti-aliasing, which splits pixels, not the render's budget.)
     #[default]
     ByNoise,
+    /// As [`Self::ByNoise`], with the pilot's map of the noise trusted whole: no share of the
+    /// budget is held back for the pixels where the pilot may have missed rare paths (the
+    /// plan's defence, `render::path::adaptive`). A little less error where the map is
+    /// right; far more where a scene's light comes by rare bright paths the pilot missed.
+    ByNoiseTrusted,
     /// Every pixel takes the same number.
     Uniform,
 }
 
 impl SampleAllocation {
-    /// The allocation a scene or the command line names: `by-noise` or `uniform`.
+    /// The allocation a scene or the command line names: `by-noise`, `by-noise-trusted` or
+    /// `uniform`.
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "by-noise" => Some(Self::ByNoise),
+            "by-noise-trusted" => Some(Self::ByNoiseTrusted),
             "uniform" => Some(Self::Uniform),
             _ => None,
         }

@@ -14,10 +14,19 @@
 //! nothing; and as a pixel's count depends on its neighbours' samples, not its own, each
 //! pixel's estimate stays unbiased (were its own samples to decide how many it takes, a pixel
 //! that drew a rare bright sample would take more and dilute it); its own samples weigh only
-//! in the plan's two choices over the whole image, whether to plan and the scale that meets
-//! the budget, one part in the number of pixels. The plan is made only
-//! where it foresees a gain: planned from one half of the pilot's samples and judged by the
-//! other, it must take [`MIN_GAIN`] off the squared error; else every pixel takes the same.
+//! in the plan's three choices over the whole image, whether to plan, how far to trust the
+//! pilot's map and the scale that meets the budget, one part in the number of pixels. The
+//! plan is made only where it foresees a gain: planned from one half of the pilot's samples
+//! and judged by the other, it must take [`MIN_GAIN`] off the squared error; else every pixel
+//! takes the same.
+//!
+//! A pilot can miss what is rare: a caustic through rough glass is a few bright paths in
+//! thousands, and a pixel whose pilot drew none of them looks quiet. Such a map is mostly
+//! luck, and the two halves of the pilot show it, each bright where the other drew its
+//! spikes; the plan then trusts the map only as far as the halves agree ([`disagreement`],
+//! [`defence`]), and shares the rest of the budget evenly ([`defended`]): a pixel that saw
+//! nothing still takes that part of the even share. `--sample-allocation by-noise-trusted`
+//! turns the defence off.
 //!
 //! A plan is a pure function of the scene, the seed and the samples per pixel, so the image
 //! is still the same for any thread count, and a range of the nominal samples
@@ -156,7 +165,10 @@ pub(super) struct PilotLog {
 /// Whether a render of `spp` samples per pixel in one pass with `options` plans its samples
 /// ([`prepare_render`] makes a pilot and, where it foresees a gain, a plan).
 pub fn plans_samples(options: &PathOptions, spp: u64) -> bool {
-    options.allocation == SampleAllocation::ByNoise && spp >= MIN_ADAPTIVE_SPP
+    matches!(
+        options.allocation,
+        SampleAllocation::ByNoise | SampleAllocation::ByNoiseTrusted
+    ) && spp >= MIN_ADAPTIVE_SPP
 }
 
 /// The roulette of a render of `spp` samples per pixel in one pass with `options` (learned
@@ -241,6 +253,12 @@ pub fn plan_samples(
     };
     let cost = smooth(&|p| p.cost);
     let [even, odd] = [0, 1].map(|h| smooth(&|p: &PilotPixel| p.variance[h]));
+    // How far the halves' maps disagree is how far a map of the pilot's noise is itself
+    // noise: the plans lean toward the even share by its square (see [`defence`]).
+    let distrust = match options.allocation {
+        SampleAllocation::ByNoiseTrusted => 0.0,
+        _ => defence(disagreement(&even, &odd)),
+    };
     let low = pilot as f64;
     // Planned from one half of the pilot and judged by the other, a plan must foresee a
     // gain: where the spreads are noise, it would not (the halves disagree).
@@ -251,8 +269,8 @@ pub fn plan_samples(
             .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y))
     };
     let foreseen = match (
-        shares(&even, &cost, spp, low),
-        shares(&odd, &cost, spp, low),
+        shares(&even, &cost, spp, low).map(|s| defended(s, distrust, spp)),
+        shares(&odd, &cost, spp, low).map(|s| defended(s, distrust, spp)),
     ) {
         (Some(a), Some(b)) => {
             let (planned_a, even_a) = judged(&a, &odd);
@@ -262,7 +280,7 @@ pub fn plan_samples(
         _ => false,
     };
     let variance = smooth(&|p| p.variance[2]);
-    let counts = match shares(&variance, &cost, spp, low) {
+    let counts = match shares(&variance, &cost, spp, low).map(|s| defended(s, distrust, spp)) {
         Some(shares) if foreseen => {
             let mut dither = SplitMix64::new(options.seed ^ 0x726f_756e_6469_6e67);
             shares
@@ -290,6 +308,58 @@ fn usable(v: f64) -> f64 {
     } else {
         0.0
     }
+}
+
+/// How far two estimates `a` and `b` of the same map of variances disagree, from 0 (the
+/// same) to 1 (each bright where the other is dark): Σ |a − b| ∕ Σ (a + b).
+///
+/// The halves of the pilot are independent estimates of each pixel's variance, so their
+/// difference measures the error of the whole pilot's estimate: were a half's relative
+/// error ε, the difference's would be √2 ε and the whole's ε ∕ √2, so that this ratio is the
+/// whole map's mean relative error (Σ |a − b| is twice Σ of the whole's error, Σ (a + b)
+/// twice the whole). Where the noise is rare bright paths (a caustic seen through rough
+/// glass, a small lamp found only by chance) each half saw its own few spikes and the ratio
+/// nears 1: the map says where the pilot was lucky, not where the noise is, and the pixels
+/// it calls quiet may hold paths it never drew.
+fn disagreement(a: &[f64], b: &[f64]) -> f64 {
+    let (apart, total) = (a.iter().zip(b))
+        .map(|(&x, &y)| (usable(x), usable(y)))
+        .fold((0.0, 0.0), |(d, t), (x, y)| (d + (x - y).abs(), t + x + y));
+    if total > 0.0 {
+        (apart / total).min(1.0)
+    } else {
+        0.0
+    }
+}
+
+/// The share of the budget to spread evenly for a pilot whose halves disagree by
+/// `disagreement`: its square. A map of relative error ε misplaces the samples by about ε ∕ 2
+/// (they follow σ, the square root of the variance), and a plan's excess error over the best
+/// one grows as the square of the misplacement: the noise of an ordinary pilot (its halves
+/// apart by a tenth to a quarter on the reference scenes, the Bitterli Cornell box and the
+/// bench's lamps) costs a plan little, and is met with 1–6 % of the budget; a pilot that
+/// drew rare paths (0.66–0.96 on the glass gem's caustics) keeps a half or more of it
+/// even. Measured against the disagreement itself as the share on twelve scenes, eight
+/// seeds each (docs/performance.md, "The by-noise plan's defence"): the square took the
+/// glass gem's loss back as well, and cost the well-sampled scenes a third to a half as
+/// much.
+fn defence(disagreement: f64) -> f64 {
+    disagreement * disagreement
+}
+
+/// The planned `shares` of a render of `spp` samples per pixel mixed with the even share by
+/// `distrust` (0: as planned, 1: `spp` everywhere): the part of the budget the pilot's map
+/// cannot be trusted with is spread evenly, as defensive importance sampling mixes an even
+/// density into a learned one. This is the plan's floor where the pilot may have missed
+/// rare paths: every pixel takes at least `distrust` × `spp`, and where the halves agree
+/// the plan stays nearly the one the map asks for.
+/// The mixture costs what the two parts cost, each the budget, and stays within the bounds
+/// both keep.
+fn defended(shares: Vec<f64>, distrust: f64, spp: u64) -> Vec<f64> {
+    let even = spp as f64;
+    (shares.into_iter())
+        .map(|share| (1.0 - distrust) * share + distrust * even)
+        .collect()
 }
 
 /// `values` (a `width` × `height` image, row by row) averaged over the square of `radius`
@@ -412,6 +482,31 @@ mod tests {
         assert_eq!(shares(&[2.0; 9], &[3.0; 9], 64, 8.0), Some(vec![64.0; 9]));
         assert_eq!(shares(&[0.0; 9], &[1.0; 9], 64, 8.0), None);
         assert_eq!(shares(&[f64::NAN; 9], &[1.0; 9], 64, 8.0), None);
+    }
+
+    #[test]
+    fn halves_that_agree_are_trusted_and_halves_that_saw_different_spikes_are_not() {
+        let map = [1.0, 4.0, 9.0, 0.0];
+        let planned = vec![8.0, 16.0, 40.0, 0.0];
+        assert_eq!(disagreement(&map, &map), 0.0);
+        assert_eq!(defended(planned.clone(), 0.0, 16), planned);
+        // Each half bright where the other is dark: nothing of the map is to be trusted,
+        // and every pixel takes the even share.
+        assert_eq!(disagreement(&[2.0, 0.0], &[0.0, 2.0]), 1.0);
+        assert_eq!(defended(planned.clone(), 1.0, 16), vec![16.0; 4]);
+        // Halves off by a tenth of their level: a tenth of the budget is shared evenly,
+        // and the whole still costs the budget.
+        let d = disagreement(&[1.1, 2.2], &[0.9, 1.8]);
+        assert!((d - 0.1).abs() < 1e-12, "{d}");
+        let s = defended(planned, d, 16);
+        let expected = [8.8, 16.0, 37.6, 1.6];
+        assert!(
+            s.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-12),
+            "{s:?}"
+        );
+        assert!((s.iter().sum::<f64>() - 64.0).abs() < 1e-12);
+        // Nothing measured (or nothing usable) is no evidence against the map.
+        assert_eq!(disagreement(&[0.0, f64::NAN], &[0.0, 0.0]), 0.0);
     }
 
     #[test]
