@@ -12,6 +12,7 @@ mod equal_area;
 mod frame;
 mod matrix;
 mod motion;
+pub mod perlin;
 pub mod random;
 mod ray;
 pub mod roots;
