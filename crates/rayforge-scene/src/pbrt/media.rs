@@ -2,15 +2,17 @@
 //! `MediumInterface` of each shape, and the camera's medium (the outside medium in force at
 //! `Camera`), into the world's media and each object's `MediumInterface`.
 //!
-//! Both types read `sigma_a` and `sigma_s` (rgb or spectrum; 1 when absent, pbrt-v4's
-//! defaults), `scale` and `g`; `homogeneous` also `Le` with `Lescale`, and `preset`, one of
+//! Every type reads `sigma_a` and `sigma_s` (rgb or spectrum; 1 when absent, pbrt-v4's
+//! defaults) and `g`, and all but `cloud` `scale`; `homogeneous` also `Le` with `Lescale`, and `preset`, one of
 //! pbrt-v4's named measured media ([`measured_media`](super::measured_media)), in place of
 //! `sigma_a` and `sigma_s`. `uniformgrid` reads `density` (`nx` × `ny` × `nz` values, x
 //! fastest) over the box `p0`–`p1` in the medium's space, placed by the transform in force at
 //! `MakeNamedMedium`, and gives off light as pbrt-v4's grid does: `Le` times the grid
 //! `Lescale`, or a blackbody at the grid `temperature`. `rgbgrid` reads grids of colours for
-//! `sigma_a`, `sigma_s` and `Le` over the same box. What rayforge does not render is refused:
-//! the other types (`cloud`, and `nanovdb`, whose files rayforge does not read).
+//! `sigma_a`, `sigma_s` and `Le` over the same box. `cloud` is pbrt-v4's procedural cloud
+//! ([`CloudMedium`]: `density`, `wispiness`, `frequency` over the box `p0`–`p1`). What
+//! rayforge does not render is refused: the other types (`nanovdb`, whose files rayforge
+//! does not read).
 
 use super::measured_media;
 use super::params::ParamType;
@@ -20,8 +22,8 @@ use crate::error::SceneError;
 use glam::{DMat4, DVec3};
 use rayforge::math::{Aabb, Transform};
 use rayforge::media::{
-    BlackbodyTable, ColorGrid, DensityGrid, Glow, GridMedium, HenyeyGreenstein, Homogeneous,
-    Medium, MediumId, MediumInterface, MAX_ASYMMETRY, MAX_BLACKBODY_ENTRIES,
+    BlackbodyTable, CloudMedium, ColorGrid, DensityGrid, Glow, GridMedium, HenyeyGreenstein,
+    Homogeneous, Medium, MediumId, MediumInterface, MAX_ASYMMETRY, MAX_BLACKBODY_ENTRIES,
 };
 use rayforge::shading::spectrum::{planck, spectrum_to_xyz, xyz_to_linear_srgb};
 use rayforge::{Color, World};
@@ -68,10 +70,6 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
             }
         }
     };
-    let scale = params.float_or("scale", 1.0)?;
-    if scale.is_nan() || scale < 0.0 {
-        return Err(entity.error(format!("`scale` is at least 0, found {scale}")));
-    }
     let kind = match params.string("type")? {
         Some((t, _)) => t.to_string(),
         None => {
@@ -88,6 +86,14 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
         )));
     }
     let phase = HenyeyGreenstein::new(g);
+    if kind == "cloud" {
+        return cloud(entity, world_from_medium, phase, &spectrum)
+            .map(|m| Medium::Cloud(Box::new(m)));
+    }
+    let scale = params.float_or("scale", 1.0)?;
+    if scale.is_nan() || scale < 0.0 {
+        return Err(entity.error(format!("`scale` is at least 0, found {scale}")));
+    }
     if kind == "rgbgrid" {
         return rgb_grid(entity, world_from_medium, scale, phase)
             .map(|m| Medium::Grid(Box::new(m)));
@@ -155,10 +161,46 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
              values) or, in a YAML scene, as a Mitsuba .vol file",
         )),
         other => Err(entity.error(format!(
-            "the medium type \"{other}\" is not read; rayforge reads homogeneous, uniformgrid \
-             and rgbgrid"
+            "the medium type \"{other}\" is not read; rayforge reads homogeneous, uniformgrid, \
+             rgbgrid and cloud"
         ))),
     }
+}
+
+/// A `cloud`, as pbrt-v4's `CloudMedium::Create` reads it: `density` (1), `wispiness` (1),
+/// `frequency` (5), `sigma_a` and `sigma_s` (1 when absent) and the box `p0`–`p1` (the unit
+/// cube) in the medium's space, placed by `world_from_medium`. pbrt-v4 reads no `scale` for a
+/// cloud, so rayforge does not either (one given is warned about as unused).
+fn cloud(
+    entity: &Entity,
+    world_from_medium: &DMat4,
+    phase: HenyeyGreenstein,
+    spectrum: &impl Fn(&str, Color, SpectrumUse) -> Result<Color, SceneError>,
+) -> Result<CloudMedium, SceneError> {
+    let params = &entity.params;
+    let sigma_a = spectrum("sigma_a", DEFAULT_SIGMA_A, SpectrumUse::Index)?;
+    let sigma_s = spectrum("sigma_s", DEFAULT_SIGMA_S, SpectrumUse::Index)?;
+    let scalar = |name: &str, default: f64| -> Result<f64, SceneError> {
+        match params.float_at(name)? {
+            None => Ok(default),
+            Some((v, _)) if v.is_finite() && v >= 0.0 => Ok(v),
+            Some((v, p)) => Err(p.error(format!(
+                "a cloud's `{name}` is finite and at least 0, found {v}"
+            ))),
+        }
+    };
+    let density = scalar("density", 1.0)?;
+    let wispiness = scalar("wispiness", 1.0)?;
+    let frequency = scalar("frequency", 5.0)?;
+    let p0 = params.point3_or("p0", DVec3::ZERO)?;
+    let p1 = params.point3_or("p1", DVec3::ONE)?;
+    let bounds = Aabb::new(p0.min(p1), p0.max(p1));
+    let transform = Transform::try_new(*world_from_medium)
+        .map_err(|_| entity.error("the medium is placed by a singular transform"))?;
+    CloudMedium::new(
+        sigma_a, sigma_s, phase, density, wispiness, frequency, bounds, transform,
+    )
+    .map_err(|e| entity.error(e.to_string()))
 }
 
 /// An `rgbgrid`, as pbrt-v4's `RGBGridMedium` reads it: `sigma_a` and `sigma_s` grids of

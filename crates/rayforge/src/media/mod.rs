@@ -1,7 +1,8 @@
 //! Participating media: what fills space between surfaces and absorbs, scatters and gives
 //! off light along the way (fog, smoke, coloured liquids, the inside of wax and skin).
 //!
-//! A [`Medium`] is homogeneous ([`Homogeneous`]) or a density grid ([`GridMedium`]); the
+//! A [`Medium`] is homogeneous ([`Homogeneous`]), a density grid ([`GridMedium`]) or
+//! pbrt-v4's procedural cloud ([`CloudMedium`]); the
 //! world's media are a list ([`Media`]) that surfaces name by index ([`MediumId`]). Where a
 //! medium is is told by surfaces: an object's [`MediumInterface`] says which medium lies
 //! inside it and which outside, and the world names the medium around the camera. Light is
@@ -9,6 +10,7 @@
 //! where a path scatters, ratio tracking estimates what a shadow ray lets through; in a
 //! homogeneous medium [`equiangular`] sampling draws points near small lamps besides.
 
+pub mod cloud;
 pub mod equiangular;
 pub mod glow;
 pub mod grid;
@@ -17,6 +19,7 @@ pub mod majorant;
 pub mod phase;
 pub mod tracking;
 
+pub use cloud::CloudMedium;
 pub use equiangular::{Anchors, Equiangular, MAX_ANCHORS};
 pub use glow::{BlackbodyTable, ColorGrid, Glow, LOWEST_GLOWING_KELVIN, MAX_BLACKBODY_ENTRIES};
 pub use grid::{DensityGrid, GridMedium, MAX_GRID_SAMPLES};
@@ -33,6 +36,8 @@ pub enum Medium {
     Homogeneous(Homogeneous),
     /// A density grid.
     Grid(Box<GridMedium>),
+    /// A procedural cloud.
+    Cloud(Box<CloudMedium>),
 }
 
 impl Medium {
@@ -41,6 +46,7 @@ impl Medium {
         match self {
             Medium::Homogeneous(m) => m.phase,
             Medium::Grid(m) => m.phase,
+            Medium::Cloud(m) => m.phase,
         }
     }
 
@@ -49,6 +55,8 @@ impl Medium {
         match self {
             Medium::Homogeneous(m) => m.emission.max_channel() > 0.0,
             Medium::Grid(m) => m.emits(),
+            // pbrt-v4's cloud gives off no light.
+            Medium::Cloud(_) => false,
         }
     }
 }
@@ -156,8 +164,16 @@ pub enum MediumError {
         /// What it is.
         value: f64,
     },
-    /// The grid's box is empty or not finite.
-    #[error("a density grid's bounds must have a positive, finite extent along each axis")]
+    /// A medium's scalar parameter is negative or not finite.
+    #[error("`{name}` must be finite and at least 0, found {value}")]
+    Parameter {
+        /// Which parameter.
+        name: &'static str,
+        /// What was given.
+        value: f64,
+    },
+    /// The medium's box is empty or not finite.
+    #[error("a medium's bounds must have a positive, finite extent along each axis")]
     Bounds,
     /// More media than ids.
     #[error("too many media")]
