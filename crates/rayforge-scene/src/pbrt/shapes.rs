@@ -27,10 +27,10 @@
 //!   other shape is refused at its directive.
 
 use super::input::Files;
-use super::params::Param;
+use super::params::{Param, Params};
 use super::reader::ShapeEntity;
 use crate::error::SceneError;
-use glam::{DMat4, DVec3};
+use glam::{DMat4, DVec2, DVec3};
 use rayforge::geometry::{CutError, Mesh, MeshFace, PartialQuadric, Winding};
 use rayforge::{Object, Shape};
 use std::sync::Arc;
@@ -222,30 +222,35 @@ fn triangle_mesh(
             )
         }
     };
-    let normals = match params.points3("N", ParamType::Normal)? {
-        Some((n, p)) if n.len() != positions.len() => {
-            return Err(p.error(format!(
-                "has {} normals for {} points; it takes one a point",
-                n.len(),
-                positions.len()
-            )))
-        }
-        Some((n, _)) => n,
-        None => Vec::new(),
-    };
-    let texcoords: Vec<[f64; 2]> = match params.points2("uv")? {
-        Some((uv, p)) if uv.len() != positions.len() => {
-            return Err(p.error(format!(
-                "has {} texture coordinates for {} points; it takes one a point",
-                uv.len(),
-                positions.len()
-            )))
-        }
-        Some((uv, _)) => uv.into_iter().map(|t| [t.x, t.y]).collect(),
-        None => Vec::new(),
-    };
+    let normals = point_normals(params, positions.len())?.unwrap_or_default();
+    let texcoords: Vec<[f64; 2]> = (point_uvs(params, positions.len())?.unwrap_or_default())
+        .into_iter()
+        .map(|t| [t.x, t.y])
+        .collect();
     counted(shape, indices.len() / 3, triangles, max_triangles)?;
     oriented(shape, positions, normals, texcoords, &indices, stop)
+}
+
+/// The shape's `normal N`, one for each of its `points` points; `None` when absent.
+fn point_normals(params: &Params, points: usize) -> Result<Option<Vec<DVec3>>, SceneError> {
+    match params.points3("N", super::params::ParamType::Normal)? {
+        Some((n, p)) if n.len() != points => Err(p.error(format!(
+            "has {} normals for {points} points; it takes one a point",
+            n.len()
+        ))),
+        found => Ok(found.map(|(n, _)| n)),
+    }
+}
+
+/// The shape's `point2 uv`, one for each of its `points` points; `None` when absent.
+fn point_uvs(params: &Params, points: usize) -> Result<Option<Vec<DVec2>>, SceneError> {
+    match params.points2("uv")? {
+        Some((uv, p)) if uv.len() != points => Err(p.error(format!(
+            "has {} texture coordinates for {points} points; it takes one a point",
+            uv.len()
+        ))),
+        found => Ok(found.map(|(uv, _)| uv)),
+    }
 }
 
 /// The shape's `integer indices`, `group` a face (`what`, for the error), each one of the
@@ -309,28 +314,8 @@ fn bilinear_mesh(
             )
         }
     };
-    let normals = match params.points3("N", ParamType::Normal)? {
-        Some((n, p)) if n.len() != positions.len() => {
-            return Err(p.error(format!(
-                "has {} normals for {} points; it takes one a point",
-                n.len(),
-                positions.len()
-            )))
-        }
-        Some((n, _)) => Some(n),
-        None => None,
-    };
-    let uv = match params.points2("uv")? {
-        Some((uv, p)) if uv.len() != positions.len() => {
-            return Err(p.error(format!(
-                "has {} texture coordinates for {} points; it takes one a point",
-                uv.len(),
-                positions.len()
-            )))
-        }
-        Some((uv, _)) => Some(uv),
-        None => None,
-    };
+    let normals = point_normals(params, positions.len())?;
+    let uv = point_uvs(params, positions.len())?;
     let patches: Vec<Patch> = indices
         .chunks_exact(4)
         .map(|c| {
