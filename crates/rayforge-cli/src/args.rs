@@ -679,7 +679,9 @@ pub struct RenderArgs {
     /// Path tracer: denoise the image with Intel Open Image Denoise (its `RT` filter on the
     /// linear radiance, guided by the first surfaces' albedo and normals, themselves denoised
     /// first); with --aovs the raw image is kept beside it, as `out.noisy.png` for `out.png`
-    /// or the layer `noisy.R/G/B` of an OpenEXR output. The library is loaded when rayforge
+    /// or the layer `noisy.R/G/B` of an OpenEXR output. With --display-server the viewer's
+    /// image is the layer `denoised` (each pass's, denoised beside the render, then the
+    /// final) and the rows fill the layer `noisy`. The library is loaded when rayforge
     /// runs: `tools/oidn/install.sh` installs it, and without it the render is refused before
     /// it starts.
     #[arg(long)]
@@ -698,7 +700,9 @@ pub struct RenderArgs {
     /// Show the image in the tev HDR viewer while it renders, over tev's TCP protocol
     /// (`HOST:PORT`, or `HOST` for tev's port 14158), rows as they finish, and with the path
     /// tracer each pass; the render goes on, after one warning, if the viewer is absent or
-    /// goes away.
+    /// goes away. The image is the viewer's unnamed layer (R, G, B); with --aovs the layers
+    /// `albedo`, `normal`, `depth` and `samples` come beside it; with --denoise the rows fill
+    /// `noisy` and the denoised image is `denoised`.
     #[arg(long, value_name = "HOST:PORT")]
     pub display_server: Option<String>,
 

@@ -478,6 +478,35 @@ fn the_help_names_the_new_spellings_only() {
     assert!(!help.contains("adaptive (each"), "{help}");
 }
 
+#[test]
+fn the_help_names_the_layers_the_viewer_is_sent() {
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .args(["render", "--help"])
+        .output()
+        .unwrap();
+    let help = String::from_utf8_lossy(&o.stdout);
+    // A flag's long help, from its name to the blank line before the next flag.
+    let flag = |name: &str| {
+        let at = help.find(name).unwrap_or_else(|| panic!("{name}: {help}"));
+        let rest = &help[at + name.len()..];
+        rest[..rest.find("\n\n").unwrap_or(rest.len())].to_string()
+    };
+    let server = flag("--display-server <HOST:PORT>");
+    let layers = ["albedo", "normal", "depth", "samples", "noisy", "denoised"];
+    for layer in layers {
+        let named = format!("`{layer}`");
+        assert!(
+            server.contains(&named),
+            "--display-server names {named}: {server}"
+        );
+    }
+    let denoise = flag("--denoise\n");
+    assert!(
+        denoise.contains("`denoised`") && denoise.contains("`noisy`"),
+        "{denoise}"
+    );
+}
+
 /// Three lamps of differing power over a floor, for the path tracer; `light` is the scene's
 /// `light-sampler` line, if any.
 fn lamps(light: &str) -> String {
