@@ -238,8 +238,9 @@ mod tests {
             let m = white_balance(from, D65_XY);
             let xyz = |[x, y]: [f64; 2]| [x / y, 1.0, (1.0 - x - y) / y];
             let out = apply(&m, xyz(from));
+            // Within the rounding of the inverse matrix as pbrt-v4 gives it (six digits).
             for (a, b) in out.iter().zip(xyz(D65_XY)) {
-                assert!((a - b).abs() < 1e-9, "{t}: {out:?}");
+                assert!((a - b).abs() < 1e-5, "{t}: {out:?}");
             }
         }
         let d65 = daylight_xy(6500.0).unwrap();
