@@ -4,7 +4,7 @@
 //!
 //! ```yaml
 //! - medium: fog                # its name, for later items (defined before its use)
-//!   type: homogeneous          # the default; or grid
+//!   type: homogeneous          # the default; or grid, or cloud
 //!   sigma-a: 0.01              # absorption per unit length: a number or [r, g, b]
 //!   sigma-s: [0.1, 0.1, 0.12]  # scattering per unit length
 //!   # or instead: albedo: 0.9 (σs / σt) with density: 0.2 (σt; homogeneous only, default 1)
@@ -19,6 +19,14 @@
 //!   # or: file: smoke.vol      # Mitsuba's grid volume (float32, one channel)
 //!   bounds: [[-1, 0, -1], [1, 2, 1]]  # the grid's box (default the .vol's, else the unit cube)
 //!   transform: [[rotate-y, 0.5]]      # places the box (a transform list)
+//! - medium: sky
+//!   type: cloud                # pbrt-v4's procedural cloud; σa, σs (or albedo) where dense
+//!   sigma-s: 4
+//!   density: 1                 # how dense the noise's peaks are (default 1)
+//!   wispiness: 1               # how far the noise draws itself out into wisps (default 1)
+//!   frequency: 5               # noise features per unit of the box's space (default 5)
+//!   bounds: [[-1, 0, -1], [1, 1, 1]]  # the cloud's box (default the unit cube), and
+//!   transform: [[scale, 2, 1, 2]]     # its place, as a grid's
 //! ```
 
 use crate::assets::Assets;
@@ -29,8 +37,8 @@ use crate::source::{check_keys, required, Entry, Node, Source};
 use crate::transform::transform_list;
 use rayforge::math::{point, Aabb, Transform};
 use rayforge::media::{
-    coefficient, DensityGrid, GridMedium, HenyeyGreenstein, Homogeneous, Medium, MediumId,
-    MediumInterface, MAX_ASYMMETRY, MAX_GRID_SAMPLES,
+    coefficient, CloudMedium, DensityGrid, GridMedium, HenyeyGreenstein, Homogeneous, Medium,
+    MediumError, MediumId, MediumInterface, MAX_ASYMMETRY, MAX_GRID_SAMPLES,
 };
 use rayforge::Color;
 
@@ -50,10 +58,55 @@ const KEYS: &[&str] = &[
     "file",
     "bounds",
     "transform",
+    "wispiness",
+    "frequency",
 ];
 
 /// The keys only a grid reads.
-const GRID_KEYS: &[&str] = &["size", "data", "file", "bounds", "transform"];
+const GRID_ONLY_KEYS: &[&str] = &["size", "data", "file"];
+
+/// The keys a grid and a cloud read: the box and its place.
+const BOX_KEYS: &[&str] = &["bounds", "transform"];
+
+/// The keys only a cloud reads.
+const CLOUD_ONLY_KEYS: &[&str] = &["wispiness", "frequency"];
+
+/// A cloud's `density`, `wispiness` and `frequency` where not given: pbrt-v4's.
+const CLOUD_DEFAULTS: [(&str, f64); 3] = [("density", 1.0), ("wispiness", 1.0), ("frequency", 5.0)];
+
+/// What a `medium:` item's `type` says.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Homogeneous,
+    Grid,
+    Cloud,
+}
+
+impl Kind {
+    /// Whether this kind reads `key` (of the keys not every medium has).
+    fn reads(self, key: &str) -> bool {
+        let in_any = |lists: &[&[&str]]| lists.iter().any(|l| l.contains(&key));
+        match self {
+            Kind::Homogeneous => !in_any(&[GRID_ONLY_KEYS, BOX_KEYS, CLOUD_ONLY_KEYS]),
+            Kind::Grid => !in_any(&[CLOUD_ONLY_KEYS]),
+            // pbrt-v4's cloud gives off no light.
+            Kind::Cloud => !in_any(&[GRID_ONLY_KEYS, &["emission"]]),
+        }
+    }
+
+    /// The `type: …` that reads `key`, for the error that names it.
+    fn readers_of(key: &str) -> &'static str {
+        if GRID_ONLY_KEYS.contains(&key) {
+            "only a `type: grid` medium has this key"
+        } else if CLOUD_ONLY_KEYS.contains(&key) {
+            "only a `type: cloud` medium has this key"
+        } else if BOX_KEYS.contains(&key) {
+            "only a `type: grid` or `type: cloud` medium has this key"
+        } else {
+            "a `type: cloud` medium gives off no light (pbrt-v4's cloud has no emission)"
+        }
+    }
+}
 
 /// A `.vol` file's header: `VOL`, version 3, encoding, three sizes, channels, a box.
 const VOL_HEADER_BYTES: usize = 48;
@@ -166,24 +219,23 @@ pub fn medium<'n, 's>(
         ));
     }
     let get = |key: &str| entries.iter().find(|e| e.name == key);
-    let grid = match get("type") {
-        None => false,
+    let kind = match get("type") {
+        None => Kind::Homogeneous,
         Some(e) => match source.string(e.value, "type")? {
-            "homogeneous" => false,
-            "grid" => true,
+            "homogeneous" => Kind::Homogeneous,
+            "grid" => Kind::Grid,
+            "cloud" => Kind::Cloud,
             other => {
                 return Err(source.error(
                     e.value,
                     "type",
-                    format!("unknown medium type `{other}`; expected homogeneous or grid"),
+                    format!("unknown medium type `{other}`; expected homogeneous, grid or cloud"),
                 ))
             }
         },
     };
-    if !grid {
-        if let Some(e) = entries.iter().find(|e| GRID_KEYS.contains(&e.name)) {
-            return Err(source.error(e.key, e.name, "only a `type: grid` medium has this key"));
-        }
+    if let Some(e) = entries.iter().find(|e| !kind.reads(e.name)) {
+        return Err(source.error(e.key, e.name, Kind::readers_of(e.name)));
     }
     let spectrum = |key: &'static str, default: Color| -> Result<Color, SceneError> {
         match get(key) {
@@ -216,17 +268,21 @@ pub fn medium<'n, 's>(
             if albedo.max_channel() > 1.0 {
                 return Err(source.error(e.value, "albedo", "an albedo lies between 0 and 1"));
             }
-            let density = if grid {
-                if let Some(d) = get("density") {
-                    return Err(source.error(
-                        d.key,
-                        "density",
-                        "a grid's density is its data; scale it with `scale`",
-                    ));
+            // A grid's densities are its data and a cloud's `density` is its noise's: the
+            // albedo then stands for the coefficients where the density is 1.
+            let density = match kind {
+                Kind::Grid => {
+                    if let Some(d) = get("density") {
+                        return Err(source.error(
+                            d.key,
+                            "density",
+                            "a grid's density is its data; scale it with `scale`",
+                        ));
+                    }
+                    1.0
                 }
-                1.0
-            } else {
-                scalar("density", 1.0)?
+                Kind::Cloud => 1.0,
+                Kind::Homogeneous => scalar("density", 1.0)?,
             };
             if density < 0.0 {
                 let d = get("density").expect("given");
@@ -235,7 +291,7 @@ pub fn medium<'n, 's>(
             ((Color::WHITE - albedo) * density, albedo * density)
         }
         None => {
-            if let Some(d) = get("density") {
+            if let Some(d) = get("density").filter(|_| kind != Kind::Cloud) {
                 return Err(source.error(d.key, "density", "`density` goes with `albedo`"));
             }
             (
@@ -262,16 +318,57 @@ pub fn medium<'n, 's>(
     }
     let phase = HenyeyGreenstein::new(g);
     let emission = spectrum("emission", Color::BLACK)?;
-    if !grid {
-        let medium = Homogeneous {
-            sigma_a,
-            sigma_s,
-            emission,
-            phase,
-        };
-        return Ok((name, Medium::Homogeneous(medium)));
+    let unit_cube = Aabb::new(point(0.0, 0.0, 0.0), point(1.0, 1.0, 1.0));
+    let at = get("bounds").map_or(item, |e| e.value);
+    match kind {
+        Kind::Homogeneous => {
+            let medium = Homogeneous {
+                sigma_a,
+                sigma_s,
+                emission,
+                phase,
+            };
+            Ok((name, Medium::Homogeneous(medium)))
+        }
+        Kind::Grid => {
+            let (density, vol_bounds) = density_grid(source, assets, item, entries)?;
+            let (bounds, transform) =
+                placed_box(source, defines, entries, vol_bounds.unwrap_or(unit_cube))?;
+            let medium = GridMedium::new(
+                sigma_a, sigma_s, emission, phase, density, bounds, transform,
+            )
+            .map_err(|m| source.error(at, "bounds", m.to_string()))?;
+            Ok((name, Medium::Grid(Box::new(medium))))
+        }
+        Kind::Cloud => {
+            let [density, wispiness, frequency] =
+                CLOUD_DEFAULTS.map(|(key, default)| scalar(key, default));
+            let (density, wispiness, frequency) = (density?, wispiness?, frequency?);
+            let (bounds, transform) = placed_box(source, defines, entries, unit_cube)?;
+            let medium = CloudMedium::new(
+                sigma_a, sigma_s, phase, density, wispiness, frequency, bounds, transform,
+            )
+            // A negative `density`, `wispiness` or `frequency` is refused at its value.
+            .map_err(|m| match m {
+                MediumError::Parameter { name: key, .. } => {
+                    source.error(get(key).map_or(item, |e| e.value), key, m.to_string())
+                }
+                _ => source.error(at, "bounds", m.to_string()),
+            })?;
+            Ok((name, Medium::Cloud(Box::new(medium))))
+        }
     }
-    let (density, vol_bounds) = density_grid(source, assets, item, entries)?;
+}
+
+/// A grid's or a cloud's box (`bounds`, else `default`) in its own space, and the transform
+/// that places it in the world (`transform`, else none).
+fn placed_box(
+    source: &Source<'_>,
+    defines: &Defines<'_, '_>,
+    entries: &[Entry<'_, '_>],
+    default: Aabb,
+) -> Result<(Aabb, Transform), SceneError> {
+    let get = |key: &str| entries.iter().find(|e| e.name == key);
     let bounds = match get("bounds") {
         Some(e) => {
             let corners = source.sequence(e.value, "bounds")?;
@@ -285,7 +382,7 @@ pub fn medium<'n, 's>(
             let (lo, hi) = (source.triple(lo, "bounds")?, source.triple(hi, "bounds")?);
             Aabb::new(point(lo[0], lo[1], lo[2]), point(hi[0], hi[1], hi[2]))
         }
-        None => vol_bounds.unwrap_or(Aabb::new(point(0.0, 0.0, 0.0), point(1.0, 1.0, 1.0))),
+        None => default,
     };
     let transform = match get("transform") {
         Some(e) => {
@@ -294,12 +391,7 @@ pub fn medium<'n, 's>(
         }
         None => Transform::IDENTITY,
     };
-    let at = get("bounds").map_or(item, |e| e.value);
-    let medium = GridMedium::new(
-        sigma_a, sigma_s, emission, phase, density, bounds, transform,
-    )
-    .map_err(|m| source.error(at, "bounds", m.to_string()))?;
-    Ok((name, Medium::Grid(Box::new(medium))))
+    Ok((bounds, transform))
 }
 
 /// A grid medium's densities: `size` with `data`, or a `.vol` `file` (and its box).
