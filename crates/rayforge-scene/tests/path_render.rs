@@ -1,5 +1,6 @@
-//! The path tracer behind every scene file: each scene shipped under `scenes/` renders under
-//! it (tiny, a few samples) with every sample finite (none left out by the renderer), and the reference scenes of `scenes/pbr/` give
+//! The path tracer behind every scene file: each scene shipped under `scenes/` (the media
+//! scenes of `scenes/pbr/media/` among them) renders under it (tiny, a few samples) with every
+//! sample finite (none left out by the renderer), and the reference scenes of `scenes/pbr/` give
 //! the answers they are built to give.
 
 mod support;
@@ -26,7 +27,7 @@ fn shipped_scenes() -> Vec<PathBuf> {
 
 #[test]
 fn every_shipped_scene_renders_under_the_path_tracer() {
-    let mut rendered = 0;
+    let (mut rendered, mut media) = (0, 0);
     for path in shipped_scenes() {
         // A scene reading the models beside the repository says, in its usage line, that it
         // needs `--allow-outside`; every other scene keeps to its folder.
@@ -61,8 +62,15 @@ fn every_shipped_scene_renders_under_the_path_tracer() {
             );
         }
         rendered += 1;
+        media += usize::from(path.parent().is_some_and(|p| p.ends_with("pbr/media")));
     }
     assert!(rendered >= 50, "only {rendered} scenes rendered");
+    // The media scenes among them: the Cornell box's, the sunbeam, the smoke grid, the glass
+    // of liquid and the wax.
+    assert!(
+        media >= 5,
+        "only {media} scenes of scenes/pbr/media rendered"
+    );
 }
 
 fn reference(name: &str) -> Scene {
