@@ -87,6 +87,8 @@ Render options (`rayforge render --help` describes each in full):
                             (off: by area) [default: on]
       --equiangular <on|off> path only: in homogeneous media, points drawn towards the
                             lamps, weighed by MIS (off: distance sampling alone) [default: on]
+      --equiangular-lights <N> path only: how many of the most powerful lamps those points
+                            are drawn towards, 1 to 16 [default: 8]
       --roulette-predictions <on|off> path only: whether the learned roulette ends paths
                             into learned predictions of the light to come [default: on]
       --aovs                path only: also write the first hit's albedo and normal
@@ -662,6 +664,12 @@ pub struct RenderArgs {
     #[arg(long, value_name = "on|off", value_parser = ["on", "off"])]
     pub equiangular: Option<String>,
 
+    /// Path tracer: how many lights (the most powerful that have a place) equiangular
+    /// sampling draws its points towards, from 1 to 16 (the size of the fixed arrays a ray's
+    /// sampler holds) [default: the scene's `equiangular-lights`, else 8].
+    #[arg(long, value_name = "N")]
+    pub equiangular_lights: Option<u32>,
+
     /// Path tracer: whether the learned roulette (`--roulette-scale auto`) also learns where
     /// the light a path still gathers past a diffuse surface is predictable, and ends paths
     /// there into the prediction (unbiased); `off` learns the scale alone [default: the
@@ -831,6 +839,17 @@ mod tests {
         assert!(OVERVIEW.contains(&triangles), "{triangles}");
         assert!(OVERVIEW.contains(&depth), "{depth}");
         assert!(OVERVIEW.contains(&pixels), "{pixels}");
+    }
+
+    #[test]
+    fn the_overview_states_the_equiangular_lights_and_their_bound() {
+        use rayforge::options::Techniques;
+        let lights = format!(
+            "1 to {} [default: {}]",
+            Techniques::MAX_EQUIANGULAR_LIGHTS,
+            Techniques::DEFAULT_EQUIANGULAR_LIGHTS
+        );
+        assert!(OVERVIEW.contains(&lights), "{lights}");
     }
 
     #[test]

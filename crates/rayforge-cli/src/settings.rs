@@ -190,6 +190,10 @@ impl PathRequest {
             ("--sphere-cones", self.techniques.sphere_cones.is_some()),
             ("--equiangular", self.techniques.equiangular.is_some()),
             (
+                "--equiangular-lights",
+                self.techniques.equiangular_lights.is_some(),
+            ),
+            (
                 "--roulette-predictions",
                 self.roulette_predictions.is_some(),
             ),
@@ -220,6 +224,8 @@ pub struct TechniquesRequest {
     pub sphere_cones: Option<bool>,
     /// `--equiangular`.
     pub equiangular: Option<bool>,
+    /// `--equiangular-lights`.
+    pub equiangular_lights: Option<u32>,
 }
 
 impl TechniquesRequest {
@@ -242,6 +248,19 @@ impl TechniquesRequest {
                 })
             })
             .transpose()?;
+        let equiangular_lights = args
+            .equiangular_lights
+            .map(|count| {
+                Techniques::equiangular_lights(count.into()).ok_or_else(|| {
+                    Failure::usage(format!(
+                        "--equiangular-lights takes from 1 to {} lights (the fixed arrays a \
+                         ray's sampler holds; --equiangular off turns the sampling off), \
+                         found {count}",
+                        Techniques::MAX_EQUIANGULAR_LIGHTS
+                    ))
+                })
+            })
+            .transpose()?;
         let roulette = on(&args.roulette);
         if roulette == Some(false) && args.roulette_scale.is_some() {
             return Err(Failure::usage(
@@ -258,6 +277,7 @@ impl TechniquesRequest {
             mirror_ball_cull: cull,
             sphere_cones: on(&args.sphere_cones),
             equiangular: on(&args.equiangular),
+            equiangular_lights,
         })
     }
 
@@ -275,6 +295,9 @@ impl TechniquesRequest {
         set(&mut techniques.mirror_balls, self.mirror_balls);
         set(&mut techniques.sphere_cones, self.sphere_cones);
         set(&mut techniques.equiangular, self.equiangular);
+        if let Some(count) = self.equiangular_lights {
+            techniques.equiangular_lights = count;
+        }
         if let Some(cap) = self.mirror_ball_cap {
             techniques.mirror_ball_budget.cap = cap;
         }
@@ -1021,4 +1044,45 @@ fn raster_request(args: &RenderArgs) -> Result<RasterRequest, Failure> {
             None
         },
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::args::{Cli, Command};
+    use clap::Parser;
+
+    /// The technique flags of `rayforge render scene.yml -o out.pfm FLAGS…`, checked.
+    fn techniques(flags: &[&str]) -> Result<TechniquesRequest, Failure> {
+        let line = ["rayforge", "render", "scene.yml", "-o", "out.pfm"];
+        let cli = Cli::try_parse_from(line.iter().chain(flags)).expect("parses");
+        let Command::Render(args) = cli.command else {
+            panic!("render")
+        };
+        TechniquesRequest::from_args(&args)
+    }
+
+    #[test]
+    fn the_equiangular_lights_flag_sets_the_count_within_the_arrays() {
+        let mut t = Techniques::default();
+        techniques(&[]).expect("no flags").apply(&mut t);
+        assert_eq!(t.equiangular_lights, Techniques::DEFAULT_EQUIANGULAR_LIGHTS);
+        for count in [1, 3, Techniques::MAX_EQUIANGULAR_LIGHTS] {
+            let mut t = Techniques::default();
+            techniques(&["--equiangular-lights", &count.to_string()])
+                .expect("in range")
+                .apply(&mut t);
+            assert_eq!(t.equiangular_lights, count);
+        }
+        for bad in ["0", "17"] {
+            let Err(Failure::Input(message)) = techniques(&["--equiangular-lights", bad]) else {
+                panic!("{bad} is refused as a usage error")
+            };
+            assert!(
+                message.contains("--equiangular-lights takes from 1 to 16")
+                    && message.contains(&format!("found {bad}")),
+                "{message}"
+            );
+        }
+    }
 }

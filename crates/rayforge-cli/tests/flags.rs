@@ -671,6 +671,25 @@ fn the_path_tracers_technique_switches_are_its_flags() {
         &["--mirror-ball-cap", "0"],
         &["--mirror-ball-cap takes at least 1"],
     );
+    accepted(
+        &path,
+        &d.path("lights.pfm"),
+        &["--equiangular-lights", "3", "-q"],
+    );
+    for count in ["0", "17"] {
+        refused(
+            &path,
+            &d.path("bad-lights.pfm"),
+            &["--equiangular-lights", count],
+            &["--equiangular-lights takes from 1 to 16"],
+        );
+    }
+    refused(
+        &ray,
+        &d.path("ray.pfm"),
+        &["--equiangular-lights", "3"],
+        &["--equiangular-lights", "applies to the path tracer"],
+    );
     for cull in ["1", "1.5"] {
         refused(
             &path,

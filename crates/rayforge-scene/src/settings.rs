@@ -14,7 +14,8 @@
 //!                             # (`next-event`, `mis`, `roulette`, `glass-split`,
 //!                             # `mirror-balls`, `sphere-cones`, `equiangular`: `on` or
 //!                             # `off`) with the
-//!                             # mirror balls' `mirror-ball-cap` and `mirror-ball-cull`, and
+//!                             # mirror balls' `mirror-ball-cap` and `mirror-ball-cull`,
+//!                             # `equiangular-lights` (1 to 16, default 8) and
 //!                             # `roulette-predictions`
 //! ```
 
@@ -26,7 +27,7 @@ use crate::source::{check_keys, describe, Entry, Node, Source};
 use rayforge::film::{PixelFilter, MAX_FILTER_RADIUS};
 use rayforge::options::{
     LightSamplerKind, MirrorBallBudget, PathOptions, RasterOptions, Roulette, SampleAllocation,
-    SamplerKind, Shading, TextureFilter,
+    SamplerKind, Shading, Techniques, TextureFilter,
 };
 use rayforge::{LightingModel, World};
 
@@ -84,6 +85,7 @@ const PATH_KEYS: &[&str] = &[
     "mirror-ball-cull",
     "sphere-cones",
     "equiangular",
+    "equiangular-lights",
     "roulette-predictions",
 ];
 
@@ -325,6 +327,21 @@ fn path_options(source: &Source<'_>, entries: &[Entry<'_, '_>]) -> Result<PathOp
             "mirror-balls" => options.techniques.mirror_balls = switch(source, e.value, e.name)?,
             "sphere-cones" => options.techniques.sphere_cones = switch(source, e.value, e.name)?,
             "equiangular" => options.techniques.equiangular = switch(source, e.value, e.name)?,
+            "equiangular-lights" => {
+                let count = source.integer(e.value, "equiangular-lights", 1)?;
+                options.techniques.equiangular_lights = Techniques::equiangular_lights(count)
+                    .ok_or_else(|| {
+                        source.error(
+                            e.value,
+                            "equiangular-lights",
+                            format!(
+                                "from 1 to {} lights (the fixed arrays a ray's equiangular \
+                                 sampler holds), found {count}",
+                                Techniques::MAX_EQUIANGULAR_LIGHTS
+                            ),
+                        )
+                    })?;
+            }
             "mirror-ball-cap" => {
                 let cap = source.integer(e.value, "mirror-ball-cap", 1)?;
                 options.techniques.mirror_ball_budget.cap = cap as u32;

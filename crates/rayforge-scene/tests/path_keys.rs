@@ -772,7 +772,7 @@ fn the_techniques_are_switched_on_and_off() {
     assert!(on.sphere_cones && on.equiangular);
     assert_eq!(on.mirror_ball_budget, MirrorBallBudget::default());
     let off = world(
-        "renderer: path\nnext-event: off\nmis: off\nroulette: off\nglass-split: off\nmirror-balls: off\nmirror-ball-cap: 7\nmirror-ball-cull: 0.25\nsphere-cones: off\nequiangular: off",
+        "renderer: path\nnext-event: off\nmis: off\nroulette: off\nglass-split: off\nmirror-balls: off\nmirror-ball-cap: 7\nmirror-ball-cull: 0.25\nsphere-cones: off\nequiangular: off\nequiangular-lights: 3",
     )
     .unwrap()
     .path
@@ -789,6 +789,7 @@ fn the_techniques_are_switched_on_and_off() {
             mirror_ball_budget: MirrorBallBudget { cap: 7, cull: 0.25 },
             sphere_cones: false,
             equiangular: false,
+            equiangular_lights: 3,
         }
     );
     // Each switch on its own, in either spelling.
@@ -868,6 +869,27 @@ fn bad_technique_keys_are_located() {
             "applies to the path tracer",
         );
     }
+    // The equiangular lights: at least 1, at most the arrays' 16.
+    for bad in ["0", "17", "2.5"] {
+        assert_located(
+            path(&format!("equiangular-lights: {bad}")),
+            10,
+            25,
+            "equiangular-lights",
+            if bad == "17" {
+                "from 1 to 16"
+            } else {
+                "at least 1"
+            },
+        );
+    }
+    assert_located(
+        world("equiangular-lights: 3"),
+        9,
+        5,
+        "equiangular-lights",
+        "applies to the path tracer",
+    );
     assert_located(
         path("mirror-ball-cap: 0"),
         10,

@@ -207,6 +207,29 @@ pub struct Techniques {
     /// estimation, weighed by MIS against the points distance sampling finds (with MIS
     /// off, it replaces their light sampling there); it needs next-event estimation.
     pub equiangular: bool,
+    /// How many lights (the most powerful that have a place) equiangular sampling draws
+    /// towards, from 1 to [`MAX_EQUIANGULAR_LIGHTS`](Self::MAX_EQUIANGULAR_LIGHTS): more
+    /// spreads the points over more lamps, each segment costing a little more per light.
+    pub equiangular_lights: u32,
+}
+
+impl Techniques {
+    /// The default number of lights equiangular sampling draws towards: enough for the
+    /// lamps of a room, few enough that a segment's mixture stays cheap to evaluate.
+    pub const DEFAULT_EQUIANGULAR_LIGHTS: u32 = 8;
+    /// The most lights equiangular sampling may draw towards: the compile-time size of the
+    /// fixed arrays a ray's sampler holds (`crate::media::Equiangular`), so that drawing a
+    /// point allocates nothing per ray.
+    pub const MAX_EQUIANGULAR_LIGHTS: u32 = 16;
+
+    /// `count` as a number of equiangular lights, if it lies from 1 to
+    /// [`MAX_EQUIANGULAR_LIGHTS`](Self::MAX_EQUIANGULAR_LIGHTS) (what a scene or the command
+    /// line may ask for).
+    pub fn equiangular_lights(count: u64) -> Option<u32> {
+        (1..=u64::from(Self::MAX_EQUIANGULAR_LIGHTS))
+            .contains(&count)
+            .then_some(count as u32)
+    }
 }
 
 /// What the mirror-ball sampling may spend at a vertex. Each ball has a share of the sky's
@@ -262,6 +285,7 @@ impl Default for Techniques {
             mirror_ball_budget: MirrorBallBudget::default(),
             sphere_cones: true,
             equiangular: true,
+            equiangular_lights: Self::DEFAULT_EQUIANGULAR_LIGHTS,
         }
     }
 }

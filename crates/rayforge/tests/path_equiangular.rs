@@ -54,6 +54,7 @@ const TECHNIQUES: Techniques = Techniques {
     mirror_ball_budget: rayforge::options::MirrorBallBudget { cap: 2, cull: 1e-3 },
     sphere_cones: true,
     equiangular: true,
+    equiangular_lights: Techniques::DEFAULT_EQUIANGULAR_LIGHTS,
 };
 
 /// The camera looks along +z from the centre of a ball of radius 10 of thin chromatic medium;

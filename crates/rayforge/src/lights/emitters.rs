@@ -76,22 +76,20 @@ impl Emitters {
     /// The emitters of `world`, picked by a sampler of kind `kind`, sampled by every
     /// technique.
     pub fn with_sampler(world: &World, kind: LightSamplerKind) -> Self {
-        Self::build(world, kind, Techniques::default().sphere_cones)
+        Self::build(world, kind, &Techniques::default())
     }
 
     /// The emitters of `world` as a render with `options` samples them: by its light
     /// sampler, a ball in the cone it subtends only where its techniques say so.
     pub fn for_options(world: &World, options: &PathOptions) -> Self {
-        Self::build(
-            world,
-            options.light_sampler,
-            options.techniques.sphere_cones,
-        )
+        Self::build(world, options.light_sampler, &options.techniques)
     }
 
     /// The emitters of `world`, picked by a sampler of kind `kind`, a ball sampled in the cone
-    /// it subtends where `sphere_cones`.
-    fn build(world: &World, kind: LightSamplerKind, sphere_cones: bool) -> Self {
+    /// it subtends where the techniques' `sphere_cones` say so, with as many equiangular
+    /// anchors as their `equiangular_lights`.
+    fn build(world: &World, kind: LightSamplerKind, techniques: &Techniques) -> Self {
+        let sphere_cones = techniques.sphere_cones;
         let radius = scene_radius(world);
         let falloff = world.lighting == LightingModel::Optics;
         let disc = PI * radius * radius;
@@ -150,6 +148,7 @@ impl Emitters {
                 .flatten()
                 .filter(|b| !b.bounds.is_empty())
                 .map(|b| (b.bounds.centroid(), b.power)),
+            techniques.equiangular_lights as usize,
         );
         let mirror_balls = if sky.is_some() {
             MirrorBalls::of_objects(&world.objects)
@@ -562,8 +561,42 @@ mod tests {
             objects: vec![lamp(Shape::Sphere, ball_placement(), EmissionSide::Front)],
             ..World::default()
         };
-        let emitters = Emitters::build(&world, LightSamplerKind::Auto, cones);
+        let techniques = Techniques {
+            sphere_cones: cones,
+            ..Techniques::default()
+        };
+        let emitters = Emitters::build(&world, LightSamplerKind::Auto, &techniques);
         (world, emitters)
+    }
+
+    #[test]
+    fn the_render_says_how_many_lights_are_equiangular_anchors() {
+        // Three point lights, the brightest in the middle of the list: one anchor is that
+        // light alone; three (or the default eight) are all of them, another mixture.
+        let light = |x: f64, i: f64| {
+            Light::Point(crate::shading::PointLight {
+                position: point(x, 1.0, 0.0),
+                intensity: Color::new(i, i, i),
+                falloff: true,
+            })
+        };
+        let world = World {
+            lights: vec![light(-2.0, 1.0), light(0.0, 5.0), light(2.0, 2.0)],
+            ..World::default()
+        };
+        let anchors = |count: u32| {
+            let mut options = PathOptions::default();
+            options.techniques.equiangular_lights = count;
+            *Emitters::for_options(&world, &options).anchors()
+        };
+        assert_eq!(
+            anchors(1),
+            Anchors::of_lights([(point(0.0, 1.0, 0.0), 1.0)], 1)
+        );
+        assert_ne!(anchors(2), anchors(1));
+        assert_ne!(anchors(3), anchors(2));
+        assert_eq!(anchors(3), anchors(Techniques::DEFAULT_EQUIANGULAR_LIGHTS));
+        assert_eq!(anchors(3), *Emitters::new(&world).anchors());
     }
 
     #[test]

@@ -8,17 +8,21 @@
 //! medium and weighs it against the transmittance-sampled scattering by multiple importance
 //! sampling, so the image stays unbiased whichever strategy finds the light.
 //!
-//! With several lights the point is drawn toward one of up to [`MAX_ANCHORS`] anchors (the
-//! most powerful lights that have a place), chosen in proportion to their power: the density
+//! With several lights the point is drawn toward one of a few anchors (the most powerful
+//! lights that have a place: 8 unless the render asks for another count, up to
+//! [`MAX_ANCHORS`]), chosen in proportion to their power: the density
 //! is the mixture over the anchors, a function of the ray and the point only (never of the
 //! light point later sampled), which is what lets MIS weigh a phase-sampled path that finds
 //! a lamp against it.
 
 use crate::math::{Point3, Vec3};
+use crate::options::Techniques;
 use std::f64::consts::FRAC_PI_2;
 
-/// The most lights distances are drawn towards (the most powerful ones).
-pub const MAX_ANCHORS: usize = 8;
+/// The most lights distances can be drawn towards: the size of the fixed arrays an
+/// [`Anchors`] and a ray's [`Equiangular`] hold, so that no ray allocates; a render's own
+/// count ([`Techniques::equiangular_lights`], 8 by default) is at most this.
+pub const MAX_ANCHORS: usize = Techniques::MAX_EQUIANGULAR_LIGHTS as usize;
 
 /// The nearest a ray may pass an anchor, relative to the anchor's distance from the ray's
 /// origin (and at least [`MIN_OFFSET`]): a ray through the anchor itself would make the
@@ -51,16 +55,17 @@ impl Anchors {
         len: 0,
     };
 
-    /// The [`MAX_ANCHORS`] most powerful of `lights` (each a place and a power; those of no
-    /// power, or of a place or power that is not finite, left out), chosen by power.
-    pub fn of_lights(lights: impl IntoIterator<Item = (Point3, f64)>) -> Self {
+    /// The `count` most powerful of `lights` (each a place and a power; those of no power, or
+    /// of a place or power that is not finite, left out), chosen by power; `count` is held to
+    /// [`MAX_ANCHORS`].
+    pub fn of_lights(lights: impl IntoIterator<Item = (Point3, f64)>, count: usize) -> Self {
         let mut kept: Vec<(Point3, f64)> = lights
             .into_iter()
             .filter(|(p, w)| p.is_finite() && w.is_finite() && *w > 0.0)
             .collect();
         // Stable: equal powers keep the lights' order, so the choice is the same every run.
         kept.sort_by(|a, b| b.1.total_cmp(&a.1));
-        kept.truncate(MAX_ANCHORS);
+        kept.truncate(count.min(MAX_ANCHORS));
         let total: f64 = kept.iter().map(|(_, w)| w).sum();
         let mut anchors = Self::NONE;
         if !(total > 0.0 && total.is_finite()) {
@@ -232,8 +237,10 @@ mod tests {
 
     #[test]
     fn the_density_integrates_to_one_over_the_range() {
-        let anchors =
-            Anchors::of_lights([(point(0.3, 1.0, 2.0), 1.0), (point(-1.0, 0.1, 7.0), 3.0)]);
+        let anchors = Anchors::of_lights(
+            [(point(0.3, 1.0, 2.0), 1.0), (point(-1.0, 0.1, 7.0), 3.0)],
+            8,
+        );
         let s = anchors
             .along(point(0.0, 0.0, 0.0), vector(0.0, 0.0, 1.0), 10.0)
             .expect("sampler");
@@ -248,7 +255,7 @@ mod tests {
     #[test]
     fn one_anchor_gives_its_closed_form_density() {
         // Anchor 1 off the axis at z = 3, range [0, 10]: p(t) = D / ((θb − θa)(D² + (t − Δ)²)).
-        let anchors = Anchors::of_lights([(point(0.0, 1.0, 3.0), 2.0)]);
+        let anchors = Anchors::of_lights([(point(0.0, 1.0, 3.0), 2.0)], 8);
         let s = anchors
             .along(point(0.0, 0.0, 0.0), vector(0.0, 0.0, 1.0), 10.0)
             .expect("sampler");
@@ -267,8 +274,10 @@ mod tests {
     fn draws_follow_the_density_by_chi_square() {
         // Two anchors, one close to the ray: the mixture's draws against its density. With
         // 49 degrees of freedom, 99.9 % of χ² values lie below 85.4.
-        let anchors =
-            Anchors::of_lights([(point(0.0, 0.05, 2.0), 1.0), (point(0.5, 2.0, 6.0), 1.0)]);
+        let anchors = Anchors::of_lights(
+            [(point(0.0, 0.05, 2.0), 1.0), (point(0.5, 2.0, 6.0), 1.0)],
+            8,
+        );
         let s = anchors
             .along(point(0.0, 0.0, 0.0), vector(0.0, 0.0, 1.0), 8.0)
             .expect("sampler");
@@ -279,7 +288,7 @@ mod tests {
 
     #[test]
     fn an_infinite_range_and_a_ray_through_the_anchor_keep_a_proper_density() {
-        let anchors = Anchors::of_lights([(point(0.0, 0.0, 2.0), 1.0)]);
+        let anchors = Anchors::of_lights([(point(0.0, 0.0, 2.0), 1.0)], 8);
         let s = anchors
             .along(point(0.0, 0.0, 0.0), vector(0.0, 0.0, 1.0), f64::INFINITY)
             .expect("sampler");
@@ -292,13 +301,23 @@ mod tests {
 
     #[test]
     fn anchors_are_the_most_powerful_lights_chosen_by_power() {
-        let lights = (0..12).map(|i| (point(i as f64, 0.0, 0.0), i as f64));
-        let anchors = Anchors::of_lights(lights);
-        assert_eq!(anchors.len, MAX_ANCHORS);
-        assert_eq!(anchors.places[0], point(11.0, 0.0, 0.0));
-        let total: f64 = (4..12).map(|i| i as f64).sum();
-        assert!((anchors.shares[0] - 11.0 / total).abs() < 1e-15);
-        assert!(Anchors::of_lights([(point(0.0, 0.0, 0.0), 0.0)]).is_empty());
+        let lights = || (0..40).map(|i| (point(i as f64, 0.0, 0.0), i as f64));
+        let anchors = Anchors::of_lights(lights(), 8);
+        assert_eq!(anchors.len, 8);
+        assert_eq!(anchors.places[0], point(39.0, 0.0, 0.0));
+        let total: f64 = (32..40).map(|i| i as f64).sum();
+        assert!((anchors.shares[0] - 39.0 / total).abs() < 1e-15);
+        // Another count, other anchors: the three most powerful only, their shares renewed.
+        let three = Anchors::of_lights(lights(), 3);
+        assert_eq!(three.len, 3);
+        assert_eq!(
+            three.places[..3],
+            [39.0, 38.0, 37.0].map(|x| point(x, 0.0, 0.0))
+        );
+        assert!((three.shares[2] - 37.0 / 114.0).abs() < 1e-15);
+        // More than the arrays hold is held to them.
+        assert_eq!(Anchors::of_lights(lights(), 1000).len, MAX_ANCHORS);
+        assert!(Anchors::of_lights([(point(0.0, 0.0, 0.0), 0.0)], 8).is_empty());
         assert!(Anchors::NONE
             .along(point(0.0, 0.0, 0.0), vector(0.0, 0.0, 1.0), 1.0)
             .is_none());
