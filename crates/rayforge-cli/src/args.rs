@@ -52,6 +52,7 @@ Render options (`rayforge render --help` describes each in full):
       --max-pbrt-total-bytes <N>   a pbrt scene's files together [default: 1073741824, 1 GiB]
       --max-pbrt-include-depth <N> how deep a pbrt scene's Include/Import nest [default: 32]
       --max-pbrt-values <N>        a pbrt scene's parameter values together [default: 67108864]
+      --max-grid-samples <N> the most samples one medium's grid holds [default: 134217728, 512^3]
       --allow-outside       let the scene name files outside its folder
       --camera <N|NAME>     a glTF model's camera, by index or name [default: its first]
       --resume              continue an interrupted render from its checkpoint
@@ -519,6 +520,12 @@ pub struct RenderArgs {
     pub max_pbrt_values: u64,
 
     /// For a glTF model rendered directly: which of its cameras to look through, by index
+    /// The most samples one grid of a participating medium may hold (a YAML grid's `size`, a
+    /// `.vol` file's, a pbrt-v4 `uniformgrid` or `rgbgrid`'s nx × ny × nz), four bytes each
+    /// or more: checked from the sizes before the grid is read. At most 134217728 (512^3).
+    #[arg(long, value_name = "N", default_value_t = rayforge::media::MAX_GRID_SAMPLES)]
+    pub max_grid_samples: usize,
+
     /// (0 is the first in node order) or by name; without it, its first camera, or one that
     /// frames the model when it has none.
     #[arg(long, value_name = "N|NAME")]

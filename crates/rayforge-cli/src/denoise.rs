@@ -32,24 +32,52 @@ pub fn denoise(
     what: &str,
 ) -> Result<Canvas, Failure> {
     let (width, height) = (image.width(), image.height());
-    let color = floats(image);
-    let albedo = guides.map(|g| floats(g.albedo));
-    let normal = guides.and_then(|g| g.normal).map(floats);
-    let images = Images {
-        width,
-        height,
-        color: &color,
-        albedo: albedo.as_deref(),
-        normal: normal.as_deref(),
-    };
+    let floats = Floats::of(image, guides);
     let out = session
-        .denoise(&images, true)
+        .denoise(&floats.images(width, height), true)
         .map_err(|e| Failure::usage(format!("cannot denoise {what}: {e}")))?;
     let pixels = out
         .chunks_exact(3)
         .map(|c| Color::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])))
         .collect();
     Ok(Canvas::from_pixels(width, height, pixels))
+}
+
+/// Whether OIDN would be given `image` and `guides` as they are: the checks
+/// [`Session::denoise`] makes before OIDN runs, made without loading it (what the fuzzer
+/// reaches of the denoiser's inputs, `crate::untrusted::denoise_inputs`).
+pub fn check(image: &Canvas, guides: Option<Guides<'_>>, what: &str) -> Result<(), Failure> {
+    Floats::of(image, guides)
+        .images(image.width(), image.height())
+        .check()
+        .map_err(|e| Failure::usage(format!("cannot denoise {what}: {e}")))
+}
+
+/// An image and its guides as OIDN reads them ([`floats`]).
+struct Floats {
+    color: Vec<f32>,
+    albedo: Option<Vec<f32>>,
+    normal: Option<Vec<f32>>,
+}
+
+impl Floats {
+    fn of(image: &Canvas, guides: Option<Guides<'_>>) -> Self {
+        Self {
+            color: floats(image),
+            albedo: guides.map(|g| floats(g.albedo)),
+            normal: guides.and_then(|g| g.normal).map(floats),
+        }
+    }
+
+    fn images(&self, width: usize, height: usize) -> Images<'_> {
+        Images {
+            width,
+            height,
+            color: &self.color,
+            albedo: self.albedo.as_deref(),
+            normal: self.normal.as_deref(),
+        }
+    }
 }
 
 /// The canvas as OIDN reads it: three 32-bit floats a pixel, rows from the top, saturating

@@ -29,33 +29,11 @@ pub fn run(args: &DenoiseArgs) -> Result<(), Failure> {
         return Err(Failure::usage("--threads must be at least 1, found 0"));
     }
     let denoiser = crate::denoise::load("rayforge denoise")?;
-    let image = read_linear(&args.input)?;
-    let guide = |file: &Option<std::path::PathBuf>, layer: Option<Canvas>, what: &str| {
-        let Some(path) = file else {
-            return Ok(layer);
-        };
-        let guide = read_linear(path)?.color;
-        let size = |c: &Canvas| format!("{}×{}", c.width(), c.height());
-        if size(&guide) != size(&image.color) {
-            return Err(Failure::usage(format!(
-                "the {what} image `{}` is {} pixels, the image `{}` {}: they must be the same \
-                 size",
-                path.display(),
-                size(&guide),
-                args.input.display(),
-                size(&image.color)
-            )));
-        }
-        Ok(Some(guide))
-    };
-    let albedo = guide(&args.albedo, image.albedo, "albedo")?;
-    let normal = guide(&args.normal, image.normal, "normal")?;
-    if normal.is_some() && albedo.is_none() {
-        return Err(Failure::usage(
-            "a normal guide needs an albedo guide beside it (--albedo, or an OpenEXR input's \
-             albedo layer)",
-        ));
-    }
+    let Inputs {
+        image,
+        albedo,
+        normal,
+    } = read_inputs(&args.input, args.albedo.as_deref(), args.normal.as_deref())?;
     let threads = args.threads.unwrap_or_else(|| {
         std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
     });
@@ -65,7 +43,7 @@ pub fn run(args: &DenoiseArgs) -> Result<(), Failure> {
         normal: normal.as_ref(),
     });
     let what = format!("`{}`", args.input.display());
-    let mut out = crate::denoise::denoise(&denoiser.session(threads), &image.color, guides, &what)?;
+    let mut out = crate::denoise::denoise(&denoiser.session(threads), &image, guides, &what)?;
     crate::path_output::encode_for(format, &mut out);
     write_atomically(&args.output, &format.encode(&out)?)?;
     if !args.quiet {
@@ -87,6 +65,59 @@ pub fn run(args: &DenoiseArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The image to denoise and its guides, read and checked.
+pub struct Inputs {
+    /// The image.
+    pub image: Canvas,
+    /// Its albedo: the `--albedo` file's, else the input's own layer.
+    pub albedo: Option<Canvas>,
+    /// Its normals: the `--normal` file's, else the input's own layer (only with an albedo).
+    pub normal: Option<Canvas>,
+}
+
+/// Reads the image `input` and its guides (`albedo` and `normal` files, else the input's own
+/// layers), each refused with the file named when it is not a linear image within the
+/// limits, a guide of another size than the image, a normal without an albedo: everything
+/// `rayforge denoise` checks of its inputs before OIDN is given them.
+pub fn read_inputs(
+    input: &Path,
+    albedo: Option<&Path>,
+    normal: Option<&Path>,
+) -> Result<Inputs, Failure> {
+    let image = read_linear(input)?;
+    let guide = |file: Option<&Path>, layer: Option<Canvas>, what: &str| {
+        let Some(path) = file else {
+            return Ok(layer);
+        };
+        let guide = read_linear(path)?.color;
+        let size = |c: &Canvas| format!("{}×{}", c.width(), c.height());
+        if size(&guide) != size(&image.color) {
+            return Err(Failure::usage(format!(
+                "the {what} image `{}` is {} pixels, the image `{}` {}: they must be the same \
+                 size",
+                path.display(),
+                size(&guide),
+                input.display(),
+                size(&image.color)
+            )));
+        }
+        Ok(Some(guide))
+    };
+    let albedo = guide(albedo, image.albedo, "albedo")?;
+    let normal = guide(normal, image.normal, "normal")?;
+    if normal.is_some() && albedo.is_none() {
+        return Err(Failure::usage(
+            "a normal guide needs an albedo guide beside it (--albedo, or an OpenEXR input's \
+             albedo layer)",
+        ));
+    }
+    Ok(Inputs {
+        image: image.color,
+        albedo,
+        normal,
+    })
+}
+
 /// A linear image and the guides its file holds.
 struct LinearImage {
     color: Canvas,
@@ -97,12 +128,20 @@ struct LinearImage {
 /// The four bytes every OpenEXR file starts with.
 const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 
+/// The most bytes an input file may hold: an uncompressed OpenEXR of [`DEFAULT_MAX_PIXELS`]
+/// pixels holding the image and both guides (nine 32-bit channels), and a MiB of headers.
+/// (The pixel limit, read from the header before any pixel is decoded, bounds the memory;
+/// this bounds what is read to get there.)
+const MAX_INPUT_BYTES: u64 = DEFAULT_MAX_PIXELS * 9 * 4 + (1 << 20);
+
 /// Reads an OpenEXR (its first layer's `R`, `G`, `B` and, if there, `albedo.*` and
-/// `normal.*`) or PFM file, told by its first bytes; refuses other files, images of more than
-/// [`DEFAULT_MAX_PIXELS`] and values that are not finite, naming the file.
+/// `normal.*`) or PFM file, told by its first bytes; refuses what is not a regular file (a
+/// FIFO, a device: before reading, without waiting on it), files past [`MAX_INPUT_BYTES`],
+/// other formats, images of more than [`DEFAULT_MAX_PIXELS`] and values that are not finite,
+/// naming the file.
 fn read_linear(path: &Path) -> Result<LinearImage, Failure> {
     let fail = |why: String| Failure::usage(format!("cannot read `{}`: {why}", path.display()));
-    let bytes = std::fs::read(path).map_err(|e| fail(crate::atomic_write::reason(&e, path)))?;
+    let bytes = rayforge_scene::files::read_bounded(path, MAX_INPUT_BYTES).map_err(fail)?;
     let image = if bytes.starts_with(&EXR_MAGIC) {
         read_exr(&bytes)
     } else if bytes.starts_with(b"PF") || bytes.starts_with(b"Pf") {
@@ -178,26 +217,34 @@ fn read_exr(bytes: &[u8]) -> Result<LinearImage, String> {
         .map_err(|e| format!("its OpenEXR data is invalid: {e}"))?;
     let layer = image.layer_data;
     let (width, height) = (layer.size.width(), layer.size.height());
-    let channel = |name: &str| {
-        layer
-            .channel_data
-            .list
-            .iter()
-            .find(|c| c.name.eq(name))
-            .map(|c| c.sample_data.values_as_f32().collect::<Vec<f32>>())
+    // A channel of a sample a pixel: the pixels are indexed by it below. (The `exr` crate
+    // refuses subsampled channels, which would hold fewer, when it reads the header.)
+    let channel = |name: &str| -> Result<Option<Vec<f32>>, String> {
+        let Some(c) = layer.channel_data.list.iter().find(|c| c.name.eq(name)) else {
+            return Ok(None);
+        };
+        if c.sample_data.len() != width * height {
+            return Err(format!(
+                "its channel `{name}` holds {} samples for {width}×{height} pixels",
+                c.sample_data.len()
+            ));
+        }
+        Ok(Some(c.sample_data.values_as_f32().collect()))
     };
-    let rgb = |prefix: &str| -> Option<Canvas> {
+    let rgb = |prefix: &str| -> Result<Option<Canvas>, String> {
         let [r, g, b] = ["R", "G", "B"].map(|c| channel(&format!("{prefix}{c}")));
-        let (r, g, b) = (r?, g?, b?);
+        let (Some(r), Some(g), Some(b)) = (r?, g?, b?) else {
+            return Ok(None);
+        };
         let pixels = (0..width * height)
             .map(|i| Color::new(f64::from(r[i]), f64::from(g[i]), f64::from(b[i])))
             .collect();
-        Some(Canvas::from_pixels(width, height, pixels))
+        Ok(Some(Canvas::from_pixels(width, height, pixels)))
     };
     Ok(LinearImage {
-        color: rgb("").ok_or("its first layer has no R, G and B channels")?,
-        albedo: rgb("albedo."),
-        normal: rgb("normal."),
+        color: rgb("")?.ok_or("its first layer has no R, G and B channels")?,
+        albedo: rgb("albedo.")?,
+        normal: rgb("normal.")?,
     })
 }
 

@@ -179,6 +179,7 @@ pub(crate) fn load_options(settings: &RenderSettings, frame: u64) -> LoadOptions
         max_triangles: settings.max_triangles,
         allow_outside: settings.allow_outside,
         pbrt: settings.pbrt_limits,
+        max_grid_samples: settings.max_grid_samples,
         frame,
         camera: settings
             .camera

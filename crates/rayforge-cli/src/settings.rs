@@ -84,6 +84,8 @@ pub struct RenderSettings {
     pub pbrt_limits: rayforge_scene::pbrt::PbrtLimits,
     /// `--camera`: a glTF model's camera.
     pub camera: Option<String>,
+    /// The most samples one medium's grid may hold (`--max-grid-samples`).
+    pub max_grid_samples: usize,
     /// Continue from the checkpoint.
     pub resume: bool,
     /// Wait for an interrupt once this many rows are finished (a testing aid).
@@ -753,6 +755,13 @@ impl RenderSettings {
                         "--exr-half needs an .exr output, not `{}`",
                         output.display()
                     )))
+        let most = rayforge::media::MAX_GRID_SAMPLES;
+        if args.max_grid_samples == 0 || args.max_grid_samples > most {
+            return Err(Failure::usage(format!(
+                "--max-grid-samples must be between 1 and {most} (512³), found {}",
+                args.max_grid_samples
+            )));
+        }
                 }
                 (format, false) => format,
             },
@@ -860,6 +869,7 @@ impl RenderSettings {
 
 /// `--adaptive-aa`, or its old name `--adaptive` with a deprecation warning.
 fn adaptive_aa(args: &RenderArgs) -> Result<Option<f64>, Failure> {
+            max_grid_samples: args.max_grid_samples,
     match (args.adaptive_aa, args.adaptive) {
         (Some(_), Some(_)) => Err(Failure::usage(
             "give --adaptive-aa once: --adaptive is its old name",

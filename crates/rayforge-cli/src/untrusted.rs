@@ -1,8 +1,8 @@
 //! The command's readers of bytes from outside that are not scene, model or image files (those
 //! are `rayforge-scene`'s), each behind one entry point so that the fuzzer (`rayforge-fuzz`)
-//! drives the very code the command runs: part files through the whole merge, and what a
+//! drives the very code the command runs: part files through the whole merge, what a
 //! browser sends the live page's server (its WebSocket messages and the headers that decide
-//! who may connect).
+//! who may connect), and the images `rayforge denoise` reads.
 //!
 //! Each entry returns the command's own answer (a [`Failure`] or a message for the page); bad
 //! input must get such an answer, never a panic, a hang or unbounded memory.
@@ -68,6 +68,23 @@ pub fn with_part_checksums_repaired(bytes: &[u8]) -> Vec<u8> {
         films = rest;
     }
     part
+}
+
+/// What `rayforge denoise IMAGE [--albedo A] [--normal N]` does with its inputs before OIDN
+/// is given them (it needs no OIDN): reads each file (OpenEXR or PFM) and checks it, its
+/// guides (the files', else the image's own layers) against it, and the images as OIDN would
+/// be given them.
+pub fn denoise_inputs(
+    image: &Path,
+    albedo: Option<&Path>,
+    normal: Option<&Path>,
+) -> Result<(), Failure> {
+    let inputs = crate::denoise_command::read_inputs(image, albedo, normal)?;
+    let guides = inputs.albedo.as_ref().map(|albedo| crate::denoise::Guides {
+        albedo,
+        normal: inputs.normal.as_ref(),
+    });
+    crate::denoise::check(&inputs.image, guides, &format!("`{}`", image.display()))
 }
 
 pub use crate::serve::page_message;

@@ -297,7 +297,7 @@ impl Session {
     /// an albedo and values that are not finite are refused before OIDN runs. The result is
     /// the same as a fresh device's and filters'.
     pub fn denoise(&self, images: &Images<'_>, hdr: bool) -> Result<Vec<f32>, DenoiseError> {
-        check(images)?;
+        images.check()?;
         let shape = Shape {
             width: images.width,
             height: images.height,
@@ -322,8 +322,17 @@ impl Session {
     }
 }
 
-/// Refuses images OIDN must not be given: empty, guides of another size, a normal without an
-/// albedo, values that are not finite.
+impl Images<'_> {
+    /// Refuses images OIDN must not be given: empty, not `width × height × 3` values (a size
+    /// whose values no memory could hold among them), guides of another size, a normal
+    /// without an albedo, values that are not finite. [`Session::denoise`] checks this first;
+    /// it needs no OIDN, so a caller may check its inputs before loading it.
+    pub fn check(&self) -> Result<(), DenoiseError> {
+        check(self)
+    }
+}
+
+/// See [`Images::check`].
 fn check(images: &Images<'_>) -> Result<(), DenoiseError> {
     let Images {
         width,
@@ -335,7 +344,11 @@ fn check(images: &Images<'_>) -> Result<(), DenoiseError> {
     if width == 0 || height == 0 {
         return Err(DenoiseError::Empty { width, height });
     }
-    let len = width * height * 3;
+    let Some(len) = width.checked_mul(height).and_then(|n| n.checked_mul(3)) else {
+        return Err(DenoiseError::Library(format!(
+            "an image of {width}×{height} pixels is past what memory can address"
+        )));
+    };
     if color.len() != len {
         return Err(DenoiseError::Library(format!(
             "the image holds {} values, not {width}×{height}×3",

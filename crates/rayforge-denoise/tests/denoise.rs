@@ -408,3 +408,39 @@ fn a_folder_without_the_library_is_an_error_that_says_how_to_install_it() {
     assert!(message.contains("RAYFORGE_OIDN_DIR"), "{message}");
     let _ = std::fs::remove_dir_all(&empty);
 }
+
+/// The checks made before OIDN is given the images need no OIDN, and a size whose values no
+/// memory could hold is refused rather than overflowing the count (a panic in a debug build).
+#[test]
+fn images_are_checked_without_oidn_and_a_size_past_memory_is_refused() {
+    let color = [0.5f32; 6];
+    let images = |width, height, albedo, normal| Images {
+        width,
+        height,
+        color: &color,
+        albedo,
+        normal,
+    };
+    assert!(images(2, 1, None, None).check().is_ok());
+    assert!(images(2, 1, Some(&color[..]), Some(&color[..]))
+        .check()
+        .is_ok());
+    let huge = images(usize::MAX, 2, None, None).check().unwrap_err();
+    assert!(
+        huge.to_string().contains("past what memory can address"),
+        "{huge}"
+    );
+    assert!(matches!(
+        images(2, 1, None, Some(&color[..])).check(),
+        Err(DenoiseError::NormalWithoutAlbedo)
+    ));
+    assert!(matches!(
+        images(2, 1, Some(&color[..3]), None).check(),
+        Err(DenoiseError::SizeMismatch { .. })
+    ));
+    let nan = [f32::NAN; 6];
+    assert!(matches!(
+        images(2, 1, Some(&nan[..]), None).check(),
+        Err(DenoiseError::NonFinite { .. })
+    ));
+}

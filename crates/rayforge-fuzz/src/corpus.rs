@@ -37,6 +37,7 @@ pub fn seeds(name: &str) -> Vec<Vec<u8>> {
         "image" => seeds.extend(generated_images()),
         "ply" => seeds.extend(crate::targets::ply::seeds()),
         "pbrt" => seeds.extend(crate::targets::pbrt::seeds()),
+        "denoise" => seeds.extend(crate::targets::denoise::seeds()),
         "gltf" => files_under(&shared.join("models/gltf"), &["gltf", "glb"], &mut seeds),
         "page" => seeds.extend(page_messages()),
         _ => {}

@@ -18,6 +18,8 @@ use rayforge_scene::{load_file_with, load_str_with, texture_from_bytes, LoadOpti
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+pub mod denoise;
+pub mod media;
 pub mod pbrt;
 pub mod ply;
 
@@ -34,6 +36,18 @@ pub fn repo_root() -> PathBuf {
 /// and what it built, rendered: see [`pbrt::run`].
 pub fn pbrt(input: &[u8]) -> bool {
     pbrt::run(input)
+}
+
+/// The images `rayforge denoise` reads (OpenEXR and PFM, the image and its guides), checked
+/// as the command checks them before OIDN: see [`denoise::run`].
+pub fn denoise(input: &[u8]) -> bool {
+    denoise::run(input)
+}
+
+/// Participating media read from pbrt-v4 and YAML scenes (`MakeNamedMedium` of every type,
+/// `medium:` items, `.vol` files), then path traced: see [`media::run`].
+pub fn media(input: &[u8]) -> bool {
+    media::run(input)
 }
 
 /// The PLY reader (text, binary, gzip) and the mesh it builds, rendered: see [`ply::run`].

@@ -38,6 +38,8 @@ fuzz_target!(obj);
 fuzz_target!(gltf);
 fuzz_target!(ply);
 fuzz_target!(pbrt);
+fuzz_target!(media);
+fuzz_target!(denoise);
 fuzz_target!(image);
 fuzz_target!(part);
 fuzz_target!(page);
@@ -78,7 +80,8 @@ fn random_inputs() -> usize {
     }
 }
 
-/// The seeds reach past the first checks: every part merges, and the page's requests from
+/// The seeds reach past the first checks: every part merges, every medium is read and
+/// rendered, every denoiser input taken, and the page's requests from
 /// this machine's browser are taken while the one from another site is refused. (A seed that
 /// is refused at once would leave the fuzzer mutating only the refusal.)
 #[test]
@@ -100,6 +103,24 @@ fn the_seeds_are_accepted_where_they_should_be() {
         scenes,
         [false, true, true, true, true, true, true, true, true, false]
     );
+    // cloud.pbrt, grid.yml, homogeneous.pbrt, rgbgrid.pbrt, uniformgrid.pbrt, vol.yml: every
+    // medium type of both formats read and path traced.
+    let media = corpus::seeds("media");
+    assert_eq!(media.len(), 6);
+    for scene in &media {
+        assert!(
+            rayforge_fuzz::targets::media(scene),
+            "{}",
+            String::from_utf8_lossy(scene)
+        );
+    }
+    // A PFM image; PFM guides of its size; an OpenEXR with its albedo and normal layers; an
+    // OpenEXR guide beside a PFM image.
+    let images = corpus::seeds("denoise");
+    assert_eq!(images.len(), 4);
+    for image in &images {
+        assert!(rayforge_fuzz::targets::denoise(image));
+    }
     assert!(parts.len() >= 5, "{} part seeds", parts.len());
     for part in &parts {
         assert!(rayforge_fuzz::targets::part(part));

@@ -108,3 +108,91 @@ fn many_groups_and_materials_take_linear_time() {
         "twice the groups allocated {growth:.2} times the bytes ({small} → {large})"
     );
 }
+
+/// A pbrt-v4 scene of one medium `medium` (parameters after its type), the camera in it.
+fn pbrt_medium(medium: &str) -> String {
+    format!(
+        "LookAt 0 0 -2  0 0 0  0 1 0\nMediumInterface \"\" \"m\"\nCamera \"perspective\"\n\
+         WorldBegin\nMakeNamedMedium \"m\" \"string type\" {medium}\n"
+    )
+}
+
+/// The error reading `text` as the file `name` of a folder of its own gives.
+fn refusal(name: &str, text: &str) -> rayforge_scene::SceneError {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    std::fs::write(&path, text).unwrap();
+    match rayforge_scene::load_file(&path) {
+        Ok(_) => panic!("`{text}` was read"),
+        Err(e) => e,
+    }
+}
+
+/// Found by writing the media target: an `rgbgrid` whose `nx × ny × nz` passes 2⁶⁴ (three
+/// sizes of 2³¹ − 1, the largest integers pbrt-v4 writes) overflowed the product of the sizes
+/// (a panic in a debug build, "attempt to multiply with overflow", media.rs; a wrapped count
+/// in a release build) before any check. It is refused at the medium, naming the limit's flag.
+#[test]
+fn an_rgbgrid_whose_samples_overflow_is_refused_at_its_sizes() {
+    let scene = pbrt_medium(
+        "\"rgbgrid\" \"integer nx\" 2147483647 \"integer ny\" 2147483647 \"integer nz\" 2147483647 \"rgb sigma_a\" [1 1 1]",
+    );
+    assert!(!targets::media(scene.as_bytes()));
+    let e = refusal("m.pbrt", &scene);
+    assert!(
+        e.message
+            .contains("2147483647 × 2147483647 × 2147483647 samples")
+            && e.message.contains("--max-grid-samples"),
+        "{e}"
+    );
+}
+
+/// The same for a `uniformgrid` past the limit without overflowing: refused from its sizes,
+/// before its density is looked at.
+#[test]
+fn a_uniformgrid_past_the_sample_limit_is_refused_from_its_sizes() {
+    let scene = pbrt_medium(
+        "\"uniformgrid\" \"integer nx\" 1024 \"integer ny\" 1024 \"integer nz\" 1024 \"float density\" [1]",
+    );
+    let e = refusal("m.pbrt", &scene);
+    assert!(e.message.contains("past the limit of 134217728"), "{e}");
+}
+
+/// Found by writing the media target: a `.vol` file whose header gives three sizes of
+/// 2³¹ − 1 overflowed the product of the sizes (a panic in a debug build) before its limit
+/// was asked. It is refused at the `file:` that names it.
+#[test]
+fn a_vol_file_whose_samples_overflow_is_refused_at_its_file_key() {
+    let vol = rayforge_fuzz::targets::media::vol([i32::MAX; 3], &[1.0; 4]);
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("huge.vol"), vol).unwrap();
+    let scene = "- medium: m\n  type: grid\n  file: huge.vol\n";
+    let path = dir.path().join("m.yml");
+    std::fs::write(&path, scene).unwrap();
+    let e = rayforge_scene::load_file(&path).unwrap_err();
+    assert_eq!(e.key.as_deref(), Some("file"), "{e}");
+    assert!(e.message.contains("--max-grid-samples"), "{e}");
+    // And through the target, whose folder always holds such a file.
+    let scene = "- medium: m\n  type: grid\n  file: huge.vol\n- add: camera\n  width: 3\n  height: 2\n  field-of-view: 1\n  from: [0, 0, -2]\n  to: [0, 0, 0]\n  up: [0, 1, 0]\n";
+    assert!(!targets::media(scene.as_bytes()));
+}
+
+/// Found by the media target in its first 30 seconds (`BOLERO_RANDOM_SEED=
+/// 156354180388458201715630867705602668789`): a pbrt-v4 sphere of radius 1e300 (and a
+/// cylinder's, a disk's sizes likewise) was placed by a scale whose determinant is infinite,
+/// and `Transform::new` panicked ("the transform is too large"); one of radius 1e-300, whose
+/// determinant is 0, the same. Each is refused at its shape.
+#[test]
+fn a_pbrt_shape_too_large_or_small_to_place_is_refused_at_the_shape() {
+    for shape in [
+        "\"sphere\" \"float radius\" 1e300",
+        "\"sphere\" \"float radius\" 1e-300",
+        "\"cylinder\" \"float radius\" 1e300",
+    ] {
+        let scene = format!("Camera \"perspective\"\nWorldBegin\nShape {shape}\n");
+        assert!(!targets::media(scene.as_bytes()), "{shape}");
+        let e = refusal("s.pbrt", &scene);
+        assert!(e.message.contains("size cannot be used"), "{shape}: {e}");
+        assert_eq!(e.span.map(|s| s.line), Some(3), "{shape}: {e}");
+    }
+}

@@ -150,7 +150,14 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
         }
         let entries = source.entries(&item, "")?;
         if media::is_medium(&entries) {
-            let (name, medium) = media::medium(&source, &defines, &mut assets, &item, &entries)?;
+            let (name, medium) = media::medium(
+                &source,
+                &defines,
+                &mut assets,
+                &item,
+                &entries,
+                options.max_grid_samples,
+            )?;
             let at = entries
                 .iter()
                 .find(|e| e.name == "medium")

@@ -38,7 +38,7 @@ use crate::transform::transform_list;
 use rayforge::math::{point, Aabb, Transform};
 use rayforge::media::{
     coefficient, CloudMedium, DensityGrid, GridMedium, HenyeyGreenstein, Homogeneous, Medium,
-    MediumError, MediumId, MediumInterface, MAX_ASYMMETRY, MAX_GRID_SAMPLES,
+    MediumError, MediumId, MediumInterface, MAX_ASYMMETRY,
 };
 use rayforge::Color;
 
@@ -200,13 +200,15 @@ pub fn is_medium(entries: &[Entry<'_, '_>]) -> bool {
     entries.iter().any(|e| e.name == "medium") && !entries.iter().any(|e| e.name == "add")
 }
 
-/// Reads a `medium:` item: its name and the medium.
+/// Reads a `medium:` item: its name and the medium (a grid of at most `max_grid_samples`
+/// samples, `LoadOptions::max_grid_samples`).
 pub fn medium<'n, 's>(
     source: &Source<'s>,
     defines: &Defines<'n, 's>,
     assets: &mut Assets,
     item: &'n Node<'s>,
     entries: &[Entry<'n, 's>],
+    max_grid_samples: usize,
 ) -> Result<(&'n str, Medium), SceneError> {
     check_keys(source, entries, "a medium", KEYS)?;
     let name_node = required(source, entries, item, "medium", "a medium")?;
@@ -331,7 +333,8 @@ pub fn medium<'n, 's>(
             Ok((name, Medium::Homogeneous(medium)))
         }
         Kind::Grid => {
-            let (density, vol_bounds) = density_grid(source, assets, item, entries)?;
+            let (density, vol_bounds) =
+                density_grid(source, assets, item, entries, max_grid_samples)?;
             let (bounds, transform) =
                 placed_box(source, defines, entries, vol_bounds.unwrap_or(unit_cube))?;
             let medium = GridMedium::new(
@@ -394,12 +397,15 @@ fn placed_box(
     Ok((bounds, transform))
 }
 
-/// A grid medium's densities: `size` with `data`, or a `.vol` `file` (and its box).
+/// A grid medium's densities: `size` with `data`, or a `.vol` `file` (and its box); at most
+/// `max_grid_samples` samples, checked from the size (the `.vol` file's size and header)
+/// before they are read.
 fn density_grid(
     source: &Source<'_>,
     assets: &mut Assets,
     item: &Node<'_>,
     entries: &[Entry<'_, '_>],
+    max_grid_samples: usize,
 ) -> Result<(DensityGrid, Option<Aabb>), SceneError> {
     let get = |key: &str| entries.iter().find(|e| e.name == key);
     match (get("file"), get("data")) {
@@ -409,10 +415,12 @@ fn density_grid(
             }
             let name = source.string(file.value, "file")?;
             let path = assets.resolve(name);
+            let most = VOL_HEADER_BYTES as u64 + 4 * max_grid_samples as u64;
             let bytes = assets
-                .volume_bytes(&path, (VOL_HEADER_BYTES + 4 * MAX_GRID_SAMPLES) as u64)
+                .volume_bytes(&path, most)
                 .map_err(|e| source.error(file.value, "file", format!("`{name}`: {e}")))?;
-            read_vol(&bytes).map_err(|e| source.error(file.value, "file", format!("`{name}`: {e}")))
+            read_vol(&bytes, max_grid_samples)
+                .map_err(|e| source.error(file.value, "file", format!("`{name}`: {e}")))
         }
         (None, Some(data)) => {
             let size_node = required(source, entries, item, "size", "a grid given by `data`")?;
@@ -424,6 +432,18 @@ fn density_grid(
                     0
                 }
             });
+            if let Some(count) = size.iter().try_fold(1usize, |n, &s| n.checked_mul(s)) {
+                if count > max_grid_samples {
+                    return Err(source.error(
+                        size_node,
+                        "size",
+                        format!(
+                            "a grid of {x} × {y} × {z} samples is past the limit of \
+                             {max_grid_samples} (--max-grid-samples)"
+                        ),
+                    ));
+                }
+            }
             let values = source
                 .sequence(data.value, "data")?
                 .iter()
@@ -447,8 +467,9 @@ fn density_grid(
 }
 
 /// Mitsuba's grid volume: `VOL`, version 3, encoding 1 (32-bit floats), the sizes along x,
-/// y and z, one channel, the box (six floats), then the values, x fastest, little-endian.
-fn read_vol(bytes: &[u8]) -> Result<(DensityGrid, Option<Aabb>), String> {
+/// y and z, one channel, the box (six floats), then the values, x fastest, little-endian; at
+/// most `max_grid_samples` of them, their count multiplied without overflow.
+fn read_vol(bytes: &[u8], max_grid_samples: usize) -> Result<(DensityGrid, Option<Aabb>), String> {
     if bytes.len() < VOL_HEADER_BYTES || &bytes[0..3] != b"VOL" {
         return Err("not a Mitsuba grid volume (it does not begin with `VOL`)".into());
     }
@@ -474,10 +495,16 @@ fn read_vol(bytes: &[u8]) -> Result<(DensityGrid, Option<Aabb>), String> {
         return Err(format!("size {size:?}: each must be at least 1"));
     }
     let size = size.map(|s| s as usize);
-    let count: usize = size.iter().product();
-    if count > MAX_GRID_SAMPLES {
-        return Err(format!("{count} samples; the limit is {MAX_GRID_SAMPLES}"));
-    }
+    let Some(count) = size
+        .iter()
+        .try_fold(1usize, |n, &s| n.checked_mul(s))
+        .filter(|&n| n <= max_grid_samples)
+    else {
+        return Err(format!(
+            "{} × {} × {} samples; the limit is {max_grid_samples} (--max-grid-samples)",
+            size[0], size[1], size[2]
+        ));
+    };
     let expected = VOL_HEADER_BYTES + 4 * count;
     if bytes.len() != expected {
         return Err(format!(
@@ -526,6 +553,7 @@ pub fn medium_named(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rayforge::media::MAX_GRID_SAMPLES;
 
     fn vol(size: [i32; 3], values: &[f32]) -> Vec<u8> {
         let mut b = b"VOL\x03".to_vec();
@@ -543,7 +571,8 @@ mod tests {
 
     #[test]
     fn a_vol_file_gives_its_grid_and_box() {
-        let (grid, bounds) = read_vol(&vol([2, 1, 1], &[0.5, 1.5])).expect("read");
+        let (grid, bounds) =
+            read_vol(&vol([2, 1, 1], &[0.5, 1.5]), MAX_GRID_SAMPLES).expect("read");
         assert_eq!(grid.size(), [2, 1, 1]);
         assert_eq!(grid.lookup(point(0.75, 0.5, 0.5)), 1.5);
         assert_eq!(
@@ -555,15 +584,36 @@ mod tests {
     #[test]
     fn broken_vol_files_are_refused() {
         let good = vol([2, 1, 1], &[0.5, 1.5]);
-        assert!(read_vol(&good[..50]).is_err());
-        assert!(read_vol(b"VOX\x03").is_err());
+        assert!(read_vol(&good[..50], MAX_GRID_SAMPLES).is_err());
+        assert!(read_vol(b"VOX\x03", MAX_GRID_SAMPLES).is_err());
         let mut huge = vol([1 << 12, 1 << 12, 1 << 12], &[]);
         huge.truncate(VOL_HEADER_BYTES);
-        assert!(read_vol(&huge).unwrap_err().contains("limit"));
+        assert!(read_vol(&huge, MAX_GRID_SAMPLES)
+            .unwrap_err()
+            .contains("limit"));
         let mut v2 = good.clone();
         v2[3] = 2;
-        assert!(read_vol(&v2).is_err());
-        assert!(read_vol(&vol([0, 1, 1], &[])).is_err());
-        assert!(read_vol(&vol([1, 1, 1], &[-1.0])).is_err());
+        assert!(read_vol(&v2, MAX_GRID_SAMPLES).is_err());
+        assert!(read_vol(&vol([0, 1, 1], &[]), MAX_GRID_SAMPLES).is_err());
+        assert!(read_vol(&vol([1, 1, 1], &[-1.0]), MAX_GRID_SAMPLES).is_err());
+    }
+
+    /// The media fuzz target's finding: sizes whose product overflows 64 bits (three of
+    /// 2³¹ − 1) panicked in the multiplication (debug builds) before the limit was asked.
+    #[test]
+    fn a_vol_header_whose_sample_count_overflows_is_refused() {
+        let e = read_vol(&vol([i32::MAX; 3], &[1.0; 4]), MAX_GRID_SAMPLES).unwrap_err();
+        assert!(
+            e.contains("2147483647 × 2147483647 × 2147483647 samples"),
+            "{e}"
+        );
+        assert!(e.contains("--max-grid-samples"), "{e}");
+    }
+
+    #[test]
+    fn a_vol_file_past_a_lower_limit_is_refused_before_its_grid_is_made() {
+        let e = read_vol(&vol([2, 2, 1], &[0.0; 4]), 3).unwrap_err();
+        assert!(e.contains("the limit is 3 (--max-grid-samples)"), "{e}");
+        assert!(read_vol(&vol([2, 2, 1], &[0.0; 4]), 4).is_ok());
     }
 }

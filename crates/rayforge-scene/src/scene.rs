@@ -101,6 +101,11 @@ pub struct LoadOptions {
     pub stop: StopFlag,
     /// The limits of a pbrt-v4 scene's files (`--max-pbrt-*`).
     pub pbrt: PbrtLimits,
+    /// The most samples one density or colour grid of a medium may hold (a YAML grid's
+    /// `size`, a `.vol` file's header, a pbrt-v4 `uniformgrid` or `rgbgrid`'s `nx × ny × nz`),
+    /// checked from the sizes before the grid (or a `.vol` file's body) is read into memory:
+    /// `--max-grid-samples`, at most (and by default) `rayforge::media::MAX_GRID_SAMPLES`.
+    pub max_grid_samples: usize,
 }
 
 /// What a pbrt-v4 scene's files may hold (the triangles are [`LoadOptions::max_triangles`]).
@@ -150,6 +155,7 @@ impl Default for LoadOptions {
             camera: CameraChoice::First,
             stop: StopFlag::default(),
             pbrt: PbrtLimits::DEFAULT,
+            max_grid_samples: rayforge::media::MAX_GRID_SAMPLES,
         }
     }
 }

@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 
 /// Small limits, so that an input that includes a file many times or writes millions of
 /// numbers is refused quickly (the defaults would let one input read a gigabyte).
-const FUZZ_LIMITS: PbrtLimits = PbrtLimits {
+pub(crate) const FUZZ_LIMITS: PbrtLimits = PbrtLimits {
     file_bytes: 1 << 20,
     total_bytes: 4 << 20,
     include_depth: 8,

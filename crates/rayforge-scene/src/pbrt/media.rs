@@ -33,10 +33,12 @@ use std::collections::HashMap;
 const DEFAULT_SIGMA_A: Color = Color::WHITE;
 const DEFAULT_SIGMA_S: Color = Color::WHITE;
 
-/// The scene's media, built into `world`, by name.
+/// The scene's media, built into `world`, by name; a grid holds at most `max_grid_samples`
+/// samples (`LoadOptions::max_grid_samples`).
 pub fn build(
     desc: &Description,
     world: &mut World,
+    max_grid_samples: usize,
 ) -> Result<HashMap<String, MediumId>, SceneError> {
     let mut names: Vec<&String> = desc.media.keys().collect();
     // In a fixed order, so that ids do not depend on the hash.
@@ -44,7 +46,7 @@ pub fn build(
     let mut ids = HashMap::new();
     for name in names {
         let (entity, world_from_medium) = &desc.media[name];
-        let medium = medium(entity, world_from_medium)?;
+        let medium = medium(entity, world_from_medium, max_grid_samples)?;
         let id = world
             .media
             .add(medium)
@@ -54,8 +56,12 @@ pub fn build(
     Ok(ids)
 }
 
-/// The medium `entity` describes.
-fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneError> {
+/// The medium `entity` describes, a grid of at most `max_grid_samples` samples.
+fn medium(
+    entity: &Entity,
+    world_from_medium: &DMat4,
+    max_grid_samples: usize,
+) -> Result<Medium, SceneError> {
     let params = &entity.params;
     let spectrum = |name: &str, default: Color, usage: SpectrumUse| -> Result<Color, SceneError> {
         match params.find(
@@ -95,7 +101,7 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
         return Err(entity.error(format!("`scale` is at least 0, found {scale}")));
     }
     if kind == "rgbgrid" {
-        return rgb_grid(entity, world_from_medium, scale, phase)
+        return rgb_grid(entity, world_from_medium, scale, phase, max_grid_samples)
             .map(|m| Medium::Grid(Box::new(m)));
     }
     // A homogeneous medium's measured preset, as pbrt-v4 reads it: in place of `sigma_a` and
@@ -134,7 +140,7 @@ fn medium(entity: &Entity, world_from_medium: &DMat4) -> Result<Medium, SceneErr
             }))
         }
         "uniformgrid" => {
-            let size = grid_size(entity)?;
+            let (size, _) = grid_size(entity, max_grid_samples)?;
             let Some((values, p)) = params.numbers("density", ParamType::Float)? else {
                 return Err(entity.error("a `uniformgrid` medium needs `\"float density\"`"));
             };
@@ -206,16 +212,17 @@ fn cloud(
 /// An `rgbgrid`, as pbrt-v4's `RGBGridMedium` reads it: `sigma_a` and `sigma_s` grids of
 /// colours (`nx` × `ny` × `nz` rgb values, x fastest; either may be absent, then 1
 /// throughout, not both) times `scale`, and light `Le` (a grid of colours, which needs
-/// `sigma_a`) times `Lescale`, over the box `p0`–`p1` placed by `world_from_medium`.
+/// `sigma_a`) times `Lescale`, over the box `p0`–`p1` placed by `world_from_medium`; at most
+/// `max_grid_samples` samples.
 fn rgb_grid(
     entity: &Entity,
     world_from_medium: &DMat4,
     scale: f64,
     phase: HenyeyGreenstein,
+    max_grid_samples: usize,
 ) -> Result<GridMedium, SceneError> {
     let params = &entity.params;
-    let size = grid_size(entity)?;
-    let count = size[0] * size[1] * size[2];
+    let (size, count) = grid_size(entity, max_grid_samples)?;
     let colors = |name: &str| -> Result<Option<ColorGrid>, SceneError> {
         let Some((values, p)) = params.numbers(name, ParamType::Rgb)? else {
             return Ok(None);
@@ -272,16 +279,31 @@ fn rgb_grid(
     Ok(grid)
 }
 
-/// A grid's `nx`, `ny` and `nz` (1 where absent, as pbrt-v4).
-fn grid_size(entity: &Entity) -> Result<[usize; 3], SceneError> {
+/// A grid's `nx`, `ny` and `nz` (1 where absent, as pbrt-v4), and the samples they make,
+/// refused past `max_grid_samples` (before any grid is made of them; their product counted
+/// without overflow, whatever the sizes).
+fn grid_size(entity: &Entity, max_grid_samples: usize) -> Result<([usize; 3], usize), SceneError> {
     let size = |name: &str| -> Result<usize, SceneError> {
         match entity.params.integer(name)? {
             None => Ok(1),
-            Some((n, _)) if n >= 1 => Ok(n as usize),
+            Some((n, p)) if n >= 1 => usize::try_from(n)
+                .map_err(|_| p.error(format!("a grid's size {n} is past what memory can address"))),
             Some((n, p)) => Err(p.error(format!("a grid's size is at least 1, found {n}"))),
         }
     };
-    Ok([size("nx")?, size("ny")?, size("nz")?])
+    let size = [size("nx")?, size("ny")?, size("nz")?];
+    match size
+        .iter()
+        .try_fold(1usize, |n, &s| n.checked_mul(s))
+        .filter(|&n| n <= max_grid_samples)
+    {
+        Some(count) => Ok((size, count)),
+        None => Err(entity.error(format!(
+            "a grid of nx × ny × nz = {} × {} × {} samples is past the limit of \
+             {max_grid_samples} (--max-grid-samples)",
+            size[0], size[1], size[2]
+        ))),
+    }
 }
 
 /// A `uniformgrid`'s light, as pbrt-v4's `GridMedium` reads it: `Le` (a spectrum) times the

@@ -96,8 +96,11 @@ pub fn build(
                 let area = q.map_or(0.0, |q| q.area());
                 Built::Objects(vec![partial(q, at)?], area)
             } else {
-                let object =
-                    Object::sphere().with_transform(DMat4::from_scale(DVec3::splat(radius)));
+                let object = sized(
+                    shape,
+                    Object::sphere(),
+                    DMat4::from_scale(DVec3::splat(radius)),
+                )?;
                 Built::Objects(vec![object], 4.0 * std::f64::consts::PI * radius * radius)
             }
         }
@@ -122,11 +125,11 @@ pub fn build(
                 // facing +z: a quarter turn about x takes +y to +z.
                 let placed = DMat4::from_translation(DVec3::new(0.0, 0.0, height))
                     * DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2);
-                let object = Object::new(Shape::Ring {
+                let ring = Object::new(Shape::Ring {
                     inner,
                     outer: radius,
-                })
-                .with_transform(placed);
+                });
+                let object = sized(shape, ring, placed)?;
                 let area = std::f64::consts::PI * (radius * radius - inner * inner);
                 Built::Objects(vec![object], area)
             }
@@ -150,12 +153,12 @@ pub fn build(
                 // rayforge's cylinder stands along y; a quarter turn about x lays it along z.
                 let placed = DMat4::from_rotation_x(std::f64::consts::FRAC_PI_2)
                     * DMat4::from_scale(DVec3::new(radius, 1.0, radius));
-                let object = Object::new(Shape::Cylinder {
+                let cylinder = Object::new(Shape::Cylinder {
                     minimum: zmin,
                     maximum: zmax,
                     closed: false,
-                })
-                .with_transform(placed);
+                });
+                let object = sized(shape, cylinder, placed)?;
                 let area = 2.0 * std::f64::consts::PI * radius * (zmax - zmin);
                 Built::Objects(vec![object], area)
             }
@@ -189,6 +192,19 @@ pub fn build(
 }
 
 /// A float parameter that must be above 0.
+/// `object` sized and placed in its own space by `matrix` (a radius, a height), refused at the
+/// shape when the sizes are past what 64-bit numbers can invert (a sphere of radius 1e300
+/// scales by 1e900 in volume: the media fuzz target's finding, a panic before).
+fn sized(shape: &ShapeEntity, object: Object, matrix: DMat4) -> Result<Object, SceneError> {
+    let transform = rayforge::math::Transform::try_new(matrix).map_err(|e| {
+        shape.entity.error(format!(
+            "a {}'s size cannot be used: {e}",
+            shape.entity.name
+        ))
+    })?;
+    Ok(object.with_transform_of(transform))
+}
+
 fn positive(shape: &ShapeEntity, name: &str, default: f64) -> Result<f64, SceneError> {
     let v = shape.entity.params.float_or(name, default)?;
     if v <= 0.0 {
