@@ -97,6 +97,7 @@ Render options (`rayforge render --help` describes each in full):
                             albedo and normals (tools/oidn/install.sh installs it)
       --time <DURATION>     ray and path: refine in passes until this time is spent (30s, 5m)
       --display-server <HOST:PORT> show the image in the tev viewer while it renders
+      --display-timeout <SECONDS> how long the viewer may take a packet [default: 5]
       --exr-half            write the .exr output in 16-bit half floats
       --shading <MODE>      raster only: flat, gouraud or phong [default: phong]
       --sphere-divisions <N> raster only: sphere resolution (N+1 rings of N) [default: 48]
@@ -519,13 +520,13 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N", default_value_t = rayforge_scene::pbrt::PbrtLimits::DEFAULT.values)]
     pub max_pbrt_values: u64,
 
-    /// For a glTF model rendered directly: which of its cameras to look through, by index
     /// The most samples one grid of a participating medium may hold (a YAML grid's `size`, a
     /// `.vol` file's, a pbrt-v4 `uniformgrid` or `rgbgrid`'s nx × ny × nz), four bytes each
     /// or more: checked from the sizes before the grid is read. At most 134217728 (512^3).
     #[arg(long, value_name = "N", default_value_t = rayforge::media::MAX_GRID_SAMPLES)]
     pub max_grid_samples: usize,
 
+    /// For a glTF model rendered directly: which of its cameras to look through, by index
     /// (0 is the first in node order) or by name; without it, its first camera, or one that
     /// frames the model when it has none.
     #[arg(long, value_name = "N|NAME")]
@@ -537,9 +538,10 @@ pub struct RenderArgs {
     #[arg(long)]
     pub resume: bool,
 
-    /// For testing interruption: once this many rows are finished, the render waits for
-    /// Ctrl-C (or a termination signal) before it goes on, so a test can interrupt it at a
-    /// known point whatever the machine's speed. Hidden from the help.
+    /// For testing interruption: once this many rows are finished (the rasterizer's: drawn
+    /// in its bands of tiles, inside the frame), the render waits for Ctrl-C (or a
+    /// termination signal) before it goes on, so a test can interrupt it at a known point
+    /// whatever the machine's speed. Hidden from the help.
     #[arg(long, value_name = "ROWS", hide = true)]
     pub pause_after_rows: Option<usize>,
 
@@ -720,6 +722,13 @@ pub struct RenderArgs {
     /// `noisy` and the denoised image is `denoised`.
     #[arg(long, value_name = "HOST:PORT")]
     pub display_server: Option<String>,
+
+    /// How long, in seconds, connecting to the viewer of --display-server and sending it one
+    /// packet (at most 2^20 samples) may take before it counts as gone: it is then dropped
+    /// with a warning and the render goes on, so a viewer that stops reading cannot hold the
+    /// render. Above 0, at most 3600.
+    #[arg(long, value_name = "SECONDS", default_value_t = crate::tev::DEFAULT_TIMEOUT.as_secs_f64())]
+    pub display_timeout: f64,
 
     /// Write the OpenEXR output in 16-bit half floats instead of 32-bit ones (half the size;
     /// about three decimal digits; values past 65504 saturate). Needs an .exr output.

@@ -185,7 +185,7 @@ pub fn render<R>(
 
 /// Holds the calling worker until `stop` is set (`--pause-after-rows`): the render then starts
 /// no more rows, so a test knows exactly which rows an interrupt saves.
-fn wait_for_interrupt(stop: &AtomicBool) {
+pub(crate) fn wait_for_interrupt(stop: &AtomicBool) {
     while !stop.load(SeqCst) {
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
@@ -193,8 +193,9 @@ fn wait_for_interrupt(stop: &AtomicBool) {
 
 /// The failure of an interrupted render of `height` rows: where its rows are saved, or that
 /// none are, and why writing the checkpoint failed when it did (no message claims rows the
-/// file does not hold).
-pub fn interrupted(height: usize, logged: &Logged, checkpoint: &Path) -> Failure {
+/// file does not hold); then the `work` it had done (`12 samples, 345 rays`), which says how
+/// soon it stopped whatever the machine's speed.
+pub fn interrupted(height: usize, logged: &Logged, checkpoint: &Path, work: &str) -> Failure {
     let failed = logged
         .failure
         .as_ref()
@@ -202,11 +203,13 @@ pub fn interrupted(height: usize, logged: &Logged, checkpoint: &Path) -> Failure
         .unwrap_or_default();
     if logged.saved == 0 {
         return Failure::Interrupted(format!(
-            "no row is saved{failed}, so there is nothing to resume; nothing was written"
+            "no row is saved{failed}, so there is nothing to resume; nothing was written \
+             (stopped after {work})"
         ));
     }
     Failure::Interrupted(format!(
-        "{} of {} rows are saved in `{}`{failed}; run the same command with --resume to finish",
+        "{} of {} rows are saved in `{}`{failed}; run the same command with --resume to finish \
+         (stopped after {work})",
         logged.saved,
         height,
         checkpoint.display()

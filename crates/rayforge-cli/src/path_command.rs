@@ -328,7 +328,13 @@ pub fn path_render(
                  no checkpoint, so nothing was written"
             )));
         }
-        return Err(checkpointed::interrupted(height, &logged, &checkpoint));
+        let work = format!("{} samples, {} rays", stats.samples, stats.rays);
+        return Err(checkpointed::interrupted(
+            height,
+            &logged,
+            &checkpoint,
+            &work,
+        ));
     }
     let image = film.into_film().resolve();
     let aovs = aovs.map(|aovs| {

@@ -228,8 +228,27 @@ fn raster_render(
 ) -> Result<(), Failure> {
     let started = Instant::now();
     let stop = crate::interrupt::stop_flag(settings.quiet);
+    // `--pause-after-rows` (a testing aid) waits, inside the frame, once that many rows of
+    // tiles are drawn, for the interrupt a test sends then.
+    let rows_done = std::sync::atomic::AtomicUsize::new(0);
+    let paused = std::sync::Once::new();
+    let on_band = |rows: usize| {
+        let done = rows_done.fetch_add(rows, std::sync::atomic::Ordering::SeqCst) + rows;
+        if let Some(n) = settings.pause_after_rows.filter(|&n| done >= n) {
+            paused.call_once(|| eprintln!("paused after {n} rows until interrupted"));
+            crate::checkpointed::wait_for_interrupt(stop);
+        }
+    };
     let (film, stats) = pool
-        .install(|| rayforge::raster::render_film(camera, &scene.world, options, Some(stop)))
+        .install(|| {
+            rayforge::raster::render_film_observed(
+                camera,
+                &scene.world,
+                options,
+                Some(stop),
+                &on_band,
+            )
+        })
         .map_err(raster_failure)?;
     let (canvas, non_finite) = develop_with_overlay(scene, camera, &film);
     let elapsed = started.elapsed();
@@ -389,6 +408,7 @@ fn ray_render(
             image.height(),
             &logged,
             &checkpoint,
+            &format!("{} rays", stats.rays),
         ));
     }
     let (canvas, non_finite) =
@@ -608,6 +628,7 @@ pub fn display_with(
         size,
         layout,
         settings.quiet,
+        settings.display_timeout,
     ))
 }
 

@@ -78,14 +78,16 @@ pub struct RenderSettings {
     pub max_rays_given: bool,
     /// `--display-server`: where tev listens.
     pub display_server: Option<String>,
+    /// `--display-timeout`: how long the viewer may take a packet.
+    pub display_timeout: std::time::Duration,
     /// Whether the scene may name files outside its folder.
     pub allow_outside: bool,
     /// What a pbrt-v4 scene's files may hold (`--max-pbrt-*`).
     pub pbrt_limits: rayforge_scene::pbrt::PbrtLimits,
-    /// `--camera`: a glTF model's camera.
-    pub camera: Option<String>,
     /// The most samples one medium's grid may hold (`--max-grid-samples`).
     pub max_grid_samples: usize,
+    /// `--camera`: a glTF model's camera.
+    pub camera: Option<String>,
     /// Continue from the checkpoint.
     pub resume: bool,
     /// Wait for an interrupt once this many rows are finished (a testing aid).
@@ -699,6 +701,17 @@ fn output(args: &RenderArgs, pbrt: rayforge_scene::pbrt::PbrtLimits) -> Result<P
     ))
 }
 
+/// `--display-timeout`'s seconds: above 0, at most an hour.
+fn display_timeout(seconds: f64) -> Result<std::time::Duration, Failure> {
+    if seconds > 0.0 && seconds <= 3600.0 {
+        Ok(std::time::Duration::from_secs_f64(seconds))
+    } else {
+        Err(Failure::usage(format!(
+            "--display-timeout takes seconds above 0 and at most 3600, found {seconds}"
+        )))
+    }
+}
+
 /// `X,Y`, as `--trace-pixel` takes it.
 fn parse_pixel(text: &str) -> Result<(usize, usize), Failure> {
     let bad = || {
@@ -742,6 +755,13 @@ impl RenderSettings {
                 )));
             }
         }
+        let most = rayforge::media::MAX_GRID_SAMPLES;
+        if args.max_grid_samples == 0 || args.max_grid_samples > most {
+            return Err(Failure::usage(format!(
+                "--max-grid-samples must be between 1 and {most} (512³), found {}",
+                args.max_grid_samples
+            )));
+        }
         let output = output(&args, pbrt_limits)?;
         let slice = slice(&args)?;
         let format = match (slice, args.exr_half) {
@@ -755,13 +775,6 @@ impl RenderSettings {
                         "--exr-half needs an .exr output, not `{}`",
                         output.display()
                     )))
-        let most = rayforge::media::MAX_GRID_SAMPLES;
-        if args.max_grid_samples == 0 || args.max_grid_samples > most {
-            return Err(Failure::usage(format!(
-                "--max-grid-samples must be between 1 and {most} (512³), found {}",
-                args.max_grid_samples
-            )));
-        }
                 }
                 (format, false) => format,
             },
@@ -853,8 +866,10 @@ impl RenderSettings {
                 .unwrap_or(rayforge::render::DEFAULT_MAX_RAYS_PER_SAMPLE),
             max_rays_given: args.max_rays_per_sample.is_some(),
             display_server: args.display_server.clone(),
+            display_timeout: display_timeout(args.display_timeout)?,
             allow_outside: args.allow_outside,
             pbrt_limits,
+            max_grid_samples: args.max_grid_samples,
             camera: args.camera.clone(),
             resume: args.resume,
             pause_after_rows: args.pause_after_rows,
@@ -869,7 +884,6 @@ impl RenderSettings {
 
 /// `--adaptive-aa`, or its old name `--adaptive` with a deprecation warning.
 fn adaptive_aa(args: &RenderArgs) -> Result<Option<f64>, Failure> {
-            max_grid_samples: args.max_grid_samples,
     match (args.adaptive_aa, args.adaptive) {
         (Some(_), Some(_)) => Err(Failure::usage(
             "give --adaptive-aa once: --adaptive is its old name",

@@ -17,7 +17,8 @@
 //! mid-render, one warning is printed and the render goes on without it. Packets go out on a
 //! thread of their own (see [`crate::checkpointed`]), so a slow viewer never holds a worker.
 //!
-//! A viewer that stops reading is dropped once one packet has taken [`TIMEOUT`], however it
+//! A viewer that stops reading is dropped once one packet has taken its timeout
+//! (`--display-timeout`, [`DEFAULT_TIMEOUT`] unless told), however it
 //! trickles (the socket's own timeout bounded each write, and a packet is many: a viewer that
 //! accepted and never read held a 2.2 s render for 15.9 s), and at once when the render is
 //! interrupted ([`Display::stop_on`]): Ctrl-C exited 8.9 s late behind a stalled viewer.
@@ -38,8 +39,9 @@ const UPDATE_IMAGE: u8 = 6;
 pub const DEFAULT_PORT: u16 = 14158;
 
 /// How long connecting to the viewer, and sending it one packet, may take before it counts as
-/// gone: a viewer that stops reading must not stall the render's end.
-const TIMEOUT: Duration = Duration::from_secs(5);
+/// gone, unless `--display-timeout` says otherwise: a viewer that stops reading must not
+/// stall the render's end.
+pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(5);
 
 /// How long one write to the viewer may block: how often a send looks at its deadline and at
 /// the stop flag.
@@ -179,7 +181,7 @@ pub struct Display {
     /// Rows waiting to go out together: the first row's index and the samples.
     pending: Option<(usize, Vec<f32>)>,
     pending_rows: usize,
-    /// How long one packet may take ([`TIMEOUT`]).
+    /// How long one packet may take (`--display-timeout`).
     timeout: Duration,
     /// The render's stop flag: once set, nothing more is sent.
     stop: Option<&'static AtomicBool>,
@@ -188,14 +190,16 @@ pub struct Display {
 impl Display {
     /// Connects to tev at `address` (`HOST:PORT`, or `HOST` for the default port) and creates
     /// the image `name` of `width` × `height` with the channels of the layers `layout` names
-    /// (`R`, `G`, `B` for the image's own, `albedo.R`, … for the others). Unreachable: a
-    /// display that shows nothing, after one warning.
+    /// (`R`, `G`, `B` for the image's own, `albedo.R`, … for the others); connecting, and
+    /// each packet, may take `timeout`. Unreachable: a display that shows nothing, after one
+    /// warning.
     pub fn connect_with(
         address: &str,
         name: &str,
         (width, height): (usize, usize),
         layout: &Layout<'_>,
         quiet: bool,
+        timeout: Duration,
     ) -> Self {
         let layers: Vec<String> = layout
             .whole
@@ -215,10 +219,10 @@ impl Display {
             quiet,
             pending: None,
             pending_rows: 0,
-            timeout: TIMEOUT,
+            timeout,
             stop: None,
         };
-        match connect(address) {
+        match connect(address, timeout) {
             Ok(stream) => {
                 display.stream = Some(stream);
                 let channels: Vec<&str> = display.channels.iter().map(String::as_str).collect();
@@ -371,8 +375,9 @@ fn is_blocked(error: &std::io::Error) -> bool {
     )
 }
 
-/// A connection to `address`, with [`DEFAULT_PORT`] when it names none.
-fn connect(address: &str) -> Result<TcpStream, String> {
+/// A connection to `address`, with [`DEFAULT_PORT`] when it names none, made within
+/// `timeout`.
+fn connect(address: &str, timeout: Duration) -> Result<TcpStream, String> {
     let with_port = if address
         .rsplit_once(':')
         .is_some_and(|(_, p)| p.parse::<u16>().is_ok())
@@ -386,7 +391,7 @@ fn connect(address: &str) -> Result<TcpStream, String> {
         .map_err(|e| format!("cannot resolve it ({e})"))?;
     let mut last = "it has no address".to_string();
     for a in addresses {
-        match TcpStream::connect_timeout(&a, TIMEOUT) {
+        match TcpStream::connect_timeout(&a, timeout) {
             Ok(stream) => {
                 let _ = stream.set_write_timeout(Some(WRITE_SLICE));
                 let _ = stream.set_nodelay(true);
@@ -519,7 +524,8 @@ mod tests {
             whole: &["denoised"],
             rows: &["noisy", "albedo"],
         };
-        let mut display = Display::connect_with(&address, "x", (2, 1), &layout, true);
+        let mut display =
+            Display::connect_with(&address, "x", (2, 1), &layout, true, DEFAULT_TIMEOUT);
         let grey = Color::WHITE * 0.5;
         display.row(0, &[Color::WHITE, Color::WHITE, grey, grey]);
         display.layer("denoised", &Canvas::from_pixels(2, 1, vec![grey; 2]));
@@ -559,7 +565,8 @@ mod tests {
             .unwrap()
             .port();
         let address = format!("127.0.0.1:{port}");
-        let mut display = Display::connect_with(&address, "x", (2, 2), &PLAIN, true);
+        let mut display =
+            Display::connect_with(&address, "x", (2, 2), &PLAIN, true, DEFAULT_TIMEOUT);
         display.row(0, &[Color::WHITE; 2]);
         display.flush();
         assert!(display.stream.is_none());
@@ -570,7 +577,14 @@ mod tests {
     fn stalled_viewer(width: usize, height: usize) -> (std::net::TcpListener, Display) {
         let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("a port");
         let address = listener.local_addr().expect("its address").to_string();
-        let display = Display::connect_with(&address, "x", (width, height), &PLAIN, true);
+        let display = Display::connect_with(
+            &address,
+            "x",
+            (width, height),
+            &PLAIN,
+            true,
+            DEFAULT_TIMEOUT,
+        );
         assert!(display.stream.is_some(), "connected");
         (listener, display)
     }

@@ -124,7 +124,12 @@ struct Paused {
 
 impl Paused {
     /// Starts `command` (a render with `--pause-after-rows 1`) and returns once it has paused.
-    fn start(mut command: Command) -> Self {
+    fn start(command: Command) -> Self {
+        Self::start_until(command, "paused after 1 rows")
+    }
+
+    /// Starts `command` and returns once it has printed a line containing `pause`.
+    fn start_until(mut command: Command, pause: &str) -> Self {
         let mut child = command.stderr(Stdio::piped()).spawn().expect("runs");
         let err = BufReader::new(child.stderr.take().unwrap());
         let (send, lines) = std::sync::mpsc::channel();
@@ -140,7 +145,7 @@ impl Paused {
             lines,
             said: String::new(),
         };
-        paused.wait_for("paused after 1 rows");
+        paused.wait_for(pause);
         paused
     }
 
@@ -525,4 +530,49 @@ fn an_allocation_failure_is_a_clear_error_not_an_abort() {
     assert!(err.contains("--width"), "{err}");
     let left = files_in(&d);
     assert_eq!(left, ["slow.yml"], "no checkpoint, lock or image");
+}
+
+/// Ctrl-C inside a raster frame (`--renderer raster`, one thread, held by
+/// `--pause-after-rows 32` once its first band of tiles is drawn, so that the signal comes
+/// inside the frame whatever the machine's speed): the frame stops at its next tile and the
+/// command exits 130, saying how many of its tiles were drawn and that nothing was written,
+/// as the docs say. The rasterizer keeps no checkpoint: an image already at the output is
+/// left as it was, and nothing is left beside it (no checkpoint, no lock, no temporary file).
+#[cfg(unix)]
+#[test]
+fn an_interrupted_raster_frame_writes_nothing_and_leaves_the_old_image() {
+    let d = Dir::new();
+    let scene = d.file(
+        "ball.yml",
+        "- add: camera\n  width: 256\n  height: 128\n  field-of-view: 1\n  from: [0, 0, -5]\n  \
+         to: [0, 0, 0]\n  up: [0, 1, 0]\n- add: light\n  at: [-5, 5, -5]\n  \
+         intensity: [1, 1, 1]\n- add: sphere\n",
+    );
+    let out = d.path("ball.png");
+    std::fs::write(&out, b"an earlier render's image").unwrap();
+    let mut command = Command::new(env!("CARGO_BIN_EXE_rayforge"));
+    command
+        .args([Path::new("render"), &scene, Path::new("-o"), &out])
+        .args([
+            "--renderer",
+            "raster",
+            "--threads",
+            "1",
+            "--pause-after-rows",
+            "32",
+        ]);
+    let (code, err) = Paused::start_until(command, "paused after 32 rows").signal("INT");
+    assert_eq!(code, Some(130), "{err}");
+    // 256 × 128 pixels are 4 × 4 tiles of 64 × 32: the first band's 4 were drawn.
+    assert!(
+        err.contains(
+            "interrupted: the raster frame was interrupted after 4 of its 16 tiles; nothing was \
+             written"
+        ),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&out).unwrap(), b"an earlier render's image");
+    let mut files = files_in(&d);
+    files.sort();
+    assert_eq!(files, ["ball.png", "ball.yml"], "{err}");
 }

@@ -426,3 +426,96 @@ fn durations_are_read_with_their_units_and_bad_ones_refused() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+/// The most bytes the system lets a TCP socket buffer (`/proc/sys/net/ipv4/tcp_rmem`'s and
+/// `tcp_wmem`'s largest, the sender's and the receiver's together), or 64 MiB where that
+/// cannot be read: what a viewer that never reads can hold before every write blocks.
+fn socket_buffers_at_most() -> usize {
+    let largest = |file: &str| {
+        std::fs::read_to_string(file)
+            .ok()?
+            .split_whitespace()
+            .nth(2)?
+            .parse::<usize>()
+            .ok()
+    };
+    match (
+        largest("/proc/sys/net/ipv4/tcp_rmem"),
+        largest("/proc/sys/net/ipv4/tcp_wmem"),
+    ) {
+        (Some(r), Some(w)) => r + w,
+        _ => 64 << 20,
+    }
+}
+
+/// A viewer that accepts the connection and never reads a byte: the render still finishes
+/// and writes its image, with one warning that the viewer counts as gone once a packet has
+/// waited `--display-timeout` (here 1 s). The stall does not depend on the machine's speed:
+/// the image's packets (12 bytes a pixel for its rows, as many again for the finished image)
+/// are twice what the two sockets' buffers can ever hold, so some packet is certain to wait
+/// its whole timeout; and the outcome asserted is the warning and the image, not a time.
+#[test]
+fn a_viewer_that_never_reads_is_dropped_and_the_render_finishes() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("sky.yml");
+    // Nothing but the background: the render costs next to nothing per pixel.
+    std::fs::write(
+        &scene,
+        "- add: camera\n  width: 4\n  height: 4\n  field-of-view: 1\n  from: [0, 0, -5]\n  \
+         to: [0, 0, 0]\n  up: [0, 1, 0]\n",
+    )
+    .unwrap();
+    let pixels = 2 * socket_buffers_at_most() / 24 + 1;
+    let side = (pixels as f64).sqrt().ceil() as usize;
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let address = listener.local_addr().unwrap().to_string();
+    let (done, hold) = std::sync::mpsc::channel::<()>();
+    let viewer = std::thread::spawn(move || {
+        let (stream, _) = listener.accept().unwrap();
+        // Holds the connection open, unread, until the render has ended.
+        let _ = hold.recv();
+        drop(stream);
+    });
+    let out = dir.path().join("sky.pfm");
+    let o = Command::new(env!("CARGO_BIN_EXE_rayforge"))
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .args(["--width", &side.to_string(), "--height", &side.to_string()])
+        .args(["--display-server", &address, "--display-timeout", "1"])
+        .output()
+        .unwrap();
+    done.send(()).unwrap();
+    viewer.join().unwrap();
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    assert_eq!(
+        err.matches("warning: cannot show the render in tev")
+            .count(),
+        1,
+        "{err}"
+    );
+    assert!(
+        err.contains("it has not taken a packet in 1 s, so it counts as gone; the render goes on"),
+        "{err}"
+    );
+    let (width, height, _) = pfm_floats(&out);
+    assert_eq!((width, height), (side, side));
+}
+
+#[test]
+fn the_display_timeout_is_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("world.pfm");
+    for bad in ["0", "-1", "3601", "nan"] {
+        let flag = format!("--display-timeout={bad}");
+        let o = render("scenes/trtc/ch07-world.yml", &out, &[&flag]);
+        assert_eq!(o.status.code(), Some(2), "{bad}");
+        assert!(
+            stderr(&o).contains("--display-timeout"),
+            "{bad}: {}",
+            stderr(&o)
+        );
+    }
+}

@@ -64,6 +64,7 @@ pub use crate::draw2d::{book2d, CanvasItem, CanvasPoint, Overlay, TriangleStyle}
 pub use crate::options::{RasterOptions, Shading, TextureFilter};
 pub use projection::Projection;
 pub use render::{
-    render, render_film, render_rows_into, render_with_stats, RasterError, RasterStats, Rasterizer,
+    render, render_film, render_film_observed, render_rows_into, render_with_stats, RasterError,
+    RasterStats, Rasterizer,
 };
 pub use tessellate::{face_count, generate_sphere, refine, tessellate, Faces, Tessellation};

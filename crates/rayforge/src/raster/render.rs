@@ -119,8 +119,22 @@ pub fn render_film(
     options: &RasterOptions,
     cancel: Option<&AtomicBool>,
 ) -> Result<(Film, RasterStats), RasterError> {
+    render_film_observed(camera, world, options, cancel, &|_| {})
+}
+
+/// [`render_film`], calling `on_band` with the number of rows of each band of tiles (32, the
+/// last one fewer) once the band is drawn whole, from the thread that drew it: a caller that
+/// follows the frame (the command's testing aid that waits inside a frame for an interrupt,
+/// `--pause-after-rows`, so that a test stops a frame at a known point).
+pub fn render_film_observed(
+    camera: &Camera,
+    world: &World,
+    options: &RasterOptions,
+    cancel: Option<&AtomicBool>,
+    on_band: &(dyn Fn(usize) + Sync),
+) -> Result<(Film, RasterStats), RasterError> {
     let mut rasterizer = Rasterizer::new();
-    let stats = rasterizer.draw(camera, world, options, cancel)?;
+    let stats = rasterizer.draw(camera, world, options, cancel, on_band)?;
     Ok((Film::from_canvas(rasterizer.canvas), stats))
 }
 
@@ -165,7 +179,7 @@ impl Rasterizer {
         options: &RasterOptions,
         cancel: Option<&AtomicBool>,
     ) -> Result<(&Canvas, RasterStats), RasterError> {
-        let stats = self.draw(camera, world, options, cancel)?;
+        let stats = self.draw(camera, world, options, cancel, &|_| {})?;
         let exposure = match world.lighting {
             LightingModel::Optics => Exposure::Automatic,
             _ => Exposure::Fixed,
@@ -180,13 +194,14 @@ impl Rasterizer {
     }
 
     /// Draws the frame into the rasterizer's canvas, every pixel one sample of weight 1, not
-    /// yet developed.
+    /// yet developed; `on_band` told the rows of each band drawn whole.
     fn draw(
         &mut self,
         camera: &Camera,
         world: &World,
         options: &RasterOptions,
         cancel: Option<&AtomicBool>,
+        on_band: &(dyn Fn(usize) + Sync),
     ) -> Result<RasterStats, RasterError> {
         check_camera(camera)?;
         let (width, height) = (camera.hsize(), camera.vsize());
@@ -204,7 +219,9 @@ impl Rasterizer {
                 .par_chunks_mut(width * TILE_HEIGHT)
                 .enumerate()
                 .for_each_init(TileBuffers::new, |buffers, (row, band)| {
-                    frame.draw_band(row, band, buffers);
+                    if frame.draw_band(row, band, buffers) {
+                        on_band(band.len() / width);
+                    }
                 });
         })
     }
