@@ -9,8 +9,8 @@
 //!   a pbrt-v4 scene, up to the first line `#file NAME`, each such line starting the file
 //!   `NAME` of the folder (as in the `pbrt` target);
 //! - **choices**, otherwise (what a random engine makes): each byte picks the next choice of
-//!   a template (a pbrt-v4 scene when the first byte is even, else a YAML scene): the medium's
-//!   type, which parameters it gives and their values from [`NUMBERS`] (huge, negative, NaN,
+//!   a template (a pbrt-v4 scene when the first byte is even, else a YAML scene of a
+//!   homogeneous, grid or cloud medium): the medium's type, which parameters it gives and their values from [`NUMBERS`] (huge, negative, NaN,
 //!   past 32 and 64 bits), grid sizes whose product overflows, and data as long as the grid,
 //!   one off, or unrelated; so that random bytes reach the media's readers and the renderer
 //!   rather than the lexer's first refusal.
