@@ -1,15 +1,20 @@
 //! The camera (chapter 7): a pinhole with a field of view, placed by a view transform; with a
 //! thin lens (focal blur) and a shutter (motion blur) from chapter 17; or Computer Graphics from
 //! Scratch's viewport camera; orthographic and spherical cameras, a canvas window off the
-//! axis, and a sensor's response for the scenes of other renderers (glTF, pbrt-v4).
+//! axis, pbrt-v4's realistic camera (a lens system traced element by element), and a
+//! sensor's response for the scenes of other renderers (glTF, pbrt-v4).
 
+mod realistic;
 mod sample;
 mod sensor;
 mod spherical;
 mod viewport;
 mod window;
 
-pub use sample::CameraSample;
+pub use realistic::{
+    ApertureShape, LensError, LensInterface, LensRay, LensSettings, LensSystem, PupilBounds,
+};
+pub use sample::{CameraRay, CameraSample};
 pub use sensor::Sensor;
 pub use spherical::SphericalMapping;
 pub use viewport::Viewport;
@@ -54,7 +59,7 @@ pub struct Camera {
 }
 
 /// How a camera's rays leave it.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 enum Model {
     /// Through a pinhole (or a thin lens) and the canvas one unit in front of it.
     Pinhole,
@@ -64,6 +69,10 @@ enum Model {
     Orthographic,
     /// From the eye to every direction about it, the image laid out by the mapping.
     Spherical(SphericalMapping),
+    /// Through a lens system from the film (pbrt-v4's realistic camera), the film's half
+    /// width and height beside it; its pinhole fields are the equivalent pinhole's
+    /// ([`LensSystem::equivalent_field_of_view`]), for the tools that aim one ray a pixel.
+    Realistic(std::sync::Arc<LensSystem>, (f64, f64)),
 }
 
 /// A pinhole camera's rays in world space for the path tracer: the eye, and the direction
@@ -162,6 +171,31 @@ impl Camera {
         camera
     }
 
+    /// pbrt-v4's realistic camera: rays from the `hsize × vsize` film through `lens`, the
+    /// film's extent its diagonal at the image's aspect ratio. Its [`Self::ray_through`] is
+    /// the equivalent pinhole's ray (the same field of view and image orientation), for the
+    /// tools that aim one ray a pixel; rendering traces the lens ([`Self::ray_for_sample`]).
+    pub fn realistic(hsize: usize, vsize: usize, lens: std::sync::Arc<LensSystem>) -> Self {
+        let mut camera = Self::new(hsize, vsize, lens.equivalent_field_of_view(hsize, vsize));
+        let extent = lens.film_half_extent(hsize, vsize);
+        camera.model = Model::Realistic(lens, extent);
+        camera
+    }
+
+    /// The lens system of a realistic camera (`None` for any other).
+    pub fn lens_system(&self) -> Option<&LensSystem> {
+        match &self.model {
+            Model::Realistic(lens, _) => Some(lens),
+            _ => None,
+        }
+    }
+
+    /// Whether a camera ray depends on its sample's lens point: a thin lens's or a lens
+    /// system's (a pinhole's does not, and its renderers draw no lens point).
+    pub fn samples_lens(&self) -> bool {
+        self.aperture > 0.0 || matches!(self.model, Model::Realistic(..))
+    }
+
     /// Whether the camera is orthographic.
     pub fn is_orthographic(&self) -> bool {
         self.model == Model::Orthographic
@@ -184,7 +218,7 @@ impl Camera {
     pub fn with_screen_window(mut self, window: ScreenWindow) -> Option<Self> {
         if !window.is_valid()
             || self.viewport.is_some()
-            || matches!(self.model, Model::Spherical(_))
+            || matches!(self.model, Model::Spherical(_) | Model::Realistic(..))
         {
             return None;
         }
@@ -296,13 +330,15 @@ impl Camera {
                     .with_sensor(self.sensor);
             }
         }
-        let mut camera = match self.model {
+        let mut camera = match &self.model {
             Model::Orthographic => {
                 let half_longer = self.half_width.max(self.half_height);
                 Self::orthographic(hsize, vsize, half_longer)
             }
             Model::Pinhole => Self::new(hsize, vsize, self.field_of_view),
-            Model::Spherical(mapping) => Self::spherical(hsize, vsize, mapping),
+            Model::Spherical(mapping) => Self::spherical(hsize, vsize, *mapping),
+            // The same lens and film diagonal: the extent follows the new aspect ratio.
+            Model::Realistic(lens, _) => Self::realistic(hsize, vsize, lens.clone()),
         };
         if let Some(window) = self.window {
             // The same window over the new pixels: the same field of view. It was accepted
@@ -385,24 +421,49 @@ impl Camera {
     }
 
     /// The ray for one camera sample: through its image point, from its lens point, at its
-    /// instant of the shutter interval.
-    pub fn ray_for_sample(&self, sample: &CameraSample) -> Ray {
+    /// instant of the shutter interval, with its weight. `None` where a realistic camera's
+    /// lens system vignettes the sample: no light reaches that film point from that lens
+    /// point, and the sample's radiance is zero (it still counts in its pixel, as pbrt-v4
+    /// counts it). Every other camera's ray has weight 1.
+    pub fn ray_for_sample(&self, sample: &CameraSample) -> Option<CameraRay> {
+        if let Model::Realistic(lens, extent) = &self.model {
+            return self.lens_system_ray(lens, *extent, sample);
+        }
         let ray = self.ray_through_lens(sample.x, sample.y, sample.lens_u, sample.lens_v);
-        self.in_shutter(ray, sample.time)
+        Some(CameraRay::unweighted(self.in_shutter(ray, sample.time)))
     }
 
     /// The path tracer's ray for one camera sample: [`Self::ray_for_sample`]'s ray to
     /// rounding, but a pinhole's from the eye, canvas corner and pixel steps worked out once
     /// ([`PinholeRays`]) instead of two point transforms per ray. Its last bits may differ
     /// from the book's, which only a Monte Carlo estimate can afford.
-    pub fn path_ray_for_sample(&self, sample: &CameraSample) -> Ray {
-        let ray = if self.aperture == 0.0 && self.viewport.is_none() && self.model == Model::Pinhole
-        {
-            self.pinhole_ray_through(sample.x, sample.y)
-        } else {
-            self.ray_through_lens(sample.x, sample.y, sample.lens_u, sample.lens_v)
-        };
-        self.in_shutter(ray, sample.time)
+    pub fn path_ray_for_sample(&self, sample: &CameraSample) -> Option<CameraRay> {
+        if self.aperture == 0.0 && self.viewport.is_none() && self.model == Model::Pinhole {
+            let ray = self.pinhole_ray_through(sample.x, sample.y);
+            return Some(CameraRay::unweighted(self.in_shutter(ray, sample.time)));
+        }
+        self.ray_for_sample(sample)
+    }
+
+    /// A realistic camera's ray for `sample`: from its film point through `lens` (the film's
+    /// half extent `extent`), turned from pbrt's camera space into the book's (x and z
+    /// negated) and placed in the world.
+    fn lens_system_ray(
+        &self,
+        lens: &LensSystem,
+        extent: (f64, f64),
+        sample: &CameraSample,
+    ) -> Option<CameraRay> {
+        let film = (sample.x / self.hsize as f64, sample.y / self.vsize as f64);
+        let (ray, weight) = lens.ray(film, extent, (sample.lens_u, sample.lens_v))?;
+        let book = |v: Vec3| Vec3::new(-v.x, v.y, -v.z);
+        let origin = self.transform.inverse_point(book(ray.origin));
+        let direction = self
+            .transform
+            .inverse_vector(book(ray.direction))
+            .normalize();
+        let ray = self.in_shutter(Ray::new(origin, direction), sample.time);
+        Some(CameraRay { ray, weight })
     }
 
     /// `ray` at the instant `time` (in [0, 1)) of the shutter interval.
@@ -572,12 +633,13 @@ mod tests {
                     lens_v: 0.5,
                     time: 0.5,
                 };
-                assert_eq!(
-                    bits(&camera.ray_for_sample(&sample)),
-                    book,
-                    "pixel {px},{py}"
-                );
-                if bits(&camera.path_ray_for_sample(&sample)) != book {
+                let ray = camera.ray_for_sample(&sample).expect("a pinhole's ray");
+                assert_eq!(ray.weight, 1.0);
+                assert_eq!(bits(&ray.ray), book, "pixel {px},{py}");
+                let path = camera
+                    .path_ray_for_sample(&sample)
+                    .expect("a pinhole's ray");
+                if bits(&path.ray) != book {
                     precomputed_differ += 1;
                 }
             }

@@ -1,5 +1,25 @@
 //! Where one camera ray goes: the sample the render loop's sampler draws and the camera turns
-//! into a ray ([`super::Camera::ray_for_sample`]).
+//! into a ray ([`super::Camera::ray_for_sample`]), and that ray with its weight.
+
+use crate::math::Ray;
+
+/// A camera's ray for one sample and the weight its radiance is recorded with: 1 for every
+/// camera but a realistic one, whose lens system passes more light to some film points
+/// than to others (pbrt-v4's `CameraRay`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraRay {
+    /// The ray, in the world.
+    pub ray: Ray,
+    /// What its radiance is multiplied by.
+    pub weight: f64,
+}
+
+impl CameraRay {
+    /// `ray` of weight 1.
+    pub fn unweighted(ray: Ray) -> Self {
+        Self { ray, weight: 1.0 }
+    }
+}
 
 /// Where one camera ray goes: a point of the image, a point of the lens and an instant.
 #[derive(Debug, Clone, Copy, PartialEq)]

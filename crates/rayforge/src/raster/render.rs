@@ -56,8 +56,8 @@ pub enum RasterError {
          with --camera"
     )]
     Orthographic,
-    /// The camera is spherical (a pbrt file's), which no projection onto a plane draws, or
-    /// its image is a screen window of its canvas (off the axis, or pixels not square),
+    /// The camera is spherical (a pbrt file's) or realistic (a lens system's, whose rays bend
+    /// at every element), which no projection onto a plane draws, or its image is a screen window of its canvas (off the axis, or pixels not square),
     /// which the rasterizer's centred projection does not draw.
     #[error(
         "the camera is {0}, and the rasterizer draws through perspective cameras centred on \
@@ -297,6 +297,11 @@ fn check_camera(camera: &Camera) -> Result<(), RasterError> {
     }
     if camera.spherical_mapping().is_some() {
         return Err(RasterError::Unprojected("spherical"));
+    }
+    if camera.lens_system().is_some() {
+        return Err(RasterError::Unprojected(
+            "realistic (a lens system traced element by element)",
+        ));
     }
     if camera.screen_window().is_some() {
         return Err(RasterError::Unprojected("given a screen window"));

@@ -19,7 +19,7 @@ pub use integrator::{Integrator, Stopped, TraceState, DEFAULT_MAX_RAYS_PER_SAMPL
 pub use observer::{NoTrace, TraceLog, TraceObserver};
 pub use sampler::Sampling;
 
-use crate::camera::Camera;
+use crate::camera::{Camera, CameraRay};
 use crate::canvas::Canvas;
 use crate::color::Color;
 use crate::film::{develop, Exposure, Film, FilmError, SharedFilm};
@@ -343,10 +343,14 @@ fn render_rows_with<I: Integrator>(
                     let (mut samples, mut bad) = (0, 0);
                     let color = options.sampling.pixel(x, y, seed, |sample| {
                         samples += 1;
-                        let ray = camera.ray_for_sample(&sample);
+                        // A sample the lens system vignettes sees nothing: black, and counted.
+                        let Some(CameraRay { ray, weight }) = camera.ray_for_sample(&sample) else {
+                            return Color::BLACK;
+                        };
                         state.begin_sample();
-                        let radiance =
-                            integrator.radiance(state, &ray, options.max_depth, &mut NoTrace);
+                        let radiance = integrator
+                            .radiance(state, &ray, options.max_depth, &mut NoTrace)
+                            .map(|c| c * weight);
                         if state.stopped() == Some(Stopped::OverBudget) {
                             over_budget.fetch_min((y * width + x) as u64, Ordering::Relaxed);
                             failed.store(true, Ordering::Relaxed);
@@ -482,11 +486,17 @@ impl IntegratorJob for TracePixel<'_, '_> {
                 sample.x, sample.y, sample.lens_u, sample.lens_v, sample.time
             ));
             let mut log = TraceLog::new(world, MAX_TRACE_LINES.saturating_sub(lines.len()));
-            let ray = camera.ray_for_sample(&sample);
+            let Some(CameraRay { ray, weight }) = camera.ray_for_sample(&sample) else {
+                lines.push("  vignetted: the lens system passes no ray here (black)".into());
+                return Color::BLACK;
+            };
+            if weight != 1.0 {
+                lines.push(format!("  the camera ray's weight: {weight:.6}"));
+            }
             state.begin_sample();
             let color = integrator
                 .radiance(&mut state, &ray, options.max_depth, &mut log)
-                .map_or(Color::BLACK, |c| camera.record(c));
+                .map_or(Color::BLACK, |c| camera.record(c * weight));
             lines.extend(log.into_lines().into_iter().map(|l| format!("  {l}")));
             match state.stopped() {
                 Some(Stopped::OverBudget) => lines.push(format!(

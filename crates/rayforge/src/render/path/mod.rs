@@ -30,11 +30,10 @@ pub use roulette::{learn_roulette, LearnedRoulette};
 pub use sampler::SampleStream;
 
 use super::RowCallback;
-use crate::camera::{Camera, CameraSample, Sensor};
+use crate::camera::{Camera, CameraRay, CameraSample, Sensor};
 use crate::color::Color;
 use crate::film::{Film, FilmError, PixelFilter, SharedFilm};
 use crate::lights::Emitters;
-use crate::math::Ray;
 use crate::options::{PathOptions, Roulette};
 use crate::scene::{World, WorldIndex};
 use adaptive::{PilotLog, PilotPixel};
@@ -163,7 +162,7 @@ struct CameraSampler<'c> {
 impl<'c> CameraSampler<'c> {
     /// The sampler of `camera` over `world` with `filter`.
     fn new(camera: &'c Camera, world: &World, filter: PixelFilter) -> Self {
-        let still = camera.aperture() == 0.0 && world.objects.iter().all(|o| o.motion.is_none());
+        let still = !camera.samples_lens() && world.objects.iter().all(|o| o.motion.is_none());
         let sensor = Some(*camera.sensor()).filter(|s| !s.is_identity());
         Self {
             camera,
@@ -183,9 +182,10 @@ impl<'c> CameraSampler<'c> {
     }
 
     /// The camera ray of the sample `stream` is at in pixel (`x`, `y`), drawn over the
-    /// filter's support, and the sample's filter weight.
+    /// filter's support (`None` where a lens system vignettes it: its radiance is zero),
+    /// and the sample's filter weight.
     #[inline]
-    fn ray(&self, x: usize, y: usize, stream: &mut SampleStream) -> (Ray, f64) {
+    fn ray(&self, x: usize, y: usize, stream: &mut SampleStream) -> (Option<CameraRay>, f64) {
         // The lens and the instant first, from the camera's second group of four: the image
         // point's group, which holds the first vertex's light point too, is then the one the
         // stream has at hand.
@@ -421,7 +421,20 @@ fn render_path_logged(
                         }
                         stream.start(s);
                         let (ray, weight) = sampler.ray(x, y, &mut stream);
-                        let (radiance, first) = context.radiance(ray, &mut stream);
+                        let (radiance, first) = match ray {
+                            Some(CameraRay { ray, weight }) => {
+                                let (radiance, first) = context.radiance(ray, &mut stream);
+                                (radiance * weight, first)
+                            }
+                            // Vignetted: no light, and nothing seen (depth infinite).
+                            None => (
+                                Color::BLACK,
+                                FirstHit {
+                                    depth: f64::INFINITY,
+                                    ..FirstHit::default()
+                                },
+                            ),
+                        };
                         let radiance = sampler.record(radiance);
                         let finite = radiance.red.is_finite()
                             && radiance.green.is_finite()

@@ -59,7 +59,7 @@ use super::continuation::{ContinuationCache, Sighting};
 use super::integrator::{DiffuseDeparture, PathLog};
 use super::moments::Moments;
 use super::{path_context, CameraSampler, SampleStream};
-use crate::camera::Camera;
+use crate::camera::{Camera, CameraRay};
 use crate::color::Color;
 use crate::lights::Emitters;
 use crate::options::{PathOptions, Roulette};
@@ -470,9 +470,14 @@ fn pilot(
                     stats.traced += 1;
                     stream.start(s);
                     let (ray, _) = sampler.ray(x, y, &mut stream);
+                    // A vignetted sample has no path to learn from.
+                    let Some(CameraRay { ray, weight }) = ray else {
+                        continue;
+                    };
                     let before = context.rays;
                     log.clear();
                     let (radiance, _) = context.radiance_logged(ray, &mut stream, log);
+                    let radiance = radiance * weight;
                     if !(radiance.red.is_finite()
                         && radiance.green.is_finite()
                         && radiance.blue.is_finite())
