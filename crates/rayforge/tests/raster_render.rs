@@ -588,3 +588,48 @@ fn a_stop_flag_set_before_a_frame_draws_no_tile() {
         .clone();
     assert_eq!(drawn, raster::render(&c, &w, &options).unwrap());
 }
+
+/// The rasterizer projects onto a plane through a pinhole centred on its axis: it refuses,
+/// before drawing anything, a spherical camera (no plane holds its image), a screen window
+/// (off the axis or stretched pixels) and an orthographic camera, each naming what it is;
+/// the same camera without them draws.
+#[test]
+fn cameras_the_rasterizer_cannot_project_are_refused_by_name() {
+    use rayforge::camera::{ScreenWindow, SphericalMapping};
+    use rayforge::raster::RasterError;
+    let scene = world(vec![Object::sphere().with_material(matte(Color::WHITE))]);
+    let place = |c: Camera| c.with_transform_of(*camera(8).transform());
+    let options = RasterOptions::default();
+    for mapping in [
+        SphericalMapping::Equirectangular,
+        SphericalMapping::EqualArea,
+    ] {
+        let spherical = place(Camera::spherical(16, 8, mapping));
+        match raster::render(&spherical, &scene, &options) {
+            Err(e @ RasterError::Unprojected(_)) => {
+                assert!(e.to_string().contains("spherical"), "{e}")
+            }
+            other => panic!("{mapping:?}: {other:?}"),
+        }
+    }
+    let windowed = camera(8)
+        .with_screen_window(ScreenWindow {
+            x_min: 0.0,
+            x_max: 0.5,
+            y_min: -0.25,
+            y_max: 0.25,
+        })
+        .unwrap();
+    match raster::render(&windowed, &scene, &options) {
+        Err(e @ RasterError::Unprojected(_)) => {
+            assert!(e.to_string().contains("screen window"), "{e}")
+        }
+        other => panic!("{other:?}"),
+    }
+    let orthographic = place(Camera::orthographic(8, 8, 1.5));
+    assert!(matches!(
+        raster::render(&orthographic, &scene, &options),
+        Err(RasterError::Orthographic)
+    ));
+    assert!(raster::render(&camera(8), &scene, &options).is_ok());
+}
