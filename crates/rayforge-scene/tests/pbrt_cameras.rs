@@ -1,6 +1,9 @@
 //! pbrt-v4's cameras and film sensor: the imaging ratio (`iso`, the shutter) and white
 //! balance, `screenwindow` and `frameaspectratio`, the spherical camera's layouts, and the
-//! realistic camera's located refusal.
+//! realistic camera's located refusal; and the same rendered: the sensor's scale and white
+//! balance over whole images, and the directions each pixel of a spherical camera sees.
+
+mod support;
 
 use rayforge::Color;
 use rayforge_scene::{LoadOptions, Scene, SceneError};
@@ -113,4 +116,259 @@ fn the_realistic_camera_is_refused_at_its_directive() {
     assert!(e.path.ends_with("s.pbrt"), "{e}");
     assert_eq!(e.key.as_deref(), Some("Camera"), "{e}");
     assert!(e.message.contains("realistic"), "{e}");
+}
+
+/// A small lit scene of pbrt-v4's: a glossy sphere and a diffuse floor under a sky and a lamp,
+/// the film `film`'s parameters and the camera's `camera`: paths of several bounces, so
+/// every pixel's value is a sum of many differently weighted samples.
+fn lit_scene(camera: &str, film: &str) -> Scene {
+    load(&format!(
+        "LookAt 0 1 -4  0 0.5 0  0 1 0\nCamera \"perspective\" \"float fov\" 50 {camera}\n\
+         Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 12 {film}\n\
+         WorldBegin\nLightSource \"infinite\" \"rgb L\" [0.2 0.3 0.5]\n\
+         AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [6 5 4]\n\
+         Translate 1.5 3 -1\nShape \"sphere\" \"float radius\" 0.4\nAttributeEnd\n\
+         Material \"coateddiffuse\" \"rgb reflectance\" [0.7 0.2 0.1] \"float roughness\" 0.1\n\
+         AttributeBegin\nTranslate 0 0.6 0\nShape \"sphere\" \"float radius\" 0.6\nAttributeEnd\n\
+         Material \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]\n\
+         Shape \"trianglemesh\" \"point3 P\" [-5 0 -5  5 0 -5  5 0 5  -5 0 5] \
+         \"integer indices\" [0 2 1  0 3 2]\n"
+    ))
+}
+
+/// The imaging ratio scales the rendered image, not just one recorded colour: every pixel of
+/// a render with `iso` 400 and the shutter open half the time is twice the same render's
+/// without them (the same seed, so the same paths), to the bit, as doubling rounds nothing;
+/// a ratio of 0.3 (`iso` 60) within the rounding of each sample's product.
+#[test]
+fn the_imaging_ratio_scales_the_rendered_image_pixel_by_pixel() {
+    let render = |camera: &str, film: &str| {
+        let scene = lit_scene(camera, film);
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        support::render(&scene, 16, 12, 8).resolve()
+    };
+    let plain = render("", "");
+    let shutter = "\"float shutteropen\" 0 \"float shutterclose\" 0.5";
+    let doubled = render(shutter, "\"float iso\" 400");
+    let scaled = render(shutter, "\"float iso\" 60");
+    let mut lit = 0;
+    for y in 0..12 {
+        for x in 0..16 {
+            let p = plain.pixel_at(x, y);
+            assert_eq!(doubled.pixel_at(x, y), p * 2.0, "pixel ({x}, {y})");
+            let s = scaled.pixel_at(x, y);
+            for (a, b) in [(s.red, p.red), (s.green, p.green), (s.blue, p.blue)] {
+                assert!(
+                    (a - 0.3 * b).abs() <= 1e-12 * b.abs(),
+                    "pixel ({x}, {y}): {s:?}"
+                );
+            }
+            if p.red > 0.05 && p.red != p.green {
+                lit += 1;
+            }
+        }
+    }
+    // The comparison means something: most pixels are lit, and not grey.
+    assert!(lit > 100, "{lit} pixels lit");
+}
+
+/// A grey surface lit by a blackbody light of temperature T renders neutral grey through a
+/// film balanced at T, and orange without the balance. pbrt-v4 balances from its daylight
+/// illuminant `D(T)`, a blackbody at T × 1.4388 / 1.4380 below 4000 K, so a blackbody of T
+/// itself is neutral within that shift of 0.06 % in temperature: the tolerance, 0.5 % of
+/// the green, is about ten times what the shift leaves (above 4000 K `D(T)` is CIE daylight,
+/// off the blackbody locus, and a blackbody of T is not neutral under it).
+#[test]
+fn white_balance_renders_a_surface_under_a_blackbody_of_its_temperature_grey() {
+    for t in [2700.0, 3500.0] {
+        let render = |film: &str| {
+            let scene = load(&format!(
+                "Camera \"perspective\" \"float fov\" 40\n\
+                 Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8 {film}\n\
+                 WorldBegin\nLightSource \"distant\" \"blackbody L\" [{t}] \"float scale\" 3\n\
+                 Material \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]\n\
+                 Shape \"trianglemesh\" \"point3 P\" [-1 -1 1  1 -1 1  1 1 1  -1 1 1] \
+                 \"integer indices\" [0 1 2  0 2 3]\n"
+            ));
+            assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+            support::render(&scene, 8, 8, 4).resolve()
+        };
+        let balanced = render(&format!("\"float whitebalance\" {t}"));
+        let raw = render("");
+        for (x, y) in [(2, 2), (4, 4), (5, 3)] {
+            let c = balanced.pixel_at(x, y);
+            assert!(c.green > 0.1, "{t} K: lit, {c:?}");
+            for v in [c.red, c.blue] {
+                assert!(
+                    (v - c.green).abs() < 5e-3 * c.green,
+                    "{t} K: {c:?} is not grey"
+                );
+            }
+            let c = raw.pixel_at(x, y);
+            assert!(
+                c.red > 1.3 * c.blue && c.red > c.green,
+                "{t} K: {c:?} is not orange"
+            );
+        }
+    }
+}
+
+/// The direction of pbrt-v4's spherical camera at image point `(u, v)` (fractions of the width
+/// and height) in the world, for a camera left where pbrt's is without a transform: pbrt's
+/// map's direction (equirectangular: θ = π v, φ = 2π u; equal area: Clarberg's octahedral
+/// map), then y and z swapped as pbrt's `SphericalCamera` swaps them.
+fn pbrt_spherical_direction(equal_area: bool, u: f64, v: f64) -> glam::DVec3 {
+    use std::f64::consts::{FRAC_PI_4, PI};
+    let d = if equal_area {
+        let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+        let signed = 1.0 - (a.abs() + b.abs());
+        let r = 1.0 - signed.abs();
+        let phi = if r == 0.0 {
+            FRAC_PI_4
+        } else {
+            ((b.abs() - a.abs()) / r + 1.0) * FRAC_PI_4
+        };
+        let z = (1.0 - r * r).copysign(signed);
+        let s = r * (2.0 - r * r).max(0.0).sqrt();
+        glam::DVec3::new(phi.cos().copysign(a) * s, phi.sin().copysign(b) * s, z)
+    } else {
+        let (theta, phi) = (PI * v, 2.0 * PI * u);
+        glam::DVec3::new(
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        )
+    };
+    glam::DVec3::new(d.x, d.z, d.y)
+}
+
+/// Under a sky whose radiance is its direction (each texel of a latitude–longitude map the
+/// unit vector of its centre plus 1, so every channel is positive), a spherical camera's
+/// pixel sees the direction its mapping gives its centre: the pixel averages the directions
+/// over its area, within 0.04 of the centre's at these sizes (a pixel spans 11° at most, a
+/// texel 1.4°). A mapping mirrored, or turned by a quarter, is off by 1 or more somewhere.
+#[test]
+fn a_spherical_cameras_pixels_see_the_directions_of_its_mapping() {
+    let dir = tempfile::tempdir().unwrap();
+    let (w, h) = (256, 128);
+    // The latitude–longitude layout as the reader takes it: +z up, row 0 at +z, φ across
+    // from +x towards +y.
+    support::write_pfm(&dir.path().join("sky.pfm"), w, h, |c, r| {
+        let theta = std::f64::consts::PI * (r as f64 + 0.5) / h as f64;
+        let phi = std::f64::consts::TAU * (c as f64 + 0.5) / w as f64;
+        let d = [
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        ];
+        d.map(|v| (v + 1.0) as f32)
+    });
+    for (mapping, width, height) in [("equirectangular", 32, 16), ("equalarea", 24, 24)] {
+        let text = format!(
+            "Film \"rgb\" \"integer xresolution\" {width} \"integer yresolution\" {height}\n\
+             Camera \"spherical\" \"string mapping\" \"{mapping}\"\n\
+             WorldBegin\nLightSource \"infinite\" \"string filename\" \"sky.pfm\"\n"
+        );
+        let path = dir.path().join("s.pbrt");
+        std::fs::write(&path, text).unwrap();
+        let scene = rayforge_scene::load_file_with(&path, &LoadOptions::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        let img = support::render(&scene, width, height, 16).resolve();
+        let equal_area = mapping == "equalarea";
+        let pixels: &[(usize, usize)] = if equal_area {
+            &[
+                (12, 12),
+                (3, 9),
+                (20, 5),
+                (7, 18),
+                (1, 1),
+                (17, 22),
+                (11, 2),
+            ]
+        } else {
+            &[(16, 8), (8, 8), (3, 2), (27, 11), (20, 14), (10, 5)]
+        };
+        for &(x, y) in pixels {
+            let want = pbrt_spherical_direction(
+                equal_area,
+                (x as f64 + 0.5) / width as f64,
+                (y as f64 + 0.5) / height as f64,
+            );
+            let c = img.pixel_at(x, y);
+            let got = glam::DVec3::new(c.red - 1.0, c.green - 1.0, c.blue - 1.0);
+            assert!(
+                (got - want).length() < 0.04,
+                "{mapping} pixel ({x}, {y}) sees {got:?}, its mapping says {want:?}"
+            );
+        }
+    }
+}
+
+/// pbrt-v4's `maxcomponentvalue` caps each sample where pbrt-v4's `RGBFilm::AddSample` does:
+/// in its sensor's space (XYZ for the default sensor) after the imaging ratio. Two lamps face
+/// the camera side by side, a bright one (`L` 6 5 4, whose largest component in XYZ is its Y,
+/// 5.14) on the image's left, a dim one on its right; capped at 2, the bright one's pixels are
+/// its radiance scaled to Y = 2, its hue kept (its red, 2.33, above the cap: the cap is not on
+/// sRGB's channels), and the dim one's are as they were. With `iso` 200 the capped pixels do
+/// not change (the ratio is applied before the cap) and the dim ones double. A cap above
+/// every sample changes no bit of the image, and without one the sensor is the identity.
+#[test]
+fn the_largest_component_of_each_sample_is_capped_in_the_sensors_space() {
+    let render = |film: &str| {
+        let scene = load(&format!(
+            "Camera \"perspective\" \"float fov\" 40\nPixelFilter \"box\"\n\
+             Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8 {film}\n\
+             WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [0 0 0]\n\
+             AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [6 5 4]\n\
+             Shape \"trianglemesh\" \"point3 P\" [-1 -1 1  0 -1 1  0 1 1  -1 1 1] \
+             \"integer indices\" [0 2 1  0 3 2]\nAttributeEnd\n\
+             AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [0.1 0.2 0.3]\n\
+             Shape \"trianglemesh\" \"point3 P\" [0 -1 1  1 -1 1  1 1 1  0 1 1] \
+             \"integer indices\" [0 2 1  0 3 2]\nAttributeEnd\n"
+        ));
+        assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+        let sensor = *scene.camera.sensor();
+        (sensor, support::render(&scene, 8, 8, 4).resolve())
+    };
+    let (plain_sensor, plain) = render("");
+    assert!(plain_sensor.is_identity());
+    let (_, capped) = render("\"float maxcomponentvalue\" 2");
+    let (_, brighter) = render("\"float maxcomponentvalue\" 2 \"float iso\" 200");
+    let (_, high) = render("\"float maxcomponentvalue\" 1e300");
+    let bright = Color::new(6.0, 5.0, 4.0);
+    let y = rayforge::shading::spectrum::linear_srgb_to_xyz(bright)[1];
+    assert!((y - 5.14).abs() < 0.01, "{y}");
+    let near = |a: Color, b: Color| {
+        (a.red - b.red).abs() + (a.green - b.green).abs() + (a.blue - b.blue).abs() < 1e-12
+    };
+    for py in 0..8 {
+        for px in 0..8 {
+            let (p, c, b) = (
+                plain.pixel_at(px, py),
+                capped.pixel_at(px, py),
+                brighter.pixel_at(px, py),
+            );
+            assert_eq!(high.pixel_at(px, py), p, "({px}, {py})");
+            if px < 4 {
+                assert_eq!(p, bright, "({px}, {py})");
+                assert!(near(c, bright * (2.0 / y)), "({px}, {py}): {c:?}");
+                assert!(near(b, c), "({px}, {py}): {b:?}");
+            } else {
+                assert_eq!(p, Color::new(0.1, 0.2, 0.3), "({px}, {py})");
+                assert_eq!(c, p, "({px}, {py})");
+                assert!(near(b, p * 2.0), "({px}, {py}): {b:?}");
+            }
+        }
+    }
+    // Refused: a cap of 0 or below, at the parameter.
+    for bad in ["0", "-1"] {
+        let Err(e) = load_text(&format!(
+            "Camera \"perspective\"\nFilm \"rgb\" \"float maxcomponentvalue\" {bad}\nWorldBegin\n"
+        )) else {
+            panic!("{bad} refused");
+        };
+        let span = e.span.expect("a place");
+        assert_eq!((span.line, span.column), (2, 12), "{e}");
+        assert!(e.message.contains("above 0"), "{e}");
+    }
 }

@@ -15,6 +15,10 @@
 //!   integrates that spectrum, within about 10⁻³ of it); a blackbody's is integrated as
 //!   `shading::spectrum` integrates spectra. rayforge renders linear sRGB, so the map is
 //!   sRGB → XYZ, the adaptation, XYZ → sRGB, times the imaging ratio.
+//! - **`maxcomponentvalue`** (infinite, none, by default; above 0): each sample scaled down
+//!   as a whole where its largest component is above the value, pbrt-v4's guard against
+//!   fireflies, measured where pbrt-v4 measures it: in the sensor's space after the imaging
+//!   ratio, before the white balance (see [`cie1931`]).
 //! - **`sensor`**: `cie1931` (the default) is pbrt-v4's XYZ sensor, read exactly as above.
 //!   pbrt-v4's measured camera sensors (`canon_eos_5d` and the rest) are rendered as the
 //!   `cie1931` sensor with the same imaging ratio and white balance (6500 K unless given, as
@@ -104,6 +108,12 @@ pub fn sensor(
         Some((v, _)) => v,
     };
     let ratio = exposure * iso / 100.0;
+    if !ratio.is_finite() {
+        return Err(film.error(format!(
+            "the imaging ratio, the exposure time {exposure} × iso {iso} / 100, is past the \
+             largest number"
+        )));
+    }
     let (name, name_at) = match params.string("sensor")? {
         None => ("cie1931", None),
         Some((n, p)) => (n, Some(p)),
@@ -126,42 +136,76 @@ pub fn sensor(
         None => (if camera_sensor { 6500.0 } else { 0.0 }, None),
         Some((v, p)) => (if v == 0.0 && camera_sensor { 6500.0 } else { v }, Some(p)),
     };
-    if temperature == 0.0 {
-        return Ok(scaled(ratio));
-    }
-    let refuse = |message: String| match at {
-        Some(p) => p.error(message),
-        None => film.error(message),
+    let max_component = match params.float_at("maxcomponentvalue")? {
+        None => f64::INFINITY,
+        Some((v, p)) if v.is_nan() || v <= 0.0 => {
+            return Err(p.error(format!(
+                "a sample's largest component is capped at a value above 0, found {v}"
+            )))
+        }
+        Some((v, _)) => v,
     };
-    if !(temperature > 0.0 && temperature.is_finite()) {
-        return Err(refuse(format!(
+    if !(temperature >= 0.0 && temperature.is_finite()) {
+        let message = format!(
             "a white balance is 0 (none) or a colour temperature above 0 kelvin, found \
              {temperature}"
-        )));
+        );
+        return Err(match at {
+            Some(p) => p.error(message),
+            None => film.error(message),
+        });
     }
-    let white = daylight_xy(temperature).ok_or_else(|| {
-        refuse(format!(
-            "a white balance of {temperature} K has no colour to balance from"
-        ))
-    })?;
-    let balance = white_balance(white, D65_XY);
-    let column = |c: Color| xyz_to_linear_srgb(apply(&balance, linear_srgb_to_xyz(c))) * ratio;
-    let [r, g, b] = [
+    cie1931(ratio, temperature, max_component).map_err(|message| match at {
+        Some(p) => p.error(message),
+        None => film.error(message),
+    })
+}
+
+/// pbrt-v4's `cie1931` sensor (see the module's notes): every sample times the imaging ratio
+/// `ratio`, white-balanced from the daylight of `temperature` kelvin to sRGB's white (0: not
+/// balanced), each sample capped at `max_component` (infinite: not capped). The cap is
+/// applied where pbrt-v4's `RGBFilm::AddSample` applies it: to the sample in the sensor's
+/// space, which `PixelSensor::ToSensorRGB` has already multiplied by the imaging ratio, and
+/// before the white balance and the conversion to the output colour space (the film's
+/// `outputRGBFromSensorRGB`, applied when a pixel is read). That space is XYZ for this
+/// sensor, so the cap bounds the largest of X, Y and Z times the ratio, not the largest sRGB
+/// channel; either way the whole sample is scaled, its hue kept. What the YAML scenes' film
+/// keys give too. The caller has checked `ratio` above 0 and finite, `temperature` 0 or
+/// above and finite, `max_component` above 0; the error is a balance with no colour to
+/// balance from, for the caller to place.
+pub(crate) fn cie1931(ratio: f64, temperature: f64, max_component: f64) -> Result<Sensor, String> {
+    let basis = [
         Color::new(1.0, 0.0, 0.0),
         Color::new(0.0, 1.0, 0.0),
         Color::new(0.0, 0.0, 1.0),
-    ]
-    .map(column);
-    Sensor::from_rows([
-        [r.red, g.red, b.red],
-        [r.green, g.green, b.green],
-        [r.blue, g.blue, b.blue],
-    ])
-    .ok_or_else(|| {
-        refuse(format!(
-            "a white balance of {temperature} K is out of range"
-        ))
-    })
+    ];
+    let rows_of = |column: &dyn Fn(Color) -> Color| {
+        let [r, g, b] = basis.map(column);
+        [
+            [r.red, g.red, b.red],
+            [r.green, g.green, b.green],
+            [r.blue, g.blue, b.blue],
+        ]
+    };
+    let out_of_range = || format!("a white balance of {temperature} K is out of range");
+    let sensor = if temperature == 0.0 {
+        scaled(ratio)
+    } else {
+        let white = daylight_xy(temperature).ok_or_else(|| {
+            format!("a white balance of {temperature} K has no colour to balance from")
+        })?;
+        let balance = white_balance(white, D65_XY);
+        let column = |c: Color| xyz_to_linear_srgb(apply(&balance, linear_srgb_to_xyz(c))) * ratio;
+        Sensor::from_rows(rows_of(&column)).ok_or_else(out_of_range)?
+    };
+    // The sensor's own space: XYZ times the imaging ratio.
+    let measure = |c: Color| {
+        let [x, y, z] = linear_srgb_to_xyz(c);
+        Color::new(x, y, z) * ratio
+    };
+    sensor
+        .with_max_component(max_component, rows_of(&measure))
+        .ok_or_else(out_of_range)
 }
 
 /// The sensor that scales by `ratio`.
