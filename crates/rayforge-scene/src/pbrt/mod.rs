@@ -32,7 +32,7 @@ mod measured_media;
 mod media;
 mod params;
 mod reader;
-mod sensor;
+pub(crate) mod sensor;
 mod shapes;
 mod spectra;
 mod stream;
