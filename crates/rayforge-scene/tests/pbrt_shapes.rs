@@ -1,5 +1,8 @@
 //! pbrt-v4's cut quadrics, bilinear patches and Loop subdivision surfaces as the reader builds
-//! them: what each becomes, its uv and area, the errors at the parameter that fails.
+//! them: what each becomes, its uv and area, the errors at the parameter that fails; and
+//! bilinear patches and Loop surfaces turned over and emitting, their light measured.
+
+mod support;
 
 use glam::DVec3;
 use rayforge::geometry::{LocalHit, PartialQuadric};
@@ -357,4 +360,98 @@ fn loop_subdivision_refuses_a_non_manifold_mesh_at_its_indices() {
         "{HEAD}Shape \"loopsubdiv\" {TETRAHEDRON}\n    \"integer levels\" 16\n"
     ));
     assert_at(&e, 4, 5, "integer levels", "0 to 15");
+}
+
+/// The power a flat lamp in the plane z = 1 sends towards the camera at the origin, measured
+/// by rendering: an orthographic camera looking down +z sees each point's radiance, and a
+/// lamp that is Lambertian emits π ∫ L dA from its lit side, so the power is π × the sum of
+/// the pixels' radiances (green) × a pixel's area. A lamp facing away gives 0.
+fn measured_power(body: &str) -> f64 {
+    let scene = load(&format!(
+        "Camera \"orthographic\"\nPixelFilter \"box\"\n\
+         Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 64\nWorldBegin\n\
+         Material \"diffuse\" \"rgb reflectance\" [0 0 0]\n{body}"
+    ));
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let (a, b) = (
+        scene.camera.ray_through(0.0, 32.0).origin,
+        scene.camera.ray_through(64.0, 32.0).origin,
+    );
+    let side = (b - a).length() / 64.0;
+    let img = support::render(&scene, 64, 64, 16).resolve();
+    let mut sum = 0.0;
+    for y in 0..64 {
+        for x in 0..64 {
+            sum += img.pixel_at(x, y).green;
+        }
+    }
+    sum * side * side * std::f64::consts::PI
+}
+
+/// Two planar patches in z = 1, of areas 0.5 and 1, wound so that pbrt-v4's front
+/// `(p10 − p00) × (p01 − p00)` is +z, away from the camera.
+const PATCHES: &str = "Shape \"bilinearmesh\" \"point3 P\" [-0.9 -0.9 1  -0.4 -0.9 1  -0.9 0.1 1  \
+                       -0.4 0.1 1  0 -0.9 1  1 -0.9 1  0 0.1 1  1 0.1 1] \
+                       \"integer indices\" [0 1 2 3  4 5 6 7]\n";
+
+/// A bilinear mesh as a one-sided area light shines from its front only, which
+/// `ReverseOrientation` turns over; its power is radiance × area × π (here 1.5 π for `L` 1),
+/// and `power` is each patch's, as pbrt-v4 makes every patch a light (two patches given
+/// `power` 2 emit 4, not 2 for each of their four triangles). Within 1.5 % (the pixels on
+/// the patches' edges).
+#[test]
+fn a_bilinear_mesh_lamp_shines_from_its_front_with_each_patchs_power() {
+    let pi = std::f64::consts::PI;
+    let away = measured_power(&format!("AreaLightSource \"diffuse\"\n{PATCHES}"));
+    assert_eq!(away, 0.0, "it faces away from the camera");
+    let turned = |light: &str| {
+        measured_power(&format!(
+            "AreaLightSource \"diffuse\" {light}\nReverseOrientation\n{PATCHES}"
+        ))
+    };
+    let lit = turned("\"rgb L\" [1 1 1]");
+    assert!((lit - 1.5 * pi).abs() < 0.015 * 1.5 * pi, "{lit}");
+    let powered = turned("\"float power\" 2");
+    assert!((powered - 4.0).abs() < 0.015 * 4.0, "{powered}");
+    // Two-sided, each side half the power: the camera's side gives 2.
+    let both = measured_power(&format!(
+        "AreaLightSource \"diffuse\" \"float power\" 2 \"bool twosided\" true\n{PATCHES}"
+    ));
+    assert!((both - 2.0).abs() < 0.015 * 2.0, "{both}");
+}
+
+/// A planar Loop surface as a one-sided area light: its faces front against the input's
+/// `(p1 − p0) × (p2 − p0)` (pbrt-v4's limit normals), towards the camera here, and
+/// `ReverseOrientation` turns them away; its power is radiance × its limit surface's area ×
+/// π, and `power` is each triangle's, pbrt-v4 refining it into a triangle mesh (every
+/// triangle a light). Within 1.5 %.
+#[test]
+fn a_loop_surface_lamp_shines_from_its_front_with_each_triangles_power() {
+    let pi = std::f64::consts::PI;
+    let square = "Shape \"loopsubdiv\" \"integer levels\" 2 \
+                  \"point3 P\" [-0.9 -0.9 1  0.9 -0.9 1  0.9 0.9 1  -0.9 0.9 1] \
+                  \"integer indices\" [0 1 2  0 2 3]\n";
+    let scene = load(&format!("{HEAD}{square}"));
+    let m = mesh(&scene, 0);
+    let (faces, limit_area) = (m.face_count() as f64, area(&m));
+    assert_eq!(faces, 32.0);
+    let lit = measured_power(&format!(
+        "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\n{square}"
+    ));
+    assert!(
+        (lit - pi * limit_area).abs() < 0.015 * pi * limit_area,
+        "{lit} vs {}",
+        pi * limit_area
+    );
+    let away = measured_power(&format!(
+        "AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\nReverseOrientation\n{square}"
+    ));
+    assert_eq!(away, 0.0, "turned away from the camera");
+    let powered = measured_power(&format!(
+        "AreaLightSource \"diffuse\" \"float power\" 0.1\n{square}"
+    ));
+    assert!(
+        (powered - 0.1 * faces).abs() < 0.015 * 0.1 * faces,
+        "{powered}"
+    );
 }

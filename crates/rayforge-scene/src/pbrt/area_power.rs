@@ -5,7 +5,10 @@
 //! `Shape::Create`'s shapes). Each light scales its radiance so that it alone emits `power`
 //! (`lights.cpp`, `DiffuseAreaLight::Create`: `scale *= power / (sides · π · area)`, the area
 //! that of the one triangle, in render space): a mesh's triangles of unequal areas shine with
-//! unequal radiances, each emitting `power`, the mesh N × `power` in all.
+//! unequal radiances, each emitting `power`, the mesh N × `power` in all. A `bilinearmesh`
+//! is one shape per patch (pbrt-v4's `BilinearPatch`), which rayforge tessellates: each
+//! patch's triangles share the patch's area (their sum, the patch's own for a planar patch
+//! and within the tessellation's bound of it for a curved one), so the patch emits `power`.
 //!
 //! rayforge's emission is a material's, one per object, so an emitting mesh with `power` is
 //! cut into [`pieces`]: its faces grouped by their area in the world (areas within a millionth
@@ -45,9 +48,15 @@ pub fn has_power(area_light: &Entity) -> Result<bool, SceneError> {
 }
 
 /// The mesh `mesh` (in its object's space, placed by `world_from_object`) cut into pieces of
-/// faces of one area each (see the [module](self)).
-pub fn pieces(mesh: &Mesh, world_from_object: &DMat4) -> Result<Pieces, MeshError> {
-    let areas: Vec<f64> = mesh
+/// faces of one area each (see the [module](self)); with `patches`, how many of its faces in
+/// order each of pbrt-v4's shapes is (a `bilinearmesh`'s patches), a face's area is its
+/// shape's.
+pub fn pieces(
+    mesh: &Mesh,
+    world_from_object: &DMat4,
+    patches: Option<&[u32]>,
+) -> Result<Pieces, MeshError> {
+    let mut areas: Vec<f64> = mesh
         .faces()
         .map(|face| {
             let [a, b, c] = mesh
@@ -56,6 +65,15 @@ pub fn pieces(mesh: &Mesh, world_from_object: &DMat4) -> Result<Pieces, MeshErro
             (b - a).cross(c - a).length() / 2.0
         })
         .collect();
+    if let Some(patches) = patches {
+        let mut start = 0;
+        for &n in patches {
+            let end = (start + n as usize).min(areas.len());
+            let total: f64 = areas[start..end].iter().sum();
+            areas[start..end].fill(total);
+            start = end;
+        }
+    }
     let (groups, spread) = groups(&areas, MAX_RADIANCES);
     let mut remap = Remaps::default();
     let pieces = groups
@@ -269,7 +287,7 @@ mod tests {
         .unwrap()
         .with_winding(rayforge::geometry::Winding::RightHanded);
         let Pieces { pieces, spread } =
-            pieces(&mesh, &DMat4::from_scale(DVec3::splat(2.0))).unwrap();
+            pieces(&mesh, &DMat4::from_scale(DVec3::splat(2.0)), None).unwrap();
         assert_eq!(spread, None);
         assert_eq!(pieces.len(), 2);
         let (small, area) = &pieces[0];

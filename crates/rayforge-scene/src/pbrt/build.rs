@@ -321,11 +321,12 @@ fn place(
     noted: &mut Notes,
 ) -> Result<Vec<Object>, SceneError> {
     let entity = &shape.entity;
-    let Built::Objects(objects, area) =
-        shapes::build(shape, files, triangles, options.max_triangles, warnings)?
-    else {
-        return Ok(Vec::new());
-    };
+    let (objects, area, patches) =
+        match shapes::build(shape, files, triangles, options.max_triangles, warnings)? {
+            Built::Objects(objects, area) => (objects, area, None),
+            Built::Patches(objects, area, patches) => (objects, area, Some(patches)),
+            Built::Skipped => return Ok(Vec::new()),
+        };
     if shape.moving && !noted.motion {
         noted.motion = true;
         warnings.push(entity.error(
@@ -392,10 +393,11 @@ fn place(
     let mut placed = Vec::with_capacity(objects.len());
     for object in objects {
         match &object.shape {
-            // `power` per triangle, as pbrt-v4 gives it (see `area_power`).
+            // `power` per triangle, or per bilinear patch, as pbrt-v4 gives it (see
+            // `area_power`).
             Shape::Mesh(mesh) if area_power::has_power(area_light)? => {
                 let world_from_mesh = world_from_object * object.transform.matrix();
-                let cut = area_power::pieces(mesh, &world_from_mesh)
+                let cut = area_power::pieces(mesh, &world_from_mesh, patches.as_deref())
                     .map_err(|e| entity.error(e.to_string()))?;
                 if let Some(spread) = cut.spread {
                     warnings.push(entity.error(format!(

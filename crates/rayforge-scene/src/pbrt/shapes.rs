@@ -40,6 +40,10 @@ pub enum Built {
     /// Objects in the shape's own space (the caller places them), and the shape's area there
     /// (for an area light's `power`).
     Objects(Vec<Object>, f64),
+    /// A mesh of patches (`bilinearmesh`) in its own space, its area, and how many of its
+    /// faces, in order, each patch became: pbrt-v4 makes each patch a shape, and so a light
+    /// emitting `power` of its own, where a `trianglemesh`'s every triangle is one.
+    Patches(Vec<Object>, f64, Vec<u32>),
     /// Nothing to draw (`curves`).
     Skipped,
 }
@@ -170,8 +174,9 @@ pub fn build(
             Built::Skipped
         }
         "bilinearmesh" => {
-            let (mesh, area) = bilinear_mesh(shape, triangles, max_triangles, files.stop())?;
-            Built::Objects(vec![Object::mesh(Arc::new(mesh))], area)
+            let (mesh, area, patches) =
+                bilinear_mesh(shape, triangles, max_triangles, files.stop())?;
+            Built::Patches(vec![Object::mesh(Arc::new(mesh))], area, patches)
         }
         "loopsubdiv" => {
             let (mesh, area) = loop_subdivision(shape, triangles, max_triangles, files.stop())?;
@@ -301,13 +306,13 @@ fn point_indices<'a>(
 
 /// A `bilinearmesh` (`P`, `indices` four a patch in pbrt-v4's order `p00 p10 p01 p11`,
 /// optional `N` and `uv` one a point): its patches as triangles ([`super::bilinear`]), fronting
-/// as a `trianglemesh`'s do, and their area.
+/// as a `trianglemesh`'s do, their area, and the triangles of each patch (in order).
 fn bilinear_mesh(
     shape: &ShapeEntity,
     triangles: &mut usize,
     max_triangles: usize,
     stop: &crate::stop::StopFlag,
-) -> Result<(Mesh, f64), SceneError> {
+) -> Result<(Mesh, f64, Vec<u32>), SceneError> {
     use super::bilinear::{Patch, Tessellation};
     use super::params::ParamType;
     let entity = &shape.entity;
@@ -357,14 +362,17 @@ fn bilinear_mesh(
     for (patch, &n) in patches.iter().zip(&cells) {
         patch.tessellate(n, &mut out);
     }
-    oriented(
+    // Each patch is 2n² triangles (n at most 23), in the patches' order.
+    let per_patch = cells.iter().map(|&n| (2 * n * n) as u32).collect();
+    let (mesh, area) = oriented(
         shape,
         out.positions,
         out.normals,
         out.texcoords,
         &out.indices,
         stop,
-    )
+    )?;
+    Ok((mesh, area, per_patch))
 }
 
 /// The most levels a `loopsubdiv` is refined (each quadruples its triangles; the scene's
