@@ -13,6 +13,7 @@ use super::vertex::{to_screen, ViewVertex};
 use super::Projection;
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Tile width in pixels.
 pub(crate) const TILE_WIDTH: usize = 64;
@@ -140,8 +141,15 @@ pub(crate) struct BinContext<'a, 'w> {
 
 /// Bins every triangle of every instance into `chunks`, one per chunk of faces. The chunks'
 /// lists keep their memory from the last frame (a rasterizer keeps them), so a frame of the
-/// same scene does not grow thousands of lists again.
-pub(crate) fn bin_all(ctx: &BinContext<'_, '_>, chunks: &mut Vec<Chunk>) {
+/// same scene does not grow thousands of lists again. `cancel` is looked at before each chunk
+/// of [`CHUNK`] faces: once it is set no chunk is begun (a frame of millions of triangles
+/// stops within one chunk), and the chunks not begun are left empty or as the last frame
+/// left them, for the caller to refuse the frame.
+pub(crate) fn bin_all(
+    ctx: &BinContext<'_, '_>,
+    chunks: &mut Vec<Chunk>,
+    cancel: Option<&AtomicBool>,
+) {
     // Chunks of CHUNK faces in scene order; a chunk may hold the faces of many small objects
     // (a chunk's bins cost memory per tile, so there must not be one per object).
     let mut jobs: Vec<Vec<(usize, usize, usize)>> = vec![Vec::new()];
@@ -167,6 +175,9 @@ pub(crate) fn bin_all(ctx: &BinContext<'_, '_>, chunks: &mut Vec<Chunk>) {
         .par_iter_mut()
         .zip(jobs)
         .for_each(|(chunk, segments)| {
+            if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                return;
+            }
             chunk.clear(ctx.tiles.count());
             for (index, start, end) in segments {
                 bin_faces(ctx, chunk, index, start, end);

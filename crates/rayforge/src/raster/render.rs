@@ -414,7 +414,15 @@ fn with_frame(
         normals,
         chunks,
     } = scratch;
-    transform_vertices(&instances, &projection, bits, vertices, outside, normals);
+    transform_vertices(
+        &instances,
+        &projection,
+        bits,
+        vertices,
+        outside,
+        normals,
+        cancel,
+    );
     stopped(0)?;
     bin_all(
         &BinContext {
@@ -426,6 +434,7 @@ fn with_frame(
             bits,
         },
         chunks,
+        cancel,
     );
     stopped(0)?;
     let mut stats = RasterStats {
@@ -496,6 +505,72 @@ mod tests {
         assert!(matches!(made, Err(RasterError::Cancelled { .. })));
         let made = instances(&world, &projection, 512, true, u64::MAX, None).unwrap();
         assert_eq!(made.len(), 1);
+    }
+
+    /// The projection and the binning look at the stop flag before each run of vertices and
+    /// each chunk of faces (they were passes over arrays of up to `--max-raster-triangles`
+    /// not looked into): with the flag set neither does any of its work, with it clear each
+    /// does the same as with none. A sphere of 512 divisions is 524,288 faces: many runs of
+    /// vertices and chunks of faces.
+    #[test]
+    fn a_stop_reaches_inside_the_projection_and_the_binning() {
+        let mut world = World::new();
+        world.objects.push(
+            crate::scene::Object::new(crate::scene::Shape::Sphere)
+                .with_transform(crate::math::translation(0.0, 0.0, -5.0)),
+        );
+        let camera = Camera::new(64, 32, std::f64::consts::FRAC_PI_3);
+        let projection = Projection::new(&camera, RasterOptions::default().near);
+        let made = instances(&world, &projection, 512, true, u64::MAX, None).unwrap();
+        let bits = subpixel_bits(64, 32);
+        let (set, clear) = (AtomicBool::new(true), AtomicBool::new(false));
+        let project = |cancel| {
+            let (mut vertices, mut outside, mut normals) = (Vec::new(), Vec::new(), Vec::new());
+            transform_vertices(
+                &made,
+                &projection,
+                bits,
+                &mut vertices,
+                &mut outside,
+                &mut normals,
+                cancel,
+            );
+            (vertices, outside, normals)
+        };
+        let (stopped, _, stopped_normals) = project(Some(&set));
+        assert!(stopped.len() > 4 * 4096, "{} vertices", stopped.len());
+        assert!(stopped
+            .iter()
+            .all(|v| v.inv_z == 0.0 && v.view == Vec3::ZERO));
+        assert!(stopped_normals.iter().all(|n| *n == Vec3::ZERO));
+        let (vertices, outside, _) = project(None);
+        assert!(vertices.iter().all(|v| v.inv_z > 0.0));
+        let (again, _, _) = project(Some(&clear));
+        assert!(again
+            .iter()
+            .zip(&vertices)
+            .all(|(a, b)| a.view == b.view && a.inv_z == b.inv_z));
+        let context = BinContext {
+            instances: &made,
+            vertices: &vertices,
+            outside: &outside,
+            projection: &projection,
+            tiles: Tiles::new(64, 32),
+            bits,
+        };
+        let binned = |cancel| {
+            let mut chunks = Vec::new();
+            bin_all(&context, &mut chunks, cancel);
+            (
+                chunks.len(),
+                chunks.iter().map(|c| c.counts.faces).sum::<u64>(),
+            )
+        };
+        let (chunks, faces) = binned(Some(&set));
+        assert!(chunks > 4, "{chunks} chunks");
+        assert_eq!(faces, 0, "no face binned once stopped");
+        assert_eq!(binned(None), (chunks, 524_288));
+        assert_eq!(binned(Some(&clear)), binned(None));
     }
 
     /// The flag set at a known point, between two bands of one thread: the first band's tiles

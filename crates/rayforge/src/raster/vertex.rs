@@ -8,6 +8,7 @@ use super::Projection;
 use crate::math::Vec3;
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A vertex in view space and on the screen.
 #[derive(Debug, Clone, Copy, Default)]
@@ -36,7 +37,9 @@ pub(crate) fn to_screen(projection: &Projection, view: DVec3, bits: u32) -> Fixe
 /// reads a triangle's three outcodes where it tested each corner against each plane, work
 /// that a vertex shared by six triangles did six times. The arrays are resized to fit (a
 /// rasterizer keeps them from frame to frame, so a frame of the same scene allocates nothing
-/// here); every element is written.
+/// here); every element is written, unless `cancel` is set: it is looked at before each run
+/// of [`RUN`] vertices or normals (a frame of millions of them stops within one run), and the
+/// runs not begun are left as they were, for the caller to refuse the frame.
 pub(crate) fn transform_vertices(
     instances: &[Instance<'_>],
     projection: &Projection,
@@ -44,7 +47,9 @@ pub(crate) fn transform_vertices(
     vertices: &mut Vec<ViewVertex>,
     outside: &mut Vec<u8>,
     normals: &mut Vec<Vec3>,
+    cancel: Option<&AtomicBool>,
 ) {
+    let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
     let vertex_count = instances
         .last()
         .map_or(0, |i| i.vertex_base + i.model.mesh.positions.len());
@@ -78,6 +83,9 @@ pub(crate) fn transform_vertices(
             .zip(o.par_chunks_mut(RUN))
             .zip(mesh.positions.par_chunks(RUN))
             .for_each(|((out, codes), positions)| {
+                if cancelled() {
+                    return;
+                }
                 for ((o, code), &p) in out.iter_mut().zip(codes).zip(positions) {
                     let view = instance.to_view.transform_point3(p);
                     let in_front = view.z > 0.0;
@@ -98,6 +106,9 @@ pub(crate) fn transform_vertices(
         n.par_chunks_mut(RUN)
             .zip(mesh.normals.par_chunks(RUN))
             .for_each(|(out, normals)| {
+                if cancelled() {
+                    return;
+                }
                 for (o, &m) in out.iter_mut().zip(normals) {
                     *o = instance.transform.normal(m);
                 }
