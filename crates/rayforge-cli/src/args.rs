@@ -52,6 +52,7 @@ Render options (`rayforge render --help` describes each in full):
       --max-pbrt-total-bytes <N>   a pbrt scene's files together [default: 1073741824, 1 GiB]
       --max-pbrt-include-depth <N> how deep a pbrt scene's Include/Import nest [default: 32]
       --max-pbrt-values <N>        a pbrt scene's parameter values together [default: 67108864]
+      --max-pbrt-lens-rows <N>     rows of a pbrt realistic camera's lens file [default: 64]
       --max-grid-samples <N> the most samples one medium's grid holds [default: 134217728, 512^3]
       --allow-outside       let the scene name files outside its folder
       --camera <N|NAME>     a glTF model's camera, by index or name [default: its first]
@@ -519,6 +520,11 @@ pub struct RenderArgs {
     /// together, counted as they are read, before any is kept.
     #[arg(long, value_name = "N", default_value_t = rayforge_scene::pbrt::PbrtLimits::DEFAULT.values)]
     pub max_pbrt_values: u64,
+
+    /// The most rows (lens interfaces) a pbrt-v4 realistic camera's lens file may hold: each
+    /// row costs the exit pupil's million rays one more intersection apiece.
+    #[arg(long, value_name = "N", default_value_t = rayforge_scene::pbrt::PbrtLimits::DEFAULT.lens_rows)]
+    pub max_pbrt_lens_rows: usize,
 
     /// The most samples one grid of a participating medium may hold (a YAML grid's `size`, a
     /// `.vol` file's, a pbrt-v4 `uniformgrid` or `rgbgrid`'s nx × ny × nz), four bytes each

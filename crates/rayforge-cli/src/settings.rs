@@ -742,12 +742,14 @@ impl RenderSettings {
             total_bytes: args.max_pbrt_total_bytes,
             include_depth: args.max_pbrt_include_depth,
             values: args.max_pbrt_values,
+            lens_rows: args.max_pbrt_lens_rows,
         };
         for (flag, value) in [
             ("--max-pbrt-file-bytes", pbrt_limits.file_bytes),
             ("--max-pbrt-total-bytes", pbrt_limits.total_bytes),
             ("--max-pbrt-include-depth", pbrt_limits.include_depth as u64),
             ("--max-pbrt-values", pbrt_limits.values),
+            ("--max-pbrt-lens-rows", pbrt_limits.lens_rows as u64),
         ] {
             if value == 0 {
                 return Err(Failure::usage(format!(

@@ -126,16 +126,21 @@ pub struct PbrtLimits {
     /// counted as they are lexed, before any is kept: what bounds the memory the parameter
     /// lists take, each value a few dozen bytes while it is read (`--max-pbrt-values`).
     pub values: u64,
+    /// The most rows (interfaces) a realistic camera's lens file may hold: each costs the
+    /// exit pupil's bounds a million intersections more (`--max-pbrt-lens-rows`).
+    pub lens_rows: usize,
 }
 
 impl PbrtLimits {
     /// The defaults: 64 MiB a file (a YAML scene's limit), 1 GiB in all, 32 levels of
-    /// includes, 2^26 (67,108,864) values (a mesh of 5 million triangles written inline).
+    /// includes, 2^26 (67,108,864) values (a mesh of 5 million triangles written inline),
+    /// 64 lens rows (pbrt-v4's lens files have at most a few dozen).
     pub const DEFAULT: PbrtLimits = PbrtLimits {
         file_bytes: 64 * 1024 * 1024,
         total_bytes: 1 << 30,
         include_depth: 32,
         values: 1 << 26,
+        lens_rows: 64,
     };
 }
 

@@ -1,11 +1,13 @@
 //! pbrt-v4's cameras and film sensor: the imaging ratio (`iso`, the shutter) and white
 //! balance, `screenwindow` and `frameaspectratio`, the spherical camera's layouts, and the
-//! realistic camera's located refusal; and the same rendered: the sensor's scale and white
-//! balance over whole images, and the directions each pixel of a spherical camera sees.
+//! realistic camera: its lens files (written in `fixtures/lenses/`), parameters and located
+//! refusals; and the same rendered: the sensor's scale and white balance over whole images,
+//! and the directions each pixel of a spherical camera sees.
 
 mod support;
 
 use rayforge::Color;
+use rayforge_scene::pbrt::PbrtLimits;
 use rayforge_scene::{LoadOptions, Scene, SceneError};
 
 fn load_text(text: &str) -> Result<Scene, SceneError> {
@@ -106,16 +108,185 @@ fn a_spherical_cameras_centre_looks_where_pbrts_does() {
     assert!((d.y - 1.0).abs() < 1e-12, "{d:?}");
 }
 
-#[test]
-fn the_realistic_camera_is_refused_at_its_directive() {
-    let Err(e) = load_text("LookAt 0 0 0  0 0 1  0 1 0\n  Camera \"realistic\" \"string lensfile\" \"a.dat\"\nWorldBegin\n") else {
-        panic!("refused");
+/// A scene of `text` in a folder of its own beside the lens files of `lenses` (name, text),
+/// loaded within `limits`.
+fn load_with_lenses(
+    text: &str,
+    lenses: &[(&str, &str)],
+    limits: PbrtLimits,
+) -> (tempfile::TempDir, Result<Scene, SceneError>) {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, lens) in lenses {
+        std::fs::write(dir.path().join(name), lens).unwrap();
+    }
+    let path = dir.path().join("s.pbrt");
+    std::fs::write(&path, text).unwrap();
+    let options = LoadOptions {
+        pbrt: limits,
+        ..LoadOptions::default()
     };
-    let span = e.span.expect("a place");
-    assert_eq!((span.line, span.column), (2, 3), "{e}");
-    assert!(e.path.ends_with("s.pbrt"), "{e}");
-    assert_eq!(e.key.as_deref(), Some("Camera"), "{e}");
-    assert!(e.message.contains("realistic"), "{e}");
+    let loaded = rayforge_scene::load_file_with(&path, &options);
+    (dir, loaded)
+}
+
+/// The error a load gave, which must have been refused.
+fn refusal(loaded: Result<Scene, SceneError>) -> SceneError {
+    match loaded {
+        Err(e) => e,
+        Ok(_) => panic!("read, not refused"),
+    }
+}
+
+const BICONVEX: &str = include_str!("fixtures/lenses/biconvex.dat");
+const TWO_LENSES: &str = include_str!("fixtures/lenses/two-lenses.dat");
+
+/// A realistic camera of `params` looking down +z, over the lens files of the fixtures.
+fn realistic(params: &str) -> (tempfile::TempDir, Result<Scene, SceneError>) {
+    load_with_lenses(
+        &format!(
+            "LookAt 0 0 0  0 0 1  0 1 0\nFilm \"rgb\" \"integer xresolution\" 60 \"integer yresolution\" 40\nCamera \"realistic\" {params}\nWorldBegin\n"
+        ),
+        &[("biconvex.dat", BICONVEX), ("two-lenses.dat", TWO_LENSES)],
+        PbrtLimits::DEFAULT,
+    )
+}
+
+#[test]
+fn a_realistic_camera_is_its_lens_file_focused_at_its_distance() {
+    let (_dir, loaded) = realistic(
+        "\"string lensfile\" \"biconvex.dat\" \"float focusdistance\" 1 \"float aperturediameter\" 4",
+    );
+    let scene = loaded.unwrap_or_else(|e| panic!("{e}"));
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let lens = scene.camera.lens_system().expect("a lens system");
+    // The thick-lens formula's film distance for this lens at 1 m (f = 50.85 mm, principal
+    // planes 1.695 mm inside each vertex; the library's tests derive it): 52.045 mm.
+    assert!(
+        (lens.film_distance() - 0.052_045).abs() < 1e-6,
+        "{}",
+        lens.film_distance()
+    );
+    assert!((lens.film_diagonal() - 0.035).abs() < 1e-15);
+    // The image's centre looks down pbrt's +z, its left edge towards −x as the perspective
+    // camera's does (the lens turns the image over; the film is read turned back).
+    let sample = |x: f64| rayforge::camera::CameraSample {
+        x,
+        y: 20.0,
+        lens_u: 0.5,
+        lens_v: 0.5,
+        time: 0.5,
+    };
+    let centre = scene.camera.ray_for_sample(&sample(30.0)).expect("through");
+    assert!(
+        (centre.ray.direction - glam::DVec3::Z).length() < 1e-3,
+        "{centre:?}"
+    );
+    assert!(centre.weight > 0.0);
+    let left = scene.camera.ray_for_sample(&sample(1.0)).expect("through");
+    let pinhole = load("LookAt 0 0 0  0 0 1  0 1 0\nFilm \"rgb\" \"integer xresolution\" 60 \"integer yresolution\" 40\nCamera \"perspective\"\nWorldBegin\n");
+    let pinhole_left = pinhole.camera.ray_through(1.0, 20.0).direction;
+    assert!(
+        left.ray.direction.x < -0.1 && pinhole_left.x < 0.0,
+        "{left:?}"
+    );
+    // Resized (--width), the same lens over the new aspect ratio's film.
+    let resized = scene.camera.resized(30, 30);
+    assert_eq!(resized.lens_system(), Some(lens));
+}
+
+#[test]
+fn a_realistic_cameras_film_diagonal_and_diaphragm_are_read() {
+    let (_dir, loaded) = load_with_lenses(
+        "Film \"rgb\" \"float diagonal\" 20\nCamera \"realistic\" \"string lensfile\" \"l.dat\" \"string aperture\" \"star\" \"float aperturediameter\" 30\nWorldBegin\n",
+        &[("l.dat", TWO_LENSES)],
+        PbrtLimits::DEFAULT,
+    );
+    let scene = loaded.unwrap_or_else(|e| panic!("{e}"));
+    let lens = scene.camera.lens_system().expect("a lens system");
+    assert!((lens.film_diagonal() - 0.02).abs() < 1e-15);
+    // Wider than the file's 8 mm stop: clamped, and said so at the directive.
+    assert_eq!(lens.clamped_aperture(), Some((30.0, 8.0)));
+    let warning = scene.warnings.first().expect("a warning");
+    assert_eq!(warning.span.map(|s| s.line), Some(2), "{warning}");
+    assert!(warning.message.contains("8 mm"), "{warning}");
+}
+
+#[test]
+fn a_realistic_camera_refuses_what_it_cannot_read_where_it_is_written() {
+    // No lens file named: at the directive.
+    let (_d, loaded) = realistic("\"float focusdistance\" 2");
+    let e = refusal(loaded);
+    assert_eq!(e.span.map(|s| (s.line, s.column)), Some((3, 1)), "{e}");
+    assert!(e.message.contains("lensfile"), "{e}");
+    // A lens file that is not there, or a folder: at the parameter that names it.
+    for name in ["missing.dat", "."] {
+        let (_d, loaded) = realistic(&format!("\"string lensfile\" \"{name}\""));
+        let e = refusal(loaded);
+        assert!(e.path.ends_with("s.pbrt"), "{e}");
+        assert_eq!(e.span.map(|s| s.line), Some(3), "{e}");
+        assert_eq!(e.key.as_deref(), Some("string lensfile"), "{e}");
+    }
+    let (_d, loaded) = realistic("\"string lensfile\" \".\"");
+    assert!(refusal(loaded).message.contains("not a regular file"));
+    // An image aperture: at the parameter.
+    let (_d, loaded) =
+        realistic("\"string lensfile\" \"biconvex.dat\" \"string aperture\" \"bokeh.png\"");
+    let e = refusal(loaded);
+    assert_eq!(e.key.as_deref(), Some("string aperture"), "{e}");
+    assert!(
+        e.message.contains("gaussian, square, pentagon, star"),
+        "{e}"
+    );
+    // Focused closer than the lens can: at the directive.
+    let (_d, loaded) =
+        realistic("\"string lensfile\" \"biconvex.dat\" \"float focusdistance\" 0.1");
+    let e = refusal(loaded);
+    assert_eq!(e.span.map(|s| s.line), Some(3), "{e}");
+    assert!(e.message.contains("too short"), "{e}");
+}
+
+#[test]
+fn a_hostile_lens_file_is_refused_at_its_line_and_column() {
+    let scene = "Camera \"realistic\" \"string lensfile\" \"l.dat\"\nWorldBegin\n";
+    let refused = |lens: &str, limits: PbrtLimits| {
+        let (_d, loaded) = load_with_lenses(scene, &[("l.dat", lens)], limits);
+        let e = refusal(loaded);
+        assert!(e.path.ends_with("l.dat"), "{e}");
+        (e.span.map(|s| (s.line, s.column)), e.message)
+    };
+    let (at, message) = refused("# lens\n50 5 1.5 20\n-50 fifty 1 20\n", PbrtLimits::DEFAULT);
+    assert_eq!(at, Some((3, 5)), "{message}");
+    assert!(message.contains("`fifty`"), "{message}");
+    let (at, message) = refused("50 5 1.5 20\n-50 NaN 1 20\n", PbrtLimits::DEFAULT);
+    assert_eq!(at, Some((2, 5)), "{message}");
+    let (at, message) = refused("50 5 1.5 20\n-50 50 1\n", PbrtLimits::DEFAULT);
+    assert_eq!(at, Some((2, 8)), "{message}");
+    // An index below 1 (nor 0, air): at its row.
+    let (at, message) = refused("50 5 1.5 20\n  -50 50 0.5 20\n", PbrtLimits::DEFAULT);
+    assert_eq!(at, Some((2, 3)), "{message}");
+    assert!(message.contains("index of refraction"), "{message}");
+    // More rows than the limit: at the first row past it, naming the flag.
+    let limits = PbrtLimits {
+        lens_rows: 4,
+        ..PbrtLimits::DEFAULT
+    };
+    let (at, message) = refused(TWO_LENSES, limits);
+    assert_eq!(at, Some((8, 2)), "{message}");
+    assert!(message.contains("--max-pbrt-lens-rows"), "{message}");
+    // Past the file size limit: refused before reading, at the parameter.
+    let small = PbrtLimits {
+        file_bytes: 100,
+        ..PbrtLimits::DEFAULT
+    };
+    let (_d, loaded) = load_with_lenses(scene, &[("l.dat", TWO_LENSES)], small);
+    let e = refusal(loaded);
+    assert!(
+        e.path.ends_with("s.pbrt") && e.message.contains("--max-pbrt-file-bytes"),
+        "{e}"
+    );
+    // Binary: at the first byte that is not text.
+    let (at, _) = refused("50 5 1.5 20\n-50 50\u{0} 1 20\n", PbrtLimits::DEFAULT);
+    assert_eq!(at, Some((2, 7)));
 }
 
 /// A small lit scene of pbrt-v4's: a glossy sphere and a diffuse floor under a sky and a lamp,

@@ -26,6 +26,7 @@ pub(crate) const FUZZ_LIMITS: PbrtLimits = PbrtLimits {
     total_bytes: 4 << 20,
     include_depth: 8,
     values: 1 << 20,
+    lens_rows: 16,
 };
 
 /// The words of the second reading: one per byte value (modulo their count).

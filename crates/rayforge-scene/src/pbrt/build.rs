@@ -85,7 +85,7 @@ pub fn scene(
     options: &LoadOptions,
 ) -> Result<Scene, SceneError> {
     let mut warnings = std::mem::take(&mut desc.warnings);
-    let setup = camera::setup(&desc.options, &mut warnings)?;
+    let setup = camera::setup(&desc.options, files, &mut warnings)?;
     let mut world = World::new();
     let media_ids = media::build(&desc, &mut world, options.max_grid_samples)?;
     world.camera_medium = media::camera_medium(&media_ids, desc.options.camera_medium.as_ref())?;

@@ -22,15 +22,21 @@
 //! `focaldistance`, `screenwindow` and `frameaspectratio` and uses none of them; so does
 //! rayforge, without a warning.
 //!
-//! **The realistic camera** (a lens system traced element by element from a lens file) is
-//! refused at its `Camera` directive.
+//! **The realistic camera** is rayforge's [`LensSystem`] (pbrt-v4's `RealisticCamera`: the
+//! lens file's interfaces traced from the film, see its module): `lensfile` (read by
+//! [`super::lens_file`]), `aperturediameter` (1 mm), `focusdistance` (10), `aperture` (the
+//! circular stop, or a built-in shape: `gaussian`, `square`, `pentagon`, `star`; an image
+//! file is refused), and the `Film`'s `diagonal` (35 mm). Its image is what pbrt-v4's is: a
+//! film of that diagonal, vignetted, each ray weighted by `cos⁴θ` over the exit pupil's
+//! solid angle, so dimmer than a pinhole's.
 
+use super::input::Files;
 use super::params::{Param, ParamType};
 use super::reader::{Entity, Options};
 use crate::error::SceneError;
 use crate::scene::Written;
 use glam::{DMat4, DVec4};
-use rayforge::camera::{ScreenWindow, SphericalMapping};
+use rayforge::camera::{ApertureShape, LensSettings, LensSystem, ScreenWindow, SphericalMapping};
 use rayforge::film::PixelFilter;
 use rayforge::options::{LightSamplerKind, PathOptions, SamplerKind};
 use rayforge::{Camera, Transform};
@@ -89,8 +95,13 @@ pub fn film_filename(options: &Options) -> Result<(String, Option<&Entity>), Sce
     Ok((name.unwrap_or_else(|| "pbrt.exr".into()), film))
 }
 
-/// The camera and path-tracer options of `options`, warnings added to `warnings`.
-pub fn setup(options: &Options, warnings: &mut Vec<SceneError>) -> Result<Setup, SceneError> {
+/// The camera and path-tracer options of `options` (a lens file read from `files`),
+/// warnings added to `warnings`.
+pub fn setup(
+    options: &Options,
+    files: &Files,
+    warnings: &mut Vec<SceneError>,
+) -> Result<Setup, SceneError> {
     let film = options.film.as_ref();
     if let Some(film) = film {
         match film.name.as_str() {
@@ -108,7 +119,13 @@ pub fn setup(options: &Options, warnings: &mut Vec<SceneError>) -> Result<Setup,
         film.params.string("filename")?;
     }
     let (width, height) = resolution(film)?;
-    let camera = camera(options.camera.as_ref(), width, height)?.with_sensor(
+    let placed = Placed {
+        film,
+        files,
+        width,
+        height,
+    };
+    let camera = camera(options.camera.as_ref(), &placed, warnings)?.with_sensor(
         super::sensor::sensor(film, options.camera.as_ref().map(|(e, _)| e), warnings)?,
     );
     let sampling = sampler(options.sampler.as_ref(), warnings)?;
@@ -150,13 +167,23 @@ pub fn setup(options: &Options, warnings: &mut Vec<SceneError>) -> Result<Setup,
     })
 }
 
-/// The camera of `camera` (pbrt's default, a perspective camera of 90° at the origin, when
-/// absent) at `width × height`.
-fn camera(
-    camera: Option<&(Entity, DMat4)>,
+/// What a camera is built for besides its directive: the film (its resolution, and the
+/// `diagonal` a realistic camera's film has), and the scene's files (a lens file's).
+struct Placed<'a> {
+    film: Option<&'a Entity>,
+    files: &'a Files,
     width: usize,
     height: usize,
+}
+
+/// The camera of `camera` (pbrt's default, a perspective camera of 90° at the origin, when
+/// absent) for `placed`.
+fn camera(
+    camera: Option<&(Entity, DMat4)>,
+    placed: &Placed<'_>,
+    warnings: &mut Vec<SceneError>,
 ) -> Result<Camera, SceneError> {
+    let (width, height) = (placed.width, placed.height);
     let (entity, camera_from_world) = match camera {
         Some((e, m)) => (Some(e), *m),
         None => (None, DMat4::IDENTITY),
@@ -219,13 +246,7 @@ fn camera(
             params.numbers("screenwindow", ParamType::Float)?;
             Camera::spherical(width, height, mapping)
         }
-        "realistic" => {
-            return Err(entity.error(
-                "the realistic camera (pbrt-v4's lens system, traced element by element from \
-                 its lens file) is not read; rayforge reads perspective (with a thin lens), \
-                 orthographic and spherical cameras",
-            ))
-        }
+        "realistic" => realistic(entity, placed, warnings)?,
         other => {
             return Err(entity.error(format!(
                 "the camera \"{}\" is not one pbrt-v4 has (orthographic, perspective, \
@@ -235,6 +256,80 @@ fn camera(
         }
     };
     Ok(built.with_transform_of(view))
+}
+
+/// The realistic camera `entity` (see the module's documentation).
+fn realistic(
+    entity: &Entity,
+    placed: &Placed<'_>,
+    warnings: &mut Vec<SceneError>,
+) -> Result<Camera, SceneError> {
+    let params = &entity.params;
+    let Some((name, at)) = params.string("lensfile")? else {
+        return Err(entity.error(
+            "a realistic camera needs its lens system: \"string lensfile\" naming a lens \
+             description file",
+        ));
+    };
+    let max_rows = placed.files.limits().lens_rows;
+    let file = super::lens_file::read(name, at, placed.files, max_rows)?;
+    let positive = |name: &str, default: f64| -> Result<f64, SceneError> {
+        match params.float_at(name)? {
+            None => Ok(default),
+            Some((v, p)) if !(v.is_finite() && v > 0.0) => {
+                Err(p.error(format!("{name} is above 0, found {v}")))
+            }
+            Some((v, _)) => Ok(v),
+        }
+    };
+    let aperture_diameter = positive("aperturediameter", 1.0)?;
+    let focus_distance = positive("focusdistance", 10.0)?;
+    let aperture = match params.string("aperture")? {
+        None => ApertureShape::Circular,
+        Some((shape, p)) => ApertureShape::named(shape).ok_or_else(|| {
+            p.error(format!(
+                "the aperture \"{}\" would be an image file to pbrt-v4 (the diaphragm's \
+                 transmission read from it), which rayforge does not read; it reads pbrt-v4's \
+                 built-in shapes ({}) and, without `aperture`, the circular stop",
+                crate::error::clip_to(shape, 60),
+                ApertureShape::NAMES.join(", ")
+            ))
+        })?,
+    };
+    let film_diagonal = match placed.film {
+        None => 35.0,
+        Some(film) => match film.params.float_at("diagonal")? {
+            None => 35.0,
+            Some((v, p)) if !(v.is_finite() && v > 0.0) => {
+                return Err(p.error(format!(
+                    "a film's diagonal is above 0 millimetres, found {v}"
+                )))
+            }
+            Some((v, _)) => v,
+        },
+    };
+    let settings = LensSettings {
+        aperture_diameter,
+        focus_distance,
+        film_diagonal,
+        aperture,
+        ..LensSettings::DEFAULT
+    };
+    let lens = LensSystem::new(&file.rows, &settings).map_err(|e| match e.row {
+        Some(row) => file.error_at_row(row, e.message),
+        None => entity.error(e.message),
+    })?;
+    if let Some((asked, most)) = lens.clamped_aperture() {
+        warnings.push(entity.error(format!(
+            "the aperture diameter {asked} mm is wider than the lens file's stop allows: \
+             rendered at {most} mm, as pbrt-v4 clamps it"
+        )));
+    }
+    Ok(Camera::realistic(
+        placed.width,
+        placed.height,
+        std::sync::Arc::new(lens),
+    ))
 }
 
 /// `camera` (of `width × height`) with pbrt-v4's screen window where the file gives

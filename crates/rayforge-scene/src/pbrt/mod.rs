@@ -24,6 +24,7 @@ mod bilinear;
 mod build;
 mod camera;
 mod input;
+mod lens_file;
 mod lexer;
 mod lights;
 mod loop_subdiv;
