@@ -53,6 +53,7 @@ Render options (`rayforge render --help` describes each in full):
       --max-pbrt-include-depth <N> how deep a pbrt scene's Include/Import nest [default: 32]
       --max-pbrt-values <N>        a pbrt scene's parameter values together [default: 67108864]
       --max-pbrt-lens-rows <N>     rows of a pbrt realistic camera's lens file [default: 64]
+      --max-pbrt-radiances <N>     radiances an emitting pbrt mesh with power gets [default: 1024]
       --max-grid-samples <N> the most samples one medium's grid holds [default: 134217728, 512^3]
       --allow-outside       let the scene name files outside its folder
       --camera <N|NAME>     a glTF model's camera, by index or name [default: its first]
@@ -525,6 +526,12 @@ pub struct RenderArgs {
     /// row costs the exit pupil's million rays one more intersection apiece.
     #[arg(long, value_name = "N", default_value_t = rayforge_scene::pbrt::PbrtLimits::DEFAULT.lens_rows)]
     pub max_pbrt_lens_rows: usize,
+
+    /// The most radiances one emitting pbrt-v4 mesh with `power` is given: pbrt-v4 makes each
+    /// triangle a light of that power, and rayforge a piece of the mesh per size of triangle;
+    /// past this many sizes, this many bands of sizes share a radiance each, with a warning.
+    #[arg(long, value_name = "N", default_value_t = rayforge_scene::pbrt::PbrtLimits::DEFAULT.radiances)]
+    pub max_pbrt_radiances: usize,
 
     /// The most samples one grid of a participating medium may hold (a YAML grid's `size`, a
     /// `.vol` file's, a pbrt-v4 `uniformgrid` or `rgbgrid`'s nx × ny × nz), four bytes each

@@ -743,6 +743,7 @@ impl RenderSettings {
             include_depth: args.max_pbrt_include_depth,
             values: args.max_pbrt_values,
             lens_rows: args.max_pbrt_lens_rows,
+            radiances: args.max_pbrt_radiances,
         };
         for (flag, value) in [
             ("--max-pbrt-file-bytes", pbrt_limits.file_bytes),
@@ -750,6 +751,7 @@ impl RenderSettings {
             ("--max-pbrt-include-depth", pbrt_limits.include_depth as u64),
             ("--max-pbrt-values", pbrt_limits.values),
             ("--max-pbrt-lens-rows", pbrt_limits.lens_rows as u64),
+            ("--max-pbrt-radiances", pbrt_limits.radiances as u64),
         ] {
             if value == 0 {
                 return Err(Failure::usage(format!(

@@ -339,6 +339,9 @@ fn the_pbrt_readers_limits_are_flags() {
     let o = render(&scene, &out, &["-q", "--max-pbrt-include-depth", "0"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--max-pbrt-include-depth must be at least 1"));
+    let o = render(&scene, &out, &["-q", "--max-pbrt-radiances", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--max-pbrt-radiances must be at least 1"));
     let o = render(&scene, &out, &["-q", "--max-pbrt-values", "4"]);
     assert!(o.status.success(), "{}", stderr(&o));
 }

@@ -129,18 +129,28 @@ pub struct PbrtLimits {
     /// The most rows (interfaces) a realistic camera's lens file may hold: each costs the
     /// exit pupil's bounds a million intersections more (`--max-pbrt-lens-rows`).
     pub lens_rows: usize,
+    /// The most radiances one emitting mesh with `power` is given (`--max-pbrt-radiances`):
+    /// pbrt-v4 makes each triangle a light of its own power, and rayforge cuts the mesh into a
+    /// piece per size of triangle, each a mesh of its own; past this many sizes, into this
+    /// many bands of sizes, with a warning of the spread of areas in a band (see
+    /// `pbrt/area_power.rs`). It bounds the pieces' cost, not what is read: nothing is refused.
+    pub radiances: usize,
 }
 
 impl PbrtLimits {
     /// The defaults: 64 MiB a file (a YAML scene's limit), 1 GiB in all, 32 levels of
     /// includes, 2^26 (67,108,864) values (a mesh of 5 million triangles written inline),
-    /// 64 lens rows (pbrt-v4's lens files have at most a few dozen).
+    /// 64 lens rows (pbrt-v4's lens files have at most a few dozen),
+    /// 1024 radiances an emitting mesh (enough for any mesh of a few sizes of triangle, a
+    /// lamp of quads and fans, few enough that the pieces' meshes cost little beside the
+    /// mesh's own).
     pub const DEFAULT: PbrtLimits = PbrtLimits {
         file_bytes: 64 * 1024 * 1024,
         total_bytes: 1 << 30,
         include_depth: 32,
         values: 1 << 26,
         lens_rows: 64,
+        radiances: 1024,
     };
 }
 

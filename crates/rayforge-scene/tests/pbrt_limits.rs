@@ -99,3 +99,61 @@ fn a_file_and_all_files_are_held_to_their_sizes() {
     };
     assert!(load(dir.path(), exact).is_ok());
 }
+
+/// An emitting mesh with `power` is cut into a piece per size of triangle (pbrt-v4 gives each
+/// triangle the power), at most `--max-pbrt-radiances` of them: past it, bands of sizes share
+/// a radiance, with a warning naming the flag, and the power stays the mesh's.
+#[test]
+fn an_emitting_meshs_radiances_are_as_many_as_asked_for() {
+    let dir = tempfile::tempdir().unwrap();
+    // Three triangles of areas 0.5, 2 and 4.5, each given power 1.
+    std::fs::write(
+        dir.path().join("s.pbrt"),
+        format!(
+            "{HEAD}AreaLightSource \"diffuse\" \"float power\" 1\n\
+             Shape \"trianglemesh\" \"point3 P\" [0 0 0  1 0 0  0 1 0  0 0 1  2 0 1  0 2 1  \
+             0 0 2  3 0 2  0 3 2] \"integer indices\" [0 1 2  3 4 5  6 7 8]\n"
+        ),
+    )
+    .unwrap();
+    let power = |scene: &rayforge_scene::Scene| -> (usize, f64) {
+        let objects = &scene.world.objects;
+        let total = objects
+            .iter()
+            .map(|o| {
+                let rayforge::Shape::Mesh(m) = &o.shape else {
+                    panic!("a mesh")
+                };
+                let p = m.positions();
+                let area: f64 = m
+                    .faces()
+                    .map(|f| {
+                        let [a, b, c] = f.vertices.map(|i| p[i as usize]);
+                        (b - a).cross(c - a).length() / 2.0
+                    })
+                    .sum();
+                o.material.emission.green * area * std::f64::consts::PI
+            })
+            .sum();
+        (objects.len(), total)
+    };
+    let all = load(dir.path(), PbrtLimits::DEFAULT).unwrap();
+    assert!(all.warnings.is_empty(), "{:?}", all.warnings);
+    let (pieces, total) = power(&all);
+    assert_eq!(pieces, 3);
+    assert!((total - 3.0).abs() < 1e-9, "{total}");
+    let two = PbrtLimits {
+        radiances: 2,
+        ..PbrtLimits::DEFAULT
+    };
+    let banded = load(dir.path(), two).unwrap();
+    let (pieces, total) = power(&banded);
+    assert_eq!(pieces, 2);
+    assert!((total - 3.0).abs() < 1e-9, "{total}");
+    assert_eq!(banded.warnings.len(), 1, "{:?}", banded.warnings);
+    assert!(
+        banded.warnings[0].message.contains("--max-pbrt-radiances"),
+        "{}",
+        banded.warnings[0]
+    );
+}

@@ -27,6 +27,8 @@ pub(crate) const FUZZ_LIMITS: PbrtLimits = PbrtLimits {
     include_depth: 8,
     values: 1 << 20,
     lens_rows: 16,
+    // Few, so that the banding of an emitting mesh of many sizes is reached too.
+    radiances: 16,
 };
 
 /// The words of the second reading: one per byte value (modulo their count).

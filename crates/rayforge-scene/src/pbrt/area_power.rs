@@ -13,7 +13,7 @@
 //! rayforge's emission is a material's, one per object, so an emitting mesh with `power` is
 //! cut into [`pieces`]: its faces grouped by their area in the world (areas within a millionth
 //! of each other alike, as rounding makes a regular grid's), each group a mesh of its own with
-//! the group's mean area, which keeps the group's power exactly. Past [`MAX_RADIANCES`] groups
+//! the group's mean area, which keeps the group's power exactly. Past `max_radiances` groups (`PbrtLimits::radiances`, `--max-pbrt-radiances`, 1024 by default)
 //! (a mesh of many sizes: a scanned lamp), the faces are grouped instead into that many bands
 //! of equal ratio between the smallest and largest area; each band still emits its faces'
 //! power, and a face's radiance is off pbrt-v4's by at most the band's spread of areas, which
@@ -24,11 +24,6 @@ use crate::error::SceneError;
 use glam::DMat4;
 use rayforge::geometry::{Mesh, MeshError, MeshFace, VertexAttributes};
 
-/// The most radiances (pieces) one emitting mesh is given: enough for any mesh of a few
-/// sizes of triangle (a lamp of quads and fans), few enough that the pieces' meshes cost
-/// little beside the mesh's own.
-pub const MAX_RADIANCES: usize = 1024;
-
 /// Areas closer than this fraction of each other count as one size.
 const SAME_SIZE: f64 = 1e-6;
 
@@ -37,7 +32,7 @@ pub struct Pieces {
     /// Each piece's mesh and its faces' mean area in the world (0 for degenerate faces,
     /// which no ray meets and which emit nothing).
     pub pieces: Vec<(Mesh, f64)>,
-    /// When the faces had more than [`MAX_RADIANCES`] sizes: the largest ratio between the
+    /// When the faces had more than `max_radiances` sizes: the largest ratio between the
     /// areas of two faces sharing a radiance.
     pub spread: Option<f64>,
 }
@@ -50,11 +45,13 @@ pub fn has_power(area_light: &Entity) -> Result<bool, SceneError> {
 /// The mesh `mesh` (in its object's space, placed by `world_from_object`) cut into pieces of
 /// faces of one area each (see the [module](self)); with `patches`, how many of its faces in
 /// order each of pbrt-v4's shapes is (a `bilinearmesh`'s patches), a face's area is its
-/// shape's.
+/// shape's; at most `max_radiances` pieces, degenerate faces' included (and at least one
+/// band of sized faces).
 pub fn pieces(
     mesh: &Mesh,
     world_from_object: &DMat4,
     patches: Option<&[u32]>,
+    max_radiances: usize,
 ) -> Result<Pieces, MeshError> {
     let mut areas: Vec<f64> = mesh
         .faces()
@@ -74,7 +71,7 @@ pub fn pieces(
             start = end;
         }
     }
-    let (groups, spread) = groups(&areas, MAX_RADIANCES);
+    let (groups, spread) = groups(&areas, max_radiances);
     let mut remap = Remaps::default();
     let pieces = groups
         .iter()
@@ -232,7 +229,7 @@ mod tests {
     fn faces_of_one_size_share_a_group_and_degenerate_ones_stand_apart() {
         // Rounding makes a grid's equal areas differ in the last bits: one size.
         let areas = [2.0, 0.5, 2.0 * (1.0 + 1e-12), 0.0, 0.5, 8.0];
-        let (groups, spread) = groups(&areas, MAX_RADIANCES);
+        let (groups, spread) = groups(&areas, crate::pbrt::PbrtLimits::DEFAULT.radiances);
         assert_eq!(spread, None);
         assert_eq!(groups, vec![vec![3], vec![1, 4], vec![0, 2], vec![5]]);
     }
@@ -287,7 +284,7 @@ mod tests {
         .unwrap()
         .with_winding(rayforge::geometry::Winding::RightHanded);
         let Pieces { pieces, spread } =
-            pieces(&mesh, &DMat4::from_scale(DVec3::splat(2.0)), None).unwrap();
+            pieces(&mesh, &DMat4::from_scale(DVec3::splat(2.0)), None, 1024).unwrap();
         assert_eq!(spread, None);
         assert_eq!(pieces.len(), 2);
         let (small, area) = &pieces[0];

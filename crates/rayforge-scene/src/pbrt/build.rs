@@ -397,15 +397,20 @@ fn place(
             // `area_power`).
             Shape::Mesh(mesh) if area_power::has_power(area_light)? => {
                 let world_from_mesh = world_from_object * object.transform.matrix();
-                let cut = area_power::pieces(mesh, &world_from_mesh, patches.as_deref())
-                    .map_err(|e| entity.error(e.to_string()))?;
+                let cut = area_power::pieces(
+                    mesh,
+                    &world_from_mesh,
+                    patches.as_deref(),
+                    options.pbrt.radiances,
+                )
+                .map_err(|e| entity.error(e.to_string()))?;
                 if let Some(spread) = cut.spread {
                     warnings.push(entity.error(format!(
                         "the area light's power is each triangle's, as in pbrt-v4, and this \
-                         mesh's triangles have more than {} sizes: triangles whose areas \
-                         differ by up to {:.2} % share one radiance (each band of sizes keeps \
-                         its power)",
-                        area_power::MAX_RADIANCES,
+                         mesh's triangles have more than {} sizes (`--max-pbrt-radiances`): \
+                         triangles whose areas differ by up to {:.2} % share one radiance \
+                         (each band of sizes keeps its power)",
+                        options.pbrt.radiances,
                         (spread - 1.0) * 100.0
                     )));
                 }
