@@ -346,32 +346,21 @@ impl LensSystem {
             ));
         }
         let positive = |v: f64| v.is_finite() && v > 0.0;
-        if !positive(settings.aperture_diameter) {
-            return Err(LensError::new(
-                None,
-                format!(
-                    "the aperture diameter is above 0 (millimetres), found {}",
-                    settings.aperture_diameter
-                ),
-            ));
-        }
-        if !positive(settings.focus_distance) {
-            return Err(LensError::new(
-                None,
-                format!(
-                    "the focus distance is above 0, found {}",
-                    settings.focus_distance
-                ),
-            ));
-        }
-        if !positive(settings.film_diagonal) {
-            return Err(LensError::new(
-                None,
-                format!(
-                    "the film's diagonal is above 0 (millimetres), found {}",
-                    settings.film_diagonal
-                ),
-            ));
+        // Each setting is a length above 0; the error names it and what it was.
+        for (value, what) in [
+            (
+                settings.aperture_diameter,
+                "the aperture diameter is above 0 (millimetres)",
+            ),
+            (settings.focus_distance, "the focus distance is above 0"),
+            (
+                settings.film_diagonal,
+                "the film's diagonal is above 0 (millimetres)",
+            ),
+        ] {
+            if !positive(value) {
+                return Err(LensError::new(None, format!("{what}, found {value}")));
+            }
         }
         if settings.pupil_samples == 0 || settings.pupil_samples > Self::MAX_PUPIL_SAMPLES {
             return Err(LensError::new(
