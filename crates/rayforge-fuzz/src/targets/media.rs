@@ -20,11 +20,12 @@
 //! the input's own bytes, which the scenes may name. Kept a plain function of the input's
 //! bytes, so that any engine can call it.
 
+use super::check_error;
 use rayforge::film::{Film, SharedFilm};
 use rayforge::options::PathOptions;
 use rayforge::render::path::{render_path, PathJob};
 use rayforge::{Camera, World};
-use rayforge_scene::{load_file_with, LoadOptions, SceneError};
+use rayforge_scene::{load_file_with, LoadOptions};
 use std::path::{Path, PathBuf};
 
 /// The numbers a choice picks from: ordinary, edge and hostile values (for an integer
@@ -406,22 +407,4 @@ fn tiny_path_render(camera: &Camera, world: &World) {
     let mut done = vec![false; camera.vsize()];
     let rendered = render_path(camera, world, &job, &film, None, &mut done);
     assert!(rendered.is_ok(), "the films are the camera's: {rendered:?}");
-}
-
-/// A refusal or warning says something; a place in the scene written lies within its text,
-/// on character boundaries.
-fn check_error(e: &SceneError, path: &Path, text: &str) {
-    let shown = e.to_string();
-    assert!(!e.message.trim().is_empty(), "an empty message: {shown}");
-    let Some(span) = e.span.filter(|_| e.path == path) else {
-        return;
-    };
-    let end = span.offset.checked_add(span.len);
-    assert!(
-        end.is_some_and(|end| end <= text.len()
-            && text.is_char_boundary(span.offset)
-            && text.is_char_boundary(end)),
-        "the error's span {span:?} is outside the text ({} bytes) or splits a character: {shown}",
-        text.len()
-    );
 }
