@@ -14,6 +14,7 @@ mod defines;
 mod document;
 mod environment;
 mod error;
+mod film_sensor;
 pub mod files;
 pub mod gltf;
 mod hdr;

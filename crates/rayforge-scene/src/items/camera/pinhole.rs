@@ -167,7 +167,7 @@ fn projection(
 
 /// The camera with the film's sensor, when a film key is given (none: the radiance as it
 /// is, bit for bit): pbrt-v4's RGB film's, through the same library sensor its `Film`
-/// directive makes (`pbrt::sensor::cie1931`), so that `iso`, `exposure-time`,
+/// directive makes (`film_sensor::cie1931`), so that `iso`, `exposure-time`,
 /// `white-balance` and `max-component` mean here what `iso`, the shutter's open time,
 /// `whitebalance` and `maxcomponentvalue` mean there. The exposure time is the film's own,
 /// not `shutter`'s interval: that one is the time of object motions, in which a scene's
@@ -226,7 +226,7 @@ fn film(
             ),
         ));
     }
-    let sensor = crate::pbrt::sensor::cie1931(ratio, temperature, max_component)
+    let sensor = crate::film_sensor::cie1931(ratio, temperature, max_component)
         .map_err(|message| source.error(at, key, message))?;
     Ok(camera.with_sensor(sensor))
 }
