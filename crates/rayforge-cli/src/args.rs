@@ -55,6 +55,8 @@ Render options (`rayforge render --help` describes each in full):
       --max-pbrt-lens-rows <N>     rows of a pbrt realistic camera's lens file [default: 64]
       --max-pbrt-radiances <N>     radiances an emitting pbrt mesh with power gets [default: 1024]
       --max-grid-samples <N> the most samples one medium's grid holds [default: 134217728, 512^3]
+      --max-optical-depth <D> the most optical depth one pass through a grid or cloud
+                            medium crosses [default: 1000000]
       --allow-outside       let the scene name files outside its folder
       --camera <N|NAME>     a glTF model's camera, by index or name [default: its first]
       --resume              continue an interrupted render from its checkpoint
@@ -538,6 +540,13 @@ pub struct RenderArgs {
     /// or more: checked from the sizes before the grid is read. At most 134217728 (512^3).
     #[arg(long, value_name = "N", default_value_t = rayforge::media::MAX_GRID_SAMPLES)]
     pub max_grid_samples: usize,
+
+    /// The most optical depth one straight pass through a grid or cloud medium may cross:
+    /// its largest extinction times its box's diagonal in the world. Tracking a ray through
+    /// such a medium takes about one step per unit, so a denser one is refused at its line
+    /// rather than left to stall the render. Above 0.
+    #[arg(long, value_name = "D", default_value_t = rayforge::media::MAX_OPTICAL_DEPTH)]
+    pub max_optical_depth: f64,
 
     /// For a glTF model rendered directly: which of its cameras to look through, by index
     /// (0 is the first in node order) or by name; without it, its first camera, or one that

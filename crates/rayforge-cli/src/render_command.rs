@@ -180,6 +180,7 @@ pub(crate) fn load_options(settings: &RenderSettings, frame: u64) -> LoadOptions
         allow_outside: settings.allow_outside,
         pbrt: settings.pbrt_limits,
         max_grid_samples: settings.max_grid_samples,
+        max_optical_depth: settings.max_optical_depth,
         frame,
         camera: settings
             .camera

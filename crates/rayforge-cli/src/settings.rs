@@ -86,6 +86,9 @@ pub struct RenderSettings {
     pub pbrt_limits: rayforge_scene::pbrt::PbrtLimits,
     /// The most samples one medium's grid may hold (`--max-grid-samples`).
     pub max_grid_samples: usize,
+    /// The most optical depth one pass through a grid or cloud medium crosses
+    /// (`--max-optical-depth`).
+    pub max_optical_depth: f64,
     /// `--camera`: a glTF model's camera.
     pub camera: Option<String>,
     /// Continue from the checkpoint.
@@ -766,6 +769,12 @@ impl RenderSettings {
                 args.max_grid_samples
             )));
         }
+        if !(args.max_optical_depth > 0.0 && args.max_optical_depth.is_finite()) {
+            return Err(Failure::usage(format!(
+                "--max-optical-depth must be a finite number above 0, found {}",
+                args.max_optical_depth
+            )));
+        }
         let output = output(&args, pbrt_limits)?;
         let slice = slice(&args)?;
         let format = match (slice, args.exr_half) {
@@ -874,6 +883,7 @@ impl RenderSettings {
             allow_outside: args.allow_outside,
             pbrt_limits,
             max_grid_samples: args.max_grid_samples,
+            max_optical_depth: args.max_optical_depth,
             camera: args.camera.clone(),
             resume: args.resume,
             pause_after_rows: args.pause_after_rows,

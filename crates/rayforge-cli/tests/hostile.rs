@@ -346,6 +346,40 @@ fn the_pbrt_readers_limits_are_flags() {
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
+/// A grid or cloud medium too dense to track a ray through (each unit of its optical depth a
+/// step of tracking) is refused at its directive under `--max-optical-depth`, and the flag
+/// takes only a finite number above 0.
+#[test]
+fn a_medium_past_the_optical_depth_limit_is_refused_where_it_is_made() {
+    let d = Dir::new();
+    let scene = d.file(
+        "s.pbrt",
+        "Film \"rgb\" \"integer xresolution\" 4 \"integer yresolution\" 3\nCamera \
+         \"perspective\"\nSampler \"independent\" \"integer pixelsamples\" 1\nWorldBegin\n\
+         MakeNamedMedium \"c\" \"string type\" \"cloud\" \"rgb sigma_s\" [1000 1000 1000]\n",
+    );
+    let out = d.path("s.png");
+    // σs 1000 over the unit cube: up to 1000 √3 ≈ 1732 across.
+    let o = render(&scene, &out, &["-q", "--max-optical-depth", "1000"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("--max-optical-depth"), "{err}");
+    assert!(err.contains("s.pbrt:5:"), "{err}");
+    assert!(!out.exists());
+    for bad in ["0", "-1", "NaN", "inf"] {
+        let flag = format!("--max-optical-depth={bad}");
+        let o = render(&scene, &out, &["-q", &flag]);
+        assert_eq!(o.status.code(), Some(2), "{bad}");
+        assert!(
+            stderr(&o).contains("--max-optical-depth must be a finite number above 0"),
+            "{bad}: {}",
+            stderr(&o)
+        );
+    }
+    let o = render(&scene, &out, &["-q", "--max-optical-depth", "2000"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
 /// Without `-o`, a pbrt scene's film names the image; the film is read under the flags the
 /// scene is read under: `--allow-outside` for a film in an included file outside the scene's
 /// folder, `--max-pbrt-include-depth` for one included 40 files deep. The film was read with

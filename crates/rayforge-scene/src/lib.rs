@@ -14,8 +14,8 @@ mod defines;
 mod document;
 mod environment;
 mod error;
-mod film_sensor;
 pub mod files;
+mod film_sensor;
 pub mod gltf;
 mod hdr;
 mod images;
@@ -163,10 +163,9 @@ fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Scene, SceneEr
                 .iter()
                 .find(|e| e.name == "medium")
                 .expect("a medium item");
-            let id = read
-                .world
-                .media
-                .add(medium)
+            let id = medium
+                .within_optical_depth(options.max_optical_depth)
+                .and_then(|medium| read.world.media.add(medium))
                 .map_err(|e| source.error(at.value, "medium", e.to_string()))?;
             defines.add_medium(name, id);
             continue;

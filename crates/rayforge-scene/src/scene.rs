@@ -77,7 +77,7 @@ impl Written {
 }
 
 /// Limits on what loading a scene may take, beyond the fixed ones of the format.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct LoadOptions {
     /// The most triangles the scene's OBJ models may hold together (a model used twice counts
     /// once), and the most vertices, normals or texture coordinates in any one model.
@@ -106,6 +106,10 @@ pub struct LoadOptions {
     /// checked from the sizes before the grid (or a `.vol` file's body) is read into memory:
     /// `--max-grid-samples`, at most (and by default) `rayforge::media::MAX_GRID_SAMPLES`.
     pub max_grid_samples: usize,
+    /// The most optical depth one straight pass through a grid or cloud medium may cross
+    /// (its largest extinction times its box's world diagonal; about one tracking step a
+    /// unit): `--max-optical-depth`, by default `rayforge::media::MAX_OPTICAL_DEPTH`.
+    pub max_optical_depth: f64,
 }
 
 /// What a pbrt-v4 scene's files may hold (the triangles are [`LoadOptions::max_triangles`]).
@@ -171,6 +175,7 @@ impl Default for LoadOptions {
             stop: StopFlag::default(),
             pbrt: PbrtLimits::DEFAULT,
             max_grid_samples: rayforge::media::MAX_GRID_SAMPLES,
+            max_optical_depth: rayforge::media::MAX_OPTICAL_DEPTH,
         }
     }
 }

@@ -333,3 +333,24 @@ fn bad_media_are_refused_where_they_are_written() {
         "no medium is named `mist`",
     );
 }
+
+#[test]
+fn a_medium_too_dense_to_track_is_refused_at_its_name_until_the_limit_is_raised() {
+    // σs 10⁹ over the unit cube: one pass crosses up to 10⁹ × √3, each unit about a step of
+    // a ray's tracking.
+    let body = "- medium: m\n  type: cloud\n  sigma-s: 1e9\n";
+    let e = assert_located(
+        load_after_camera(body),
+        8,
+        11,
+        "medium",
+        "--max-optical-depth",
+    );
+    assert!(e.message.contains("1.732e9"), "{e}");
+    let raised = rayforge_scene::LoadOptions {
+        max_optical_depth: 1e10,
+        ..rayforge_scene::LoadOptions::default()
+    };
+    let text = format!("{CAMERA}{body}");
+    rayforge_scene::load_str_with(&text, Path::new("scene.yml"), &raised).expect("loads");
+}

@@ -364,3 +364,15 @@ MakeNamedMedium "plain" "string type" "cloud"
         "{warnings:?}"
     );
 }
+
+#[test]
+fn a_medium_too_dense_to_track_is_refused_at_its_directive() {
+    // A cloud of σs 10¹² over a box of diagonal 2√3 · 10: tracking one ray through it would
+    // take some 10¹³ steps.
+    let text = r#"Camera "perspective"
+WorldBegin
+Scale 10 10 10
+MakeNamedMedium "thick" "string type" "cloud" "rgb sigma_s" [1e12 1e12 1e12] "point3 p0" [-1 -1 -1] "point3 p1" [1 1 1]
+"#;
+    assert_at(text, 4, 1, "MakeNamedMedium", "--max-optical-depth");
+}

@@ -87,7 +87,12 @@ pub fn scene(
     let mut warnings = std::mem::take(&mut desc.warnings);
     let setup = camera::setup(&desc.options, files, &mut warnings)?;
     let mut world = World::new();
-    let media_ids = media::build(&desc, &mut world, options.max_grid_samples)?;
+    let media_ids = media::build(
+        &desc,
+        &mut world,
+        options.max_grid_samples,
+        options.max_optical_depth,
+    )?;
     world.camera_medium = media::camera_medium(&media_ids, desc.options.camera_medium.as_ref())?;
     let budget = Budget::default();
     let mut triangles = 0usize;

@@ -34,11 +34,13 @@ const DEFAULT_SIGMA_A: Color = Color::WHITE;
 const DEFAULT_SIGMA_S: Color = Color::WHITE;
 
 /// The scene's media, built into `world`, by name; a grid holds at most `max_grid_samples`
-/// samples (`LoadOptions::max_grid_samples`).
+/// samples (`LoadOptions::max_grid_samples`), one pass through a medium at most
+/// `max_optical_depth` (`LoadOptions::max_optical_depth`).
 pub fn build(
     desc: &Description,
     world: &mut World,
     max_grid_samples: usize,
+    max_optical_depth: f64,
 ) -> Result<HashMap<String, MediumId>, SceneError> {
     let mut names: Vec<&String> = desc.media.keys().collect();
     // In a fixed order, so that ids do not depend on the hash.
@@ -47,9 +49,9 @@ pub fn build(
     for name in names {
         let (entity, world_from_medium) = &desc.media[name];
         let medium = medium(entity, world_from_medium, max_grid_samples)?;
-        let id = world
-            .media
-            .add(medium)
+        let id = medium
+            .within_optical_depth(max_optical_depth)
+            .and_then(|medium| world.media.add(medium))
             .map_err(|e| entity.error(e.to_string()))?;
         ids.insert(name.clone(), id);
     }

@@ -28,6 +28,7 @@ pub use majorant::{MajorantGrid, MAJORANT_CELLS};
 pub use phase::{HenyeyGreenstein, PhaseSample, MAX_ASYMMETRY};
 
 use crate::color::Color;
+use crate::math::{Aabb, Transform};
 
 /// A medium: one closed enum, matched once per query.
 #[derive(Debug, Clone, PartialEq)]
@@ -47,6 +48,38 @@ impl Medium {
             Medium::Homogeneous(m) => m.phase,
             Medium::Grid(m) => m.phase,
             Medium::Cloud(m) => m.phase,
+        }
+    }
+
+    /// A bound on the optical depth of one straight pass through it: the extinction's
+    /// majorant (its largest channel) times the length of its box's diagonal in the world.
+    /// Tracking a ray through a grid or a cloud takes about that many tentative collisions,
+    /// real or null, so this is what a pass costs; a homogeneous medium's tracking ends at
+    /// its first collision whatever its density, and it has no box (0).
+    pub fn optical_depth_bound(&self) -> f64 {
+        let across =
+            |bounds: &Aabb, transform: &Transform| bounds.transform(transform).extent().length();
+        match self {
+            Medium::Homogeneous(_) => 0.0,
+            Medium::Grid(m) => {
+                (m.sigma_a + m.sigma_s).max_channel()
+                    * m.density.max_value()
+                    * across(&m.bounds, &m.transform)
+            }
+            Medium::Cloud(m) => m.sigma_maj().max_channel() * across(&m.bounds, &m.transform),
+        }
+    }
+
+    /// The medium, if one pass through it has an optical depth of at most `limit`
+    /// ([`optical_depth_bound`](Self::optical_depth_bound)): past it a ray's tracking takes
+    /// more collisions than a render can wait for (a cloud of density 10¹² takes as many
+    /// per ray), so a scene asking for it is refused rather than left to hang.
+    pub fn within_optical_depth(self, limit: f64) -> Result<Self, MediumError> {
+        let depth = self.optical_depth_bound();
+        if depth <= limit {
+            Ok(self)
+        } else {
+            Err(MediumError::OpticalDepth { depth, limit })
         }
     }
 
@@ -175,10 +208,24 @@ pub enum MediumError {
     /// The medium's box is empty or not finite.
     #[error("a medium's bounds must have a positive, finite extent along each axis")]
     Bounds,
+    /// One pass through the medium crosses more optical depth than the limit.
+    #[error("one pass through this medium crosses an optical depth of up to {depth:.3e} (its largest extinction times its box's diagonal), above the limit of {limit:.3e} (--max-optical-depth): tracking a ray through it would take as many steps")]
+    OpticalDepth {
+        /// The medium's bound.
+        depth: f64,
+        /// The limit.
+        limit: f64,
+    },
     /// More media than ids.
     #[error("too many media")]
     TooMany,
 }
+
+/// The most optical depth one pass through a grid or cloud may cross, by default (the
+/// `--max-optical-depth` flag): each unit is about one tentative collision of a ray's
+/// tracking, so 10⁶ is a tenth of a second a pass; dense real media (wax, skin, a thick
+/// cloud a kilometre across) cross thousands.
+pub const MAX_OPTICAL_DEPTH: f64 = 1e6;
 
 /// `c` checked as a medium's coefficient named `name`.
 pub fn coefficient(name: &'static str, c: Color) -> Result<Color, MediumError> {
@@ -210,4 +257,46 @@ pub fn average(c: Color) -> f64 {
 pub fn beer(sigma: Color, t: f64) -> Color {
     let f = |s: f64| if s > 0.0 { (-s * t).exp() } else { 1.0 };
     Color::new(f(sigma.red), f(sigma.green), f(sigma.blue))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{point, scaling};
+
+    #[test]
+    fn a_pass_costs_the_largest_extinction_times_the_box_diagonal_in_the_world() {
+        // Densities up to 2 under σt = 1 + 3 (its largest channel), in a unit box scaled by
+        // 2: the diagonal in the world is 2√3, the bound 4 × 2 × 2√3.
+        let grid = GridMedium::new(
+            Color::new(1.0, 0.5, 0.5),
+            Color::new(3.0, 1.0, 1.0),
+            Color::BLACK,
+            HenyeyGreenstein::ISOTROPIC,
+            DensityGrid::new([2, 1, 1], vec![0.5, 2.0]).expect("a grid"),
+            Aabb::new(point(0.0, 0.0, 0.0), point(1.0, 1.0, 1.0)),
+            Transform::new(scaling(2.0, 2.0, 2.0)),
+        )
+        .expect("a medium");
+        let medium = Medium::Grid(Box::new(grid));
+        let bound = 16.0 * 3f64.sqrt();
+        assert!((medium.optical_depth_bound() - bound).abs() < 1e-9);
+        assert!(medium.clone().within_optical_depth(bound + 1e-6).is_ok());
+        let refused = medium
+            .within_optical_depth(bound - 1e-6)
+            .expect_err("too dense");
+        assert!(
+            refused.to_string().contains("--max-optical-depth"),
+            "{refused}"
+        );
+        // A homogeneous medium's tracking ends at its first collision: no bound to keep.
+        let fog = Medium::Homogeneous(Homogeneous {
+            sigma_a: Color::WHITE * 1e30,
+            sigma_s: Color::WHITE,
+            emission: Color::BLACK,
+            phase: HenyeyGreenstein::ISOTROPIC,
+        });
+        assert_eq!(fog.optical_depth_bound(), 0.0);
+        assert!(fog.within_optical_depth(1.0).is_ok());
+    }
 }
