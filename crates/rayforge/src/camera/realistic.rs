@@ -515,15 +515,7 @@ impl LensSystem {
         for i in (0..self.elements.len()).rev() {
             let element = &self.elements[i];
             element_z -= element.thickness;
-            let (t, normal) = if element.is_stop() {
-                let t = (element_z - o.z) / d.z;
-                if !(t >= 0.0 && t.is_finite()) {
-                    return None;
-                }
-                (t, Vec3::ZERO)
-            } else {
-                intersect_element(element.radius, element_z + element.radius, o, d)?
-            };
+            let (t, normal) = meet_element(element, element_z, o, d)?;
             let hit = o + d * t;
             if element.is_stop() && self.diaphragm.shape != ApertureShape::Circular {
                 let r = element.aperture_radius;
@@ -555,15 +547,7 @@ impl LensSystem {
         let mut d = Vec3::new(direction.x, direction.y, -direction.z);
         let mut element_z = -self.front_z();
         for (i, element) in self.elements.iter().enumerate() {
-            let (t, normal) = if element.is_stop() {
-                let t = (element_z - o.z) / d.z;
-                if !(t >= 0.0 && t.is_finite()) {
-                    return None;
-                }
-                (t, Vec3::ZERO)
-            } else {
-                intersect_element(element.radius, element_z + element.radius, o, d)?
-            };
+            let (t, normal) = meet_element(element, element_z, o, d)?;
             let hit = o + d * t;
             if hit.x * hit.x + hit.y * hit.y > element.aperture_radius.powi(2) {
                 return None;
@@ -776,6 +760,18 @@ fn cardinal_points(start: Vec3, out: LensRay) -> (f64, f64) {
     let tp = (start.x - out.origin.x) / out.direction.x;
     let principal = -(out.origin.z + tp * out.direction.z);
     (principal, focal)
+}
+
+/// Where the ray `o + t·d` (the lens's space) meets `element`, whose vertex is at
+/// `element_z`: `t` and the surface's normal (none for the stop, a plane); `None` where it
+/// misses or meets it behind.
+fn meet_element(element: &Element, element_z: f64, o: Vec3, d: Vec3) -> Option<(f64, Vec3)> {
+    if element.is_stop() {
+        let t = (element_z - o.z) / d.z;
+        (t >= 0.0 && t.is_finite()).then_some((t, Vec3::ZERO))
+    } else {
+        intersect_element(element.radius, element_z + element.radius, o, d)
+    }
 }
 
 /// Where the ray `o + t·d` meets the spherical interface of `radius` centred at `z_center`
