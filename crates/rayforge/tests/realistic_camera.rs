@@ -359,3 +359,18 @@ fn the_rasterizer_refuses_a_lens_system_and_the_ray_tracer_draws_through_it() {
     assert!(centre.red > 0.0 && centre.red.is_finite(), "{centre:?}");
     assert_eq!(canvas.pixel_at(0, 0), Color::BLACK);
 }
+
+#[test]
+fn a_stop_flag_ends_the_exit_pupils_tracing_and_an_unset_one_changes_nothing() {
+    use std::sync::atomic::AtomicBool;
+    let settings = settings(1.0, 1.0);
+    let stopped = LensSystem::new_until(&biconvex(), &settings, Some(&AtomicBool::new(true)));
+    assert!(matches!(stopped, Ok(None)), "{stopped:?}");
+    let free = LensSystem::new_until(&biconvex(), &settings, Some(&AtomicBool::new(false)))
+        .unwrap()
+        .expect("not stopped");
+    let plain = LensSystem::new(&biconvex(), &settings).unwrap();
+    for r in [0.0, 0.005, 0.01] {
+        assert_eq!(free.exit_pupil_bounds(r), plain.exit_pupil_bounds(r));
+    }
+}

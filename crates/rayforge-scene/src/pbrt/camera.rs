@@ -315,10 +315,17 @@ fn realistic(
         aperture,
         ..LensSettings::DEFAULT
     };
-    let lens = LensSystem::new(&file.rows, &settings).map_err(|e| match e.row {
-        Some(row) => file.error_at_row(row, e.message),
-        None => entity.error(e.message),
-    })?;
+    let stop = placed.files.stop();
+    let lens =
+        LensSystem::new_until(&file.rows, &settings, stop.flag()).map_err(|e| match e.row {
+            Some(row) => file.error_at_row(row, e.message),
+            None => entity.error(e.message),
+        })?;
+    // Stopped while it traced the exit pupil: the camera's directive is where.
+    let Some(lens) = lens else {
+        entity.loc.stopped(stop, "Camera")?;
+        return Err(entity.error("the lens system's build was stopped"));
+    };
     if let Some((asked, most)) = lens.clamped_aperture() {
         warnings.push(entity.error(format!(
             "the aperture diameter {asked} mm is wider than the lens file's stop allows: \

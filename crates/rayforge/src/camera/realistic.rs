@@ -43,6 +43,7 @@
 
 use crate::math::Vec3;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// One row of a lens description file, in the file's millimetres.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -339,6 +340,19 @@ impl LensSystem {
     /// The lens system of `rows` (a lens file's, from the scene's side), focused and bounded
     /// as `settings` say; an error names the row it concerns where one does.
     pub fn new(rows: &[LensInterface], settings: &LensSettings) -> Result<Self, LensError> {
+        let lens = Self::new_until(rows, settings, None)?;
+        Ok(lens.expect("nothing stops a build without a stop flag"))
+    }
+
+    /// [`new`](Self::new) that gives up (`Ok(None)`) once `stop` is set (Ctrl-C, a server's
+    /// cancel): the exit pupil's bounds trace up to [`MAX_PUPIL_SAMPLES`](Self::MAX_PUPIL_SAMPLES)
+    /// rays for each of [`PUPIL_RINGS`](Self::PUPIL_RINGS) rings, some 67 million at most, so
+    /// each ring looks at the flag every 4,096 rays. Not stopped, the very system `new` makes.
+    pub fn new_until(
+        rows: &[LensInterface],
+        settings: &LensSettings,
+        stop: Option<&AtomicBool>,
+    ) -> Result<Option<Self>, LensError> {
         if rows.is_empty() {
             return Err(LensError::new(
                 None,
@@ -436,10 +450,13 @@ impl LensSystem {
             .map(|i| {
                 let r0 = i as f64 / rings as f64 * half;
                 let r1 = (i + 1) as f64 / rings as f64 * half;
-                lens.bound_exit_pupil(r0, r1)
+                lens.bound_exit_pupil(r0, r1, stop)
             })
             .collect();
-        Ok(lens)
+        if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+            return Ok(None);
+        }
+        Ok(Some(lens))
     }
 
     /// The stop diameter asked for and the largest the lens file allows, when the first was
@@ -679,13 +696,16 @@ impl LensSystem {
 
     /// The exit pupil's bounds for film points from `x0` to `x1` on +x: every sampled point
     /// of the rear element's plane a ray from the segment gets through by, grown by the
-    /// samples' spacing; `None` when none does.
-    fn bound_exit_pupil(&self, x0: f64, x1: f64) -> Option<PupilBounds> {
+    /// samples' spacing; `None` when none does, or once `stop` is set (the caller looks).
+    fn bound_exit_pupil(&self, x0: f64, x1: f64, stop: Option<&AtomicBool>) -> Option<PupilBounds> {
         let n = self.pupil_samples;
         let (rear_z, rear_radius) = self.rear();
         let side = 3.0 * rear_radius;
         let mut bounds: Option<PupilBounds> = None;
         for i in 0..n {
+            if i % 4096 == 0 && stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+                return None;
+            }
             let film = Vec3::new(x0 + (x1 - x0) * ((i as f64 + 0.5) / n as f64), 0.0, 0.0);
             let (u, v) = (radical_inverse(2, i as u64), radical_inverse(3, i as u64));
             let (x, y) = (-1.5 * rear_radius + u * side, -1.5 * rear_radius + v * side);
