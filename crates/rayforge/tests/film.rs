@@ -488,18 +488,13 @@ fn renders_into_a_film_of_some_rows_are_those_rows_of_the_whole_render() {
     assert!(matches!(refused, Err(FilmError::RowNotHeld(1))));
 
     let tent = PixelFilter::Tent { radius: 1.5 };
-    let job = PathJob {
-        options: PathOptions {
+    let job = PathJob::new(
+        PathOptions {
             filter: tent,
             ..PathOptions::default()
         },
-        samples: 0..3,
-        plan: None,
-        progress: None,
-        cancel: None,
-        on_row: None,
-        roulette: None,
-    };
+        0..3,
+    );
     let path = film(tent);
     render_path(&camera, &world, &job, &path, None, &mut done.clone()).unwrap();
     let whole = SharedFilm::with_rows(width, height, tent, 0..height).unwrap();

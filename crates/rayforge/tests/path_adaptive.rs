@@ -54,13 +54,8 @@ fn render(
     samples: std::ops::Range<u64>,
 ) -> Film {
     let job = PathJob {
-        options,
-        samples,
         plan,
-        progress: None,
-        cancel: None,
-        on_row: None,
-        roulette: None,
+        ..PathJob::new(options, samples)
     };
     let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
     let mut done = vec![false; camera.vsize()];
@@ -209,13 +204,8 @@ fn a_planned_render_with_aovs_starts_from_the_pilots_sums() {
     let (w, h) = (camera.hsize(), camera.vsize());
     let render_aovs = |plan: Option<&SamplePlan>| {
         let job = PathJob {
-            options: adaptive(),
-            samples: 0..64,
             plan,
-            progress: None,
-            cancel: None,
-            on_row: None,
-            roulette: None,
+            ..PathJob::new(adaptive(), 0..64)
         };
         let (film, aovs) = (SharedFilm::from(Film::new(w, h)), Aovs::new(w, h));
         let mut done = vec![false; h];

@@ -263,15 +263,7 @@ fn sample_ranges_rendered_apart_merge_into_the_render_of_their_union() {
     // of 0..12 (to rounding: the sums are added in another order).
     let (world, camera) = furnace(0.5);
     let render_range = |samples: std::ops::Range<u64>| {
-        let job = PathJob {
-            options: PathOptions::default(),
-            samples,
-            plan: None,
-            progress: None,
-            cancel: None,
-            on_row: None,
-            roulette: None,
-        };
+        let job = PathJob::new(PathOptions::default(), samples);
         let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
         let mut done = vec![false; camera.vsize()];
         render_path(&camera, &world, &job, &film, None, &mut done).unwrap();
@@ -301,30 +293,14 @@ fn passes_into_one_film_give_the_bits_of_a_single_pass() {
     let film = SharedFilm::from(Film::new(width, height));
     let aovs = Aovs::new(width, height);
     for samples in [0..1, 1..2, 2..4, 4..8, 8..12] {
-        let job = PathJob {
-            options: PathOptions::default(),
-            samples,
-            plan: None,
-            progress: None,
-            cancel: None,
-            on_row: None,
-            roulette: None,
-        };
+        let job = PathJob::new(PathOptions::default(), samples);
         let mut done = vec![false; height];
         render_path(&camera, &world, &job, &film, Some(&aovs), &mut done).unwrap();
         assert!(done.iter().all(|&d| d));
     }
     let single = SharedFilm::from(Film::new(width, height));
     let single_aovs = Aovs::new(width, height);
-    let job = PathJob {
-        options: PathOptions::default(),
-        samples: 0..12,
-        plan: None,
-        progress: None,
-        cancel: None,
-        on_row: None,
-        roulette: None,
-    };
+    let job = PathJob::new(PathOptions::default(), 0..12);
     let mut done = vec![false; height];
     render_path(
         &camera,

@@ -391,18 +391,13 @@ fn write_files(dir: &Path, files: &[(String, String)], input: &[u8]) -> Option<P
 
 /// The scene path traced: 2 samples a pixel, 3 bounces at most.
 fn tiny_path_render(camera: &Camera, world: &World) {
-    let job = PathJob {
-        options: PathOptions {
+    let job = PathJob::new(
+        PathOptions {
             max_depth: 3,
             ..PathOptions::default()
         },
-        samples: 0..2,
-        plan: None,
-        progress: None,
-        cancel: None,
-        on_row: None,
-        roulette: None,
-    };
+        0..2,
+    );
     let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
     let mut done = vec![false; camera.vsize()];
     let rendered = render_path(camera, world, &job, &film, None, &mut done);

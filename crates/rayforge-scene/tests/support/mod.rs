@@ -33,15 +33,7 @@ pub fn render_counted(scene: &Scene, width: usize, height: usize, spp: u64) -> (
 /// of each pixel, and the render's statistics; no check.
 pub fn render_samples(scene: &Scene, camera: &Camera, samples: Range<u64>) -> (Film, PathStats) {
     let (width, height) = (camera.hsize(), camera.vsize());
-    let job = PathJob {
-        options: scene.path.unwrap_or_default(),
-        samples,
-        plan: None,
-        progress: None,
-        cancel: None,
-        on_row: None,
-        roulette: None,
-    };
+    let job = PathJob::new(scene.path.unwrap_or_default(), samples);
     let film = SharedFilm::from(Film::with_filter(width, height, job.options.filter).unwrap());
     let mut done = vec![false; height];
     let stats = render_path(camera, &scene.world, &job, &film, None, &mut done).unwrap();

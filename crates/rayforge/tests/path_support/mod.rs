@@ -27,15 +27,7 @@ pub fn render_samples(
     samples: Range<u64>,
     options: PathOptions,
 ) -> (Film, PathStats) {
-    let job = PathJob {
-        options,
-        samples,
-        plan: None,
-        progress: None,
-        cancel: None,
-        on_row: None,
-        roulette: None,
-    };
+    let job = PathJob::new(options, samples);
     let film = SharedFilm::from(Film::new(camera.hsize(), camera.vsize()));
     let mut done = vec![false; camera.vsize()];
     let stats = render_path(camera, world, &job, &film, None, &mut done).unwrap();

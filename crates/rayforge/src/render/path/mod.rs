@@ -72,6 +72,23 @@ pub struct PathJob<'p> {
     pub roulette: Option<&'p LearnedRoulette>,
 }
 
+impl<'p> PathJob<'p> {
+    /// The samples `samples` of every pixel as `options` say, and nothing beside: no plan,
+    /// no callbacks, no cancel, the roulette learned here. Other jobs start from it
+    /// (`PathJob { plan: Some(&plan), ..PathJob::new(options, samples) }`).
+    pub fn new(options: PathOptions, samples: Range<u64>) -> Self {
+        Self {
+            options,
+            samples,
+            plan: None,
+            progress: None,
+            cancel: None,
+            on_row: None,
+            roulette: None,
+        }
+    }
+}
+
 /// The images a denoiser wants beside the beauty image: the albedo and the normal of the
 /// first surface each camera ray meets, averaged over the pixel's samples.
 pub struct Aovs {
