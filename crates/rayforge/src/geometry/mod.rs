@@ -11,6 +11,7 @@
 
 pub mod cone;
 pub mod cube;
+pub mod curve;
 pub mod cylinder;
 mod mesh;
 mod partial;
