@@ -455,3 +455,145 @@ fn a_loop_surface_lamp_shines_from_its_front_with_each_triangles_power() {
         "{powered}"
     );
 }
+
+/// A 2 × 2 quad in z = 0 with (u, v) = (x, y) / 2, its PLY file written beside `s.pbrt`, the
+/// scene `body` after it; the scene's first mesh.
+fn displaced(body: &str) -> Result<Scene, SceneError> {
+    let dir = tempfile::tempdir().unwrap();
+    let quad = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+                property float z\nproperty float u\nproperty float v\nelement face 1\n\
+                property list uchar int vertex_indices\nend_header\n\
+                0 0 0 0 0\n2 0 0 1 0\n2 2 0 1 1\n0 2 0 0 1\n4 0 1 2 3\n";
+    std::fs::write(dir.path().join("quad.ply"), quad).unwrap();
+    let flat = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+                end_header\n0 0 0\n2 0 0\n2 2 0\n3 0 1 2\n";
+    std::fs::write(dir.path().join("nouv.ply"), flat).unwrap();
+    let path = dir.path().join("s.pbrt");
+    std::fs::write(&path, body).unwrap();
+    rayforge_scene::load_file_with(&path, &LoadOptions::default())
+}
+
+fn mesh_of(scene: &Scene) -> &rayforge::geometry::Mesh {
+    match &scene.world.objects[0].shape {
+        Shape::Mesh(mesh) => mesh,
+        other => panic!("{other:?}"),
+    }
+}
+
+/// The normal at the point `p` of `mesh`.
+fn normal_at_point(mesh: &rayforge::geometry::Mesh, p: DVec3) -> DVec3 {
+    let i = mesh
+        .positions()
+        .iter()
+        .position(|q| q.distance(p) < 1e-12)
+        .unwrap_or_else(|| panic!("no point {p} in {:?}", mesh.positions()));
+    mesh.normals()[i]
+}
+
+/// A displaced `plymesh` is refined until its edges are shorter than `edgelength` (times the
+/// option `displacementedgescale`, measured after the shape's transform), each point moved
+/// along its normal by the texture at its (u, v), and its normals made again from the
+/// displaced faces, as pbrt-v4 does.
+#[test]
+fn a_displaced_plymesh_is_refined_moved_and_its_normals_made_again() {
+    let shape = |texture: &str, edge: &str| {
+        format!(
+            "{HEAD}{texture}\nShape \"plymesh\" \"string filename\" \"quad.ply\" \
+             \"texture displacement\" \"d\" {edge}\n"
+        )
+    };
+    let constant = "Texture \"d\" \"float\" \"constant\" \"float value\" 0.5";
+    // Each half of the quad (legs 2, long side 2√2) is cut at its long side, then each half
+    // again at its long side (2): four triangles with edges 1, 1, √2 < 1.5. Nine points.
+    let scene = displaced(&shape(constant, "\"float edgelength\" 1.5")).unwrap();
+    let mesh = mesh_of(&scene);
+    assert_eq!(mesh.face_count(), 8);
+    assert_eq!(mesh.positions().len(), 9);
+    for (p, n) in mesh.positions().iter().zip(mesh.normals()) {
+        assert_eq!(p.z, 0.5, "{p}");
+        assert!(n.distance(DVec3::Z) < 1e-12, "{n}");
+    }
+    for face in mesh.faces() {
+        let [a, b, c] = mesh.corners(&face);
+        for d in [a.distance(b), b.distance(c), c.distance(a)] {
+            assert!(d < 1.5, "{d}");
+        }
+    }
+    // Edges of 2 and 2√2 are not shorter than 2: the same cuts; 3 leaves the two halves.
+    let scene = displaced(&shape(constant, "\"float edgelength\" 2")).unwrap();
+    assert_eq!(mesh_of(&scene).face_count(), 8);
+    let scene = displaced(&shape(constant, "\"float edgelength\" 3")).unwrap();
+    assert_eq!(mesh_of(&scene).face_count(), 2);
+    // The option scales the length, and lengths are measured after the shape's transform.
+    let scaled = format!(
+        "Option \"displacementedgescale\" 0.5\n{}",
+        shape(constant, "\"float edgelength\" 3")
+    );
+    assert_eq!(mesh_of(&displaced(&scaled).unwrap()).face_count(), 8);
+    let grown = shape(constant, "\"float edgelength\" 3")
+        .replace("WorldBegin\n", "WorldBegin\nScale 0.75 0.75 0.75\n");
+    assert_eq!(mesh_of(&displaced(&grown).unwrap()).face_count(), 2);
+    let grown = grown.replace("Scale 0.75 0.75 0.75", "Scale 2 2 2");
+    assert_eq!(mesh_of(&displaced(&grown).unwrap()).face_count(), 8);
+    // A checkerboard of 0 and 1 with two squares along u and v: the corners and the middle
+    // (whose (2u, 2v) sum is even) stay; the edges' midpoints rise by 1.
+    let checker = "Texture \"d\" \"float\" \"checkerboard\" \"float tex1\" 0 \"float tex2\" 1 \
+                   \"float uscale\" 2 \"float vscale\" 2";
+    let scene = displaced(&shape(checker, "\"float edgelength\" 1.5")).unwrap();
+    let mesh = mesh_of(&scene);
+    assert_eq!(mesh.face_count(), 8);
+    for p in mesh.positions() {
+        let odd = ((p.x + p.y) as i64) % 2 == 1;
+        assert_eq!(p.z, if odd { 1.0 } else { 0.0 }, "{p}");
+    }
+    // The middle's normal is +z by symmetry; the midpoint of the side y = 0 (at height 1,
+    // between two corners and the middle at 0) has the mean of its two faces' unit normals,
+    // (−1, 1, 1)/√3 and (1, 1, 1)/√3: (0, 1, 1)/√2.
+    assert!(normal_at_point(mesh, DVec3::new(1.0, 1.0, 0.0)).distance(DVec3::Z) < 1e-12);
+    let side = normal_at_point(mesh, DVec3::new(1.0, 0.0, 1.0));
+    let expected = DVec3::new(0.0, 1.0, 1.0).normalize();
+    assert!(side.distance(expected) < 1e-12, "{side}");
+    // A scale texture scales what it reads.
+    let scale = "Texture \"c\" \"float\" \"constant\" \"float value\" 0.25\n\
+                 Texture \"d\" \"float\" \"scale\" \"texture tex\" \"c\" \"float scale\" -2";
+    let scene = displaced(&shape(scale, "\"float edgelength\" 3")).unwrap();
+    let mesh = mesh_of(&scene);
+    assert!(mesh.positions().iter().all(|p| p.z == -0.5));
+    // Without a displacement nothing is refined.
+    let scene = displaced(&format!(
+        "{HEAD}Shape \"plymesh\" \"string filename\" \"quad.ply\" \"float edgelength\" 0.01\n"
+    ))
+    .unwrap();
+    assert_eq!(mesh_of(&scene).face_count(), 2);
+}
+
+/// A tiny `edgelength` is refused at it before its triangles are made (they would pass
+/// `--max-triangles`); so are a length that is no positive number, a mesh without (u, v), a
+/// texture that is not there and a bad option.
+#[test]
+fn a_displacement_that_cannot_be_made_is_refused_at_its_parameter() {
+    let shape = |file: &str, edge: &str| {
+        format!(
+            "{HEAD}Texture \"d\" \"float\" \"constant\" \"float value\" 0.5\n\
+             Shape \"plymesh\" \"string filename\" \"{file}\" \"texture displacement\" \"d\" {edge}\n"
+        )
+    };
+    let e = displaced(&shape("quad.ply", "\"float edgelength\" 1e-9")).unwrap_err();
+    assert_at(&e, 4, 73, "float edgelength", "--max-triangles");
+    assert!(e.message.contains("edgelength"), "{e}");
+    for bad in ["0", "-1"] {
+        let e = displaced(&shape("quad.ply", &format!("\"float edgelength\" {bad}"))).unwrap_err();
+        assert_at(&e, 4, 73, "float edgelength", "positive length");
+    }
+    let e = displaced(&shape("nouv.ply", "")).unwrap_err();
+    assert_at(&e, 4, 46, "texture displacement", "(u, v)");
+    let e = displaced(&shape("quad.ply", "").replace("\"d\" \n", "\"none\" \n")).unwrap_err();
+    assert!(e.message.contains("no float texture"), "{e}");
+    let e = displaced(&format!(
+        "Option \"displacementedgescale\" 0\n{}",
+        shape("quad.ply", "")
+    ))
+    .unwrap_err();
+    assert!(e.message.contains("displacementedgescale"), "{e}");
+}

@@ -5,6 +5,7 @@
 
 use super::area_power;
 use super::camera;
+use super::displace::Displacing;
 use super::input::Files;
 use super::lights::{self, Lit};
 use super::materials;
@@ -31,6 +32,8 @@ struct MaterialCache<'d> {
     textures: &'d SceneTextures,
     by_index: HashMap<usize, Material>,
     by_name: HashMap<String, Material>,
+    /// `Option "displacementedgescale"`, for the displaced meshes.
+    edge_scale: f64,
 }
 
 impl MaterialCache<'_> {
@@ -102,6 +105,7 @@ pub fn scene(
         textures: &scene_textures,
         by_index: HashMap::new(),
         by_name: HashMap::new(),
+        edge_scale: super::displace::edge_scale(&desc.options)?,
     };
     let mut noted = Notes::default();
     for shape in &desc.shapes {
@@ -326,12 +330,22 @@ fn place(
     noted: &mut Notes,
 ) -> Result<Vec<Object>, SceneError> {
     let entity = &shape.entity;
-    let (objects, area, patches) =
-        match shapes::build(shape, files, triangles, options.max_triangles, warnings)? {
-            Built::Objects(objects, area) => (objects, area, None),
-            Built::Patches(objects, area, patches) => (objects, area, Some(patches)),
-            Built::Skipped => return Ok(Vec::new()),
-        };
+    let (objects, area, patches) = match shapes::build(
+        shape,
+        files,
+        &Displacing {
+            textures: cache.textures,
+            desc: cache.desc,
+            edge_scale: cache.edge_scale,
+        },
+        triangles,
+        options.max_triangles,
+        warnings,
+    )? {
+        Built::Objects(objects, area) => (objects, area, None),
+        Built::Patches(objects, area, patches) => (objects, area, Some(patches)),
+        Built::Skipped => return Ok(Vec::new()),
+    };
     if shape.moving && !noted.motion {
         noted.motion = true;
         warnings.push(entity.error(

@@ -145,6 +145,8 @@ pub fn setup(
                     )
                 })?;
             }
+            // Read with the shapes (`displace::edge_scale`).
+            "displacementedgescale" => {}
             _ => warnings.push(loc.error(
                 Some("Option"),
                 format!(

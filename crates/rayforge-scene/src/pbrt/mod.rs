@@ -23,6 +23,7 @@ mod area_power;
 mod bilinear;
 mod build;
 mod camera;
+mod displace;
 mod input;
 mod lens_file;
 mod lexer;

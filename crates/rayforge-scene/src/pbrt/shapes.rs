@@ -22,10 +22,14 @@
 //! - `loopsubdiv` (`levels`, default 3, at most [`MAX_LOOP_LEVELS`]; `indices`; `P`): Loop
 //!   subdivision to the limit surface as pbrt-v4 does it ([`super::loop_subdiv`]), a triangle
 //!   mesh with the limit normals; a mesh that is no manifold is refused at its `indices`.
+//! - `plymesh` with `"texture displacement"` (`edgelength`, the option
+//!   `displacementedgescale`): refined and displaced as pbrt-v4 does it
+//!   ([`super::displace`]). A `trianglemesh`'s `displacement` goes unused, as in pbrt-v4.
 //! - Every mesh's triangles count against `--max-triangles` before they are built.
 //! - `curves` are left out with a warning (they are hair and fur, not surfaces), and every
 //!   other shape is refused at its directive.
 
+use super::displace::{displace, Displacing};
 use super::input::Files;
 use super::params::{Param, Params};
 use super::reader::ShapeEntity;
@@ -53,6 +57,7 @@ pub enum Built {
 pub fn build(
     shape: &ShapeEntity,
     files: &Files,
+    displacing: &Displacing<'_>,
     triangles: &mut usize,
     max_triangles: usize,
     warnings: &mut Vec<SceneError>,
@@ -183,7 +188,7 @@ pub fn build(
             Built::Objects(vec![Object::mesh(Arc::new(mesh))], area)
         }
         "plymesh" => {
-            let (mesh, area) = ply_mesh(shape, files, triangles, max_triangles)?;
+            let (mesh, area) = ply_mesh(shape, files, displacing, triangles, max_triangles)?;
             Built::Objects(vec![Object::mesh(Arc::new(mesh))], area)
         }
         other => {
@@ -451,6 +456,7 @@ fn counted(
 fn ply_mesh(
     shape: &ShapeEntity,
     files: &Files,
+    displacing: &Displacing<'_>,
     triangles: &mut usize,
     max_triangles: usize,
 ) -> Result<(Mesh, f64), SceneError> {
@@ -472,7 +478,6 @@ fn ply_mesh(
         );
         e
     })?;
-    counted(shape, read.face_count(), triangles, max_triangles)?;
     let indices: Vec<u32> = read.faces().flat_map(|face| face.vertices).collect();
     let normals = read.normals().to_vec();
     let normals = if normals.len() == read.positions().len() {
@@ -486,12 +491,29 @@ fn ply_mesh(
     } else {
         Vec::new()
     };
+    let positions = read.positions().to_vec();
+    // A displaced mesh's refined triangles are counted (before they are made) in its place.
+    let Some(displaced) = displace(
+        shape,
+        displacing,
+        &positions,
+        &normals,
+        &texcoords,
+        &indices,
+        left,
+        files.stop(),
+    )?
+    else {
+        counted(shape, indices.len() / 3, triangles, max_triangles)?;
+        return oriented(shape, positions, normals, texcoords, &indices, files.stop());
+    };
+    counted(shape, displaced.indices.len() / 3, triangles, max_triangles)?;
     oriented(
         shape,
-        read.positions().to_vec(),
-        normals,
-        texcoords,
-        &indices,
+        displaced.positions,
+        displaced.normals,
+        displaced.texcoords,
+        &displaced.indices,
         files.stop(),
     )
 }
