@@ -71,24 +71,22 @@ pub struct Displaced {
     pub indices: Vec<u32>,
 }
 
-/// The mesh `positions`, `normals` (empty: none), `texcoords` (one a point) and `indices`
-/// refined and displaced as the [module](self) says, when `shape` has a `displacement`;
-/// `None` when it has none (`positions` and the rest are then left as they are). `left` triangles are what `--max-triangles` leaves for it.
+/// The mesh `input` (its `normals` empty where it has none; its `texcoords` empty or one a
+/// point) refined and displaced as the [module](self) says, when `shape` has a
+/// `displacement`; `input` as it is when it has none. `left` triangles are what
+/// `--max-triangles` leaves for it.
 pub fn displace(
     shape: &ShapeEntity,
     with: &Displacing<'_>,
-    positions: &[DVec3],
-    normals: &[DVec3],
-    texcoords: &[[f64; 2]],
-    indices: &[u32],
+    input: Displaced,
     left: usize,
     stop: &crate::stop::StopFlag,
-) -> Result<Option<Displaced>, SceneError> {
+) -> Result<Displaced, SceneError> {
     let params = &shape.entity.params;
     // Read whether or not the mesh is displaced, as pbrt-v4 reads it.
     let edge = params.float_at("edgelength")?;
     let Some(texture) = params.find("displacement", &[ParamType::Texture]) else {
-        return Ok(None);
+        return Ok(input);
     };
     let node = with.textures.named(texture, "float", with.desc)?;
     let max_length = edge.map_or(1.0, |(e, _)| e) * with.edge_scale;
@@ -102,6 +100,12 @@ pub fn displace(
             None => texture.error(message),
         });
     }
+    let Displaced {
+        positions,
+        normals,
+        texcoords,
+        indices,
+    } = input;
     if texcoords.len() != positions.len() || positions.is_empty() {
         return Err(texture.error(
             "a displaced plymesh needs (u, v) at every point of its PLY file (as pbrt-v4 does)",
@@ -109,16 +113,16 @@ pub fn displace(
     }
     let mut mesh = Displaced {
         normals: if normals.len() == positions.len() {
-            normals.to_vec()
+            normals
         } else {
-            corner_normals(positions, indices)
+            corner_normals(&positions, &indices)
         },
-        positions: positions.to_vec(),
-        texcoords: texcoords.to_vec(),
+        positions,
+        texcoords,
         indices: Vec::new(),
     };
     let length = Length(shape.world_from_object);
-    let count = refined_count(&mesh.positions, indices, &length, max_length, left, stop);
+    let count = refined_count(&mesh.positions, &indices, &length, max_length, left, stop);
     if count > left {
         let message = format!(
             "displacing this plymesh with edgelength {max_length} makes more than the {left} \
@@ -161,7 +165,7 @@ pub fn displace(
         *p += d * *n;
     }
     mesh.normals = corner_normals(&mesh.positions, &mesh.indices);
-    Ok(Some(mesh))
+    Ok(mesh)
 }
 
 /// An edge's length after the shape's transform (pbrt-v4 measures in its render space,

@@ -29,7 +29,7 @@
 //! - `curves` are left out with a warning (they are hair and fur, not surfaces), and every
 //!   other shape is refused at its directive.
 
-use super::displace::{displace, Displacing};
+use super::displace::{displace, Displaced, Displacing};
 use super::input::Files;
 use super::params::{Param, Params};
 use super::reader::ShapeEntity;
@@ -491,29 +491,21 @@ fn ply_mesh(
     } else {
         Vec::new()
     };
-    let positions = read.positions().to_vec();
-    // A displaced mesh's refined triangles are counted (before they are made) in its place.
-    let Some(displaced) = displace(
-        shape,
-        displacing,
-        &positions,
-        &normals,
-        &texcoords,
-        &indices,
-        left,
-        files.stop(),
-    )?
-    else {
-        counted(shape, indices.len() / 3, triangles, max_triangles)?;
-        return oriented(shape, positions, normals, texcoords, &indices, files.stop());
+    let mesh = Displaced {
+        positions: read.positions().to_vec(),
+        normals,
+        texcoords,
+        indices,
     };
-    counted(shape, displaced.indices.len() / 3, triangles, max_triangles)?;
+    // A displaced mesh's refined triangles are counted (before they are made) in its place.
+    let mesh = displace(shape, displacing, mesh, left, files.stop())?;
+    counted(shape, mesh.indices.len() / 3, triangles, max_triangles)?;
     oriented(
         shape,
-        displaced.positions,
-        displaced.normals,
-        displaced.texcoords,
-        &displaced.indices,
+        mesh.positions,
+        mesh.normals,
+        mesh.texcoords,
+        &mesh.indices,
         files.stop(),
     )
 }
