@@ -560,6 +560,23 @@ fn a_displaced_plymesh_is_refined_moved_and_its_normals_made_again() {
     let scene = displaced(&shape(scale, "\"float edgelength\" 3")).unwrap();
     let mesh = mesh_of(&scene);
     assert!(mesh.positions().iter().all(|p| p.z == -0.5));
+    // A trianglemesh's displacement goes unused (pbrt-v4 displaces only a plymesh), with the
+    // unused-parameter warning at its line.
+    let scene = displaced(&format!(
+        "{HEAD}{constant}\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0] \
+         \"integer indices\" [0 1 2] \"texture displacement\" \"d\"\n"
+    ))
+    .unwrap();
+    assert_eq!(mesh_of(&scene).face_count(), 1);
+    assert!(mesh_of(&scene).positions().iter().all(|p| p.z == 0.0));
+    let warned = scene
+        .warnings
+        .iter()
+        .find(|w| {
+            w.message.contains("displacement") || w.key.as_deref() == Some("texture displacement")
+        })
+        .unwrap_or_else(|| panic!("{:?}", scene.warnings));
+    assert_eq!(warned.span.map(|s| s.line), Some(4), "{warned}");
     // Without a displacement nothing is refined.
     let scene = displaced(&format!(
         "{HEAD}Shape \"plymesh\" \"string filename\" \"quad.ply\" \"float edgelength\" 0.01\n"
