@@ -161,3 +161,42 @@ fn a_bad_film_value_is_refused_at_its_key() {
         "largest number",
     );
 }
+
+/// The film keys work on the viewport and zoom cameras as on the book's.
+#[test]
+fn film_keys_work_on_viewport_and_zoom_cameras() {
+    let c = Color::new(0.2, 0.4, 0.8);
+    let viewport = load_str(
+        "- add: camera\n  width: 8\n  height: 8\n  viewport: [1, 1]\n  iso: 200\n",
+        Path::new("scene.yml"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(viewport.camera.record(c), c * 2.0);
+    let zoom = load_str(
+        "- add: camera\n  width: 8\n  height: 8\n  zoom: 1\n  exposure-time: 0.5\n",
+        Path::new("scene.yml"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(zoom.camera.record(c), c * 0.5);
+}
+
+/// `max-component` caps the sensor's value before the white balance, as pbrt-v4's RGB film
+/// does: the capped record is the uncapped one scaled, and its largest component is not the
+/// cap (capping after the balance would make it exactly the cap).
+#[test]
+fn the_max_component_cap_comes_before_the_white_balance() {
+    let c = Color::new(8.0, 1.0, 0.5);
+    let free = yaml("  field-of-view: 1\n  white-balance: 3000\n").unwrap();
+    let capped = yaml("  field-of-view: 1\n  white-balance: 3000\n  max-component: 2\n").unwrap();
+    let (f, k) = (free.camera.record(c), capped.camera.record(c));
+    let scale = k.red / f.red;
+    assert!(scale < 1.0, "{f:?} {k:?}");
+    for (a, b) in [(f.green, k.green), (f.blue, k.blue)] {
+        assert!(
+            (a * scale - b).abs() < 1e-9 * a.abs().max(1.0),
+            "{f:?} {k:?}"
+        );
+    }
+    let largest = k.red.max(k.green).max(k.blue);
+    assert!((largest - 2.0).abs() > 0.02, "{k:?}");
+}

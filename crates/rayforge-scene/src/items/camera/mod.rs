@@ -46,7 +46,7 @@ pub fn camera(
     if entries.iter().any(|e| e.name == "zoom") {
         let (camera, grid) = zoom::camera(source, entries, item)?;
         // A zoom camera refuses `samples`: its rays per pixel are its anti-aliasing grid.
-        let camera = shutter(source, entries, camera)?;
+        let camera = shutter(source, entries, pinhole::film(source, entries, camera)?)?;
         return Ok(CameraItem {
             camera,
             samples: grid * grid,
@@ -56,7 +56,9 @@ pub fn camera(
         });
     }
     let (camera, look_at) = if entries.iter().any(|e| e.name == "viewport") {
-        (viewport::camera(source, entries, item)?, None)
+        // The film keys mean on every camera what they mean on the book's.
+        let camera = viewport::camera(source, entries, item)?;
+        (pinhole::film(source, entries, camera)?, None)
     } else {
         let (camera, look_at) = pinhole::camera(source, entries, item)?;
         (camera, Some(look_at))

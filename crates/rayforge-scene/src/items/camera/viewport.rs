@@ -25,8 +25,22 @@ use rayforge::{point, vector, Camera};
 
 /// The keys a viewport camera accepts.
 const KEYS: &[&str] = &[
-    "add", "width", "height", "viewport", "distance", "position", "rotation", "from", "to", "up",
-    "samples", "shutter",
+    "add",
+    "width",
+    "height",
+    "viewport",
+    "distance",
+    "position",
+    "rotation",
+    "from",
+    "to",
+    "up",
+    "samples",
+    "shutter",
+    "iso",
+    "exposure-time",
+    "white-balance",
+    "max-component",
 ];
 
 /// The viewport camera of an `add: camera` item that has `viewport:`.

@@ -34,7 +34,18 @@ pub fn camera(
         source,
         entries,
         "a zoom camera",
-        &["add", "width", "height", "zoom", "anti-alias", "shutter"],
+        &[
+            "add",
+            "width",
+            "height",
+            "zoom",
+            "anti-alias",
+            "shutter",
+            "iso",
+            "exposure-time",
+            "white-balance",
+            "max-component",
+        ],
     )?;
     let get = |k: &str| entries.iter().find(|e| e.name == k).map(|e| e.value);
     let required =
