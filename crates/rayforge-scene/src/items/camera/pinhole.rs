@@ -3,7 +3,8 @@
 //! (`aperture`, `focal-distance`), and `handedness`; or, with `projection`, a spherical
 //! camera (pbrt-v4's, equirectangular or equal-area) at the same place; and the film's
 //! sensor (`iso`, `exposure-time`, `white-balance`, `max-component`) as pbrt-v4's RGB film
-//! has it, so that a scene written in YAML records light as the same scene in pbrt-v4's format.
+//! has it, so that a scene written in YAML records light as the same scene in pbrt-v4's format
+//! (the viewport and zoom cameras read the same film keys through `film`).
 //!
 //! The book's world is left-handed: the image's right is `up × forward`. Scenes written for
 //! right-handed renderers (pbrt, Mitsuba, the path tracer's reference scenes) put the image's
