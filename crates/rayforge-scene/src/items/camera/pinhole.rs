@@ -173,7 +173,7 @@ fn projection(
 /// `whitebalance` and `maxcomponentvalue` mean there. The exposure time is the film's own,
 /// not `shutter`'s interval: that one is the time of object motions, in which a scene's
 /// movements are written, and exposing the film longer must not move them.
-pub(super) fn film(
+pub(crate) fn film(
     source: &Source<'_>,
     entries: &[Entry<'_, '_>],
     camera: Camera,
