@@ -503,7 +503,8 @@ fn errors_name_file_line_column_directive_and_parameter() {
 fn unused_parameters_and_other_renderers_are_warnings_naming_their_line() {
     let scene = load(
         "Integrator \"bdpt\"\nCamera \"perspective\" \"float fov\" 30\n  \"float fvo\" 2\n\
-         WorldBegin\nShape \"sphere\" \"integer radius\" 2\nShape \"curves\"\n",
+         WorldBegin\nShape \"sphere\" \"integer radius\" 2\n\
+         Shape \"curve\" \"point3 P\" [0 0 0 1 0 0 2 0 0 3 0 0] \"normal N\" [0 0 1 0 0 1]\n",
     );
     let text: Vec<String> = scene.warnings.iter().map(|w| w.to_string()).collect();
     let find = |part: &str| {
@@ -514,7 +515,7 @@ fn unused_parameters_and_other_renderers_are_warnings_naming_their_line() {
     assert!(find("\"bdpt\" integrator").contains("s.pbrt:1:1"));
     assert!(find("\"float fvo\" is not used").contains("s.pbrt:3:3"));
     assert!(find("read as float").contains("s.pbrt:5:16"));
-    assert!(find("curves").contains("s.pbrt:6:1"));
+    assert!(find("only by \"ribbon\" curves").contains("s.pbrt:6:52"));
 }
 
 /// Films `a` and `b` agree: their means within 4 %, and each 8 × 8 block's within 12 %.

@@ -614,3 +614,238 @@ fn a_displacement_that_cannot_be_made_is_refused_at_its_parameter() {
     .unwrap_err();
     assert!(e.message.contains("displacementedgescale"), "{e}");
 }
+
+/// The curves object `i` of `scene` holds.
+fn curves(scene: &Scene, i: usize) -> std::sync::Arc<rayforge::geometry::Curves> {
+    match &scene.world.objects[i].shape {
+        Shape::Curves(c) => c.clone(),
+        other => panic!("object {i} is {other:?}"),
+    }
+}
+
+/// A `curve` becomes pbrt-v4's segments: a cubic B-spline of six points three Bézier
+/// segments (the first starting at (p0 + 4 p1 + p2) / 6), a quadratic Bézier of five points
+/// two, each segment's widths the curve's `width0` to `width1` at its ends, each cut into
+/// `2^splitdepth` parts (default 3); a ribbon keeps its end normals, unit length.
+#[test]
+fn a_curve_becomes_pbrt_v4s_segments_and_parts() {
+    let scene = load(&format!(
+        "{HEAD}Shape \"curve\" \"string basis\" \"bspline\" \"integer splitdepth\" 2 \
+         \"point3 P\" [0 0 0  1 0 0  1 1 0  0 1 0  0 2 1  1 2 1] \
+         \"float width0\" 0.3 \"float width1\" 0.0\n\
+         Shape \"curve\" \"integer degree\" 2 \"string type\" \"cylinder\" \"float width\" 0.1 \
+         \"point3 P\" [0 0 0  1 0 0  2 1 0  3 1 0  4 0 0]\n\
+         Shape \"curve\" \"string type\" \"ribbon\" \"point3 P\" [0 0 0  1 0 0  2 0 0  3 0 0] \
+         \"normal N\" [0 0 2  0 1 0]\n"
+    ));
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let spline = curves(&scene, 0);
+    assert_eq!((spline.segments().len(), spline.part_count()), (3, 12));
+    let first = spline.segments()[0];
+    assert!((first.cp[0] - DVec3::new(5.0 / 6.0, 1.0 / 6.0, 0.0)).length() < 1e-12);
+    for (i, s) in spline.segments().iter().enumerate() {
+        let w = |t: f64| 0.3 * (1.0 - t);
+        assert!((s.width[0] - w(i as f64 / 3.0)).abs() < 1e-12, "{s:?}");
+        assert!(
+            (s.width[1] - w((i + 1) as f64 / 3.0)).abs() < 1e-12,
+            "{s:?}"
+        );
+        assert_eq!(s.kind, rayforge::geometry::curve::CurveKind::Flat);
+    }
+    let quadratic = curves(&scene, 1);
+    assert_eq!(
+        (quadratic.segments().len(), quadratic.part_count()),
+        (2, 16)
+    );
+    assert_eq!(quadratic.segments()[1].cp[3], DVec3::new(4.0, 0.0, 0.0));
+    assert_eq!(quadratic.segments()[0].width, [0.1, 0.1]);
+    let ribbon = curves(&scene, 2).segments()[0];
+    assert_eq!(ribbon.kind, rayforge::geometry::curve::CurveKind::Ribbon);
+    assert_eq!(ribbon.normals, [DVec3::Z, DVec3::Y]);
+    // A ray down onto the ribbon's middle meets it, at (u, v) along and across.
+    let object = &scene.world.objects[2];
+    let local = object.ray_to_object(&Ray::new(
+        DVec3::new(1.5, 0.01, 3.0),
+        DVec3::new(0.0, 0.0, -1.0),
+    ));
+    let hit = object
+        .shape
+        .closest_hit(&local, 0.0, f64::INFINITY)
+        .expect("a hit");
+    assert!(
+        (hit.t - 3.0).abs() < 1e-9 && (hit.u - 0.5).abs() < 1e-9,
+        "{hit:?}"
+    );
+    assert_eq!(
+        object.shape.surface_point(&hit).uv,
+        Some((hit.u, hit.v)),
+        "pbrt-v4's uv"
+    );
+}
+
+/// The share of a 64 × 64 orthographic view (2 × 2 units) of a light background that
+/// black `curves` at z = 1 cover: 1 − the image's mean (each pixel the mean of 16 samples).
+fn covered(curves: &str) -> f64 {
+    let scene = load(&format!(
+        "Camera \"orthographic\"\nPixelFilter \"box\"\n\
+         Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 64\nWorldBegin\n\
+         LightSource \"infinite\" \"rgb L\" [1 1 1]\n\
+         Material \"diffuse\" \"rgb reflectance\" [0 0 0]\n{curves}"
+    ));
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let img = support::render(&scene, 64, 64, 16).resolve();
+    let mut sum = 0.0;
+    for y in 0..64 {
+        for x in 0..64 {
+            sum += img.pixel_at(x, y).green;
+        }
+    }
+    1.0 - sum / 4096.0
+}
+
+/// A fan of eight straight curves, radii 0.2 to 0.9 at every 45°, each `width` wide, of
+/// `kind`; ribbons get normals at both ends perpendicular to the curve, leaning `tilt`
+/// degrees from the camera's −z. They do not overlap, so a flat or cylinder one covers
+/// `8 × width × 0.7` of the view's 4 square units.
+fn fan(kind: &str, width: f64, tilt: Option<f64>) -> String {
+    let mut out = String::new();
+    for k in 0..8 {
+        let a = std::f64::consts::FRAC_PI_4 * k as f64;
+        let (c, s) = (a.cos(), a.sin());
+        let p: Vec<String> = [0.2, 0.2 + 0.7 / 3.0, 0.2 + 1.4 / 3.0, 0.9]
+            .iter()
+            .map(|r| format!("{} {} 1", r * c, r * s))
+            .collect();
+        let normals = tilt.map_or(String::new(), |t: f64| {
+            let (ct, st) = (t.to_radians().cos(), t.to_radians().sin());
+            let n = format!("{} {} {}", -s * st, c * st, -ct);
+            format!("\"normal N\" [{n}  {n}]")
+        });
+        out += &format!(
+            "Shape \"curve\" \"string type\" \"{kind}\" \"float width\" {width} \
+             \"point3 P\" [{}] {normals}\n",
+            p.join("  ")
+        );
+    }
+    out
+}
+
+/// A fan of curves in front of a light background covers its share of the image: flat
+/// and cylinder curves (which face every ray) their width's, a ribbon facing the camera
+/// the same, and one leaning 60° from it half (its width is seen at cos 60°). Within 4 %
+/// of the share (the pixels on the curves' edges, 16 samples each, vary it by about 1 %).
+#[test]
+fn a_fan_of_curves_covers_its_share_of_the_view() {
+    let share = 8.0 * 0.05 * 0.7 / 4.0;
+    for (kind, tilt, expected) in [
+        ("flat", None, share),
+        ("cylinder", None, share),
+        ("ribbon", Some(0.0), share),
+        ("ribbon", Some(60.0), share / 2.0),
+    ] {
+        let found = covered(&fan(kind, 0.05, tilt));
+        assert!(
+            (found - expected).abs() < 0.04 * expected,
+            "{kind} {tilt:?}: covered {found}, expected {expected}"
+        );
+    }
+    // Wider curves cover more, in proportion.
+    let wide = covered(&fan("flat", 0.1, None));
+    assert!((wide - 2.0 * share).abs() < 0.04 * 2.0 * share, "{wide}");
+}
+
+/// What a curve cannot be is refused at the parameter (or directive) that makes it so.
+#[test]
+fn a_curve_refuses_what_it_cannot_be_at_its_parameter() {
+    let p4 = "\"point3 P\" [0 0 0  1 0 0  2 0 0  3 0 0]";
+    let cases = [
+        (
+            format!("Shape \"curve\" {p4} \"integer degree\" 4"),
+            55,
+            "integer degree",
+            "2 or 3",
+        ),
+        (
+            "Shape \"curve\" \"point3 P\" [0 0 0  1 0 0  2 0 0  3 0 0  4 0 0]".to_string(),
+            15,
+            "point3 P",
+            "4 + n·3",
+        ),
+        (
+            format!("Shape \"curve\" {p4} \"string basis\" \"hermite\""),
+            55,
+            "string basis",
+            "bspline",
+        ),
+        (
+            format!("Shape \"curve\" {p4} \"string type\" \"tube\""),
+            55,
+            "string type",
+            "ribbon",
+        ),
+        (
+            format!("Shape \"curve\" {p4} \"integer splitdepth\" 11"),
+            55,
+            "integer splitdepth",
+            "0 to 10",
+        ),
+        (
+            format!("Shape \"curve\" {p4} \"float width1\" -0.5"),
+            55,
+            "float width1",
+            "0 or more",
+        ),
+        (
+            format!("Shape \"curve\" {p4} \"string type\" \"ribbon\" \"normal N\" [0 0 1]"),
+            78,
+            "normal N",
+            "takes 2 normals",
+        ),
+        (
+            format!("Shape \"curve\" {p4} \"string type\" \"ribbon\" \"normal N\" [0 0 1  0 0 0]"),
+            78,
+            "normal N",
+            "not zero",
+        ),
+    ];
+    for (body, column, key, part) in cases {
+        let e = error(&format!("{HEAD}{body}\n"));
+        assert_at(&e, 3, column, key, part);
+    }
+    let e = error(&format!(
+        "{HEAD}Shape \"curve\" {p4} \"string type\" \"ribbon\"\n"
+    ));
+    assert_at(&e, 3, 1, "Shape", "needs its normals");
+    let e = error(&format!("{HEAD}Shape \"curve\"\n"));
+    assert_at(&e, 3, 1, "Shape", "point3 P");
+    // pbrt-v4 cannot sample a curve's light: refused at the shape.
+    let e = error(&format!(
+        "{HEAD}AreaLightSource \"diffuse\"\nShape \"curve\" {p4}\n"
+    ));
+    assert_at(&e, 4, 1, "Shape", "area light");
+    // Normals on a flat curve go unused, with a warning at them.
+    let scene = load(&format!(
+        "{HEAD}Shape \"curve\" {p4} \"normal N\" [0 0 1  0 0 1]\n"
+    ));
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.to_string().contains("s.pbrt:3:55")
+                && w.message.contains("only by \"ribbon\"")),
+        "{:?}",
+        scene.warnings
+    );
+    // The parts count against `--max-triangles` before any is made: one segment at
+    // splitdepth 3 is 8.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.pbrt");
+    std::fs::write(&path, format!("{HEAD}Shape \"curve\" {p4}\n")).unwrap();
+    let options = |max_triangles| LoadOptions {
+        max_triangles,
+        ..LoadOptions::default()
+    };
+    assert!(rayforge_scene::load_file_with(&path, &options(8)).is_ok());
+    let e = rayforge_scene::load_file_with(&path, &options(7)).unwrap_err();
+    assert_at(&e, 3, 1, "Shape", "--max-triangles");
+}

@@ -344,7 +344,6 @@ fn place(
     )? {
         Built::Objects(objects, area) => (objects, area, None),
         Built::Patches(objects, area, patches) => (objects, area, Some(patches)),
-        Built::Skipped => return Ok(Vec::new()),
     };
     if shape.moving && !noted.motion {
         noted.motion = true;
@@ -412,6 +411,14 @@ fn place(
     let mut placed = Vec::with_capacity(objects.len());
     for object in objects {
         match &object.shape {
+            // pbrt-v4 makes an area light of each curve part, and then cannot sample it
+            // (`Curve::Sample` is not written): a fatal error there.
+            Shape::Curves(_) => {
+                return Err(entity.error(
+                    "a curve cannot be an area light (pbrt-v4 cannot sample one either); give \
+                     it a material without `AreaLightSource`",
+                ))
+            }
             // `power` per triangle, or per bilinear patch, as pbrt-v4 gives it (see
             // `area_power`).
             Shape::Mesh(mesh) if area_power::has_power(area_light)? => {

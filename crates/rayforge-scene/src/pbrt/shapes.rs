@@ -26,8 +26,14 @@
 //!   `displacementedgescale`): refined and displaced as pbrt-v4 does it
 //!   ([`super::displace`]). A `trianglemesh`'s `displacement` goes unused, as in pbrt-v4.
 //! - Every mesh's triangles count against `--max-triangles` before they are built.
-//! - `curves` are left out with a warning (they are hair and fur, not surfaces), and every
-//!   other shape is refused at its directive.
+//! - `curve` (`P`, `basis` bezier or bspline, `degree` 2 or 3, `type` flat, cylinder or
+//!   ribbon, `width` or `width0`/`width1`, `N` for ribbons, `splitdepth`): pbrt-v4's curves
+//!   ([`rayforge::geometry::Curves`]), its segments made as pbrt-v4's `Curve::Create` makes
+//!   them (each segment's widths the curve's, linear along the whole curve), each cut into
+//!   `2^splitdepth` parts (at most [`MAX_SPLIT_DEPTH`]) that count against `--max-triangles`
+//!   before any is made. pbrt-v4 cannot sample a curve as an area light, so one under
+//!   `AreaLightSource` is refused (in `build`).
+//! - Every other shape is refused at its directive.
 
 use super::displace::{displace, Displaced, Displacing};
 use super::input::Files;
@@ -35,7 +41,9 @@ use super::params::{Param, Params};
 use super::reader::ShapeEntity;
 use crate::error::SceneError;
 use glam::{DMat4, DVec2, DVec3};
-use rayforge::geometry::{CutError, Mesh, MeshFace, PartialQuadric, Winding};
+use rayforge::geometry::curve::{Curve, CurveBasis, CurveError, CurveKind};
+use rayforge::geometry::curves::MAX_SPLIT_DEPTH;
+use rayforge::geometry::{Curves, CutError, Mesh, MeshFace, PartialQuadric, Winding};
 use rayforge::{Object, Shape};
 use std::sync::Arc;
 
@@ -48,8 +56,6 @@ pub enum Built {
     /// faces, in order, each patch became: pbrt-v4 makes each patch a shape, and so a light
     /// emitting `power` of its own, where a `trianglemesh`'s every triangle is one.
     Patches(Vec<Object>, f64, Vec<u32>),
-    /// Nothing to draw (`curves`).
-    Skipped,
 }
 
 /// The object(s) of `shape` in its own space, and the triangles it adds to `triangles` (held
@@ -172,11 +178,9 @@ pub fn build(
                 Built::Objects(vec![object], area)
             }
         }
-        "curves" => {
-            warnings.push(
-                entity.error("curves (hair, fur) are not rendered: rayforge leaves them out"),
-            );
-            Built::Skipped
+        "curve" => {
+            let curves = curve(shape, triangles, max_triangles, files.stop(), warnings)?;
+            Built::Objects(vec![Object::new(Shape::Curves(Arc::new(curves)))], 0.0)
         }
         "bilinearmesh" => {
             let (mesh, area, patches) =
@@ -194,7 +198,7 @@ pub fn build(
         other => {
             return Err(entity.error(format!(
                 "the shape \"{}\" is not one rayforge reads; it reads trianglemesh, plymesh, \
-                 bilinearmesh, loopsubdiv, sphere, disk and cylinder",
+                 bilinearmesh, loopsubdiv, curve, sphere, disk and cylinder",
                 crate::error::clip_to(other, 60)
             )))
         }
@@ -430,6 +434,127 @@ fn loop_subdivision(
         &indices,
         stop,
     )
+}
+
+/// A `curve` (see the [module](self)): its segments, cut into parts that count against
+/// `max_triangles` before any is made.
+fn curve(
+    shape: &ShapeEntity,
+    triangles: &mut usize,
+    max_triangles: usize,
+    stop: &crate::stop::StopFlag,
+    warnings: &mut Vec<SceneError>,
+) -> Result<Curves, SceneError> {
+    use super::params::ParamType;
+    use rayforge::geometry::curve::{bezier_segments, segment_count};
+    let entity = &shape.entity;
+    let params = &entity.params;
+    let basis = match params.string("basis")? {
+        None | Some(("bezier", _)) => CurveBasis::Bezier,
+        Some(("bspline", _)) => CurveBasis::BSpline,
+        Some((other, p)) => {
+            return Err(p.error(format!(
+                "a curve's basis is \"bezier\" or \"bspline\", found \"{}\"",
+                crate::error::clip_to(other, 40)
+            )))
+        }
+    };
+    let (degree, degree_at) = match params.integer("degree")? {
+        Some((d, p)) => (d, Some(p)),
+        None => (3, None),
+    };
+    let kind = match params.string("type")? {
+        None | Some(("flat", _)) => CurveKind::Flat,
+        Some(("cylinder", _)) => CurveKind::Cylinder,
+        Some(("ribbon", _)) => CurveKind::Ribbon,
+        Some((other, p)) => {
+            return Err(p.error(format!(
+                "a curve's type is \"flat\", \"cylinder\" or \"ribbon\", found \"{}\"",
+                crate::error::clip_to(other, 40)
+            )))
+        }
+    };
+    let Some((numbers, at_p)) = params.numbers("P", ParamType::Point3)? else {
+        return Err(entity.error("a curve needs its control points, \"point3 P\""));
+    };
+    let segments = segment_count(numbers.len() / 3, degree, basis).map_err(|e| match e {
+        CurveError::Degree(_) => {
+            degree_at.map_or_else(|| entity.error(e.to_string()), |p| p.error(e.to_string()))
+        }
+        e => at_p.error(e.to_string()),
+    })?;
+    let depth = match params.integer("splitdepth")? {
+        Some((d, p)) if !(0..=i64::from(MAX_SPLIT_DEPTH)).contains(&d) => {
+            return Err(p.error(format!(
+                "a curve's splitdepth is 0 to {MAX_SPLIT_DEPTH}, found {d}"
+            )))
+        }
+        Some((d, _)) => d as u32,
+        None => 3,
+    };
+    let width = |name: &str, default: f64| -> Result<f64, SceneError> {
+        match params.float_at(name)? {
+            Some((w, p)) if !(w >= 0.0 && w.is_finite()) => Err(p.error(format!(
+                "a curve's {name} is a length of 0 or more, found {w}"
+            ))),
+            Some((w, _)) => Ok(w),
+            None => Ok(default),
+        }
+    };
+    let w = width("width", 1.0)?;
+    let (w0, w1) = (width("width0", w)?, width("width1", w)?);
+    let normals =
+        match (params.points3("N", ParamType::Normal)?, kind) {
+            (Some((_, p)), CurveKind::Flat | CurveKind::Cylinder) => {
+                warnings.push(
+                    p.error("a curve's normals are used only by \"ribbon\" curves (as in pbrt-v4)"),
+                );
+                None
+            }
+            (Some((n, p)), _) if n.len() != segments + 1 => {
+                return Err(p.error(format!(
+                    "a ribbon of {segments} segments takes {} normals, one at each end of each, \
+                 found {}",
+                    segments + 1,
+                    n.len()
+                )))
+            }
+            (Some((n, p)), _) => {
+                if n.iter().any(|n| !(n.length() > 0.0 && n.is_finite())) {
+                    return Err(p.error("a ribbon's normals are directions, not zero"));
+                }
+                Some(n)
+            }
+            (None, CurveKind::Ribbon) => return Err(entity.error(
+                "a ribbon curve needs its normals, \"normal N\", one at each end of each segment",
+            )),
+            (None, _) => None,
+        };
+    // Count before building, so a scene past the limit is refused without its parts.
+    let parts = segments
+        .checked_shl(depth)
+        .filter(|&n| n >> depth == segments);
+    counted(shape, parts.unwrap_or(usize::MAX), triangles, max_triangles)?;
+    let (points, _) = params
+        .points3("P", ParamType::Point3)?
+        .expect("P was found above");
+    let cps = bezier_segments(&points, degree, basis).map_err(|e| at_p.error(e.to_string()))?;
+    let n = cps.len() as f64;
+    let lerp = |t: f64| w0 + (w1 - w0) * t;
+    let built: Vec<Curve> = cps
+        .into_iter()
+        .enumerate()
+        .map(|(i, cp)| {
+            let ends = normals.as_ref().map_or([DVec3::Z; 2], |n| [n[i], n[i + 1]]);
+            let widths = [lerp(i as f64 / n), lerp((i + 1) as f64 / n)];
+            Curve::new(cp, widths, kind, ends, 0.0, 1.0)
+        })
+        .collect();
+    Curves::new_until(built, depth, stop.flag()).ok_or_else(|| {
+        SceneError::interrupted(&entity.loc.file)
+            .at(entity.loc.span)
+            .with_key("Shape")
+    })
 }
 
 /// Adds a mesh's `faces` to the scene's `triangles`, held to `max_triangles`.

@@ -11,7 +11,7 @@
 //! made perpendicular to the tangent), `Cylinder` is hit as `Flat` but its normal turns about
 //! the tangent from −90° at one edge to +90° at the other (a tube's), and `Ribbon` is oriented
 //! by normals at its ends (slerped along it): its width shrinks with the cosine between that
-//! normal and the ray. u runs along the whole curve, v across it from 0 to 1.
+//! normal and the ray. u runs along the segment, v across it from 0 to 1 (pbrt-v4's uv).
 //!
 //! The B-spline and quadratic bases are turned into cubic Bézier segments as pbrt-v4's
 //! `Curve::Create` does ([`bezier_segments`]).
@@ -252,7 +252,7 @@ impl Curve {
     }
 
     /// The ribbon's normal at `u` (the ends' normals slerped).
-    fn ribbon_normal(&self, u: f64) -> Vec3 {
+    pub fn ribbon_normal(&self, u: f64) -> Vec3 {
         let [n0, n1] = self.normals;
         let angle = n0.dot(n1).clamp(-1.0, 1.0).acos();
         if angle < 1e-9 {

@@ -9,9 +9,12 @@
 //! the business of the scene's objects, but for sampling by solid angle, which takes the
 //! transform an object places its shape by (what a shape looks like from a point depends on it).
 
+use crate::math::Vec3;
+
 pub mod cone;
 pub mod cube;
 pub mod curve;
+pub mod curves;
 pub mod cylinder;
 mod mesh;
 mod partial;
@@ -25,6 +28,7 @@ mod tessellate;
 pub mod torus;
 mod triangle;
 
+pub use curves::Curves;
 pub use mesh::{Mesh, MeshError, MeshFace, VertexAttributes, Winding};
 pub use partial::{CutError, PartialQuadric};
 pub use polyhedra::{dodecahedron, icosahedron};
@@ -48,6 +52,10 @@ pub struct LocalHit {
     pub leaf: u32,
     /// When the ray that made the hit was cast (see [`Ray::time`]): where a moving object was.
     pub time: f64,
+    /// The object-space normal where the ray that made the hit decides it, not the point: a
+    /// flat curve faces the ray that met it ([`Curves`]). Zero for every other shape, whose
+    /// normal is found from the point and the hit's `u`, `v`, `face`.
+    pub normal: Vec3,
 }
 
 impl LocalHit {
@@ -61,6 +69,7 @@ impl LocalHit {
             face: 0,
             leaf: 0,
             time: 0.0,
+            normal: Vec3::ZERO,
         }
     }
 }

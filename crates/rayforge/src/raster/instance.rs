@@ -65,6 +65,7 @@ enum ModelKey {
     Torus(u64, u64),
     Ring(u64, u64),
     Mesh(usize),
+    Curves(usize),
 }
 
 fn model_key(shape: &Shape) -> Option<ModelKey> {
@@ -86,6 +87,7 @@ fn model_key(shape: &Shape) -> Option<ModelKey> {
         Shape::Torus { major, minor } => ModelKey::Torus(major.to_bits(), minor.to_bits()),
         Shape::Ring { inner, outer } => ModelKey::Ring(inner.to_bits(), outer.to_bits()),
         Shape::Mesh(mesh) => ModelKey::Mesh(Arc::as_ptr(mesh) as usize),
+        Shape::Curves(curves) => ModelKey::Curves(Arc::as_ptr(curves) as usize),
         Shape::Triangle(_) | Shape::Csg(_) | Shape::Partial(_) => return None,
     })
 }

@@ -17,7 +17,8 @@
 //! 8192 triangles) and refinement once per face, so one huge model stops within a ring, not
 //! after its 33 million triangles. Not stopped, they make the very same faces.
 
-use crate::geometry::{Mesh, MeshFace, PartialQuadric, Winding};
+use crate::geometry::curve::{evaluate, CurveKind};
+use crate::geometry::{Curves, Mesh, MeshFace, PartialQuadric, Winding};
 use crate::math::{Aabb, Point3, Vec3};
 use crate::scene::Csg;
 use crate::scene::Shape;
@@ -488,6 +489,77 @@ fn triangle(tri: &crate::geometry::Triangle) -> Tessellation<'static> {
     t
 }
 
+/// How many sides a curve's tube has in a tessellation.
+const CURVE_SIDES: u32 = 6;
+
+/// How many triangles [`curves`] makes of each part of `c`'s segments.
+fn curve_faces_per_part(c: &Curves) -> u64 {
+    match c.segments().first().map(|s| s.kind) {
+        Some(CurveKind::Ribbon) => 2,
+        _ => 2 * u64::from(CURVE_SIDES),
+    }
+}
+
+/// pbrt-v4's curves as triangles, a ring of vertices at each end of each part of a segment:
+/// a flat or cylinder curve as a tube of its width with [`CURVE_SIDES`] sides (the band the
+/// ray tracer sees always faces the eye, as wide as its width from every side, which a tube
+/// is too, where one fixed band would thin to nothing seen edge-on; the cylinder's normal is
+/// the tube's), a ribbon as the band its end normals orient. The rings' frames are carried
+/// along the segment without twist (each ring's side the last one's made perpendicular to
+/// the new tangent). `None` once `stop` is set (looked at before each segment).
+fn curves(c: &Curves, stop: Option<&AtomicBool>) -> Option<Tessellation<'static>> {
+    let mut t = Tessellation::empty(false);
+    let parts = 1u32 << c.depth();
+    for segment in c.segments() {
+        if stopped(stop) {
+            return None;
+        }
+        let mut side: Option<Vec3> = None;
+        let mut previous: Option<Vec<u32>> = None;
+        for k in 0..=parts {
+            let u = segment.u_min + (segment.u_max - segment.u_min) * k as f64 / parts as f64;
+            let (centre, d) = evaluate(&segment.cp, u);
+            let tangent = d.normalize_or_zero();
+            let radius = 0.5 * (segment.width[0] + (segment.width[1] - segment.width[0]) * u);
+            let ring: Vec<(Point3, Vec3)> = if segment.kind == CurveKind::Ribbon {
+                // Across the ribbon: its normal (the one it is hit by) turned a quarter about
+                // the tangent.
+                let n = segment.normal(u, 0.5, -segment.ribbon_normal(u));
+                let across = tangent.cross(n).normalize_or_zero();
+                vec![(centre - across * radius, n), (centre + across * radius, n)]
+            } else {
+                let s = match side {
+                    Some(s) => (s - s.dot(tangent) * tangent)
+                        .try_normalize()
+                        .unwrap_or_else(|| tangent.any_orthonormal_vector()),
+                    None => tangent.any_orthonormal_vector(),
+                };
+                side = Some(s);
+                let other = tangent.cross(s);
+                (0..CURVE_SIDES)
+                    .map(|i| {
+                        let a = TAU * i as f64 / CURVE_SIDES as f64;
+                        let n = s * a.cos() + other * a.sin();
+                        (centre + n * radius, n)
+                    })
+                    .collect()
+            };
+            let ids: Vec<u32> = ring.iter().map(|&(p, n)| t.vertex(p, n)).collect();
+            if let Some(prev) = previous {
+                let m = ids.len();
+                let bands = if m == 2 { 1 } else { m };
+                for i in 0..bands {
+                    let j = (i + 1) % m;
+                    let outward = ring[i].1 + ring[j].1;
+                    t.quad([prev[i], prev[j], ids[j], ids[i]], outward);
+                }
+            }
+            previous = Some(ids);
+        }
+    }
+    Some(t)
+}
+
 /// A CSG solid's surface: each primitive's tessellation, moved into the solid's space, keeping
 /// the faces whose centre the solid keeps (see [`Csg::keeps_surface_point`]). Faces that cross
 /// the boundary of another operand are kept or dropped whole, so the cut edges are as jagged as
@@ -629,6 +701,7 @@ pub fn face_count(shape: &Shape, divisions: u32) -> u64 {
             bands * 2 * d + caps
         }
         Shape::Mesh(mesh) => mesh.faces().len() as u64,
+        Shape::Curves(c) => curve_faces_per_part(c) * c.part_count() as u64,
         Shape::Csg(c) => c
             .leaves()
             .iter()
@@ -709,6 +782,7 @@ pub(crate) fn tessellate_until<'s>(
         Shape::Ring { inner, outer } => ring(divisions, *inner, *outer),
         Shape::Triangle(tri) => triangle(tri),
         Shape::Mesh(mesh) => Tessellation::of_mesh(mesh),
+        Shape::Curves(c) => curves(c, stop)?,
         Shape::Csg(c) => csg(c, divisions, stop)?,
         Shape::Partial(q) => partial(divisions, q, stop)?,
     })
@@ -718,6 +792,40 @@ pub(crate) fn tessellate_until<'s>(
 mod tests {
     use super::*;
     use crate::scene::{CsgOperation, Object};
+
+    /// A curve's tessellation makes the faces [`face_count`] counts, a tube's vertices half
+    /// its width from its centre line and a ribbon's on the band across its normal.
+    #[test]
+    fn curves_become_tubes_and_bands_of_their_width() {
+        use crate::geometry::curve::Curve;
+        let cp = [
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(2.0, -1.0, 0.5),
+            Point3::new(3.0, 0.0, 0.0),
+        ];
+        for kind in [CurveKind::Flat, CurveKind::Cylinder, CurveKind::Ribbon] {
+            let segment = Curve::new(cp, [0.2, 0.2], kind, [Vec3::Z; 2], 0.0, 1.0);
+            let shape = Shape::Curves(std::sync::Arc::new(Curves::new(vec![segment], 2)));
+            let t = tessellate(&shape, 16);
+            assert_eq!(t.faces.len() as u64, face_count(&shape, 16));
+            for (k, p) in t.positions.iter().enumerate() {
+                let per_ring = if kind == CurveKind::Ribbon {
+                    2
+                } else {
+                    CURVE_SIDES
+                } as usize;
+                let u = (k / per_ring) as f64 / 4.0;
+                let (centre, d) = evaluate(&cp, u);
+                let off = *p - centre;
+                assert!((off.length() - 0.1).abs() < 1e-12, "{kind:?} {k}");
+                assert!(off.dot(d).abs() < 1e-9, "{kind:?} {k}");
+                if kind == CurveKind::Ribbon {
+                    assert!(off.dot(Vec3::Z).abs() < 1e-9);
+                }
+            }
+        }
+    }
 
     /// Each generator that makes many faces gives up once the stop flag is set, and with the
     /// flag clear makes the very faces it makes without one.

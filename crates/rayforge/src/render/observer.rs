@@ -351,6 +351,7 @@ fn kind(shape: &Shape) -> &'static str {
         Shape::Rectangle => "rectangle",
         Shape::Triangle(_) => "triangle",
         Shape::Mesh(_) => "mesh",
+        Shape::Curves(_) => "curves",
         Shape::Csg(_) => "csg",
         Shape::Partial(_) => "cut quadric",
     }

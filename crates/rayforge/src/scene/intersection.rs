@@ -1,6 +1,7 @@
 //! Intersections and hits (chapter 5).
 
 use crate::geometry::LocalHit;
+use crate::math::Vec3;
 use crate::scene::Object;
 
 /// A ray meeting an object at distance `t`. The object is referenced, so identity (which object,
@@ -21,6 +22,9 @@ pub struct Intersection<'a> {
     pub leaf: u32,
     /// When the ray was cast (where a moving object was).
     pub time: f64,
+    /// The object-space normal the shape found with the hit, where the ray decides it (see
+    /// [`LocalHit::normal`]); zero for most shapes.
+    pub normal: Vec3,
 }
 
 impl<'a> Intersection<'a> {
@@ -55,6 +59,7 @@ impl<'a> Intersection<'a> {
             face: hit.face,
             leaf: hit.leaf,
             time: hit.time,
+            normal: hit.normal,
         }
     }
 
@@ -68,6 +73,7 @@ impl<'a> Intersection<'a> {
             face: self.face,
             leaf: self.leaf,
             time: self.time,
+            normal: self.normal,
         }
     }
 

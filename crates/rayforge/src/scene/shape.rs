@@ -8,7 +8,7 @@
 
 use super::csg::Csg;
 use crate::geometry::{cone, cube, cylinder, plane, rectangle, ring, sphere, torus};
-use crate::geometry::{Heights, LocalHit, Mesh, PartialQuadric, ShapeSampler, Triangle};
+use crate::geometry::{Curves, Heights, LocalHit, Mesh, PartialQuadric, ShapeSampler, Triangle};
 use crate::math::{Aabb, Point3, Ray, Vec3};
 use crate::shading::SurfacePoint;
 use std::sync::Arc;
@@ -37,6 +37,9 @@ pub enum Shape {
     Mesh(Arc<Mesh>),
     /// A constructive solid geometry solid (chapter 16), shared between instances.
     Csg(Arc<Csg>),
+    /// pbrt-v4's curves (hair, fur, grass): segments with their own BVH, shared between
+    /// instances. Open bands with no volume; a flat one's normal faces the ray that met it.
+    Curves(Arc<Curves>),
     /// The double-napped cone x² + z² = y² between `minimum` and `maximum` (chapter 13).
     Cone {
         /// Lowest y (exclusive); `-∞` for an infinite cone.
@@ -114,6 +117,7 @@ impl Shape {
                 })
             }),
             Shape::Mesh(mesh) => mesh.intersect(ray, hit),
+            Shape::Curves(curves) => curves.intersect_up_to(ray, f64::INFINITY, hit),
             Shape::Csg(csg) => csg.intersect(ray, &mut hit),
             Shape::Cylinder {
                 minimum,
@@ -136,8 +140,10 @@ impl Shape {
     /// other shapes pick from their few hits.
     #[inline]
     pub fn closest_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<LocalHit> {
-        if let Shape::Mesh(mesh) = self {
-            return mesh.closest_hit(ray, t_min, t_max);
+        match self {
+            Shape::Mesh(mesh) => return mesh.closest_hit(ray, t_min, t_max),
+            Shape::Curves(curves) => return curves.closest_hit(ray, t_min, t_max),
+            _ => {}
         }
         let mut best = None;
         let mut limit = t_max;
@@ -156,6 +162,7 @@ impl Shape {
     pub fn hits_up_to(&self, ray: &Ray, t_max: f64, mut hit: impl FnMut(LocalHit)) {
         match self {
             Shape::Mesh(mesh) => mesh.intersect_up_to(ray, t_max, hit),
+            Shape::Curves(curves) => curves.intersect_up_to(ray, t_max, hit),
             _ => self.intersect_hits(ray, |h| {
                 if h.t <= t_max {
                     hit(h)
@@ -170,6 +177,7 @@ impl Shape {
     pub fn any_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         match self {
             Shape::Mesh(mesh) => return mesh.any_hit(ray, t_min, t_max),
+            Shape::Curves(curves) => return curves.any_hit(ray, t_min, t_max),
             Shape::Csg(csg) => return csg.any_hit(ray, t_min, t_max),
             _ => {}
         }
@@ -191,6 +199,7 @@ impl Shape {
     ) -> Option<LocalHit> {
         match self {
             Shape::Mesh(mesh) => mesh.closest_hit_where(ray, t_min, t_max, keep),
+            Shape::Curves(curves) => curves.closest_hit_where(ray, t_min, t_max, keep),
             Shape::Csg(_) => self.closest_hit(ray, t_min, t_max),
             _ => {
                 let mut best = None;
@@ -218,6 +227,7 @@ impl Shape {
     ) -> bool {
         match self {
             Shape::Mesh(mesh) => mesh.any_hit_where(ray, t_min, t_max, keep),
+            Shape::Curves(curves) => curves.any_hit_where(ray, t_min, t_max, keep),
             Shape::Csg(_) => self.any_hit(ray, t_min, t_max),
             _ => {
                 let mut found = false;
@@ -243,6 +253,7 @@ impl Shape {
         match self {
             Shape::Triangle(triangle) => triangle.normal_at(hit.u, hit.v),
             Shape::Mesh(mesh) => mesh.normal_at(hit),
+            Shape::Curves(curves) => curves.normal_at(hit),
             Shape::Csg(csg) => csg.normal_at(point, hit),
             Shape::Sphere => sphere::normal_at(point),
             Shape::Plane => plane::normal_at(point),
@@ -268,6 +279,11 @@ impl Shape {
             Shape::Mesh(mesh) => SurfacePoint {
                 uv: mesh.texcoord_at(hit),
                 vertex_color: mesh.color_at(hit),
+            },
+            // pbrt-v4's uv on a curve: u along the segment, v across it.
+            Shape::Curves(_) => SurfacePoint {
+                uv: Some((hit.u, hit.v)),
+                ..SurfacePoint::default()
             },
             _ => SurfacePoint::default(),
         }
@@ -338,7 +354,7 @@ impl Shape {
 
     /// The sampler of the shape's surface (see [`ShapeSampler`]), for the shapes with a
     /// finite one: not infinite planes, cylinders or cones, degenerate tori, meshes of no area,
-    /// nor CSG solids (whose primitives are sampled instead).
+    /// nor CSG solids (whose primitives are sampled instead), nor curves (pbrt-v4 samples none).
     pub fn sampler(&self) -> Option<ShapeSampler> {
         Some(match self {
             Shape::Sphere => ShapeSampler::Sphere,
@@ -376,7 +392,11 @@ impl Shape {
     pub fn has_volume(&self) -> bool {
         !matches!(
             self,
-            Shape::Ring { .. } | Shape::Triangle(_) | Shape::Rectangle | Shape::Partial(_)
+            Shape::Ring { .. }
+                | Shape::Triangle(_)
+                | Shape::Rectangle
+                | Shape::Partial(_)
+                | Shape::Curves(_)
         )
     }
 
@@ -415,6 +435,7 @@ impl Shape {
             ),
             Shape::Rectangle => Aabb::new(Point3::new(-1.0, 0.0, -1.0), Point3::new(1.0, 0.0, 1.0)),
             Shape::Mesh(mesh) => mesh.bounds(),
+            Shape::Curves(curves) => curves.bounds(),
             Shape::Csg(csg) => csg.bounds(),
             Shape::Partial(q) => q.bounds(),
             Shape::Triangle(t) => {

@@ -557,8 +557,8 @@ impl Mesh {
             u,
             v,
             face,
-            leaf: 0,
             time: ray.time,
+            ..LocalHit::default()
         })
     }
 
