@@ -61,6 +61,50 @@ fn a_spin_about_an_objects_own_centre_keeps_the_centre_still() {
     }
 }
 
+/// A motion between fixed transforms interpolates only its middle: an off-centre point of
+/// an instance turning about its origin swings along the arc (staying at its distance),
+/// where interpolating the products would cut the chord; its own inner placement rides
+/// along, and the bounds still cover every instant.
+#[test]
+fn a_motion_between_fixed_transforms_interpolates_only_the_middle() {
+    let inner = Transform::new(translation(2.0, 0.0, 0.0) * scaling(0.5, 0.5, 0.5));
+    let outer = Transform::new(translation(0.0, 3.0, 0.0) * scaling(2.0, 1.0, 1.0));
+    let (start, end) = (Transform::IDENTITY, Transform::new(rotation_y(FRAC_PI_2)));
+    let motion = Motion::after(&start, &end, &inner).unwrap();
+    assert_eq!(motion.at(0.0), start.then_after(&inner).unwrap());
+    assert_eq!(motion.at(1.0), end.then_after(&inner).unwrap());
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let mid = motion.at(0.5).point(point(0.0, 0.0, 0.0));
+    assert!(close(mid, point(2.0 * h, 0.0, -2.0 * h)), "{mid:?}");
+    // The products' interpolation would put it on the chord, nearer the axis.
+    let chord = Motion::new(
+        start.then_after(&inner).unwrap(),
+        end.then_after(&inner).unwrap(),
+    );
+    let cut = chord.at(0.5).point(point(0.0, 0.0, 0.0));
+    assert!(cut.length() < 1.9, "{cut:?}");
+    let placed = motion.placed_by(&outer).unwrap();
+    let p = placed.at(0.5).point(point(0.0, 0.0, 0.0));
+    assert!(close(p, point(4.0 * h, 3.0, -2.0 * h)), "{p:?}");
+    assert_eq!(placed.at(1.0), outer.then_after(&motion.at(1.0)).unwrap());
+    let local = rayforge::math::Aabb::new(point(-1.0, -1.0, -1.0), point(1.0, 1.0, 1.0));
+    let bounds = placed.bounds(&local);
+    for i in 0..=200 {
+        let at = placed.at(i as f64 / 200.0);
+        for corner in [
+            point(-1.0, -1.0, -1.0),
+            point(1.0, 1.0, 1.0),
+            point(1.0, -1.0, 1.0),
+        ] {
+            let q = at.point(corner);
+            assert!(
+                bounds.min.cmple(q).all() && q.cmple(bounds.max).all(),
+                "{q:?} {bounds:?}"
+            );
+        }
+    }
+}
+
 #[test]
 fn a_scale_is_interpolated_linearly() {
     let motion = Motion::new(

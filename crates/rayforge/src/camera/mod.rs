@@ -3,6 +3,11 @@
 //! Scratch's viewport camera; orthographic and spherical cameras, a canvas window off the
 //! axis, pbrt-v4's realistic camera (a lens system traced element by element), and a
 //! sensor's response for the scenes of other renderers (glTF, pbrt-v4).
+//!
+//! Any camera but the viewport one may move while the shutter is open, as pbrt-v4's
+//! `CameraTransform` does: its world-from-camera transform is interpolated between the two
+//! ends ([`Motion`], translation, rotation and stretch apart) at each ray's instant, and the
+//! ray it would cast from its opening placement is carried along.
 
 mod realistic;
 mod sample;
@@ -21,7 +26,7 @@ pub use viewport::Viewport;
 use window::Grid;
 pub use window::ScreenWindow;
 
-use crate::math::{Point3, Ray, Transform, Vec3};
+use crate::math::{Motion, Point3, Ray, Transform, Vec3};
 
 /// A pinhole camera looking down -z in its own space, with the canvas one unit in front of it.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,6 +61,10 @@ pub struct Camera {
     /// The pinhole's rays in the world, worked out from the fields above whenever they
     /// change (see [`PinholeRays`]).
     rays: PinholeRays,
+    /// Where the camera moves while the shutter is open: its world-from-camera transform
+    /// (the view transform's inverse) at time 0, `transform`'s, and at time 1. Boxed: most
+    /// cameras stand still.
+    moving: Option<Box<Motion>>,
 }
 
 /// How a camera's rays leave it.
@@ -133,14 +142,16 @@ impl Camera {
             model: Model::Pinhole,
             sensor: Sensor::IDENTITY,
             rays: PinholeRays::of(&Transform::IDENTITY, &grid),
+            moving: None,
         }
     }
 
-    /// The same camera with its transform `transform`, and its pinhole's rays worked out
-    /// again: what every change of its placement or canvas goes through.
+    /// The same camera with its transform `transform`, standing still there, and its
+    /// pinhole's rays worked out again: what every change of its placement goes through.
     fn placed(mut self, transform: Transform) -> Self {
         self.transform = transform;
         self.rays = PinholeRays::of(&transform, &self.grid);
+        self.moving = None;
         self
     }
 
@@ -224,8 +235,8 @@ impl Camera {
         }
         self.grid = Grid::of(&window, self.hsize, self.vsize);
         self.window = Some(window);
-        let transform = self.transform;
-        Some(self.placed(transform))
+        self.rays = PinholeRays::of(&self.transform, &self.grid);
+        Some(self)
     }
 
     /// The screen window, when one was given ([`Self::with_screen_window`]).
@@ -345,11 +356,13 @@ impl Camera {
             // once, so it is accepted again.
             camera = camera.clone().with_screen_window(window).unwrap_or(camera);
         }
-        camera
+        let mut camera = camera
             .with_transform_of(self.transform)
             .with_lens(self.aperture, self.focal_distance)
             .with_shutter(self.shutter.0, self.shutter.1)
-            .with_sensor(self.sensor)
+            .with_sensor(self.sensor);
+        camera.moving = self.moving.clone();
+        camera
     }
 
     /// The same camera placed by a view transform (`camera_from_world`).
@@ -361,15 +374,48 @@ impl Camera {
         self.with_transform_of(Transform::new(matrix))
     }
 
-    /// The same camera with a prepared view transform.
+    /// The same camera with a prepared view transform, standing still.
     pub fn with_transform_of(self, transform: Transform) -> Self {
         self.placed(transform)
     }
 
+    /// The same camera moving while the shutter is open: placed by its view transform at
+    /// time 0 and by `end` (a view transform too, `camera_from_world`) at time 1, in the time
+    /// of object motions (see [`Self::with_shutter`]). Between them its world-from-camera
+    /// transform is interpolated as a moving object's is, as pbrt-v4 interpolates its
+    /// camera's. `None` for a viewport camera, whose rays keep the book's unnormalised
+    /// length (the projection plane at `t = 1`), which a moving placement would stretch.
+    pub fn with_motion(mut self, end: Transform) -> Option<Self> {
+        if self.viewport.is_some() {
+            return None;
+        }
+        let inverse = |t: &Transform| Transform::try_new(t.inverse_matrix()).ok();
+        self.moving = (end != self.transform)
+            .then(|| {
+                Some(Box::new(Motion::new(
+                    inverse(&self.transform)?,
+                    inverse(&end)?,
+                )))
+            })
+            .flatten();
+        Some(self)
+    }
+
+    /// Whether the camera moves while the shutter is open ([`Self::with_motion`]).
+    pub fn moves(&self) -> bool {
+        self.moving.is_some()
+    }
+
+    /// The camera's world-from-camera transform at time 1, when it moves.
+    pub fn motion_end(&self) -> Option<&Transform> {
+        self.moving.as_ref().map(|m| m.end())
+    }
+
     /// The same camera moved as a rigid body: its eye turned by `rotation` about the world
     /// point `pivot`, and its view turned with it (a viewer's orbit). A viewport camera's
-    /// position and rotation move; another camera's view transform does. `None` when the
-    /// moved view transform cannot be inverted.
+    /// position and rotation move; another camera's view transform does, and the turned
+    /// camera stands still (a viewer turns the frame it shows). `None` when the moved view
+    /// transform cannot be inverted.
     pub fn turned_about(&self, pivot: Point3, rotation: glam::DQuat) -> Option<Self> {
         let mut camera = self.clone();
         if let Some(viewport) = &mut camera.viewport {
@@ -466,10 +512,22 @@ impl Camera {
         Some(CameraRay { ray, weight })
     }
 
-    /// `ray` at the instant `time` (in [0, 1)) of the shutter interval.
+    /// `ray` (cast from the camera's opening placement) at the instant `time` (in [0, 1)) of
+    /// the shutter interval: carried, when the camera moves, to where the camera is then
+    /// (taken back to the camera's space by the view transform, and out by the
+    /// world-from-camera transform of that instant; its direction made unit again, as every
+    /// camera ray here but a viewport's is).
+    #[inline]
     fn in_shutter(&self, ray: Ray, time: f64) -> Ray {
         let (open, close) = self.shutter;
-        ray.at_time(open + (close - open) * time)
+        let time = open + (close - open) * time;
+        let Some(motion) = &self.moving else {
+            return ray.at_time(time);
+        };
+        let moved = ray.transform(motion.at(time).matrix() * self.transform.matrix());
+        Ray::new(moved.origin, moved.direction.normalize())
+            .from_t(ray.t_min)
+            .at_time(time)
     }
 
     /// A pinhole's ray through the canvas point `(x, y)` from its [`PinholeRays`].
@@ -645,5 +703,69 @@ mod tests {
             }
         }
         assert!(precomputed_differ > 0);
+    }
+
+    /// A moving camera casts its opening placement's rays at time 0, its closing
+    /// placement's at time 1 (each camera kind: pinhole, thin lens, orthographic, spherical),
+    /// and half way through a pure translation from the point half way along it; the
+    /// shutter's interval picks the instants. A camera placed again, or turned, stands still.
+    #[test]
+    fn a_moving_camera_casts_each_instants_rays() {
+        let start = view_transform(
+            point(0.0, 1.0, -5.0),
+            point(0.0, 0.0, 0.0),
+            vector(0.0, 1.0, 0.0),
+        );
+        let end = view_transform(
+            point(2.0, 1.0, -5.0),
+            point(2.0, 0.0, 0.0),
+            vector(0.0, 1.0, 0.0),
+        );
+        let kinds = [
+            Camera::new(16, 12, 1.0),
+            Camera::new(16, 12, 1.0).with_lens(0.3, 4.0),
+            Camera::orthographic(16, 12, 2.0),
+            Camera::spherical(16, 12, SphericalMapping::Equirectangular),
+        ];
+        let close = |a: &Ray, b: &Ray| {
+            (a.origin - b.origin).length() < 1e-9 && (a.direction - b.direction).length() < 1e-9
+        };
+        for kind in kinds {
+            let moving = kind
+                .clone()
+                .with_transform(start)
+                .with_motion(Transform::new(end))
+                .expect("not a viewport camera");
+            assert!(moving.moves());
+            let (first, last) = (kind.clone().with_transform(start), kind.with_transform(end));
+            for (x, y) in [(0.5, 0.5), (7.25, 3.5), (15.0, 11.0)] {
+                let sample = |time| CameraSample {
+                    x,
+                    y,
+                    lens_u: 0.3,
+                    lens_v: 0.8,
+                    time,
+                };
+                let ray = |c: &Camera, time| c.path_ray_for_sample(&sample(time)).unwrap().ray;
+                assert!(close(&ray(&moving, 0.0), &ray(&first, 0.0)));
+                assert!(close(&ray(&moving, 1.0), &ray(&last, 1.0)));
+                let (a, b, mid) = (ray(&first, 0.5), ray(&last, 0.5), ray(&moving, 0.5));
+                assert!((mid.origin - (a.origin + b.origin) * 0.5).length() < 1e-9);
+                assert!((mid.direction - a.direction).length() < 1e-9);
+                assert_eq!(mid.time, 0.5);
+                // A shutter from 0.25 to 0.5 sees the motion between those instants.
+                let late = moving.clone().with_shutter(0.25, 0.5);
+                let r = ray(&late, 1.0);
+                assert_eq!(r.time, 0.5);
+                assert!(close(&r, &mid));
+                assert!(late.resized(16, 12).moves());
+            }
+            assert!(!moving.clone().with_transform(start).moves());
+            let turned =
+                moving.turned_about(point(0.0, 0.0, 0.0), glam::DQuat::from_rotation_y(0.1));
+            assert!(!turned.expect("a rotation").moves());
+        }
+        let viewport = Camera::viewport(8, 8, Viewport::BOOK).expect("an invertible rotation");
+        assert!(viewport.with_motion(Transform::new(end)).is_none());
     }
 }

@@ -8,8 +8,14 @@
 //! translation and stretch linearly, rotation along the great arc between two quaternions.
 //! This is the scheme of Shoemake and Duff's "Matrix animation and polar decomposition" (1992),
 //! which production renderers use for the same reason.
+//!
+//! A motion may sit between two fixed transforms, `outer · moving(t) · inner`: a shape's own
+//! placement (a sphere's radius) inside the transform that moves, and an instance's placement
+//! around it. Only the middle one is interpolated, as pbrt-v4's `AnimatedPrimitive`
+//! interpolates only its `AnimatedTransform`: interpolating the products would swing an
+//! instance's off-centre shape along a chord instead of the arc its instance turns through.
 
-use super::{Aabb, Point3, Transform};
+use super::{Aabb, Point3, SingularTransform, Transform};
 use glam::{DMat3, DMat4, DQuat, DVec3};
 
 /// One end of a motion, in parts.
@@ -64,7 +70,11 @@ impl Parts {
 pub struct Motion {
     start: Transform,
     end: Transform,
+    /// The moving transform's two ends, in parts.
     parts: [Parts; 2],
+    /// The fixed transforms before and after the moving one (`None`: the identity).
+    outer: Option<DMat4>,
+    inner: Option<Transform>,
 }
 
 impl Motion {
@@ -79,7 +89,36 @@ impl Motion {
             start,
             end,
             parts: [a, b],
+            outer: None,
+            inner: None,
         }
+    }
+
+    /// The motion from `start` to `end` applied after the fixed transform `inner` (an
+    /// object's own): `moving(t) · inner`, only `moving` interpolated.
+    pub fn after(
+        start: &Transform,
+        end: &Transform,
+        inner: &Transform,
+    ) -> Result<Self, SingularTransform> {
+        let mut motion = Self::new(*start, *end);
+        motion.start = start.then_after(inner)?;
+        motion.end = end.then_after(inner)?;
+        motion.inner = Some(*inner);
+        Ok(motion)
+    }
+
+    /// The same motion placed by the fixed transform `outer` (applied after it): an
+    /// instance's placement of a moving shape.
+    pub fn placed_by(&self, outer: &Transform) -> Result<Self, SingularTransform> {
+        let mut motion = self.clone();
+        motion.start = outer.then_after(&self.start)?;
+        motion.end = outer.then_after(&self.end)?;
+        motion.outer = Some(match self.outer {
+            Some(m) => outer.matrix() * m,
+            None => outer.matrix(),
+        });
+        Ok(motion)
     }
 
     /// The transform when the shutter opens.
@@ -112,7 +151,14 @@ impl Motion {
             rotation: a.rotation.slerp(b.rotation, time),
             stretch: a.stretch * (1.0 - time) + b.stretch * time,
         };
-        Transform::try_new(parts.matrix()).unwrap_or(if time < 0.5 { self.start } else { self.end })
+        let mut m = parts.matrix();
+        if let Some(outer) = self.outer {
+            m = outer * m;
+        }
+        if let Some(inner) = self.inner {
+            m *= inner.matrix();
+        }
+        Transform::try_new(m).unwrap_or(if time < 0.5 { self.start } else { self.end })
     }
 
     /// A box around `local` (an object-space box) at every instant of the motion.
@@ -120,7 +166,9 @@ impl Motion {
     /// The box is sampled at evenly spaced times and then widened by how far any corner can
     /// travel between two samples: its speed is at most the translation's change, plus the
     /// rotation's angle times the corner's largest distance from the pivot, plus the stretch's
-    /// change applied to it; any instant is within half a step of a sample.
+    /// change applied to it (the corners of the box `inner` makes of `local`, and the speed
+    /// scaled by at most `outer`'s largest stretch, which its Frobenius norm bounds); any
+    /// instant is within half a step of a sample.
     pub fn bounds(&self, local: &Aabb) -> Aabb {
         const STEPS: usize = 32;
         if local.is_empty() {
@@ -133,6 +181,10 @@ impl Motion {
         if !(local.min.is_finite() && local.max.is_finite()) {
             return out;
         }
+        let local = match self.inner {
+            Some(inner) => local.transform(&inner),
+            None => *local,
+        };
         let [a, b] = &self.parts;
         let angle = a.rotation.angle_between(b.rotation);
         let mut speed: f64 = 0.0;
@@ -159,6 +211,10 @@ impl Motion {
             speed = speed.max(angle * reach + stretch_change);
         }
         speed += (b.translation - a.translation).length();
+        if let Some(outer) = self.outer {
+            let linear = DMat3::from_mat4(outer).to_cols_array();
+            speed *= linear.iter().map(|c| c * c).sum::<f64>().sqrt();
+        }
         let pad = DVec3::splat(speed / (2.0 * STEPS as f64));
         Aabb::new(out.min - pad, out.max + pad)
     }

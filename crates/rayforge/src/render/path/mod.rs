@@ -166,9 +166,9 @@ fn filter_offset(filter: PixelFilter, [u, v]: [f64; 2]) -> (f64, f64, f64) {
 }
 
 /// Where a pixel's samples come from: the camera, the pixel filter, and whether the world
-/// stands still before a pinhole (then no lens point nor instant is drawn); and what the
-/// film records of each sample's radiance (the camera's sensor, `None` for the identity,
-/// which then costs nothing).
+/// stands still before a pinhole that stands still too (then no lens point nor instant is
+/// drawn); and what the film records of each sample's radiance (the camera's sensor, `None`
+/// for the identity, which then costs nothing).
 struct CameraSampler<'c> {
     camera: &'c Camera,
     filter: PixelFilter,
@@ -179,7 +179,9 @@ struct CameraSampler<'c> {
 impl<'c> CameraSampler<'c> {
     /// The sampler of `camera` over `world` with `filter`.
     fn new(camera: &'c Camera, world: &World, filter: PixelFilter) -> Self {
-        let still = !camera.samples_lens() && world.objects.iter().all(|o| o.motion.is_none());
+        let still = !camera.samples_lens()
+            && !camera.moves()
+            && world.objects.iter().all(|o| o.motion.is_none());
         let sensor = Some(*camera.sensor()).filter(|s| !s.is_identity());
         Self {
             camera,
