@@ -1,7 +1,7 @@
 //! A read [`Description`] built into rayforge's [`Scene`]: the world's objects (each shape
 //! with its material, its area light's emission, and its transform; named objects placed at
-//! each `ObjectInstance`, sharing their meshes), its lights and sky, the camera and the path
-//! tracer's options.
+//! each `ObjectInstance`, sharing their meshes; moving shapes, instances and camera as
+//! [`motion`] places them), its lights and sky, the camera and the path tracer's options.
 
 use super::area_power;
 use super::camera;
@@ -10,13 +10,13 @@ use super::input::Files;
 use super::lights::{self, Lit};
 use super::materials;
 use super::media;
+use super::motion;
 use super::reader::{Description, Entity, MaterialRef, ShapeEntity};
 use super::shapes::{self, Built};
 use super::textures::{self, SceneTextures};
 use crate::budget::Budget;
 use crate::error::SceneError;
 use crate::scene::{LoadOptions, Scene};
-use glam::DMat4;
 use rayforge::draw2d::Overlay;
 use rayforge::shading::texture_graph::{FloatInput, SurfaceTextures};
 use rayforge::shading::EmissionSide;
@@ -122,7 +122,6 @@ pub fn scene(
         let placed = place(
             shape,
             files,
-            &DMat4::IDENTITY,
             !boundary,
             &mut cache,
             &mut triangles,
@@ -164,7 +163,6 @@ pub fn scene(
                 objects.extend(place(
                     shape,
                     files,
-                    &DMat4::IDENTITY,
                     false,
                     &mut cache,
                     &mut triangles,
@@ -178,23 +176,34 @@ pub fn scene(
             }
             defined.insert(used.name.as_str(), objects);
         }
-        let parent = Transform::try_new(used.world_from_instance).map_err(|_| {
+        let singular = || {
             used.loc.error(
                 Some("ObjectInstance"),
                 "the object is placed by a singular transform",
             )
-        })?;
+        };
+        let parent = Transform::try_new(used.world_from_instance).map_err(|_| singular())?;
+        let parent_end = used
+            .world_from_instance_end
+            .map(Transform::try_new)
+            .transpose()
+            .map_err(|_| singular())?;
         for object in &defined[used.name.as_str()] {
             used.loc.stopped(files.stop(), "ObjectInstance")?;
             budget
                 .spend()
                 .map_err(|e| used.loc.error(Some("ObjectInstance"), e))?;
-            let placed = object.placed_by(&parent).map_err(|_| {
-                used.loc.error(
+            let (placed, approximate) =
+                motion::instance(object, &parent, parent_end.as_ref()).map_err(|_| singular())?;
+            if approximate && !noted.nested_motion {
+                noted.nested_motion = true;
+                warnings.push(used.loc.error(
                     Some("ObjectInstance"),
-                    "the object is placed by a singular transform",
-                )
-            })?;
+                    "a moving shape in an instance that moves otherwise than by a \
+                     translation: rayforge interpolates the product of the two motions, \
+                     pbrt-v4 each one apart, and the paths between the ends differ",
+                ));
+            }
             world.objects.push(placed);
         }
     }
@@ -289,6 +298,7 @@ pub fn scene(
         max_depth,
         max_depth_at,
     } = setup;
+    let camera = motion::camera(camera, &desc)?;
     Ok(Scene {
         overlay: Overlay::new(Vec::new(), camera.hsize(), camera.vsize()),
         world,
@@ -311,17 +321,17 @@ use camera::Setup;
 /// Which once-per-scene warnings were given.
 #[derive(Default)]
 struct Notes {
-    motion: bool,
+    moving_light: bool,
+    nested_motion: bool,
     instanced_light: bool,
 }
 
-/// The objects of `shape` placed by `parent` after its own transform, with its material and,
-/// where `lit` (not in an object's definition) and it has one, its area light's emission.
+/// The objects of `shape` placed by its transform (moving, where it moves), with its material
+/// and, where `lit` (not in an object's definition) and it has one, its area light's emission.
 #[allow(clippy::too_many_arguments)]
 fn place(
     shape: &ShapeEntity,
     files: &Files,
-    parent: &DMat4,
     lit: bool,
     cache: &mut MaterialCache<'_>,
     triangles: &mut usize,
@@ -345,11 +355,17 @@ fn place(
         Built::Objects(objects, area) => (objects, area, None),
         Built::Patches(objects, area, patches) => (objects, area, Some(patches)),
     };
-    if shape.moving && !noted.motion {
-        noted.motion = true;
+    if shape.world_from_object_end.is_some()
+        && shape.area_light.is_some()
+        && lit
+        && !noted.moving_light
+        && !media::is_boundary(cache.desc, &shape.material)
+    {
+        noted.moving_light = true;
         warnings.push(entity.error(
-            "motion blur (`ActiveTransform`) is not rendered: moving shapes stand where they \
-             are when the shutter opens",
+            "an area light on a moving shape, which pbrt-v4 refuses (\"Animated area lights \
+             are not supported\"): rayforge renders it moving, its light where the shape is \
+             at each ray's instant",
         ));
     }
     let mut material = cache.get(&shape.material, warnings)?;
@@ -364,14 +380,17 @@ fn place(
             material.textures = Some(Box::new(surface));
         }
     }
-    let world_from_object = *parent * shape.world_from_object;
-    let transform = Transform::try_new(world_from_object)
-        .map_err(|_| entity.error("the shape is placed by a singular transform"))?;
+    let world_from_object = shape.world_from_object;
+    let singular = || entity.error("the shape is placed by a singular transform");
+    let transform = Transform::try_new(world_from_object).map_err(|_| singular())?;
+    let end = shape
+        .world_from_object_end
+        .map(Transform::try_new)
+        .transpose()
+        .map_err(|_| singular())?;
     let place = |object: Object, material: Material| {
-        object
-            .with_material(material)
-            .placed_by(&transform)
-            .map_err(|_| entity.error("the shape is placed by a singular transform"))
+        motion::place(object.with_material(material), &transform, end.as_ref())
+            .map_err(|_| singular())
     };
     let Some(area_light) = shape.area_light.as_ref().filter(|_| lit) else {
         // (A boundary's light is ignored with a warning of its own.)

@@ -61,7 +61,7 @@ pub struct Setup {
 }
 
 /// From pbrt's camera space to the book's: x and z negated.
-const PBRT_TO_BOOK_CAMERA: DMat4 = DMat4::from_cols(
+pub(crate) const PBRT_TO_BOOK_CAMERA: DMat4 = DMat4::from_cols(
     DVec4::new(-1.0, 0.0, 0.0, 0.0),
     DVec4::new(0.0, 1.0, 0.0, 0.0),
     DVec4::new(0.0, 0.0, -1.0, 0.0),

@@ -7,7 +7,7 @@
 //! its stack ([`reader`]), then the build ([`build`]) of the camera and options ([`camera`]),
 //! the film's sensor ([`sensor`]),
 //! shapes ([`shapes`]), materials ([`materials`]), lights ([`lights`]), textures
-//! ([`textures`]) and spectra ([`spectra`]). Every error names the file, line, column and directive or parameter; a
+//! ([`textures`]), spectra ([`spectra`]) and motion blur ([`motion`]). Every error names the file, line, column and directive or parameter; a
 //! parameter nothing reads is a warning naming its line, as pbrt-v4 warns. What is read, what
 //! is approximated and what is refused is listed in `docs/scene-format.md` ("pbrt-v4 scenes").
 //!
@@ -32,6 +32,7 @@ mod loop_subdiv;
 mod materials;
 mod measured_media;
 mod media;
+mod motion;
 mod params;
 mod reader;
 pub(crate) mod sensor;

@@ -9,6 +9,12 @@
 //! and objects are global, not part of the state. `Include` reads a file in place; `Import`
 //! too, its graphics state left behind when it ends, as pbrt-v4's import builds with a copy.
 //! Every file name resolves in the top-level file's folder, as pbrt-v4 resolves it.
+//!
+//! The current transformation matrix is a pair, the transform at `TransformTimes`' start and
+//! at its end; `ActiveTransform` picks which of them the transform directives change. A
+//! shape, an object instance or the camera given under a pair that differs moves (motion
+//! blur); a light, a medium or a texture stands at the start transform, with a warning, as
+//! pbrt-v4 has them (`BasicScene::AddLight`, `AddMedium`, and its textures).
 
 use super::input::{Files, Loc};
 use super::lexer::Kind;
@@ -63,10 +69,10 @@ pub enum MaterialRef {
 pub struct ShapeEntity {
     /// The directive.
     pub entity: Entity,
-    /// From the shape's space to the world (at the shutter's opening).
+    /// From the shape's space to the world at `TransformTimes`' start.
     pub world_from_object: DMat4,
-    /// Whether its transform moves while the shutter is open (`ActiveTransform`).
-    pub moving: bool,
+    /// The same at its end, where that differs: the shape moves (`ActiveTransform`).
+    pub world_from_object_end: Option<DMat4>,
     /// `ReverseOrientation` in force: the shape's front is its other side.
     pub reverse: bool,
     /// Its material.
@@ -117,15 +123,47 @@ pub struct InstanceUse {
     pub name: String,
     /// Where `ObjectInstance` is.
     pub loc: Loc,
-    /// From the object's space to the world.
+    /// From the object's space to the world at `TransformTimes`' start.
     pub world_from_instance: DMat4,
+    /// The same at its end, where that differs: the instance moves.
+    pub world_from_instance_end: Option<DMat4>,
+}
+
+/// `TransformTimes`: the instants of the transform pair's two ends (pbrt-v4's default 0 and
+/// 1), and where they were given.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TransformTimes {
+    /// When the first transform holds.
+    pub start: f64,
+    /// When the second does.
+    pub end: f64,
+    /// The directive (`None`: the default).
+    pub loc: Option<Loc>,
+}
+
+impl Default for TransformTimes {
+    fn default() -> Self {
+        Self {
+            start: 0.0,
+            end: 1.0,
+            loc: None,
+        }
+    }
 }
 
 /// The options block: what comes before `WorldBegin`.
 #[derive(Debug, Default)]
 pub struct Options {
-    /// `Camera`, with its camera-from-world transform.
+    /// `Camera`, with its camera-from-world transform (at `TransformTimes`' start).
     pub camera: Option<(Entity, DMat4)>,
+    /// The camera's camera-from-world transform at `TransformTimes`' end, where that differs:
+    /// the camera moves.
+    pub camera_end: Option<DMat4>,
+    /// The `TransformTimes` in force at `Camera`, which its two transforms hold at.
+    pub camera_times: TransformTimes,
+    /// The last `TransformTimes` (it is read only before `WorldBegin`): the times of the
+    /// world's transform pairs.
+    pub transform_times: TransformTimes,
     /// `Film`.
     pub film: Option<Entity>,
     /// `Sampler`.
@@ -356,6 +394,23 @@ impl Reader<'_> {
         })
     }
 
+    /// The current transform at `TransformTimes`' end, where it differs from the start's.
+    fn moving_end(&self) -> Option<DMat4> {
+        let [start, end] = self.state.ctm;
+        (start != end).then_some(end)
+    }
+
+    /// Warns that `entity`, a `what` (light, medium, texture), is given under a moving
+    /// transform and stands where the start transform puts it, as pbrt-v4 does.
+    fn note_animated(&mut self, entity: &Entity, what: &str) {
+        if self.moving_end().is_some() {
+            self.warn(entity.error(format!(
+                "the transform moves (`ActiveTransform`), and a {what} does not: it stands \
+                 where the start transform puts it, as in pbrt-v4"
+            )));
+        }
+    }
+
     /// Applies `f` to the active transforms.
     fn transform(&mut self, f: impl Fn(DMat4) -> DMat4) {
         for i in 0..2 {
@@ -466,7 +521,12 @@ impl Reader<'_> {
             }
             "TransformTimes" => {
                 self.options_block(name, &loc)?;
-                stream.numbers::<2>(name)?;
+                let [start, end] = stream.numbers::<2>(name)?;
+                self.out.options.transform_times = TransformTimes {
+                    start,
+                    end,
+                    loc: Some(loc),
+                };
             }
             "Identity" => self.transform(|_| DMat4::IDENTITY),
             "Translate" => {
@@ -558,9 +618,17 @@ impl Reader<'_> {
                 {
                     return Err(entity.error("the transform before `Camera` is singular"));
                 }
+                let camera_end = self.moving_end();
+                if camera_end.is_some_and(|m| m.determinant().abs() < 1e-300 || !m.is_finite()) {
+                    return Err(entity.error(
+                        "the transform before `Camera` is singular at `TransformTimes`' end",
+                    ));
+                }
                 self.named_systems
                     .insert("camera".into(), self.state.ctm.map(|m| m.inverse()));
                 self.out.options.camera = Some((entity, camera_from_world));
+                self.out.options.camera_end = camera_end;
+                self.out.options.camera_times = self.out.options.transform_times.clone();
                 // pbrt-v4: the camera sits in the outside medium of the interface in force.
                 self.out.options.camera_medium = self.state.media.clone();
             }
@@ -667,6 +735,7 @@ impl Reader<'_> {
                 }
                 let attributes = self.state.attributes[4].clone();
                 let entity = self.entity(stream, "Texture", loc, &attributes)?;
+                self.note_animated(&entity, "texture");
                 // Float and spectrum textures have a name space each, as in pbrt-v4.
                 let key = (kind.clone(), texture.clone());
                 if self.out.texture_index.contains_key(&key) {
@@ -686,6 +755,7 @@ impl Reader<'_> {
             "MakeNamedMedium" => {
                 let attributes = self.state.attributes[3].clone();
                 let entity = self.entity(stream, "MakeNamedMedium", loc, &attributes)?;
+                self.note_animated(&entity, "medium");
                 if self.out.media.contains_key(&entity.name) {
                     return Err(
                         entity.error(format!("the medium \"{}\" is made twice", entity.name))
@@ -715,6 +785,7 @@ impl Reader<'_> {
                 self.world_block(name, &loc)?;
                 let attributes = self.state.attributes[1].clone();
                 let entity = self.entity(stream, "LightSource", loc, &attributes)?;
+                self.note_animated(&entity, "light");
                 self.out.lights.push(LightEntity {
                     entity,
                     world_from_light: self.state.ctm[0],
@@ -733,7 +804,7 @@ impl Reader<'_> {
                 let shape = ShapeEntity {
                     entity,
                     world_from_object: self.state.ctm[0],
-                    moving: self.state.ctm[0] != self.state.ctm[1],
+                    world_from_object_end: self.moving_end(),
                     reverse: self.state.reverse,
                     material: self.state.material.clone(),
                     area_light: self.state.area_light.clone(),
@@ -777,6 +848,7 @@ impl Reader<'_> {
                     name: object,
                     loc,
                     world_from_instance: self.state.ctm[0],
+                    world_from_instance_end: self.moving_end(),
                 });
             }
             _ => {
