@@ -849,3 +849,51 @@ fn a_curve_refuses_what_it_cannot_be_at_its_parameter() {
     let e = rayforge_scene::load_file_with(&path, &options(7)).unwrap_err();
     assert_at(&e, 3, 1, "Shape", "--max-triangles");
 }
+
+/// The mean green of a 64 × 64 orthographic view of `curves` at z = 1 (diffuse, reflectance
+/// 0.5) lit only by a distant light of irradiance π shining `to` (from the camera's side):
+/// each point on a curve sends 0.5 × cos of its normal's angle to the light.
+fn lit_from_the_camera(curves: &str, to: &str) -> f64 {
+    let scene = load(&format!(
+        "Camera \"orthographic\"\nPixelFilter \"box\"\n\
+         Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 64\nWorldBegin\n\
+         LightSource \"distant\" \"point3 from\" [0 0 0] \"point3 to\" [{to}] \
+         \"rgb L\" [3.14159265 3.14159265 3.14159265]\n\
+         Material \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]\n{curves}"
+    ));
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let img = support::render(&scene, 64, 64, 16).resolve();
+    let mut sum = 0.0;
+    for y in 0..64 {
+        for x in 0..64 {
+            sum += img.pixel_at(x, y).green;
+        }
+    }
+    sum / 4096.0
+}
+
+/// The path tracer shades a curve by its material at the hit's normal: a flat curve faces
+/// the camera and the light behind it, so it sends 0.5 over its whole width; a cylinder's
+/// normal turns from −90° to +90° across it, so it sends 0.5 cos θ, 2/π of that on average
+/// (a tube's shading). Lit from 40° off the view, a flat curve sends 0.5 cos 40° over its
+/// whole width: the shadow rays leaving it do not meet it again, though it turns to face
+/// them. Within 4 % (the curves' edge pixels).
+#[test]
+fn curves_are_shaded_by_their_material_at_their_normal() {
+    let share = 8.0 * 0.05 * 0.7 / 4.0;
+    let flat = lit_from_the_camera(&fan("flat", 0.05, None), "0 0 1");
+    assert!((flat - 0.5 * share).abs() < 0.04 * 0.5 * share, "{flat}");
+    let (s, c) = 40f64.to_radians().sin_cos();
+    let slanted = lit_from_the_camera(&fan("flat", 0.05, None), &format!("{s} 0 {c}"));
+    let expected = 0.5 * c * share;
+    assert!(
+        (slanted - expected).abs() < 0.04 * expected,
+        "{slanted} vs {expected}"
+    );
+    let cylinder = lit_from_the_camera(&fan("cylinder", 0.05, None), "0 0 1");
+    let tube = 0.5 * share * 2.0 / std::f64::consts::PI;
+    assert!(
+        (cylinder - tube).abs() < 0.04 * tube,
+        "{cylinder} vs {tube}"
+    );
+}

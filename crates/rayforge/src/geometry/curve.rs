@@ -5,11 +5,14 @@
 //! (de Casteljau) until each piece is nearly straight (to a twentieth of the width, pbrt's
 //! rule for the depth, at most 10 splits). A straight piece is hit where the ray's foot on
 //! its chord lies between the planes through its ends perpendicular to its end tangents and
-//! within half the width of the curve there; the hit's t is the depth of that curve point.
+//! within half the width of the curve there; the hit's t is the depth of that curve point,
+//! taken only beyond the curve's width from the ray's origin (a ray leaving a curve must not
+//! meet it again: pbrt-v4 starts such rays beyond the width it bounds the hit's error by).
 //!
 //! Three kinds, as pbrt-v4's `type`: `Flat` faces the ray (its normal is the ray's direction
 //! made perpendicular to the tangent), `Cylinder` is hit as `Flat` but its normal turns about
-//! the tangent from −90° at one edge to +90° at the other (a tube's), and `Ribbon` is oriented
+//! the tangent from −90° at one edge to +90° at the other (a tube's, turned as pbrt-v4 turns
+//! it: leaning in across the band, see [`Curve::normal`]), and `Ribbon` is oriented
 //! by normals at its ends (slerped along it): its width shrinks with the cosine between that
 //! normal and the ray. u runs along the segment, v across it from 0 to 1 (pbrt-v4's uv).
 //!
@@ -362,7 +365,13 @@ impl Curve {
         }
         let (pc, dpc) = evaluate(cp, w.clamp(0.0, 1.0));
         let dist2 = pc.x * pc.x + pc.y * pc.y;
-        if dist2 > 0.25 * width * width || pc.z < span.z_min || pc.z >= span.z_max {
+        // Nothing nearer the ray's origin than the curve is wide there: a ray leaving a flat
+        // curve meets the same band turned to face it, within half its width of its origin
+        // (a ribbon's likewise), so without this every shadow ray would shadow its own
+        // curve. pbrt-v4 bounds a curve hit's error by its width and starts the rays that
+        // leave it beyond that, which comes to the same.
+        let near = span.z_min.max(self.width_at(u));
+        if dist2 > 0.25 * width * width || pc.z < near || pc.z >= span.z_max {
             return;
         }
         if best.is_some_and(|(z, _, _)| pc.z >= z) {
@@ -393,11 +402,14 @@ impl Curve {
         };
         match self.kind {
             CurveKind::Cylinder => {
-                // Turn about the tangent, from −90° at v = 0 to +90° at v = 1; the side
-                // direction is the one v grows towards.
+                // Turn about the tangent by θ from −90° at v = 0 to +90° at v = 1, as
+                // pbrt-v4 turns its dpdv: towards the side v grows to at v = 0, so that the
+                // normal at each edge leans in across the band. That is a tube seen from
+                // inside (a lamp to one side lights the far half of the band), and pbrt-v4's
+                // renders are so: kept, for the pbrt reader's pictures to be pbrt-v4's.
                 let across = t.cross(flat);
                 let theta = (v - 0.5) * std::f64::consts::PI;
-                (flat * theta.cos() + across * theta.sin()).normalize()
+                (flat * theta.cos() - across * theta.sin()).normalize()
             }
             _ => flat,
         }
@@ -448,6 +460,16 @@ mod tests {
             assert!(((a.v - 0.5).abs() - y.abs() / 0.2).abs() < 1e-9);
             let n = flat.normal(a.u, a.v, r.direction);
             assert!((n - Vec3::Z).length() < 1e-12);
+            // A cylinder's normal leans in across the band, pbrt-v4's way: at the edge on
+            // +y towards −y, at v = ½ it is the flat one's.
+            let cylinder = straight(CurveKind::Cylinder, 0.2);
+            let n = cylinder.normal(a.u, a.v, r.direction);
+            let lean = (a.v - 0.5).abs() * std::f64::consts::PI;
+            assert!((n.z - lean.cos()).abs() < 1e-9, "{n:?}");
+            assert!(
+                (n.y + y.signum() * lean.sin()).abs() < 1e-9 || y == 0.0,
+                "{n:?}"
+            );
         }
         for y in [0.101, -0.2, 0.5] {
             let r = ray(Point3::new(0.1, y, 5.0), Vec3::new(0.0, 0.0, -1.0));
@@ -457,6 +479,29 @@ mod tests {
         // Nothing behind the span.
         let r = ray(Point3::new(0.1, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
         assert!(flat.intersect(&r, 4.9).is_none());
+    }
+
+    /// A ray leaving a point of a curve, flat or ribbon, at any angle does not meet the
+    /// curve it leaves (a flat one turns to face it), and one starting well clear still does.
+    #[test]
+    fn rays_leaving_a_curve_do_not_meet_it_again() {
+        for kind in [CurveKind::Flat, CurveKind::Cylinder, CurveKind::Ribbon] {
+            let c = straight(kind, 0.2);
+            for (y, d) in [
+                (0.09, Vec3::new(0.0, -1.0, 1.0)),
+                (-0.09, Vec3::new(0.0, 1.0, 0.3)),
+                (0.0, Vec3::new(0.3, 0.5, 1.0)),
+                (0.05, Vec3::new(0.0, -1.0, -0.2)),
+            ] {
+                let r = ray(Point3::new(0.2, y, 0.0), d);
+                assert!(
+                    c.intersect(&r, f64::INFINITY).is_none(),
+                    "{kind:?} {y} {d:?}"
+                );
+                let back = ray(r.position(-10.0), d);
+                assert!(c.intersect(&back, f64::INFINITY).is_some() || kind == CurveKind::Ribbon);
+            }
+        }
     }
 
     /// Seen at 45° about its axis, a ribbon is hit only within its real half width of the
