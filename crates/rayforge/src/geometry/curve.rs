@@ -265,7 +265,8 @@ impl Curve {
         (((1.0 - u) * angle).sin() / s * n0 + (u * angle).sin() / s * n1).normalize_or_zero()
     }
 
-    /// The nearest hit on the piece with `ray.t_min <= t < t_max`, if any.
+    /// The nearest hit on the piece with `ray.t_min <= t < t_max`, if any, no nearer the ray's
+    /// origin than the curve's width there (see the [module](self)).
     pub fn intersect(&self, ray: &Ray, t_max: f64) -> Option<CurveHit> {
         let length = ray.direction.length();
         if length == 0.0 {

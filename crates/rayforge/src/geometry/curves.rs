@@ -125,9 +125,10 @@ impl Curves {
             });
     }
 
-    /// Each part's nearest hit with `t <= t_max`, negative ones included (what the Whitted
-    /// renderer's lists of hits take): a curve has no inside, so one hit a part is all its
-    /// containers need, as pbrt-v4 reports one.
+    /// Each part's nearest hit with `t <= t_max` (what the Whitted renderer's lists of hits
+    /// take): a curve has no inside, so one hit a part is all its containers need, as pbrt-v4
+    /// reports one. None lies behind the ray's origin, nor within the curve's width ahead of
+    /// it (see [`Curve::intersect`]): a curve has no inside that a hit behind could tell of.
     pub fn intersect_up_to(&self, ray: &Ray, t_max: f64, mut hit: impl FnMut(LocalHit)) {
         self.walk(ray, f64::NEG_INFINITY, f64::INFINITY, |curve, i, h, _| {
             if h.t <= t_max {
@@ -137,10 +138,17 @@ impl Curves {
         });
     }
 
-    /// The nearest hit with `t_min <= t < t_max`: farther boxes are skipped once one is found.
+    /// The nearest hit with `t_min <= t < t_max`: farther boxes are skipped once one is
+    /// found, and the normal is found for the nearest alone.
     #[inline]
     pub fn closest_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<LocalHit> {
-        self.closest_hit_where(ray, t_min, t_max, |_| true)
+        let mut best = None;
+        self.walk(ray, t_min, t_max, |_, i, h, limit| {
+            *limit = h.t;
+            best = Some((i, h));
+            ControlFlow::Continue(())
+        });
+        best.map(|(i, h)| Self::record(&self.part(i), i, ray, h))
     }
 
     /// [`Curves::closest_hit`] among the hits that `keep` accepts (an alpha texture's holes):
@@ -255,6 +263,14 @@ mod tests {
                 let found = curves.closest_hit(&ray, 0.0, f64::INFINITY);
                 assert_eq!(found.map_or(f64::INFINITY, |h| h.t), brute);
                 assert_eq!(curves.any_hit(&ray, 0.0, f64::INFINITY), found.is_some());
+                assert_eq!(
+                    curves.closest_hit_where(&ray, 0.0, f64::INFINITY, |_| true),
+                    found
+                );
+                // Refusing every hit leaves none.
+                assert!(curves
+                    .closest_hit_where(&ray, 0.0, f64::INFINITY, |_| false)
+                    .is_none());
                 if let Some(h) = found {
                     hits += 1;
                     assert!(h.normal.dot(d) < 0.0, "{h:?}");
