@@ -897,3 +897,51 @@ fn curves_are_shaded_by_their_material_at_their_normal() {
         "{cylinder} vs {tube}"
     );
 }
+
+/// The Whitted ray tracer meets curves as the path tracer does: in a 128 × 128 view of the
+/// fan, flat, lit by a dim distant light along the view on a black background (no pixel
+/// saturates; 16 rays a pixel), a flat curve lit face on is lit evenly, so the image's sum
+/// over its brightest pixel is the area the fan covers, its share (within 4 %); and the
+/// cylinder fan lights the same pixels (the same silhouette; within 2 %), dimmer (its normal
+/// turns from the light towards its edges).
+#[test]
+fn the_whitted_ray_tracer_draws_curves_too() {
+    let view = |kind: &str| {
+        let scene = load(&format!(
+            "Camera \"orthographic\"\n\
+             Film \"rgb\" \"integer xresolution\" 128 \"integer yresolution\" 128\nWorldBegin\n\
+             LightSource \"distant\" \"point3 from\" [0 0 0] \"point3 to\" [0 0 1] \
+             \"rgb L\" [0.3 0.3 0.3]\n\
+             Material \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]\n{}",
+            fan(kind, 0.05, None)
+        ));
+        // A 4 × 4 grid of rays a pixel: one through each centre would count the curves lying
+        // along the pixel rows in whole rows.
+        let options = rayforge::render::RenderOptions {
+            sampling: rayforge::render::Sampling::with_samples(16),
+            ..Default::default()
+        };
+        let (canvas, _) = rayforge::render::render(&scene.camera, &scene.world, &options);
+        let pixels: Vec<f64> = (0..128 * 128)
+            .map(|i| canvas.pixel_at(i % 128, i / 128).green)
+            .collect();
+        let brightest = pixels.iter().copied().fold(0.0, f64::max);
+        assert!(brightest > 0.0 && brightest < 0.9, "{brightest}");
+        let n = (128 * 128) as f64;
+        let lit = pixels.iter().filter(|&&g| g > 1e-9).count() as f64 / n;
+        let mean = pixels.iter().sum::<f64>() / n;
+        (mean / brightest, lit, mean)
+    };
+    let share = 8.0 * 0.05 * 0.7 / 4.0;
+    let (flat, flat_any, flat_mean) = view("flat");
+    assert!((flat - share).abs() < 0.04 * share, "{flat} vs {share}");
+    let (_, cylinder_any, cylinder_mean) = view("cylinder");
+    assert!(
+        cylinder_mean < 0.8 * flat_mean,
+        "{cylinder_mean} vs {flat_mean}"
+    );
+    assert!(
+        (cylinder_any - flat_any).abs() < 0.02 * flat_any,
+        "{cylinder_any} vs {flat_any}"
+    );
+}
