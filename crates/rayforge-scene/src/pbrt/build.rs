@@ -137,6 +137,7 @@ pub fn scene(
     }
     // Named objects: each built once, its meshes shared by every use.
     let mut defined: HashMap<&str, Vec<Object>> = HashMap::new();
+    let render_origin = motion::render_origin(&desc);
     for used in &desc.instances {
         let Some((shapes, _)) = desc.objects.get(&used.name) else {
             return Err(used.loc.error(
@@ -194,7 +195,8 @@ pub fn scene(
                 .spend()
                 .map_err(|e| used.loc.error(Some("ObjectInstance"), e))?;
             let (placed, approximate) =
-                motion::instance(object, &parent, parent_end.as_ref()).map_err(|_| singular())?;
+                motion::instance(object, &parent, parent_end.as_ref(), render_origin)
+                    .map_err(|_| singular())?;
             if approximate && !noted.nested_motion {
                 noted.nested_motion = true;
                 warnings.push(used.loc.error(

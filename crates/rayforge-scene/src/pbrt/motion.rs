@@ -14,14 +14,18 @@
 //! What moves is what pbrt-v4 moves: shapes (an `AnimatedPrimitive` over the shape built in
 //! its own space, so that only the moving transform is interpolated, not the shape's own
 //! placement with it), object instances (the whole instance, its shapes swinging about its
-//! origin) and the camera (its world-from-camera transform). A moving shape with an area
+//! origin) and the camera (its world-from-camera transform). pbrt-v4 interpolates an
+//! instance's motion in its render space, the world moved so that the camera's eye (at the
+//! middle of the camera's times) is the origin (its default `cameraworld`): the instance's
+//! translation runs straight there, not in the world, which matters where it turns, and
+//! rayforge interpolates it there too. A moving shape with an area
 //! light, which pbrt-v4 refuses, is rendered moving, its light sampled where it is at each
 //! ray's instant; lights, media and textures under a moving transform stand at its start,
 //! with the reader's warning, as in pbrt-v4.
 
 use super::reader::{Description, TransformTimes};
 use crate::error::SceneError;
-use glam::DMat3;
+use glam::{DMat3, DMat4, DVec3};
 use rayforge::math::{Motion, SingularTransform};
 use rayforge::{Camera, Object, Transform};
 
@@ -115,8 +119,26 @@ pub fn place(
     })
 }
 
+/// The origin of pbrt-v4's render space (`cameraworld`) in the world: the camera's eye at the
+/// middle of its times, its world-from-camera transform interpolated there (pbrt-v4's
+/// `CameraTransform`).
+pub fn render_origin(desc: &Description) -> DVec3 {
+    let Some((_, camera_from_world)) = &desc.options.camera else {
+        return DVec3::ZERO;
+    };
+    let world_from = |m: &DMat4| Transform::try_new(m.inverse()).ok();
+    let start = world_from(camera_from_world);
+    let end = desc.options.camera_end.as_ref().and_then(world_from);
+    match (start, end) {
+        (Some(start), Some(end)) => Motion::new(start, end).at(0.5).point(DVec3::ZERO),
+        (Some(start), None) => start.point(DVec3::ZERO),
+        _ => DVec3::ZERO,
+    }
+}
+
 /// `object` of a named object's definition placed by an `ObjectInstance` whose transform is
-/// `start`, moving to `end` where it moves. Returns the placed object, and whether it is only
+/// `start`, moving to `end` where it moves, interpolated in pbrt-v4's render space, whose
+/// origin is the world's point `origin` ([`render_origin`]). Returns the placed object, and whether it is only
 /// approximately pbrt-v4's: a moving shape in an instance moving otherwise than by a
 /// translation, whose two motions pbrt-v4 interpolates one by one and rayforge as their
 /// product (the two agree where the instance only translates).
@@ -124,6 +146,7 @@ pub fn instance(
     object: &Object,
     start: &Transform,
     end: Option<&Transform>,
+    origin: DVec3,
 ) -> Result<(Object, bool), SingularTransform> {
     match (&object.motion, end) {
         (Some(own), None) => {
@@ -135,7 +158,22 @@ pub fn instance(
             };
             Ok((placed, false))
         }
-        (None, end) => Ok((place(object.clone(), start, end)?, false)),
+        (None, None) => Ok((object.placed_by(start)?, false)),
+        (None, Some(end)) => {
+            // world(t) = to_world · moving(t) · to_render · own, `moving` between the ends
+            // seen in render space.
+            let to_render = Transform::try_new(DMat4::from_translation(-origin))?;
+            let to_world = Transform::try_new(DMat4::from_translation(origin))?;
+            let seen = |t: &Transform| to_render.then_after(&t.then_after(&to_world)?);
+            let inner = to_render.then_after(&object.transform)?;
+            let motion = Motion::after(&seen(start)?, &seen(end)?, &inner)?.placed_by(&to_world)?;
+            let placed = Object {
+                transform: *motion.start(),
+                motion: Some(Box::new(motion)),
+                ..object.clone()
+            };
+            Ok((placed, false))
+        }
         (Some(_), Some(end)) => {
             let turns = DMat3::from_mat4(start.matrix()) != DMat3::from_mat4(end.matrix());
             Ok((object.placed_by_moving(start, end)?, turns))
