@@ -320,6 +320,17 @@ fn an_error_in_a_file_of_carriage_returns_shows_the_line_it_names() {
     assert!(err.contains("12 │ - add: sphere"), "{err}");
 }
 
+/// Renders `scene` under one limit, `[flag, value]`, and checks the refusal: exit status 2, an
+/// error naming the flag and the place `at` (`file:line:`), and no image written.
+fn refused_at(scene: &Path, out: &Path, limit: &[&str; 2], at: &str) {
+    let o = render(scene, out, &["-q", limit[0], limit[1]]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains(limit[0]), "{err}");
+    assert!(err.contains(at), "{err}");
+    assert!(!out.exists());
+}
+
 #[test]
 fn the_pbrt_readers_limits_are_flags() {
     let d = Dir::new();
@@ -330,12 +341,7 @@ fn the_pbrt_readers_limits_are_flags() {
          Shape \"sphere\" \"float radius\" 2\n",
     );
     let out = d.path("s.png");
-    let o = render(&scene, &out, &["-q", "--max-pbrt-values", "3"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("--max-pbrt-values"), "{err}");
-    assert!(err.contains("s.pbrt:5:"), "{err}");
-    assert!(!out.exists());
+    refused_at(&scene, &out, &["--max-pbrt-values", "3"], "s.pbrt:5:");
     let o = render(&scene, &out, &["-q", "--max-pbrt-include-depth", "0"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--max-pbrt-include-depth must be at least 1"));
@@ -360,12 +366,7 @@ fn a_medium_past_the_optical_depth_limit_is_refused_where_it_is_made() {
     );
     let out = d.path("s.png");
     // σs 1000 over the unit cube: up to 1000 √3 ≈ 1732 across.
-    let o = render(&scene, &out, &["-q", "--max-optical-depth", "1000"]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("--max-optical-depth"), "{err}");
-    assert!(err.contains("s.pbrt:5:"), "{err}");
-    assert!(!out.exists());
+    refused_at(&scene, &out, &["--max-optical-depth", "1000"], "s.pbrt:5:");
     for bad in ["0", "-1", "NaN", "inf"] {
         let flag = format!("--max-optical-depth={bad}");
         let o = render(&scene, &out, &["-q", &flag]);

@@ -92,16 +92,16 @@ fn the_seeds_are_accepted_where_they_should_be() {
     for model in &models {
         assert!(rayforge_fuzz::targets::ply(model));
     }
-    // broken.pbrt, curves.pbrt, includes.pbrt, patches.pbrt, room.pbrt, sky-square.pbrt,
-    // textures-sky-media.pbrt, then the four read as words (the last includes itself past the
-    // depth).
+    // broken.pbrt, curves.pbrt, displaced.pbrt, includes.pbrt, patches.pbrt, room.pbrt,
+    // sky-square.pbrt, textures-sky-media.pbrt, then the four read as words (the last includes
+    // itself past the depth).
     let scenes: Vec<bool> = corpus::seeds("pbrt")
         .iter()
         .map(|s| rayforge_fuzz::targets::pbrt(s))
         .collect();
     assert_eq!(
         scenes,
-        [false, true, true, true, true, true, true, true, true, true, false]
+        [false, true, true, true, true, true, true, true, true, true, true, false]
     );
     // cloud.pbrt, grid.yml, homogeneous.pbrt, rgbgrid.pbrt, uniformgrid.pbrt, vol.yml: every
     // medium type of both formats read and path traced.

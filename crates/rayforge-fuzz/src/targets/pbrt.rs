@@ -139,6 +139,9 @@ pub const WORDS: &[&str] = &[
     "\"float zmin\"",
     "\"float height\"",
     "\"float tex1\"",
+    "\"texture displacement\"",
+    "\"float edgelength\"",
+    "\"float displacementedgescale\"",
     "\"rgb tex2\"",
     "\"string mapping\"",
     "\"float uscale\"",
@@ -150,6 +153,7 @@ pub const WORDS: &[&str] = &[
     "\"inc.pbrt.gz\"",
     "\"self.pbrt\"",
     "\"m.ply\"",
+    "\"uv.ply\"",
     "\"missing.pbrt\"",
     "\"../out.pbrt\"",
     "[",
@@ -188,6 +192,14 @@ const HELPERS: &[(&str, &str)] = &[
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
          property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\
          0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+    ),
+    // With uv, so that a displacement texture named by the words can move it.
+    (
+        "uv.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+         property float z\nproperty float u\nproperty float v\nelement face 1\n\
+         property list uchar int vertex_indices\nend_header\n\
+         0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n",
     ),
 ];
 
