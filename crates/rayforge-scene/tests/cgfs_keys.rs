@@ -28,7 +28,7 @@ fn the_turned_camera_stage_reads_as_the_book_writes_it() {
     assert!(
         matches!(scene.world.lights[0], Light::Ambient(c) if c == rayforge::Color::new(0.2, 0.2, 0.2))
     );
-    match scene.world.lights[2] {
+    match &scene.world.lights[2] {
         Light::Directional(l) => assert_eq!(l.towards, vector(1.0, 4.0, 4.0)),
         other => panic!("{other:?}"),
     }
@@ -67,7 +67,7 @@ fn a_directional_light_may_say_which_way_the_light_travels() {
         Path::new("s.yml"),
     )
     .unwrap();
-    match scene.world.lights[0] {
+    match &scene.world.lights[0] {
         Light::Directional(l) => {
             assert_eq!(l.towards, vector(0.0, 1.0, 0.0));
             assert_eq!(l.intensity, rayforge::Color::new(1.0, 0.5, 0.25));

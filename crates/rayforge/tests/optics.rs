@@ -102,7 +102,7 @@ fn a_clear_solid_reflects_four_percent_head_on_and_lets_the_rest_through() {
         translation(0.0, 0.0, 5.0) * rayforge::math::rotation_x(-std::f64::consts::FRAC_PI_2),
     );
     let light = Light::point(point(0.0, 0.0, 4.0), Color::WHITE);
-    let without = optics_world(vec![wall.clone()], vec![light]);
+    let without = optics_world(vec![wall.clone()], vec![light.clone()]);
     let with = optics_world(vec![glass, wall], vec![light]);
     let ray = Ray::new(point(0.0, 0.0, -5.0), vector(0.0, 0.0, 1.0));
     let through = color_at(&with, &ray).red;

@@ -332,7 +332,7 @@ fn objects_that_cast_no_shadow_let_every_kind_of_light_through() {
         area_light_above(),
         Light::Spot(spot),
     ] {
-        let with = shadow_row(light, true);
+        let with = shadow_row(light.clone(), true);
         let without = shadow_row(light, false);
         assert!(with.iter().any(|&v| v < 0.05), "a shadow: {with:?}");
         assert!(without.iter().all(|&v| v > 0.1), "no shadow: {without:?}");

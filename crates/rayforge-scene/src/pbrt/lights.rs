@@ -16,6 +16,7 @@
 //! hemisphere (+z of the light's space) gives `illuminance` as pbrt-v4 computes it. Area
 //! lights ([`emission`]) are emitting surfaces.
 
+use super::image_lights;
 use super::input::{Files, Loc};
 use super::params::ParamType;
 use super::reader::{Entity, LightEntity};
@@ -178,9 +179,14 @@ pub fn light(
             }
             Ok(Lit::Sky(l))
         }
+        "goniometric" => {
+            let i = spectrum(entity, "I")?;
+            image_lights::goniometric(light, i, files, memory).map(Lit::Light)
+        }
+        "projection" => image_lights::projection(light, files, memory).map(Lit::Light),
         other => Err(entity.error(format!(
-            "the light \"{}\" is not one rayforge reads; it reads point, spot, distant, \
-             infinite (uniform) and diffuse area lights",
+            "the light \"{}\" is not one rayforge reads; it reads point, spot, goniometric, \
+             projection, distant, infinite and diffuse area lights",
             crate::error::clip_to(other, 60)
         ))),
     }

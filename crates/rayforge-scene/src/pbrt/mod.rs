@@ -24,6 +24,7 @@ mod bilinear;
 mod build;
 mod camera;
 mod displace;
+mod image_lights;
 mod input;
 mod lens_file;
 mod lexer;

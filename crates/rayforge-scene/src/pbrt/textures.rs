@@ -140,13 +140,23 @@ pub fn build(
 
 /// How an integer image's values become linear (pbrt-v4's `ColorEncoding`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Encoding {
+pub(crate) enum Encoding {
     Linear,
     Srgb,
     Gamma(f64),
 }
 
 impl Encoding {
+    /// How a file named `name` is read when nothing says: sRGB for a PNG (as pbrt-v4 reads an
+    /// 8-bit PNG), linear for every other.
+    pub(crate) fn default_for(name: &str) -> Self {
+        if name.to_ascii_lowercase().ends_with(".png") {
+            Encoding::Srgb
+        } else {
+            Encoding::Linear
+        }
+    }
+
     /// The linear value of an encoded one in `[0, 1]`.
     fn decode(self, v: f64) -> f64 {
         match self {
@@ -386,10 +396,8 @@ impl Builder<'_> {
         };
         let path = self.files.resolve(name);
         self.files.check(&path, &file_param.loc, "filename")?;
-        let png = name.to_ascii_lowercase().ends_with(".png");
         let encoding = match params.string("encoding")? {
-            None if png => Encoding::Srgb,
-            None => Encoding::Linear,
+            None => Encoding::default_for(name),
             Some((e, p)) => parse_encoding(e).ok_or_else(|| {
                 p.error(format!(
                     "an encoding is \"linear\", \"sRGB\" or \"gamma G\" (G above 0), not \"{}\"",
@@ -458,42 +466,55 @@ impl Builder<'_> {
         encoding: Encoding,
         first_channel: bool,
     ) -> Result<TextureImage, String> {
-        let bytes = read_bounded(path, MAX_IMAGE_BYTES)?;
-        let room = self.memory.room();
-        let (width, height, mut texels) = match decode_hdr_image(&bytes, room, COLOR_BYTES) {
-            Some(image) => {
-                let image = image?;
-                (image.width, image.height, image.texels)
-            }
-            None => {
-                let tga = path
-                    .extension()
-                    .and_then(|e| e.to_str())
-                    .is_some_and(|e| e.eq_ignore_ascii_case("tga"));
-                let fallback = tga.then_some(image::ImageFormat::Tga);
-                let texture = images::decode_as(&bytes, room, fallback)?;
-                let (w, h) = (texture.width(), texture.height());
-                let mut texels = texture.into_pixels();
-                if encoding != Encoding::Linear {
-                    for c in &mut texels {
-                        *c = Color::new(
-                            encoding.decode(c.red),
-                            encoding.decode(c.green),
-                            encoding.decode(c.blue),
-                        );
-                    }
-                }
-                (w, h, texels)
-            }
-        };
+        let (width, height, mut texels) = read_linear(path, encoding, &mut self.memory)?;
         if first_channel {
             for c in &mut texels {
                 *c = Color::new(c.red, c.red, c.red);
             }
         }
-        self.memory.hold(texels.len() as u64 * COLOR_BYTES);
         TextureImage::new(width, height, texels).ok_or_else(|| "the image is empty".to_string())
     }
+}
+
+/// The image at `path` in linear colour, its width, height and texels (row by row from the
+/// top): an HDR format as it is, an integer format decoded by `encoding`, within the room
+/// `memory` has left and held there; the error is the reason, for the caller to name the file.
+/// Textures and the lights with images read through it.
+pub(crate) fn read_linear(
+    path: &std::path::Path,
+    encoding: Encoding,
+    memory: &mut ImageMemory,
+) -> Result<(usize, usize, Vec<Color>), String> {
+    let bytes = read_bounded(path, MAX_IMAGE_BYTES)?;
+    let room = memory.room();
+    let (width, height, texels) = match decode_hdr_image(&bytes, room, COLOR_BYTES) {
+        Some(image) => {
+            let image = image?;
+            (image.width, image.height, image.texels)
+        }
+        None => {
+            let tga = path
+                .extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| e.eq_ignore_ascii_case("tga"));
+            let fallback = tga.then_some(image::ImageFormat::Tga);
+            let texture = images::decode_as(&bytes, room, fallback)?;
+            let (w, h) = (texture.width(), texture.height());
+            let mut texels = texture.into_pixels();
+            if encoding != Encoding::Linear {
+                for c in &mut texels {
+                    *c = Color::new(
+                        encoding.decode(c.red),
+                        encoding.decode(c.green),
+                        encoding.decode(c.blue),
+                    );
+                }
+            }
+            (w, h, texels)
+        }
+    };
+    memory.hold(texels.len() as u64 * COLOR_BYTES);
+    Ok((width, height, texels))
 }
 
 /// The float parameter `name` of `entity` (`default` when absent), finite.

@@ -1,7 +1,7 @@
 //! The light list: everything that gives off light in a world, as the path tracer samples it,
 //! each light one of the kinds of this module's files ([`PointEmitter`], [`SpotEmitter`],
-//! [`DirectionalEmitter`], [`AreaEmitter`], [`SkyEmitter`], whose docs say what each means
-//! physically), held in one enum so a light sample dispatches with a `match` (no `dyn`, no
+//! [`PatternEmitter`], [`DirectionalEmitter`], [`AreaEmitter`], [`SkyEmitter`], whose docs say
+//! what each means physically), held in one enum so a light sample dispatches with a `match` (no `dyn`, no
 //! allocation).
 //!
 //! Next-event estimation picks one emitter per path vertex through the scene's
@@ -20,6 +20,7 @@ use super::area::AreaEmitter;
 use super::directional::DirectionalEmitter;
 use super::environment::SkyEmitter;
 use super::mirror_ball::MirrorBalls;
+use super::pattern::PatternEmitter;
 use super::point::PointEmitter;
 use super::sample::LightSample;
 use super::sampler::LightSampler;
@@ -41,6 +42,7 @@ pub(super) const NOT_SAMPLED: u32 = u32::MAX;
 enum Emitter {
     Point(PointEmitter),
     Spot(SpotEmitter),
+    Pattern(PatternEmitter),
     Directional(DirectionalEmitter),
     Area(AreaEmitter),
     /// The sky (the list's [`SkyEmitter`], present only where it is sampled: a map).
@@ -102,6 +104,7 @@ impl Emitters {
             let emitter = match light {
                 Light::Point(l) => Emitter::Point(PointEmitter::new(l, falloff, disc)),
                 Light::Spot(l) => Emitter::Spot(SpotEmitter::new(l, falloff, disc)),
+                Light::Pattern(l) => Emitter::Pattern(PatternEmitter::new(l, falloff, disc)),
                 Light::Directional(l) => Emitter::Directional(DirectionalEmitter::new(l, disc)),
                 Light::Area(l) => Emitter::Area(AreaEmitter::of_book(l, falloff, disc)),
                 Light::Ambient(_) => continue,
@@ -109,6 +112,7 @@ impl Emitters {
             let (p, b) = match &emitter {
                 Emitter::Point(e) => (e.power(), e.bounds()),
                 Emitter::Spot(e) => (e.power(), e.bounds()),
+                Emitter::Pattern(e) => (e.power(), e.bounds()),
                 Emitter::Directional(e) => (e.power(), None),
                 Emitter::Area(e) => (e.power(), e.bounds(world)),
                 Emitter::Sky => continue,
@@ -307,6 +311,7 @@ impl Emitters {
         match &self.list[slot] {
             Emitter::Point(light) => light.sample_li(point, probability),
             Emitter::Spot(light) => light.sample_li(point, probability),
+            Emitter::Pattern(light) => light.sample_li(point, probability),
             Emitter::Directional(light) => Some(light.sample_li(probability)),
             Emitter::Area(light) => light.sample_li(world, point, time, probability, rest, u),
             Emitter::Sky => self.sky_light.sample_li(sky, probability),

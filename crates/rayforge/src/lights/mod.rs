@@ -1,6 +1,7 @@
 //! Everything that gives off light, as the path tracer samples it: one file per kind of light
-//! (`point.rs`, `spot.rs`, `directional.rs`, `area.rs` for any surface that emits, the book's
-//! area light among them, and `environment.rs` for the sky), each answering `sample_li` (a
+//! (`point.rs`, `spot.rs`, `pattern.rs` for a point light an image shapes, `directional.rs`,
+//! `area.rs` for any surface that emits, the book's area light among them, and
+//! `environment.rs` for the sky), each answering `sample_li` (a
 //! direction towards it from a shading point, the light along it and its density) and `power`
 //! (what it is picked by), and the kinds a path can meet (a surface, the sky) `pdf_li` (the
 //! density with which `sample_li` draws what the path met) and `radiance` (what the path sees)
@@ -30,6 +31,7 @@ mod emitters;
 mod environment;
 mod light_bounds;
 mod mirror_ball;
+mod pattern;
 mod point;
 mod sample;
 mod sampler;
@@ -40,6 +42,7 @@ pub use directional::DirectionalEmitter;
 pub use emitters::Emitters;
 pub use environment::SkyEmitter;
 pub use mirror_ball::{spread as mirror_spread, MirrorBall, MirrorBalls, MirrorPath};
+pub use pattern::PatternEmitter;
 pub use point::PointEmitter;
 pub use sample::LightSample;
 pub use spot::SpotEmitter;

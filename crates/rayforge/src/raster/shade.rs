@@ -56,7 +56,7 @@ pub(crate) fn raster_lights(lights: &[Light]) -> Vec<Light> {
         .iter()
         .map(|l| match l {
             Light::Area(area) => Light::point(area.position(), area.intensity),
-            other => *other,
+            other => other.clone(),
         })
         .collect()
 }

@@ -112,6 +112,9 @@ pub fn unshadowed_intensity(
                 let falloff = l.cone_at(point);
                 lit.add_light(l.position - point, (l.intensity * falloff).to_array());
             }
+            Light::Pattern(l) => {
+                lit.add_light(l.position - point, l.intensity_at(point).to_array());
+            }
             Light::Area(l) => lit.add_light(l.position() - point, l.intensity.to_array()),
         }
     }

@@ -1,6 +1,7 @@
 //! Light sources: point lights (chapter 6), rectangular area lights that cast soft shadows
 //! (the bonus chapter "Rendering soft shadows"), spotlights (chapter 17), and the ambient and
-//! directional lights of Computer Graphics from Scratch.
+//! directional lights of Computer Graphics from Scratch, and point lights whose intensity an
+//! image shapes by direction (pbrt-v4's goniometric and projection lights, [`PatternLight`]).
 //!
 //! These are the scene's lights, one value per light, and every renderer reads the same
 //! values: the Whitted integrators and the rasterizer with the books' meaning, through the
@@ -15,7 +16,9 @@
 
 use crate::color::Color;
 use crate::math::random::Jitter;
-use crate::math::{Point3, Vec3};
+use crate::math::{equal_area_sphere_to_square, Point3, Vec3};
+use glam::DMat3;
+use std::sync::Arc;
 
 /// A point light: no size, so its shadows are hard.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -229,8 +232,201 @@ impl DirectionalLight {
     }
 }
 
-/// A light source of any kind.
+/// The picture of a [`PatternLight`]: linear RGB, row 0 the top, each row from the left,
+/// shared between the light's copies (a light is copied for every renderer that reads it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LightImage {
+    width: usize,
+    height: usize,
+    texels: Vec<Color>,
+    /// The largest value of any channel of any texel: what bounds the light's reach.
+    peak: f64,
+}
+
+impl LightImage {
+    /// The `width × height` image of `texels` (row by row from the top); `None` when it is
+    /// empty, the texels are not `width × height`, or a value is negative or not finite.
+    pub fn new(width: usize, height: usize, texels: Vec<Color>) -> Option<Self> {
+        let fine = |c: &Color| c.to_array().iter().all(|v| v.is_finite() && *v >= 0.0);
+        if width == 0 || height == 0 || texels.len() != width * height || !texels.iter().all(fine) {
+            return None;
+        }
+        let peak = texels.iter().map(|c| c.max_channel()).fold(0.0, f64::max);
+        Some(Self {
+            width,
+            height,
+            texels,
+            peak,
+        })
+    }
+
+    /// Pixels across.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Pixels down.
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// The texels, row by row from the top.
+    pub fn texels(&self) -> &[Color] {
+        &self.texels
+    }
+
+    /// The largest value of any channel.
+    pub fn peak(&self) -> f64 {
+        self.peak
+    }
+
+    /// The texel nearest `(u, v)` of the unit square (`v` down from the top row), clamped at
+    /// the edges: pbrt-v4's nearest look-up (the coordinates times the size, truncated).
+    #[inline]
+    pub fn nearest(&self, u: f64, v: f64) -> Color {
+        let at = |t: f64, n: usize| ((t * n as f64) as usize).min(n - 1);
+        self.texels[at(v, self.height) * self.width + at(u, self.width)]
+    }
+}
+
+/// How a [`PatternLight`]'s image lies over the directions of its own space.
 #[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PatternShape {
+    /// Over the whole sphere in the equal-area square layout (the square's centre the light's
+    /// +z, its corners −z): pbrt-v4's goniometric light.
+    Sphere,
+    /// Through the window `[-half_width, half_width] × [-half_height, half_height]` of the
+    /// plane one unit along the light's +z, the image's top row at +y, its left column at −x;
+    /// nothing beyond the window or behind the light: pbrt-v4's projection light.
+    Frustum {
+        /// Half the window's width at unit distance.
+        half_width: f64,
+        /// Half its height.
+        half_height: f64,
+    },
+}
+
+/// Below this cosine with the light's axis a frustum gives nothing (pbrt-v4's near plane).
+const HITHER: f64 = 1e-3;
+
+/// A point light whose intensity in each direction is its `intensity` times the image's texel
+/// that direction meets (pbrt-v4's goniometric and projection lights): hard shadows, as a point
+/// light's, shaped like a photometric web or a slide projector's beam.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PatternLight {
+    /// Where the light is.
+    pub position: Point3,
+    /// Its intensity where the image is 1 (at unit distance, falling off as a point light's).
+    pub intensity: Color,
+    /// Whether its light falls off with the square of the distance (see [`PointLight`]).
+    pub falloff: bool,
+    /// From the world's directions into the light's own (any invertible matrix: what it does
+    /// to a direction's length does not matter, each is normalised).
+    pub to_light: DMat3,
+    /// How the image covers the light's directions.
+    pub shape: PatternShape,
+    /// The image.
+    pub image: Arc<LightImage>,
+}
+
+impl PatternLight {
+    /// The image's colour (before `intensity`) along the world direction `towards` leaving
+    /// the light; black where the image does not reach.
+    #[inline]
+    pub fn pattern(&self, towards: Vec3) -> Color {
+        let d = (self.to_light * towards).normalize_or_zero();
+        match self.shape {
+            PatternShape::Sphere => {
+                if d == Vec3::ZERO {
+                    return Color::BLACK;
+                }
+                let (u, v) = equal_area_sphere_to_square(d);
+                self.image.nearest(u, v)
+            }
+            PatternShape::Frustum {
+                half_width,
+                half_height,
+            } => {
+                // (`d` is finite: a direction that is not normalises to zero.)
+                if d.z < HITHER {
+                    return Color::BLACK;
+                }
+                let (x, y) = (d.x / d.z, d.y / d.z);
+                if x.abs() > half_width || y.abs() > half_height {
+                    return Color::BLACK;
+                }
+                let u = (x + half_width) / (2.0 * half_width);
+                let v = (half_height - y) / (2.0 * half_height);
+                self.image.nearest(u, v)
+            }
+        }
+    }
+
+    /// Its intensity towards `point` (black at the light itself): what every Whitted model and
+    /// the rasterizer light the point with, before the fall-off with distance.
+    #[inline]
+    pub fn intensity_at(&self, point: Point3) -> Color {
+        self.intensity * self.pattern(point - self.position)
+    }
+
+    /// The mean over the sphere of directions of its image's colour (black beyond a frustum):
+    /// the intensity of the point light of the same power. pbrt-v4's power sums: the texels'
+    /// mean for the sphere; for a frustum, each texel weighted by the solid angle it subtends
+    /// at its centre (`cos³θ` times its area of the window), the sum over `4π`.
+    pub fn mean_pattern(&self) -> Color {
+        let image = &self.image;
+        let (w, h) = (image.width, image.height);
+        let n = (w * h) as f64;
+        match self.shape {
+            PatternShape::Sphere => image.texels.iter().copied().sum::<Color>() / n,
+            PatternShape::Frustum {
+                half_width,
+                half_height,
+            } => {
+                let texel_area = 4.0 * half_width * half_height / n;
+                let mut sum = Color::BLACK;
+                for (i, c) in image.texels.iter().enumerate() {
+                    let x = half_width * (2.0 * ((i % w) as f64 + 0.5) / w as f64 - 1.0);
+                    let y = half_height * (2.0 * ((i / w) as f64 + 0.5) / h as f64 - 1.0);
+                    let cos = 1.0 / (1.0 + x * x + y * y).sqrt();
+                    sum += *c * (cos * cos * cos * texel_area);
+                }
+                sum / (4.0 * std::f64::consts::PI)
+            }
+        }
+    }
+
+    /// The world direction of its axis (+z of its space), unit: a frustum's centre.
+    pub fn axis(&self) -> Vec3 {
+        (self.to_light.inverse() * Vec3::Z).normalize_or_zero()
+    }
+
+    /// The angle between its axis and the farthest direction its light reaches: a frustum's
+    /// corner, π for the sphere (in the light's space, which an unrotating matrix keeps).
+    pub fn spread(&self) -> f64 {
+        match self.shape {
+            PatternShape::Sphere => std::f64::consts::PI,
+            PatternShape::Frustum {
+                half_width,
+                half_height,
+            } => {
+                let m = self.to_light.inverse();
+                let axis = (m * Vec3::Z).normalize_or_zero();
+                // Every corner is as far from the axis for a rotation; a stretch may move them.
+                [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)]
+                    .iter()
+                    .map(|(sx, sy)| {
+                        let c = m * Vec3::new(sx * half_width, sy * half_height, 1.0);
+                        axis.dot(c.normalize_or_zero()).clamp(-1.0, 1.0).acos()
+                    })
+                    .fold(0.0, f64::max)
+            }
+        }
+    }
+}
+
+/// A light source of any kind.
+#[derive(Debug, Clone, PartialEq)]
 pub enum Light {
     /// A point light.
     Point(PointLight),
@@ -243,6 +439,8 @@ pub enum Light {
     Ambient(Color),
     /// Parallel light from infinitely far away.
     Directional(DirectionalLight),
+    /// A point light shaped by an image.
+    Pattern(PatternLight),
 }
 
 /// How far away a directional light is taken to be where a position is needed.
@@ -261,6 +459,7 @@ impl Light {
         let position = match self {
             Light::Point(l) if l.falloff => l.position,
             Light::Spot(l) if l.falloff => l.position,
+            Light::Pattern(l) if l.falloff => l.position,
             _ => return 1.0,
         };
         1.0 / (position - point).length_squared().max(1e-300)
@@ -274,12 +473,15 @@ impl Light {
             self,
             Light::Point(PointLight { falloff: true, .. })
                 | Light::Spot(SpotLight { falloff: true, .. })
+                | Light::Pattern(PatternLight { falloff: true, .. })
         )
     }
 
-    /// The light's colour and brightness (at unit distance, for one that falls off).
+    /// The light's colour and brightness (at unit distance, for one that falls off; an image's
+    /// light where the image is 1).
     pub fn intensity(&self) -> Color {
         match self {
+            Light::Pattern(l) => l.intensity,
             Light::Point(l) => l.intensity,
             Light::Area(l) => l.intensity,
             Light::Spot(l) => l.intensity,
@@ -296,6 +498,7 @@ impl Light {
             Light::Point(l) => l.position,
             Light::Area(l) => l.position(),
             Light::Spot(l) => l.position,
+            Light::Pattern(l) => l.position,
             Light::Ambient(_) => Point3::ZERO,
             Light::Directional(l) => l.direction() * FAR_AWAY,
         }

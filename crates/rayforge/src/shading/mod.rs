@@ -28,7 +28,10 @@ pub use bump::{Bump, BumpKind};
 pub use cgfs::unshadowed_intensity;
 pub use environment::{EnvironmentError, EnvironmentMap, SkyDraw};
 pub use jitter::Sequence;
-pub use light::{AreaLight, DirectionalLight, Light, PointLight, SpotLight};
+pub use light::{
+    AreaLight, DirectionalLight, Light, LightImage, PatternLight, PatternShape, PointLight,
+    SpotLight,
+};
 pub use material::{Alpha, EmissionSide, Material, MaterialMix, PhysicalPatterns};
 pub use metal_rough::{AlphaMode, MetalRough, SurfacePoint};
 pub use noise::perlin_noise;

@@ -9,7 +9,8 @@ use crate::math::{Point3, Vec3};
 
 /// Fundamentals of Ray Tracing's matte sum at `point`: each point light in front of the
 /// surface for which `in_view` holds (given its position), by its colour times the cosine of
-/// incidence over the squared distance. Spotlights and area lights count as points; ambient
+/// incidence over the squared distance. Spotlights, area lights and image-shaped lights (by
+/// their colour towards the point) count as points; ambient
 /// and directional lights add nothing in this model (a directional light is a point infinitely
 /// far away, whose 1/d² leaves nothing). The rasterizer, which casts no shadow rays, takes
 /// every light as in view.
@@ -24,6 +25,7 @@ pub fn matte_light(
         let (position, color) = match light {
             Light::Point(l) => (l.position, l.intensity),
             Light::Spot(l) => (l.position, l.intensity),
+            Light::Pattern(l) => (l.position, l.intensity_at(point)),
             Light::Area(l) => (l.position(), l.intensity),
             Light::Ambient(_) | Light::Directional(_) => continue,
         };

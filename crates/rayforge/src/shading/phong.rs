@@ -26,6 +26,9 @@ pub fn can_light(light: &Light, point: Point3, normalv: Vec3) -> bool {
         Light::Spot(spot) => {
             spot.cone_at(point) > 0.0 && faces((spot.position - point).normalize())
         }
+        Light::Pattern(l) => {
+            l.intensity_at(point).max_channel() > 0.0 && faces((l.position - point).normalize())
+        }
         Light::Area(_) => true,
     }
 }
@@ -40,7 +43,10 @@ pub fn most_light(material: &Material, surface: Color, light: &Light) -> f64 {
     }
     // Magnitudes: a scene may give negative colours or coefficients, whose light subtracts.
     let largest = |c: Color| c.red.abs().max(c.green.abs()).max(c.blue.abs());
-    let intensity = light.intensity();
+    let intensity = match light {
+        Light::Pattern(l) => l.intensity * l.image.peak(),
+        _ => light.intensity(),
+    };
     largest(surface * intensity) * material.diffuse.abs()
         + largest(intensity) * material.specular.abs()
 }
@@ -102,6 +108,8 @@ pub fn lighting_with(
                 Color::BLACK
             }
         }
+        // The pattern scales diffuse and specular alike, as a spot's cone does.
+        Light::Pattern(l) => sample(l.position) * l.pattern(point - l.position),
         Light::Area(area) => {
             let sum: Color = area
                 .cells()

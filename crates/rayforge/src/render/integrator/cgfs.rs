@@ -292,6 +292,10 @@ impl<'w, O: TraceObserver, const LIT: bool> Pass<'_, 'w, O, LIT> {
                     let intensity = (l.intensity * falloff).to_array();
                     self.light_from(&mut lit, l.position - point, 1.0, intensity, time);
                 }
+                Light::Pattern(l) => {
+                    let intensity = l.intensity_at(point).to_array();
+                    self.light_from(&mut lit, l.position - point, 1.0, intensity, time);
+                }
                 Light::Area(area) => {
                     let share = (area.intensity / area.samples() as f64).to_array();
                     let mut jitter = self.state.jitter;

@@ -9,7 +9,7 @@ use crate::math::{Point3, Ray};
 use crate::render::observer::{LightReach, NoTrace, RayDetail, Secondary, TraceObserver};
 use crate::scene::{prepare_computations_with, schlick, Computations};
 use crate::shading::{
-    can_light, lighting_with, most_light, Light, Material, PointLight, SpotLight,
+    can_light, lighting_with, most_light, Light, Material, PatternLight, PointLight, SpotLight,
 };
 
 /// The Ray Tracer Challenge's lighting model ([`crate::scene::LightingModel::Phong`]).
@@ -245,7 +245,9 @@ impl<'w, O: TraceObserver> Pass<'_, 'w, O> {
 /// The fraction of `light` that reaches `point` at `time`.
 fn intensity_at(state: &mut TraceState<'_>, light: &Light, point: Point3, time: f64) -> f64 {
     match light {
-        Light::Point(PointLight { position, .. }) | Light::Spot(SpotLight { position, .. }) => {
+        Light::Point(PointLight { position, .. })
+        | Light::Spot(SpotLight { position, .. })
+        | Light::Pattern(PatternLight { position, .. }) => {
             if shadowed_towards(state, Some(light), *position, point, time) {
                 0.0
             } else {
